@@ -1,0 +1,24 @@
+# terrain_configure_target(<target>): C++20, the house warning set, warnings as errors
+# when TERRAIN_WARNINGS_AS_ERRORS is on, and the sanitizers named in TERRAIN_SANITIZER.
+# Every target of the project goes through this one function (../shared/STYLE.md).
+
+set(_terrain_sanitizers_ok "" "address;undefined" "undefined;address" "address" "undefined" "thread")
+if(NOT TERRAIN_SANITIZER IN_LIST _terrain_sanitizers_ok)
+  message(FATAL_ERROR "TERRAIN_SANITIZER='${TERRAIN_SANITIZER}': use '', 'address;undefined' or 'thread'")
+endif()
+
+function(terrain_configure_target target)
+  target_compile_features(${target} PUBLIC cxx_std_20)
+  set_target_properties(${target} PROPERTIES CXX_EXTENSIONS OFF)
+  target_compile_options(${target} PRIVATE
+    $<$<COMPILE_LANGUAGE:CXX>:-Wall -Wextra -Wshadow -Wconversion -Wno-sign-conversion>)
+  if(TERRAIN_WARNINGS_AS_ERRORS)
+    target_compile_options(${target} PRIVATE $<$<COMPILE_LANGUAGE:CXX>:-Werror>)
+  endif()
+  if(TERRAIN_SANITIZER)
+    string(REPLACE ";" "," _list "${TERRAIN_SANITIZER}")
+    target_compile_options(${target} PRIVATE -fsanitize=${_list} -fno-omit-frame-pointer
+                                             -fno-sanitize-recover=undefined)
+    target_link_options(${target} PUBLIC -fsanitize=${_list})
+  endif()
+endfunction()

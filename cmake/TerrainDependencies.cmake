@@ -1,0 +1,27 @@
+# Every third-party package comes from Debian 12 (scripts/setup.sh installs them).
+# No vendored copies, no downloads at configure time.
+find_package(Threads REQUIRED)
+find_package(OpenImageIO CONFIG REQUIRED)
+find_package(OpenEXR CONFIG REQUIRED)
+find_package(GeographicLib REQUIRED)       # Debian ships only a find module
+find_package(glm CONFIG REQUIRED)
+find_package(glfw3 CONFIG REQUIRED)
+find_package(OpenGL REQUIRED COMPONENTS EGL)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(epoxy REQUIRED IMPORTED_TARGET epoxy)
+find_package(nlohmann_json CONFIG REQUIRED)
+find_package(fmt CONFIG REQUIRED)
+if(TERRAIN_BUILD_TOOLS OR TERRAIN_BUILD_TESTS)
+  find_package(CLI11 CONFIG REQUIRED)
+endif()
+if(TERRAIN_BUILD_TESTS)
+  find_package(GTest CONFIG REQUIRED)
+endif()
+
+# GeographicLib's Debian find module sets variables only; wrap them in a target.
+if(NOT TARGET GeographicLib::GeographicLib)
+  add_library(GeographicLib::GeographicLib UNKNOWN IMPORTED)
+  set_target_properties(GeographicLib::GeographicLib PROPERTIES
+    IMPORTED_LOCATION "${GeographicLib_LIBRARIES}"
+    INTERFACE_INCLUDE_DIRECTORIES "${GeographicLib_INCLUDE_DIRS}")
+endif()

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# One set-up script for a fresh Debian 12 machine: installs every Debian package the
+# project needs (idempotent, non-interactive, one `apt-get update`), then configures and
+# builds. Usage: scripts/setup.sh [--deps-only] [--build-dir DIR] [--build-type TYPE]
+#                                 [--sanitizer address;undefined|thread] [--werror]
+set -euo pipefail
+
+repo_root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build_dir="$repo_root/build"
+build_type=RelWithDebInfo
+sanitizer=""
+werror=OFF
+deps_only=0
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --deps-only) deps_only=1 ;;
+    --build-dir) build_dir=$2; shift ;;
+    --build-type) build_type=$2; shift ;;
+    --sanitizer) sanitizer=$2; shift ;;
+    --werror) werror=ON ;;
+    -h|--help) sed -n '2,5p' "$0"; exit 0 ;;
+    *) echo "setup.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
+  esac
+  shift
+done
+
+# Every Debian package the project uses, one concern per line.
+packages=(
+  build-essential cmake ninja-build pkg-config git
+  libglfw3-dev libglm-dev libepoxy-dev libegl-dev libgl-dev
+  libegl-mesa0 libgl1-mesa-dri libglx-mesa0
+  libopenimageio-dev openimageio-tools libopenexr-dev
+  libgeographiclib-dev libgdal-dev gdal-bin
+  libcli11-dev nlohmann-json3-dev libfmt-dev libimgui-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  xvfb xauth python3-matplotlib
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo=sudo
+  echo "setup.sh: installing ${#missing[@]} Debian package(s): ${missing[*]}"
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get update -q
+  $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}"
+else
+  echo "setup.sh: all Debian packages present"
+fi
+[ "$deps_only" -eq 1 ] && exit 0
+
+cmake -S "$repo_root" -B "$build_dir" -G Ninja \
+  -DCMAKE_BUILD_TYPE="$build_type" \
+  -DTERRAIN_SANITIZER="$sanitizer" \
+  -DTERRAIN_WARNINGS_AS_ERRORS="$werror"
+cmake --build "$build_dir" --parallel "$(nproc)"
