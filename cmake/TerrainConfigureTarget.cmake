@@ -2,8 +2,10 @@
 # when TERRAIN_WARNINGS_AS_ERRORS is on, and the sanitizers named in TERRAIN_SANITIZER.
 # Every target of the project goes through this one function (../shared/STYLE.md).
 
-set(_terrain_sanitizers_ok "" "address;undefined" "undefined;address" "address" "undefined" "thread")
-if(NOT TERRAIN_SANITIZER IN_LIST _terrain_sanitizers_ok)
+# Compare with ',' for ';': a list inside a list would be flattened into its elements.
+string(REPLACE ";" "," _terrain_sanitizer_key "${TERRAIN_SANITIZER}")
+set(_terrain_sanitizers_ok "" "address,undefined" "undefined,address" "address" "undefined" "thread")
+if(NOT _terrain_sanitizer_key IN_LIST _terrain_sanitizers_ok)
   message(FATAL_ERROR "TERRAIN_SANITIZER='${TERRAIN_SANITIZER}': use '', 'address;undefined' or 'thread'")
 endif()
 

@@ -2,6 +2,7 @@
 # No vendored copies, no downloads at configure time.
 find_package(Threads REQUIRED)
 find_package(OpenImageIO CONFIG REQUIRED)
+find_package(TIFF REQUIRED)                # GeoTIFF tags, which OpenImageIO cannot write
 find_package(OpenEXR CONFIG REQUIRED)
 find_package(GeographicLib REQUIRED)       # Debian ships only a find module
 find_package(glm CONFIG REQUIRED)
@@ -24,4 +25,19 @@ if(NOT TARGET GeographicLib::GeographicLib)
   set_target_properties(GeographicLib::GeographicLib PROPERTIES
     IMPORTED_LOCATION "${GeographicLib_LIBRARIES}"
     INTERFACE_INCLUDE_DIRECTORIES "${GeographicLib_INCLUDE_DIRS}")
+endif()
+
+# Debian 12's OpenImageIO package lists /usr/include/opencv4 among its include folders,
+# which exists only with libopencv-dev installed, and CMake refuses to generate with a
+# missing folder there. Keep only the folders that exist.
+get_target_property(_oiio_includes OpenImageIO::OpenImageIO INTERFACE_INCLUDE_DIRECTORIES)
+if(_oiio_includes)
+  set(_oiio_existing "")
+  foreach(_dir IN LISTS _oiio_includes)
+    if(EXISTS "${_dir}" OR _dir MATCHES "^\\$<")
+      list(APPEND _oiio_existing "${_dir}")
+    endif()
+  endforeach()
+  set_target_properties(OpenImageIO::OpenImageIO PROPERTIES
+    INTERFACE_INCLUDE_DIRECTORIES "${_oiio_existing}")
 endif()
