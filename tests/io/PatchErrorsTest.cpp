@@ -1,0 +1,136 @@
+// Yusov §4/§5 error bounds against a brute force that shares no code with them: every
+// point of the half-sample lattice (which holds every vertex of the common refinement of
+// a fine and a coarse triangulation) under every diagonal choice, by barycentric
+// interpolation.
+#include "terrain/io/PatchErrors.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace terrain::io {
+namespace {
+
+struct Point3 {
+    double x, y, z;
+};
+
+// Height of the plane through triangle (p, q, r) at (x, y) if (x, y) is inside it.
+bool heightInTriangle(Point3 p, Point3 q, Point3 r, double x, double y, double& z) {
+    const double det = (q.y - r.y) * (p.x - r.x) + (r.x - q.x) * (p.y - r.y);
+    const double l1 = ((q.y - r.y) * (x - r.x) + (r.x - q.x) * (y - r.y)) / det;
+    const double l2 = ((r.y - p.y) * (x - r.x) + (p.x - r.x) * (y - r.y)) / det;
+    const double l3 = 1.0 - l1 - l2;
+    const double eps = 1e-12;
+    if (l1 < -eps || l2 < -eps || l3 < -eps) return false;
+    z = l1 * p.z + l2 * q.z + l3 * r.z;
+    return true;
+}
+
+// Every height the surface of cell (cx, cy, side s) can have at (x, y): one per diagonal.
+std::vector<double> surfaceHeights(const std::vector<float>& h, int n, int cx, int cy, int s,
+                                   double x, double y) {
+    auto corner = [&](int i, int j) {
+        return Point3{double(cx + i * s), double(cy + j * s), h[(cy + j * s) * n + cx + i * s]};
+    };
+    const Point3 a = corner(0, 0), b = corner(1, 0), c = corner(0, 1), d = corner(1, 1);
+    std::vector<double> out;
+    double z;
+    for (auto [t1, t2] : {std::pair{std::array{a, b, d}, std::array{a, c, d}},
+                          std::pair{std::array{a, b, c}, std::array{b, c, d}}}) {
+        if (heightInTriangle(t1[0], t1[1], t1[2], x, y, z) ||
+            heightInTriangle(t2[0], t2[1], t2[2], x, y, z))
+            out.push_back(z);
+    }
+    return out;
+}
+
+double bruteForce(const std::vector<float>& h, int n, int x0, int y0, int quads, int step) {
+    double worst = 0.0;
+    for (int j2 = 0; j2 <= 2 * quads; ++j2) {
+        for (int i2 = 0; i2 <= 2 * quads; ++i2) {
+            const double x = x0 + i2 * 0.5, y = y0 + j2 * 0.5;
+            auto cellOf = [&](double p, int origin, int s) {
+                return origin + std::min(int((p - origin) / s), quads / s - 1) * s;
+            };
+            const auto coarse =
+                surfaceHeights(h, n, cellOf(x, x0, step), cellOf(y, y0, step), step, x, y);
+            const auto fine = surfaceHeights(h, n, cellOf(x, x0, 1), cellOf(y, y0, 1), 1, x, y);
+            for (double zc : coarse)
+                for (double zf : fine) worst = std::max(worst, std::abs(zc - zf));
+        }
+    }
+    return worst;
+}
+
+std::vector<float> randomGrid(int n, unsigned seed, float roughness) {
+    std::mt19937 rng(seed);
+    std::normal_distribution<float> noise(0.0f, roughness);
+    std::vector<float> h(static_cast<std::size_t>(n) * n);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+            h[y * n + x] =
+                100.0f * std::sin(0.1f * float(x)) + 30.0f * float(y) / float(n) + noise(rng);
+    return h;
+}
+
+TEST(PatchErrors, BlockErrorsEqualBruteForce) {
+    const int n = 33, blockQuads = 16;
+    for (unsigned seed = 1; seed <= 6; ++seed) {
+        const auto h = randomGrid(n, seed, seed % 2 ? 5.0f : 0.0f);
+        const GridView g{h.data(), n, n};
+        for (int by = 0; by < 2; ++by) {
+            for (int bx = 0; bx < 2; ++bx) {
+                const BlockErrors got =
+                    blockErrors(g, bx * blockQuads, by * blockQuads, blockQuads);
+                for (int d = 1; d <= kMaxSimplification; ++d) {
+                    const double want = bruteForce(h, n, bx * blockQuads, by * blockQuads,
+                                                   blockQuads, std::min(1 << d, blockQuads));
+                    EXPECT_GE(double(got[d - 1]), want) << "seed " << seed << " d " << d;
+                    EXPECT_NEAR(double(got[d - 1]), want, 1e-4 * (1.0 + want)) << "d " << d;
+                }
+            }
+        }
+    }
+}
+
+TEST(PatchErrors, InterpolationErrorEqualsBruteForceAndBoundsEverySample) {
+    const int n = 17;  // four 9×9 children joined: the parent is their even samples
+    for (unsigned seed = 10; seed < 16; ++seed) {
+        const auto h = randomGrid(n, seed, 20.0f);
+        const float err = interpolationError(GridView{h.data(), n, n});
+        EXPECT_NEAR(double(err), bruteForce(h, n, 0, 0, n - 1, 2), 1e-4 * (1.0 + err));
+        // Every child sample lies within err of the parent surface, whatever the diagonals.
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x)
+                for (double z : surfaceHeights(h, n, std::min(x / 2 * 2, n - 3),
+                                               std::min(y / 2 * 2, n - 3), 2, x, y))
+                    EXPECT_LE(std::abs(z - h[y * n + x]), double(err));
+    }
+}
+
+TEST(PatchErrors, PlanesHaveNoError) {
+    const int n = 33;
+    std::vector<float> h(n * n);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) h[y * n + x] = 0.5f * float(x) - 0.25f * float(y) + 7.0f;
+    std::vector<BlockErrors> blocks(4);
+    patchBlockErrors(GridView{h.data(), n, n}, 16, blocks);
+    for (const auto& b : blocks)
+        for (float e : b) EXPECT_EQ(e, 0.0f);
+    EXPECT_EQ(interpolationError(GridView{h.data(), n, n}), 0.0f);
+}
+
+TEST(PatchErrors, SingleSpikeIsSeenByEveryCoarserLevel) {
+    const int n = 17;
+    std::vector<float> h(n * n, 10.0f);
+    h[5 * n + 7] = 1010.0f;  // odd position: dropped at every simplification
+    const BlockErrors e = blockErrors(GridView{h.data(), n, n}, 0, 0, 16);
+    for (float v : e) EXPECT_FLOAT_EQ(v, 1000.0f);
+}
+
+}  // namespace
+}  // namespace terrain::io
