@@ -12,9 +12,6 @@ done
 
 "$repo_root/scripts/setup.sh" "$@"
 
-# Mesa's llvmpipe keeps a few allocations alive until process exit; the suppressions name
-# only driver libraries, never the project's code.
-export LSAN_OPTIONS="suppressions=$repo_root/tests/lsan.supp:print_suppressions=0${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
 export TSAN_OPTIONS="halt_on_error=1${TSAN_OPTIONS:+:$TSAN_OPTIONS}"
 cd "$build_dir"

@@ -14,7 +14,7 @@ namespace terrain::detail {
 }
 }  // namespace terrain::detail
 
-#define TERRAIN_ASSERT(expression, ...)                                                  \
-    ((expression) ? static_cast<void>(0)                                                 \
-                  : ::terrain::detail::assertFailed(#expression, __FILE__, __LINE__,     \
-                                                    "" __VA_ARGS__))
+#define TERRAIN_ASSERT(expression, ...) \
+    ((expression)                       \
+         ? static_cast<void>(0)         \
+         : ::terrain::detail::assertFailed(#expression, __FILE__, __LINE__, "" __VA_ARGS__))
