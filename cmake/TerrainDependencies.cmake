@@ -4,6 +4,8 @@ find_package(Threads REQUIRED)
 find_package(OpenImageIO CONFIG REQUIRED)
 find_package(TIFF REQUIRED)                # GeoTIFF tags, which OpenImageIO cannot write
 find_package(OpenEXR CONFIG REQUIRED)
+find_package(GDAL CONFIG REQUIRED)           # netCDF, VRT mosaics, DTED, ... behind DemReader
+find_package(ZLIB REQUIRED)                # CRC-32 of pyramid tiles
 find_package(GeographicLib REQUIRED)       # Debian ships only a find module
 find_package(glm CONFIG REQUIRED)
 find_package(glfw3 CONFIG REQUIRED)

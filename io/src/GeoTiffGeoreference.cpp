@@ -1,14 +1,17 @@
 // GeoTIFF georeference reader through libtiff (GeoTIFF 1.1, OGC 19-008r4, §7).
 #include "terrain/io/GeoTiffGeoreference.h"
 
+#include "GeoTiffGeoreferenceTags.h"
 #include "GeoTiffTags.h"
 #include "TiffFile.h"
 
 #include <fmt/format.h>
 
+#include <charconv>
 #include <cmath>
 #include <span>
 #include <string>
+#include <string_view>
 
 namespace terrain::io {
 
@@ -16,6 +19,8 @@ namespace {
 
 constexpr std::uint16_t kGTRasterTypeKey = detail::kGTRasterTypeGeoKey;
 constexpr std::uint16_t kRasterPixelIsPoint = 2;
+constexpr std::uint16_t kGeographicTypeGeoKey = 2048;  // §7.4.3 GeodeticCRSGeoKey
+constexpr std::uint16_t kModelTypeGeographic = 2;
 
 // libtiff reads tags it does not know as "anonymous" fields whose count is a uint32
 // (TIFF_VARIABLE2); a reader that registered them may have a uint16 count instead.
@@ -38,25 +43,47 @@ std::span<const T> arrayTag(TIFF* tiff, ttag_t tag) {
                            : std::span<const T>(static_cast<const T*>(data), count);
 }
 
+// The CRS keys that decide the kind and EPSG code; absent keys stay 0.
+struct CrsKeys {
+    std::uint16_t modelType = 0;
+    std::uint16_t projected = 0;
+    std::uint16_t geographic = 0;
+    bool pixelIsPoint = false;
+};
+
+CrsKeys readCrsKeys(TIFF* tiff) {
+    CrsKeys crs;
+    const std::span<const std::uint16_t> keys =
+        arrayTag<std::uint16_t>(tiff, detail::kGeoKeyDirectoryTag);
+    if (keys.size() < 4) return crs;
+    const std::size_t count = std::min<std::size_t>(keys[3], (keys.size() - 4) / 4);
+    for (std::size_t k = 0; k < count; ++k) {
+        const std::uint16_t id = keys[4 + 4 * k];
+        const std::uint16_t location = keys[5 + 4 * k];
+        const std::uint16_t value = keys[7 + 4 * k];
+        if (location != 0) continue;  // only keys stored inline matter here
+        if (id == detail::kGTModelTypeGeoKey) crs.modelType = value;
+        if (id == detail::kProjectedCRSGeoKey) crs.projected = value;
+        if (id == kGeographicTypeGeoKey) crs.geographic = value;
+        if (id == kGTRasterTypeKey) crs.pixelIsPoint = value == kRasterPixelIsPoint;
+    }
+    return crs;
+}
+
 }  // namespace
 
-Result<Georeference> readGeoTiffGeoreference(const std::filesystem::path& path) {
-    const auto fail = [&](const std::string& what) {
-        return Error{fmt::format("{}: {}", path.string(), what)};
-    };
-    detail::TiffFile tiff(path, "r");
-    if (!tiff) return fail(tiff.error("cannot open as a TIFF file"));
-    TIFF* t = tiff.get();
-    if (!arrayTag<double>(t, detail::kModelTransformationTag).empty())
-        return fail("rotated or sheared rasters (GeoTIFF ModelTransformation) are not supported");
-    const std::span<const double> scale = arrayTag<double>(t, detail::kModelPixelScaleTag);
-    const std::span<const double> tiepoint = arrayTag<double>(t, detail::kModelTiepointTag);
-    if (scale.size() < 2 || tiepoint.size() < 6)
-        return fail("no GeoTIFF georeference (ModelPixelScale and ModelTiepoint tags)");
+namespace detail {
+
+Result<std::optional<Georeference>> readGeoreferenceTags(TIFF* t) {
+    if (!arrayTag<double>(t, kModelTransformationTag).empty())
+        return Error{"rotated or sheared rasters (GeoTIFF ModelTransformation) are not supported"};
+    const std::span<const double> scale = arrayTag<double>(t, kModelPixelScaleTag);
+    const std::span<const double> tiepoint = arrayTag<double>(t, kModelTiepointTag);
+    if (scale.size() < 2 || tiepoint.size() < 6) return std::optional<Georeference>();
     if (!(scale[0] > 0.0) || !(scale[1] > 0.0) || !std::isfinite(scale[0]) ||
         !std::isfinite(scale[1]))
-        return fail(
-            fmt::format("GeoTIFF pixel scale ({}, {}) is not positive", scale[0], scale[1]));
+        return Error{
+            fmt::format("GeoTIFF pixel scale ({}, {}) is not positive", scale[0], scale[1])};
 
     Georeference geo;
     geo.pixelSizeX = scale[0];
@@ -65,26 +92,70 @@ Result<Georeference> readGeoTiffGeoreference(const std::filesystem::path& path) 
     geo.originX = tiepoint[3] - tiepoint[0] * scale[0];
     geo.originY = tiepoint[4] + tiepoint[1] * scale[1];
 
-    const std::span<const std::uint16_t> keys =
-        arrayTag<std::uint16_t>(t, detail::kGeoKeyDirectoryTag);
-    if (keys.size() >= 4) {
-        const std::size_t count = std::min<std::size_t>(keys[3], (keys.size() - 4) / 4);
-        for (std::size_t k = 0; k < count; ++k) {
-            const std::uint16_t id = keys[4 + 4 * k];
-            const std::uint16_t location = keys[5 + 4 * k];
-            const std::uint16_t value = keys[7 + 4 * k];
-            if (location != 0) continue;  // only keys stored inline matter here
-            if (id == detail::kProjectedCRSGeoKey && value != detail::kUserDefined)
-                geo.epsg = value;
-            if (id == kGTRasterTypeKey && value == kRasterPixelIsPoint) {
-                // PixelIsPoint: the tiepoint is a pixel centre; the area convention wants
-                // the corner, half a pixel north-west.
-                geo.originX -= 0.5 * geo.pixelSizeX;
-                geo.originY += 0.5 * geo.pixelSizeY;
-            }
-        }
+    const CrsKeys crs = readCrsKeys(t);
+    // Without a model type, a geographic code alone says geographic; anything else keeps
+    // the writer's convention: projected, metres, maybe unnamed.
+    const bool geographic = crs.modelType == kModelTypeGeographic ||
+                            (crs.modelType == 0 && crs.projected == 0 && crs.geographic != 0);
+    if (geographic) {
+        geo.crsKind = CrsKind::Geographic;
+        if (crs.geographic != 0 && crs.geographic != kUserDefined) geo.epsg = crs.geographic;
+    } else if (crs.modelType == 0 || crs.modelType == kModelTypeProjected) {
+        geo.crsKind = CrsKind::Projected;
+        if (crs.projected != 0 && crs.projected != kUserDefined) geo.epsg = crs.projected;
+    } else {
+        geo.crsKind = CrsKind::Unknown;  // geocentric or a private model type
     }
-    return geo;
+    if (crs.pixelIsPoint) {
+        // PixelIsPoint: the tiepoint is a pixel centre; the area convention wants the
+        // corner, half a pixel north-west.
+        geo.originX -= 0.5 * geo.pixelSizeX;
+        geo.originY += 0.5 * geo.pixelSizeY;
+    }
+    return std::optional<Georeference>(geo);
+}
+
+std::optional<std::string> readAsciiTag(TIFF* tiff, ttag_t tag) {
+    const TIFFField* field = TIFFFindField(tiff, tag, TIFF_ANY);
+    if (field == nullptr) return std::nullopt;
+    if (TIFFFieldPassCount(field) != 0) {
+        const std::span<const char> chars = arrayTag<char>(tiff, tag);
+        if (chars.empty()) return std::nullopt;
+        std::string text(chars.data(), chars.size());
+        while (!text.empty() && text.back() == '\0') text.pop_back();
+        return text;
+    }
+    const char* value = nullptr;
+    if (TIFFGetField(tiff, tag, &value) != 1 || value == nullptr) return std::nullopt;
+    return std::string(value);
+}
+
+std::optional<double> readGdalNoDataTag(TIFF* tiff) {
+    const std::optional<std::string> tag = readAsciiTag(tiff, kGdalNoDataTag);
+    if (!tag) return std::nullopt;
+    std::string_view text = *tag;
+    while (!text.empty() && (text.back() == '\0' || text.back() == ' ')) text.remove_suffix(1);
+    while (!text.empty() && text.front() == ' ') text.remove_prefix(1);
+    if (text == "nan" || text == "NaN" || text == "-nan") return std::nan("");
+    double value = 0.0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error != std::errc() || end != text.data() + text.size()) return std::nullopt;
+    return value;
+}
+
+}  // namespace detail
+
+Result<Georeference> readGeoTiffGeoreference(const std::filesystem::path& path) {
+    const auto fail = [&](const std::string& what) {
+        return Error{fmt::format("{}: {}", path.string(), what)};
+    };
+    detail::TiffFile tiff(path, "r");
+    if (!tiff) return fail(tiff.error("cannot open as a TIFF file"));
+    Result<std::optional<Georeference>> geo = detail::readGeoreferenceTags(tiff.get());
+    if (!geo) return fail(geo.error().message);
+    if (!geo.value())
+        return fail("no GeoTIFF georeference (ModelPixelScale and ModelTiepoint tags)");
+    return *geo.value();
 }
 
 }  // namespace terrain::io

@@ -1,0 +1,69 @@
+// DemOpenOptions applied to a DemInfo: what the command line says wins over the file.
+#include "DemReaderFactories.h"
+#include "GdalSession.h"
+
+#include <fmt/format.h>
+#include <ogr_spatialref.h>
+
+#include <cmath>
+
+namespace terrain::io::detail {
+
+namespace {
+
+// The kind and WKT of an EPSG code from PROJ's database.
+Status describeEpsg(const std::string& path, int epsg, Georeference& geo) {
+    GdalErrorCapture errors;
+    OGRSpatialReference srs;
+    if (epsg <= 0 || srs.importFromEPSG(epsg) != OGRERR_NONE)
+        return Error{fmt::format("{}: EPSG:{} is not a CRS that PROJ knows ({})", path, epsg,
+                                 errors.message("no such code"))};
+    geo.epsg = epsg;
+    geo.crsKind = srs.IsGeographic()  ? CrsKind::Geographic
+                  : srs.IsProjected() ? CrsKind::Projected
+                                      : CrsKind::Unknown;
+    geo.wkt = wktOf(srs);
+    return {};
+}
+
+}  // namespace
+
+Status applyDemOpenOptions(DemInfo& info, const DemOpenOptions& options) {
+    if (options.verticalScale) {
+        if (!std::isfinite(*options.verticalScale) || *options.verticalScale == 0.0)
+            return Error{fmt::format("{}: vertical scale {} is not a finite non-zero number",
+                                     info.path, *options.verticalScale)};
+        info.vertical.scale = *options.verticalScale;
+    }
+    if (options.verticalOffset) {
+        if (!std::isfinite(*options.verticalOffset))
+            return Error{fmt::format("{}: vertical offset {} is not finite", info.path,
+                                     *options.verticalOffset)};
+        info.vertical.offset = *options.verticalOffset;
+    }
+    if (options.noDataValue) info.noDataValue = *options.noDataValue;
+
+    const bool placed = options.pixelSize || options.originX || options.originY || options.epsg;
+    if (!placed) return {};
+    Georeference& geo = info.georeference;
+    if (options.pixelSize) {
+        if (!(*options.pixelSize > 0.0) || !std::isfinite(*options.pixelSize))
+            return Error{fmt::format("{}: pixel size {} is not a positive number", info.path,
+                                     *options.pixelSize)};
+        geo.pixelSizeX = geo.pixelSizeY = *options.pixelSize;
+    }
+    if (options.originX) geo.originX = *options.originX;
+    if (options.originY) geo.originY = *options.originY;
+    if (options.epsg) {
+        if (Status s = describeEpsg(info.path, *options.epsg, geo); !s) return s;
+    } else if (geo.crsKind == CrsKind::Unknown) {
+        // A placement given for a raster without a CRS: map units are metres in an unnamed
+        // projected CRS, the convention of the GeoTIFF writer.
+        geo.crsKind = CrsKind::Projected;
+        geo.epsg = Georeference::kUnknownProjectedCrs;
+    }
+    info.hasGeoreference = true;
+    return {};
+}
+
+}  // namespace terrain::io::detail

@@ -1,0 +1,246 @@
+// DEM reader for anything GDAL opens (netCDF, VRT, DTED, ...): band 1 read as float
+// windows through RasterIO, no-data and scale/offset from the band, the placement from
+// the geotransform and the CRS from the dataset's spatial reference.
+#include "GdalDemReader.h"
+#include "DemSampleConversion.h"
+#include "NetCdfClassicExtent.h"
+
+#include <cpl_string.h>
+#include <fmt/format.h>
+#include <ogr_spatialref.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <string_view>
+
+namespace terrain::io::detail {
+
+namespace {
+
+const char* sampleTypeName(GDALDataType type) {
+    switch (type) {
+        case GDT_Byte:
+            return "uint8";
+        case GDT_UInt16:
+            return "uint16";
+        case GDT_Int16:
+            return "int16";
+        case GDT_UInt32:
+            return "uint32";
+        case GDT_Int32:
+            return "int32";
+        case GDT_UInt64:
+            return "uint64";
+        case GDT_Int64:
+            return "int64";
+        case GDT_Float32:
+            return "float32";
+        case GDT_Float64:
+            return "float64";
+        default:
+            return nullptr;
+    }
+}
+
+// CF grids with longitude/latitude axes and no grid_mapping (ETOPO, most global
+// netCDF): GDAL reports no CRS, yet the axes' units say degrees. CF leaves the datum
+// unstated; like GDAL for the axes it recognises, we take WGS 84.
+bool hasCfLongitudeLatitudeAxes(GDALDataset& dataset) {
+    bool east = false, north = false;
+    for (CSLConstList item = dataset.GetMetadata(); item != nullptr && *item != nullptr; ++item) {
+        const std::string_view entry(*item);
+        const std::size_t equals = entry.find('=');
+        if (equals == std::string_view::npos) continue;
+        const std::string_view key = entry.substr(0, equals), value = entry.substr(equals + 1);
+        if (!key.ends_with("#units")) continue;
+        if (value == "degrees_east" || value == "degree_east" || value == "degrees_E" ||
+            value == "degree_E")
+            east = true;
+        if (value == "degrees_north" || value == "degree_north" || value == "degrees_N" ||
+            value == "degree_N")
+            north = true;
+    }
+    return east && north;
+}
+
+void describeCrs(GDALDataset& dataset, Georeference& geo) {
+    const OGRSpatialReference* srs = dataset.GetSpatialRef();
+    if (srs == nullptr || srs->IsEmpty()) {
+        geo.crsKind = CrsKind::Unknown;
+        if (!hasCfLongitudeLatitudeAxes(dataset)) return;
+        geo.crsKind = CrsKind::Geographic;
+        geo.epsg = Georeference::kWgs84Geographic;
+        OGRSpatialReference wgs84;
+        if (wgs84.importFromEPSG(Georeference::kWgs84Geographic) == OGRERR_NONE)
+            geo.wkt = wktOf(wgs84);
+        return;
+    }
+    // A local (engineering) CRS is a plane in linear units: what the GeoTIFF writer calls
+    // an unnamed projected CRS (GDAL reads its files back as one), so Projected too.
+    geo.crsKind = srs->IsGeographic()                    ? CrsKind::Geographic
+                  : srs->IsProjected() || srs->IsLocal() ? CrsKind::Projected
+                                                         : CrsKind::Unknown;
+    const char* authority = srs->GetAuthorityName(nullptr);
+    const char* code = srs->GetAuthorityCode(nullptr);
+    if (authority != nullptr && code != nullptr && EQUAL(authority, "EPSG"))
+        geo.epsg = std::atoi(code);
+    geo.wkt = wktOf(*srs);
+}
+
+}  // namespace
+
+bool gdalRowsRunNorth(GDALDataset& dataset) {
+    std::array<double, 6> gt{};
+    return dataset.GetGeoTransform(gt.data()) == CE_None && gt[5] > 0.0;
+}
+
+Result<DemInfo> describeGdalDataset(GDALDataset& dataset, const std::string& path) {
+    const auto fail = [&](const std::string& what) {
+        return Error{fmt::format("{}: {}", path, what)};
+    };
+    if (dataset.GetRasterCount() < 1) return fail("GDAL finds no raster band in it");
+    GDALRasterBand* band = dataset.GetRasterBand(1);
+    const GDALDataType type = band->GetRasterDataType();
+    const char* typeName = sampleTypeName(type);
+    if (typeName == nullptr)
+        return fail(fmt::format("unsupported sample type: {}{}", GDALGetDataTypeName(type),
+                                GDALDataTypeIsComplex(type) != 0 ? " (complex)" : ""));
+
+    DemInfo info;
+    info.path = path;
+    info.readerName = "gdal";
+    info.inputs = {path};
+    info.width = dataset.GetRasterXSize();
+    info.height = dataset.GetRasterYSize();
+    info.sampleType = typeName;
+    if (info.width <= 0 || info.height <= 0)
+        return fail(fmt::format("empty raster ({} × {})", info.width, info.height));
+    int has = 0;
+    const double noData = band->GetNoDataValue(&has);
+    if (has != 0) info.noDataValue = noData;
+    const double scale = band->GetScale(&has);
+    if (has != 0 && scale != 0.0) info.vertical.scale = scale;
+    const double offset = band->GetOffset(&has);
+    if (has != 0) info.vertical.offset = offset;
+
+    info.georeference.crsKind = CrsKind::Unknown;
+    std::array<double, 6> gt{};
+    if (dataset.GetGeoTransform(gt.data()) != CE_None) return info;  // not georeferenced
+    if (gt[2] != 0.0 || gt[4] != 0.0)
+        return fail(fmt::format(
+            "rotated or sheared rasters are not supported (geotransform {}, {}, {}, {}, {}, {})",
+            gt[0], gt[1], gt[2], gt[3], gt[4], gt[5]));
+    if (!(gt[1] > 0.0) || gt[5] == 0.0 || !std::isfinite(gt[1]) || !std::isfinite(gt[5]))
+        return fail(fmt::format("unusable pixel size {} × {} in the geotransform", gt[1], gt[5]));
+    Georeference& geo = info.georeference;
+    geo.pixelSizeX = gt[1];
+    geo.pixelSizeY = std::abs(gt[5]);
+    geo.originX = gt[0];
+    // Rows running north are flipped on read, so the north edge is the far end.
+    geo.originY = gt[5] < 0.0 ? gt[3] : gt[3] + gt[5] * static_cast<double>(info.height);
+    describeCrs(dataset, geo);
+    info.hasGeoreference = true;
+    return info;
+}
+
+GdalDemReader::GdalDemReader(DemInfo info, GdalDataset dataset, bool bottomUp,
+                             std::vector<PixelRect> coverage)
+    : m_info(std::move(info)),
+      m_dataset(std::move(dataset)),
+      m_band(m_dataset->GetRasterBand(1)),
+      m_bottomUp(bottomUp),
+      m_coverage(std::move(coverage)) {
+    const GDALDataType type = m_band->GetRasterDataType();
+    m_wide = type == GDT_Float64 || type == GDT_Int32 || type == GDT_UInt32 || type == GDT_Int64 ||
+             type == GDT_UInt64;
+}
+
+Status GdalDemReader::readWindow(std::int64_t x0, std::int64_t y0, std::int64_t width,
+                                 std::int64_t rows, std::span<float> out) {
+    assertDemWindow(m_info, x0, y0, width, rows, out);
+    if (width == 0 || rows == 0) return {};
+    const std::size_t count = static_cast<std::size_t>(width * rows);
+    const std::int64_t sourceY = m_bottomUp ? m_info.height - y0 - rows : y0;
+    void* target = out.data();
+    if (m_wide) {
+        m_wideScratch.resize(count);
+        target = m_wideScratch.data();
+    }
+    GdalErrorCapture errors;
+    const CPLErr result = m_band->RasterIO(GF_Read, static_cast<int>(x0), static_cast<int>(sourceY),
+                                           static_cast<int>(width), static_cast<int>(rows), target,
+                                           static_cast<int>(width), static_cast<int>(rows),
+                                           m_wide ? GDT_Float64 : GDT_Float32, 0, 0, nullptr);
+    if (result != CE_None)
+        return Error{
+            fmt::format("{}: cannot read rows {}..{}: {}", m_info.path, y0, y0 + rows - 1,
+                        libraryMessage(errors.message("GDAL RasterIO failed"), m_info.path))};
+    if (m_wide)
+        convertDemSamples(m_wideScratch.data(), count, out.data(), m_info.vertical,
+                          m_info.noDataValue);
+    else
+        convertDemSamples(out.data(), count, out.data(), m_info.vertical, m_info.noDataValue);
+    if (m_bottomUp) {
+        for (std::int64_t r = 0; r < rows / 2; ++r)
+            std::swap_ranges(out.data() + r * width, out.data() + (r + 1) * width,
+                             out.data() + (rows - 1 - r) * width);
+    }
+    if (!m_coverage.empty()) maskUncovered(x0, y0, width, rows, out);
+    return {};
+}
+
+void GdalDemReader::maskUncovered(std::int64_t x0, std::int64_t y0, std::int64_t width,
+                                  std::int64_t rows, std::span<float> out) const {
+    std::vector<unsigned char> covered(static_cast<std::size_t>(width));
+    for (std::int64_t r = 0; r < rows; ++r) {
+        const std::int64_t y = y0 + r;
+        std::fill(covered.begin(), covered.end(), 0);
+        for (const PixelRect& rect : m_coverage) {
+            if (y < rect.y || y >= rect.y + rect.height) continue;
+            const std::int64_t a = std::max(x0, rect.x),
+                               b = std::min(x0 + width, rect.x + rect.width);
+            if (a < b) std::fill(covered.begin() + (a - x0), covered.begin() + (b - x0), 1);
+        }
+        float* row = out.data() + r * width;
+        for (std::int64_t x = 0; x < width; ++x)
+            if (covered[static_cast<std::size_t>(x)] == 0)
+                row[x] = std::numeric_limits<float>::quiet_NaN();
+    }
+}
+
+Result<GdalDataset> openGdalDataset(const std::string& path) {
+    const Result<std::uint64_t> size = checkDemInputFile(path);
+    if (!size) return size.error();
+    if (const std::optional<std::uint64_t> end = netCdfClassicDataEnd(path);
+        end && *end > size.value())
+        return Error{fmt::format(
+            "{}: truncated: the netCDF variables' data ends at byte {}, the file has {} bytes",
+            path, *end, size.value())};
+    ensureGdalRegistered();
+    GdalErrorCapture errors;
+    GdalDataset dataset(
+        GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR));
+    if (!dataset)
+        return Error{
+            fmt::format("{}: {}", path,
+                        libraryMessage(errors.message("GDAL cannot open it as a raster"), path))};
+    return dataset;
+}
+
+DemReaderResult openGdalDem(const std::string& path, const DemOpenOptions& options) {
+    Result<GdalDataset> opened = openGdalDataset(path);
+    if (!opened) return opened.error();
+    GdalDataset dataset = std::move(opened).value();
+    Result<DemInfo> info = describeGdalDataset(*dataset, path);
+    if (!info) return info.error();
+    if (Status s = applyDemOpenOptions(info.value(), options); !s) return s.error();
+    const bool bottomUp = gdalRowsRunNorth(*dataset);
+    return std::unique_ptr<DemReader>(
+        std::make_unique<GdalDemReader>(std::move(info).value(), std::move(dataset), bottomUp));
+}
+
+}  // namespace terrain::io::detail

@@ -1,0 +1,240 @@
+// Broken DEM inputs: each is an Error whose message starts with the path and says what is
+// wrong, never a crash — missing and empty files, truncated files (every reader, many
+// prefixes), garbage with a DEM extension, a .hgt of the wrong size, corrupt compressed
+// tiles, sample types that are not heights, rotated rasters.
+#include "DemTestSupport.h"
+#include "SharedData.h"
+
+#include "terrain/io/DemReader.h"
+#include "terrain/io/HeightImageWriter.h"
+
+#include <gdal_priv.h>
+
+#include <array>
+
+namespace terrain::io {
+namespace {
+
+using test::openOne;
+using test::TempDir;
+namespace fs = std::filesystem;
+
+// Opens `path` and reads it whole in bands; the first Error met, or nullopt.
+std::optional<std::string> firstError(const std::string& path) {
+    Result<std::unique_ptr<DemReader>> reader = openOne(path);
+    if (!reader.ok()) return reader.error().message;
+    DemReader& r = *reader.value();
+    const DemInfo& info = r.info();
+    std::vector<float> band(static_cast<std::size_t>(info.width * 131));
+    for (std::int64_t y = 0; y < info.height; y += 131) {
+        const std::int64_t rows = std::min<std::int64_t>(131, info.height - y);
+        const Status s = r.readWindow(0, y, info.width, rows, band);
+        if (!s.ok()) return s.error().message;
+    }
+    return std::nullopt;
+}
+
+void expectErrorStartingWithPath(const std::string& path, const std::string& mentions = {}) {
+    const std::optional<std::string> error = firstError(path);
+    ASSERT_TRUE(error.has_value()) << path << " opened and read without an error";
+    EXPECT_TRUE(error->starts_with(path + ":")) << *error;
+    if (!mentions.empty()) {
+        EXPECT_NE(error->find(mentions), std::string::npos) << *error;
+    }
+}
+
+class DemReaderErrorsTest : public ::testing::Test {
+protected:
+    void SetUp() override { GDALAllRegister(); }
+
+    std::string writeGdal(const std::string& name, GDALDataType type,
+                          std::vector<std::string> creationOptions = {},
+                          std::array<double, 6> gt = {0.0, 1.0, 0.0, 0.0, 0.0, -1.0}) {
+        const std::string path = m_dir.file(name);
+        GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GTiff");
+        std::vector<char*> options;
+        for (std::string& o : creationOptions) options.push_back(o.data());
+        options.push_back(nullptr);
+        GDALDataset* ds = driver->Create(path.c_str(), 64, 48, 1, type, options.data());
+        EXPECT_NE(ds, nullptr);
+        if (ds == nullptr) return path;
+        ds->SetGeoTransform(gt.data());
+        std::vector<float> values(64 * 48, 1.0F);
+        EXPECT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 64, 48, values.data(), 64, 48,
+                                                 GDT_Float32, 0, 0, nullptr),
+                  CE_None);
+        GDALClose(ds);
+        return path;
+    }
+
+    TempDir m_dir;
+};
+
+TEST_F(DemReaderErrorsTest, MissingFiles) {
+    for (const char* name :
+         {"missing.tif", "missing.hgt", "missing.nc", "missing.png", "N10E010.hgt"}) {
+        const std::string path = m_dir.file(name);
+        expectErrorStartingWithPath(path, "no such file");
+    }
+    expectErrorStartingWithPath(m_dir.path().string(), "directory");
+    const auto none = openDem({});
+    EXPECT_FALSE(none.ok());
+}
+
+TEST_F(DemReaderErrorsTest, EmptyFiles) {
+    for (const char* name : {"empty.tif", "empty.hgt", "empty.nc", "empty.png", "empty.exr",
+                             "empty.jpg", "empty.vrt"}) {
+        const std::string path = m_dir.file(name);
+        test::writeBytes(path, {});
+        expectErrorStartingWithPath(path, "empty file");
+    }
+}
+
+TEST_F(DemReaderErrorsTest, GarbageWithADemExtension) {
+    std::vector<char> garbage(100000);
+    for (std::size_t i = 0; i < garbage.size(); ++i)
+        garbage[i] = static_cast<char>((i * 2654435761U) >> 13U);
+    for (const char* name : {"garbage.tif", "garbage.tiff", "garbage.png", "garbage.exr",
+                             "garbage.jpg", "garbage.nc", "garbage.dem", "garbage.vrt"}) {
+        const std::string path = m_dir.file(name);
+        test::writeBytes(path, garbage);
+        expectErrorStartingWithPath(path);
+    }
+    // A TIFF header and nothing else.
+    const std::string header = m_dir.file("header_only.tif");
+    test::writeBytes(header, {'I', 'I', 42, 0, 8, 0, 0, 0});
+    expectErrorStartingWithPath(header);
+}
+
+TEST_F(DemReaderErrorsTest, HgtOfTheWrongSize) {
+    const std::string path = m_dir.file("N46W122.hgt");
+    test::writeBytes(path, std::vector<char>(1000, 0));
+    expectErrorStartingWithPath(path, "1000 bytes");
+    const std::string almost = m_dir.file("N46W121.hgt");
+    test::writeBytes(almost, std::vector<char>(1201 * 1201 * 2 - 2, 0));
+    expectErrorStartingWithPath(almost, "not an SRTM .hgt size");
+}
+
+TEST_F(DemReaderErrorsTest, TruncatedRainierTiff) {
+    TERRAIN_SHARED_DATA_OR_SKIP(path, "srtm3_n46w122_rainier.tif");
+    std::vector<char> bytes = test::readBytes(path);
+    bytes.resize(bytes.size() / 2);
+    const std::string truncated = m_dir.file("dem.tif");
+    test::writeBytes(truncated, bytes);
+    // This file keeps its directory at the end: the header points past the cut.
+    expectErrorStartingWithPath(truncated, "truncated: the TIFF directory");
+    // Our writer's files too; a GDAL file with the directory first loses tiles instead.
+    GDALDataset* source = GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY);
+    ASSERT_NE(source, nullptr);
+    const std::string copy = m_dir.file("directory_first.tif");
+    char tiled[] = "TILED=YES";
+    char* options[] = {tiled, nullptr};
+    GDALClose(GetGDALDriverManager()->GetDriverByName("GTiff")->CreateCopy(
+        copy.c_str(), source, FALSE, options, nullptr, nullptr));
+    GDALClose(source);
+    bytes = test::readBytes(copy);
+    bytes.resize(bytes.size() / 2);
+    test::writeBytes(truncated, bytes);
+    expectErrorStartingWithPath(truncated, "truncated: TIFF tile");
+}
+
+TEST_F(DemReaderErrorsTest, EveryReaderSurvivesTruncatedPrefixes) {
+    // meshoptimizer-style: every prefix of a real file must fail cleanly, never crash nor
+    // read as if whole (netCDF classic and JPEG decoders would fill the cut part: the
+    // readers check the header's extent and the JPEG end marker).
+    struct Case {
+        const char* name;
+        int prefixes;
+        bool mustFail;
+    };
+    for (const Case c :
+         {Case{"luxembourg_elev_30s.tif", 400, true}, Case{"srtm3_n46w122_rainier.tif", 40, true},
+          Case{"srtm/N57E011.hgt", 10, true}, Case{"kilauea_utm5n_30m.nc", 30, true},
+          Case{"etopo20_global.nc", 40, true}, Case{"puget_sound_1k.png", 12, true},
+          Case{"puget_sound_4k_8bit.jpg", 8, true}}) {
+        TERRAIN_SHARED_DATA_OR_SKIP(path, c.name);
+        const std::vector<char> bytes = test::readBytes(path);
+        const std::string ext = path.extension().string();
+        const std::string prefix = m_dir.file(std::string("N57E011") + ext);
+        std::size_t failures = 0;
+        for (int i = 0; i < c.prefixes; ++i) {
+            const std::size_t length =
+                bytes.size() * static_cast<std::size_t>(i) / static_cast<std::size_t>(c.prefixes);
+            test::writeBytes(prefix, std::vector<char>(bytes.begin(), bytes.begin() + length));
+            const std::optional<std::string> error = firstError(prefix);
+            if (!error) {
+                EXPECT_FALSE(c.mustFail) << c.name << " prefix of " << length << " bytes read";
+                continue;
+            }
+            ++failures;
+            EXPECT_TRUE(error->starts_with(prefix + ":")) << *error;
+        }
+        EXPECT_GT(failures, 0U) << c.name;
+    }
+}
+
+TEST_F(DemReaderErrorsTest, CorruptCompressedTile) {
+    std::vector<float> heights(600 * 300);
+    for (std::size_t i = 0; i < heights.size(); ++i) heights[i] = static_cast<float>(i % 977);
+    const std::string path = m_dir.file("corrupt.tif");
+    ASSERT_TRUE(writeHeightImage(path, 600, 300, heights).ok());
+    std::vector<char> bytes = test::readBytes(path);
+    // libtiff writes tiles first, the directory last: scribble over the first tiles.
+    for (std::size_t i = 16; i < bytes.size() / 2; ++i) bytes[i] = static_cast<char>(i * 7919U);
+    test::writeBytes(path, bytes);
+    expectErrorStartingWithPath(path, "cannot read rows");
+}
+
+TEST_F(DemReaderErrorsTest, CorruptPngData) {
+    std::vector<float> heights(400 * 300);
+    for (std::size_t i = 0; i < heights.size(); ++i) heights[i] = static_cast<float>(i % 1009);
+    const std::string path = m_dir.file("corrupt.png");
+    ASSERT_TRUE(writeHeightImage(path, 400, 300, heights).ok());
+    std::vector<char> bytes = test::readBytes(path);
+    // Keep the chunk structure, scramble the compressed pixels of the first IDAT chunk.
+    const std::string_view all(bytes.data(), bytes.size());
+    const std::size_t idat = all.find("IDAT");
+    ASSERT_NE(idat, std::string_view::npos);
+    for (std::size_t i = idat + 40; i < std::min(bytes.size() - 16, idat + 4000); ++i)
+        bytes[i] = static_cast<char>(i * 131U);
+    test::writeBytes(path, bytes);
+    expectErrorStartingWithPath(path);
+}
+
+TEST_F(DemReaderErrorsTest, UnsupportedSampleTypes) {
+    const std::string complexTif = writeGdal("complex.tif", GDT_CInt16);
+    expectErrorStartingWithPath(complexTif, "complex");
+    // The same bytes under a name GDAL gets.
+    const std::string complexGdal = m_dir.file("complex.gtiff_raster");
+    fs::copy_file(complexTif, complexGdal);
+    expectErrorStartingWithPath(complexGdal, "CInt16");
+
+    const std::string oneBit = writeGdal("one_bit.tif", GDT_Byte, {"NBITS=1"});
+    expectErrorStartingWithPath(oneBit, "1-bit");
+    const std::string twelveBit = writeGdal("twelve_bit.tif", GDT_UInt16, {"NBITS=12"});
+    expectErrorStartingWithPath(twelveBit, "12-bit");
+}
+
+TEST_F(DemReaderErrorsTest, RotatedRasters) {
+    const std::array<double, 6> rotated = {100.0, 1.0, 0.2, 200.0, 0.2, -1.0};
+    const std::string tif = writeGdal("rotated.tif", GDT_Float32, {}, rotated);
+    expectErrorStartingWithPath(tif, "rotated");
+    const std::string other = m_dir.file("rotated.gtiff_raster");
+    fs::copy_file(tif, other);
+    expectErrorStartingWithPath(other, "rotated");
+}
+
+TEST_F(DemReaderErrorsTest, MessagesAreReadable) {
+    // Spot-check full texts, so a change of wording is a deliberate one.
+    const std::string path = m_dir.file("N46W122.hgt");
+    test::writeBytes(path, std::vector<char>(1000, 0));
+    EXPECT_EQ(firstError(path).value_or(""),
+              path +
+                  ": 1000 bytes is not an SRTM .hgt size (2884802 bytes for 1201² samples, "
+                  "25934402 for 3601²)");
+    EXPECT_EQ(firstError(m_dir.file("gone.tif")).value_or(""),
+              m_dir.file("gone.tif") + ": no such file");
+}
+
+}  // namespace
+}  // namespace terrain::io
