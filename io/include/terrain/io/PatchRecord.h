@@ -1,0 +1,34 @@
+// PatchRecord: everything the pyramid stores for one patch (docs/pyramid-format.md):
+// heights with apron, no-data mask, tessellation-block errors and the per-patch summary.
+#pragma once
+
+#include "terrain/io/PatchErrors.h"
+#include "terrain/io/PyramidLayout.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace terrain::io {
+
+struct PatchInfo {
+    bool present = false;    ///< overlaps the DEM
+    float minHeight = 0.0f;  ///< of the N × N drawn samples, metres
+    float maxHeight = 0.0f;
+    float error = 0.0f;               ///< Err(P) = approxError + quantError (Yusov §4)
+    float approxError = 0.0f;         ///< Err_Appr(P)
+    float quantError = 0.0f;          ///< δ: 0 for lossless float32 storage
+    std::uint32_t noDataSamples = 0;  ///< filled or overhanging among the N × N
+    std::uint32_t crc32 = 0;          ///< of the stored tiles; set by the shard writer
+    bool operator==(const PatchInfo&) const = default;
+};
+
+struct PatchRecord {
+    PatchId id;
+    PatchInfo info;
+    std::vector<float> heights;            ///< tileSamples² metres, row-major, apron included
+    std::vector<std::uint8_t> valid;       ///< tileSamples², 1 valid / 0 filled; empty when the
+                                           ///< pyramid has no no-data
+    std::vector<BlockErrors> blockErrors;  ///< blocksPerSide², row-major: λ(1..4)
+};
+
+}  // namespace terrain::io

@@ -1,0 +1,311 @@
+// Reading patches from a pyramid's shard files (docs/pyramid-format.md). Each open shard
+// keeps its OpenEXR file, its two tiled parts and its patchInfo tile; a least-recently-used
+// list caps how many stay open. Everything OpenEXR throws becomes an Error naming the
+// shard file and the patch, and the shard is closed so a damaged file is not reused.
+#include "terrain/io/PyramidReader.h"
+
+#include "PatchChecksum.h"
+#include "ShardFormat.h"
+
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfMultiPartInputFile.h>
+#include <ImfTiledInputPart.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstring>
+#include <exception>
+#include <string>
+#include <vector>
+
+namespace terrain::io {
+namespace {
+
+std::string patchName(const PatchId& id) {
+    return fmt::format("patch L{} ({}, {})", id.level, id.x, id.y);
+}
+
+struct OpenShard {
+    ShardId id;
+    std::filesystem::path path;
+    int countX = 0, countY = 0;
+    std::unique_ptr<Imf::MultiPartInputFile> file;
+    std::unique_ptr<Imf::TiledInputPart> heights, blockErrors;
+    std::vector<shard::StoredInfo> infos;  // the patchInfo tile, row-major
+    std::uint64_t lastUse = 0;
+};
+
+// Why a shard cannot be used, without the file name (the caller adds file and patch).
+struct ShardProblem {
+    std::string what;
+};
+
+}  // namespace
+
+struct PyramidReader::Impl {
+    std::filesystem::path folder;
+    PyramidManifest manifest;
+    PyramidLayout layout;
+    bool hasMask = false;
+    int maxOpen = kDefaultOpenShards;
+    std::vector<std::unique_ptr<OpenShard>> shards;  // ≤ maxOpen, any order
+    std::uint64_t clock = 0;
+    std::uint64_t openings = 0;
+    std::vector<std::uint16_t> maskScratch;  // one tile of HALF bits
+
+    std::filesystem::path shardFile(const ShardId& s) const { return folder / layout.shardPath(s); }
+
+    Error patchError(const std::filesystem::path& file, const PatchId& id,
+                     const std::string& what) const {
+        return Error{fmt::format("{}: {}: {}", file.string(), patchName(id), what)};
+    }
+
+    Status checkContains(const PatchId& id) const {
+        if (id.level < 0 || id.level > layout.finestLevel())
+            return Error{fmt::format("{}: {} is outside the pyramid (levels 0 to {})",
+                                     folder.string(), patchName(id), layout.finestLevel())};
+        if (!layout.contains(id))
+            return Error{fmt::format("{}: {} is outside the pyramid (level {} has {} × {} patches)",
+                                     folder.string(), patchName(id), id.level,
+                                     layout.patchesX(id.level), layout.patchesY(id.level))};
+        return {};
+    }
+
+    void close(const OpenShard* shard) {
+        std::erase_if(shards, [&](const auto& s) { return s.get() == shard; });
+    }
+
+    // The open shard, opening it (and closing the least recently used) when needed.
+    Result<OpenShard*> shard(const ShardId& s, const PatchId& forPatch) {
+        ++clock;
+        for (auto& open : shards) {
+            if (open->id == s) {
+                open->lastUse = clock;
+                return open.get();
+            }
+        }
+        const std::filesystem::path path = shardFile(s);
+        Result<std::unique_ptr<OpenShard>> opened = openShard(s, path);
+        if (!opened) return patchError(path, forPatch, opened.error().message);
+        if (std::ssize(shards) >= maxOpen) {
+            const auto oldest = std::min_element(
+                shards.begin(), shards.end(),
+                [](const auto& a, const auto& b) { return a->lastUse < b->lastUse; });
+            shards.erase(oldest);
+        }
+        opened.value()->lastUse = clock;
+        shards.push_back(std::move(opened).value());
+        return shards.back().get();
+    }
+
+    // Error messages here are the "what" only; shard() adds the file and the patch.
+    Result<std::unique_ptr<OpenShard>> openShard(const ShardId& s,
+                                                 const std::filesystem::path& path) {
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec)) return Error{"the shard file is missing"};
+        ++openings;
+        auto shard = std::make_unique<OpenShard>();
+        shard->id = s;
+        shard->path = path;
+        shard->countX = layout.shardCountX(s);
+        shard->countY = layout.shardCountY(s);
+        try {
+            // 0 threads: a reader decodes on its own thread (one reader per thread).
+            shard->file = std::make_unique<Imf::MultiPartInputFile>(path.c_str(), 0);
+            const std::vector<Imf::Header> expected = shard::shardHeaders(layout, s, hasMask, 1);
+            int index[shard::kPartCount] = {-1, -1, -1};
+            for (int p = 0; p < shard->file->parts(); ++p) {
+                const Imf::Header& h = shard->file->header(p);
+                if (!h.hasName()) continue;
+                for (int e = 0; e < shard::kPartCount; ++e)
+                    if (h.name() == expected[static_cast<std::size_t>(e)].name()) index[e] = p;
+            }
+            for (int e = 0; e < shard::kPartCount; ++e) {
+                const Imf::Header& want = expected[static_cast<std::size_t>(e)];
+                if (index[e] < 0)
+                    return Error{
+                        fmt::format("not a shard of this pyramid: no part '{}'", want.name())};
+                if (Status ok = shard::checkPartHeader(shard->file->header(index[e]), want); !ok)
+                    return Error{"not a shard of this pyramid: " + ok.error().message};
+            }
+            shard->heights =
+                std::make_unique<Imf::TiledInputPart>(*shard->file, index[shard::kHeightsIndex]);
+            shard->blockErrors = std::make_unique<Imf::TiledInputPart>(
+                *shard->file, index[shard::kBlockErrorsIndex]);
+            if (Status read = readInfo(*shard, index[shard::kPatchInfoIndex]); !read)
+                return read.error();
+        } catch (const std::exception& e) {
+            return Error{fmt::format("cannot read the shard file: {}", e.what())};
+        }
+        return shard;
+    }
+
+    Status readInfo(OpenShard& shard, int part) {
+        Imf::TiledInputPart info(*shard.file, part);
+        shard.infos.assign(
+            static_cast<std::size_t>(shard.countX) * static_cast<std::size_t>(shard.countY),
+            shard::StoredInfo{});
+        char* base = reinterpret_cast<char*>(shard.infos.data());
+        const std::size_t xs = sizeof(shard::StoredInfo);
+        const std::size_t ys = xs * static_cast<std::size_t>(shard.countX);
+        const auto slice = [&](Imf::PixelType type, std::size_t offset) {
+            return Imf::Slice(type, base + offset, xs, ys);
+        };
+        Imf::FrameBuffer frame;
+        frame.insert("present", slice(Imf::UINT, offsetof(shard::StoredInfo, present)));
+        frame.insert("minHeight", slice(Imf::FLOAT, offsetof(shard::StoredInfo, minHeight)));
+        frame.insert("maxHeight", slice(Imf::FLOAT, offsetof(shard::StoredInfo, maxHeight)));
+        frame.insert("error", slice(Imf::FLOAT, offsetof(shard::StoredInfo, error)));
+        frame.insert("approxError", slice(Imf::FLOAT, offsetof(shard::StoredInfo, approxError)));
+        frame.insert("quantError", slice(Imf::FLOAT, offsetof(shard::StoredInfo, quantError)));
+        frame.insert("noDataSamples", slice(Imf::UINT, offsetof(shard::StoredInfo, noDataSamples)));
+        frame.insert("crc32", slice(Imf::UINT, offsetof(shard::StoredInfo, crc32)));
+        info.setFrameBuffer(frame);
+        info.readTile(0, 0);
+        // Absent patches are all zeros (their crc32 too), so a damaged present flag is
+        // noticed here whichever way it flipped (1 → 0 here, 0 → 1 by the checksum).
+        const shard::StoredInfo zero{};
+        for (std::size_t i = 0; i < shard.infos.size(); ++i) {
+            const shard::StoredInfo& p = shard.infos[i];
+            const bool absentButNotZero =
+                p.present == 0 && std::memcmp(&p, &zero, sizeof(shard::StoredInfo)) != 0;
+            if (p.present > 1 || absentButNotZero)
+                return Error{fmt::format(
+                    "corrupt patchInfo: pixel ({}, {}) has present = {} and {} other fields",
+                    i % static_cast<std::size_t>(shard.countX),
+                    i / static_cast<std::size_t>(shard.countX), p.present,
+                    absentButNotZero ? "non-zero" : "any")};
+        }
+        return {};
+    }
+
+    static std::size_t infoIndex(const OpenShard& shard, const PyramidLayout& layout,
+                                 const PatchId& id) {
+        const std::int64_t tx = id.x - layout.shardFirstX(shard.id);
+        const std::int64_t ty = id.y - layout.shardFirstY(shard.id);
+        return static_cast<std::size_t>(ty * shard.countX + tx);
+    }
+
+    Status read(const PatchId& id, PatchRecord& out) {
+        if (Status inside = checkContains(id); !inside) return inside;
+        Result<OpenShard*> opened = shard(layout.shardOf(id), id);
+        if (!opened) return opened.error();
+        OpenShard& s = *opened.value();
+        const shard::StoredInfo& stored = s.infos[infoIndex(s, layout, id)];
+        if (stored.present == 0)
+            return patchError(s.path, id, "the patch is absent (it does not overlap the DEM)");
+
+        const int tile = layout.tileSamples();
+        const int blocks = layout.blocksPerSide();
+        const auto tile2 = static_cast<std::size_t>(tile) * static_cast<std::size_t>(tile);
+        out.id = id;
+        out.info = shard::fromStored(stored);
+        out.heights.resize(tile2);
+        out.valid.resize(hasMask ? tile2 : 0);
+        out.blockErrors.resize(static_cast<std::size_t>(blocks) * static_cast<std::size_t>(blocks));
+        maskScratch.resize(hasMask ? tile2 : 0);
+        const int tx = static_cast<int>(id.x - layout.shardFirstX(s.id));
+        const int ty = static_cast<int>(id.y - layout.shardFirstY(s.id));
+        try {
+            Imf::FrameBuffer heights;
+            heights.insert(
+                shard::kHeightChannel,
+                Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(out.heights.data()), sizeof(float),
+                           sizeof(float) * static_cast<std::size_t>(tile), 1, 1, 0.0, true, true));
+            if (hasMask)
+                heights.insert(shard::kMaskChannel,
+                               Imf::Slice(Imf::HALF, reinterpret_cast<char*>(maskScratch.data()),
+                                          sizeof(std::uint16_t),
+                                          sizeof(std::uint16_t) * static_cast<std::size_t>(tile), 1,
+                                          1, 0.0, true, true));
+            s.heights->setFrameBuffer(heights);
+            s.heights->readTile(tx, ty);
+
+            Imf::FrameBuffer errors;
+            for (std::size_t d = 0; d < kMaxSimplification; ++d)
+                errors.insert(
+                    shard::kBlockErrorChannels[d],
+                    Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(&out.blockErrors[0][d]),
+                               sizeof(BlockErrors),
+                               sizeof(BlockErrors) * static_cast<std::size_t>(blocks), 1, 1, 0.0,
+                               true, true));
+            s.blockErrors->setFrameBuffer(errors);
+            s.blockErrors->readTile(tx, ty);
+        } catch (const std::exception& e) {
+            const std::filesystem::path path = s.path;
+            close(&s);  // a shard that failed once is reopened (and rechecked) next time
+            return patchError(path, id, fmt::format("cannot read its tiles: {}", e.what()));
+        }
+        for (std::size_t i = 0; i < maskScratch.size(); ++i) {
+            const std::uint16_t bits = maskScratch[i];
+            if (bits != shard::kHalfOne && bits != shard::kHalfZero)
+                return patchError(s.path, id,
+                                  fmt::format("mask sample ({}, {}) is neither 0 nor 1 (half bits "
+                                              "0x{:04x}): the shard is corrupt",
+                                              i % static_cast<std::size_t>(tile),
+                                              i / static_cast<std::size_t>(tile), bits));
+            out.valid[i] = bits == shard::kHalfOne ? 1 : 0;
+        }
+        const std::uint32_t computed =
+            patchChecksum(out.heights, out.valid, out.blockErrors, out.info);
+        if (computed != stored.crc32)
+            return patchError(s.path, id,
+                              fmt::format("checksum mismatch (stored 0x{:08x}, computed 0x{:08x})",
+                                          stored.crc32, computed));
+        return {};
+    }
+};
+
+PyramidReader::PyramidReader(std::unique_ptr<Impl> impl) : m_impl(std::move(impl)) {}
+PyramidReader::PyramidReader(PyramidReader&& other) noexcept = default;
+PyramidReader& PyramidReader::operator=(PyramidReader&& other) noexcept = default;
+PyramidReader::~PyramidReader() = default;
+
+Result<PyramidReader> PyramidReader::open(const std::filesystem::path& pyramidDir,
+                                          int maxOpenShards) {
+    TERRAIN_ASSERT(maxOpenShards >= 1, "a reader keeps at least one shard open");
+    Result<PyramidManifest> manifest = readManifest(pyramidDir);
+    if (!manifest) return manifest.error();
+    auto impl = std::make_unique<Impl>();
+    impl->folder = pyramidDir;
+    impl->manifest = std::move(manifest).value();
+    impl->layout = impl->manifest.layout;
+    impl->hasMask = impl->manifest.noData.present;
+    impl->maxOpen = maxOpenShards;
+    return PyramidReader(std::move(impl));
+}
+
+const std::filesystem::path& PyramidReader::folder() const { return m_impl->folder; }
+const PyramidManifest& PyramidReader::manifest() const { return m_impl->manifest; }
+const PyramidLayout& PyramidReader::layout() const { return m_impl->layout; }
+bool PyramidReader::hasMask() const { return m_impl->hasMask; }
+
+Result<PatchRecord> PyramidReader::readPatch(const PatchId& id) {
+    PatchRecord record;
+    if (Status read = m_impl->read(id, record); !read) return read.error();
+    return record;
+}
+
+Status PyramidReader::readPatch(const PatchId& id, PatchRecord& out) {
+    return m_impl->read(id, out);
+}
+
+Result<PatchInfo> PyramidReader::patchInfo(const PatchId& id) {
+    Impl& r = *m_impl;
+    if (Status inside = r.checkContains(id); !inside) return inside.error();
+    Result<OpenShard*> opened = r.shard(r.layout.shardOf(id), id);
+    if (!opened) return opened.error();
+    const OpenShard& s = *opened.value();
+    return shard::fromStored(s.infos[Impl::infoIndex(s, r.layout, id)]);
+}
+
+std::filesystem::path PyramidReader::shardFile(const PatchId& id) const {
+    return m_impl->shardFile(m_impl->layout.shardOf(id));
+}
+
+int PyramidReader::openShards() const { return static_cast<int>(m_impl->shards.size()); }
+std::uint64_t PyramidReader::shardOpenings() const { return m_impl->openings; }
+
+}  // namespace terrain::io
