@@ -5,8 +5,11 @@
 #include "terrain/io/Assert.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <vector>
 
 namespace terrain::io {
 namespace {
@@ -31,11 +34,6 @@ TwoHeights cellHeights(const Cell& k, double u, double v) {
     return {alongAD, alongBC};
 }
 
-double largestGap(const TwoHeights& coarse, const TwoHeights& fine) {
-    return std::max({std::abs(coarse.first - fine.first), std::abs(coarse.first - fine.second),
-                     std::abs(coarse.second - fine.first), std::abs(coarse.second - fine.second)});
-}
-
 Cell cellAt(const GridView& g, int x, int y, int side) {
     return {g.at(x, y), g.at(x + side, y), g.at(x, y + side), g.at(x + side, y + side)};
 }
@@ -47,44 +45,119 @@ float roundUpToFloat(double value) {
     return f;
 }
 
+// Barycentric weights of the corners (a, b, c, d) at the points of a coarse cell of side
+// `step` on both diagonals: at its (step + 1)² samples, then at its step² fine cell
+// centres. Stored as separate arrays so the loops below run branch-free and vectorise;
+// this is the build's hottest loop (every sample, four simplifications).
+struct CellWeights {
+    std::vector<double> adA, adB, adC, adD;  // diagonal a–d
+    std::vector<double> bcA, bcB, bcC, bcD;  // diagonal b–c
+
+    explicit CellWeights(int step) {
+        const auto points = static_cast<std::size_t>((step + 1) * (step + 1) + step * step);
+        for (auto* w : {&adA, &adB, &adC, &adD, &bcA, &bcB, &bcC, &bcD}) w->reserve(points);
+        for (int j = 0; j <= step; ++j)
+            for (int i = 0; i <= step; ++i) add(double(i) / step, double(j) / step);
+        for (int j = 0; j < step; ++j)
+            for (int i = 0; i < step; ++i) add((i + 0.5) / step, (j + 0.5) / step);
+    }
+
+    // The same triangles as cellHeights().
+    void add(double u, double v) {
+        if (u >= v)
+            push(adA, adB, adC, adD, 1.0 - u, u - v, 0.0, v);
+        else
+            push(adA, adB, adC, adD, 1.0 - v, 0.0, v - u, u);
+        if (u + v <= 1.0)
+            push(bcA, bcB, bcC, bcD, 1.0 - u - v, u, v, 0.0);
+        else
+            push(bcA, bcB, bcC, bcD, 0.0, 1.0 - v, 1.0 - u, u + v - 1.0);
+    }
+    static void push(std::vector<double>& a, std::vector<double>& b, std::vector<double>& c,
+                     std::vector<double>& d, double wa, double wb, double wc, double wd) {
+        a.push_back(wa);
+        b.push_back(wb);
+        c.push_back(wc);
+        d.push_back(wd);
+    }
+};
+
+// Weights for power-of-two steps up to kCachedSteps are built once; others on demand.
+constexpr int kCachedStepLog2 = 6;
+const CellWeights& weightsFor(int step, std::optional<CellWeights>& uncached) {
+    static const std::vector<CellWeights> cached = [] {
+        std::vector<CellWeights> all;
+        for (int k = 0; k <= kCachedStepLog2; ++k) all.emplace_back(1 << k);
+        return all;
+    }();
+    const int log2 = std::countr_zero(static_cast<unsigned>(step));
+    if ((1 << log2) == step && log2 <= kCachedStepLog2)
+        return cached[static_cast<std::size_t>(log2)];
+    uncached.emplace(step);
+    return *uncached;
+}
+
 // Deviation of one coarse cell (side `step`, top-left (cx, cy)) from the full-resolution
-// surface under it: at every sample, and at every fine cell centre.
-double coarseCellDeviation(const GridView& g, int cx, int cy, int step) {
-    const Cell coarse = cellAt(g, cx, cy, step);
-    const double inverseStep = 1.0 / step;
-    double worst = 0.0;
-    for (int j = 0; j <= step; ++j) {
-        const double v = j * inverseStep;
-        for (int i = 0; i <= step; ++i) {
-            const double h = g.at(cx + i, cy + j);
-            const TwoHeights s = cellHeights(coarse, i * inverseStep, v);
-            worst = std::max({worst, std::abs(s.first - h), std::abs(s.second - h)});
+// surface under it: at every sample, and at every fine cell centre (where the fine surface
+// is the mean of one of its cell's diagonals).
+double coarseCellDeviation(const GridView& g, int cx, int cy, int step, const CellWeights& w,
+                           std::vector<double>& fineLow, std::vector<double>& fineHigh) {
+    const Cell k = cellAt(g, cx, cy, step);
+    // The fine surface at each point, as an interval [low, high] (one value at samples).
+    std::size_t p = 0;
+    for (int j = 0; j <= step; ++j)
+        for (int i = 0; i <= step; ++i, ++p) fineLow[p] = fineHigh[p] = g.at(cx + i, cy + j);
+    for (int j = 0; j < step; ++j) {
+        for (int i = 0; i < step; ++i, ++p) {
+            const Cell f = cellAt(g, cx + i, cy + j, 1);
+            const double alongAD = 0.5 * (f.a + f.d), alongBC = 0.5 * (f.b + f.c);
+            fineLow[p] = std::min(alongAD, alongBC);
+            fineHigh[p] = std::max(alongAD, alongBC);
         }
     }
-    for (int j = 0; j < step; ++j) {
-        const double v = (j + 0.5) * inverseStep;
-        for (int i = 0; i < step; ++i) {
-            const Cell fine = cellAt(g, cx + i, cy + j, 1);
-            // The fine surface at its cell centre is the mean of one diagonal's ends.
-            const TwoHeights f{0.5 * (fine.a + fine.d), 0.5 * (fine.b + fine.c)};
-            worst = std::max(worst, largestGap(cellHeights(coarse, (i + 0.5) * inverseStep, v), f));
-        }
+    double worst = 0.0;
+    const std::size_t points = p;
+    for (std::size_t i = 0; i < points; ++i) {
+        const double ad = w.adA[i] * k.a + w.adB[i] * k.b + w.adC[i] * k.c + w.adD[i] * k.d;
+        const double bc = w.bcA[i] * k.a + w.bcB[i] * k.b + w.bcC[i] * k.c + w.bcD[i] * k.d;
+        const double hi = std::max(ad, bc), lo = std::min(ad, bc);
+        worst = std::max(worst, std::max(hi - fineLow[i], fineHigh[i] - lo));
     }
     return worst;
 }
 
 }  // namespace
 
-float simplificationError(const GridView& grid, int x0, int y0, int quads, int step) {
-    TERRAIN_ASSERT(step >= 1 && quads % step == 0, "region must be whole coarse cells");
-    TERRAIN_ASSERT(x0 >= 0 && y0 >= 0 && x0 + quads <= grid.side - 1 &&
-                   y0 + quads <= grid.side - 1);
+std::pair<double, double> cellSurfaceHeights(double a, double b, double c, double d, double u,
+                                             double v) {
+    const TwoHeights h = cellHeights(Cell{a, b, c, d}, u, v);
+    return {h.first, h.second};
+}
+
+float simplificationError(const GridView& grid, int x0, int y0, int quadsX, int quadsY, int step) {
+    TERRAIN_ASSERT(step >= 1 && quadsX % step == 0 && quadsY % step == 0,
+                   "region must be whole coarse cells");
+    TERRAIN_ASSERT(x0 >= 0 && y0 >= 0 && x0 + quadsX <= grid.side - 1 &&
+                   y0 + quadsY <= grid.side - 1);
     if (step == 1) return 0.0f;
+    std::optional<CellWeights> uncached;
+    const CellWeights& weights = weightsFor(step, uncached);
+    thread_local std::vector<double> fineLow, fineHigh;
+    const auto points = static_cast<std::size_t>((step + 1) * (step + 1) + step * step);
+    if (fineLow.size() < points) {
+        fineLow.resize(points);
+        fineHigh.resize(points);
+    }
     double worst = 0.0;
-    for (int cy = y0; cy < y0 + quads; cy += step)
-        for (int cx = x0; cx < x0 + quads; cx += step)
-            worst = std::max(worst, coarseCellDeviation(grid, cx, cy, step));
+    for (int cy = y0; cy < y0 + quadsY; cy += step)
+        for (int cx = x0; cx < x0 + quadsX; cx += step)
+            worst = std::max(worst,
+                             coarseCellDeviation(grid, cx, cy, step, weights, fineLow, fineHigh));
     return roundUpToFloat(worst);
+}
+
+float simplificationError(const GridView& grid, int x0, int y0, int quads, int step) {
+    return simplificationError(grid, x0, y0, quads, quads, step);
 }
 
 float interpolationError(const GridView& children) {

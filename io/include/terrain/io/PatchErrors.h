@@ -10,6 +10,7 @@
 #include <array>
 #include <cstddef>
 #include <span>
+#include <utility>
 
 namespace terrain::io {
 
@@ -31,6 +32,10 @@ struct GridView {
 /// result bounds the distance at any point, full-resolution samples of finer levels
 /// included. Rounded up to the next float so it stays a bound after conversion.
 float simplificationError(const GridView& grid, int x0, int y0, int quads, int step);
+
+/// The same over a rectangle of quadsX × quadsY quads (both multiples of `step`): a parent
+/// at the edge of a level may have children on one side only.
+float simplificationError(const GridView& grid, int x0, int y0, int quadsX, int quadsY, int step);
 
 /// Yusov §4, Err_Int(P): the largest vertical distance between the parent patch's surface
 /// and its children's joined surface. `children` is the joined height map of the four
@@ -54,5 +59,11 @@ BlockErrors blockErrors(const GridView& patch, int x0, int y0, int blockQuads);
 /// λ(d) for every block of a patch, row-major by block (blocksPerSide² entries), where
 /// blocksPerSide = (patch.side − 1) / blockQuads. `out` must have that many entries.
 void patchBlockErrors(const GridView& patch, int blockQuads, std::span<BlockErrors> out);
+
+/// The two heights a grid cell's surface can have at local (u, v) ∈ [0, 1]² (u east, v
+/// south), one per diagonal: a–d first, b–c second (corners a north-west, b north-east,
+/// c south-west, d south-east).
+std::pair<double, double> cellSurfaceHeights(double a, double b, double c, double d, double u,
+                                             double v);
 
 }  // namespace terrain::io

@@ -1,0 +1,124 @@
+#include "terrain/io/PyramidSourceCheck.h"
+
+#include "ParallelFor.h"
+#include "terrain/io/PatchErrors.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+
+namespace terrain::io {
+namespace {
+
+// One level's view of the source: the row of patches that covers the current DEM rows.
+// A sample on the edge shared by two patches is checked against one of them: both draw
+// that edge as the same line (shared samples, no diagonal), so the distance is the same.
+class LevelChecker {
+public:
+    LevelChecker(PyramidReader reader, int level) : m_reader(std::move(reader)), m_level(level) {
+        const PyramidLayout& layout = m_reader.layout();
+        m_records.resize(static_cast<std::size_t>(layout.patchesX(level)));
+    }
+
+    Status checkRows(std::int64_t firstRow, std::int64_t rows, std::int64_t width,
+                     const std::vector<float>& samples, SourceCheckReport& report,
+                     std::mutex& reportMutex) {
+        const PyramidLayout& layout = m_reader.layout();
+        const std::int64_t s = layout.levelStep(m_level), q = layout.patchQuads();
+        const int t = layout.tileSamples();
+        std::int64_t checked = 0;
+        for (std::int64_t y = firstRow; y < firstRow + rows; ++y) {
+            const std::int64_t py = std::min(y / (q * s), layout.patchesY(m_level) - 1);
+            if (py != m_loadedRow) {
+                for (std::int64_t px = 0; px < layout.patchesX(m_level); ++px)
+                    if (auto read = m_reader.readPatch({m_level, px, py},
+                                                       m_records[static_cast<std::size_t>(px)]);
+                        !read)
+                        return read;
+                m_loadedRow = py;
+            }
+            const double v = double(y - py * q * s) / double(s);
+            const auto cy = static_cast<int>(std::min<double>(std::floor(v), double(q - 1)));
+            const float* row = samples.data() + (y - firstRow) * width;
+            for (std::int64_t x = 0; x < width; ++x) {
+                if (std::isnan(row[x])) continue;
+                const std::int64_t px = std::min(x / (q * s), layout.patchesX(m_level) - 1);
+                const PatchRecord& patch = m_records[static_cast<std::size_t>(px)];
+                const double u = double(x - px * q * s) / double(s);
+                const auto cx = static_cast<int>(std::min<double>(std::floor(u), double(q - 1)));
+                const float* h = patch.heights.data() + (cy + 1) * t + cx + 1;
+                const auto [first, second] =
+                    cellSurfaceHeights(h[0], h[1], h[t], h[t + 1], u - cx, v - cy);
+                const double distance =
+                    std::max(std::abs(first - row[x]), std::abs(second - row[x]));
+                const float bound = patch.info.error;
+                ++checked;
+                if (bound > 0.0f) m_tightest = std::max(m_tightest, distance / bound);
+                if (distance > double(bound)) {
+                    std::lock_guard lock(reportMutex);
+                    ++report.violationCount;
+                    if (report.violations.size() < SourceCheckReport::kMaxListed)
+                        report.violations.push_back({patch.id, x, y, distance, bound});
+                }
+            }
+        }
+        std::lock_guard lock(reportMutex);
+        report.samplesChecked += checked;
+        return {};
+    }
+
+    double tightest() const { return m_tightest; }
+
+private:
+    PyramidReader m_reader;  // one reader per level: readers are single-threaded
+    int m_level;
+    std::vector<PatchRecord> m_records;
+    std::int64_t m_loadedRow = -1;
+    double m_tightest = 0.0;
+};
+
+}  // namespace
+
+Result<SourceCheckReport> checkErrorBoundsAgainstSource(
+    const std::filesystem::path& pyramidDir, DemReader& source,
+    const std::function<void(double fraction)>& progress) {
+    auto first = PyramidReader::open(pyramidDir);
+    if (!first) return first.error();
+    const PyramidLayout layout = first.value().layout();
+    const DemInfo& dem = source.info();
+    if (dem.width != layout.rasterWidth() || dem.height != layout.rasterHeight())
+        return Error{fmt::format("{}: {}×{} samples, but the pyramid {} was built from {}×{}",
+                                 dem.path, dem.width, dem.height, pyramidDir.string(),
+                                 layout.rasterWidth(), layout.rasterHeight())};
+    std::vector<LevelChecker> levels;
+    for (int level = 0; level < layout.levelCount(); ++level) {
+        auto reader = level == 0 ? std::move(first) : PyramidReader::open(pyramidDir);
+        if (!reader) return reader.error();
+        levels.emplace_back(std::move(reader).value(), level);
+    }
+
+    SourceCheckReport report;
+    std::mutex reportMutex;
+    constexpr std::int64_t kRowsPerRead = 64;
+    std::vector<float> samples;
+    for (std::int64_t y = 0; y < dem.height; y += kRowsPerRead) {
+        const std::int64_t rows = std::min(kRowsPerRead, dem.height - y);
+        samples.resize(static_cast<std::size_t>(rows * dem.width));
+        if (auto read = source.readWindow(0, y, dem.width, rows, samples); !read)
+            return read.error();
+        std::vector<Status> results(levels.size());
+        parallelFor(static_cast<std::int64_t>(levels.size()), 2, [&](std::int64_t l) {
+            results[static_cast<std::size_t>(l)] = levels[static_cast<std::size_t>(l)].checkRows(
+                y, rows, dem.width, samples, report, reportMutex);
+        });
+        for (const Status& result : results)
+            if (!result) return result.error();
+        if (progress) progress(double(y + rows) / double(dem.height));
+    }
+    for (const LevelChecker& level : levels) report.tightestRatio.push_back(level.tightest());
+    return report;
+}
+
+}  // namespace terrain::io

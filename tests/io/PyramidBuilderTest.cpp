@@ -1,0 +1,284 @@
+// The pyramid builder against its promises: lossless round trip, the error bound Err(P)
+// holds for every full-resolution sample under every patch at every level (checked with
+// a brute-force model of the renderer's triangulation), stored block errors are the
+// block errors of the stored heights, bounds nest, and a failed or interrupted build
+// leaves nothing that looks like a pyramid.
+#include "terrain/io/DemReader.h"
+#include "terrain/io/NoDataFill.h"
+#include "terrain/io/PatchErrors.h"
+#include "terrain/io/PyramidBuilder.h"
+#include "terrain/io/PyramidReader.h"
+
+#include "SharedData.h"
+#include "TriangulationOracle.h"
+
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace terrain::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+class TempFolder {
+public:
+    TempFolder() {
+        m_path = fs::temp_directory_path() / ("terrain-builder-test-" + std::to_string(getpid()) +
+                                              "-" + std::to_string(s_next++));
+        fs::create_directories(m_path);
+    }
+    ~TempFolder() {
+        std::error_code ec;
+        fs::remove_all(m_path, ec);
+    }
+    const fs::path& path() const { return m_path; }
+
+private:
+    static inline int s_next = 0;
+    fs::path m_path;
+};
+
+// The whole DEM as the builder sees it: NaN for no-data.
+std::vector<float> readAll(DemReader& reader) {
+    const DemInfo& info = reader.info();
+    std::vector<float> all(static_cast<std::size_t>(info.width * info.height));
+    EXPECT_TRUE(reader.readWindow(0, 0, info.width, info.height, all).ok());
+    return all;
+}
+
+struct Built {
+    std::unique_ptr<DemReader> reader;
+    std::vector<float> truth;  // NaN = no-data
+    PyramidBuildSummary summary;
+};
+
+Built build(const std::vector<std::string>& inputs, const fs::path& out,
+            const DemOpenOptions& open = {}, PyramidBuildOptions options = {}) {
+    Built b;
+    auto reader = openDem(inputs, open);
+    EXPECT_TRUE(reader.ok()) << (reader.ok() ? "" : reader.error().message);
+    b.reader = std::move(reader).value();
+    b.truth = readAll(*b.reader);
+    options.threads = 2;
+    auto summary = buildPyramid(*b.reader, out, options);
+    EXPECT_TRUE(summary.ok()) << (summary.ok() ? "" : summary.error().message);
+    if (summary.ok()) b.summary = std::move(summary).value();
+    return b;
+}
+
+// Every valid DEM sample under the patch lies within Err(P) of the patch's surface,
+// whichever diagonal the tessellator draws. Returns the largest distance / Err(P) seen.
+double checkErrorBound(const Built& b, const PyramidLayout& layout, const PatchRecord& patch) {
+    const std::int64_t w = b.reader->info().width, h = b.reader->info().height;
+    const std::int64_t s = layout.levelStep(patch.id.level);
+    const int q = layout.patchQuads(), t = layout.tileSamples();
+    const std::int64_t x0 = patch.id.x * q * s, y0 = patch.id.y * q * s;
+    auto height = [&](int i, int j) { return double(patch.heights[(j + 1) * t + i + 1]); };
+    double worst = 0.0;
+    const double bound = double(patch.info.error);
+    for (std::int64_t y = y0; y <= std::min(y0 + q * s, h - 1); ++y) {
+        for (std::int64_t x = x0; x <= std::min(x0 + q * s, w - 1); ++x) {
+            const float truth = b.truth[static_cast<std::size_t>(y * w + x)];
+            if (std::isnan(truth)) continue;
+            const double u = double(x - x0) / double(s), v = double(y - y0) / double(s);
+            const int cx = std::min(int(u), q - 1), cy = std::min(int(v), q - 1);
+            for (double z : test::cellSurfaceHeights(height, cx, cy, 1, u, v)) {
+                const double distance = std::abs(z - truth);
+                EXPECT_LE(distance, bound + 1e-4)
+                    << "patch L" << patch.id.level << " (" << patch.id.x << ", " << patch.id.y
+                    << ") sample (" << x << ", " << y << ")";
+                if (bound > 0.0) worst = std::max(worst, distance / bound);
+            }
+        }
+    }
+    return worst;
+}
+
+// Checks every patch of small levels and a random sample of large ones.
+void checkPyramid(const Built& b, const fs::path& out, int patchesPerLevel) {
+    auto reader = PyramidReader::open(out);
+    ASSERT_TRUE(reader.ok()) << reader.error().message;
+    const PyramidLayout layout = reader.value().layout();
+    std::mt19937 rng(7);
+    double tightest = 0.0;
+    for (int level = 0; level < layout.levelCount(); ++level) {
+        const std::int64_t total = layout.patchesX(level) * layout.patchesY(level);
+        for (int k = 0; k < std::min<std::int64_t>(patchesPerLevel, total); ++k) {
+            const std::int64_t index = total <= patchesPerLevel ? k : std::int64_t(rng() % total);
+            const PatchId id{level, index % layout.patchesX(level), index / layout.patchesX(level)};
+            auto patch = reader.value().readPatch(id);
+            ASSERT_TRUE(patch.ok()) << patch.error().message;
+            const PatchRecord& p = patch.value();
+            tightest = std::max(tightest, checkErrorBound(b, layout, p));
+
+            // Stored λ(d) are the block errors of the stored heights (Yusov §5).
+            const int n = layout.patchSamples(), t = layout.tileSamples();
+            std::vector<BlockErrors> expected(p.blockErrors.size());
+            patchBlockErrors(GridView{p.heights.data() + t + 1, n, t}, layout.blockQuads(),
+                             expected);
+            EXPECT_EQ(p.blockErrors, expected);
+            EXPECT_GE(p.info.error, p.info.approxError);
+            if (level == layout.finestLevel()) {
+                EXPECT_EQ(p.info.error, 0.0f);
+            }
+
+            // Bounds nest: a parent's bound covers each child's.
+            if (level < layout.finestLevel()) {
+                for (int c = 0; c < 4; ++c) {
+                    const PatchId child{level + 1, 2 * id.x + c % 2, 2 * id.y + c / 2};
+                    if (!layout.contains(child)) continue;
+                    auto info = reader.value().patchInfo(child);
+                    ASSERT_TRUE(info.ok());
+                    EXPECT_GE(p.info.approxError, info.value().approxError);
+                }
+            }
+        }
+    }
+    // The bound is not vacuous: somewhere a sample comes close to it.
+    EXPECT_GT(tightest, 0.5) << "Err(P) is never approached: the bound is suspiciously loose";
+}
+
+// Finest-level patches store the DEM's samples exactly (no-data: the documented fill).
+void checkRoundTrip(const Built& b, const fs::path& out) {
+    auto reader = PyramidReader::open(out);
+    ASSERT_TRUE(reader.ok()) << reader.error().message;
+    const PyramidLayout layout = reader.value().layout();
+    const std::int64_t w = b.reader->info().width, h = b.reader->info().height;
+    std::vector<float> filled = b.truth;
+    std::vector<std::uint8_t> valid(static_cast<std::size_t>(w));
+    for (std::int64_t y = 0; y < h; ++y)
+        fillNoDataRow(std::span<float>(filled.data() + y * w, static_cast<std::size_t>(w)), valid);
+    const int level = layout.finestLevel(), q = layout.patchQuads(), t = layout.tileSamples();
+    std::int64_t compared = 0;
+    for (std::int64_t py = 0; py < layout.patchesY(level); ++py) {
+        for (std::int64_t px = 0; px < layout.patchesX(level); ++px) {
+            auto patch = reader.value().readPatch({level, px, py});
+            ASSERT_TRUE(patch.ok()) << patch.error().message;
+            for (int j = 0; j < t; ++j) {
+                for (int i = 0; i < t; ++i) {
+                    // Apron and overhang take the nearest DEM sample.
+                    const std::int64_t x = std::clamp<std::int64_t>(px * q - 1 + i, 0, w - 1);
+                    const std::int64_t y = std::clamp<std::int64_t>(py * q - 1 + j, 0, h - 1);
+                    ASSERT_EQ(patch.value().heights[j * t + i], filled[y * w + x])
+                        << "patch (" << px << ", " << py << ") tile sample (" << i << ", " << j
+                        << ")";
+                    ++compared;
+                }
+            }
+        }
+    }
+    EXPECT_GE(compared, w * h);
+}
+
+TEST(PyramidBuilder, ProceduralRoundTripAndErrorBounds) {
+    TempFolder tmp;
+    const fs::path out = tmp.path() / "procedural.pyramid";
+    const Built b = build({"procedural:size=1025,seed=3"}, out);
+    EXPECT_EQ(b.summary.manifest.layout.finestLevel(), 3);
+    checkRoundTrip(b, out);
+    checkPyramid(b, out, 1000);
+}
+
+TEST(PyramidBuilder, OddSizedProceduralWithSmallPatches) {
+    TempFolder tmp;
+    const fs::path out = tmp.path() / "odd.pyramid";
+    PyramidBuildOptions options;
+    options.patchSamples = 33;
+    options.blockQuads = 8;
+    options.shardPatches = 3;  // shards that do not divide the levels evenly
+    const Built b = build({"procedural:width=301,height=170,seed=5"}, out, {}, options);
+    checkRoundTrip(b, out);
+    checkPyramid(b, out, 1000);
+}
+
+TEST(PyramidBuilder, RainierWithVoidsKeepsBoundsOnValidSamples) {
+    TERRAIN_SHARED_DATA_OR_SKIP(path, "srtm3_n46w122_rainier.tif");
+    TempFolder tmp;
+    const fs::path out = tmp.path() / "rainier.pyramid";
+    const Built b = build({path.string()}, out);
+    EXPECT_TRUE(b.summary.manifest.noData.present);
+    EXPECT_EQ(b.summary.manifest.noData.samples, 9033);
+    EXPECT_EQ(b.summary.manifest.statistics.minHeight, 263.0);
+    EXPECT_EQ(b.summary.manifest.statistics.maxHeight, 4371.0);
+    checkRoundTrip(b, out);
+    checkPyramid(b, out, 40);
+}
+
+TEST(PyramidBuilder, PugetSoundScaledPng) {
+    TERRAIN_SHARED_DATA_OR_SKIP(path, "puget_sound_1k.png");
+    TempFolder tmp;
+    const fs::path out = tmp.path() / "puget.pyramid";
+    DemOpenOptions open;
+    open.verticalScale = 0.1;
+    open.pixelSize = 160.0;
+    const Built b = build({path.string()}, out, open);
+    EXPECT_NEAR(b.summary.manifest.statistics.maxHeight, 4379.8, 1e-3);
+    checkPyramid(b, out, 40);
+}
+
+TEST(PyramidBuilder, InterruptedBuildLeavesNothing) {
+    TempFolder tmp;
+    const fs::path out = tmp.path() / "interrupted.pyramid";
+    auto reader = openDem({"procedural:size=1025"});
+    ASSERT_TRUE(reader.ok());
+    std::atomic<bool> cancel{false};
+    PyramidBuildOptions options;
+    options.cancel = &cancel;
+    options.progress = [&](const PyramidBuildProgress&) { cancel = true; };
+    auto result = buildPyramid(*reader.value(), out, options);
+    ASSERT_FALSE(result.ok());
+    EXPECT_NE(result.error().message.find("interrupted"), std::string::npos);
+    EXPECT_TRUE(fs::is_empty(tmp.path())) << "a partial folder was left behind";
+}
+
+TEST(PyramidBuilder, ExistingOutputNeedsOverwrite) {
+    TempFolder tmp;
+    const fs::path out = tmp.path() / "twice.pyramid";
+    auto reader = openDem({"procedural:size=129"});
+    ASSERT_TRUE(reader.ok());
+    ASSERT_TRUE(buildPyramid(*reader.value(), out).ok());
+    auto again = buildPyramid(*reader.value(), out);
+    ASSERT_FALSE(again.ok());
+    EXPECT_NE(again.error().message.find(out.string()), std::string::npos);
+    EXPECT_NE(again.error().message.find("already exists"), std::string::npos);
+    PyramidBuildOptions options;
+    options.overwrite = true;
+    EXPECT_TRUE(buildPyramid(*reader.value(), out, options).ok());
+    EXPECT_TRUE(PyramidReader::open(out).ok());
+}
+
+TEST(PyramidBuilder, UnwritableOutputIsAClearError) {
+    TempFolder tmp;
+    const fs::path file = tmp.path() / "a-file";
+    {
+        std::FILE* f = std::fopen(file.c_str(), "w");
+        std::fclose(f);
+    }
+    auto reader = openDem({"procedural:size=129"});
+    ASSERT_TRUE(reader.ok());
+    auto result = buildPyramid(*reader.value(), file / "pyramid");
+    ASSERT_FALSE(result.ok());
+    EXPECT_NE(result.error().message.find("a-file"), std::string::npos) << result.error().message;
+}
+
+TEST(PyramidBuilder, MemoryBudgetTooSmallForTheWidthIsAClearError) {
+    TempFolder tmp;
+    auto reader = openDem({"procedural:width=2000000,height=300"});
+    ASSERT_TRUE(reader.ok());
+    PyramidBuildOptions options;
+    options.memoryBudgetBytes = 256u << 20;
+    auto result = buildPyramid(*reader.value(), tmp.path() / "wide", options);
+    ASSERT_FALSE(result.ok());
+    EXPECT_NE(result.error().message.find("--memory"), std::string::npos) << result.error().message;
+    EXPECT_TRUE(fs::is_empty(tmp.path()));
+}
+
+}  // namespace
+}  // namespace terrain::io

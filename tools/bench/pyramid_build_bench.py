@@ -1,0 +1,114 @@
+#!/usr/bin/env python3
+"""Pyramid build benchmark: terrain-build against GDAL's COG build on the same inputs.
+
+For every real DEM in ../shared/data and a 16,385² float32 procedural DEM written as a
+tiled GeoTIFF, runs (one at a time, same machine, same thread count)
+  terrain-build INPUT -o PYRAMID --threads 2
+  gdal_translate -of COG -co COMPRESS=DEFLATE -co PREDICTOR=YES -co NUM_THREADS=2 INPUT OUT.tif
+and records wall seconds and peak RSS of each (os.wait4), then writes
+OUT_DIR/pyramid-build-bench.json and .md. Rerun with:
+  tools/bench/pyramid_build_bench.py --build build --out out/bench
+"""
+import argparse
+import json
+import os
+import platform
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[2]
+
+REAL_DEMS = [
+    # (file, extra terrain-build flags)
+    ("puget_sound_1k.png", ["--vertical-scale", "0.1", "--spacing", "160"]),
+    ("puget_sound_4k_8bit.jpg", ["--vertical-scale", "25.7", "--spacing", "40"]),
+    ("srtm3_n46w122_rainier.tif", []),
+    ("srtm/N57E011.hgt", []),
+    ("kilauea_utm5n_30m.nc", []),
+    ("etopo20_global.nc", []),
+    ("luxembourg_elev_30s.tif", []),
+]
+
+
+def run(command, log):
+    """Runs command, returns (wall seconds, peak RSS bytes, stdout)."""
+    start = time.monotonic()
+    with open(log, "w") as err:
+        process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=err, text=True)
+        stdout = process.stdout.read()
+        _, status, usage = os.wait4(process.pid, 0)
+    seconds = time.monotonic() - start
+    code = os.waitstatus_to_exitcode(status)
+    if code != 0:
+        sys.exit(f"failed ({code}): {' '.join(map(str, command))}\n{Path(log).read_text()}")
+    return seconds, usage.ru_maxrss * 1024, stdout
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--build", default=str(REPO / "build"), help="build folder")
+    parser.add_argument("--out", default=str(REPO / "out" / "bench"), help="results folder")
+    parser.add_argument("--shared", default=str(REPO.parent / "shared" / "data"), help="real DEMs")
+    parser.add_argument("--size", type=int, default=16385, help="procedural DEM side")
+    parser.add_argument("--scratch", default="/tmp/terrain-bench", help="big temporary files")
+    args = parser.parse_args()
+
+    build = Path(args.build)
+    terrain_build = build / "tools" / "terrain-build" / "terrain-build"
+    terrain_generate = build / "tools" / "terrain-generate" / "terrain-generate"
+    if shutil.which("gdal_translate") is None:
+        sys.exit("gdal_translate not found: scripts/setup.sh installs gdal-bin")
+    out, scratch = Path(args.out), Path(args.scratch)
+    out.mkdir(parents=True, exist_ok=True)
+    scratch.mkdir(parents=True, exist_ok=True)
+
+    inputs = [(Path(args.shared) / name, flags) for name, flags in REAL_DEMS]
+    big = scratch / f"procedural-{args.size}.tif"
+    if not big.exists():
+        print(f"writing {big} (float32, tiled 256², uncompressed) ...", flush=True)
+        run([terrain_generate, "--size", str(args.size), "--compression", "none", "-o", big],
+            scratch / "generate.log")
+    inputs.append((big, []))
+
+    rows = []
+    for path, flags in inputs:
+        pyramid = scratch / (path.stem + ".pyramid")
+        cog = scratch / (path.stem + ".cog.tif")
+        shutil.rmtree(pyramid, ignore_errors=True)
+        ours_s, ours_rss, ours_json = run(
+            [terrain_build, path, "-o", pyramid, "--threads", "2", "--json", "--quiet", *flags],
+            scratch / "terrain-build.log")
+        summary = json.loads(ours_json)
+        gdal_s, gdal_rss, _ = run(
+            ["gdal_translate", "-q", "-of", "COG", "-co", "COMPRESS=DEFLATE", "-co", "PREDICTOR=YES",
+             "-co", "NUM_THREADS=2", path, cog], scratch / "gdal.log")
+        rows.append({
+            "input": path.name, "width": summary["raster"]["width"], "height": summary["raster"]["height"],
+            "levels": summary["levels"], "patches": summary["patches"],
+            "terrainBuildSeconds": round(ours_s, 3), "terrainBuildPeakRssMiB": round(ours_rss / 2**20, 1),
+            "pyramidMiB": round(summary["bytes"] / 2**20, 2),
+            "gdalCogSeconds": round(gdal_s, 3), "gdalCogPeakRssMiB": round(gdal_rss / 2**20, 1),
+            "cogMiB": round(cog.stat().st_size / 2**20, 2),
+        })
+        print(json.dumps(rows[-1]), flush=True)
+        shutil.rmtree(pyramid, ignore_errors=True)
+        cog.unlink(missing_ok=True)
+
+    result = {"machine": {"cpus": os.cpu_count(), "platform": platform.platform()},
+              "command": " ".join(sys.argv), "rows": rows}
+    (out / "pyramid-build-bench.json").write_text(json.dumps(result, indent=2) + "\n")
+    lines = ["| input | size | levels | patches | terrain-build s | RSS MiB | pyramid MiB | gdal COG s | RSS MiB | COG MiB |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['input']} | {r['width']}×{r['height']} | {r['levels']} | {r['patches']} | "
+                     f"{r['terrainBuildSeconds']} | {r['terrainBuildPeakRssMiB']} | {r['pyramidMiB']} | "
+                     f"{r['gdalCogSeconds']} | {r['gdalCogPeakRssMiB']} | {r['cogMiB']} |")
+    (out / "pyramid-build-bench.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()

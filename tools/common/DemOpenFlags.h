@@ -1,0 +1,44 @@
+// The command-line flags that describe a DEM the file itself does not (vertical units,
+// georeference, no-data), shared by every program that opens a DEM.
+#pragma once
+
+#include "terrain/io/DemReader.h"
+
+#include <CLI/CLI.hpp>
+
+#include <vector>
+
+namespace terrain::tools {
+
+/// Adds --vertical-scale, --vertical-offset, --spacing, --origin X,Y, --epsg and --nodata.
+/// Call applyOrigin() after parsing.
+class DemOpenFlags {
+public:
+    void addTo(CLI::App& app) {
+        app.add_option("--vertical-scale", m_options.verticalScale,
+                       "Metres per raw unit (e.g. 0.1 for the Puget Sound PNGs)");
+        app.add_option("--vertical-offset", m_options.verticalOffset, "Metres added after scaling");
+        app.add_option("--spacing", m_options.pixelSize,
+                       "Sample spacing in map units (DEMs without georeference)");
+        app.add_option("--origin", m_origin, "Map X,Y of the north-west corner (no georeference)")
+            ->expected(2)
+            ->delimiter(',');
+        app.add_option("--epsg", m_options.epsg, "EPSG code of the CRS (no georeference)");
+        app.add_option("--nodata", m_options.noDataValue,
+                       "Raw no-data value (overrides the file's)");
+    }
+
+    const io::DemOpenOptions& options() {
+        if (m_origin.size() == 2) {
+            m_options.originX = m_origin[0];
+            m_options.originY = m_origin[1];
+        }
+        return m_options;
+    }
+
+private:
+    io::DemOpenOptions m_options;
+    std::vector<double> m_origin;
+};
+
+}  // namespace terrain::tools

@@ -1,0 +1,178 @@
+// terrain-build: any DEM (or several as a mosaic, or the procedural source) → a tiled
+// on-disk pyramid with guaranteed error bounds (docs/pyramid-format.md). Streaming: peak
+// memory stays under --memory whatever the input size.
+#include "DemOpenFlags.h"
+
+#include "terrain/io/DemReader.h"
+#include "terrain/io/PeakMemory.h"
+#include "terrain/io/PyramidBuilder.h"
+
+#include <fmt/core.h>
+#include <unistd.h>
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+
+extern "C" void onInterrupt(int) { g_interrupted.store(true); }
+
+// "1GiB", "512MiB", "64M", "1073741824" → bytes.
+std::optional<std::uint64_t> parseBytes(const std::string& text) {
+    std::size_t end = 0;
+    double value = 0.0;
+    try {
+        value = std::stod(text, &end);
+    } catch (...) {
+        return std::nullopt;
+    }
+    const std::string unit = text.substr(end);
+    double scale = 1.0;
+    if (unit.empty() || unit == "B")
+        scale = 1.0;
+    else if (unit == "K" || unit == "KiB")
+        scale = 1024.0;
+    else if (unit == "M" || unit == "MiB")
+        scale = 1024.0 * 1024.0;
+    else if (unit == "G" || unit == "GiB")
+        scale = 1024.0 * 1024.0 * 1024.0;
+    else
+        return std::nullopt;
+    if (value <= 0.0) return std::nullopt;
+    return static_cast<std::uint64_t>(value * scale);
+}
+
+// A one-line progress bar with an ETA, redrawn in place on a terminal.
+class ProgressBar {
+public:
+    void update(const terrain::io::PyramidBuildProgress& p) {
+        const double elapsed = std::chrono::duration<double>(Clock::now() - m_start).count();
+        if (elapsed - m_lastDrawn < 0.2 && p.fraction < 1.0) return;
+        m_lastDrawn = elapsed;
+        const int width = 30, filled = static_cast<int>(p.fraction * width);
+        const double eta = p.fraction > 0.01 ? elapsed * (1.0 - p.fraction) / p.fraction : 0.0;
+        fmt::print(stderr, "\r[{}{}] {:5.1f}%  level {:2}  {:.0f}s elapsed, ETA {:.0f}s ",
+                   std::string(filled, '#'), std::string(width - filled, '.'), 100.0 * p.fraction,
+                   p.level, elapsed, eta);
+    }
+    void finish() { fmt::print(stderr, "\n"); }
+
+private:
+    using Clock = std::chrono::steady_clock;
+    Clock::time_point m_start = Clock::now();
+    double m_lastDrawn = -1.0;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    using namespace terrain;
+    CLI::App app{
+        "Build a tiled on-disk terrain pyramid with guaranteed error bounds from a DEM: "
+        "GeoTIFF/TIFF, 16-bit PNG, OpenEXR, SRTM .hgt, anything GDAL reads (netCDF, VRT, "
+        "DTED, ...), several tiles as a mosaic, or \"procedural:size=16385,seed=1\"."};
+    std::vector<std::string> inputs;
+    std::string output;
+    std::string memory = "1GiB";
+    io::PyramidBuildOptions options;
+    tools::DemOpenFlags demFlags;
+    bool json = false, quiet = false;
+    app.add_option("INPUT", inputs, "DEM file(s); several files form a mosaic")->required();
+    app.add_option("-o,--output", output, "Pyramid folder to create")->required();
+    app.add_option("--memory", memory, "Peak memory budget, e.g. 1GiB, 512MiB")
+        ->capture_default_str();
+    app.add_option("--patch-size", options.patchSamples, "Samples per patch side, 2^n + 1")
+        ->capture_default_str();
+    app.add_option("--block-quads", options.blockQuads,
+                   "Quads per tessellation-block side (16: 8 x 8 blocks in a 129 patch)")
+        ->capture_default_str();
+    app.add_option("--shard-patches", options.shardPatches, "Patches per shard side")
+        ->capture_default_str();
+    app.add_option("--zip-level", options.zipLevel,
+                   "Tile compression: 0 stores tiles uncompressed (fastest to build and to "
+                   "stream), 1..9 zlib (lossless, about a quarter smaller, slower)")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 9));
+    app.add_option("--threads", options.threads, "Worker threads (0: one per core)")
+        ->capture_default_str();
+    demFlags.addTo(app);
+    app.add_flag("--overwrite", options.overwrite, "Replace an existing pyramid");
+    app.add_flag("--json", json, "Print a JSON summary on stdout");
+    app.add_flag("-q,--quiet", quiet, "No progress bar");
+    CLI11_PARSE(app, argc, argv);
+
+    auto fail = [](const std::string& message) {
+        fmt::print(stderr, "terrain-build: {}\n", message);
+        return 1;
+    };
+    const auto budget = parseBytes(memory);
+    if (!budget) return fail("--memory '" + memory + "': expected a size such as 1GiB or 512MiB");
+    options.memoryBudgetBytes = *budget;
+    auto reader = io::openDem(inputs, demFlags.options());
+    if (!reader) return fail(reader.error().message);
+
+    std::signal(SIGINT, onInterrupt);
+    std::signal(SIGTERM, onInterrupt);
+    options.cancel = &g_interrupted;
+    std::optional<ProgressBar> bar;
+    if (!quiet && isatty(fileno(stderr))) {
+        bar.emplace();
+        options.progress = [&](const io::PyramidBuildProgress& p) { bar->update(p); };
+    }
+    auto built = io::buildPyramid(*reader.value(), output, options);
+    if (bar) bar->finish();
+    if (!built)
+        return g_interrupted ? (fail(built.error().message), 130) : fail(built.error().message);
+
+    const io::PyramidBuildSummary& s = built.value();
+    const io::DemInfo& dem = reader.value()->info();
+    if (json) {
+        nlohmann::json levels = nlohmann::json::array();
+        for (const auto& level : s.manifest.levels)
+            levels.push_back({{"level", level.level},
+                              {"patchesX", level.patchesX},
+                              {"patchesY", level.patchesY},
+                              {"maxErrorM", level.maxError}});
+        const nlohmann::json summary{
+            {"tool", "terrain-build"},
+            {"output", output},
+            {"inputs", inputs},
+            {"reader", dem.readerName},
+            {"raster",
+             {{"width", dem.width}, {"height", dem.height}, {"sampleType", dem.sampleType}}},
+            {"levels", s.manifest.levels.size()},
+            {"levelDetails", levels},
+            {"patches", s.patches},
+            {"bytes", s.bytes},
+            {"seconds", s.seconds},
+            {"phaseSeconds",
+             {{"read", s.phases.readSeconds},
+              {"bounds", s.phases.boundsSeconds},
+              {"write", s.phases.writeSeconds}}},
+            {"peakRssBytes", io::peakResidentBytes()},
+            {"memoryBudgetBytes", options.memoryBudgetBytes},
+            {"zipLevel", options.zipLevel},
+            {"rootErrorM", s.manifest.statistics.rootError},
+            {"noDataSamples", s.manifest.noData.samples},
+            {"gl", nullptr},
+        };
+        std::puts(summary.dump(2).c_str());
+    } else if (!quiet) {
+        fmt::print(stderr,
+                   "terrain-build: {} → {}: {} levels, {} patches, {:.1f} MiB, {:.2f} s, peak RSS "
+                   "{:.0f} MiB\n",
+                   dem.path, output, s.manifest.levels.size(), s.patches,
+                   double(s.bytes) / (1 << 20), s.seconds,
+                   double(io::peakResidentBytes()) / (1 << 20));
+    }
+    return 0;
+}

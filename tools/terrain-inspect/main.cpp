@@ -1,0 +1,233 @@
+// terrain-inspect: what a pyramid on disk holds (docs/pyramid-format.md), and with --verify
+// whether every stored patch is intact and self-consistent.
+#include "PyramidInspection.h"
+
+#include "terrain/io/PyramidManifest.h"
+#include "terrain/io/PyramidReader.h"
+
+#include <fmt/format.h>
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "DemOpenFlags.h"
+#include "terrain/io/PyramidSourceCheck.h"
+
+#include <chrono>
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace {
+
+namespace io = terrain::io;
+namespace inspect = terrain::inspect;
+namespace tools = terrain::tools;
+using Json = nlohmann::ordered_json;
+
+std::string bytesText(std::uintmax_t bytes) {
+    const auto b = static_cast<double>(bytes);
+    if (b >= 1e9) return fmt::format("{:.2f} GB", b * 1e-9);
+    if (b >= 1e6) return fmt::format("{:.2f} MB", b * 1e-6);
+    if (b >= 1e3) return fmt::format("{:.1f} kB", b * 1e-3);
+    return fmt::format("{} B", bytes);
+}
+
+void printText(const io::PyramidReader& reader, const inspect::Inspection& inspection,
+               bool verify) {
+    const io::PyramidManifest& m = reader.manifest();
+    const io::Georeference& g = m.georeference;
+    fmt::print("pyramid {}: {} version {}\n", reader.folder().string(),
+               io::PyramidManifest::kFormatName, m.formatVersion);
+    fmt::print(
+        "raster: {} × {} samples; patches of {} samples (+1 apron), blocks of {} quads, "
+        "shards of {} × {} patches; levels 0 to {}\n",
+        m.layout.rasterWidth(), m.layout.rasterHeight(), m.layout.patchSamples(),
+        m.layout.blockQuads(), m.layout.shardPatches(), m.layout.shardPatches(),
+        m.layout.finestLevel());
+    fmt::print("georeference: {}{}, origin ({}, {}), pixel {} × {}; metres = source × {} + {}{}\n",
+               io::crsKindName(g.crsKind), g.epsg != 0 ? fmt::format(" EPSG:{}", g.epsg) : "",
+               g.originX, g.originY, g.pixelSizeX, g.pixelSizeY, m.vertical.scale,
+               m.vertical.offset, g.wkt.empty() ? "" : " (WKT given)");
+    if (m.noData.present)
+        fmt::print("no-data: {} samples filled ({}), source value {}; shards carry the V mask\n",
+                   m.noData.samples, m.noData.fill,
+                   m.noData.sourceValue ? fmt::format("{}", *m.noData.sourceValue) : "none");
+    else
+        fmt::print("no-data: none\n");
+    fmt::print("statistics: heights {} to {} m over {} valid samples; root Err(P) {} m\n",
+               m.statistics.minHeight, m.statistics.maxHeight, m.statistics.validSamples,
+               m.statistics.rootError);
+    fmt::print("source: {} ({} reader, {}); built by {} {} in {:.2f} s\n",
+               fmt::join(m.source.inputs, ", "), m.source.reader, m.source.sampleType, m.build.tool,
+               m.build.version, m.build.seconds);
+    fmt::print("\n{:>5} {:>13} {:>10} {:>9} {:>11}   {}\n", "level", "patches", "present", "shards",
+               "on disk", "Err(P) min / median / max, m");
+    std::int64_t patches = 0, present = 0, shards = 0;
+    std::uintmax_t bytes = 0;
+    for (const inspect::LevelSummary& l : inspection.levels) {
+        fmt::print("{:>5} {:>13} {:>10} {:>9} {:>11}   {} / {} / {}{}\n", l.level,
+                   fmt::format("{} × {}", l.patchesX, l.patchesY), l.presentPatches, l.shards,
+                   bytesText(l.bytes), l.minError, l.medianError, l.maxError,
+                   l.missingShards > 0
+                       ? fmt::format("  ({} shards missing or unreadable)", l.missingShards)
+                       : "");
+        patches += l.patchesX * l.patchesY;
+        present += l.presentPatches;
+        shards += l.shards;
+        bytes += l.bytes;
+    }
+    fmt::print("{:>5} {:>13} {:>10} {:>9} {:>11}\n", "all", patches, present, shards,
+               bytesText(bytes));
+    if (verify)
+        fmt::print("\nverify: {} patches read and checked in {:.2f} s ({:.0f} patches/s)\n",
+                   inspection.patchesVerified, inspection.verifySeconds,
+                   inspection.verifySeconds > 0.0
+                       ? static_cast<double>(inspection.patchesVerified) / inspection.verifySeconds
+                       : 0.0);
+    for (const inspect::Problem& p : inspection.problems) fmt::print("problem: {}\n", p.message);
+    fmt::print("{}\n", inspection.problems.empty()
+                           ? "no problems found"
+                           : fmt::format("{} problems found", inspection.problems.size()));
+}
+
+Json summaryJson(const io::PyramidReader& reader, const inspect::Inspection& inspection,
+                 bool verify) {
+    Json j;
+    j["pyramid"] = reader.folder().string();
+    j["manifest"] = Json::parse(io::toJson(reader.manifest()));
+    Json levels = Json::array();
+    for (const inspect::LevelSummary& l : inspection.levels) {
+        levels.push_back(
+            {{"level", l.level},
+             {"patchesX", l.patchesX},
+             {"patchesY", l.patchesY},
+             {"presentPatches", l.presentPatches},
+             {"shards", l.shards},
+             {"missingShards", l.missingShards},
+             {"bytes", l.bytes},
+             {"error", {{"min", l.minError}, {"median", l.medianError}, {"max", l.maxError}}}});
+    }
+    j["levels"] = std::move(levels);
+    if (verify) {
+        j["verify"] = {{"patchesChecked", inspection.patchesVerified},
+                       {"seconds", inspection.verifySeconds},
+                       {"patchesPerSecond", inspection.verifySeconds > 0.0
+                                                ? static_cast<double>(inspection.patchesVerified) /
+                                                      inspection.verifySeconds
+                                                : 0.0}};
+    } else {
+        j["verify"] = nullptr;
+    }
+    Json problems = Json::array();
+    for (const inspect::Problem& p : inspection.problems) {
+        Json problem{{"file", p.file}, {"patch", nullptr}, {"message", p.message}};
+        if (p.patch)
+            problem["patch"] = {{"level", p.patch->level}, {"x", p.patch->x}, {"y", p.patch->y}};
+        problems.push_back(std::move(problem));
+    }
+    j["problems"] = std::move(problems);
+    j["ok"] = inspection.problems.empty();
+    return j;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{
+        "terrain-inspect: describe a terrain pyramid (docs/pyramid-format.md): format version, "
+        "raster, georeference, no-data, and per level the patches, present patches, shards, "
+        "bytes on disk and Err(P) statistics; checks that error bounds nest. With --verify "
+        "every present patch is read back and checked: checksum, finite heights, min/max, "
+        "block errors λ(d) recomputed, Err(P) ≥ Err_Appr(P) ≥ 0, no-data count. Exit status: "
+        "0 no problem, 1 problems found or not a pyramid."};
+    std::string folder;
+    bool json = false;
+    bool verify = false;
+    app.add_option("PYRAMID", folder, "Pyramid folder (holding manifest.json)")->required();
+    app.add_flag("--verify", verify, "Read and check every present patch of every level");
+    app.add_flag("--json", json, "Print a JSON summary on stdout instead of text");
+    std::vector<std::string> sources;
+    tools::DemOpenFlags demFlags;
+    app.add_option("--source", sources,
+                   "With --verify: the DEM the pyramid was built from (several files: a mosaic); "
+                   "every valid sample is checked against Err(P) of the patch covering it at "
+                   "every level, for both diagonals of its cell")
+        ->needs("--verify");
+    demFlags.addTo(app);
+    CLI11_PARSE(app, argc, argv);
+
+    auto reader = io::PyramidReader::open(folder);
+    if (!reader) {
+        std::fprintf(stderr, "terrain-inspect: %s\n", reader.error().message.c_str());
+        return 1;
+    }
+    inspect::InspectOptions options;
+    options.verify = verify;
+    const bool showProgress = isatty(STDERR_FILENO) == 1;
+    int shownPercent = -1;
+    const auto start = std::chrono::steady_clock::now();
+    if (showProgress) {
+        options.progress = [&](double fraction) {
+            const int percent = static_cast<int>(fraction * 100.0);
+            const double seconds =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            if (percent == shownPercent || seconds < 1.0) return;
+            shownPercent = percent;
+            std::fprintf(stderr, "\rterrain-inspect: %s %3d%%", folder.c_str(), percent);
+            std::fflush(stderr);
+        };
+    }
+    inspect::Inspection inspection = inspect::inspectPyramid(reader.value(), options);
+    if (shownPercent >= 0) std::fprintf(stderr, "\n");
+    std::optional<io::SourceCheckReport> sourceCheck;
+    if (!sources.empty()) {
+        auto source = io::openDem(sources, demFlags.options());
+        if (!source) {
+            std::fprintf(stderr, "terrain-inspect: %s\n", source.error().message.c_str());
+            return 1;
+        }
+        auto checked = io::checkErrorBoundsAgainstSource(folder, *source.value());
+        if (!checked) {
+            inspection.problems.push_back(
+                inspect::Problem{sources.front(), std::nullopt, checked.error().message});
+        } else {
+            sourceCheck = std::move(checked).value();
+            for (const io::ErrorBoundViolation& v : sourceCheck->violations)
+                inspection.problems.push_back(inspect::patchProblem(
+                    reader.value().shardFile(v.patch).string(), v.patch,
+                    fmt::format("DEM sample ({}, {}) is {:.6f} m from the surface, beyond "
+                                "Err(P) = {:.6f} m",
+                                v.x, v.y, v.distanceM, v.boundM)));
+        }
+    }
+    if (json) {
+        Json summary = summaryJson(reader.value(), inspection, verify);
+        summary["sourceCheck"] = nullptr;
+        if (sourceCheck)
+            summary["sourceCheck"] = {{"source", sources},
+                                      {"samplesChecked", sourceCheck->samplesChecked},
+                                      {"violations", sourceCheck->violationCount},
+                                      {"tightestRatioPerLevel", sourceCheck->tightestRatio}};
+        summary["ok"] = inspection.problems.empty();
+        std::printf("%s\n", summary.dump(2).c_str());
+    } else {
+        printText(reader.value(), inspection, verify);
+        if (sourceCheck) {
+            fmt::print(
+                "source check: {} (sample, level) pairs, {} beyond Err(P); largest "
+                "distance / Err(P) per level:",
+                sourceCheck->samplesChecked, sourceCheck->violationCount);
+            for (double ratio : sourceCheck->tightestRatio) fmt::print(" {:.3f}", ratio);
+            fmt::print("\n");
+        }
+    }
+    if (!inspection.problems.empty()) {
+        std::fprintf(stderr, "terrain-inspect: %s: %zu problems found\n", folder.c_str(),
+                     inspection.problems.size());
+        return 1;
+    }
+    return 0;
+}
