@@ -1,17 +1,25 @@
 #!/usr/bin/env bash
 # README command 1: install every Debian package, build, and run the main job on the
-# built-in default (the procedural terrain; no download). For now the main job is the
-# preview: generate the default 1025² procedural DEM and render one tessellated view of
-# it headless to out/terrain.png, with its JSON summary in out/terrain.json.
+# built-in default (the procedural terrain; no download). What exists of it so far:
+#  1. build the default 1025² procedural DEM into a pyramid (out/procedural.pyramid) with
+#     every error bound, and verify the pyramid against the DEM it came from;
+#  2. render one tessellated view of the DEM headless to out/terrain.png, with its JSON
+#     summary in out/terrain.json (the preview renderer: no streaming or LOD tree yet).
 # Extra options go to terrain-render (see build/tools/terrain-render/terrain-render --help).
 set -euo pipefail
 repo_root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 "$repo_root/scripts/setup.sh"
 
+tools="$repo_root/build/tools"
 out="$repo_root/out"
 mkdir -p "$out"
-"$repo_root/build/tools/terrain-render/terrain-render" -o "$out/terrain.png" --json "$@" \
-  > "$out/terrain.json.tmp"
+source="procedural:size=1025,seed=1"
+
+"$tools/terrain-build/terrain-build" "$source" -o "$out/procedural.pyramid" --overwrite --json \
+  > "$out/build.json.tmp"
+mv "$out/build.json.tmp" "$out/build.json"
+"$tools/terrain-inspect/terrain-inspect" "$out/procedural.pyramid" --verify --source "$source"
+
+"$tools/terrain-render/terrain-render" -o "$out/terrain.png" --json "$@" > "$out/terrain.json.tmp"
 mv "$out/terrain.json.tmp" "$out/terrain.json"
-cat "$out/terrain.json"
-echo "main job: wrote $out/terrain.png and $out/terrain.json"
+echo "main job: wrote $out/procedural.pyramid ($out/build.json), $out/terrain.png ($out/terrain.json)"
