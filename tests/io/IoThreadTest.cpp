@@ -1,0 +1,345 @@
+// IoThread: patches read in the background equal PyramidReader's; priority order, the cap
+// on unpolled results, cancelling, every request ending exactly once under a random storm,
+// injected faults, a missing shard, buffer reuse and prompt shutdown. Deterministic: the
+// tests wait for states (bounded by a timeout that fails the test), never for time.
+#include "terrain/io/IoThread.h"
+#include "terrain/io/PyramidReader.h"
+
+#include "DemTestSupport.h"
+#include "TinyPyramid.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <functional>
+#include <map>
+#include <random>
+#include <string>
+#include <thread>
+#include <tuple>
+#include <vector>
+
+namespace terrain::io {
+namespace {
+
+using test::TempDir;
+using namespace std::chrono_literals;
+
+constexpr auto kTimeout = 20s;  // only a hung thread reaches it
+
+bool contains(const std::string& text, const std::string& needle) {
+    return text.find(needle) != std::string::npos;
+}
+
+/// Waits (bounded) until `done` holds; the short sleep only paces the polling.
+[[nodiscard]] bool waitUntil(const std::function<bool()>& done) {
+    const auto deadline = std::chrono::steady_clock::now() + kTimeout;
+    while (!done()) {
+        if (std::chrono::steady_clock::now() > deadline) return false;
+        std::this_thread::sleep_for(1ms);
+    }
+    return true;
+}
+
+/// Polls until `out` holds at least `count` completions.
+[[nodiscard]] bool pollUntil(IoThread& io, std::vector<Completion>& out, std::size_t count) {
+    return waitUntil([&] {
+        io.poll(out);
+        return out.size() >= count;
+    });
+}
+
+std::string patchName(const PatchId& id) {
+    return "patch L" + std::to_string(id.level) + " (" + std::to_string(id.x) + ", " +
+           std::to_string(id.y) + ")";
+}
+
+class IoThreadTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        terrain::test::TinyPyramidOptions options;
+        options.withNoData = true;
+        auto manifest = terrain::test::writeTinyPyramid(m_dir.path(), options);
+        ASSERT_TRUE(manifest.ok()) << manifest.error().message;
+        auto layout = PyramidLayout::create(options.width, options.height, options.patchSamples,
+                                            options.blockQuads, options.shardPatches);
+        ASSERT_TRUE(layout.ok());
+        for (int l = 0; l < layout.value().levelCount(); ++l)
+            for (std::int64_t y = 0; y < layout.value().patchesY(l); ++y)
+                for (std::int64_t x = 0; x < layout.value().patchesX(l); ++x)
+                    m_patches.push_back(PatchId{l, x, y});
+    }
+
+    std::unique_ptr<IoThread> start(const IoThreadOptions& options = {}) {
+        auto io = IoThread::start(m_dir.path(), options);
+        EXPECT_TRUE(io.ok()) << (io.ok() ? "" : io.error().message);
+        return io.ok() ? std::move(io).value() : nullptr;
+    }
+
+    TempDir m_dir;
+    std::vector<PatchId> m_patches;  // every patch of every level, coarse to fine
+};
+
+TEST_F(IoThreadTest, ReadsPatchesEqualToPyramidReader) {
+    auto io = start();
+    ASSERT_TRUE(io);
+    ASSERT_GE(m_patches.size(), 10U);
+    for (std::size_t i = 0; i < m_patches.size(); ++i)
+        EXPECT_TRUE(io->submit(m_patches[i], static_cast<float>(i % 5)));
+    std::vector<Completion> done;
+    ASSERT_TRUE(pollUntil(*io, done, m_patches.size()));
+    ASSERT_EQ(done.size(), m_patches.size());
+
+    auto reader = PyramidReader::open(m_dir.path());
+    ASSERT_TRUE(reader.ok());
+    std::uint64_t bytes = 0;
+    for (const Completion& c : done) {
+        ASSERT_EQ(c.status, CompletionStatus::Completed) << c.error;
+        EXPECT_LE(c.requestTime, c.completeTime);
+        auto expected = reader.value().readPatch(c.id);
+        ASSERT_TRUE(expected.ok()) << expected.error().message;
+        EXPECT_EQ(c.record.id, c.id);
+        EXPECT_EQ(c.record.info, expected.value().info);
+        EXPECT_EQ(c.record.heights, expected.value().heights);
+        EXPECT_EQ(c.record.valid, expected.value().valid);
+        EXPECT_FALSE(c.record.valid.empty());
+        ASSERT_EQ(c.record.blockErrors.size(), expected.value().blockErrors.size());
+        for (std::size_t b = 0; b < c.record.blockErrors.size(); ++b)
+            EXPECT_EQ(c.record.blockErrors[b], expected.value().blockErrors[b]);
+        bytes += c.record.heights.size() * sizeof(float);
+    }
+    const IoThreadStats s = io->stats();
+    EXPECT_EQ(s.requested, m_patches.size());
+    EXPECT_EQ(s.completed, m_patches.size());
+    EXPECT_EQ(s.failed + s.cancelled + s.queueDepth + s.inFlight + s.unpolled, 0U);
+    EXPECT_GE(s.bytesRead, bytes);
+}
+
+TEST_F(IoThreadTest, ServesHighestPriorityFirstAndCapsUnpolledResults) {
+    IoThreadOptions options;
+    options.maxUnpolled = 2;
+    auto io = start(options);
+    ASSERT_TRUE(io);
+    // Two finished results fill the cap; the thread then waits for poll().
+    EXPECT_TRUE(io->submit(m_patches[0], 0.0f));
+    EXPECT_TRUE(io->submit(m_patches[1], 0.0f));
+    ASSERT_TRUE(waitUntil([&] { return io->stats().unpolled == 2; }));
+    const std::vector<float> priorities = {1.0f, 7.0f, 3.0f, 7.0f, 5.0f, -1.0f};
+    for (std::size_t i = 0; i < priorities.size(); ++i)
+        EXPECT_TRUE(io->submit(m_patches[2 + i], priorities[i]));
+    EXPECT_FALSE(io->submit(m_patches[7], 6.0f));  // re-prioritised: -1 → 6
+    IoThreadStats s = io->stats();
+    EXPECT_EQ(s.queueDepth, priorities.size());
+    EXPECT_EQ(s.inFlight, 0U);
+    EXPECT_EQ(s.unpolled, 2U);
+
+    std::vector<Completion> done;
+    ASSERT_TRUE(pollUntil(*io, done, 2 + priorities.size()));
+    ASSERT_EQ(done.size(), 2 + priorities.size());
+    // 7 (first arrival), 7, 6 (re-prioritised), 5, 3, 1.
+    const std::vector<std::size_t> order = {0, 1, 3, 5, 7, 6, 4, 2};
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        EXPECT_EQ(done[i].id, m_patches[order[i]]) << "completion " << i;
+        EXPECT_EQ(done[i].status, CompletionStatus::Completed);
+    }
+}
+
+TEST_F(IoThreadTest, CancelOfPendingRequestYieldsCancelledCompletion) {
+    IoThreadOptions options;
+    options.maxUnpolled = 1;
+    auto io = start(options);
+    ASSERT_TRUE(io);
+    EXPECT_TRUE(io->submit(m_patches[0], 1.0f));
+    ASSERT_TRUE(waitUntil([&] { return io->stats().unpolled == 1; }));  // thread now waits
+    EXPECT_TRUE(io->submit(m_patches[1], 1.0f));
+    EXPECT_TRUE(io->cancel(m_patches[1]));
+    EXPECT_FALSE(io->cancel(m_patches[1]));  // already ended
+    EXPECT_FALSE(io->cancel(m_patches[0]));  // finished, not cancellable
+    EXPECT_FALSE(io->cancel(m_patches[2]));  // never requested
+
+    std::vector<Completion> done;
+    EXPECT_EQ(io->poll(done), 2U);
+    ASSERT_EQ(done.size(), 2U);
+    EXPECT_EQ(done[0].id, m_patches[0]);
+    EXPECT_EQ(done[0].status, CompletionStatus::Completed);
+    EXPECT_EQ(done[1].id, m_patches[1]);
+    EXPECT_EQ(done[1].status, CompletionStatus::Cancelled);
+    EXPECT_TRUE(done[1].record.heights.empty());
+    const IoThreadStats s = io->stats();
+    EXPECT_EQ(s.requested, 2U);
+    EXPECT_EQ(s.completed, 1U);
+    EXPECT_EQ(s.cancelled, 1U);
+    EXPECT_EQ(s.queueDepth, 0U);
+}
+
+TEST_F(IoThreadTest, CancelDuringReadIsReportedAsCancelled) {
+    IoThreadOptions options;
+    options.faults.addedLatencyMs = 600000.0;  // the read waits until cancelled
+    auto io = start(options);
+    ASSERT_TRUE(io);
+    EXPECT_TRUE(io->submit(m_patches[3], 1.0f));
+    ASSERT_TRUE(waitUntil([&] { return io->stats().inFlight == 1; }));
+    EXPECT_FALSE(io->submit(m_patches[3], 9.0f));  // being read: not a new request
+    EXPECT_TRUE(io->cancel(m_patches[3]));
+    EXPECT_FALSE(io->cancel(m_patches[3]));
+    std::vector<Completion> done;
+    ASSERT_TRUE(pollUntil(*io, done, 1));
+    ASSERT_EQ(done.size(), 1U);
+    EXPECT_EQ(done[0].id, m_patches[3]);
+    EXPECT_EQ(done[0].status, CompletionStatus::Cancelled);
+    const IoThreadStats s = io->stats();
+    EXPECT_EQ(s.requested, 1U);
+    EXPECT_EQ(s.cancelled, 1U);
+    EXPECT_EQ(s.completed + s.failed, 0U);
+}
+
+TEST_F(IoThreadTest, EveryRequestEndsExactlyOnceUnderRandomStorm) {
+    IoThreadOptions options;
+    options.maxUnpolled = 3;
+    options.faults = {0.3, 0.0, 7};
+    auto io = start(options);
+    ASSERT_TRUE(io);
+    std::mt19937 rng(99);
+    std::map<std::tuple<int, std::int64_t, std::int64_t>, int> live;  // requests not ended
+    std::uint64_t created = 0;
+    std::vector<Completion> done;
+    const auto account = [&] {
+        for (const Completion& c : done) {
+            int& n = live[{c.id.level, c.id.x, c.id.y}];
+            EXPECT_GT(n, 0) << "a completion without a live request: " << patchName(c.id);
+            --n;
+            if (c.status == CompletionStatus::Completed) io->recycle(PatchRecord(c.record));
+        }
+        done.clear();
+    };
+    for (int step = 0; step < 4000; ++step) {
+        const PatchId& id = m_patches[rng() % m_patches.size()];
+        const auto op = rng() % 10;
+        if (op < 6) {
+            if (io->submit(id, static_cast<float>(rng() % 4))) {
+                ++created;
+                ++live[{id.level, id.x, id.y}];
+            }
+        } else if (op < 9) {
+            io->cancel(id);
+        } else {
+            io->poll(done);
+            account();
+        }
+    }
+    ASSERT_TRUE(waitUntil([&] {
+        io->poll(done);
+        account();
+        const IoThreadStats s = io->stats();
+        return s.queueDepth + s.inFlight + s.unpolled == 0;
+    }));
+    io->poll(done);
+    account();
+    for (const auto& [id, n] : live) EXPECT_EQ(n, 0);
+    const IoThreadStats s = io->stats();
+    EXPECT_EQ(s.requested, created);
+    EXPECT_EQ(s.completed + s.failed + s.cancelled, created);
+    EXPECT_GT(s.cancelled, 0U);
+    EXPECT_GT(s.failed, 0U);
+    EXPECT_EQ(s.failed, s.injectedFaults);
+}
+
+TEST_F(IoThreadTest, InjectedFaultsAreCountedAndNameThePatch) {
+    IoThreadOptions options;
+    options.faults = {0.3, 0.0, 42};
+    auto io = start(options);
+    ASSERT_TRUE(io);
+    std::size_t expectedFaults = 0;
+    for (const PatchId& id : m_patches) {
+        EXPECT_TRUE(io->submit(id, 0.0f));
+        if (options.faults.failsRead(id)) ++expectedFaults;
+    }
+    ASSERT_GT(expectedFaults, 0U);
+    ASSERT_LT(expectedFaults, m_patches.size());
+    std::vector<Completion> done;
+    ASSERT_TRUE(pollUntil(*io, done, m_patches.size()));
+    ASSERT_EQ(done.size(), m_patches.size());
+    for (const Completion& c : done) {
+        if (options.faults.failsRead(c.id)) {
+            EXPECT_EQ(c.status, CompletionStatus::Failed);
+            EXPECT_TRUE(contains(c.error, "injected fault")) << c.error;
+            EXPECT_TRUE(contains(c.error, patchName(c.id))) << c.error;
+        } else {
+            EXPECT_EQ(c.status, CompletionStatus::Completed) << c.error;
+        }
+    }
+    const IoThreadStats s = io->stats();
+    EXPECT_EQ(s.failed, expectedFaults);
+    EXPECT_EQ(s.injectedFaults, expectedFaults);
+    EXPECT_EQ(s.completed, m_patches.size() - expectedFaults);
+
+    // The same seed fails the same patches; another seed fails others.
+    const FaultInjection other{0.3, 0.0, 43};
+    std::size_t differ = 0;
+    for (const PatchId& id : m_patches)
+        if (other.failsRead(id) != options.faults.failsRead(id)) ++differ;
+    EXPECT_GT(differ, 0U);
+}
+
+TEST_F(IoThreadTest, MissingShardFileGivesFailureNamingTheFile) {
+    auto layout = PyramidLayout::create(37, 29, 9, 4, 2);
+    ASSERT_TRUE(layout.ok());
+    const PatchId victim = m_patches.back();
+    const std::filesystem::path shard =
+        m_dir.path() / layout.value().shardPath(layout.value().shardOf(victim));
+    ASSERT_TRUE(std::filesystem::remove(shard)) << shard;
+    auto io = start();
+    ASSERT_TRUE(io);
+    EXPECT_TRUE(io->submit(victim, 1.0f));
+    EXPECT_TRUE(io->submit(m_patches.front(), 0.0f));
+    std::vector<Completion> done;
+    ASSERT_TRUE(pollUntil(*io, done, 2));
+    ASSERT_EQ(done.size(), 2U);
+    EXPECT_EQ(done[0].id, victim);
+    EXPECT_EQ(done[0].status, CompletionStatus::Failed);
+    EXPECT_TRUE(contains(done[0].error, shard.filename().string())) << done[0].error;
+    EXPECT_TRUE(contains(done[0].error, patchName(victim))) << done[0].error;
+    EXPECT_EQ(done[1].status, CompletionStatus::Completed) << done[1].error;
+    EXPECT_EQ(io->stats().failed, 1U);
+}
+
+TEST_F(IoThreadTest, RecycledRecordStorageIsReadInto) {
+    IoThreadOptions options;
+    options.maxUnpolled = 1;
+    auto io = start(options);
+    ASSERT_TRUE(io);
+    EXPECT_TRUE(io->submit(m_patches[0], 0.0f));
+    std::vector<Completion> done;
+    ASSERT_TRUE(pollUntil(*io, done, 1));
+    ASSERT_EQ(done[0].status, CompletionStatus::Completed);
+    const float* storage = done[0].record.heights.data();
+    io->recycle(std::move(done[0].record));
+    done.clear();
+    EXPECT_TRUE(io->submit(m_patches[1], 0.0f));
+    ASSERT_TRUE(pollUntil(*io, done, 1));
+    ASSERT_EQ(done[0].status, CompletionStatus::Completed);
+    EXPECT_EQ(done[0].id, m_patches[1]);
+    EXPECT_EQ(done[0].record.heights.data(), storage);
+}
+
+TEST_F(IoThreadTest, DestructorWithPendingWorkReturnsPromptly) {
+    IoThreadOptions options;
+    options.faults.addedLatencyMs = 600000.0;  // every read would take ten minutes
+    auto io = start(options);
+    ASSERT_TRUE(io);
+    for (const PatchId& id : m_patches) EXPECT_TRUE(io->submit(id, 0.0f));
+    ASSERT_TRUE(waitUntil([&] { return io->stats().inFlight == 1; }));
+    const auto before = std::chrono::steady_clock::now();
+    io.reset();
+    // Generous: a ten-minute latency shows the wait was cut short, not waited out.
+    EXPECT_LT(std::chrono::steady_clock::now() - before, 10s);
+}
+
+TEST(IoThreadStartTest, MissingPyramidIsAnError) {
+    auto io = IoThread::start("/nonexistent/terrain-pyramid");
+    ASSERT_FALSE(io.ok());
+    EXPECT_TRUE(contains(io.error().message, "/nonexistent/terrain-pyramid")) << io.error().message;
+}
+
+}  // namespace
+}  // namespace terrain::io
