@@ -1,0 +1,156 @@
+// GpuTilePool: the resident tiles on the GPU, one layer per patch in two texture arrays
+// (heights R32F, tessellation-block errors RGBA32F), uploaded through a persistent-mapped
+// pixel-buffer ring within a per-frame byte budget.
+// Yusov & Shevtsov 2011, §5: texture arrays, a list of unused subresources, one draw call.
+#pragma once
+
+#include "terrain/cache/LayerFreeList.h"
+#include "terrain/gl/Buffer.h"
+#include "terrain/gl/Texture.h"
+#include "terrain/io/PatchIdHash.h"
+#include "terrain/io/PatchRecord.h"
+#include "terrain/io/PyramidLayout.h"
+#include "terrain/io/Result.h"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace terrain::cache {
+
+struct GpuTilePoolDesc {
+    /// GPU memory for the two texture arrays; layers = budgetBytes / bytesPerLayer.
+    std::size_t budgetBytes = 0;
+    /// Bytes (heights + block errors) uploaded per frame at most; see upload().
+    std::size_t uploadBudgetBytesPerFrame = 0;
+    /// Size of the pixel-buffer ring (extra to budgetBytes); 0 picks
+    /// 2 × max(uploadBudgetBytesPerFrame, one tile).
+    std::size_t ringBytes = 0;
+};
+
+/// Counters of the current frame, reset by beginFrame().
+struct GpuTilePoolFrameStats {
+    int uploads = 0;
+    std::size_t bytesUploaded = 0;
+    int uploadsDeferred = 0;  ///< refused: frame budget used, or the ring full of this frame
+    int ringStalls = 0;       ///< times the CPU waited for the GPU to free ring bytes
+};
+
+/// Owns the tile texture arrays and the upload ring; maps resident patches to layers.
+/// Everything here is render thread only: it owns GL objects and is not thread-safe.
+/// allocate/release/upload/beginFrame/endFrame do not allocate memory after construction.
+class GpuTilePool {
+public:
+    /// Bytes of one layer: heights R32F tileSamples² + block errors RGBA32F blocksPerSide².
+    static std::size_t bytesPerLayer(const io::PyramidLayout& layout);
+
+    /// Creates the texture arrays (immutable storage) and the ring. Errors: a budget below
+    /// one layer, texture sizes beyond GL limits, a ring that cannot be mapped. Layers are
+    /// clamped to GL_MAX_ARRAY_TEXTURE_LAYERS. Render thread only.
+    static io::Result<GpuTilePool> create(const io::PyramidLayout& layout,
+                                          const GpuTilePoolDesc& desc);
+
+    GpuTilePool() = default;
+    ~GpuTilePool();
+    GpuTilePool(GpuTilePool&&) noexcept = default;
+    GpuTilePool& operator=(GpuTilePool&&) noexcept = default;
+    GpuTilePool(const GpuTilePool&) = delete;
+    GpuTilePool& operator=(const GpuTilePool&) = delete;
+
+    /// A layer for `id`, not yet resident; the same layer again when id already has one;
+    /// nullopt when every layer is taken (the caller evicts and retries). Render thread only.
+    std::optional<int> allocate(const io::PatchId& id);
+    /// Frees id's layer; id must hold one (TERRAIN_ASSERT). Render thread only.
+    void release(const io::PatchId& id);
+    /// Render thread only.
+    std::optional<int> layerOf(const io::PatchId& id) const;
+    /// Allocated and its upload issued (GL orders later draws after it). Render thread only.
+    bool isResident(const io::PatchId& id) const;
+
+    /// Copies the record's heights and block errors into the ring and issues the texture
+    /// copies into its layer (record.id must be allocated, sizes must match the layout:
+    /// both TERRAIN_ASSERT; the reader validates tiles against the layout). The no-data
+    /// mask is not uploaded. Returns false, uploading nothing, when this frame's byte
+    /// budget is used (the first upload of a frame always fits the budget) or the ring is
+    /// full of this frame's uploads: retry next frame. Render thread only.
+    bool upload(const io::PatchRecord& record);
+
+    /// Resets the frame budget and counters; retires fences the GPU has passed.
+    /// Render thread only.
+    void beginFrame();
+    /// Fences this frame's uploads so their ring bytes are reused only once the GPU has
+    /// read them. Render thread only.
+    void endFrame();
+
+    void setUploadBudgetBytesPerFrame(std::size_t bytes) { m_uploadBudgetBytes = bytes; }
+    std::size_t uploadBudgetBytesPerFrame() const { return m_uploadBudgetBytes; }
+    std::size_t ringBytes() const { return m_ring.sizeBytes(); }
+    /// Bytes one upload() adds to the frame's total.
+    std::size_t uploadBytesPerTile() const { return m_heightBytes + m_errorBytes; }
+
+    int layersUsed() const { return m_freeList.usedCount(); }
+    int layersFree() const { return m_freeList.freeCount(); }
+    int capacity() const { return m_freeList.capacity(); }
+    const GpuTilePoolFrameStats& frameStats() const { return m_stats; }
+
+    const gl::Texture& heights() const { return m_heights; }
+    const gl::Texture& blockErrors() const { return m_blockErrors; }
+
+    /// The first broken invariant, described, or nullopt: the free list's own, and every
+    /// mapped patch on an allocated layer of its own, one patch per allocated layer.
+    /// O(capacity): for tests and the stress tool.
+    std::optional<std::string> checkInvariants() const;
+
+private:
+    struct Slot {
+        int layer = -1;
+        bool resident = false;
+    };
+    using SlotMap = std::unordered_map<io::PatchId, Slot, io::PatchIdHash>;
+
+    /// A GLsync owner: deleted on destruction, moved by exchange.
+    class Fence {
+    public:
+        Fence() = default;
+        ~Fence() { reset(); }
+        Fence(Fence&& other) noexcept;
+        Fence& operator=(Fence&& other) noexcept;
+        Fence(const Fence&) = delete;
+        Fence& operator=(const Fence&) = delete;
+        void reset();
+        GLsync sync = nullptr;
+        std::uint64_t ringEnd = 0;  ///< ring position just past the fenced uploads
+    };
+    static constexpr int kMaxFences = 8;
+
+    std::optional<std::size_t> reserveRing(std::size_t bytes);
+    void retireOldestFence(bool wait);
+
+    LayerFreeList m_freeList{0};
+    SlotMap m_slots;
+    std::vector<SlotMap::node_type> m_spareNodes;  // reused by allocate(): no node allocation
+    gl::Texture m_heights;
+    gl::Texture m_blockErrors;
+    int m_tileSamples = 0;
+    int m_blocksPerSide = 0;
+    std::size_t m_heightBytes = 0;
+    std::size_t m_errorBytes = 0;
+
+    gl::Buffer m_ring;
+    std::byte* m_ringData = nullptr;  // persistent, coherent mapping of m_ring
+    std::uint64_t m_ringHead = 0;     // total bytes reserved (positions grow, wrap by modulo)
+    std::uint64_t m_ringTail = 0;     // bytes before this the GPU has finished reading
+    std::uint64_t m_ringFenced = 0;   // bytes before this are covered by a fence
+    std::array<Fence, kMaxFences> m_fences;
+    int m_fenceFirst = 0;
+    int m_fenceCount = 0;
+
+    std::size_t m_uploadBudgetBytes = 0;
+    GpuTilePoolFrameStats m_stats;
+};
+
+}  // namespace terrain::cache

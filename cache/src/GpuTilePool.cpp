@@ -1,0 +1,306 @@
+// GpuTilePool: layer bookkeeping and fenced uploads through a persistent-mapped ring.
+#include "terrain/cache/GpuTilePool.h"
+
+#include "PixelStoreScope.h"
+#include "terrain/io/Assert.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <utility>
+
+namespace terrain::cache {
+namespace {
+
+// Unpack-buffer offsets must be multiples of the pixel component size (4 for GL_FLOAT);
+// 16 keeps every RGBA32F texel aligned as well.
+constexpr std::size_t kRingAlignment = 16;
+constexpr GLbitfield kRingFlags = GL_MAP_WRITE_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+constexpr GLuint64 kWaitTimeoutNs = 1'000'000'000;
+
+std::size_t alignUp(std::size_t value, std::size_t alignment) {
+    return (value + alignment - 1) / alignment * alignment;
+}
+
+std::size_t squared(int side) {
+    return static_cast<std::size_t>(side) * static_cast<std::size_t>(side);
+}
+
+}  // namespace
+
+GpuTilePool::Fence::Fence(Fence&& other) noexcept
+    : sync(std::exchange(other.sync, nullptr)), ringEnd(other.ringEnd) {}
+
+GpuTilePool::Fence& GpuTilePool::Fence::operator=(Fence&& other) noexcept {
+    if (this != &other) {
+        reset();
+        sync = std::exchange(other.sync, nullptr);
+        ringEnd = other.ringEnd;
+    }
+    return *this;
+}
+
+void GpuTilePool::Fence::reset() {
+    if (sync != nullptr) {
+        glDeleteSync(sync);
+        sync = nullptr;
+    }
+}
+
+GpuTilePool::~GpuTilePool() = default;  // deleting the ring buffer also unmaps it
+
+std::size_t GpuTilePool::bytesPerLayer(const io::PyramidLayout& layout) {
+    return squared(layout.tileSamples()) * sizeof(float) +
+           squared(layout.blocksPerSide()) * sizeof(io::BlockErrors);
+}
+
+io::Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
+                                            const GpuTilePoolDesc& desc) {
+    const std::size_t layerBytes = bytesPerLayer(layout);
+    if (desc.budgetBytes < layerBytes) {
+        return io::Error{"GpuTilePool: GPU budget of " + std::to_string(desc.budgetBytes) +
+                         " bytes is below one tile layer (" + std::to_string(layerBytes) +
+                         " bytes)"};
+    }
+    GLint maxLayers = 0;
+    glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+    if (maxLayers < 1) {
+        return io::Error{"GpuTilePool: GL_MAX_ARRAY_TEXTURE_LAYERS is " +
+                         std::to_string(maxLayers)};
+    }
+    const auto layers = static_cast<int>(
+        std::min(desc.budgetBytes / layerBytes, static_cast<std::size_t>(maxLayers)));
+
+    GpuTilePool pool;
+    pool.m_tileSamples = layout.tileSamples();
+    pool.m_blocksPerSide = layout.blocksPerSide();
+    pool.m_heightBytes = squared(pool.m_tileSamples) * sizeof(float);
+    pool.m_errorBytes = squared(pool.m_blocksPerSide) * sizeof(io::BlockErrors);
+    pool.m_uploadBudgetBytes = desc.uploadBudgetBytesPerFrame;
+
+    auto heights = gl::Texture::create2DArray({.internalFormat = GL_R32F,
+                                               .width = pool.m_tileSamples,
+                                               .height = pool.m_tileSamples,
+                                               .layers = layers},
+                                              "tile pool heights");
+    if (!heights) {
+        return io::Error{"GpuTilePool: " + heights.error().message};
+    }
+    auto errors = gl::Texture::create2DArray({.internalFormat = GL_RGBA32F,
+                                              .width = pool.m_blocksPerSide,
+                                              .height = pool.m_blocksPerSide,
+                                              .layers = layers},
+                                             "tile pool block errors");
+    if (!errors) {
+        return io::Error{"GpuTilePool: " + errors.error().message};
+    }
+    pool.m_heights = std::move(heights).value();
+    pool.m_blockErrors = std::move(errors).value();
+    // Nearest texel fetches: heights and errors are data, not images to filter.
+    pool.m_blockErrors.setSampling(GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
+
+    const std::size_t tileRingBytes =
+        alignUp(pool.m_heightBytes, kRingAlignment) + alignUp(pool.m_errorBytes, kRingAlignment);
+    std::size_t ringBytes = desc.ringBytes != 0
+                                ? desc.ringBytes
+                                : 2 * std::max(desc.uploadBudgetBytesPerFrame, tileRingBytes);
+    ringBytes = alignUp(ringBytes, kRingAlignment);
+    if (ringBytes < tileRingBytes) {
+        return io::Error{"GpuTilePool: upload ring of " + std::to_string(ringBytes) +
+                         " bytes cannot hold one tile (" + std::to_string(tileRingBytes) +
+                         " bytes)"};
+    }
+    pool.m_ring = gl::Buffer::create(ringBytes, kRingFlags, "tile pool upload ring");
+    void* mapped =
+        glMapNamedBufferRange(pool.m_ring.id(), 0, static_cast<GLsizeiptr>(ringBytes), kRingFlags);
+    if (mapped == nullptr) {
+        return io::Error{"GpuTilePool: cannot map the upload ring persistently (" +
+                         std::to_string(ringBytes) + " bytes)"};
+    }
+    pool.m_ringData = static_cast<std::byte*>(mapped);
+
+    pool.m_freeList = LayerFreeList(layers);
+    const auto capacity = static_cast<std::size_t>(layers);
+    pool.m_slots.reserve(capacity);
+    pool.m_spareNodes.reserve(capacity);
+    return pool;
+}
+
+std::optional<int> GpuTilePool::allocate(const io::PatchId& id) {
+    if (const auto found = m_slots.find(id); found != m_slots.end()) {
+        return found->second.layer;
+    }
+    const std::optional<int> maybeLayer = m_freeList.allocate();
+    if (!maybeLayer) {
+        return std::nullopt;
+    }
+    const Slot slot{.layer = *maybeLayer, .resident = false};
+    if (!m_spareNodes.empty()) {
+        // Reuse a node released earlier so steady-state allocation never touches the heap.
+        SlotMap::node_type node = std::move(m_spareNodes.back());
+        m_spareNodes.pop_back();
+        node.key() = id;
+        node.mapped() = slot;
+        m_slots.insert(std::move(node));
+    } else {
+        m_slots.emplace(id, slot);
+    }
+    return maybeLayer;
+}
+
+void GpuTilePool::release(const io::PatchId& id) {
+    const auto found = m_slots.find(id);
+    TERRAIN_ASSERT(found != m_slots.end(), "GpuTilePool::release of a patch without a layer");
+    m_freeList.release(found->second.layer);
+    // A pending upload into this layer stays ordered before any later one: GL executes
+    // texture copies in submission order.
+    m_spareNodes.push_back(m_slots.extract(found));
+}
+
+std::optional<int> GpuTilePool::layerOf(const io::PatchId& id) const {
+    const auto found = m_slots.find(id);
+    if (found == m_slots.end()) {
+        return std::nullopt;
+    }
+    return found->second.layer;
+}
+
+bool GpuTilePool::isResident(const io::PatchId& id) const {
+    const auto found = m_slots.find(id);
+    return found != m_slots.end() && found->second.resident;
+}
+
+std::optional<std::size_t> GpuTilePool::reserveRing(std::size_t bytes) {
+    const std::uint64_t size = m_ring.sizeBytes();
+    TERRAIN_ASSERT(bytes <= size);
+    std::uint64_t start = m_ringHead;
+    if (start % size + bytes > size) {
+        start += size - start % size;  // never split a tile across the end: wrap to 0
+    }
+    while (start + bytes - m_ringTail > size) {
+        if (m_fenceCount == 0) {
+            return std::nullopt;  // the ring is full of this frame's own, unfenced uploads
+        }
+        retireOldestFence(true);
+        ++m_stats.ringStalls;
+    }
+    m_ringHead = start + bytes;
+    return static_cast<std::size_t>(start % size);
+}
+
+void GpuTilePool::retireOldestFence(bool wait) {
+    TERRAIN_ASSERT(m_fenceCount > 0);
+    Fence& oldest = m_fences[static_cast<std::size_t>(m_fenceFirst)];
+    if (wait) {
+        GLenum result = glClientWaitSync(oldest.sync, GL_SYNC_FLUSH_COMMANDS_BIT, kWaitTimeoutNs);
+        while (result == GL_TIMEOUT_EXPIRED) {
+            result = glClientWaitSync(oldest.sync, 0, kWaitTimeoutNs);
+        }
+        TERRAIN_ASSERT(result != GL_WAIT_FAILED, "GpuTilePool: glClientWaitSync failed");
+    }
+    m_ringTail = oldest.ringEnd;
+    oldest.reset();
+    m_fenceFirst = (m_fenceFirst + 1) % kMaxFences;
+    --m_fenceCount;
+}
+
+bool GpuTilePool::upload(const io::PatchRecord& record) {
+    const auto found = m_slots.find(record.id);
+    TERRAIN_ASSERT(found != m_slots.end(), "GpuTilePool::upload of a patch without a layer");
+    TERRAIN_ASSERT(record.heights.size() == squared(m_tileSamples),
+                   "GpuTilePool::upload: heights do not match the layout");
+    TERRAIN_ASSERT(record.blockErrors.size() == squared(m_blocksPerSide),
+                   "GpuTilePool::upload: block errors do not match the layout");
+
+    const std::size_t tileBytes = uploadBytesPerTile();
+    if (m_stats.bytesUploaded > 0 && m_stats.bytesUploaded + tileBytes > m_uploadBudgetBytes) {
+        ++m_stats.uploadsDeferred;
+        return false;
+    }
+    const std::size_t errorOffset = alignUp(m_heightBytes, kRingAlignment);
+    const std::optional<std::size_t> maybeOffset =
+        reserveRing(errorOffset + alignUp(m_errorBytes, kRingAlignment));
+    if (!maybeOffset) {
+        ++m_stats.uploadsDeferred;
+        return false;
+    }
+    const std::size_t offset = *maybeOffset;
+    std::memcpy(m_ringData + offset, record.heights.data(), m_heightBytes);
+    std::memcpy(m_ringData + offset + errorOffset, record.blockErrors.data(), m_errorBytes);
+
+    const int layer = found->second.layer;
+    {
+        // Tight packing, and the caller's unpack binding and pixel-store state put back.
+        const gl::detail::PixelStoreScope pixelStore;
+        glBindBuffer(GL_PIXEL_UNPACK_BUFFER, m_ring.id());
+        // Pointers are offsets into the bound unpack buffer.
+        glTextureSubImage3D(m_heights.id(), 0, 0, 0, layer, m_tileSamples, m_tileSamples, 1, GL_RED,
+                            GL_FLOAT, reinterpret_cast<const void*>(offset));
+        glTextureSubImage3D(m_blockErrors.id(), 0, 0, 0, layer, m_blocksPerSide, m_blocksPerSide, 1,
+                            GL_RGBA, GL_FLOAT, reinterpret_cast<const void*>(offset + errorOffset));
+    }
+    found->second.resident = true;
+    ++m_stats.uploads;
+    m_stats.bytesUploaded += tileBytes;
+    return true;
+}
+
+void GpuTilePool::beginFrame() {
+    m_stats = {};
+    while (m_fenceCount > 0) {
+        const Fence& oldest = m_fences[static_cast<std::size_t>(m_fenceFirst)];
+        const GLenum result = glClientWaitSync(oldest.sync, 0, 0);
+        if (result != GL_ALREADY_SIGNALED && result != GL_CONDITION_SATISFIED) {
+            break;
+        }
+        retireOldestFence(false);
+    }
+}
+
+void GpuTilePool::endFrame() {
+    if (m_ringHead == m_ringFenced) {
+        return;  // no uploads since the last fence
+    }
+    if (m_fenceCount == kMaxFences) {
+        retireOldestFence(true);
+        ++m_stats.ringStalls;
+    }
+    Fence& fence = m_fences[static_cast<std::size_t>((m_fenceFirst + m_fenceCount) % kMaxFences)];
+    fence.sync = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    fence.ringEnd = m_ringHead;
+    m_ringFenced = m_ringHead;
+    ++m_fenceCount;
+}
+
+std::optional<std::string> GpuTilePool::checkInvariants() const {
+    if (auto broken = m_freeList.checkInvariants()) {
+        return "free list: " + *broken;
+    }
+    if (static_cast<int>(m_slots.size()) != m_freeList.usedCount()) {
+        return std::to_string(m_slots.size()) + " patches mapped but " +
+               std::to_string(m_freeList.usedCount()) + " layers in use";
+    }
+    std::vector<std::uint8_t> seen(static_cast<std::size_t>(capacity()), 0);
+    for (const auto& [id, slot] : m_slots) {
+        const std::string name = "patch L" + std::to_string(id.level) + " (" +
+                                 std::to_string(id.x) + ", " + std::to_string(id.y) + ")";
+        if (slot.layer < 0 || slot.layer >= capacity()) {
+            return name + " maps to layer " + std::to_string(slot.layer) + ", out of range";
+        }
+        if (!m_freeList.isAllocated(slot.layer)) {
+            return name + " maps to layer " + std::to_string(slot.layer) + ", which is free";
+        }
+        auto& mark = seen[static_cast<std::size_t>(slot.layer)];
+        if (mark != 0) {
+            return "layer " + std::to_string(slot.layer) + " is mapped to two patches";
+        }
+        mark = 1;
+    }
+    if (m_fenceCount < 0 || m_fenceCount > kMaxFences || m_ringTail > m_ringFenced ||
+        m_ringFenced > m_ringHead || m_ringHead - m_ringTail > m_ring.sizeBytes()) {
+        return "upload ring positions inconsistent";
+    }
+    return std::nullopt;
+}
+
+}  // namespace terrain::cache

@@ -1,0 +1,267 @@
+// cache::GpuTilePool on a real context: capacity from the budget, layer bookkeeping,
+// uploads through the pixel-buffer ring that round-trip exactly, the per-frame budget and
+// ring wrap-around over many frames.
+#include "GlTestFixture.h"
+#include "terrain/cache/GpuTilePool.h"
+#include "terrain/gl/Buffer.h"
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <optional>
+#include <random>
+#include <span>
+#include <vector>
+
+namespace terrain::test {
+namespace {
+
+class GpuTilePoolTest : public GlTest {
+protected:
+    // N = 17 → 19 × 19 heights with apron, 4 × 4 blocks of 4 quads.
+    static io::PyramidLayout layout() { return io::PyramidLayout::create(257, 257, 17, 4).value(); }
+
+    static cache::GpuTilePool makePool(int layers, std::size_t uploadBudget,
+                                       std::size_t ringBytes = 0) {
+        auto created = cache::GpuTilePool::create(
+            layout(), {.budgetBytes = cache::GpuTilePool::bytesPerLayer(layout()) *
+                                      static_cast<std::size_t>(layers),
+                       .uploadBudgetBytesPerFrame = uploadBudget,
+                       .ringBytes = ringBytes});
+        EXPECT_TRUE(created) << (created ? "" : created.error().message);
+        return std::move(created).value();
+    }
+
+    /// Heights and errors distinct per patch and per sample, so misplaced data shows.
+    static io::PatchRecord makeRecord(const io::PatchId& id, int salt = 0) {
+        const io::PyramidLayout l = layout();
+        io::PatchRecord record;
+        record.id = id;
+        const int t = l.tileSamples();
+        const float base = static_cast<float>(id.x * 1000 + id.y * 100000 + salt * 7);
+        for (int i = 0; i < t * t; ++i) {
+            record.heights.push_back(base + static_cast<float>(i) * 0.25f - 3.5f);
+        }
+        const int b = l.blocksPerSide();
+        for (int i = 0; i < b * b; ++i) {
+            const float e = base * 0.5f + static_cast<float>(i);
+            record.blockErrors.push_back({e, e + 0.125f, e + 0.5f, e + 2.0f});
+        }
+        return record;
+    }
+
+    static void expectLayerHolds(const cache::GpuTilePool& pool, int layer,
+                                 const io::PatchRecord& record) {
+        const io::PyramidLayout l = layout();
+        const int t = l.tileSamples();
+        const int b = l.blocksPerSide();
+        std::vector<float> heights(static_cast<std::size_t>(t * t));
+        pool.heights().readBack({.layer = layer, .width = t, .height = t}, GL_RED, GL_FLOAT,
+                                std::as_writable_bytes(std::span(heights)));
+        EXPECT_EQ(heights, record.heights) << "heights of layer " << layer;
+        std::vector<io::BlockErrors> errors(static_cast<std::size_t>(b * b));
+        pool.blockErrors().readBack({.layer = layer, .width = b, .height = b}, GL_RGBA, GL_FLOAT,
+                                    std::as_writable_bytes(std::span(errors)));
+        EXPECT_EQ(errors, record.blockErrors) << "block errors of layer " << layer;
+    }
+};
+
+TEST_F(GpuTilePoolTest, CapacityComesFromTheBudget) {
+    const std::size_t layerBytes = cache::GpuTilePool::bytesPerLayer(layout());
+    EXPECT_EQ(layerBytes, std::size_t{19 * 19 * 4 + 4 * 4 * 16});
+    auto created = cache::GpuTilePool::create(
+        layout(), {.budgetBytes = 5 * layerBytes + layerBytes / 2, .uploadBudgetBytesPerFrame = 1});
+    ASSERT_TRUE(created) << created.error().message;
+    const cache::GpuTilePool& pool = created.value();
+    EXPECT_EQ(pool.capacity(), 5);
+    EXPECT_EQ(pool.layersFree(), 5);
+    EXPECT_EQ(pool.layersUsed(), 0);
+    EXPECT_EQ(pool.heights().layers(), 5);
+    EXPECT_EQ(pool.blockErrors().layers(), 5);
+    EXPECT_EQ(pool.heights().internalFormat(), static_cast<GLenum>(GL_R32F));
+    EXPECT_EQ(pool.blockErrors().internalFormat(), static_cast<GLenum>(GL_RGBA32F));
+    EXPECT_EQ(pool.checkInvariants(), std::nullopt);
+
+    auto tooSmall = cache::GpuTilePool::create(layout(), {.budgetBytes = layerBytes - 1});
+    ASSERT_FALSE(tooSmall);
+    EXPECT_NE(tooSmall.error().message.find("below one tile layer"), std::string::npos)
+        << tooSmall.error().message;
+
+    GLint maxLayers = 0;
+    glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+    auto clamped = cache::GpuTilePool::create(
+        layout(), {.budgetBytes = layerBytes * (static_cast<std::size_t>(maxLayers) + 10)});
+    ASSERT_TRUE(clamped) << clamped.error().message;
+    EXPECT_EQ(clamped.value().capacity(), maxLayers);
+}
+
+TEST_F(GpuTilePoolTest, AllocatesUntilFullAndReusesReleasedLayers) {
+    cache::GpuTilePool pool = makePool(4, 1 << 20);
+    std::vector<int> layers;
+    for (int i = 0; i < 4; ++i) {
+        const std::optional<int> maybeLayer = pool.allocate({.level = 2, .x = i, .y = 1});
+        ASSERT_TRUE(maybeLayer);
+        layers.push_back(*maybeLayer);
+        EXPECT_FALSE(pool.isResident({.level = 2, .x = i, .y = 1}));
+    }
+    std::vector<int> sorted = layers;
+    std::sort(sorted.begin(), sorted.end());
+    EXPECT_EQ(sorted, (std::vector<int>{0, 1, 2, 3}));
+    EXPECT_EQ(pool.layersUsed(), 4);
+    EXPECT_EQ(pool.layersFree(), 0);
+    EXPECT_EQ(pool.allocate({.level = 3, .x = 0, .y = 0}), std::nullopt);
+    EXPECT_EQ(pool.allocate({.level = 2, .x = 1, .y = 1}), layers[1]) << "already allocated";
+
+    pool.release({.level = 2, .x = 2, .y = 1});
+    EXPECT_EQ(pool.layerOf({.level = 2, .x = 2, .y = 1}), std::nullopt);
+    EXPECT_EQ(pool.layersFree(), 1);
+    EXPECT_EQ(pool.allocate({.level = 3, .x = 0, .y = 0}), layers[2]);
+    EXPECT_EQ(pool.layerOf({.level = 3, .x = 0, .y = 0}), layers[2]);
+    EXPECT_EQ(pool.checkInvariants(), std::nullopt);
+}
+
+TEST_F(GpuTilePoolTest, InvariantsHoldThroughRandomOperations) {
+    constexpr int kLayers = 12;
+    cache::GpuTilePool pool = makePool(kLayers, 3 * cache::GpuTilePool::bytesPerLayer(layout()));
+    std::mt19937 random(1234);
+    std::vector<io::PatchId> allocated;
+    std::vector<std::pair<io::PatchId, io::PatchRecord>> uploaded;
+    pool.beginFrame();
+    for (int step = 0; step < 600; ++step) {
+        const auto op = random() % 8;
+        if (op < 3) {
+            const io::PatchId id{.level = 4,
+                                 .x = static_cast<std::int64_t>(random() % 30),
+                                 .y = static_cast<std::int64_t>(random() % 30)};
+            const bool had = pool.layerOf(id).has_value();
+            const std::optional<int> maybeLayer = pool.allocate(id);
+            if (maybeLayer && !had) {
+                allocated.push_back(id);
+            }
+            if (!maybeLayer) {
+                EXPECT_EQ(pool.layersFree(), 0);
+            }
+        } else if (op < 5 && !allocated.empty()) {
+            const std::size_t index = random() % allocated.size();
+            pool.release(allocated[index]);
+            allocated.erase(allocated.begin() + static_cast<std::ptrdiff_t>(index));
+        } else if (op < 7 && !allocated.empty()) {
+            const io::PatchId id = allocated[random() % allocated.size()];
+            if (pool.upload(makeRecord(id, step))) {
+                EXPECT_TRUE(pool.isResident(id));
+            }
+        } else {
+            pool.endFrame();
+            pool.beginFrame();
+        }
+        const auto broken = pool.checkInvariants();
+        ASSERT_EQ(broken, std::nullopt) << "step " << step << ": " << *broken;
+        ASSERT_EQ(pool.layersUsed(), static_cast<int>(allocated.size()));
+        ASSERT_EQ(pool.layersUsed() + pool.layersFree(), kLayers);
+    }
+    pool.endFrame();
+}
+
+TEST_F(GpuTilePoolTest, UploadedTilesRoundTripExactly) {
+    cache::GpuTilePool pool = makePool(3, 1 << 20);
+    gl::Buffer unrelated = gl::Buffer::create(64, 0, "unrelated unpack buffer");
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, unrelated.id());
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 8);
+
+    pool.beginFrame();
+    std::vector<io::PatchRecord> records;
+    for (int i = 0; i < 3; ++i) {
+        records.push_back(makeRecord({.level = 1, .x = i, .y = 2 * i}));
+        ASSERT_TRUE(pool.allocate(records.back().id));
+        ASSERT_TRUE(pool.upload(records.back()));
+        EXPECT_TRUE(pool.isResident(records.back().id));
+    }
+    pool.endFrame();
+    EXPECT_EQ(pool.frameStats().uploads, 3);
+    EXPECT_EQ(pool.frameStats().bytesUploaded, 3 * pool.uploadBytesPerTile());
+
+    GLint binding = 0;
+    GLint alignment = 0;
+    glGetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &binding);
+    glGetIntegerv(GL_UNPACK_ALIGNMENT, &alignment);
+    EXPECT_EQ(static_cast<GLuint>(binding), unrelated.id());
+    EXPECT_EQ(alignment, 8);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+
+    for (const io::PatchRecord& record : records) {
+        expectLayerHolds(pool, *pool.layerOf(record.id), record);
+    }
+}
+
+TEST_F(GpuTilePoolTest, FrameBudgetDefersUploads) {
+    const std::size_t tileBytes = cache::GpuTilePool::bytesPerLayer(layout());
+    cache::GpuTilePool pool = makePool(4, tileBytes);
+    EXPECT_EQ(pool.uploadBytesPerTile(), tileBytes);
+    const io::PatchRecord first = makeRecord({.level = 0, .x = 0, .y = 0});
+    const io::PatchRecord second = makeRecord({.level = 0, .x = 1, .y = 0});
+    ASSERT_TRUE(pool.allocate(first.id));
+    ASSERT_TRUE(pool.allocate(second.id));
+
+    pool.beginFrame();
+    EXPECT_TRUE(pool.upload(first));
+    EXPECT_FALSE(pool.upload(second));
+    EXPECT_FALSE(pool.isResident(second.id));
+    EXPECT_EQ(pool.frameStats().uploads, 1);
+    EXPECT_EQ(pool.frameStats().uploadsDeferred, 1);
+    EXPECT_EQ(pool.frameStats().bytesUploaded, tileBytes);
+    pool.endFrame();
+
+    pool.beginFrame();
+    EXPECT_EQ(pool.frameStats().uploadsDeferred, 0);
+    EXPECT_TRUE(pool.upload(second));
+    EXPECT_TRUE(pool.isResident(second.id));
+    pool.endFrame();
+
+    // A larger budget takes effect at once.
+    pool.beginFrame();
+    pool.setUploadBudgetBytesPerFrame(2 * tileBytes);
+    EXPECT_TRUE(pool.upload(first));
+    EXPECT_TRUE(pool.upload(second));
+    EXPECT_FALSE(pool.upload(first));
+    pool.endFrame();
+
+    expectLayerHolds(pool, *pool.layerOf(first.id), first);
+    expectLayerHolds(pool, *pool.layerOf(second.id), second);
+}
+
+TEST_F(GpuTilePoolTest, RingWrapsAroundOverManyFramesWithCorrectData) {
+    constexpr int kLayers = 40;
+    const std::size_t tileBytes = cache::GpuTilePool::bytesPerLayer(layout());
+    // A ring of about three tiles, two uploads per frame: it wraps every frame or two.
+    cache::GpuTilePool pool = makePool(kLayers, 2 * tileBytes, 3 * tileBytes + 64);
+    std::vector<io::PatchRecord> records;
+    for (int i = 0; i < kLayers; ++i) {
+        records.push_back(makeRecord({.level = 5, .x = i % 7, .y = i / 7}, i));
+        ASSERT_TRUE(pool.allocate(records.back().id));
+    }
+    std::size_t next = 0;
+    int frames = 0;
+    int stalls = 0;
+    while (next < records.size()) {
+        ASSERT_LT(frames, 100);
+        pool.beginFrame();
+        while (next < records.size() && pool.upload(records[next])) {
+            ++next;
+        }
+        stalls += pool.frameStats().ringStalls;
+        pool.endFrame();
+        ++frames;
+        ASSERT_EQ(pool.checkInvariants(), std::nullopt);
+    }
+    EXPECT_GE(frames, kLayers / 2);
+    EXPECT_GE(stalls, 0);
+    for (const io::PatchRecord& record : records) {
+        EXPECT_TRUE(pool.isResident(record.id));
+        expectLayerHolds(pool, *pool.layerOf(record.id), record);
+    }
+}
+
+}  // namespace
+}  // namespace terrain::test
