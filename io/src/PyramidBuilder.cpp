@@ -424,8 +424,7 @@ private:
                     parentInterpolation.at(parentX, pairRow) =
                         simplificationError(children, 0, 0, childrenX * q, patchRows * q, 2);
                 });
-                if (auto written = writeCoarserRows(band, *coarser, level); !written)
-                    return written;
+                if (auto written = writeCoarserRows(band, *coarser); !written) return written;
             }
             m_phases.boundsSeconds += secondsSince(phaseStart);
             phaseStart = Clock::now();
@@ -512,12 +511,11 @@ private:
         return sum;
     }
 
-    Status writeCoarserRows(Band& band, InsideRaster& coarser, int level) {
+    Status writeCoarserRows(Band& band, InsideRaster& coarser) {
         std::vector<float>& heights = m_rowScratch;
         std::vector<std::uint8_t>& valid = m_validScratch;
         heights.resize(static_cast<std::size_t>(coarser.width()));
         valid.resize(heights.size());
-        (void)level;
         for (std::int64_t r = std::max<std::int64_t>(band.firstRow, 0);
              r < band.firstRow + band.rows; ++r) {
             if (r % 2 != 0 || r / 2 != coarser.rowsWritten() || r / 2 >= coarser.height()) continue;

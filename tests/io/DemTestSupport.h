@@ -17,34 +17,15 @@
 #include <string>
 #include <vector>
 
+#include "TempFolder.h"
+
 #include <unistd.h>
 
 namespace terrain::io::test {
 
 namespace fs = std::filesystem;
 
-/// A fresh folder under the system temp folder, removed with its contents.
-class TempDir {
-public:
-    TempDir() {
-        std::random_device device;
-        m_path = fs::temp_directory_path() / ("terrain-dem-test-" + std::to_string(::getpid()) +
-                                              "-" + std::to_string(device()));
-        fs::create_directories(m_path);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(m_path, ec);
-    }
-    TempDir(const TempDir&) = delete;
-    TempDir& operator=(const TempDir&) = delete;
-
-    const fs::path& path() const { return m_path; }
-    std::string file(const std::string& name) const { return (m_path / name).string(); }
-
-private:
-    fs::path m_path;
-};
+using TempDir = terrain::test::TempFolder;
 
 inline void writeBytes(const std::string& path, const std::vector<char>& bytes) {
     std::ofstream out(path, std::ios::binary);

@@ -8,6 +8,8 @@
 #include "terrain/io/RgbaImageWriter.h"
 
 #include <OpenImageIO/imageio.h>
+#include "TempFolder.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -32,20 +34,12 @@ namespace fs = std::filesystem;
 class HeightImageWriterTest : public ::testing::Test {
 protected:
     void SetUp() override {
-        std::random_device device;
-        m_dir = fs::temp_directory_path() /
-                ("terrain-io-test-" + std::to_string(::getpid()) + "-" + std::to_string(device()));
-        fs::create_directories(m_dir);
         // A window that is not a multiple of the 256² tiles, with the fault, of the DEM.
         ProceduralTerrainParameters p;
         Result<ProceduralTerrain> t = ProceduralTerrain::create(p);
         ASSERT_TRUE(t.ok());
         m_heights.resize(static_cast<std::size_t>(m_width * m_height));
         t.value().fillWindow(500, 300, m_width, m_height, m_heights);
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(m_dir, ec);
     }
 
     // Names in the folder: after any write, only finished files, never a temporary.
@@ -57,7 +51,8 @@ protected:
         return names;
     }
 
-    fs::path m_dir;
+    test::TempFolder m_tmp;
+    fs::path m_dir = m_tmp.path();
     std::int64_t m_width = 300;
     std::int64_t m_height = 270;
     std::vector<float> m_heights;

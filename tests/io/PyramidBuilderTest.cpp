@@ -10,6 +10,7 @@
 #include "terrain/io/PyramidReader.h"
 
 #include "SharedData.h"
+#include "TempFolder.h"
 #include "TriangulationOracle.h"
 
 #include <gtest/gtest.h>
@@ -27,23 +28,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class TempFolder {
-public:
-    TempFolder() {
-        m_path = fs::temp_directory_path() / ("terrain-builder-test-" + std::to_string(getpid()) +
-                                              "-" + std::to_string(s_next++));
-        fs::create_directories(m_path);
-    }
-    ~TempFolder() {
-        std::error_code ec;
-        fs::remove_all(m_path, ec);
-    }
-    const fs::path& path() const { return m_path; }
-
-private:
-    static inline int s_next = 0;
-    fs::path m_path;
-};
+using test::TempFolder;
 
 // The whole DEM as the builder sees it: NaN for no-data.
 std::vector<float> readAll(DemReader& reader) {

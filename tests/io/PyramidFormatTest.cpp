@@ -9,6 +9,8 @@
 
 #include "TinyPyramid.h"
 
+#include "TempFolder.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -105,17 +107,6 @@ void expectSameRecord(const PatchRecord& expected, const PatchRecord& actual) {
 
 class PyramidFormat : public ::testing::Test {
 protected:
-    void SetUp() override {
-        const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-        std::string name = "terrain-format-" + std::to_string(::getpid()) + "-" +
-                           test->test_suite_name() + "-" + test->name();
-        std::replace(name.begin(), name.end(), '/', '_');
-        m_dir = fs::temp_directory_path() / name;
-        fs::remove_all(m_dir);
-        fs::create_directories(m_dir);
-    }
-    void TearDown() override { fs::remove_all(m_dir); }
-
     // Writes one shard of `layout` with random patches (all but `absent`) and a manifest;
     // returns the records written by patch index within the shard.
     std::vector<PatchRecord> writeRandomShard(const PyramidLayout& layout, const ShardId& s,
@@ -149,7 +140,8 @@ protected:
         return records;
     }
 
-    fs::path m_dir;
+    test::TempFolder m_tmp;
+    fs::path m_dir = m_tmp.path();
 };
 
 // ---------------------------------------------------------------------------------------

@@ -11,45 +11,21 @@
 #include <string_view>
 #include <system_error>
 
+#include "TempFolder.h"
+
 #include <unistd.h>
 
 namespace terrain::test {
 
-class TempDirectory {
+// A TempFolder that can also write text files into itself.
+class TempDirectory : public TempFolder {
 public:
-    TempDirectory() {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        std::string name = "terrain-test-" + std::to_string(::getpid());
-        if (info != nullptr) {
-            name += std::string("-") + info->test_suite_name() + "-" + info->name();
-        }
-        for (char& c : name) {
-            if (c == '/') {
-                c = '_';
-            }
-        }
-        m_path = std::filesystem::temp_directory_path() / name;
-        std::filesystem::remove_all(m_path);
-        std::filesystem::create_directories(m_path);
-    }
-    ~TempDirectory() {
-        std::error_code ignored;
-        std::filesystem::remove_all(m_path, ignored);
-    }
-    TempDirectory(const TempDirectory&) = delete;
-    TempDirectory& operator=(const TempDirectory&) = delete;
-
-    const std::filesystem::path& path() const { return m_path; }
-
     std::filesystem::path write(std::string_view name, std::string_view text) const {
-        const std::filesystem::path file = m_path / name;
+        const std::filesystem::path file = path() / name;
         std::ofstream out(file, std::ios::binary);
         out << text;
         return file;
     }
-
-private:
-    std::filesystem::path m_path;
 };
 
 /// Sets an environment variable for one scope, restoring the previous value after.
