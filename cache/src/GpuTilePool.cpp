@@ -120,6 +120,8 @@ io::Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
     pool.m_ringData = static_cast<std::byte*>(mapped);
 
     pool.m_freeList = LayerFreeList(layers);
+    pool.m_lru = LayerLru(layers);
+    pool.m_layerPatch.resize(static_cast<std::size_t>(layers));
     const auto capacity = static_cast<std::size_t>(layers);
     pool.m_slots.reserve(capacity);
     pool.m_spareNodes.reserve(capacity);
@@ -134,7 +136,9 @@ std::optional<int> GpuTilePool::allocate(const io::PatchId& id) {
     if (!maybeLayer) {
         return std::nullopt;
     }
-    const Slot slot{.layer = *maybeLayer, .resident = false};
+    const Slot slot{.layer = *maybeLayer, .resident = false, .info = {}};
+    m_lru.insert(*maybeLayer, m_frame);
+    m_layerPatch[static_cast<std::size_t>(*maybeLayer)] = id;
     if (!m_spareNodes.empty()) {
         // Reuse a node released earlier so steady-state allocation never touches the heap.
         SlotMap::node_type node = std::move(m_spareNodes.back());
@@ -148,10 +152,37 @@ std::optional<int> GpuTilePool::allocate(const io::PatchId& id) {
     return maybeLayer;
 }
 
+std::optional<GpuTileAllocation> GpuTilePool::allocateEvicting(const io::PatchId& id) {
+    if (const auto found = m_slots.find(id); found != m_slots.end()) {
+        m_lru.touch(found->second.layer, m_frame);
+        return GpuTileAllocation{.layer = found->second.layer, .evicted = std::nullopt};
+    }
+    std::optional<io::PatchId> evicted;
+    if (m_freeList.freeCount() == 0) {
+        const std::optional<int> oldest = m_lru.leastRecent();
+        if (!oldest || m_lru.lastUsedFrame(*oldest) >= m_frame) {
+            return std::nullopt;  // every layer is used by this frame
+        }
+        evicted = m_layerPatch[static_cast<std::size_t>(*oldest)];
+        release(*evicted);
+        ++m_stats.evictions;
+    }
+    const std::optional<int> layer = allocate(id);
+    TERRAIN_ASSERT(layer.has_value(), "GpuTilePool: no layer after an eviction");
+    return GpuTileAllocation{.layer = *layer, .evicted = evicted};
+}
+
+void GpuTilePool::touch(const io::PatchId& id) {
+    const auto found = m_slots.find(id);
+    TERRAIN_ASSERT(found != m_slots.end(), "GpuTilePool::touch of a patch without a layer");
+    m_lru.touch(found->second.layer, m_frame);
+}
+
 void GpuTilePool::release(const io::PatchId& id) {
     const auto found = m_slots.find(id);
     TERRAIN_ASSERT(found != m_slots.end(), "GpuTilePool::release of a patch without a layer");
     m_freeList.release(found->second.layer);
+    m_lru.remove(found->second.layer);
     // A pending upload into this layer stays ordered before any later one: GL executes
     // texture copies in submission order.
     m_spareNodes.push_back(m_slots.extract(found));
@@ -168,6 +199,22 @@ std::optional<int> GpuTilePool::layerOf(const io::PatchId& id) const {
 bool GpuTilePool::isResident(const io::PatchId& id) const {
     const auto found = m_slots.find(id);
     return found != m_slots.end() && found->second.resident;
+}
+
+const io::PatchInfo* GpuTilePool::info(const io::PatchId& id) const {
+    const auto found = m_slots.find(id);
+    if (found == m_slots.end() || !found->second.resident) {
+        return nullptr;
+    }
+    return &found->second.info;
+}
+
+std::optional<io::PatchId> GpuTilePool::patchOnLayer(int layer) const {
+    TERRAIN_ASSERT(layer >= 0 && layer < capacity(), "GpuTilePool: layer out of range");
+    if (!m_freeList.isAllocated(layer)) {
+        return std::nullopt;
+    }
+    return m_layerPatch[static_cast<std::size_t>(layer)];
 }
 
 std::optional<std::size_t> GpuTilePool::reserveRing(std::size_t bytes) {
@@ -213,7 +260,7 @@ bool GpuTilePool::upload(const io::PatchRecord& record) {
                    "GpuTilePool::upload: block errors do not match the layout");
 
     const std::size_t tileBytes = uploadBytesPerTile();
-    if (m_stats.bytesUploaded > 0 && m_stats.bytesUploaded + tileBytes > m_uploadBudgetBytes) {
+    if (!uploadBudgetLeft()) {
         ++m_stats.uploadsDeferred;
         return false;
     }
@@ -240,6 +287,8 @@ bool GpuTilePool::upload(const io::PatchRecord& record) {
                             GL_RGBA, GL_FLOAT, reinterpret_cast<const void*>(offset + errorOffset));
     }
     found->second.resident = true;
+    found->second.info = record.info;
+    m_lru.touch(layer, m_frame);
     ++m_stats.uploads;
     m_stats.bytesUploaded += tileBytes;
     return true;
@@ -247,6 +296,7 @@ bool GpuTilePool::upload(const io::PatchRecord& record) {
 
 void GpuTilePool::beginFrame() {
     m_stats = {};
+    ++m_frame;
     while (m_fenceCount > 0) {
         const Fence& oldest = m_fences[static_cast<std::size_t>(m_fenceFirst)];
         const GLenum result = glClientWaitSync(oldest.sync, 0, 0);
@@ -295,6 +345,18 @@ std::optional<std::string> GpuTilePool::checkInvariants() const {
             return "layer " + std::to_string(slot.layer) + " is mapped to two patches";
         }
         mark = 1;
+        if (!(m_layerPatch[static_cast<std::size_t>(slot.layer)] == id)) {
+            return name + " maps to layer " + std::to_string(slot.layer) +
+                   ", which records another patch";
+        }
+        if (!m_lru.contains(slot.layer)) {
+            return name + " holds layer " + std::to_string(slot.layer) +
+                   ", which is missing from the LRU order";
+        }
+    }
+    if (m_lru.size() != m_freeList.usedCount()) {
+        return std::to_string(m_lru.size()) + " layers in the LRU order but " +
+               std::to_string(m_freeList.usedCount()) + " in use";
     }
     if (m_fenceCount < 0 || m_fenceCount > kMaxFences || m_ringTail > m_ringFenced ||
         m_ringFenced > m_ringHead || m_ringHead - m_ringTail > m_ring.sizeBytes()) {

@@ -1,9 +1,12 @@
 // TileCache: a hash map of id → position in a std::list kept in LRU order; hits splice
-// their node to the front, so no operation copies or reallocates a record.
+// their node to the front, so no operation copies or reallocates a record. Entries that
+// leave park their list node and map node (a node handle) for the next insert, so a warm
+// cache allocates nothing.
 #include "terrain/cache/TileCache.h"
 
 #include "terrain/io/Assert.h"
 
+#include <algorithm>
 #include <iterator>
 #include <utility>
 
@@ -25,15 +28,33 @@ TileCacheInsertResult TileCache::insert(io::PatchRecord&& record) {
     }
     bool replaced = false;
     if (const auto found = m_entries.find(record.id); found != m_entries.end()) {
-        removeEntry(found->second);
+        removeEntry(found);
         replaced = true;
     }
     while (m_bytes + recordSize > m_budgetBytes) {
         evictLeastRecent();
     }
     const io::PatchId id = record.id;
-    m_lru.push_front(Entry{std::move(record), recordSize});
-    m_entries.emplace(id, m_lru.begin());
+    if (m_spareLruNodes.empty()) {
+        // A new high-water entry count: the only time the cache allocates. The map may
+        // rehash here, and only here: it never holds more entries than at this moment.
+        m_lru.push_front(Entry{std::move(record), recordSize});
+        m_entries.emplace(id, m_lru.begin());
+        // Room to park every node there is (none is parked now), growing geometrically.
+        const std::size_t nodeCount = m_entries.size();
+        if (m_spareMapNodes.capacity() < nodeCount) {
+            m_spareMapNodes.reserve(std::max(nodeCount, 2 * m_spareMapNodes.capacity()));
+        }
+    } else {
+        m_lru.splice(m_lru.begin(), m_spareLruNodes, m_spareLruNodes.begin());
+        m_lru.front().record = std::move(record);
+        m_lru.front().bytes = recordSize;
+        EntryMap::node_type node = std::move(m_spareMapNodes.back());
+        m_spareMapNodes.pop_back();
+        node.key() = id;
+        node.mapped() = m_lru.begin();
+        m_entries.insert(std::move(node));
+    }
     m_bytes += recordSize;
     ++m_counters.insertions;
     return replaced ? TileCacheInsertResult::Replaced : TileCacheInsertResult::Inserted;
@@ -55,7 +76,7 @@ bool TileCache::erase(const io::PatchId& id) {
     if (found == m_entries.end()) {
         return false;
     }
-    removeEntry(found->second);
+    removeEntry(found);
     return true;
 }
 
@@ -87,15 +108,19 @@ std::optional<io::PatchRecord> TileCache::takeEvicted() {
 void TileCache::evictLeastRecent() {
     // Callers only evict while bytes exceed the budget, which needs at least one entry.
     TERRAIN_ASSERT(!m_lru.empty(), "evicting from an empty tile cache");
-    removeEntry(std::prev(m_lru.end()));
+    const auto found = m_entries.find(m_lru.back().record.id);
+    TERRAIN_ASSERT(found != m_entries.end(), "tile cache LRU entry missing from its map");
+    removeEntry(found);
     ++m_counters.evictions;
 }
 
-void TileCache::removeEntry(Lru::iterator it) {
+void TileCache::removeEntry(EntryMap::iterator found) {
+    const Lru::iterator it = found->second;
     m_bytes -= it->bytes;
-    m_entries.erase(it->record.id);
+    m_spareMapNodes.push_back(m_entries.extract(found));  // within capacity: see insert()
     recycle(std::move(it->record));
-    m_lru.erase(it);
+    it->record = io::PatchRecord{};  // a parked node keeps no vector storage alive
+    m_spareLruNodes.splice(m_spareLruNodes.begin(), m_lru, it);
 }
 
 void TileCache::recycle(io::PatchRecord&& record) {

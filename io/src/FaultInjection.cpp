@@ -6,7 +6,7 @@
 namespace terrain::io {
 
 bool FaultInjection::failsRead(const PatchId& id) const {
-    if (errorRate <= 0.0) return false;
+    if (errorRate <= 0.0 || id.level == 0) return false;
     std::uint64_t h = detail::mix64(seed ^ 0xA0761D6478BD642FULL);
     h = detail::mix64(h ^ static_cast<std::uint64_t>(id.level));
     h = detail::mix64(h ^ static_cast<std::uint64_t>(id.x));

@@ -6,12 +6,16 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
 namespace terrain::io {
 
 namespace {
+
+/// The most records m_pool holds: recycle() and run() add one only below this.
+std::size_t poolBound(const IoThreadOptions& options) { return options.maxUnpolled + 1; }
 
 std::uint64_t recordBytes(const PatchRecord& r) {
     return static_cast<std::uint64_t>(r.heights.size() * sizeof(float) + r.valid.size() +
@@ -34,6 +38,10 @@ Result<std::unique_ptr<IoThread>> IoThread::start(const std::filesystem::path& p
 
 IoThread::IoThread(PyramidReader reader, const IoThreadOptions& options)
     : m_options(options), m_layout(reader.layout()), m_reader(std::move(reader)) {
+    // Up front, so recycling never allocates, and neither do the completions of reads
+    // (their count is capped; only cancels beyond the cap can grow m_ready).
+    m_pool.reserve(poolBound(m_options));
+    m_ready.reserve(m_options.maxUnpolled);
     // Started last: the thread sees every member constructed (thread start synchronises).
     m_thread = std::jthread([this](const std::stop_token& stop) { run(stop); });
 }
@@ -50,7 +58,7 @@ bool IoThread::submit(const PatchId& id, float priority) {
         const std::lock_guard lock(m_mutex);
         if (m_inFlight && m_inFlight->id == id && !m_inFlight->cancelled) return false;
         if (!m_pending.request(id, priority)) return false;  // re-prioritised
-        m_requestTimes.emplace(id, Clock::now());
+        addRequestTimeLocked(id, Clock::now());
         ++m_stats.requested;
     }
     m_wake.notify_all();
@@ -63,14 +71,12 @@ bool IoThread::cancel(const PatchId& id) {
         // A pending request wins over an in-flight one: after cancel + submit of the same id
         // the pending one is the newer request.
         if (m_pending.cancel(id)) {
-            const auto time = m_requestTimes.find(id);
-            TERRAIN_ASSERT(time != m_requestTimes.end());
+            // No record, no error text: creating it allocates nothing.
             Completion c;
             c.id = id;
             c.status = CompletionStatus::Cancelled;
-            c.requestTime = time->second;
+            c.requestTime = takeRequestTimeLocked(id);
             c.completeTime = Clock::now();
-            m_requestTimes.erase(time);
             ++m_stats.cancelled;
             m_ready.push_back(std::move(c));
             return true;
@@ -97,7 +103,7 @@ std::size_t IoThread::poll(std::vector<Completion>& out) {
 void IoThread::recycle(PatchRecord&& record) {
     const std::lock_guard lock(m_mutex);
     // Bounded: at most one buffer per result the cap allows, plus the one being read.
-    if (m_pool.size() <= m_options.maxUnpolled) m_pool.push_back(std::move(record));
+    if (m_pool.size() < poolBound(m_options)) m_pool.push_back(std::move(record));
 }
 
 IoThreadStats IoThread::stats() const {
@@ -125,6 +131,30 @@ void IoThread::finishLocked(Completion&& completion) {
     m_ready.push_back(std::move(completion));
 }
 
+void IoThread::addRequestTimeLocked(const PatchId& id, Clock::time_point time) {
+    if (m_spareTimeNodes.empty()) {
+        // A new high-water request count: the only time this map allocates or rehashes.
+        m_requestTimes.emplace(id, time);
+        const std::size_t nodeCount = m_requestTimes.size();  // nothing is parked now
+        if (m_spareTimeNodes.capacity() < nodeCount)
+            m_spareTimeNodes.reserve(std::max(nodeCount, 2 * m_spareTimeNodes.capacity()));
+        return;
+    }
+    RequestTimes::node_type node = std::move(m_spareTimeNodes.back());
+    m_spareTimeNodes.pop_back();
+    node.key() = id;
+    node.mapped() = time;
+    m_requestTimes.insert(std::move(node));
+}
+
+IoThread::Clock::time_point IoThread::takeRequestTimeLocked(const PatchId& id) {
+    RequestTimes::node_type node = m_requestTimes.extract(id);
+    TERRAIN_ASSERT(!node.empty(), "IoThread: a pending request without its request time");
+    const Clock::time_point time = node.mapped();
+    m_spareTimeNodes.push_back(std::move(node));  // within capacity: see addRequestTimeLocked
+    return time;
+}
+
 void IoThread::run(const std::stop_token& stop) {
     const auto latency = std::chrono::duration_cast<Clock::duration>(
         std::chrono::duration<double, std::milli>(m_options.faults.addedLatencyMs));
@@ -136,10 +166,7 @@ void IoThread::run(const std::stop_token& stop) {
         if (!ready) return;  // stop requested
 
         const auto request = m_pending.popHighest();
-        const auto time = m_requestTimes.find(request->id);
-        TERRAIN_ASSERT(time != m_requestTimes.end());
-        m_inFlight = InFlight{request->id, time->second, false};
-        m_requestTimes.erase(time);
+        m_inFlight = InFlight{request->id, takeRequestTimeLocked(request->id), false};
         PatchRecord record;
         if (!m_pool.empty()) {
             record = std::move(m_pool.back());
@@ -180,7 +207,7 @@ void IoThread::run(const std::stop_token& stop) {
             c.error = outcome->error().message;
             if (injected) ++m_stats.injectedFaults;
         }
-        if (c.status != CompletionStatus::Completed && m_pool.size() <= m_options.maxUnpolled)
+        if (c.status != CompletionStatus::Completed && m_pool.size() < poolBound(m_options))
             m_pool.push_back(std::move(record));
         m_inFlight.reset();
         finishLocked(std::move(c));

@@ -1,13 +1,17 @@
 // TileCache: LRU order, exact counters, budget changes, oversized records, erase, recycling,
-// the PatchId hash, and a randomized comparison with a std::list LRU model.
+// no allocation once warm, the PatchId hash, and a randomized comparison with a std::list
+// LRU model.
 #include "terrain/cache/TileCache.h"
 
 #include "terrain/io/PatchIdHash.h"
+
+#include "AllocationCounter.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <list>
 #include <random>
 #include <unordered_set>
@@ -175,6 +179,82 @@ TEST(TileCache, LeavingRecordsAreKeptForReuseUpToALimit) {
     EXPECT_FALSE(cache.takeEvicted().has_value());
     cache.erase(patch(9));
     EXPECT_EQ(cache.recycledCount(), 1u);
+}
+
+// Records for one round of churn, made up front: the vectors a record brings are the
+// caller's allocations, not the cache's. Ids from a window of 48 patches, so inserts
+// replace and finds miss; three sizes, so one insert may evict several entries; now and
+// then one larger than the whole budget.
+std::vector<io::PatchRecord> churnRecords(std::mt19937& rng, std::size_t count,
+                                          std::size_t budgetBytes) {
+    const std::size_t sizes[] = {kHeights / 2, kHeights, 2 * kHeights, budgetBytes / sizeof(float)};
+    std::vector<io::PatchRecord> records;
+    records.reserve(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        const std::size_t size = rng() % 50 == 0 ? sizes[3] : sizes[rng() % 3];
+        records.push_back(makeRecord(patch(static_cast<std::int64_t>(rng() % 48)), size));
+    }
+    return records;
+}
+
+// A streaming loop's use of the cache: inserts (evicting, replacing, rejecting), hits and
+// misses, erases, evicted records decoded into again (takeEvicted, then insert), and
+// budget squeezes. Consumes `records`.
+void churn(TileCache& cache, std::vector<io::PatchRecord>& records, std::mt19937& rng) {
+    const std::size_t budgetBytes = cache.budgetBytes();
+    std::size_t next = 0;
+    for (int step = 0; step < 3000; ++step) {
+        const io::PatchId id = patch(static_cast<std::int64_t>(rng() % 48));
+        const auto op = rng() % 10;
+        if (op < 4) {
+            if (next < records.size()) cache.insert(std::move(records[next++]));
+        } else if (op < 7) {
+            cache.find(id);
+        } else if (op < 8) {
+            cache.erase(id);
+        } else if (op < 9) {
+            if (auto maybeRecord = cache.takeEvicted()) {
+                maybeRecord->id = id;
+                cache.insert(std::move(*maybeRecord));
+            }
+        } else if (step % 100 == 0) {
+            cache.setBudgetBytes(budgetBytes / 2);
+            cache.setBudgetBytes(budgetBytes);
+        }
+    }
+}
+
+TEST(TileCache, AllocatesNothingOnceWarm) {
+    const std::size_t budgetBytes = 16 * chargedBytes(kHeights);
+    TileCache cache(budgetBytes);
+    std::mt19937 rng(7);
+    std::vector<io::PatchRecord> records = churnRecords(rng, 1500, budgetBytes);
+    {
+        const test::AllocationScope warmUp;
+        // The high-water entry count: as many of the smallest records as the budget holds.
+        for (std::int64_t x = 100; cache.bytes() + chargedBytes(kHeights / 2) <= budgetBytes; ++x) {
+            cache.insert(makeRecord(patch(x), kHeights / 2));
+        }
+        churn(cache, records, rng);
+        EXPECT_GT(warmUp.allocations(), 0u) << "the counter must see the cache's nodes";
+    }
+
+    records = churnRecords(rng, 1500, budgetBytes);
+    const TileCacheCounters before = cache.counters();
+    std::uint64_t allocations = 0;
+    {
+        const test::AllocationScope scope;
+        churn(cache, records, rng);
+        allocations = scope.allocations();
+    }
+    EXPECT_EQ(allocations, 0u);
+    // The round did exercise every path.
+    const TileCacheCounters& after = cache.counters();
+    EXPECT_GT(after.insertions - before.insertions, 500u);
+    EXPECT_GT(after.evictions - before.evictions, 200u);
+    EXPECT_GT(after.hits - before.hits, 200u);
+    EXPECT_GT(after.misses - before.misses, 200u);
+    EXPECT_LE(cache.bytes(), cache.budgetBytes());
 }
 
 TEST(PatchIdHash, NoCollisionsOverTypicalRanges) {

@@ -1,10 +1,12 @@
 // IoThread: patches read in the background equal PyramidReader's; priority order, the cap
 // on unpolled results, cancelling, every request ending exactly once under a random storm,
-// injected faults, a missing shard, buffer reuse and prompt shutdown. Deterministic: the
-// tests wait for states (bounded by a timeout that fails the test), never for time.
+// injected faults, a missing shard, buffer reuse, no allocation on the owner thread once
+// warm, and prompt shutdown. Deterministic: the tests wait for states (bounded by a timeout
+// that fails the test), never for time.
 #include "terrain/io/IoThread.h"
 #include "terrain/io/PyramidReader.h"
 
+#include "AllocationCounter.h"
 #include "DemTestSupport.h"
 #include "TinyPyramid.h"
 
@@ -320,6 +322,85 @@ TEST_F(IoThreadTest, RecycledRecordStorageIsReadInto) {
     ASSERT_EQ(done[0].status, CompletionStatus::Completed);
     EXPECT_EQ(done[0].id, m_patches[1]);
     EXPECT_EQ(done[0].record.heights.data(), storage);
+}
+
+TEST_F(IoThreadTest, OwnerThreadAllocatesNothingOnceWarm) {
+    // Only the owner thread is counted: the I/O thread may allocate while it reads.
+    constexpr std::size_t kBatch = 8;  // requests a frame submits; 12 at most with re-submits
+    IoThreadOptions options;
+    options.maxUnpolled = 2 * kBatch;  // room for a whole frame: the thread never waits in one
+    auto io = start(options);
+    ASSERT_TRUE(io);
+    ASSERT_GE(m_patches.size(), options.maxUnpolled + kBatch);
+    std::vector<Completion> out;
+    out.reserve(options.maxUnpolled + kBatch);  // the caller's one vector, cleared every frame
+
+    // A cancel-heavy frame: submit a batch of patches, submit some again (re-prioritised, or
+    // a new request when the first one has already finished), cancel most, then (without
+    // polling) wait until every request of the frame has ended, poll once and recycle. No
+    // gtest assertion inside: it could allocate. False on a timeout or a lost request.
+    std::mt19937 rng(5);
+    std::uint64_t created = 0;
+    const auto frame = [&]() -> bool {
+        const std::size_t first = rng() % (m_patches.size() - kBatch + 1);
+        std::size_t requests = 0;
+        for (std::size_t i = 0; i < kBatch; ++i)
+            if (io->submit(m_patches[first + i], static_cast<float>(rng() % 4))) ++requests;
+        for (std::size_t i = 0; i < kBatch / 2; ++i)
+            if (io->submit(m_patches[first + rng() % kBatch], static_cast<float>(rng() % 4)))
+                ++requests;
+        for (std::size_t i = 0; i < kBatch; ++i)
+            if (rng() % 4 != 0) io->cancel(m_patches[first + i]);
+        created += requests;
+        const auto deadline = std::chrono::steady_clock::now() + kTimeout;
+        while (io->stats().unpolled < requests) {
+            if (std::chrono::steady_clock::now() > deadline) return false;
+            std::this_thread::sleep_for(1ms);
+        }
+        if (io->poll(out) != requests) return false;
+        for (Completion& c : out)
+            if (c.status == CompletionStatus::Completed) io->recycle(std::move(c.record));
+        out.clear();
+        return true;
+    };
+
+    {
+        const terrain::test::AllocationScope warmUp;
+        // The high-water marks, reached deterministically: finished results fill the cap,
+        // so the thread waits while kBatch more requests (a frame's most at once) are all
+        // pending; cancelling those fills the completion list beyond any frame's.
+        const std::size_t cap = options.maxUnpolled;
+        for (std::size_t i = 0; i < cap; ++i) EXPECT_TRUE(io->submit(m_patches[i], 0.0f));
+        ASSERT_TRUE(waitUntil([&] { return io->stats().unpolled == cap; }));
+        for (std::size_t i = cap; i < cap + kBatch; ++i)
+            EXPECT_TRUE(io->submit(m_patches[i], 0.0f));
+        EXPECT_EQ(io->stats().queueDepth, kBatch);
+        for (std::size_t i = cap; i < cap + kBatch; ++i) EXPECT_TRUE(io->cancel(m_patches[i]));
+        EXPECT_EQ(io->poll(out), cap + kBatch);
+        for (Completion& c : out)
+            if (c.status == CompletionStatus::Completed) io->recycle(std::move(c.record));
+        out.clear();
+        for (int i = 0; i < 20; ++i) ASSERT_TRUE(frame()) << "warm-up frame " << i;
+        EXPECT_GT(warmUp.allocations(), 0u) << "the counter must see the first requests";
+    }
+
+    const IoThreadStats before = io->stats();
+    const std::uint64_t createdBefore = created;
+    int framesDone = 0;
+    std::uint64_t allocations = 0;
+    {
+        const terrain::test::AllocationScope scope;
+        while (framesDone < 50 && frame()) ++framesDone;
+        allocations = scope.allocations();
+    }
+    EXPECT_EQ(framesDone, 50) << "a frame timed out or lost a request";
+    EXPECT_EQ(allocations, 0u);
+    const IoThreadStats s = io->stats();
+    EXPECT_EQ(s.requested - before.requested, created - createdBefore);
+    EXPECT_EQ(s.completed + s.failed + s.cancelled, s.requested);
+    EXPECT_GT(s.cancelled - before.cancelled, 0U);
+    EXPECT_GT(s.completed - before.completed, 0U);
+    EXPECT_EQ(s.failed, 0U);
 }
 
 TEST_F(IoThreadTest, DestructorWithPendingWorkReturnsPromptly) {

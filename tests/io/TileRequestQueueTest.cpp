@@ -1,6 +1,9 @@
 // TileRequestQueue: highest priority first, ties first come first served, re-prioritising,
-// cancelling, and agreement with a brute-force model under a seeded random sequence.
+// cancelling, no allocation once warm, and agreement with a brute-force model under a
+// seeded random sequence.
 #include "terrain/io/TileRequestQueue.h"
+
+#include "AllocationCounter.h"
 
 #include <gtest/gtest.h>
 
@@ -81,6 +84,65 @@ TEST(TileRequestQueueTest, CancelRemovesOnlyThatRequest) {
     queue.clear();
     EXPECT_TRUE(queue.empty());
     EXPECT_FALSE(queue.contains(patch(2)));
+}
+
+constexpr std::int64_t kChurnPatches = 64;
+
+struct ChurnTally {
+    std::uint64_t created = 0;
+    std::uint64_t reprioritised = 0;
+    std::uint64_t cancelled = 0;
+    std::uint64_t popped = 0;
+};
+
+// A render loop's use of the queue: each frame requests and re-prioritises patches of a
+// window of kChurnPatches, cancels some that left the view, and the I/O thread pops;
+// now and then everything is dropped (clear).
+void churn(TileRequestQueue& queue, std::mt19937& rng, ChurnTally& tally) {
+    for (int step = 0; step < 5000; ++step) {
+        const PatchId id = patch(static_cast<std::int64_t>(rng() % kChurnPatches));
+        const auto op = rng() % 10;
+        if (op < 5) {
+            if (queue.request(id, static_cast<float>(rng() % 8))) {
+                ++tally.created;
+            } else {
+                ++tally.reprioritised;
+            }
+        } else if (op < 7) {
+            if (queue.cancel(id)) ++tally.cancelled;
+        } else if (op < 9) {
+            if (queue.popHighest()) ++tally.popped;
+        } else if (step % 500 == 0) {
+            queue.clear();
+        }
+    }
+}
+
+TEST(TileRequestQueueTest, AllocatesNothingOnceWarm) {
+    TileRequestQueue queue;
+    std::mt19937 rng(42);
+    ChurnTally warmTally;
+    {
+        const terrain::test::AllocationScope warmUp;
+        // The high-water size: every patch the churn uses, pending at once.
+        for (std::int64_t x = 0; x < kChurnPatches; ++x) queue.request(patch(x), 1.0f);
+        churn(queue, rng, warmTally);
+        EXPECT_GT(warmUp.allocations(), 0u) << "the counter must see the queue's nodes";
+    }
+
+    ChurnTally tally;
+    std::uint64_t allocations = 0;
+    {
+        const terrain::test::AllocationScope scope;
+        churn(queue, rng, tally);
+        allocations = scope.allocations();
+    }
+    EXPECT_EQ(allocations, 0u);
+    // The round did exercise every path.
+    EXPECT_GT(tally.created, 500u);
+    EXPECT_GT(tally.reprioritised, 500u);
+    EXPECT_GT(tally.cancelled, 200u);
+    EXPECT_GT(tally.popped, 500u);
 }
 
 TEST(TileRequestQueueTest, AgreesWithBruteForceModel) {

@@ -263,5 +263,47 @@ TEST_F(GpuTilePoolTest, RingWrapsAroundOverManyFramesWithCorrectData) {
     }
 }
 
+// Eviction takes the least recently used layer the current frame has not used; layers a
+// frame uses (touched, allocated or uploaded in it) are never taken from it.
+TEST_F(GpuTilePoolTest, EvictsTheLeastRecentlyUsedLayerNotUsedThisFrame) {
+    cache::GpuTilePool pool = makePool(3, 1 << 20);
+    const io::PatchId a{2, 0, 0}, b{2, 1, 0}, c{2, 2, 0}, d{2, 3, 0}, e{2, 0, 1};
+    pool.beginFrame();
+    for (const io::PatchId& id : {a, b, c}) {
+        const auto allocation = pool.allocateEvicting(id);
+        ASSERT_TRUE(allocation);
+        EXPECT_EQ(allocation->evicted, std::nullopt);
+        io::PatchRecord record = makeRecord(id);
+        record.info.present = true;
+        record.info.maxHeight = static_cast<float>(id.x);
+        ASSERT_TRUE(pool.upload(record));
+    }
+    pool.endFrame();
+    ASSERT_NE(pool.info(b), nullptr);
+    EXPECT_EQ(pool.info(b)->maxHeight, 1.0f);
+
+    pool.beginFrame();
+    pool.touch(b);
+    pool.touch(c);
+    const int layerOfA = *pool.layerOf(a);
+    const auto forD = pool.allocateEvicting(d);
+    ASSERT_TRUE(forD);
+    EXPECT_EQ(forD->evicted, std::optional<io::PatchId>(a));
+    EXPECT_EQ(forD->layer, layerOfA);
+    EXPECT_EQ(pool.patchOnLayer(layerOfA), std::optional<io::PatchId>(d));
+    EXPECT_FALSE(pool.layerOf(a).has_value());
+    EXPECT_EQ(pool.info(d), nullptr) << "not resident before its upload";
+    EXPECT_EQ(pool.allocateEvicting(e), std::nullopt) << "b, c and d are used by this frame";
+    EXPECT_EQ(pool.frameStats().evictions, 1);
+    pool.endFrame();
+
+    pool.beginFrame();
+    const auto forE = pool.allocateEvicting(e);
+    ASSERT_TRUE(forE);
+    EXPECT_EQ(forE->evicted, std::optional<io::PatchId>(b)) << "b was touched before c and d";
+    EXPECT_EQ(pool.checkInvariants(), std::nullopt);
+    pool.endFrame();
+}
+
 }  // namespace
 }  // namespace terrain::test

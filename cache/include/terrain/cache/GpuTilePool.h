@@ -5,6 +5,7 @@
 #pragma once
 
 #include "terrain/cache/LayerFreeList.h"
+#include "terrain/cache/LayerLru.h"
 #include "terrain/gl/Buffer.h"
 #include "terrain/gl/Texture.h"
 #include "terrain/io/PatchIdHash.h"
@@ -38,6 +39,14 @@ struct GpuTilePoolFrameStats {
     std::size_t bytesUploaded = 0;
     int uploadsDeferred = 0;  ///< refused: frame budget used, or the ring full of this frame
     int ringStalls = 0;       ///< times the CPU waited for the GPU to free ring bytes
+    int evictions = 0;        ///< layers taken from patches by allocateEvicting()
+};
+
+/// What allocateEvicting() did: the layer now mapped to the patch, and the patch that
+/// lost it, if a layer had to be taken from one.
+struct GpuTileAllocation {
+    int layer = -1;
+    std::optional<io::PatchId> evicted;
 };
 
 /// Owns the tile texture arrays and the upload ring; maps resident patches to layers.
@@ -64,12 +73,25 @@ public:
     /// A layer for `id`, not yet resident; the same layer again when id already has one;
     /// nullopt when every layer is taken (the caller evicts and retries). Render thread only.
     std::optional<int> allocate(const io::PatchId& id);
+    /// Like allocate(), but when every layer is taken, takes the layer of the least recently
+    /// used patch that the current frame has not used (touch(), allocate(), upload()); a
+    /// patch the current frame uses is never evicted, so nothing it draws is released.
+    /// nullopt when every layer is used by this frame. Render thread only.
+    std::optional<GpuTileAllocation> allocateEvicting(const io::PatchId& id);
+    /// Marks id's layer as used by the current frame (id must hold one): it will not be
+    /// evicted before the next beginFrame(). Render thread only.
+    void touch(const io::PatchId& id);
     /// Frees id's layer; id must hold one (TERRAIN_ASSERT). Render thread only.
     void release(const io::PatchId& id);
     /// Render thread only.
     std::optional<int> layerOf(const io::PatchId& id) const;
     /// Allocated and its upload issued (GL orders later draws after it). Render thread only.
     bool isResident(const io::PatchId& id) const;
+    /// The summary of a resident patch (bounds and error, from its record), or null.
+    /// Render thread only.
+    const io::PatchInfo* info(const io::PatchId& id) const;
+    /// The patch holding `layer`, or nullopt when the layer is free. Render thread only.
+    std::optional<io::PatchId> patchOnLayer(int layer) const;
 
     /// Copies the record's heights and block errors into the ring and issues the texture
     /// copies into its layer (record.id must be allocated, sizes must match the layout:
@@ -79,13 +101,18 @@ public:
     /// full of this frame's uploads: retry next frame. Render thread only.
     bool upload(const io::PatchRecord& record);
 
-    /// Resets the frame budget and counters; retires fences the GPU has passed.
-    /// Render thread only.
+    /// Starts a new frame (see frame()): resets the frame budget and counters; retires
+    /// fences the GPU has passed. Render thread only.
     void beginFrame();
     /// Fences this frame's uploads so their ring bytes are reused only once the GPU has
     /// read them. Render thread only.
     void endFrame();
 
+    /// Whether one more upload fits this frame's byte budget (the ring may still refuse it).
+    bool uploadBudgetLeft() const {
+        return m_stats.bytesUploaded == 0 ||
+               m_stats.bytesUploaded + uploadBytesPerTile() <= m_uploadBudgetBytes;
+    }
     void setUploadBudgetBytesPerFrame(std::size_t bytes) { m_uploadBudgetBytes = bytes; }
     std::size_t uploadBudgetBytesPerFrame() const { return m_uploadBudgetBytes; }
     std::size_t ringBytes() const { return m_ring.sizeBytes(); }
@@ -96,12 +123,15 @@ public:
     int layersFree() const { return m_freeList.freeCount(); }
     int capacity() const { return m_freeList.capacity(); }
     const GpuTilePoolFrameStats& frameStats() const { return m_stats; }
+    /// Frames begun so far; layers used in the current one are safe from eviction.
+    std::uint64_t frame() const { return m_frame; }
 
     const gl::Texture& heights() const { return m_heights; }
     const gl::Texture& blockErrors() const { return m_blockErrors; }
 
-    /// The first broken invariant, described, or nullopt: the free list's own, and every
-    /// mapped patch on an allocated layer of its own, one patch per allocated layer.
+    /// The first broken invariant, described, or nullopt: the free list's own, every
+    /// mapped patch on an allocated layer of its own, one patch per allocated layer, and
+    /// exactly the allocated layers in the LRU order.
     /// O(capacity): for tests and the stress tool.
     std::optional<std::string> checkInvariants() const;
 
@@ -109,6 +139,7 @@ private:
     struct Slot {
         int layer = -1;
         bool resident = false;
+        io::PatchInfo info;  // from the uploaded record
     };
     using SlotMap = std::unordered_map<io::PatchId, Slot, io::PatchIdHash>;
 
@@ -131,6 +162,9 @@ private:
     void retireOldestFence(bool wait);
 
     LayerFreeList m_freeList{0};
+    LayerLru m_lru{0};
+    std::vector<io::PatchId> m_layerPatch;  // per allocated layer, its patch
+    std::uint64_t m_frame = 0;
     SlotMap m_slots;
     std::vector<SlotMap::node_type> m_spareNodes;  // reused by allocate(): no node allocation
     gl::Texture m_heights;

@@ -39,6 +39,13 @@ enum class TileCacheInsertResult {
 /// Records that leave the cache (evicted, erased, replaced) are kept, up to
 /// kMaxRecycledRecords, for takeEvicted(), so the I/O thread can decode into their
 /// vectors instead of allocating new ones. Their bytes do not count towards the budget.
+///
+/// Allocation: once entryCount() has reached its high-water mark, insert(), find(),
+/// erase(), setBudgetBytes() and takeEvicted() allocate nothing (the vectors a record
+/// brings with it are the caller's). The bookkeeping of an entry that leaves (its LRU list
+/// node and hash-map node) is kept and reused by the next insert, and the hash map never
+/// holds more than the high-water count, so it never rehashes after that. The cost is the
+/// memory of the high-water count of nodes, released only with the cache.
 class TileCache {
 public:
     /// Bookkeeping charged per entry on top of its vectors: the record struct, the LRU
@@ -96,15 +103,21 @@ private:
         std::size_t bytes = 0;
     };
     using Lru = std::list<Entry>;  // front: most recently used
+    using EntryMap = std::unordered_map<io::PatchId, Lru::iterator, io::PatchIdHash>;
 
     void evictLeastRecent();
-    void removeEntry(Lru::iterator it);  // unlinks it, recycling its record
+    void removeEntry(EntryMap::iterator found);  // unlinks it, recycling its record and nodes
     void recycle(io::PatchRecord&& record);
 
     std::size_t m_budgetBytes = 0;
     std::size_t m_bytes = 0;
     Lru m_lru;
-    std::unordered_map<io::PatchId, Lru::iterator, io::PatchIdHash> m_entries;
+    EntryMap m_entries;
+    // Nodes of entries that left, for the next inserts. Always equally many of each: an
+    // entry owns one of both. m_spareMapNodes' capacity covers every node ever allocated,
+    // so parking a node never grows it.
+    Lru m_spareLruNodes;  // records moved out: they own no storage
+    std::vector<EntryMap::node_type> m_spareMapNodes;
     std::vector<io::PatchRecord> m_recycled;  // reserved to kMaxRecycledRecords
     TileCacheCounters m_counters;
 };

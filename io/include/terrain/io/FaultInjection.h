@@ -15,7 +15,8 @@ struct FaultInjection {
 
     /// Whether a read of `id` fails: a pure function of (seed, id), like a bad sector, so
     /// the outcome does not depend on the order the I/O thread reads in and tests can
-    /// predict it. Any thread.
+    /// predict it. The root (level 0) never fails by injection: it is the ancestor of last
+    /// resort that draws wherever finer tiles are missing. Any thread.
     bool failsRead(const PatchId& id) const;
 };
 

@@ -17,6 +17,13 @@
 //   poll(). Cancelled completions are created on the owner thread and may exceed the cap.
 // - Buffers: recycle() returns a record's storage to a pool the thread reads into
 //   (PyramidReader::readPatch(id, out)), so steady streaming does not allocate.
+//
+// Allocation on the owner thread: once the request count, the completions waiting for
+// poll() and the caller's `out` vector have reached their high-water marks, submit(),
+// cancel(), poll(out) and recycle() allocate nothing. Request bookkeeping reuses its nodes
+// (TileRequestQueue, and here the request times), the completion list and the buffer pool
+// keep their capacity, and a Cancelled Completion carries no record and no error text. The
+// I/O thread may allocate while it reads (file access, failure messages).
 #pragma once
 
 #include "terrain/io/FaultInjection.h"
@@ -117,9 +124,13 @@ private:
         bool cancelled = false;
     };
 
+    using RequestTimes = std::unordered_map<PatchId, Clock::time_point, PatchIdHash>;
+
     IoThread(PyramidReader reader, const IoThreadOptions& options);
     void run(const std::stop_token& stop);
     void finishLocked(Completion&& completion);
+    void addRequestTimeLocked(const PatchId& id, Clock::time_point time);
+    Clock::time_point takeRequestTimeLocked(const PatchId& id);  // parks its node
 
     const IoThreadOptions m_options;
     const PyramidLayout m_layout;
@@ -128,10 +139,13 @@ private:
     mutable std::mutex m_mutex;
     std::condition_variable_any m_wake;  // work, room for results, cancel, or stop
     TileRequestQueue m_pending;
-    std::unordered_map<PatchId, Clock::time_point, PatchIdHash> m_requestTimes;  // pending
+    RequestTimes m_requestTimes;  // pending
+    // Nodes of request times that ended, for the next submits; the capacity covers every
+    // node ever allocated, so parking one (on either thread) never allocates.
+    std::vector<RequestTimes::node_type> m_spareTimeNodes;
     std::optional<InFlight> m_inFlight;
     std::vector<Completion> m_ready;  // finished, not yet polled
-    std::vector<PatchRecord> m_pool;  // recycled record storage
+    std::vector<PatchRecord> m_pool;  // recycled record storage; reserved to its bound
     IoThreadStats m_stats;            // queueDepth / inFlight / unpolled filled by stats()
 
     std::jthread m_thread;  // last: stops and joins before the members above go

@@ -1,4 +1,4 @@
-// Peak resident memory of this process (VmHWM), for --json summaries and benchmarks.
+// Peak and current resident memory of this process (VmHWM, VmRSS), for --json summaries and benchmarks.
 #pragma once
 
 #include <cstdint>
@@ -7,5 +7,9 @@ namespace terrain::io {
 
 /// Bytes; 0 where /proc/self/status is not available.
 std::uint64_t peakResidentBytes();
+
+/// Resident memory now (VmRSS), bytes; 0 where /proc/self/status is not available.
+/// Allocates (reads a file): sample it from time to time, not every frame.
+std::uint64_t currentResidentBytes();
 
 }  // namespace terrain::io

@@ -12,11 +12,19 @@
 #include <optional>
 #include <set>
 #include <unordered_map>
+#include <vector>
 
 namespace terrain::io {
 
 /// Not thread-safe: one thread at a time (the owner serialises calls).
 /// Every operation is O(log n) in the number of pending requests.
+///
+/// Allocation: once size() has reached its high-water mark, request() (new or
+/// re-prioritised), cancel(), popHighest() and clear() allocate nothing. A request that
+/// leaves parks its set node and map node (node handles) for the next new request, a
+/// re-prioritised one is re-keyed in its own node, and the map never holds more than the
+/// high-water count, so it never rehashes after that. The nodes of the high-water count
+/// stay allocated until the queue is destroyed.
 class TileRequestQueue {
 public:
     struct Request {
@@ -42,6 +50,7 @@ public:
     bool contains(const PatchId& id) const { return m_byId.contains(id); }
     std::size_t size() const { return m_byId.size(); }
     bool empty() const { return m_byId.empty(); }
+    /// Removes every request, keeping their nodes for reuse.
     void clear();
 
 private:
@@ -57,9 +66,16 @@ private:
         }
     };
     using Order = std::set<Entry, EntryOrder>;
+    using IdMap = std::unordered_map<PatchId, Order::iterator, PatchIdHash>;
+
+    void park(Order::iterator entry, IdMap::iterator byId);
 
     Order m_order;
-    std::unordered_map<PatchId, Order::iterator, PatchIdHash> m_byId;
+    IdMap m_byId;
+    // Nodes of requests that left, for the next new ones; always equally many of each. The
+    // capacities cover every node ever allocated, so parking never grows them.
+    std::vector<Order::node_type> m_spareEntries;
+    std::vector<IdMap::node_type> m_spareIds;
     std::uint64_t m_nextSequence = 0;
 };
 

@@ -1,0 +1,102 @@
+// End-of-run telemetry summary (see TelemetrySummary.h).
+#include "terrain/runtime/TelemetrySummary.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace terrain::runtime {
+
+namespace {
+
+// nlohmann::json would write NaN as null anyway; saying so keeps the intent visible and
+// does not depend on the dump settings.
+nlohmann::json numberOrNull(double value) {
+    return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
+double ratioOrNaN(double numerator, double denominator) {
+    return denominator > 0.0 ? numerator / denominator : std::nan("");
+}
+
+}  // namespace
+
+void TelemetrySummary::add(const FrameTelemetry& frame) {
+    const double frameS = std::isfinite(frame.frameMs) ? frame.frameMs / 1000.0 : 0.0;
+    if (m_frames == 0) m_startS = frame.timeS - frameS;
+    m_endS = frame.timeS;
+    ++m_frames;
+
+    m_requestsMade += frame.requestsMade;
+    m_requestsCancelled += frame.requestsCancelled;
+    m_requestsCompleted += frame.requestsCompleted;
+    m_requestsFailed += frame.requestsFailed;
+    m_cpuCacheHits += frame.cpuCacheHits;
+    m_cpuCacheMisses += frame.cpuCacheMisses;
+    m_cpuCacheEvictions += frame.cpuCacheEvictions;
+    m_gpuEvictions += frame.gpuEvictions;
+    m_gpuUploads += frame.gpuUploads;
+    m_gpuUploadBytes += frame.gpuUploadBytes;
+    m_gpuUploadsDeferred += frame.gpuUploadsDeferred;
+    m_diskReadBytes += frame.diskReadBytes;
+    m_faults = std::max(m_faults, frame.faultsTotal);
+
+    m_peakQueueDepth = std::max(m_peakQueueDepth, frame.queueDepth);
+    m_peakCpuCacheBytes = std::max(m_peakCpuCacheBytes, frame.cpuCacheBytes);
+    m_peakGpuLayersUsed = std::max(m_peakGpuLayersUsed, frame.gpuLayersUsed);
+
+    if (!std::isnan(frame.frameMs)) m_frameMs.add(frame.frameMs);
+}
+
+double TelemetrySummary::durationS() const { return m_frames == 0 ? 0.0 : m_endS - m_startS; }
+
+nlohmann::json TelemetrySummary::toJson() const {
+    using nlohmann::json;
+    const double durationSeconds = durationS();
+    const double lookups = static_cast<double>(m_cpuCacheHits + m_cpuCacheMisses);
+    json summary;
+    summary["frames"] = m_frames;
+    summary["duration_s"] = durationSeconds;
+    summary["throughput_tiles_per_s"] =
+        numberOrNull(ratioOrNaN(static_cast<double>(m_requestsCompleted), durationSeconds));
+    summary["totals"] = {
+        {"requests_made", m_requestsMade},
+        {"requests_cancelled", m_requestsCancelled},
+        {"requests_completed", m_requestsCompleted},
+        {"requests_failed", m_requestsFailed},
+        {"cpu_cache_hits", m_cpuCacheHits},
+        {"cpu_cache_misses", m_cpuCacheMisses},
+        {"cpu_cache_hit_rate",
+         numberOrNull(ratioOrNaN(static_cast<double>(m_cpuCacheHits), lookups))},
+        {"cpu_cache_evictions", m_cpuCacheEvictions},
+        {"gpu_evictions", m_gpuEvictions},
+        {"gpu_uploads", m_gpuUploads},
+        {"gpu_upload_bytes", m_gpuUploadBytes},
+        {"gpu_uploads_deferred", m_gpuUploadsDeferred},
+        {"disk_read_bytes", m_diskReadBytes},
+        {"faults", m_faults},
+    };
+    summary["peaks"] = {
+        {"queue_depth", m_peakQueueDepth},
+        {"cpu_cache_bytes", m_peakCpuCacheBytes},
+        {"gpu_layers_used", m_peakGpuLayersUsed},
+    };
+    summary["frame_ms"] = {
+        {"p50", numberOrNull(m_frameMs.percentile(50))},
+        {"p95", numberOrNull(m_frameMs.percentile(95))},
+        {"p99", numberOrNull(m_frameMs.percentile(99))},
+        {"max", numberOrNull(m_frameMs.max())},
+    };
+    summary["load_latency_ms"] = {
+        {"count", m_loadLatencyMs.count()},
+        {"p50", numberOrNull(m_loadLatencyMs.percentile(50))},
+        {"p95", numberOrNull(m_loadLatencyMs.percentile(95))},
+        {"p99", numberOrNull(m_loadLatencyMs.percentile(99))},
+        {"max", numberOrNull(m_loadLatencyMs.max())},
+        {"mean", numberOrNull(m_loadLatencyMs.mean())},
+    };
+    return summary;
+}
+
+}  // namespace terrain::runtime

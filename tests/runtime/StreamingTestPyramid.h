@@ -1,0 +1,34 @@
+// StreamingTestPyramid: one small procedural pyramid per test process, built with the real
+// builder (513² samples, 33-sample patches, 4 × 4 blocks: 5 levels, 341 patches), for the
+// streaming and LOD tests. Removed when the process ends.
+#pragma once
+
+#include "TempFolder.h"
+#include "terrain/io/DemReader.h"
+#include "terrain/io/PyramidBuilder.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <memory>
+
+namespace terrain::test {
+
+inline const std::filesystem::path& streamingTestPyramid() {
+    static const std::unique_ptr<TempFolder> folder = [] {
+        auto f = std::make_unique<TempFolder>();
+        auto reader = io::openDem({"procedural:size=513,seed=5"});
+        EXPECT_TRUE(reader) << reader.error().message;
+        io::PyramidBuildOptions options;
+        options.patchSamples = 33;
+        options.blockQuads = 8;
+        options.shardPatches = 4;
+        auto built = io::buildPyramid(*reader.value(), f->path() / "p.pyramid", options);
+        EXPECT_TRUE(built) << built.error().message;
+        return f;
+    }();
+    static const std::filesystem::path path = folder->path() / "p.pyramid";
+    return path;
+}
+
+}  // namespace terrain::test

@@ -1,0 +1,90 @@
+// StressChecks: layer and coverage checks over the frame's draw list.
+#include "StressChecks.h"
+
+#include <fmt/format.h>
+
+namespace terrain::tools {
+namespace {
+
+std::string name(const io::PatchId& id) {
+    return fmt::format("L{} ({}, {})", id.level, id.x, id.y);
+}
+
+}  // namespace
+
+std::optional<std::string> StressChecks::afterFrame(const runtime::TileStreamer& streamer,
+                                                    std::span<const runtime::PatchDraw> drawn,
+                                                    const runtime::PatchSelectionStats& selection) {
+    if (auto broken = streamer.checkInvariants()) return broken;
+    const cache::GpuTilePool& pool = streamer.pool();
+    const io::PyramidLayout& layout = streamer.layout();
+
+    m_drawnSet.clear();
+    for (const runtime::PatchDraw& d : drawn) {
+        if (d.layer < 0 || d.layer >= pool.capacity()) {
+            return fmt::format("patch {} drawn from layer {}, outside the pool", name(d.id), d.layer);
+        }
+        const std::optional<io::PatchId> holder = pool.patchOnLayer(d.layer);
+        if (!holder) {
+            return fmt::format("patch {} drawn from layer {}, which is free", name(d.id), d.layer);
+        }
+        if (!(*holder == d.id) || !pool.isResident(d.id)) {
+            return fmt::format("patch {} drawn from layer {}, which holds {}", name(d.id),
+                               d.layer, name(*holder));
+        }
+        if (!m_drawnSet.insert(d.id).second) return "patch " + name(d.id) + " drawn twice";
+    }
+    // No drawn patch may lie inside another drawn patch.
+    for (const runtime::PatchDraw& d : drawn) {
+        io::PatchId up = d.id;
+        while (up.level > 0) {
+            up = {up.level - 1, up.x / 2, up.y / 2};
+            if (m_drawnSet.contains(up)) {
+                return fmt::format("patches {} and {} overlap: both drawn", name(d.id), name(up));
+            }
+        }
+    }
+    const std::uint64_t domain = runtime::finestPatchesCovered(layout, {0, 0, 0});
+    if (selection.visited > 0 && selection.coveredFinestPatches != domain) {
+        return fmt::format("drawn and culled patches cover {} of the {} finest-level patches: {}",
+                           selection.coveredFinestPatches, domain,
+                           selection.coveredFinestPatches < domain ? "a hole" : "an overlap");
+    }
+    if (pool.layersUsed() > pool.capacity()) {
+        return fmt::format("{} GPU layers used of {}", pool.layersUsed(), pool.capacity());
+    }
+    const io::IoThreadStats io = streamer.ioStats();
+    if (io.queueDepth > streamer.loadsOutstanding()) {
+        return fmt::format("{} requests queued but the LOD wants only {} loads", io.queueDepth,
+                           streamer.loadsOutstanding());
+    }
+    return std::nullopt;
+}
+
+std::optional<std::string> StressChecks::afterDrain(const runtime::TileStreamer& streamer) {
+    const runtime::TileRequestLedger& ledger = streamer.ledger();
+    if (ledger.ended() != ledger.submitted) {
+        return fmt::format("{} requests made but {} ended ({} completed, {} cancelled, {} failed)",
+                           ledger.submitted, ledger.ended(), ledger.completed, ledger.cancelled,
+                           ledger.failed);
+    }
+    const io::IoThreadStats io = streamer.ioStats();
+    if (io.requested != io.completed + io.cancelled + io.failed || io.queueDepth != 0 ||
+        io.inFlight != 0 || io.unpolled != 0) {
+        return fmt::format("I/O thread: {} requested, {} completed, {} cancelled, {} failed, {} "
+                           "queued, {} in flight, {} unpolled",
+                           io.requested, io.completed, io.cancelled, io.failed, io.queueDepth,
+                           io.inFlight, io.unpolled);
+    }
+    if (io.requested != ledger.submitted) {
+        return fmt::format("the I/O thread saw {} requests, the streamer made {}", io.requested,
+                           ledger.submitted);
+    }
+    if (streamer.faults().size() != ledger.failed) {
+        return fmt::format("{} requests failed but {} faults were reported", ledger.failed,
+                           streamer.faults().size());
+    }
+    return std::nullopt;
+}
+
+}  // namespace terrain::tools

@@ -1,0 +1,39 @@
+// StressChecks: the invariants terrain-stress checks every frame and at the end. Each
+// returns the first violation it finds, described for a user, or nullopt.
+#pragma once
+
+#include "terrain/io/PatchIdHash.h"
+#include "terrain/runtime/PatchSelection.h"
+#include "terrain/runtime/TileStreamer.h"
+
+#include <optional>
+#include <span>
+#include <string>
+#include <unordered_set>
+
+namespace terrain::tools {
+
+class StressChecks {
+public:
+    /// After a frame's selection and draw:
+    /// - the streamer's own invariants (no layer both free and in use, one patch per layer,
+    ///   CPU cache within its byte budget, no request ending twice);
+    /// - every drawn patch resident on the layer the draw used (no draw references a
+    ///   released layer);
+    /// - drawn and culled patches tile the domain exactly once (no hole, no overlap);
+    /// - bookkeeping bounded by the budgets (GPU layers, I/O queue no deeper than the
+    ///   loads the LOD wants).
+    std::optional<std::string> afterFrame(const runtime::TileStreamer& streamer,
+                                          std::span<const runtime::PatchDraw> drawn,
+                                          const runtime::PatchSelectionStats& selection);
+
+    /// After TileStreamer::drain(): every request ended exactly once (completed, cancelled
+    /// or failed), in the streamer's ledger and the I/O thread's counters, and every
+    /// failure was reported once.
+    static std::optional<std::string> afterDrain(const runtime::TileStreamer& streamer);
+
+private:
+    std::unordered_set<io::PatchId, io::PatchIdHash> m_drawnSet;  // reused every frame
+};
+
+}  // namespace terrain::tools

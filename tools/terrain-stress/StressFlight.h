@@ -1,0 +1,52 @@
+// StressFlight: the camera moves of the streaming stress test, a deterministic function of
+// a seed: bursts of random teleports, fast low-altitude flight and zoom bursts (dives from
+// high above to near the ground), cycling so every phase happens in any run of a few
+// seconds. Every pose looks at the DEM, so each frame asks for tiles.
+#pragma once
+
+#include "terrain/runtime/Camera.h"
+#include "terrain/runtime/TerrainGeometry.h"
+
+#include <cstdint>
+#include <functional>
+#include <random>
+#include <string_view>
+
+namespace terrain::tools {
+
+enum class FlightPhase { Teleport, LowFlight, ZoomBurst };
+std::string_view flightPhaseName(FlightPhase phase);
+
+class StressFlight {
+public:
+    /// `groundHeight(x, y)`: the best known terrain height under a world point (metres).
+    StressFlight(const runtime::TerrainGeometry& geometry, std::uint64_t seed,
+                 std::function<double(double, double)> groundHeight);
+
+    /// Advances by `dt` seconds and updates `camera` (position and orientation; the
+    /// viewport and field of view are the caller's, except during zoom bursts).
+    void step(double dt, runtime::Camera& camera);
+
+    FlightPhase phase() const { return m_phase; }
+    std::uint64_t teleports() const { return m_teleports; }
+
+private:
+    void startPhase(runtime::Camera& camera);
+    void teleport(runtime::Camera& camera);
+    glm::dvec2 randomPoint();
+
+    const runtime::TerrainGeometry& m_geometry;
+    std::mt19937_64 m_random;
+    std::function<double(double, double)> m_groundHeight;
+    FlightPhase m_phase = FlightPhase::Teleport;
+    double m_phaseLeftS = 0.0;
+    double m_nextTeleportS = 0.0;  // within a teleport phase
+    double m_heading = 0.0;
+    double m_speedMps = 0.0;
+    double m_altitudeM = 0.0;  // above ground
+    double m_climbMps = 0.0;
+    double m_baseFovY = 1.0;
+    std::uint64_t m_teleports = 0;
+};
+
+}  // namespace terrain::tools

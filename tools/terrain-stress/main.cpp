@@ -1,0 +1,366 @@
+// terrain-stress: the streaming stress test a user runs against their own pyramid. It flies
+// a seeded camera through random teleports, fast low-altitude flight and zoom bursts
+// against small caches, renders every frame headless (EGL) so the GPU tile pool is real,
+// checks the streaming invariants every frame, and prints throughput, latency percentiles
+// and a --json summary. Any violation makes the exit status 1.
+#include "GlInfoJson.h"
+#include "StressChecks.h"
+#include "StressFlight.h"
+
+#include "terrain/gl/Framebuffer.h"
+#include "terrain/io/PeakMemory.h"
+#include "terrain/io/RgbaImageWriter.h"
+#include "terrain/runtime/HeadlessGlContext.h"
+#include "terrain/runtime/PatchSelection.h"
+#include "terrain/runtime/TelemetryCsvWriter.h"
+#include "terrain/runtime/TelemetrySummary.h"
+#include "terrain/runtime/TerrainGeometry.h"
+#include "terrain/runtime/TerrainRenderer.h"
+#include "terrain/runtime/TileStreamer.h"
+
+#include <epoxy/gl.h>
+#include <fmt/core.h>
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using namespace terrain;
+
+struct StressOptions {
+    std::string pyramid;
+    double cpuCacheMiB = 8.0;
+    int gpuLayers = 64;
+    double uploadMiBPerFrame = 2.0;
+    double faultRate = 0.0;
+    double latencyMs = 0.0;
+    double durationS = 30.0;
+    std::uint64_t frames = 0;
+    std::uint64_t seed = 1;
+    int widthPx = 320;
+    int heightPx = 240;
+    double errorPx = 2.0;
+    double fovDegrees = 60.0;
+    int tessFactor = 2;
+    double warmupS = 5.0;
+    std::optional<double> maxRssGrowthPercent;
+    std::string telemetryCsv;
+    std::string framesDir;
+    std::uint64_t frameEvery = 100;
+    bool colorByLevel = false;
+    bool json = false;
+};
+
+int fail(const std::string& message) {
+    fmt::print(stderr, "terrain-stress: {}\n", message);
+    return 1;
+}
+
+std::size_t mebibytes(double mib) { return static_cast<std::size_t>(mib * 1024.0 * 1024.0); }
+
+/// The maximum height of the finest resident patch under (x, y): the flight keeps its
+/// altitude above it, which is conservative (above the real ground).
+double groundHeight(const runtime::TileStreamer& streamer, const runtime::TerrainGeometry& geometry,
+                    double x, double y) {
+    const io::PyramidLayout& layout = geometry.layout();
+    const glm::dvec2 sample = geometry.sampleOfWorld(x, y);
+    double height = geometry.maxHeight();
+    for (int level = 0; level <= layout.finestLevel(); ++level) {
+        const double patchSamples =
+            static_cast<double>(layout.patchQuads()) * static_cast<double>(layout.levelStep(level));
+        const io::PatchId id{level, static_cast<std::int64_t>(std::floor(sample.x / patchSamples)),
+                             static_cast<std::int64_t>(std::floor(sample.y / patchSamples))};
+        if (!layout.contains(id)) break;
+        const io::PatchInfo* info = streamer.pool().info(id);
+        if (info == nullptr) break;
+        height = info->maxHeight;
+    }
+    return height;
+}
+
+nlohmann::json percentilesJson(const runtime::LatencyHistogram& h) {
+    const auto value = [](double v) { return std::isnan(v) ? nlohmann::json() : nlohmann::json(v); };
+    return {{"count", h.count()},
+            {"p50", value(h.percentile(50.0))},
+            {"p95", value(h.percentile(95.0))},
+            {"p99", value(h.percentile(99.0))},
+            {"max", value(h.max())}};
+}
+
+/// Frame `frame` as <framesDir>/frame-NNNNNN.png (top row first).
+io::Status writeFrame(const gl::Framebuffer& framebuffer, const StressOptions& o,
+                      std::uint64_t frame) {
+    const std::vector<std::uint8_t> bottomUp = framebuffer.readColorRgba8();
+    const std::size_t rowBytes = static_cast<std::size_t>(o.widthPx) * 4;
+    std::vector<std::uint8_t> topDown(bottomUp.size());
+    for (int y = 0; y < o.heightPx; ++y) {
+        std::memcpy(topDown.data() + static_cast<std::size_t>(y) * rowBytes,
+                    bottomUp.data() + static_cast<std::size_t>(o.heightPx - 1 - y) * rowBytes,
+                    rowBytes);
+    }
+    const std::filesystem::path path =
+        std::filesystem::path(o.framesDir) / fmt::format("frame-{:06}.png", frame);
+    return io::writeRgba8Png(path, o.widthPx, o.heightPx, topDown);
+}
+
+int run(const StressOptions& o) {
+    const auto start = Clock::now();
+    auto context = runtime::HeadlessGlContext::create();
+    if (!context) return fail(context.error().message);
+
+    runtime::TileStreamerOptions streamerOptions;
+    streamerOptions.cpuCacheBytes = mebibytes(o.cpuCacheMiB);
+    streamerOptions.gpuLayers = o.gpuLayers;
+    streamerOptions.uploadBytesPerFrame = mebibytes(o.uploadMiBPerFrame);
+    streamerOptions.io.faults = {.errorRate = o.faultRate, .addedLatencyMs = o.latencyMs, .seed = o.seed};
+    auto opened = runtime::TileStreamer::open(o.pyramid, streamerOptions);
+    if (!opened) return fail(opened.error().message);
+    runtime::TileStreamer& streamer = *opened.value();
+    const runtime::TerrainGeometry geometry(streamer.manifest());
+
+    auto renderer = runtime::TerrainRenderer::create(streamer.layout(), streamer.pool().capacity());
+    if (!renderer) return fail(renderer.error().message);
+    auto framebuffer = gl::Framebuffer::create(o.widthPx, o.heightPx, "stress frame");
+    if (!framebuffer) return fail(framebuffer.error().message);
+    std::optional<runtime::TelemetryCsvWriter> csv;
+    if (!o.telemetryCsv.empty()) {
+        auto created = runtime::TelemetryCsvWriter::create(o.telemetryCsv);
+        if (!created) return fail(created.error().message);
+        csv.emplace(std::move(created).value());
+    }
+
+    runtime::Camera camera;
+    camera.viewportWidth = o.widthPx;
+    camera.viewportHeight = o.heightPx;
+    camera.fovY = o.fovDegrees * std::numbers::pi / 180.0;
+    tools::StressFlight flight(geometry, o.seed, [&](double x, double y) {
+        return groundHeight(streamer, geometry, x, y);
+    });
+    runtime::TerrainStyle style;
+    style.tessFactor = o.tessFactor;
+    style.fogDensityPerM = 0.0f;
+    style.colorByLevel = o.colorByLevel;
+    if (!o.framesDir.empty()) {
+        std::error_code ec;
+        std::filesystem::create_directories(o.framesDir, ec);
+        if (ec) return fail(fmt::format("{}: cannot create the folder: {}", o.framesDir, ec.message()));
+    }
+
+    tools::StressChecks checks;
+    runtime::TelemetrySummary summary;
+    std::vector<runtime::PatchDraw> draws;
+    draws.reserve(static_cast<std::size_t>(streamer.pool().capacity()));
+    std::vector<std::string> violations;
+    std::uint64_t violationCount = 0;
+    const auto violation = [&](std::uint64_t frame, const std::string& what) {
+        ++violationCount;
+        if (violations.size() < 20) {
+            violations.push_back(fmt::format("frame {}: {}", frame, what));
+            fmt::print(stderr, "terrain-stress: VIOLATION at frame {}: {}\n", frame, what);
+        }
+    };
+    std::size_t faultsPrinted = 0;
+    constexpr std::size_t kFaultsToPrint = 10;
+
+    std::uint64_t rssAfterWarmup = 0, rssMin = 0, rssMax = 0;
+    double nextRssSampleS = o.warmupS;
+    const std::array<float, 4> sky{style.skyColor[0], style.skyColor[1], style.skyColor[2], 1.0f};
+    const auto loopStart = Clock::now();
+    auto previous = loopStart;
+    double lastFrameS = 0.0;
+    std::uint64_t frame = 0;
+    for (;; ++frame) {
+        const double elapsedS = std::chrono::duration<double>(Clock::now() - loopStart).count();
+        if (o.frames > 0 ? frame >= o.frames : elapsedS >= o.durationS) break;
+
+        streamer.beginFrame();
+        // Motion by the last frame's duration (capped), as a real-time viewer moves.
+        flight.step(std::min(0.1, lastFrameS), camera);
+        const runtime::PatchSelectionStats selection =
+            runtime::selectPatches(camera, geometry, o.errorPx, streamer, draws);
+
+        framebuffer.value().clear(sky, 0.0f);  // reversed Z: far is 0
+        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.value().id());
+        glViewport(0, 0, o.widthPx, o.heightPx);
+        renderer.value().draw(camera, geometry, streamer.pool(), draws, style);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        if (!o.framesDir.empty() && frame % o.frameEvery == 0) {
+            if (auto written = writeFrame(framebuffer.value(), o, frame); !written) {
+                return fail(written.error().message);
+            }
+        }
+
+        runtime::FrameTelemetry t;
+        streamer.endFrame(t);
+        glFinish();  // a frame ends when it is drawn, as a swap would make it
+        if (auto broken = checks.afterFrame(streamer, draws, selection)) violation(frame, *broken);
+
+        const auto now = Clock::now();
+        t.frame = frame;
+        t.timeS = std::chrono::duration<double>(now - loopStart).count();
+        t.frameMs = std::chrono::duration<double, std::milli>(now - previous).count();
+        lastFrameS = t.frameMs / 1000.0;
+        t.patchesDrawn = selection.drawn;
+        t.patchesCulled = selection.culled;
+        previous = now;
+        summary.add(t);
+        if (csv) csv->write(t);
+
+        for (; faultsPrinted < streamer.faults().size() && faultsPrinted < kFaultsToPrint; ++faultsPrinted) {
+            fmt::print(stderr, "terrain-stress: fault: {}\n", streamer.faults()[faultsPrinted].message);
+        }
+        if (t.timeS >= nextRssSampleS) {
+            // Sampled once a second after warm-up: reading /proc allocates.
+            const std::uint64_t rss = io::currentResidentBytes();
+            if (rssAfterWarmup == 0) rssAfterWarmup = rssMin = rss;
+            rssMin = std::min(rssMin, rss);
+            rssMax = std::max(rssMax, rss);
+            nextRssSampleS = t.timeS + 1.0;
+        }
+        if (context.value()->debugLog().errorCount() > 0) {
+            violation(frame, "OpenGL reported an error (see the debug log)");
+            break;
+        }
+    }
+    const double loopS = std::chrono::duration<double>(Clock::now() - loopStart).count();
+    const std::uint64_t rssEnd = io::currentResidentBytes();
+
+    if (!streamer.drain(std::chrono::seconds(30))) violation(frame, "requests did not end within 30 s of cancelling them all");
+    if (auto broken = tools::StressChecks::afterDrain(streamer)) violation(frame, *broken);
+    if (csv) {
+        if (auto closed = csv->close(); !closed) return fail(closed.error().message);
+    }
+    summary.mergeLoadLatencies(streamer.loadLatencies());
+
+    const double growthPercent =
+        rssAfterWarmup > 0 ? 100.0 * (static_cast<double>(rssEnd) - static_cast<double>(rssAfterWarmup)) /
+                                 static_cast<double>(rssAfterWarmup)
+                           : 0.0;
+    if (o.maxRssGrowthPercent && rssAfterWarmup > 0 && growthPercent > *o.maxRssGrowthPercent) {
+        violation(frame, fmt::format("resident memory grew {:.2f}% after warm-up (limit {}%)",
+                                     growthPercent, *o.maxRssGrowthPercent));
+    }
+
+    const runtime::TileRequestLedger& ledger = streamer.ledger();
+    const io::IoThreadStats io = streamer.ioStats();
+    const runtime::LatencyHistogram& latency = streamer.loadLatencies();
+    const double tilesPerS = loopS > 0.0 ? static_cast<double>(ledger.completed) / loopS : 0.0;
+    if (o.json) {
+        nlohmann::json faults = nlohmann::json::array();
+        for (std::size_t i = 0; i < streamer.faults().size() && i < kFaultsToPrint; ++i) {
+            const runtime::TileFault& f = streamer.faults()[i];
+            faults.push_back({{"level", f.id.level}, {"x", f.id.x}, {"y", f.id.y}, {"message", f.message}});
+        }
+        const nlohmann::json out{
+            {"tool", "terrain-stress"},
+            {"pyramid", o.pyramid},
+            {"passed", violationCount == 0},
+            {"config",
+             {{"cpu_cache_mib", o.cpuCacheMiB},
+              {"gpu_layers", streamer.pool().capacity()},
+              {"upload_mib_per_frame", o.uploadMiBPerFrame},
+              {"fault_rate", o.faultRate},
+              {"added_latency_ms", o.latencyMs},
+              {"seed", o.seed},
+              {"width_px", o.widthPx},
+              {"height_px", o.heightPx},
+              {"error_px", o.errorPx}}},
+            {"frames", frame},
+            {"duration_s", loopS},
+            {"teleports", flight.teleports()},
+            {"throughput_tiles_per_s", tilesPerS},
+            {"load_latency_ms", percentilesJson(latency)},
+            {"requests",
+             {{"made", ledger.submitted},
+              {"completed", ledger.completed},
+              {"cancelled", ledger.cancelled},
+              {"failed", ledger.failed},
+              {"injected_faults", io.injectedFaults}}},
+            {"faults", {{"count", streamer.faults().size()}, {"first", faults}}},
+            {"invariant_violations", violationCount},
+            {"violations", violations},
+            {"resident_memory",
+             {{"after_warmup_bytes", rssAfterWarmup},
+              {"min_bytes", rssMin},
+              {"max_bytes", rssMax},
+              {"end_bytes", rssEnd},
+              {"growth_after_warmup_percent", growthPercent},
+              {"peak_bytes", io::peakResidentBytes()}}},
+            {"telemetry", summary.toJson()},
+            {"telemetry_csv", o.telemetryCsv.empty() ? nlohmann::json() : nlohmann::json(o.telemetryCsv)},
+            {"total_seconds", std::chrono::duration<double>(Clock::now() - start).count()},
+            {"gl", tools::glInfoJson(context.value()->info())},
+        };
+        std::puts(out.dump(2).c_str());
+    }
+    fmt::print(stderr,
+               "terrain-stress: {} frames in {:.1f} s, {} teleports; {} tiles loaded ({:.0f} tiles/s), "
+               "{} cancelled, {} failed; load latency p50 {:.1f} ms, p95 {:.1f} ms, p99 {:.1f} ms; "
+               "resident memory {:+.2f}% after warm-up; {} invariant violations\n",
+               frame, loopS, flight.teleports(), ledger.completed, tilesPerS, ledger.cancelled,
+               ledger.failed, latency.percentile(50.0), latency.percentile(95.0),
+               latency.percentile(99.0), growthPercent, violationCount);
+    if (streamer.faults().size() > faultsPrinted) {
+        fmt::print(stderr, "terrain-stress: {} more faults not printed\n",
+                   streamer.faults().size() - faultsPrinted);
+    }
+    return violationCount == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{
+        "Streaming stress test of a pyramid: a seeded flight of random teleports, fast "
+        "low-altitude flight and zoom bursts against small CPU and GPU caches, rendered "
+        "headless, with the streaming invariants checked every frame. Exit status 1 on any "
+        "violation."};
+    StressOptions o;
+    app.add_option("pyramid", o.pyramid, "Pyramid folder (terrain-build's output)")->required();
+    app.add_option("--cpu-cache-mib", o.cpuCacheMiB, "CPU tile cache budget, MiB")
+        ->capture_default_str()->check(CLI::Range(0.0, 1e6));
+    app.add_option("--gpu-layers", o.gpuLayers, "GPU tile pool layers (one tile each)")
+        ->capture_default_str()->check(CLI::Range(1, 1 << 16));
+    app.add_option("--upload-mib-per-frame", o.uploadMiBPerFrame, "GPU upload budget per frame, MiB")
+        ->capture_default_str()->check(CLI::Range(0.0, 1e4));
+    app.add_option("--fault-rate", o.faultRate, "Probability that a tile read fails (injected)")
+        ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+    app.add_option("--latency-ms", o.latencyMs, "Latency added to every tile read, ms")
+        ->capture_default_str()->check(CLI::Range(0.0, 1e5));
+    app.add_option("--duration-s", o.durationS, "How long to fly, seconds")
+        ->capture_default_str()->check(CLI::Range(0.0, 1e7));
+    app.add_option("--frames", o.frames, "Stop after this many frames instead (0: use --duration-s)")
+        ->capture_default_str();
+    app.add_option("--seed", o.seed, "Seed of the flight and of the injected faults")->capture_default_str();
+    app.add_option("--width", o.widthPx, "Frame width, pixels")->capture_default_str()->check(CLI::Range(16, 8192));
+    app.add_option("--height", o.heightPx, "Frame height, pixels")->capture_default_str()->check(CLI::Range(16, 8192));
+    app.add_option("--error-px", o.errorPx, "Screen-space error threshold ε, pixels")
+        ->capture_default_str()->check(CLI::Range(0.05, 1e4));
+    app.add_option("--fov", o.fovDegrees, "Vertical field of view, degrees")
+        ->capture_default_str()->check(CLI::Range(5.0, 150.0));
+    app.add_option("--tess-factor", o.tessFactor, "Segments per tessellation-block edge (power of two)")
+        ->capture_default_str()->check(CLI::Range(1, 64));
+    app.add_option("--warmup-s", o.warmupS, "Seconds before the resident-memory baseline is taken")
+        ->capture_default_str()->check(CLI::Range(0.0, 1e6));
+    app.add_option("--max-rss-growth-percent", o.maxRssGrowthPercent,
+                   "Fail when resident memory grows more than this after warm-up");
+    app.add_option("--telemetry", o.telemetryCsv, "Write the per-frame cache telemetry CSV here");
+    app.add_option("--frames-dir", o.framesDir, "Write every --frame-every-th frame as a PNG here");
+    app.add_option("--frame-every", o.frameEvery, "Frames between two PNGs")
+        ->capture_default_str()->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40));
+    app.add_flag("--color-by-level", o.colorByLevel, "Colour patches by level in the PNGs");
+    app.add_flag("--json", o.json, "Print a JSON summary on stdout");
+    CLI11_PARSE(app, argc, argv);
+    return run(o);
+}
