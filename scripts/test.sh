@@ -1,18 +1,25 @@
 #!/usr/bin/env bash
 # README command 2: install every Debian package, build (warnings are errors) and run
 # the whole test suite. Extra options go to setup.sh (e.g. --sanitizer "address;undefined"
-# --build-dir build-asan).
+# --build-dir build-asan), except --tests REGEX, which runs only the tests whose names
+# match (ctest -R).
 set -euo pipefail
 repo_root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build_dir="$repo_root/build"
-args=("$@")
-for ((i = 0; i < ${#args[@]}; i++)); do
-  [ "${args[$i]}" = "--build-dir" ] && build_dir=${args[$((i + 1))]}
+tests_regex=""
+setup_args=()
+while [ $# -gt 0 ]; do
+  case $1 in
+    --tests) tests_regex=$2; shift ;;
+    --build-dir) build_dir=$2; setup_args+=("$1" "$2"); shift ;;
+    *) setup_args+=("$1") ;;
+  esac
+  shift
 done
 
-"$repo_root/scripts/setup.sh" "$@"
+"$repo_root/scripts/setup.sh" "${setup_args[@]}"
 
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
-export TSAN_OPTIONS="halt_on_error=1${TSAN_OPTIONS:+:$TSAN_OPTIONS}"
+export TSAN_OPTIONS="halt_on_error=1:suppressions=$repo_root/tests/tsan.supp${TSAN_OPTIONS:+:$TSAN_OPTIONS}"
 cd "$build_dir"
-ctest --output-on-failure --parallel 2 --timeout 600
+ctest --output-on-failure --parallel 2 --timeout 600 ${tests_regex:+-R "$tests_regex"}

@@ -93,6 +93,7 @@ void TileStreamer::takeCompletions() {
 TileStreamer::LoadState& TileStreamer::loadStateOf(const io::PatchId& id) {
     if (const auto found = m_loads.find(id); found != m_loads.end()) return found->second;
     const LoadState fresh{.firstWanted = Clock::now(),
+                          .firstWantedFrame = m_frame,
                           .lastWantedFrame = m_frame,
                           .liveRequests = 0,
                           .cancelRequested = false};
@@ -109,10 +110,14 @@ TileStreamer::LoadState& TileStreamer::loadStateOf(const io::PatchId& id) {
 void TileStreamer::eraseLoad(LoadMap::iterator it) { m_spareLoadNodes.push_back(m_loads.extract(it)); }
 
 bool TileStreamer::uploadFromCache(const io::PatchId& id) {
-    if (!m_pool.uploadBudgetLeft()) return false;
+    if (!m_pool.uploadBudgetLeft()) {
+        ++m_frameCounts.gpuUploadsDeferred;
+        return false;
+    }
+    if (!m_pool.allocateEvicting(id)) return false;  // every layer is drawn this frame
+    // Looked up only now, so a CPU cache hit is a tile that goes to the GPU.
     const io::PatchRecord* record = m_cache.find(id);
     TERRAIN_ASSERT(record != nullptr, "TileStreamer: upload of a patch not in the CPU cache");
-    if (!m_pool.allocateEvicting(id)) return false;  // every layer is drawn this frame
     if (!m_pool.upload(*record)) {
         m_pool.release(id);  // the ring is full of this frame's uploads: next frame
         return false;
@@ -135,6 +140,7 @@ const io::PatchInfo* TileStreamer::acquire(const io::PatchId& id, float priority
         m_recentLoads.add(ms);
         m_loadLatencies.add(ms);
         ++m_frameCounts.loadsResident;
+        if (m_loadObserver) m_loadObserver({id, ms, m_frame - load.firstWantedFrame});
         if (load.liveRequests == 0) eraseLoad(m_loads.find(id));
         return m_pool.info(id);
     }
@@ -193,7 +199,8 @@ void TileStreamer::endFrame(FrameTelemetry& t) {
     t.gpuEvictions = static_cast<std::uint64_t>(gpu.evictions);
     t.gpuUploads = static_cast<std::uint64_t>(gpu.uploads);
     t.gpuUploadBytes = gpu.bytesUploaded;
-    t.gpuUploadsDeferred = static_cast<std::uint64_t>(gpu.uploadsDeferred);
+    t.gpuUploadsDeferred =
+        m_frameCounts.gpuUploadsDeferred + static_cast<std::uint64_t>(gpu.uploadsDeferred);
     t.gpuRingStalls = static_cast<std::uint64_t>(gpu.ringStalls);
     t.loadsResident = m_frameCounts.loadsResident;
     t.loadLatencyP50Ms = m_recentLoads.percentile(50.0);

@@ -16,6 +16,8 @@ std::string_view flightPhaseName(FlightPhase phase) {
             return "low-flight";
         case FlightPhase::ZoomBurst:
             return "zoom-burst";
+        case FlightPhase::Cruise:
+            return "cruise";
     }
     return "unknown";
 }
@@ -28,6 +30,14 @@ glm::dvec2 StressFlight::randomPoint() {
     const glm::dvec2 size = m_geometry.demSize();
     std::uniform_real_distribution<double> u(0.0, 1.0);
     return {u(m_random) * size.x, -u(m_random) * size.y};
+}
+
+void StressFlight::cruise(double speedMps, double altitudeM) {
+    m_cruising = true;
+    m_phase = FlightPhase::Cruise;
+    m_speedMps = speedMps;
+    m_altitudeM = altitudeM;
+    m_cruiseStarted = false;  // the first step places the camera
 }
 
 void StressFlight::teleport(runtime::Camera& camera) {
@@ -78,10 +88,30 @@ void StressFlight::startPhase(runtime::Camera& camera) {
             camera.yaw = m_heading;
             camera.pitch = -std::lerp(0.6, 1.5, u(m_random));
             break;
+        case FlightPhase::Cruise:
+            break;  // not a stress phase: cruise() sets it
     }
 }
 
 void StressFlight::step(double dt, runtime::Camera& camera) {
+    if (m_cruising) {
+        const glm::dvec2 size = m_geometry.demSize();
+        if (!m_cruiseStarted) {  // a tenth of the way along the diagonal
+            camera.position = {0.1 * size.x, -0.1 * size.y, 0.0};
+            m_heading = std::atan2(size.x, -size.y);
+            m_cruiseStarted = true;
+        }
+        glm::dvec3& p = camera.position;
+        p.x += std::sin(m_heading) * m_speedMps * dt;
+        p.y += std::cos(m_heading) * m_speedMps * dt;
+        const bool outside = p.x < 0.05 * size.x || p.x > 0.95 * size.x ||
+                             p.y > -0.05 * size.y || p.y < -0.95 * size.y;
+        if (outside) m_heading += std::numbers::pi;  // turn round at the ends
+        p.z = m_groundHeight(p.x, p.y) + m_altitudeM;
+        camera.yaw = m_heading;
+        camera.pitch = -10.0 * std::numbers::pi / 180.0;
+        return;
+    }
     m_phaseLeftS -= dt;
     if (m_phaseLeftS <= 0.0) {
         if (m_phase == FlightPhase::ZoomBurst) camera.fovY = m_baseFovY;
@@ -113,6 +143,8 @@ void StressFlight::step(double dt, runtime::Camera& camera) {
             camera.fovY = std::max(0.2, camera.fovY * std::exp(-0.5 * dt));
             break;
         }
+        case FlightPhase::Cruise:
+            break;
     }
 }
 

@@ -14,7 +14,7 @@
 
 namespace terrain::tools {
 
-enum class FlightPhase { Teleport, LowFlight, ZoomBurst };
+enum class FlightPhase { Teleport, LowFlight, ZoomBurst, Cruise };
 std::string_view flightPhaseName(FlightPhase phase);
 
 class StressFlight {
@@ -22,6 +22,11 @@ public:
     /// `groundHeight(x, y)`: the best known terrain height under a world point (metres).
     StressFlight(const runtime::TerrainGeometry& geometry, std::uint64_t seed,
                  std::function<double(double, double)> groundHeight);
+
+    /// Instead of the stress phases: a steady flight at `speedMps`, `altitudeM` above the
+    /// ground, looking 10° down, back and forth along the DEM's diagonal — the "normal
+    /// speed" flight that streaming latency is measured on.
+    void cruise(double speedMps, double altitudeM);
 
     /// Advances by `dt` seconds and updates `camera` (position and orientation; the
     /// viewport and field of view are the caller's, except during zoom bursts).
@@ -46,6 +51,8 @@ private:
     double m_altitudeM = 0.0;  // above ground
     double m_climbMps = 0.0;
     double m_baseFovY = 1.0;
+    bool m_cruising = false;
+    bool m_cruiseStarted = false;
     std::uint64_t m_teleports = 0;
 };
 

@@ -55,6 +55,9 @@ struct StressOptions {
     int tessFactor = 2;
     double warmupS = 5.0;
     std::optional<double> maxRssGrowthPercent;
+    std::string flight = "stress";
+    double cruiseSpeedMps = 100.0;
+    double cruiseAltitudeM = 300.0;
     std::string telemetryCsv;
     std::string framesDir;
     std::uint64_t frameEvery = 100;
@@ -147,6 +150,7 @@ int run(const StressOptions& o) {
     tools::StressFlight flight(geometry, o.seed, [&](double x, double y) {
         return groundHeight(streamer, geometry, x, y);
     });
+    if (o.flight == "cruise") flight.cruise(o.cruiseSpeedMps, o.cruiseAltitudeM);
     runtime::TerrainStyle style;
     style.tessFactor = o.tessFactor;
     style.fogDensityPerM = 0.0f;
@@ -157,6 +161,15 @@ int run(const StressOptions& o) {
         if (ec) return fail(fmt::format("{}: cannot create the folder: {}", o.framesDir, ec.message()));
     }
 
+    // Load latencies once warmed up (the cold start fills an empty view at once), in
+    // milliseconds and in frames; frames do not depend on how fast this machine renders.
+    runtime::LatencyHistogram steadyLatencyMs, steadyLatencyFrames;
+    bool warm = false;
+    streamer.setLoadObserver([&](const runtime::TileLoad& load) {
+        if (!warm) return;
+        steadyLatencyMs.add(load.latencyMs);
+        steadyLatencyFrames.add(static_cast<double>(load.latencyFrames));
+    });
     tools::StressChecks checks;
     runtime::TelemetrySummary summary;
     std::vector<runtime::PatchDraw> draws;
@@ -220,6 +233,7 @@ int run(const StressOptions& o) {
         for (; faultsPrinted < streamer.faults().size() && faultsPrinted < kFaultsToPrint; ++faultsPrinted) {
             fmt::print(stderr, "terrain-stress: fault: {}\n", streamer.faults()[faultsPrinted].message);
         }
+        warm = t.timeS >= o.warmupS;
         if (t.timeS >= nextRssSampleS) {
             // Sampled once a second after warm-up: reading /proc allocates.
             const std::uint64_t rss = io::currentResidentBytes();
@@ -278,9 +292,13 @@ int run(const StressOptions& o) {
               {"error_px", o.errorPx}}},
             {"frames", frame},
             {"duration_s", loopS},
+            {"flight", o.flight},
             {"teleports", flight.teleports()},
             {"throughput_tiles_per_s", tilesPerS},
             {"load_latency_ms", percentilesJson(latency)},
+            {"after_warmup",
+             {{"load_latency_ms", percentilesJson(steadyLatencyMs)},
+              {"load_latency_frames", percentilesJson(steadyLatencyFrames)}}},
             {"requests",
              {{"made", ledger.submitted},
               {"completed", ledger.completed},
@@ -306,11 +324,13 @@ int run(const StressOptions& o) {
     }
     fmt::print(stderr,
                "terrain-stress: {} frames in {:.1f} s, {} teleports; {} tiles loaded ({:.0f} tiles/s), "
-               "{} cancelled, {} failed; load latency p50 {:.1f} ms, p95 {:.1f} ms, p99 {:.1f} ms; "
+               "{} cancelled, {} failed; load latency p50 {:.1f} ms, p95 {:.1f} ms, p99 {:.1f} ms "
+               "(after warm-up p99 {:.1f} ms, {:.0f} frames); "
                "resident memory {:+.2f}% after warm-up; {} invariant violations\n",
                frame, loopS, flight.teleports(), ledger.completed, tilesPerS, ledger.cancelled,
                ledger.failed, latency.percentile(50.0), latency.percentile(95.0),
-               latency.percentile(99.0), growthPercent, violationCount);
+               latency.percentile(99.0), steadyLatencyMs.percentile(99.0),
+               steadyLatencyFrames.percentile(99.0), growthPercent, violationCount);
     if (streamer.faults().size() > faultsPrinted) {
         fmt::print(stderr, "terrain-stress: {} more faults not printed\n",
                    streamer.faults().size() - faultsPrinted);
@@ -351,10 +371,18 @@ int main(int argc, char** argv) {
         ->capture_default_str()->check(CLI::Range(5.0, 150.0));
     app.add_option("--tess-factor", o.tessFactor, "Segments per tessellation-block edge (power of two)")
         ->capture_default_str()->check(CLI::Range(1, 64));
-    app.add_option("--warmup-s", o.warmupS, "Seconds before the resident-memory baseline is taken")
+    app.add_option("--warmup-s", o.warmupS, "Seconds of warm-up: then the resident-memory baseline is taken and after-warm-up latencies start")
         ->capture_default_str()->check(CLI::Range(0.0, 1e6));
     app.add_option("--max-rss-growth-percent", o.maxRssGrowthPercent,
                    "Fail when resident memory grows more than this after warm-up");
+    app.add_option("--flight", o.flight,
+                   "stress: teleports, low flight and zoom bursts; cruise: a steady flight at "
+                   "--speed-mps, --altitude-m above the ground (for latency measurements)")
+        ->capture_default_str()->check(CLI::IsMember({"stress", "cruise"}));
+    app.add_option("--speed-mps", o.cruiseSpeedMps, "Cruise speed, m/s")
+        ->capture_default_str()->check(CLI::Range(0.0, 1e6));
+    app.add_option("--altitude-m", o.cruiseAltitudeM, "Cruise altitude above the ground, m")
+        ->capture_default_str()->check(CLI::Range(0.0, 1e7));
     app.add_option("--telemetry", o.telemetryCsv, "Write the per-frame cache telemetry CSV here");
     app.add_option("--frames-dir", o.framesDir, "Write every --frame-every-th frame as a PNG here");
     app.add_option("--frame-every", o.frameEvery, "Frames between two PNGs")

@@ -27,6 +27,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -47,6 +48,13 @@ struct TileStreamerOptions {
 struct TileFault {
     io::PatchId id;
     std::string message;  ///< names the shard file (or the injected fault) and the patch
+};
+
+/// A patch that became resident on the GPU after the LOD first wanted it.
+struct TileLoad {
+    io::PatchId id;
+    double latencyMs = 0.0;         ///< first wanted → resident (uploaded)
+    std::uint64_t latencyFrames = 0;  ///< the same in frames (0: resident in the same frame)
 };
 
 /// Every request the streamer made and how many have ended: after drain(),
@@ -97,6 +105,12 @@ public:
     const TileRequestLedger& ledger() const { return m_ledger; }
     /// Request → resident latency of every load so far.
     const LatencyHistogram& loadLatencies() const { return m_loadLatencies; }
+    /// Called for every load as it becomes resident (render thread, inside acquire()), e.g.
+    /// to keep latency statistics of one part of a run. Must not call back into the
+    /// streamer.
+    void setLoadObserver(std::function<void(const TileLoad&)> observer) {
+        m_loadObserver = std::move(observer);
+    }
     const cache::GpuTilePool& pool() const { return m_pool; }
     const cache::TileCache& cpuCache() const { return m_cache; }
     io::IoThreadStats ioStats() const { return m_io->stats(); }
@@ -111,6 +125,7 @@ private:
     using Clock = std::chrono::steady_clock;
     struct LoadState {
         Clock::time_point firstWanted;
+        std::uint64_t firstWantedFrame = 0;
         std::uint64_t lastWantedFrame = 0;
         int liveRequests = 0;  // submitted and not yet ended
         bool cancelRequested = false;
@@ -139,6 +154,7 @@ private:
 
     LatencyWindow m_recentLoads;
     LatencyHistogram m_loadLatencies;
+    std::function<void(const TileLoad&)> m_loadObserver;
     FrameTelemetry m_frameCounts;  // this frame's counts so far
     std::uint64_t m_bytesReadBefore = 0;
 };

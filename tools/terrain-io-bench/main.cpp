@@ -1,0 +1,129 @@
+// terrain-io-bench: how many tiles per second one streaming I/O thread reads and decodes
+// from a pyramid, through the same IoThread the runtime uses (queue, read, CRC check,
+// completion hand-over, record recycling). Shard files are read once first, so the figure
+// is from the page cache: the cost of the format and the thread, not of the disk.
+#include "terrain/io/IoThread.h"
+#include "terrain/io/PyramidReader.h"
+
+#include <fmt/core.h>
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <thread>
+#include <string>
+#include <vector>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using namespace terrain;
+
+int fail(const std::string& message) {
+    fmt::print(stderr, "terrain-io-bench: {}\n", message);
+    return 1;
+}
+
+/// Every patch of the pyramid, shuffled (a flight asks for tiles all over the shards).
+std::vector<io::PatchId> allPatches(const io::PyramidLayout& layout, std::uint64_t seed) {
+    std::vector<io::PatchId> ids;
+    for (int level = 0; level <= layout.finestLevel(); ++level) {
+        for (std::int64_t y = 0; y < layout.patchesY(level); ++y) {
+            for (std::int64_t x = 0; x < layout.patchesX(level); ++x) ids.push_back({level, x, y});
+        }
+    }
+    std::shuffle(ids.begin(), ids.end(), std::mt19937_64(seed));
+    return ids;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"Tiles per second read and decoded by one streaming I/O thread from the page "
+                 "cache, through the runtime's IoThread."};
+    std::string pyramid;
+    double seconds = 5.0;
+    std::size_t maxPatches = 20000;
+    std::size_t inFlight = 64;
+    bool json = false;
+    app.add_option("pyramid", pyramid, "Pyramid folder")->required();
+    app.add_option("--seconds", seconds, "Measure for at least this long")->capture_default_str();
+    app.add_option("--max-patches", maxPatches, "Cycle over at most this many patches")
+        ->capture_default_str();
+    app.add_option("--in-flight", inFlight, "Requests kept submitted at once")
+        ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
+    app.add_flag("--json", json, "Print a JSON summary on stdout");
+    CLI11_PARSE(app, argc, argv);
+
+    auto reader = io::PyramidReader::open(pyramid);
+    if (!reader) return fail(reader.error().message);
+    std::vector<io::PatchId> ids = allPatches(reader.value().layout(), 1);
+    if (ids.size() > maxPatches) ids.resize(maxPatches);
+
+    // Warm the page cache (and check every patch reads) with a plain reader.
+    io::PatchRecord record;
+    for (const io::PatchId& id : ids) {
+        if (auto read = reader.value().readPatch(id, record); !read) return fail(read.error().message);
+    }
+    const std::size_t tileBytes = record.heights.size() * sizeof(float) + record.valid.size() +
+                                  record.blockErrors.size() * sizeof(io::BlockErrors);
+
+    io::IoThreadOptions options;
+    options.maxUnpolled = inFlight;
+    auto started = io::IoThread::start(pyramid, options);
+    if (!started) return fail(started.error().message);
+    io::IoThread& thread = *started.value();
+    std::vector<io::Completion> done;
+    done.reserve(inFlight);
+    std::size_t next = 0, submitted = 0, completed = 0, failed = 0;
+    const auto submitOne = [&] {
+        thread.submit(ids[next], 0.0f);
+        next = (next + 1) % ids.size();
+        ++submitted;
+    };
+    const auto start = Clock::now();
+    double elapsed = 0.0;
+    for (std::size_t i = 0; i < std::min(inFlight, ids.size()); ++i) submitOne();
+    while (elapsed < seconds || completed + failed < submitted) {
+        done.clear();
+        if (thread.poll(done) == 0) {
+            std::this_thread::yield();
+        }
+        for (io::Completion& c : done) {
+            c.status == io::CompletionStatus::Completed ? ++completed : ++failed;
+            thread.recycle(std::move(c.record));
+            // Keep the queue full while measuring; a patch is resubmitted only after it ended.
+            if (elapsed < seconds) submitOne();
+        }
+        elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+    }
+    const double tilesPerS = static_cast<double>(completed) / elapsed;
+    const auto& layout = reader.value().layout();
+    if (json) {
+        const nlohmann::json out{
+            {"tool", "terrain-io-bench"},
+            {"pyramid", pyramid},
+            {"patch_samples", layout.patchSamples()},
+            {"tile_bytes", tileBytes},
+            {"distinct_patches", ids.size()},
+            {"io_threads", 1},
+            {"tiles", completed},
+            {"failed", failed},
+            {"seconds", elapsed},
+            {"tiles_per_s", tilesPerS},
+            {"mib_per_s", tilesPerS * static_cast<double>(tileBytes) / (1024.0 * 1024.0)},
+            {"us_per_tile", 1e6 / tilesPerS},
+        };
+        std::puts(out.dump(2).c_str());
+    }
+    fmt::print(stderr, "terrain-io-bench: {} tiles of {}² in {:.2f} s on 1 I/O thread: {:.0f} tiles/s "
+               "({:.1f} MiB/s, {:.0f} µs per tile){}\n",
+               completed, layout.patchSamples() + 2, elapsed, tilesPerS,
+               tilesPerS * static_cast<double>(tileBytes) / (1024.0 * 1024.0), 1e6 / tilesPerS,
+               failed > 0 ? fmt::format(", {} failed", failed) : "");
+    return failed == 0 ? 0 : 1;
+}
