@@ -70,7 +70,10 @@ public:
             }
             ++m_stats.waitingSplits;
         }
-        m_out.push_back({id, m_streamer.layerOf(id)});
+        m_out.push_back({.id = id,
+                         .layer = m_streamer.layerOf(id),
+                         .errorM = info.error,
+                         .skirtDepthM = 0.0f});
         ++m_stats.drawn;
         m_stats.coveredFinestPatches += finestPatchesCovered(m_geometry.layout(), id);
     }

@@ -5,12 +5,15 @@
 // request ends once.
 #include "GlTestFixture.h"
 #include "StreamingTestPyramid.h"
+#include "TempFolder.h"
 #include "terrain/io/PatchIdHash.h"
+#include "terrain/io/PyramidManifest.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TileStreamer.h"
 
 #include <chrono>
+#include <filesystem>
 #include <random>
 #include <thread>
 #include <unordered_set>
@@ -155,6 +158,48 @@ TEST_F(TileStreamerTest, TinyBudgetsSlowReadsAndFaultsNeverLeaveAHole) {
         EXPECT_TRUE(o.io.faults.failsRead(fault.id));
     }
     EXPECT_EQ(reported.size(), ledger.failed);
+}
+
+// A real fault: a finest-level shard file is missing. Each of its patches is reported once,
+// naming the shard file, and the area keeps being drawn by resident ancestors.
+TEST_F(TileStreamerTest, MissingShardIsReportedOncePerPatchAndAncestorsDraw) {
+    TempFolder folder;
+    const std::filesystem::path copy = folder.path() / "damaged.pyramid";
+    std::filesystem::copy(streamingTestPyramid(), copy, std::filesystem::copy_options::recursive);
+    auto manifest = io::readManifest(copy);
+    ASSERT_TRUE(manifest) << manifest.error().message;
+    const io::PyramidLayout& layout = manifest.value().layout;
+    const io::ShardId lost{layout.finestLevel(), 0, 0};
+    const std::filesystem::path shard = copy / layout.shardPath(lost);
+    ASSERT_TRUE(std::filesystem::remove(shard)) << shard;
+
+    auto opened = TileStreamer::open(copy, {});
+    ASSERT_TRUE(opened) << opened.error().message;
+    TileStreamer& s = *opened.value();
+    const runtime::TerrainGeometry g(s.manifest());
+    Camera c;  // low over the north-west corner, where the lost shard lies, looking down
+    c.viewportWidth = 640;
+    c.viewportHeight = 480;
+    c.fovY = 1.0;
+    c.position = {0.05 * g.demSize().x, -0.05 * g.demSize().y, g.maxHeight() + 50.0};
+    c.lookAt({0.1 * g.demSize().x, -0.1 * g.demSize().y, g.minHeight()});
+    Frame f;
+    for (int i = 0; i < 400; ++i) {
+        frame(s, g, c, 0.5, f);
+        if (f.stats.visited > 0) ASSERT_NO_FATAL_FAILURE(expectCoverage(s, f));
+        std::this_thread::sleep_for(std::chrono::microseconds(300));
+    }
+    ASSERT_FALSE(s.faults().empty()) << "the view needs patches of the lost shard";
+    std::unordered_set<io::PatchId, io::PatchIdHash> reported;
+    for (const runtime::TileFault& fault : s.faults()) {
+        EXPECT_TRUE(reported.insert(fault.id).second) << "reported twice";
+        EXPECT_EQ(layout.shardOf(fault.id), lost);
+        EXPECT_NE(fault.message.find(shard.filename().string()), std::string::npos) << fault.message;
+    }
+    for (const PatchDraw& d : f.draws) EXPECT_FALSE(layout.shardOf(d.id) == lost && d.id.level == lost.level);
+    EXPECT_GT(f.draws.size(), 0u);
+    EXPECT_TRUE(s.drain(std::chrono::seconds(10)));
+    EXPECT_EQ(s.ledger().failed, s.faults().size());
 }
 
 TEST_F(TileStreamerTest, TelemetryCountsTheFrame) {

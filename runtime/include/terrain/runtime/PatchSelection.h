@@ -22,7 +22,10 @@ namespace terrain::runtime {
 
 struct PatchDraw {
     io::PatchId id;
-    int layer = -1;  ///< the patch's layer in the GPU tile pool's texture arrays
+    int layer = -1;        ///< the patch's layer in the GPU tile pool's texture arrays
+    float errorM = 0.0f;   ///< Err(P), metres: Λ(d) = λ(d) + Err(P) (Yusov §5)
+    /// How far below the edge the patch's skirts reach, metres (see the renderer).
+    float skirtDepthM = 0.0f;
 };
 
 struct PatchSelectionStats {
