@@ -65,6 +65,14 @@ bool IoThread::submit(const PatchId& id, float priority) {
     return true;
 }
 
+bool IoThread::reprioritise(const PatchId& id, float priority) {
+    TERRAIN_ASSERT(!std::isnan(priority), "IoThread::reprioritise: NaN priority");
+    const std::lock_guard lock(m_mutex);
+    if (!m_pending.contains(id)) return false;
+    m_pending.request(id, priority);  // re-prioritises in place: allocates nothing
+    return true;
+}
+
 bool IoThread::cancel(const PatchId& id) {
     {
         const std::lock_guard lock(m_mutex);

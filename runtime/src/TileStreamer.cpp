@@ -144,9 +144,14 @@ const io::PatchInfo* TileStreamer::acquire(const io::PatchId& id, float priority
         if (load.liveRequests == 0) eraseLoad(m_loads.find(id));
         return m_pool.info(id);
     }
-    // A new request, or the pending one re-prioritised (submit() returns false). A request
-    // that finished but is not polled yet cannot be re-prioritised: submit() makes a new
-    // one, counted like any other.
+    // A live request is only re-prioritised: it may have finished already, its completion
+    // waiting for the next poll, and a second request would read the tile twice.
+    if (load.liveRequests > 0 && !load.cancelRequested) {
+        m_io->reprioritise(id, priority);
+        return nullptr;
+    }
+    // A new request (after a cancel, the cancelled one still ends once, as Cancelled or
+    // as it finished).
     if (m_io->submit(id, priority)) {
         ++load.liveRequests;
         ++m_ledger.submitted;

@@ -29,7 +29,7 @@ public:
 
     /// After TileStreamer::drain(): every request ended exactly once (completed, cancelled
     /// or failed), in the streamer's ledger and the I/O thread's counters, and every
-    /// failure was reported once.
+    /// failed patch was reported exactly once.
     static std::optional<std::string> afterDrain(const runtime::TileStreamer& streamer);
 
 private:

@@ -101,6 +101,11 @@ public:
     /// end in exactly one Completion. `priority` must not be NaN. Owner thread.
     bool submit(const PatchId& id, float priority);
 
+    /// Changes the priority of the pending request for `id` and returns true; returns false
+    /// and does nothing when `id` has no pending request (never requested, being read, or
+    /// finished). Unlike submit() it never creates a request. Owner thread.
+    bool reprioritise(const PatchId& id, float priority);
+
     /// Cancels the pending or in-progress request for `id`; it will end as a Cancelled
     /// Completion. False when `id` has no live request. Owner thread.
     bool cancel(const PatchId& id);
