@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # README command 1: install every Debian package, build, and run the main job on the
-# built-in default (the procedural terrain; no download). What exists of it so far:
+# built-in default (the procedural terrain; no download):
 #  1. build the default 1025² procedural DEM into a pyramid (out/procedural.pyramid) with
 #     every error bound, and verify the pyramid against the DEM it came from;
-#  2. render one tessellated view of the DEM headless to out/terrain.png, with its JSON
-#     summary in out/terrain.json (the preview renderer: no streaming or LOD tree yet).
+#  2. fly the default camera path through it headless (streaming, LOD quadtree, one
+#     tessellated draw per frame): PNG frames and telemetry.csv in out/render/, the JSON
+#     summary in out/render.json.
 # Extra options go to terrain-render (see build/tools/terrain-render/terrain-render --help).
 set -euo pipefail
 repo_root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -20,6 +21,7 @@ source="procedural:size=1025,seed=1"
 mv "$out/build.json.tmp" "$out/build.json"
 "$tools/terrain-inspect/terrain-inspect" "$out/procedural.pyramid" --verify --source "$source"
 
-"$tools/terrain-render/terrain-render" -o "$out/terrain.png" --json "$@" > "$out/terrain.json.tmp"
-mv "$out/terrain.json.tmp" "$out/terrain.json"
-echo "main job: wrote $out/procedural.pyramid ($out/build.json), $out/terrain.png ($out/terrain.json)"
+"$tools/terrain-render/terrain-render" "$out/procedural.pyramid" -o "$out/render" --fps 15 \
+  --every 15 --json "$@" > "$out/render.json.tmp"
+mv "$out/render.json.tmp" "$out/render.json"
+echo "main job: wrote $out/procedural.pyramid ($out/build.json), frames and telemetry.csv in $out/render/ ($out/render.json)"

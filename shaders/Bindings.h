@@ -23,5 +23,8 @@
 
 // Shader storage blocks.
 #define TERRAIN_BINDING_PATCH_INSTANCES 0
+// Tessellation factors the terrain's control stage chose, one record per (instance,
+// primitive): written only by programs built with TERRAIN_DEBUG_TESS_FACTORS (tests).
+#define TERRAIN_BINDING_DEBUG_TESS_FACTORS 1
 
 #endif  // TERRAIN_BINDINGS_H

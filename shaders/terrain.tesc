@@ -1,25 +1,156 @@
-// Terrain draw, tessellation control: one factor for every edge of every block.
-// A uniform factor keeps shared edges identical, so there are no cracks inside a level.
+// Terrain draw, tessellation control: the fine-grain LOD of Yusov & Shevtsov 2011, §5
+// ("Fine-Grain Level of Detail Selection"), one tessellation factor per block edge.
+// The CPU reference is runtime/src/EdgeTessellation.cpp; TessellationFactorsTest compares
+// the two.
+//
+// Invocation i of a block primitive decides the block's edge i (GL's outer order); the
+// four invocations run the one edgeLod() below, so an edge shared by two blocks gets the
+// same inputs through the same `precise` operations from both, and bit-identical factors:
+// no crack inside a patch. Skirts decide their block's border edge the same way, so their
+// top vertices are the patch's edge vertices.
 #include "Bindings.h"
+#include "terrain_patches.glsl"
 
 layout(vertices = 4) out;
 
-uniform float u_tessFactor;  // segments per block edge, a power of two ≤ block quads
+layout(binding = TERRAIN_BINDING_HEIGHTS) uniform sampler2DArray u_heights;
+layout(binding = TERRAIN_BINDING_BLOCK_ERRORS) uniform sampler2DArray u_blockErrors;
+uniform mat4 u_viewProjection;  // camera-relative metres to clip space
+uniform vec2 u_viewportPx;
+uniform float u_errorPx;           // ε
+uniform int u_fixedSimplification;  // −1: error-driven; else every edge uses this d
 
 layout(location = 0) in vec2 i_sample[];
 layout(location = 1) flat in int i_instance[];
+layout(location = 2) flat in int i_primitive[];
 layout(location = 0) out vec2 o_sample[];
 layout(location = 1) flat out int o_instance[];
+// Scratch between the invocations: edge i's factor and Λ_ec at its d.
+layout(location = 2) out float o_edgeFactor[];
+layout(location = 3) out float o_edgeErrorM[];
+layout(location = 4) patch out float o_skirtDropM;  // 0 for blocks
+layout(location = 5) patch out int o_debugFactor;  // block: inner factor; skirt: along the edge
+
+#ifdef TERRAIN_DEBUG_TESS_FACTORS
+struct TessFactorRecord {
+    ivec4 outer;
+    ivec2 inner;
+    int isSkirt;
+    float skirtDropM;
+};
+layout(std430, binding = TERRAIN_BINDING_DEBUG_TESS_FACTORS) writeonly buffer TessFactors {
+    TessFactorRecord u_tessFactors[];  // (instance · (K² + 4K) + primitive)
+};
+#endif
+
+const float kBehindNearPlanePx = 3.0e38;  // an end behind the near plane: infinitely long
+
+// Λ(d) = λ(d) + Err(P), d = 1..4 (Yusov §5, "Tessellation Blocks").
+vec4 blockErrorM(PatchInstance patch_, ivec2 block) {
+    precise vec4 lambda = texelFetch(u_blockErrors, ivec3(block, patch_.layerLevel.x), 0);
+    precise vec4 total = lambda + patch_.errors.x;
+    return total;
+}
+
+// proj(e_c^(d),−, e_c^(d),+) of Yusov §5: the vertical segment centre ± Λ/2 · e_z through
+// the world-view-projection, in pixels.
+float projectedSegmentPx(vec3 centreM, float errorM) {
+    precise vec3 halfUp = vec3(0.0, 0.0, 0.5 * errorM);
+    precise vec4 lo = u_viewProjection * vec4(centreM - halfUp, 1.0);
+    precise vec4 hi = u_viewProjection * vec4(centreM + halfUp, 1.0);
+    if (lo.z > lo.w || hi.z > hi.w) return kBehindNearPlanePx;  // reversed Z: in front, z ≤ w
+    precise vec2 deltaPx = (hi.xy / hi.w - lo.xy / lo.w) * (0.5 * u_viewportPx);
+    precise float lengthPx = length(deltaPx);
+    return lengthPx;
+}
+
+// Edge `edge` of `block`: its simplification d and Λ_ec(d) (Err(P) at d = 0).
+void edgeLod(PatchInstance patch_, ivec2 block, int edge, out int d, out float errorM) {
+    int layer = patch_.layerLevel.x;
+    // e_c, the edge's centre: a sample, since blocks have an even number of quads.
+    ivec2 a, b;
+    terrainEdgeEnds(edge, a, b);
+    ivec2 centre = block * u_blockQuads + (a + b) * (u_blockQuads / 2);
+    float h = texelFetch(u_heights, ivec3(centre + 1, layer), 0).r;  // + 1: the apron
+    vec3 centreM = terrainPositionM(patch_, vec2(centre), h);
+    // Λ_ec(d): the max over the blocks of this patch sharing the edge (Yusov §5).
+    vec4 edgeErrorM = blockErrorM(patch_, block);
+    ivec2 other = block + kEdgeNeighbour[edge];
+    if (all(greaterThanEqual(other, ivec2(0))) && all(lessThan(other, ivec2(u_blocksPerSide)))) {
+        edgeErrorM = max(edgeErrorM, blockErrorM(patch_, other));
+    }
+    if (u_fixedSimplification >= 0) {
+        d = u_fixedSimplification;
+    } else {
+        // d = argmax_d proj(...) < ε; 0 (full resolution) when no d qualifies.
+        d = 0;
+        for (int k = 1; k <= 4; ++k) {
+            if (projectedSegmentPx(centreM, edgeErrorM[k - 1]) < u_errorPx) d = k;
+        }
+    }
+    errorM = d == 0 ? patch_.errors.x : edgeErrorM[d - 1];
+}
 
 void main() {
     o_sample[gl_InvocationID] = i_sample[gl_InvocationID];
     o_instance[gl_InvocationID] = i_instance[gl_InvocationID];
-    if (gl_InvocationID == 0) {
-        gl_TessLevelOuter[0] = u_tessFactor;
-        gl_TessLevelOuter[1] = u_tessFactor;
-        gl_TessLevelOuter[2] = u_tessFactor;
-        gl_TessLevelOuter[3] = u_tessFactor;
-        gl_TessLevelInner[0] = u_tessFactor;
-        gl_TessLevelInner[1] = u_tessFactor;
+    PatchInstance patch_ = u_instances[i_instance[0]];
+    int primitive = i_primitive[0];
+    int blocks = u_blocksPerSide * u_blocksPerSide;
+    bool isSkirt = primitive >= blocks;
+    ivec2 block;
+    int edge;
+    if (isSkirt) {
+        int skirt = primitive - blocks;
+        edge = skirt / u_blocksPerSide;
+        block = terrainSkirtBlock(edge, skirt % u_blocksPerSide);
+    } else {
+        block = ivec2(primitive % u_blocksPerSide, primitive / u_blocksPerSide);
+        edge = gl_InvocationID;
     }
+    int d;
+    float errorM;
+    edgeLod(patch_, block, edge, d, errorM);
+    // Powers of two dividing the block's quads: every vertex lands on a sample. A
+    // simplification coarser than the block keeps its corners (factor 1).
+    o_edgeFactor[gl_InvocationID] = float(max(1, u_blockQuads >> d));
+    o_edgeErrorM[gl_InvocationID] = errorM;
+    barrier();
+    if (gl_InvocationID != 0) return;
+
+    float inner;
+    if (isSkirt) {
+        // Along the edge (u) the block edge's factor, so the skirt's top vertices are the
+        // patch's edge vertices; across (v) one segment.
+        float along = o_edgeFactor[0];
+        gl_TessLevelOuter[0] = 1.0;
+        gl_TessLevelOuter[1] = along;
+        gl_TessLevelOuter[2] = 1.0;
+        gl_TessLevelOuter[3] = along;
+        gl_TessLevelInner[0] = along;
+        gl_TessLevelInner[1] = 1.0;
+        inner = along;
+        // Why this depth hides every crack (Ulrich's skirts, Yusov §5): along the edge
+        // this patch's drawn surface is within Λ_A = Λ_ec(d) of the full-resolution
+        // surface and its neighbour's within its own Λ_B, so the gap between them is at
+        // most Λ_A + Λ_B. Λ_A is known here; the CPU bounds any neighbour's Λ_B by the
+        // instance's skirt depth (assignSkirtDepths).
+        o_skirtDropM = o_edgeErrorM[0] + patch_.errors.y;
+    } else {
+        // Yusov §5: the interior factor is the minimum of the block's edge factors.
+        inner = min(min(o_edgeFactor[0], o_edgeFactor[1]), min(o_edgeFactor[2], o_edgeFactor[3]));
+        for (int i = 0; i < 4; ++i) gl_TessLevelOuter[i] = o_edgeFactor[i];
+        gl_TessLevelInner[0] = inner;
+        gl_TessLevelInner[1] = inner;
+        o_skirtDropM = 0.0;
+    }
+    o_debugFactor = int(inner);
+#ifdef TERRAIN_DEBUG_TESS_FACTORS
+    int record = i_instance[0] * (blocks + 4 * u_blocksPerSide) + primitive;
+    u_tessFactors[record].outer = ivec4(gl_TessLevelOuter[0], gl_TessLevelOuter[1],
+                                        gl_TessLevelOuter[2], gl_TessLevelOuter[3]);
+    u_tessFactors[record].inner = ivec2(gl_TessLevelInner[0], gl_TessLevelInner[1]);
+    u_tessFactors[record].isSkirt = isSkirt ? 1 : 0;
+    u_tessFactors[record].skirtDropM = o_skirtDropM;
+#endif
 }

@@ -1,17 +1,32 @@
-// Terrain draw, vertex stage: one quad patch primitive per tessellation block, four
-// corners each, for every drawn patch (instance). Corners are in patch samples.
+// Terrain draw, vertex stage: attribute-less corners of every quad patch primitive of an
+// instance (a drawn patch): its tessellation blocks, then its skirts (terrain_patches.glsl).
+// Corners are in the patch's samples; the control stage picks the factors.
 #include "Bindings.h"
+#include "terrain_patches.glsl"
 
-uniform int u_blocksPerSide;
-uniform int u_blockQuads;
-
-layout(location = 0) out vec2 o_sample;     // corner: (column, row) in the patch's samples
+layout(location = 0) out vec2 o_sample;  // corner: (column, row) in the patch's samples
 layout(location = 1) flat out int o_instance;
+layout(location = 2) flat out int o_primitive;
 
 void main() {
-    int block = gl_VertexID >> 2;
-    ivec2 blockXY = ivec2(block % u_blocksPerSide, block / u_blocksPerSide);
+    int primitive = gl_VertexID >> 2;
     ivec2 corner = ivec2(gl_VertexID & 1, (gl_VertexID >> 1) & 1);  // (0,0) (1,0) (0,1) (1,1)
-    o_sample = vec2((blockXY + corner) * u_blockQuads);
+    int blocks = u_blocksPerSide * u_blocksPerSide;
+    ivec2 sampleXY;
+    if (primitive < blocks) {
+        ivec2 blockXY = ivec2(primitive % u_blocksPerSide, primitive / u_blocksPerSide);
+        sampleXY = (blockXY + corner) * u_blockQuads;
+    } else {
+        // A skirt: corner.x picks the edge's end (u), corner.y the top or bottom row (v),
+        // which share their samples; the evaluation stage lowers v = 1.
+        int skirt = primitive - blocks;
+        int edge = skirt / u_blocksPerSide;
+        ivec2 a, b;
+        terrainEdgeEnds(edge, a, b);
+        ivec2 blockXY = terrainSkirtBlock(edge, skirt % u_blocksPerSide);
+        sampleXY = (blockXY + (corner.x == 0 ? a : b)) * u_blockQuads;
+    }
+    o_sample = vec2(sampleXY);
     o_instance = gl_InstanceID;
+    o_primitive = primitive;
 }

@@ -121,7 +121,10 @@ io::Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
 
     pool.m_freeList = LayerFreeList(layers);
     pool.m_lru = LayerLru(layers);
+    pool.m_pinned.assign(static_cast<std::size_t>(layers), 0);
+    pool.m_invariantScratch.assign(static_cast<std::size_t>(layers), 0);
     pool.m_layerPatch.resize(static_cast<std::size_t>(layers));
+    pool.m_maxBlockErrorM.assign(static_cast<std::size_t>(layers), 0.0f);
     const auto capacity = static_cast<std::size_t>(layers);
     pool.m_slots.reserve(capacity);
     pool.m_spareNodes.reserve(capacity);
@@ -154,8 +157,9 @@ std::optional<int> GpuTilePool::allocate(const io::PatchId& id) {
 
 std::optional<GpuTileAllocation> GpuTilePool::allocateEvicting(const io::PatchId& id) {
     if (const auto found = m_slots.find(id); found != m_slots.end()) {
-        m_lru.touch(found->second.layer, m_frame);
-        return GpuTileAllocation{.layer = found->second.layer, .evicted = std::nullopt};
+        const int layer = found->second.layer;
+        if (m_lru.contains(layer)) m_lru.touch(layer, m_frame);
+        return GpuTileAllocation{.layer = layer, .evicted = std::nullopt};
     }
     std::optional<io::PatchId> evicted;
     if (m_freeList.freeCount() == 0) {
@@ -175,12 +179,40 @@ std::optional<GpuTileAllocation> GpuTilePool::allocateEvicting(const io::PatchId
 void GpuTilePool::touch(const io::PatchId& id) {
     const auto found = m_slots.find(id);
     TERRAIN_ASSERT(found != m_slots.end(), "GpuTilePool::touch of a patch without a layer");
-    m_lru.touch(found->second.layer, m_frame);
+    const int layer = found->second.layer;
+    if (m_lru.contains(layer)) m_lru.touch(layer, m_frame);  // pinned layers are not in it
+}
+
+void GpuTilePool::pin(const io::PatchId& id) {
+    const auto found = m_slots.find(id);
+    TERRAIN_ASSERT(found != m_slots.end(), "GpuTilePool::pin of a patch without a layer");
+    const auto layer = static_cast<std::size_t>(found->second.layer);
+    TERRAIN_ASSERT(m_pinned[layer] == 0, "GpuTilePool::pin of a pinned patch");
+    m_lru.remove(found->second.layer);
+    m_pinned[layer] = 1;
+    ++m_pinnedCount;
+}
+
+void GpuTilePool::unpin(const io::PatchId& id) {
+    const auto found = m_slots.find(id);
+    TERRAIN_ASSERT(found != m_slots.end(), "GpuTilePool::unpin of a patch without a layer");
+    const auto layer = static_cast<std::size_t>(found->second.layer);
+    TERRAIN_ASSERT(m_pinned[layer] != 0, "GpuTilePool::unpin of a patch that is not pinned");
+    m_pinned[layer] = 0;
+    --m_pinnedCount;
+    m_lru.insert(found->second.layer, m_frame);
+}
+
+bool GpuTilePool::isPinned(const io::PatchId& id) const {
+    const auto found = m_slots.find(id);
+    return found != m_slots.end() && m_pinned[static_cast<std::size_t>(found->second.layer)] != 0;
 }
 
 void GpuTilePool::release(const io::PatchId& id) {
     const auto found = m_slots.find(id);
     TERRAIN_ASSERT(found != m_slots.end(), "GpuTilePool::release of a patch without a layer");
+    TERRAIN_ASSERT(m_pinned[static_cast<std::size_t>(found->second.layer)] == 0,
+                   "GpuTilePool::release of a pinned patch");
     m_freeList.release(found->second.layer);
     m_lru.remove(found->second.layer);
     // A pending upload into this layer stays ordered before any later one: GL executes
@@ -207,6 +239,12 @@ const io::PatchInfo* GpuTilePool::info(const io::PatchId& id) const {
         return nullptr;
     }
     return &found->second.info;
+}
+
+std::optional<float> GpuTilePool::maxBlockErrorM(const io::PatchId& id) const {
+    const auto found = m_slots.find(id);
+    if (found == m_slots.end() || !found->second.resident) return std::nullopt;
+    return m_maxBlockErrorM[static_cast<std::size_t>(found->second.layer)];
 }
 
 std::optional<io::PatchId> GpuTilePool::patchOnLayer(int layer) const {
@@ -288,7 +326,12 @@ bool GpuTilePool::upload(const io::PatchRecord& record) {
     }
     found->second.resident = true;
     found->second.info = record.info;
-    m_lru.touch(layer, m_frame);
+    float maxBlockError = 0.0f;
+    for (const io::BlockErrors& errors : record.blockErrors) {
+        for (const float lambda : errors) maxBlockError = std::max(maxBlockError, lambda);
+    }
+    m_maxBlockErrorM[static_cast<std::size_t>(layer)] = maxBlockError;
+    if (m_lru.contains(layer)) m_lru.touch(layer, m_frame);
     ++m_stats.uploads;
     m_stats.bytesUploaded += tileBytes;
     return true;
@@ -330,15 +373,19 @@ std::optional<std::string> GpuTilePool::checkInvariants() const {
         return std::to_string(m_slots.size()) + " patches mapped but " +
                std::to_string(m_freeList.usedCount()) + " layers in use";
     }
-    std::vector<std::uint8_t> seen(static_cast<std::size_t>(capacity()), 0);
+    std::vector<std::uint8_t>& seen = m_invariantScratch;  // sized by create(): no allocation
+    std::fill(seen.begin(), seen.end(), std::uint8_t{0});
     for (const auto& [id, slot] : m_slots) {
-        const std::string name = "patch L" + std::to_string(id.level) + " (" +
-                                 std::to_string(id.x) + ", " + std::to_string(id.y) + ")";
+        // Built only for a message: checks run every frame in the stress tool.
+        const auto name = [&id = id] {
+            return "patch L" + std::to_string(id.level) + " (" + std::to_string(id.x) + ", " +
+                   std::to_string(id.y) + ")";
+        };
         if (slot.layer < 0 || slot.layer >= capacity()) {
-            return name + " maps to layer " + std::to_string(slot.layer) + ", out of range";
+            return name() + " maps to layer " + std::to_string(slot.layer) + ", out of range";
         }
         if (!m_freeList.isAllocated(slot.layer)) {
-            return name + " maps to layer " + std::to_string(slot.layer) + ", which is free";
+            return name() + " maps to layer " + std::to_string(slot.layer) + ", which is free";
         }
         auto& mark = seen[static_cast<std::size_t>(slot.layer)];
         if (mark != 0) {
@@ -346,16 +393,19 @@ std::optional<std::string> GpuTilePool::checkInvariants() const {
         }
         mark = 1;
         if (!(m_layerPatch[static_cast<std::size_t>(slot.layer)] == id)) {
-            return name + " maps to layer " + std::to_string(slot.layer) +
+            return name() + " maps to layer " + std::to_string(slot.layer) +
                    ", which records another patch";
         }
-        if (!m_lru.contains(slot.layer)) {
-            return name + " holds layer " + std::to_string(slot.layer) +
-                   ", which is missing from the LRU order";
+        const bool pinned = m_pinned[static_cast<std::size_t>(slot.layer)] != 0;
+        if (pinned == m_lru.contains(slot.layer)) {
+            return name() + " holds layer " + std::to_string(slot.layer) +
+                   (pinned ? ", which is pinned but in the LRU order"
+                           : ", which is missing from the LRU order");
         }
     }
-    if (m_lru.size() != m_freeList.usedCount()) {
-        return std::to_string(m_lru.size()) + " layers in the LRU order but " +
+    if (m_lru.size() + m_pinnedCount != m_freeList.usedCount()) {
+        return std::to_string(m_lru.size()) + " layers in the LRU order and " +
+               std::to_string(m_pinnedCount) + " pinned but " +
                std::to_string(m_freeList.usedCount()) + " in use";
     }
     if (m_fenceCount < 0 || m_fenceCount > kMaxFences || m_ringTail > m_ringFenced ||

@@ -1,39 +1,89 @@
 // TerrainRenderer: camera-relative instance records (double → float after subtracting the
-// camera), then one glDrawArraysInstanced of blocks² · 4 patch vertices.
+// camera's anchor sample), then one glDrawArraysInstanced of 4 vertices per block and skirt
+// primitive (terrain_patches.glsl lists them).
 #include "terrain/runtime/TerrainRenderer.h"
 
 #include "Bindings.h"
 #include "terrain/io/Assert.h"
+#include "terrain/io/PatchErrors.h"
 #include "terrain/runtime/ProgramBuilder.h"
 
 #include <epoxy/gl.h>
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <bit>
+#include <cmath>
 
 namespace terrain::runtime {
+namespace {
+
+/// GL's polygon mode while the draw runs, GL_FILL (the default) after it.
+class PolygonModeScope {
+public:
+    explicit PolygonModeScope(bool wireframe) : m_active(wireframe) {
+        if (m_active) glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    }
+    ~PolygonModeScope() {
+        if (m_active) glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    }
+    PolygonModeScope(const PolygonModeScope&) = delete;
+    PolygonModeScope& operator=(const PolygonModeScope&) = delete;
+
+private:
+    bool m_active;
+};
+
+/// The simplification d of a fixed factor: the factor rounded down to a power of two in
+/// [max(1, blockQuads >> 4), blockQuads] is blockQuads >> d, with d ≤ 4 so the block
+/// errors λ(d) still bound the skirts' drop. −1 (error-driven) for factor ≤ 0.
+int fixedSimplification(int factor, int blockQuads) {
+    if (factor <= 0) return -1;
+    const auto clamped = static_cast<unsigned>(std::clamp(factor, 1, blockQuads));
+    const int d = std::countr_zero(static_cast<unsigned>(blockQuads)) -
+                  std::countr_zero(std::bit_floor(clamped));
+    return std::min(d, io::kMaxSimplification);
+}
+
+}  // namespace
 
 io::Result<TerrainRenderer> TerrainRenderer::create(const io::PyramidLayout& layout,
-                                                    int maxInstances) {
+                                                    int maxInstances,
+                                                    const TerrainRendererOptions& options) {
     TERRAIN_ASSERT(maxInstances >= 1);
-    auto program = ProgramBuilder("terrain")
-                       .stage("terrain.vert")
-                       .stage("terrain.tesc")
-                       .stage("terrain.tese")
-                       .stage("terrain.frag")
-                       .build();
+    ProgramBuilder builder("terrain");
+    builder.stage("terrain.vert").stage("terrain.tesc").stage("terrain.tese").stage("terrain.frag");
+    if (options.recordTessFactors) builder.define("TERRAIN_DEBUG_TESS_FACTORS");
+    auto program = builder.build();
     if (!program) return program.error();
+    auto primitives = gl::Query::create(gl::QueryKind::PrimitivesGenerated, "terrain triangles");
+    if (!primitives) return primitives.error();
+    auto time = gl::Query::create(gl::QueryKind::TimeElapsed, "terrain GPU time");
+    if (!time) return time.error();
+
     TerrainRenderer r;
     r.m_program = std::move(program).value();
+    r.m_primitivesQuery = std::move(primitives).value();
+    r.m_timeQuery = std::move(time).value();
     r.m_vertexArray = gl::VertexArray::create("terrain patches (attribute-less)");
     r.m_maxInstances = maxInstances;
-    r.m_instances = gl::Buffer::create(sizeof(PatchInstance) * static_cast<std::size_t>(maxInstances),
-                                       GL_DYNAMIC_STORAGE_BIT, "terrain patch instances");
-    r.m_staging.reserve(static_cast<std::size_t>(maxInstances));
     r.m_blocksPerSide = layout.blocksPerSide();
     r.m_blockQuads = layout.blockQuads();
-    r.m_patchQuads = layout.patchQuads();
+    r.m_instances =
+        gl::Buffer::create(sizeof(PatchInstance) * static_cast<std::size_t>(maxInstances),
+                           GL_DYNAMIC_STORAGE_BIT, "terrain patch instances");
+    if (options.recordTessFactors) {
+        r.m_tessFactors = gl::Buffer::create(
+            sizeof(RecordedTessFactors) * static_cast<std::size_t>(maxInstances) *
+                static_cast<std::size_t>(r.primitivesPerInstance(true)),
+            0, "terrain tessellation factors (debug)");
+    }
+    r.m_staging.reserve(static_cast<std::size_t>(maxInstances));
     return r;
+}
+
+int TerrainRenderer::primitivesPerInstance(bool skirts) const {
+    return m_blocksPerSide * m_blocksPerSide + (skirts ? 4 * m_blocksPerSide : 0);
 }
 
 TerrainDrawStats TerrainRenderer::draw(const Camera& camera, const TerrainGeometry& geometry,
@@ -50,37 +100,56 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
     TERRAIN_ASSERT(patches.size() <= static_cast<std::size_t>(m_maxInstances),
                    "TerrainRenderer: more patches than instances");
     m_preparedInstances = static_cast<int>(patches.size());
+    m_skirts = style.skirts;
+    m_wireframe = style.wireframe;
+    m_measure = style.measure;
     if (patches.empty()) return;
+
+    // Positions reach the GPU as DEM samples relative to the anchor, the DEM sample at or
+    // before the camera: integers, exact in float near the camera (terrainPositionM).
+    const io::PyramidLayout& layout = geometry.layout();
+    const glm::dvec2 cameraSample = geometry.sampleOfWorld(camera.position.x, camera.position.y);
+    const glm::dvec2 anchor = glm::floor(cameraSample);
     m_staging.clear();
     for (const PatchDraw& p : patches) {
         TERRAIN_ASSERT(pool.isResident(p.id) && pool.layerOf(p.id) == p.layer,
                        "TerrainRenderer: drawing a patch that is not resident on its layer");
-        const glm::dvec2 nw = geometry.patchNorthWest(p.id);
-        const glm::dvec2 size = geometry.patchSize(p.id.level);
-        m_staging.push_back(
-            {{static_cast<float>(nw.x - camera.position.x), static_cast<float>(nw.y - camera.position.y),
-              static_cast<float>(size.x), static_cast<float>(size.y)},
-             {p.layer, p.id.level, 0, 0}});
+        const std::int64_t step = layout.levelStep(p.id.level);
+        const double originX = static_cast<double>(layout.patchOriginX(p.id) * step) - anchor.x;
+        const double originY = static_cast<double>(layout.patchOriginY(p.id) * step) - anchor.y;
+        m_staging.push_back({{static_cast<float>(originX), static_cast<float>(originY),
+                              static_cast<float>(step), 0.0f},
+                             {p.errorM, p.skirtDepthM, 0.0f, 0.0f},
+                             {p.layer, p.id.level, 0, 0}});
     }
     m_instances.upload(0, std::as_bytes(std::span(m_staging)));
 
+    const glm::dvec2 fraction = cameraSample - anchor;
+    const glm::dvec2 spacing = geometry.sampleSpacing();
     const glm::mat4 viewProjection(camera.relativeViewProjection());
-    const int tessFactor = style.tessFactor > 0 ? std::min(style.tessFactor, m_blockQuads)
-                                                : m_blockQuads;
     m_program.setUniform("u_blocksPerSide", m_blocksPerSide);
     m_program.setUniform("u_blockQuads", m_blockQuads);
-    m_program.setUniform("u_patchQuads", m_patchQuads);
-    m_program.setUniform("u_tessFactor", static_cast<float>(tessFactor));
+    m_program.setUniform(
+        "u_cameraSampleFraction",
+        std::array<float, 2>{static_cast<float>(fraction.x), static_cast<float>(fraction.y)});
+    m_program.setUniform("u_sampleSpacingM", std::array<float, 2>{static_cast<float>(spacing.x),
+                                                                  static_cast<float>(spacing.y)});
+    m_program.setUniform("u_cameraHeightM", static_cast<float>(camera.position.z));
     m_program.setUniformMat4("u_viewProjection",
                              std::span<const float, 16>(glm::value_ptr(viewProjection), 16));
-    m_program.setUniform("u_cameraHeightM", static_cast<float>(camera.position.z));
+    m_program.setUniform("u_viewportPx",
+                         std::array<float, 2>{static_cast<float>(camera.viewportWidth),
+                                              static_cast<float>(camera.viewportHeight)});
+    m_program.setUniform("u_errorPx", static_cast<float>(style.errorPx));
+    m_program.setUniform("u_fixedSimplification",
+                         fixedSimplification(style.fixedTessFactor, m_blockQuads));
     m_program.setUniform("u_sunDirection", std::array<float, 3>{-0.5345f, 0.6414f, 0.5505f});
     m_program.setUniform("u_heightRangeM",
                          std::array<float, 2>{static_cast<float>(geometry.minHeight()),
                                               static_cast<float>(geometry.maxHeight())});
     m_program.setUniform("u_skyColor", style.skyColor);
     m_program.setUniform("u_fogDensityPerM", style.fogDensityPerM);
-    m_program.setUniform("u_colorByLevel", style.colorByLevel ? 1 : 0);
+    m_program.setUniform("u_debugView", static_cast<int>(style.debugView));
 }
 
 TerrainDrawStats TerrainRenderer::submit(const cache::GpuTilePool& pool) {
@@ -92,22 +161,55 @@ TerrainDrawStats TerrainRenderer::submit(const cache::GpuTilePool& pool) {
     glUseProgram(m_program.id());
     glBindVertexArray(m_vertexArray.id());
     glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, pool.heights().id());
+    glBindTextureUnit(TERRAIN_BINDING_BLOCK_ERRORS, pool.blockErrors().id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_PATCH_INSTANCES, m_instances.id());
+    if (m_tessFactors.valid()) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_DEBUG_TESS_FACTORS,
+                         m_tessFactors.id());
+    }
     glPatchParameteri(GL_PATCH_VERTICES, 4);
-
-    glDrawArraysInstanced(GL_PATCHES, 0, 4 * m_blocksPerSide * m_blocksPerSide,
-                          static_cast<GLsizei>(m_preparedInstances));
-
+    {
+        const PolygonModeScope polygonMode(m_wireframe);
+        if (m_measure) {
+            m_primitivesQuery.begin();
+            m_timeQuery.begin();
+        }
+        glDrawArraysInstanced(GL_PATCHES, 0, 4 * primitivesPerInstance(m_skirts),
+                              static_cast<GLsizei>(m_preparedInstances));
+        if (m_measure) {
+            m_timeQuery.end();
+            m_primitivesQuery.end();
+        }
+    }
+    if (m_tessFactors.valid()) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_DEBUG_TESS_FACTORS, 0);
+    }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_PATCH_INSTANCES, 0);
+    glBindTextureUnit(TERRAIN_BINDING_BLOCK_ERRORS, 0);
     glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, 0);
     glBindVertexArray(0);
     glUseProgram(0);
     glDepthFunc(GL_LESS);
     glDisable(GL_DEPTH_TEST);
     glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
-    const int instances = m_preparedInstances;
+
+    TerrainDrawStats stats{.drawCalls = 1, .instances = m_preparedInstances};
+    if (m_measure) {
+        stats.triangles = m_primitivesQuery.waitResult();
+        stats.gpuMs = static_cast<double>(m_timeQuery.waitResult()) * 1e-6;
+    }
     m_preparedInstances = 0;
-    return {.drawCalls = 1, .instances = instances};
+    return stats;
+}
+
+std::vector<RecordedTessFactors> TerrainRenderer::readTessFactors(int instances) const {
+    TERRAIN_ASSERT(m_tessFactors.valid(), "TerrainRenderer: created without recordTessFactors");
+    TERRAIN_ASSERT(instances >= 0 && instances <= m_maxInstances);
+    std::vector<RecordedTessFactors> records(static_cast<std::size_t>(instances) *
+                                             static_cast<std::size_t>(primitivesPerInstance(true)));
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // the control stage's writes, then a read
+    m_tessFactors.readBack(0, std::as_writable_bytes(std::span(records)));
+    return records;
 }
 
 }  // namespace terrain::runtime

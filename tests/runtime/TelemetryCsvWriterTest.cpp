@@ -35,7 +35,8 @@ constexpr const char* kExpectedHeader =
     "gpu_uploads_deferred,gpu_ring_stalls,"
     "loads_resident,load_latency_p50_ms,load_latency_p95_ms,load_latency_p99_ms,"
     "disk_read_bytes,faults_total,"
-    "patches_drawn,patches_culled";
+    "patches_drawn,patches_culled,triangles,draw_calls,lod_update_us,gpu_ms,lod_splits,"
+    "lod_merges";
 
 std::string readFile(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
@@ -189,7 +190,8 @@ TEST(TelemetryCsvWriter, NaNIsAnEmptyField) {
               "0,0,0,0,0,0,"    // CPU cache
               "0,0,0,0,0,0,0,"  // GPU pool
               "3,,,,"           // loads_resident, three empty percentiles
-              "4096,0,0,0");    // disk, faults, patches
+              "4096,0,0,0,"     // disk, faults, patches
+              "0,0,,,0,0");     // triangles, draw calls, two empty times, splits, merges
 }
 
 TEST(TelemetryCsvWriter, FileAppearsOnlyOnClose) {

@@ -1,20 +1,36 @@
-// terrain-render (preview): generates the procedural DEM, renders one tessellated,
-// hill-shaded view of it headless (EGL) and writes a PNG plus a JSON summary.
-// Until the pyramid, streaming and LOD issues land, this is the project's main job.
+// terrain-render: flies a camera path through a pyramid headless (EGL) with the runtime's
+// streaming, LOD quadtree and tessellated draw, writes PNG frames, the per-frame telemetry
+// CSV (streaming and cache columns joined with triangles, patches, draw calls, LOD update
+// time and GPU time) and a --json summary. Without --settle it shows what a real-time user
+// would see: tiles that have not arrived yet are drawn by their coarser ancestors.
 #include "GlInfoJson.h"
-#include "PreviewRenderer.h"
 
-#include "terrain/io/ProceduralTerrain.h"
+#include "terrain/gl/Framebuffer.h"
 #include "terrain/io/RgbaImageWriter.h"
+#include "terrain/runtime/CameraPath.h"
 #include "terrain/runtime/HeadlessGlContext.h"
+#include "terrain/runtime/LodQuadtree.h"
+#include "terrain/runtime/SkirtDepth.h"
+#include "terrain/runtime/TelemetryCsvWriter.h"
+#include "terrain/runtime/TelemetrySummary.h"
+#include "terrain/runtime/TerrainGeometry.h"
+#include "terrain/runtime/TerrainRenderer.h"
+#include "terrain/runtime/TileStreamer.h"
 
+#include <epoxy/gl.h>
 #include <fmt/core.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <numbers>
+#include <optional>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -22,115 +38,264 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using namespace terrain;
 
-double secondsSince(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
+struct RenderOptions {
+    std::string pyramid;
+    std::string pathFile;
+    std::string savePath;
+    std::string outputDir = "out/render";
+    int widthPx = 960;
+    int heightPx = 540;
+    double errorPx = 2.0;
+    double fps = 30.0;
+    double durationS = 0.0;  // of the default path; 0: 20 s
+    std::uint64_t frames = 0;
+    std::uint64_t every = 30;
+    std::vector<std::uint64_t> frameList;
+    bool settle = false;
+    double cpuCacheMiB = 256.0;
+    int gpuLayers = 1024;
+    double uploadMiBPerFrame = 16.0;
+    std::string debugView = "shaded";
+    bool wireframe = false;
+    bool noSkirts = false;
+    double fogDensity = -1.0;  // < 0: from the DEM's extent
+    bool json = false;
+};
 
 int fail(const std::string& message) {
     fmt::print(stderr, "terrain-render: {}\n", message);
     return 1;
 }
 
-}  // namespace
+io::Status writeFrame(const gl::Framebuffer& framebuffer, const std::filesystem::path& path) {
+    const int w = framebuffer.width(), h = framebuffer.height();
+    const std::vector<std::uint8_t> bottomUp = framebuffer.readColorRgba8();
+    const std::size_t rowBytes = static_cast<std::size_t>(w) * 4;
+    std::vector<std::uint8_t> topDown(bottomUp.size());
+    for (int y = 0; y < h; ++y) {
+        std::memcpy(topDown.data() + static_cast<std::size_t>(y) * rowBytes,
+                    bottomUp.data() + static_cast<std::size_t>(h - 1 - y) * rowBytes, rowBytes);
+    }
+    return io::writeRgba8Png(path, w, h, topDown);
+}
 
-int main(int argc, char** argv) {
-    using namespace terrain;
-    CLI::App app{
-        "Render a tessellated, hill-shaded view of the built-in procedural terrain headless "
-        "(EGL) to a PNG. Preview: fixed distance-based tessellation, one texture; the "
-        "pyramid, streaming and error-driven LOD come with later releases."};
-    io::ProceduralTerrainParameters terrain;
-    tools::PreviewView view;
-    std::string output = "out/terrain.png";
-    bool json = false;
-    app.add_option("--size", terrain.widthSamples, "DEM side in samples (k·64 + 1)")
-        ->capture_default_str();
-    app.add_option("--seed", terrain.seed, "Procedural terrain seed")->capture_default_str();
-    app.add_option("--spacing", terrain.sampleSpacingM, "Sample spacing in metres")
-        ->capture_default_str();
-    app.add_option("--width", view.widthPx, "Image width in pixels")
-        ->capture_default_str()
-        ->check(CLI::Range(16, 16384));
-    app.add_option("--height", view.heightPx, "Image height in pixels")
-        ->capture_default_str()
-        ->check(CLI::Range(16, 16384));
-    app.add_option("--pixels-per-segment", view.pixelsPerSegment,
-                   "Target projected length of a triangle edge, pixels")
-        ->capture_default_str()
-        ->check(CLI::Range(0.5, 256.0));
-    app.add_option("-o,--output", output, "PNG to write")->capture_default_str();
-    app.add_flag("--json", json, "Print a JSON summary on stdout");
-    CLI11_PARSE(app, argc, argv);
-    terrain.heightSamples = terrain.widthSamples;
+nlohmann::json statsJson(const runtime::LatencyHistogram& h, double scale = 1.0) {
+    const auto value = [&](double v) {
+        return std::isnan(v) ? nlohmann::json() : nlohmann::json(v * scale);
+    };
+    return {{"p50", value(h.percentile(50.0))}, {"p95", value(h.percentile(95.0))},
+            {"max", value(h.max())}, {"mean", value(h.mean())}};
+}
 
+int run(const RenderOptions& o) {
     const auto start = Clock::now();
     auto context = runtime::HeadlessGlContext::create();
     if (!context) return fail(context.error().message);
-    const runtime::GlInfo& gl = context.value()->info();
-    if (terrain.widthSamples > gl.maxTextureSize)
-        return fail(
-            fmt::format("--size {} exceeds this GL's largest texture ({}); the preview "
-                        "draws the DEM from one texture",
-                        terrain.widthSamples, gl.maxTextureSize));
 
-    auto source = io::ProceduralTerrain::create(terrain);
-    if (!source) return fail(source.error().message);
-    const auto side = terrain.widthSamples;
-    std::vector<float> heights(static_cast<std::size_t>(side) * side);
-    const auto generateStart = Clock::now();
-    source.value().fillWindow(0, 0, side, side, heights,
-                              std::max(1u, std::thread::hardware_concurrency()));
-    const double generateSeconds = secondsSince(generateStart);
+    runtime::TileStreamerOptions streamerOptions;
+    streamerOptions.cpuCacheBytes = static_cast<std::size_t>(o.cpuCacheMiB * 1024.0 * 1024.0);
+    streamerOptions.gpuLayers = o.gpuLayers;
+    streamerOptions.uploadBytesPerFrame =
+        static_cast<std::size_t>(o.uploadMiBPerFrame * 1024.0 * 1024.0);
+    auto opened = runtime::TileStreamer::open(o.pyramid, streamerOptions);
+    if (!opened) return fail(opened.error().message);
+    runtime::TileStreamer& streamer = *opened.value();
+    const runtime::TerrainGeometry geometry(streamer.manifest());
 
-    auto renderer = tools::PreviewRenderer::create(heights, static_cast<int>(side),
-                                                   terrain.sampleSpacingM, view);
-    if (!renderer) return fail(renderer.error().message);
-    const auto renderStart = Clock::now();
-    const tools::PreviewFrame frame = renderer.value().render();
-    const double renderSeconds = secondsSince(renderStart);
-
-    const auto glErrors = context.value()->debugLog().errorCount();
-    if (glErrors > 0) return fail(fmt::format("{} OpenGL error(s) while rendering", glErrors));
+    std::optional<runtime::CameraPath> path;
+    if (o.pathFile.empty()) {
+        path = runtime::CameraPath::defaultFor(geometry, o.durationS > 0.0 ? o.durationS : 20.0);
+    } else {
+        auto loaded = runtime::CameraPath::load(o.pathFile);
+        if (!loaded) return fail(loaded.error().message);
+        path = std::move(loaded).value();
+    }
+    if (!o.savePath.empty()) {
+        if (auto saved = path->save(o.savePath); !saved) return fail(saved.error().message);
+    }
 
     std::error_code ec;
-    const std::filesystem::path outputPath(output);
-    if (outputPath.has_parent_path())
-        std::filesystem::create_directories(outputPath.parent_path(), ec);
-    if (auto written = io::writeRgba8Png(outputPath, view.widthPx, view.heightPx, frame.rgba);
-        !written)
-        return fail(written.error().message);
+    std::filesystem::create_directories(o.outputDir, ec);
+    if (ec) return fail(fmt::format("{}: cannot create the folder: {}", o.outputDir, ec.message()));
+    const std::filesystem::path outputDir(o.outputDir);
+    auto csv = runtime::TelemetryCsvWriter::create(outputDir / "telemetry.csv");
+    if (!csv) return fail(csv.error().message);
 
-    if (json) {
-        const nlohmann::json summary{
-            {"tool", "terrain-render"},
-            {"mode", "preview: one texture, distance-based power-of-two tessellation factors"},
-            {"output", output},
-            {"terrain",
-             {{"source", "procedural"},
-              {"seed", terrain.seed},
-              {"sizeSamples", side},
-              {"sampleSpacingM", terrain.sampleSpacingM}}},
-            {"image", {{"widthPx", view.widthPx}, {"heightPx", view.heightPx}}},
-            {"patches", frame.patches},
-            {"trianglesGenerated", frame.trianglesGenerated},
-            {"drawCalls", 1},
-            {"gpuTimeMs", frame.gpuMs},
-            {"gpuTimeNote", gl.renderer.find("llvmpipe") != std::string::npos
-                                ? "llvmpipe rasterises on the CPU after the query ends: "
-                                  "gpuTimeMs is not a frame time there; see renderSeconds"
-                                : "GL_TIME_ELAPSED of the draw"},
-            {"generateSeconds", generateSeconds},
-            {"renderSeconds", renderSeconds},  // draw + wait + read back
-            {"totalSeconds", secondsSince(start)},
-            {"gl", tools::glInfoJson(gl)},
-        };
-        std::puts(summary.dump(2).c_str());
-    } else {
-        fmt::print(stderr,
-                   "terrain-render: wrote {} ({}x{}, {} triangles, {} patches, {:.1f} ms draw)\n",
-                   output, view.widthPx, view.heightPx, frame.trianglesGenerated, frame.patches,
-                   frame.gpuMs);
+    auto renderer = runtime::TerrainRenderer::create(streamer.layout(), streamer.pool().capacity());
+    if (!renderer) return fail(renderer.error().message);
+    auto framebuffer = gl::Framebuffer::create(o.widthPx, o.heightPx, "terrain-render frame");
+    if (!framebuffer) return fail(framebuffer.error().message);
+
+    runtime::LodQuadtree tree(streamer, geometry, {.errorPx = o.errorPx});
+    runtime::TerrainStyle style;
+    style.errorPx = static_cast<float>(o.errorPx);
+    style.measure = true;
+    style.wireframe = o.wireframe;
+    style.skirts = !o.noSkirts;
+    style.debugView = o.debugView == "level"  ? runtime::TerrainDebugView::Level
+                      : o.debugView == "tess" ? runtime::TerrainDebugView::TessFactor
+                                              : runtime::TerrainDebugView::Shaded;
+    const glm::dvec2 extent = geometry.demSize();
+    style.fogDensityPerM = static_cast<float>(
+        o.fogDensity >= 0.0 ? o.fogDensity : 0.5 / std::max(1.0, std::max(extent.x, extent.y)));
+    const std::array<float, 4> sky{style.skyColor[0], style.skyColor[1], style.skyColor[2], 1.0f};
+
+    runtime::Camera camera;
+    camera.viewportWidth = o.widthPx;
+    camera.viewportHeight = o.heightPx;
+    camera.nearPlane = 0.5;
+    const std::uint64_t frames =
+        o.frames > 0 ? o.frames
+                     : static_cast<std::uint64_t>(std::floor(path->durationS() * o.fps)) + 1;
+    const std::set<std::uint64_t> chosen(o.frameList.begin(), o.frameList.end());
+
+    std::vector<runtime::PatchDraw> draws;
+    draws.reserve(static_cast<std::size_t>(streamer.pool().capacity()));
+    runtime::TelemetrySummary summary;
+    runtime::LatencyHistogram lodUs, gpuMs, triangles;
+    std::uint64_t framesWritten = 0, maxDrawCalls = 0, maxTriangles = 0, maxPatches = 0;
+    const auto loopStart = Clock::now();
+    auto previous = loopStart;
+    for (std::uint64_t frame = 0; frame < frames; ++frame) {
+        path->apply(path->startS() + static_cast<double>(frame) / o.fps, camera);
+        streamer.beginFrame();
+        runtime::LodUpdateStats lod;
+        auto lodStart = Clock::now();
+        lod = tree.update(camera, draws);
+        double lodMicros = std::chrono::duration<double, std::micro>(Clock::now() - lodStart).count();
+        if (o.settle) {
+            // Wait for streaming: frames of updates until nothing is waiting for tiles.
+            for (int i = 0; i < 100000 && (lod.waitingSplits > 0 || streamer.loadsOutstanding() > 0); ++i) {
+                runtime::FrameTelemetry ignored;
+                streamer.endFrame(ignored);
+                std::this_thread::sleep_for(std::chrono::microseconds(500));
+                streamer.beginFrame();
+                lodStart = Clock::now();
+                lod = tree.update(camera, draws);
+                lodMicros = std::chrono::duration<double, std::micro>(Clock::now() - lodStart).count();
+            }
+        }
+        runtime::assignSkirtDepths(draws, streamer.pool());
+
+        framebuffer.value().clear(sky, 0.0f);  // reversed Z: far is 0
+        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.value().id());
+        glViewport(0, 0, o.widthPx, o.heightPx);
+        const runtime::TerrainDrawStats drawn =
+            renderer.value().draw(camera, geometry, streamer.pool(), draws, style);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+
+        runtime::FrameTelemetry t;
+        streamer.endFrame(t);
+        if ((o.every > 0 && frame % o.every == 0) || chosen.contains(frame) || frame + 1 == frames) {
+            const auto file = outputDir / fmt::format("frame-{:05}.png", frame);
+            if (auto written = writeFrame(framebuffer.value(), file); !written) {
+                return fail(written.error().message);
+            }
+            ++framesWritten;
+        }
+        const auto now = Clock::now();
+        t.frame = frame;
+        t.timeS = std::chrono::duration<double>(now - loopStart).count();
+        t.frameMs = std::chrono::duration<double, std::milli>(now - previous).count();
+        previous = now;
+        t.patchesDrawn = lod.drawn;
+        t.patchesCulled = lod.culled;
+        t.triangles = drawn.triangles;
+        t.drawCalls = static_cast<std::uint64_t>(drawn.drawCalls);
+        t.lodUpdateUs = lodMicros;
+        t.gpuMs = drawn.gpuMs;
+        t.lodSplits = lod.splits;
+        t.lodMerges = lod.merges;
+        csv.value().write(t);
+        summary.add(t);
+        lodUs.add(lodMicros / 1000.0);  // LatencyHistogram counts milliseconds
+        if (!std::isnan(drawn.gpuMs)) gpuMs.add(drawn.gpuMs);
+        triangles.add(static_cast<double>(drawn.triangles) / 1000.0);
+        maxDrawCalls = std::max<std::uint64_t>(maxDrawCalls, t.drawCalls);
+        maxTriangles = std::max<std::uint64_t>(maxTriangles, drawn.triangles);
+        maxPatches = std::max<std::uint64_t>(maxPatches, lod.drawn);
+        if (context.value()->debugLog().errorCount() > 0) {
+            return fail("OpenGL reported an error:\n" + context.value()->debugLog().formatErrors());
+        }
     }
+    if (auto closed = csv.value().close(); !closed) return fail(closed.error().message);
+    summary.mergeLoadLatencies(streamer.loadLatencies());
+    streamer.drain(std::chrono::seconds(10));
+    const bool llvmpipe = context.value()->info().renderer.find("llvmpipe") != std::string::npos;
+
+    if (o.json) {
+        const nlohmann::json out{
+            {"tool", "terrain-render"},
+            {"pyramid", o.pyramid},
+            {"path", o.pathFile.empty() ? nlohmann::json("default") : nlohmann::json(o.pathFile)},
+            {"path_duration_s", path->durationS()},
+            {"fps", o.fps},
+            {"frames", frames},
+            {"frames_written", framesWritten},
+            {"output_dir", o.outputDir},
+            {"telemetry_csv", (outputDir / "telemetry.csv").string()},
+            {"width_px", o.widthPx},
+            {"height_px", o.heightPx},
+            {"error_px", o.errorPx},
+            {"settle", o.settle},
+            {"triangles", {{"p50", triangles.percentile(50.0) * 1000.0}, {"max", maxTriangles},
+                           {"mean", triangles.mean() * 1000.0}}},
+            {"patches_drawn_max", maxPatches},
+            {"draw_calls_max", maxDrawCalls},
+            {"lod_update_us", statsJson(lodUs, 1000.0)},
+            {"gpu_ms", statsJson(gpuMs)},
+            {"gpu_ms_note", llvmpipe ? "llvmpipe rasterises on the CPU after the query ends: "
+                                       "gpu_ms is not a frame time there"
+                                     : "GL_TIME_ELAPSED of the terrain draw"},
+            {"telemetry", summary.toJson()},
+            {"total_seconds", std::chrono::duration<double>(Clock::now() - start).count()},
+            {"gl", tools::glInfoJson(context.value()->info())},
+        };
+        std::puts(out.dump(2).c_str());
+    }
+    fmt::print(stderr,
+               "terrain-render: {} frames of {}x{} at ε = {} px into {} ({} PNGs): triangles p50 "
+               "{:.0f} (max {}), {} patches max, {} draw call(s) per frame, LOD update p50 {:.0f} µs\n",
+               frames, o.widthPx, o.heightPx, o.errorPx, o.outputDir, framesWritten,
+               triangles.percentile(50.0) * 1000.0, maxTriangles, maxPatches, maxDrawCalls,
+               lodUs.percentile(50.0) * 1000.0);
     return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{
+        "Fly a camera path through a pyramid headless (EGL): streaming, the LOD quadtree and "
+        "the tessellated draw of the runtime. Writes PNG frames, a per-frame telemetry CSV "
+        "(docs/telemetry.md) and, with --json, a summary."};
+    RenderOptions o;
+    app.add_option("pyramid", o.pyramid, "Pyramid folder (terrain-build's output)")->required();
+    app.add_option("--path", o.pathFile, "Camera path JSON (docs/camera-path.md); default: a path made for the pyramid");
+    app.add_option("--save-path", o.savePath, "Write the camera path used to this file");
+    app.add_option("--duration-s", o.durationS, "Length of the default path, seconds (20)");
+    app.add_option("-o,--output", o.outputDir, "Folder for frames and telemetry.csv")->capture_default_str();
+    app.add_option("--width", o.widthPx, "Frame width, pixels")->capture_default_str()->check(CLI::Range(16, 16384));
+    app.add_option("--height", o.heightPx, "Frame height, pixels")->capture_default_str()->check(CLI::Range(16, 16384));
+    app.add_option("--error-px", o.errorPx, "Screen-space error threshold ε, pixels")
+        ->capture_default_str()->check(CLI::Range(0.05, 1e4));
+    app.add_option("--fps", o.fps, "Path seconds per frame = 1 / fps")->capture_default_str()->check(CLI::Range(0.01, 1e4));
+    app.add_option("--frames", o.frames, "Frames to render (default: the whole path)");
+    app.add_option("--every", o.every, "Write every k-th frame as a PNG (0: none; the last is always written)")
+        ->capture_default_str();
+    app.add_option("--frame", o.frameList, "Also write these frames (repeatable)");
+    app.add_flag("--settle", o.settle, "Wait for streaming before drawing each frame");
+    app.add_option("--cpu-cache-mib", o.cpuCacheMiB, "CPU tile cache budget, MiB")->capture_default_str();
+    app.add_option("--gpu-layers", o.gpuLayers, "GPU tile pool layers")->capture_default_str()->check(CLI::Range(1, 1 << 16));
+    app.add_option("--upload-mib-per-frame", o.uploadMiBPerFrame, "GPU upload budget per frame, MiB")->capture_default_str();
+    app.add_option("--debug-view", o.debugView, "shaded, level (colour by patch level) or tess (by tessellation factor)")
+        ->capture_default_str()->check(CLI::IsMember({"shaded", "level", "tess"}));
+    app.add_flag("--wireframe", o.wireframe, "Draw triangle edges");
+    app.add_flag("--no-skirts", o.noSkirts, "Leave out the skirts (shows cracks between patches)");
+    app.add_option("--fog", o.fogDensity, "Fog density per metre (default from the DEM's extent)");
+    app.add_flag("--json", o.json, "Print a JSON summary on stdout");
+    CLI11_PARSE(app, argc, argv);
+    return run(o);
 }

@@ -3,6 +3,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <tuple>
+#include <unordered_set>
+
 namespace terrain::tools {
 namespace {
 
@@ -19,7 +23,7 @@ std::optional<std::string> StressChecks::afterFrame(const runtime::TileStreamer&
     const cache::GpuTilePool& pool = streamer.pool();
     const io::PyramidLayout& layout = streamer.layout();
 
-    m_drawnSet.clear();
+    m_drawnSorted.clear();
     for (const runtime::PatchDraw& d : drawn) {
         if (d.layer < 0 || d.layer >= pool.capacity()) {
             return fmt::format("patch {} drawn from layer {}, outside the pool", name(d.id), d.layer);
@@ -32,14 +36,22 @@ std::optional<std::string> StressChecks::afterFrame(const runtime::TileStreamer&
             return fmt::format("patch {} drawn from layer {}, which holds {}", name(d.id),
                                d.layer, name(*holder));
         }
-        if (!m_drawnSet.insert(d.id).second) return "patch " + name(d.id) + " drawn twice";
+        m_drawnSorted.push_back(d.id);
+    }
+    const auto order = [](const io::PatchId& a, const io::PatchId& b) {
+        return std::tie(a.level, a.y, a.x) < std::tie(b.level, b.y, b.x);
+    };
+    std::sort(m_drawnSorted.begin(), m_drawnSorted.end(), order);
+    if (const auto twice = std::adjacent_find(m_drawnSorted.begin(), m_drawnSorted.end());
+        twice != m_drawnSorted.end()) {
+        return "patch " + name(*twice) + " drawn twice";
     }
     // No drawn patch may lie inside another drawn patch.
     for (const runtime::PatchDraw& d : drawn) {
         io::PatchId up = d.id;
         while (up.level > 0) {
             up = {up.level - 1, up.x / 2, up.y / 2};
-            if (m_drawnSet.contains(up)) {
+            if (std::binary_search(m_drawnSorted.begin(), m_drawnSorted.end(), up, order)) {
                 return fmt::format("patches {} and {} overlap: both drawn", name(d.id), name(up));
             }
         }

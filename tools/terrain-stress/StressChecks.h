@@ -9,7 +9,7 @@
 #include <optional>
 #include <span>
 #include <string>
-#include <unordered_set>
+#include <vector>
 
 namespace terrain::tools {
 
@@ -33,7 +33,7 @@ public:
     static std::optional<std::string> afterDrain(const runtime::TileStreamer& streamer);
 
 private:
-    std::unordered_set<io::PatchId, io::PatchIdHash> m_drawnSet;  // reused every frame
+    std::vector<io::PatchId> m_drawnSorted;  // reused every frame: no allocation once grown
 };
 
 }  // namespace terrain::tools

@@ -23,6 +23,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -92,6 +93,45 @@ double groundHeight(const runtime::TileStreamer& streamer, const runtime::Terrai
     return height;
 }
 
+struct ResidentMemoryTrend {
+    std::size_t samples = 0;
+    double baselineBytes = 0.0;  ///< median of the first quarter of the samples (≤ 60)
+    double endBytes = 0.0;       ///< median of the last quarter (≤ 60)
+    double minBytes = 0.0;
+    double maxBytes = 0.0;
+    double growthPercent = 0.0;
+    double slopeBytesPerMinute = 0.0;  ///< least squares over all samples
+};
+
+double median(std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    return values.empty() ? 0.0 : values[values.size() / 2];
+}
+
+/// `samples`: resident bytes once a second.
+ResidentMemoryTrend residentMemoryTrend(const std::vector<double>& samples) {
+    ResidentMemoryTrend t;
+    t.samples = samples.size();
+    if (samples.size() < 2) return t;
+    const std::size_t window = std::clamp<std::size_t>(samples.size() / 4, 1, 60);
+    t.baselineBytes = median({samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(window)});
+    t.endBytes = median({samples.end() - static_cast<std::ptrdiff_t>(window), samples.end()});
+    t.minBytes = *std::min_element(samples.begin(), samples.end());
+    t.maxBytes = *std::max_element(samples.begin(), samples.end());
+    t.growthPercent = 100.0 * (t.endBytes - t.baselineBytes) / t.baselineBytes;
+    const double n = static_cast<double>(samples.size());
+    double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+        const double x = static_cast<double>(i);
+        sx += x;
+        sy += samples[i];
+        sxx += x * x;
+        sxy += x * samples[i];
+    }
+    t.slopeBytesPerMinute = 60.0 * (n * sxy - sx * sy) / (n * sxx - sx * sx);
+    return t;
+}
+
 nlohmann::json percentilesJson(const runtime::LatencyHistogram& h) {
     const auto value = [](double v) { return std::isnan(v) ? nlohmann::json() : nlohmann::json(v); };
     return {{"count", h.count()},
@@ -152,9 +192,10 @@ int run(const StressOptions& o) {
     });
     if (o.flight == "cruise") flight.cruise(o.cruiseSpeedMps, o.cruiseAltitudeM);
     runtime::TerrainStyle style;
-    style.tessFactor = o.tessFactor;
+    style.fixedTessFactor = o.tessFactor;
     style.fogDensityPerM = 0.0f;
-    style.colorByLevel = o.colorByLevel;
+    style.debugView =
+        o.colorByLevel ? runtime::TerrainDebugView::Level : runtime::TerrainDebugView::Shaded;
     if (!o.framesDir.empty()) {
         std::error_code ec;
         std::filesystem::create_directories(o.framesDir, ec);
@@ -186,7 +227,11 @@ int run(const StressOptions& o) {
     std::size_t faultsPrinted = 0;
     constexpr std::size_t kFaultsToPrint = 10;
 
-    std::uint64_t rssAfterWarmup = 0, rssMin = 0, rssMax = 0;
+    // Resident memory once a second after warm-up (reading /proc allocates, so not every
+    // frame); the growth compares the medians of the first and the last quarter of the
+    // samples (at most a minute each), so one noisy sample cannot pass or fail a run.
+    std::vector<double> rssSamples;
+    rssSamples.reserve(static_cast<std::size_t>(std::min(o.durationS, 1e6)) + 16);
     double nextRssSampleS = o.warmupS;
     const std::array<float, 4> sky{style.skyColor[0], style.skyColor[1], style.skyColor[2], 1.0f};
     const auto loopStart = Clock::now();
@@ -236,10 +281,7 @@ int run(const StressOptions& o) {
         warm = t.timeS >= o.warmupS;
         if (t.timeS >= nextRssSampleS) {
             // Sampled once a second after warm-up: reading /proc allocates.
-            const std::uint64_t rss = io::currentResidentBytes();
-            if (rssAfterWarmup == 0) rssAfterWarmup = rssMin = rss;
-            rssMin = std::min(rssMin, rss);
-            rssMax = std::max(rssMax, rss);
+            rssSamples.push_back(static_cast<double>(io::currentResidentBytes()));
             nextRssSampleS = t.timeS + 1.0;
         }
         if (context.value()->debugLog().errorCount() > 0) {
@@ -248,7 +290,6 @@ int run(const StressOptions& o) {
         }
     }
     const double loopS = std::chrono::duration<double>(Clock::now() - loopStart).count();
-    const std::uint64_t rssEnd = io::currentResidentBytes();
 
     if (!streamer.drain(std::chrono::seconds(30))) violation(frame, "requests did not end within 30 s of cancelling them all");
     if (auto broken = tools::StressChecks::afterDrain(streamer)) violation(frame, *broken);
@@ -257,11 +298,9 @@ int run(const StressOptions& o) {
     }
     summary.mergeLoadLatencies(streamer.loadLatencies());
 
-    const double growthPercent =
-        rssAfterWarmup > 0 ? 100.0 * (static_cast<double>(rssEnd) - static_cast<double>(rssAfterWarmup)) /
-                                 static_cast<double>(rssAfterWarmup)
-                           : 0.0;
-    if (o.maxRssGrowthPercent && rssAfterWarmup > 0 && growthPercent > *o.maxRssGrowthPercent) {
+    const ResidentMemoryTrend rss = residentMemoryTrend(rssSamples);
+    const double growthPercent = rss.growthPercent;
+    if (o.maxRssGrowthPercent && rss.samples >= 8 && growthPercent > *o.maxRssGrowthPercent) {
         violation(frame, fmt::format("resident memory grew {:.2f}% after warm-up (limit {}%)",
                                      growthPercent, *o.maxRssGrowthPercent));
     }
@@ -309,11 +348,13 @@ int run(const StressOptions& o) {
             {"invariant_violations", violationCount},
             {"violations", violations},
             {"resident_memory",
-             {{"after_warmup_bytes", rssAfterWarmup},
-              {"min_bytes", rssMin},
-              {"max_bytes", rssMax},
-              {"end_bytes", rssEnd},
+             {{"samples", rss.samples},
+              {"baseline_bytes", rss.baselineBytes},
+              {"end_bytes", rss.endBytes},
+              {"min_bytes", rss.minBytes},
+              {"max_bytes", rss.maxBytes},
               {"growth_after_warmup_percent", growthPercent},
+              {"slope_bytes_per_minute", rss.slopeBytesPerMinute},
               {"peak_bytes", io::peakResidentBytes()}}},
             {"telemetry", summary.toJson()},
             {"telemetry_csv", o.telemetryCsv.empty() ? nlohmann::json() : nlohmann::json(o.telemetryCsv)},

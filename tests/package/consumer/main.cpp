@@ -23,10 +23,10 @@ int main() {
         return 1;
     }
     auto program = runtime::ProgramBuilder("consumer")
-                       .stage("preview_terrain.vert")
-                       .stage("preview_terrain.tesc")
-                       .stage("preview_terrain.tese")
-                       .stage("preview_terrain.frag")
+                       .stage("terrain.vert")
+                       .stage("terrain.tesc")
+                       .stage("terrain.tese")
+                       .stage("terrain.frag")
                        .build();
     if (!program) {
         std::fprintf(stderr, "consumer: %s\n", program.error().message.c_str());

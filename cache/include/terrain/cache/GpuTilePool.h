@@ -83,6 +83,14 @@ public:
     void touch(const io::PatchId& id);
     /// Frees id's layer; id must hold one (TERRAIN_ASSERT). Render thread only.
     void release(const io::PatchId& id);
+    /// Keeps id's layer from eviction until unpin(), whatever frames use: the LOD tree pins
+    /// the patches it holds, so drawing them needs no per-frame touch. id must hold a
+    /// layer and not be pinned. Render thread only.
+    void pin(const io::PatchId& id);
+    /// Makes a pinned layer evictable again, as the most recently used. Render thread only.
+    void unpin(const io::PatchId& id);
+    bool isPinned(const io::PatchId& id) const;
+    int layersPinned() const { return m_pinnedCount; }
     /// Render thread only.
     std::optional<int> layerOf(const io::PatchId& id) const;
     /// Allocated and its upload issued (GL orders later draws after it). Render thread only.
@@ -90,6 +98,10 @@ public:
     /// The summary of a resident patch (bounds and error, from its record), or null.
     /// Render thread only.
     const io::PatchInfo* info(const io::PatchId& id) const;
+    /// The largest block error λ(d) (all blocks, d = 1..4) of a resident patch, metres,
+    /// from its uploaded record; nullopt unless resident. With Err(P) it bounds the
+    /// patch's Λ (SkirtDepth.h). Render thread only.
+    std::optional<float> maxBlockErrorM(const io::PatchId& id) const;
     /// The patch holding `layer`, or nullopt when the layer is free. Render thread only.
     std::optional<io::PatchId> patchOnLayer(int layer) const;
 
@@ -131,7 +143,7 @@ public:
 
     /// The first broken invariant, described, or nullopt: the free list's own, every
     /// mapped patch on an allocated layer of its own, one patch per allocated layer, and
-    /// exactly the allocated layers in the LRU order.
+    /// exactly the allocated layers that are not pinned in the LRU order.
     /// O(capacity): for tests and the stress tool.
     std::optional<std::string> checkInvariants() const;
 
@@ -162,8 +174,12 @@ private:
     void retireOldestFence(bool wait);
 
     LayerFreeList m_freeList{0};
-    LayerLru m_lru{0};
+    LayerLru m_lru{0};                  // allocated layers that are not pinned
+    std::vector<std::uint8_t> m_pinned;  // per layer
+    mutable std::vector<std::uint8_t> m_invariantScratch;  // per layer, for checkInvariants()
+    int m_pinnedCount = 0;
     std::vector<io::PatchId> m_layerPatch;  // per allocated layer, its patch
+    std::vector<float> m_maxBlockErrorM;    // per layer, of its last upload
     std::uint64_t m_frame = 0;
     SlotMap m_slots;
     std::vector<SlotMap::node_type> m_spareNodes;  // reused by allocate(): no node allocation

@@ -93,6 +93,10 @@ public:
 
     /// The layer of a resident patch (acquire() returned its info this frame).
     int layerOf(const io::PatchId& id) const;
+    /// Keeps a resident patch on the GPU until unpin() (GpuTilePool::pin): the LOD tree
+    /// pins the patches it holds.
+    void pin(const io::PatchId& id) { m_pool.pin(id); }
+    void unpin(const io::PatchId& id) { m_pool.unpin(id); }
 
     void endFrame(FrameTelemetry& telemetry);
 

@@ -1,0 +1,56 @@
+// EdgeTessellation: the CPU reference, in double, of the fine-grain LOD the terrain's
+// tessellation control stage runs (shaders/terrain.tesc; Yusov & Shevtsov 2011, §5,
+// "Fine-Grain Level of Detail Selection"): per block edge, the largest simplification d
+// whose edge error still projects below ε, and the factors that follow from it.
+//
+// Vertex → domain mapping of a block primitive (the vertex stage's corners): u runs east
+// along the patch's columns, v south along its rows, so GL's outer levels are
+// [0] the west edge (u = 0), [1] north (v = 0), [2] east (u = 1), [3] south (v = 1).
+#pragma once
+
+#include "terrain/io/PatchErrors.h"
+#include "terrain/io/PatchRecord.h"
+#include "terrain/runtime/Camera.h"
+#include "terrain/runtime/TerrainGeometry.h"
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <span>
+#include <vector>
+
+namespace terrain::runtime {
+
+struct BlockFactors {
+    std::array<int, 4> outer{};           ///< GL order: west (u = 0), north (v = 0), east, south
+    std::array<int, 2> inner{};           ///< both the minimum of outer (Yusov §5)
+    std::array<int, 4> simplification{};  ///< d of each edge, 0 (full resolution) … 4
+    /// Λ_ec(d) of each edge at its d (Err(P) at d = 0), metres: how far the drawn edge may
+    /// lie from the full-resolution surface; a skirt drops this plus the skirt depth.
+    std::array<double, 4> edgeErrorM{};
+    /// proj(e_c^(d),−, e_c^(d),+) of each edge for d = 1..4, pixels (+∞: an end behind the
+    /// near plane): what d was chosen from.
+    std::array<std::array<double, io::kMaxSimplification>, 4> projectedPx{};
+};
+
+/// The length in pixels of the vertical segment centre ± lengthM/2 · e_z (camera-relative
+/// metres) projected by `relativeViewProjection` onto a viewport of `viewportPx`; +∞ when
+/// an end is behind the near plane (clip z > w in the reversed-Z projection).
+double projectedSegmentPx(const glm::dmat4& relativeViewProjection, const glm::dvec2& viewportPx,
+                          const glm::dvec3& centreM, double lengthM);
+
+/// Yusov §5: d = argmax_d proj(d) < ε over d = 1..4; 0 when no d qualifies.
+int edgeSimplification(std::span<const double, io::kMaxSimplification> projectedPx, double errorPx);
+
+/// The edge factor of simplification d: max(1, blockQuads >> d), a power of two dividing
+/// blockQuads (a simplification coarser than the block keeps its corners: 1).
+int tessFactorOf(int blockQuads, int d);
+
+/// The factors of every block of `record`'s patch seen by `camera` at ε = errorPx,
+/// row-major by block (blocksPerSide² entries). Err(P) is record.info.error.
+std::vector<BlockFactors> patchBlockFactors(const Camera& camera, const TerrainGeometry& geometry,
+                                            const io::PatchRecord& record, double errorPx);
+
+}  // namespace terrain::runtime

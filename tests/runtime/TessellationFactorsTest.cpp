@@ -1,0 +1,353 @@
+// The terrain's tessellation control stage against its CPU reference (EdgeTessellation.h,
+// Yusov & Shevtsov 2011, §5): the real program, built with TERRAIN_DEBUG_TESS_FACTORS,
+// records every (instance, primitive)'s factors while it draws every patch of the streaming
+// test pyramid from many camera poses. Factors must equal the model's except where a
+// projected edge error lies within a tiny relative tolerance of ε (float against double);
+// shared block edges agree bit for bit, factors are powers of two ≤ blockQuads, inner is
+// the minimum of the edges, and each skirt follows its block edge.
+#include "GlTestFixture.h"
+#include "StreamingTestPyramid.h"
+#include "terrain/cache/GpuTilePool.h"
+#include "terrain/gl/Framebuffer.h"
+#include "terrain/io/PyramidReader.h"
+#include "terrain/runtime/EdgeTessellation.h"
+#include "terrain/runtime/SkirtDepth.h"
+#include "terrain/runtime/TerrainGeometry.h"
+#include "terrain/runtime/TerrainRenderer.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <iostream>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace terrain::test {
+namespace {
+
+using runtime::BlockFactors;
+using runtime::Camera;
+using runtime::PatchDraw;
+using runtime::RecordedTessFactors;
+
+// float against double: a projected length this close to ε (relative) may fall either way.
+constexpr double kBorderlineRelative = 1e-4;
+
+struct Pose {
+    std::string name;
+    Camera camera;
+    double errorPx = 2.0;
+};
+
+/// Every present patch of the streaming test pyramid, uploaded to a pool of its own.
+struct Scene {
+    io::PyramidManifest manifest;
+    std::vector<io::PatchRecord> records;
+    cache::GpuTilePool pool;
+    std::vector<PatchDraw> draws;  // one per record, same order
+};
+
+Scene loadScene() {
+    auto reader = io::PyramidReader::open(streamingTestPyramid());
+    EXPECT_TRUE(reader) << reader.error().message;
+    Scene scene;
+    scene.manifest = reader.value().manifest();
+    const io::PyramidLayout& layout = scene.manifest.layout;
+    for (int level = 0; level < layout.levelCount(); ++level) {
+        for (std::int64_t y = 0; y < layout.patchesY(level); ++y) {
+            for (std::int64_t x = 0; x < layout.patchesX(level); ++x) {
+                auto record = reader.value().readPatch({level, x, y});
+                EXPECT_TRUE(record) << record.error().message;
+                if (record) scene.records.push_back(std::move(record).value());
+            }
+        }
+    }
+    const std::size_t bytes = cache::GpuTilePool::bytesPerLayer(layout) * scene.records.size();
+    auto pool = cache::GpuTilePool::create(
+        layout, {.budgetBytes = bytes, .uploadBudgetBytesPerFrame = bytes, .ringBytes = 0});
+    EXPECT_TRUE(pool) << pool.error().message;
+    scene.pool = std::move(pool).value();
+    scene.pool.beginFrame();
+    for (const io::PatchRecord& record : scene.records) {
+        const std::optional<int> layer = scene.pool.allocate(record.id);
+        EXPECT_TRUE(layer.has_value());
+        EXPECT_TRUE(scene.pool.upload(record));
+        scene.draws.push_back({.id = record.id, .layer = *layer, .errorM = record.info.error});
+    }
+    scene.pool.endFrame();
+    runtime::assignSkirtDepths(scene.draws, scene.pool);
+    return scene;
+}
+
+std::vector<Pose> poses(const runtime::TerrainGeometry& g) {
+    const glm::dvec2 size = g.demSize();
+    const double low = g.minHeight(), high = g.maxHeight();
+    const auto make = [&](std::string name, glm::dvec3 position, double yaw, double pitch,
+                          int width, int height, double errorPx) {
+        Pose pose{std::move(name), {}, errorPx};
+        pose.camera.position = position;
+        pose.camera.yaw = yaw;
+        pose.camera.pitch = pitch;
+        pose.camera.viewportWidth = width;
+        pose.camera.viewportHeight = height;
+        pose.camera.fovY = 1.0;
+        return pose;
+    };
+    const glm::dvec3 centre{0.5 * size.x, -0.5 * size.y, 0.0};
+    std::vector<Pose> out{
+        make("looking down", centre + glm::dvec3(0, 0, high + 0.3 * size.x), 0.3, -1.5708, 640, 480,
+             2.0),
+        make("near", centre + glm::dvec3(0, 0, high + 2.0), 1.0, -0.2, 1280, 720, 2.0),
+        make("grazing", {0.1 * size.x, -0.1 * size.y, high + 1.0}, 2.4, 0.0, 1920, 1080, 2.0),
+        make("far", {-2.0 * size.x, 2.0 * size.y, high + 0.5 * size.x}, 2.356, -0.15, 640, 480,
+             2.0),
+        make("below the terrain", centre + glm::dvec3(0, 0, low - 20.0), 0.0, 0.4, 320, 240, 2.0),
+        make("oblique, eps 1", {0.2 * size.x, -0.8 * size.y, high + 0.05 * size.x}, 0.7, -0.4, 800,
+             600, 1.0),
+        make("oblique, eps 8", {0.8 * size.x, -0.2 * size.y, high + 0.05 * size.x}, 3.9, -0.3, 800,
+             600, 8.0),
+    };
+    std::mt19937_64 random(11);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int i = 0; i < 13; ++i) {
+        const glm::dvec3 position{
+            u(random) * size.x, -u(random) * size.y,
+            low + (high - low) * u(random) + 0.4 * size.x * u(random) * u(random)};
+        out.push_back(make("random " + std::to_string(i), position,
+                           2.0 * std::numbers::pi * u(random), -1.5 + 1.6 * u(random),
+                           i % 2 == 0 ? 1024 : 320, i % 2 == 0 ? 768 : 240,
+                           i % 3 == 0 ? 1.0 : 2.0));
+    }
+    return out;
+}
+
+bool isBorderline(const BlockFactors& cpu, std::size_t edge, double errorPx) {
+    for (const double px : cpu.projectedPx[edge]) {
+        if (std::abs(px - errorPx) <= kBorderlineRelative * errorPx) return true;
+    }
+    return false;
+}
+
+class TessellationFactorsTest : public GlTest {
+protected:
+    static std::vector<RecordedTessFactors> drawAndRecord(runtime::TerrainRenderer& renderer,
+                                                          Scene& scene,
+                                                          const runtime::TerrainGeometry& g,
+                                                          const Camera& camera,
+                                                          const runtime::TerrainStyle& style) {
+        // Only the control stage's records matter: nothing needs rasterising (the headless
+        // context has no default framebuffer, so a small one is bound all the same).
+        const gl::Framebuffer target = gl::Framebuffer::create(16, 16).value();
+        glBindFramebuffer(GL_FRAMEBUFFER, target.id());
+        glEnable(GL_RASTERIZER_DISCARD);
+        renderer.draw(camera, g, scene.pool, scene.draws, style);
+        glDisable(GL_RASTERIZER_DISCARD);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        return renderer.readTessFactors(static_cast<int>(scene.draws.size()));
+    }
+};
+
+TEST_F(TessellationFactorsTest, ControlStageMatchesTheCpuModel) {
+    Scene scene = loadScene();
+    ASSERT_EQ(scene.records.size(), 341u);
+    const runtime::TerrainGeometry g(scene.manifest);
+    const io::PyramidLayout& layout = g.layout();
+    const int blocks = layout.blocksPerSide();
+    const int quads = layout.blockQuads();
+    const int perInstance = blocks * blocks + 4 * blocks;
+    auto renderer = runtime::TerrainRenderer::create(layout, static_cast<int>(scene.draws.size()),
+                                                     {.recordTessFactors = true});
+    ASSERT_TRUE(renderer) << renderer.error().message;
+
+    std::uint64_t edges = 0, borderline = 0, mismatches = 0, coarsened = 0, fullResolution = 0;
+    std::array<std::uint64_t, 5> perSimplification{};            // CPU d of every edge
+    double closestPx = std::numeric_limits<double>::infinity();  // min |proj − ε| / ε
+    for (const Pose& pose : poses(g)) {
+        SCOPED_TRACE(pose.name);
+        runtime::TerrainStyle style;
+        style.errorPx = pose.errorPx;
+        const std::vector<RecordedTessFactors> gpu =
+            drawAndRecord(renderer.value(), scene, g, pose.camera, style);
+        int failures = 0;  // messages per pose, not per edge
+        for (std::size_t i = 0; i < scene.records.size(); ++i) {
+            const io::PatchRecord& record = scene.records[i];
+            const std::vector<BlockFactors> cpu =
+                runtime::patchBlockFactors(pose.camera, g, record, pose.errorPx);
+            const RecordedTessFactors* patch = &gpu[i * static_cast<std::size_t>(perInstance)];
+            for (int b = 0; b < blocks * blocks; ++b) {
+                const RecordedTessFactors& got = patch[b];
+                const BlockFactors& want = cpu[static_cast<std::size_t>(b)];
+                EXPECT_EQ(got.isSkirt, 0);
+                for (std::size_t e = 0; e < 4; ++e) {
+                    ++edges;
+                    const int factor = got.outer[e];
+                    ++perSimplification[static_cast<std::size_t>(want.simplification[e])];
+                    for (const double px : want.projectedPx[e]) {
+                        closestPx = std::min(closestPx, std::abs(px - pose.errorPx) / pose.errorPx);
+                    }
+                    EXPECT_TRUE(factor >= 1 && factor <= quads &&
+                                std::has_single_bit(static_cast<unsigned>(factor)))
+                        << "factor " << factor;
+                    if (factor == want.outer[e]) {
+                        coarsened += want.simplification[e] > 0 ? 1 : 0;
+                        fullResolution += want.simplification[e] == 0 ? 1 : 0;
+                        continue;
+                    }
+                    ++mismatches;
+                    if (isBorderline(want, e, pose.errorPx)) {
+                        ++borderline;
+                        continue;
+                    }
+                    if (++failures <= 5) {
+                        ADD_FAILURE()
+                            << "patch L" << record.id.level << " (" << record.id.x << ", "
+                            << record.id.y << ") block " << b << " edge " << e << ": GPU factor "
+                            << factor << ", CPU " << want.outer[e] << " (projected "
+                            << want.projectedPx[e][0] << ", " << want.projectedPx[e][1] << ", "
+                            << want.projectedPx[e][2] << ", " << want.projectedPx[e][3] << " px)";
+                    }
+                }
+                const int minimum = *std::min_element(got.outer.begin(), got.outer.end());
+                EXPECT_EQ(got.inner[0], minimum);
+                EXPECT_EQ(got.inner[1], minimum);
+            }
+            // Shared edges inside the patch: bit-identical from both blocks.
+            for (int by = 0; by < blocks; ++by) {
+                for (int bx = 0; bx < blocks; ++bx) {
+                    const RecordedTessFactors& here = patch[by * blocks + bx];
+                    if (bx + 1 < blocks) {
+                        EXPECT_EQ(here.outer[2], patch[by * blocks + bx + 1].outer[0]);
+                    }
+                    if (by + 1 < blocks) {
+                        EXPECT_EQ(here.outer[3], patch[(by + 1) * blocks + bx].outer[1]);
+                    }
+                }
+            }
+            // Skirts: edge e of border block k along that side, (1, f, 1, f) with f the block
+            // edge's factor, dropping Λ_ec(d) + the skirt depth.
+            for (int e = 0; e < 4; ++e) {
+                for (int k = 0; k < blocks; ++k) {
+                    const RecordedTessFactors& skirt = patch[blocks * blocks + e * blocks + k];
+                    const int bx = e == 0 ? 0 : e == 2 ? blocks - 1 : k;
+                    const int by = e == 1 ? 0 : e == 3 ? blocks - 1 : k;
+                    const auto ue = static_cast<std::size_t>(e);
+                    const RecordedTessFactors& block = patch[by * blocks + bx];
+                    const int f = block.outer[ue];
+                    EXPECT_EQ(skirt.isSkirt, 1);
+                    EXPECT_EQ(skirt.outer, (std::array<std::int32_t, 4>{1, f, 1, f}));
+                    EXPECT_EQ(skirt.inner, (std::array<std::int32_t, 2>{f, 1}));
+                    const BlockFactors& want = cpu[static_cast<std::size_t>(by * blocks + bx)];
+                    if (f == want.outer[ue]) {
+                        const double drop = want.edgeErrorM[ue] + scene.draws[i].skirtDepthM;
+                        EXPECT_NEAR(skirt.skirtDropM, drop, 1e-5 * drop + 1e-6);
+                    }
+                }
+            }
+        }
+    }
+    std::cout << "[          ] " << edges << " block edges, " << coarsened << " coarsened, "
+              << fullResolution << " at full resolution; " << mismatches << " GPU/CPU mismatches, "
+              << borderline << " of them borderline (|proj − ε| ≤ " << kBorderlineRelative
+              << " ε); edges per d = 0..4:";
+    for (const std::uint64_t n : perSimplification) std::cout << " " << n;
+    std::cout << "; closest |proj − ε| / ε " << closestPx << "\n";
+    RecordProperty("block_edges", std::to_string(edges));
+    RecordProperty("borderline_mismatches", std::to_string(borderline));
+    EXPECT_EQ(mismatches, borderline);
+    // The poses exercise the whole range: every edge neither coarsened nor fine.
+    EXPECT_GT(coarsened, edges / 10);
+    EXPECT_GT(fullResolution, edges / 100);
+}
+
+TEST_F(TessellationFactorsTest, FixedFactorIsUniformAndSkirtsDropItsBlockError) {
+    Scene scene = loadScene();
+    const runtime::TerrainGeometry g(scene.manifest);
+    const io::PyramidLayout& layout = g.layout();
+    const int blocks = layout.blocksPerSide();
+    const int perInstance = blocks * blocks + 4 * blocks;
+    auto renderer = runtime::TerrainRenderer::create(layout, static_cast<int>(scene.draws.size()),
+                                                     {.recordTessFactors = true});
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    const Camera camera = poses(g).front().camera;
+    for (const int requested : {1, 2, 3, 8, 100}) {
+        SCOPED_TRACE("fixedTessFactor " + std::to_string(requested));
+        runtime::TerrainStyle style;
+        style.fixedTessFactor = requested;
+        const int expected = std::bit_floor(static_cast<unsigned>(std::min(requested, 8)));
+        const int d = std::countr_zero(8u) - std::countr_zero(static_cast<unsigned>(expected));
+        const std::vector<RecordedTessFactors> gpu =
+            drawAndRecord(renderer.value(), scene, g, camera, style);
+        for (std::size_t i = 0; i < scene.records.size(); ++i) {
+            const RecordedTessFactors* patch = &gpu[i * static_cast<std::size_t>(perInstance)];
+            for (int b = 0; b < blocks * blocks; ++b) {
+                EXPECT_EQ(patch[b].outer,
+                          (std::array<std::int32_t, 4>{expected, expected, expected, expected}));
+            }
+            // The west skirt of block (0, 0): Λ(d) of that block alone, plus the skirt depth.
+            const io::PatchRecord& record = scene.records[i];
+            const double lambda =
+                d == 0
+                    ? 0.0
+                    : static_cast<double>(record.blockErrors[0][static_cast<std::size_t>(d - 1)]);
+            const double drop = lambda + record.info.error + scene.draws[i].skirtDepthM;
+            EXPECT_NEAR(patch[blocks * blocks].skirtDropM, drop, 1e-5 * drop + 1e-6);
+        }
+    }
+}
+
+TEST_F(TessellationFactorsTest, MeasuredDrawCountsItsTrianglesAndRestoresState) {
+    Scene scene = loadScene();
+    const runtime::TerrainGeometry g(scene.manifest);
+    const io::PyramidLayout& layout = g.layout();
+    const auto blocks = static_cast<std::uint64_t>(layout.blocksPerSide());
+    const auto quads = static_cast<std::uint64_t>(layout.blockQuads());
+    const auto instances = static_cast<std::uint64_t>(scene.draws.size());
+    auto renderer = runtime::TerrainRenderer::create(layout, static_cast<int>(instances));
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    auto fb = gl::Framebuffer::create(64, 64);
+    ASSERT_TRUE(fb) << fb.error().message;
+    Camera camera = poses(g).front().camera;
+    camera.viewportWidth = camera.viewportHeight = 64;
+    glBindFramebuffer(GL_FRAMEBUFFER, fb.value().id());
+    glViewport(0, 0, 64, 64);
+
+    runtime::TerrainStyle style;
+    style.fixedTessFactor = static_cast<int>(quads);
+    style.measure = true;
+    style.skirts = false;
+    style.wireframe = true;
+    const runtime::TerrainDrawStats plain =
+        renderer.value().draw(camera, g, scene.pool, scene.draws, style);
+    EXPECT_EQ(plain.drawCalls, 1);
+    EXPECT_EQ(plain.instances, static_cast<int>(instances));
+    // Every block fully tessellated: 2 · B² triangles.
+    EXPECT_EQ(plain.triangles, instances * blocks * blocks * 2 * quads * quads);
+    EXPECT_GT(plain.gpuMs, 0.0);
+    GLint polygonMode[2] = {0, 0};
+    glGetIntegerv(GL_POLYGON_MODE, polygonMode);
+    EXPECT_EQ(polygonMode[0], GL_FILL);
+
+    style.skirts = true;
+    style.wireframe = false;
+    const runtime::TerrainDrawStats skirted =
+        renderer.value().draw(camera, g, scene.pool, scene.draws, style);
+    // A skirt: outer (1, B, 1, B), inner (B, 1 → 2): 2(B − 2) + 2B + 2 = 4B − 2 triangles
+    // (GL 4.5 §11.2.2.2; the arithmetic TessellationTest checks).
+    EXPECT_EQ(skirted.triangles - plain.triangles, instances * 4 * blocks * (4 * quads - 2));
+
+    style.measure = false;
+    const runtime::TerrainDrawStats unmeasured =
+        renderer.value().draw(camera, g, scene.pool, scene.draws, style);
+    EXPECT_EQ(unmeasured.triangles, 0u);
+    EXPECT_EQ(unmeasured.gpuMs, 0.0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+}  // namespace
+}  // namespace terrain::test
