@@ -9,13 +9,10 @@
 #include "terrain/io/RgbaImageWriter.h"
 #include "terrain/runtime/CameraPath.h"
 #include "terrain/runtime/HeadlessGlContext.h"
-#include "terrain/runtime/LodQuadtree.h"
-#include "terrain/runtime/SkirtDepth.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
 #include "terrain/runtime/TerrainGeometry.h"
-#include "terrain/runtime/TerrainRenderer.h"
-#include "terrain/runtime/TileStreamer.h"
+#include "terrain/runtime/TerrainSession.h"
 
 #include <epoxy/gl.h>
 #include <fmt/core.h>
@@ -94,15 +91,17 @@ int run(const RenderOptions& o) {
     auto context = runtime::HeadlessGlContext::create();
     if (!context) return fail(context.error().message);
 
-    runtime::TileStreamerOptions streamerOptions;
-    streamerOptions.cpuCacheBytes = static_cast<std::size_t>(o.cpuCacheMiB * 1024.0 * 1024.0);
-    streamerOptions.gpuLayers = o.gpuLayers;
-    streamerOptions.uploadBytesPerFrame =
+    runtime::TerrainSessionOptions sessionOptions;
+    sessionOptions.streaming.cpuCacheBytes =
+        static_cast<std::size_t>(o.cpuCacheMiB * 1024.0 * 1024.0);
+    sessionOptions.streaming.gpuLayers = o.gpuLayers;
+    sessionOptions.streaming.uploadBytesPerFrame =
         static_cast<std::size_t>(o.uploadMiBPerFrame * 1024.0 * 1024.0);
-    auto opened = runtime::TileStreamer::open(o.pyramid, streamerOptions);
+    sessionOptions.lod.errorPx = o.errorPx;
+    auto opened = runtime::TerrainSession::open(o.pyramid, sessionOptions);
     if (!opened) return fail(opened.error().message);
-    runtime::TileStreamer& streamer = *opened.value();
-    const runtime::TerrainGeometry geometry(streamer.manifest());
+    runtime::TerrainSession& session = *opened.value();
+    const runtime::TerrainGeometry& geometry = session.geometry();
 
     std::optional<runtime::CameraPath> path;
     if (o.pathFile.empty()) {
@@ -123,12 +122,9 @@ int run(const RenderOptions& o) {
     auto csv = runtime::TelemetryCsvWriter::create(outputDir / "telemetry.csv");
     if (!csv) return fail(csv.error().message);
 
-    auto renderer = runtime::TerrainRenderer::create(streamer.layout(), streamer.pool().capacity());
-    if (!renderer) return fail(renderer.error().message);
     auto framebuffer = gl::Framebuffer::create(o.widthPx, o.heightPx, "terrain-render frame");
     if (!framebuffer) return fail(framebuffer.error().message);
 
-    runtime::LodQuadtree tree(streamer, geometry, {.errorPx = o.errorPx});
     runtime::TerrainStyle style;
     style.errorPx = static_cast<float>(o.errorPx);
     style.measure = true;
@@ -151,8 +147,6 @@ int run(const RenderOptions& o) {
                      : static_cast<std::uint64_t>(std::floor(path->durationS() * o.fps)) + 1;
     const std::set<std::uint64_t> chosen(o.frameList.begin(), o.frameList.end());
 
-    std::vector<runtime::PatchDraw> draws;
-    draws.reserve(static_cast<std::size_t>(streamer.pool().capacity()));
     runtime::TelemetrySummary summary;
     runtime::LatencyHistogram lodUs, gpuMs, triangles;
     std::uint64_t framesWritten = 0, maxDrawCalls = 0, maxTriangles = 0, maxPatches = 0;
@@ -160,34 +154,18 @@ int run(const RenderOptions& o) {
     auto previous = loopStart;
     for (std::uint64_t frame = 0; frame < frames; ++frame) {
         path->apply(path->startS() + static_cast<double>(frame) / o.fps, camera);
-        streamer.beginFrame();
-        runtime::LodUpdateStats lod;
-        auto lodStart = Clock::now();
-        lod = tree.update(camera, draws);
-        double lodMicros = std::chrono::duration<double, std::micro>(Clock::now() - lodStart).count();
-        if (o.settle) {
-            // Wait for streaming: frames of updates until nothing is waiting for tiles.
-            for (int i = 0; i < 100000 && (lod.waitingSplits > 0 || streamer.loadsOutstanding() > 0); ++i) {
-                runtime::FrameTelemetry ignored;
-                streamer.endFrame(ignored);
-                std::this_thread::sleep_for(std::chrono::microseconds(500));
-                streamer.beginFrame();
-                lodStart = Clock::now();
-                lod = tree.update(camera, draws);
-                lodMicros = std::chrono::duration<double, std::micro>(Clock::now() - lodStart).count();
-            }
+        if (o.settle && !session.settle(camera, std::chrono::seconds(60))) {
+            return fail(fmt::format("frame {}: streaming did not settle within 60 s", frame));
         }
-        runtime::assignSkirtDepths(draws, streamer.pool());
-
+        session.beginFrame(camera);
         framebuffer.value().clear(sky, 0.0f);  // reversed Z: far is 0
         glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.value().id());
         glViewport(0, 0, o.widthPx, o.heightPx);
-        const runtime::TerrainDrawStats drawn =
-            renderer.value().draw(camera, geometry, streamer.pool(), draws, style);
+        const runtime::TerrainDrawStats drawn = session.draw(camera, style);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
 
         runtime::FrameTelemetry t;
-        streamer.endFrame(t);
+        session.endFrame(t);
         if ((o.every > 0 && frame % o.every == 0) || chosen.contains(frame) || frame + 1 == frames) {
             const auto file = outputDir / fmt::format("frame-{:05}.png", frame);
             if (auto written = writeFrame(framebuffer.value(), file); !written) {
@@ -200,29 +178,21 @@ int run(const RenderOptions& o) {
         t.timeS = std::chrono::duration<double>(now - loopStart).count();
         t.frameMs = std::chrono::duration<double, std::milli>(now - previous).count();
         previous = now;
-        t.patchesDrawn = lod.drawn;
-        t.patchesCulled = lod.culled;
-        t.triangles = drawn.triangles;
-        t.drawCalls = static_cast<std::uint64_t>(drawn.drawCalls);
-        t.lodUpdateUs = lodMicros;
-        t.gpuMs = drawn.gpuMs;
-        t.lodSplits = lod.splits;
-        t.lodMerges = lod.merges;
         csv.value().write(t);
         summary.add(t);
-        lodUs.add(lodMicros / 1000.0);  // LatencyHistogram counts milliseconds
-        if (!std::isnan(drawn.gpuMs)) gpuMs.add(drawn.gpuMs);
+        lodUs.add(t.lodUpdateUs / 1000.0);  // LatencyHistogram counts milliseconds
+        if (!std::isnan(t.gpuMs)) gpuMs.add(t.gpuMs);
         triangles.add(static_cast<double>(drawn.triangles) / 1000.0);
         maxDrawCalls = std::max<std::uint64_t>(maxDrawCalls, t.drawCalls);
         maxTriangles = std::max<std::uint64_t>(maxTriangles, drawn.triangles);
-        maxPatches = std::max<std::uint64_t>(maxPatches, lod.drawn);
+        maxPatches = std::max<std::uint64_t>(maxPatches, t.patchesDrawn);
         if (context.value()->debugLog().errorCount() > 0) {
             return fail("OpenGL reported an error:\n" + context.value()->debugLog().formatErrors());
         }
     }
     if (auto closed = csv.value().close(); !closed) return fail(closed.error().message);
-    summary.mergeLoadLatencies(streamer.loadLatencies());
-    streamer.drain(std::chrono::seconds(10));
+    summary.mergeLoadLatencies(session.streamer().loadLatencies());
+    session.streamer().drain(std::chrono::seconds(10));
     const bool llvmpipe = context.value()->info().renderer.find("llvmpipe") != std::string::npos;
 
     if (o.json) {
