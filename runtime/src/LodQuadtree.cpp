@@ -12,6 +12,7 @@ namespace terrain::runtime {
 namespace {
 
 constexpr int kBlock = 4;
+constexpr double kMinTravelM = 1e-3;
 
 bool laterCheck(const auto& a, const auto& b) { return a.atOdometer > b.atOdometer; }
 
@@ -68,14 +69,21 @@ double LodQuadtree::screenError(const Node& node) const {
 }
 
 void LodQuadtree::schedule(int node, CheckKind kind, double travel) {
-    m_checks.push_back({m_odometer + std::max(0.0, travel), node,
-                        m_nodes[static_cast<std::size_t>(node)].generation, kind});
+    // At least kMinTravelM ahead: a decision just made is not due again in the same frame
+    // (the odometer stands still within a frame), so a frame's check loop always ends.
+    pushCheck(node, kind, m_odometer + std::max(kMinTravelM, travel));
+}
+
+void LodQuadtree::pushCheck(int node, CheckKind kind, double atOdometer) {
+    m_checks.push_back({atOdometer, node, m_nodes[static_cast<std::size_t>(node)].generation, kind});
     std::push_heap(m_checks.begin(), m_checks.end(), laterCheck<Check, Check>);
 }
 
-// A leaf's split decision can change only once ρ falls to ρ_split = γ·Err/ε.
+// A leaf's split decision can change only once ρ falls to ρ_split = γ·Err/ε. A leaf that
+// can never split (the finest level, or a child that failed to load) needs no check.
 void LodQuadtree::scheduleLeaf(int index) {
     const Node& node = m_nodes[static_cast<std::size_t>(index)];
+    if (node.splitBlocked || node.id.level >= m_geometry.layout().finestLevel()) return;
     const double rho = distanceToBox(m_camera.position, node.box);
     const double rhoSplit = m_gamma * static_cast<double>(node.errorM) / m_options.errorPx;
     schedule(index, CheckKind::Split, rho - rhoSplit);
@@ -281,7 +289,8 @@ LodUpdateStats LodQuadtree::update(const Camera& camera, std::vector<PatchDraw>&
             if (node.parent == -2 || (i > 0 && i < kBlock)) continue;  // free, or block 0's spares
             if (i > 0 && node.parent < 0) continue;
             ++node.generation;
-            schedule(static_cast<int>(i), node.leaf() ? CheckKind::Split : CheckKind::Merge, 0.0);
+            pushCheck(static_cast<int>(i), node.leaf() ? CheckKind::Split : CheckKind::Merge,
+                      m_odometer);  // due now
         }
         m_recheckAll = false;
     }

@@ -181,3 +181,31 @@ TEST_F(LodQuadtreeTest, ChangingTheThresholdReevaluatesEverything) {
 
 }  // namespace
 }  // namespace terrain::test
+
+namespace terrain::test {
+namespace {
+
+// Leaves that can never split — the finest level with the camera inside its box, or a
+// patch whose child failed to load — once re-scheduled their own check at zero travel and
+// a frame never ended. Every frame must end, and a still camera must cost nothing.
+TEST_F(LodQuadtreeTest, UnsplittableLeavesDoNotRecheckWithinAFrame) {
+    runtime::TileStreamerOptions options;
+    options.io.faults = {.errorRate = 0.3, .addedLatencyMs = 0.0, .seed = 3};
+    auto opened = TileStreamer::open(streamingTestPyramid(), options);
+    ASSERT_TRUE(opened) << opened.error().message;
+    m_streamer = std::move(opened).value();
+    m_tree = std::make_unique<LodQuadtree>(*m_streamer, *m_geometry, runtime::LodOptions{.errorPx = 0.5});
+    // Just above the highest sample: inside the bounding boxes of the patches below.
+    Camera c = camera(0.5, 0.5, 0.5, 0.55, 0.55);
+    c.position.z = m_geometry->maxHeight() - 1.0;
+    settle(c);
+    EXPECT_GT(m_streamer->faults().size(), 0u);
+    for (int i = 0; i < 10; ++i) {
+        const LodUpdateStats s = frame(c);
+        EXPECT_EQ(s.evaluations, 0u) << "frame " << i;
+    }
+    EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
+}
+
+}  // namespace
+}  // namespace terrain::test

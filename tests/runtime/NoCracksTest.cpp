@@ -7,6 +7,7 @@
 #include "SharedData.h"
 #include "StreamingTestPyramid.h"
 #include "TempFolder.h"
+#include "TerrainViewChecks.h"
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/io/DemReader.h"
 #include "terrain/io/PyramidBuilder.h"
@@ -52,53 +53,6 @@ struct CrackStats {
     std::uint64_t worstPoseWithoutSkirts = 0;
 };
 
-/// A pose whose every pixel sees terrain: above the DEM's interior and higher than its
-/// highest sample, pitched between −35° and −90°, all four corner rays meeting the plane
-/// z = minHeight inside the DEM rectangle. Since the camera is above the surface and each
-/// ray reaches the plane (at or below the surface) over the DEM, it crosses the terrain.
-Camera randomFullView(const runtime::TerrainGeometry& g, std::mt19937_64& random) {
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    const glm::dvec2 size = g.demSize();
-    const double floorM = g.minHeight() - 1.0;  // margin below the lowest sample
-    const double reliefM = std::max(g.maxHeight() - g.minHeight(), 1.0);
-    for (int attempt = 0; attempt < 100000; ++attempt) {
-        Camera c;
-        c.viewportWidth = kWidth;
-        c.viewportHeight = kHeight;
-        c.fovY = 0.9;
-        c.position = {(0.05 + 0.9 * u(random)) * size.x, -(0.05 + 0.9 * u(random)) * size.y,
-                      g.maxHeight() + 2.0 + reliefM * 1.5 * u(random) * u(random)};
-        c.yaw = 2.0 * std::numbers::pi * u(random);
-        c.pitch = -(35.0 + 55.0 * u(random)) * std::numbers::pi / 180.0;
-        const double tanY = std::tan(0.5 * c.fovY), tanX = std::tan(0.5 * c.fovX());
-        bool inside = true;
-        for (const double sx : {-1.0, 1.0}) {
-            for (const double sy : {-1.0, 1.0}) {
-                const glm::dvec3 ray = c.forward() + sx * tanX * c.right() + sy * tanY * c.up();
-                if (ray.z >= 0.0) {
-                    inside = false;
-                    continue;
-                }
-                const double t = (floorM - c.position.z) / ray.z;
-                const glm::dvec3 hit = c.position + t * ray;
-                inside = inside && hit.x > 0.0 && hit.x < size.x && hit.y < 0.0 && hit.y > -size.y;
-            }
-        }
-        if (inside) return c;
-    }
-    ADD_FAILURE() << "no pose found whose view is all terrain";
-    return {};
-}
-
-std::uint64_t countClearPixels(const gl::Framebuffer& fb) {
-    const std::vector<std::uint8_t> rgba = fb.readColorRgba8();
-    std::uint64_t count = 0;
-    for (std::size_t i = 0; i + 3 < rgba.size(); i += 4) {
-        count += rgba[i] == 255 && rgba[i + 1] == 0 && rgba[i + 2] == 255 ? 1 : 0;
-    }
-    return count;
-}
-
 class NoCracksTest : public GlTest {
 protected:
     /// The coarse LOD's ε (patches) of each pose is drawn log-uniformly from
@@ -124,7 +78,7 @@ protected:
         std::vector<runtime::PatchDraw> draws;
         CrackStats stats;
         for (int pose = 0; pose < poses; ++pose) {
-            const Camera camera = randomFullView(g, random);
+            const Camera camera = randomFullView(g, kWidth, kHeight, random);
             const double selectionErrorPx =
                 minSelectionPx * std::pow(maxSelectionPx / minSelectionPx,
                                           std::uniform_real_distribution<double>(0.0, 1.0)(random));
@@ -155,9 +109,9 @@ protected:
             glViewport(0, 0, kWidth, kHeight);
             for (const bool skirts : {true, false}) {
                 style.skirts = skirts;
-                fb.value().clear({1.0f, 0.0f, 1.0f, 1.0f}, 0.0f);
+                fb.value().clear(kHoleColor, 0.0f);
                 renderer.value().draw(camera, g, streamer.pool(), draws, style);
-                const std::uint64_t clear = countClearPixels(fb.value());
+                const std::uint64_t clear = countHolePixels(fb.value());
                 if (skirts) {
                     stats.clearPixelsWithSkirts += clear;
                     stats.posesWithClearPixelsWithSkirts += clear > 0 ? 1 : 0;

@@ -98,6 +98,7 @@ private:
 
     double screenError(const Node& node) const;
     void schedule(int node, CheckKind kind, double travel);
+    void pushCheck(int node, CheckKind kind, double atOdometer);
     void scheduleLeaf(int node);
     void scheduleMergeIfCandidate(int node);
     bool trySplit(int node, double screenError);

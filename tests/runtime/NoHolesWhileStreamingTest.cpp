@@ -1,0 +1,123 @@
+// Never a hole while streaming (issue 5; DESIGN.md, "Streaming and caches"): the LOD tree
+// splits a patch only when all its children are resident, so whatever streaming does —
+// tiny caches, slow reads, failed reads, teleports far faster than tiles arrive — every
+// frame covers the whole visible terrain. Each frame of a teleporting flight between views
+// that are all terrain is drawn over a clear colour the terrain never produces, and no
+// pixel of it may remain. The control draws one frame with a patch left out and must see
+// the clear colour, so the count can fail.
+#include "GlTestFixture.h"
+#include "StreamingTestPyramid.h"
+#include "TerrainViewChecks.h"
+#include "terrain/gl/Framebuffer.h"
+#include "terrain/runtime/TerrainSession.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <random>
+#include <thread>
+#include <vector>
+
+namespace terrain::test {
+namespace {
+
+constexpr int kWidth = 256;
+constexpr int kHeight = 192;
+
+class NoHolesWhileStreamingTest : public GlTest {};
+
+TEST_F(NoHolesWhileStreamingTest, TeleportsWithTinyBudgetsSlowAndFailingReads) {
+    runtime::TerrainSessionOptions options;
+    options.streaming.gpuLayers = 40;                  // of 341 patches
+    options.streaming.cpuCacheBytes = 256 * 1024;      // a dozen tiles
+    options.streaming.uploadBytesPerFrame = 24 * 1024;  // about two tiles a frame
+    options.streaming.io.faults = {.errorRate = 0.1, .addedLatencyMs = 2.0, .seed = 11};
+    options.lod.errorPx = 1.0;
+    auto opened = runtime::TerrainSession::open(streamingTestPyramid(), options);
+    ASSERT_TRUE(opened) << opened.error().message;
+    runtime::TerrainSession& session = *opened.value();
+    const runtime::TerrainGeometry& g = session.geometry();
+    auto fb = gl::Framebuffer::create(kWidth, kHeight);
+    ASSERT_TRUE(fb) << fb.error().message;
+
+    std::mt19937_64 random(7);
+    runtime::Camera camera = randomFullView(g, kWidth, kHeight, random);
+    // The root is the one tile the view must wait for: before it nothing can be drawn.
+    for (int i = 0; i < 5000 && session.draws().empty(); ++i) {
+        session.beginFrame(camera);
+        runtime::FrameTelemetry t;
+        session.endFrame(t);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    ASSERT_FALSE(session.draws().empty()) << "the root never arrived";
+
+    runtime::TerrainStyle style;
+    style.fogDensityPerM = 0.0f;
+    int frames = 0, framesWaiting = 0, teleports = 0;
+    std::uint64_t holePixels = 0;
+    std::uint64_t maxPatches = 0;
+    std::uniform_int_distribution<int> holdFrames(1, 10);
+    while (frames < 240) {
+        camera = randomFullView(g, kWidth, kHeight, random);
+        ++teleports;
+        const int hold = holdFrames(random);
+        for (int i = 0; i < hold && frames < 240; ++i, ++frames) {
+            const runtime::LodUpdateStats& lod = session.beginFrame(camera);
+            framesWaiting += lod.waitingSplits > 0 ? 1 : 0;
+            maxPatches = std::max<std::uint64_t>(maxPatches, lod.drawn);
+            glBindFramebuffer(GL_FRAMEBUFFER, fb.value().id());
+            glViewport(0, 0, kWidth, kHeight);
+            fb.value().clear(kHoleColor, 0.0f);
+            session.draw(camera, style);
+            glBindFramebuffer(GL_FRAMEBUFFER, 0);
+            const std::uint64_t holes = countHolePixels(fb.value());
+            holePixels += holes;
+            EXPECT_EQ(holes, 0u) << "frame " << frames << " (teleport " << teleports
+                                 << ", hold " << i << "): " << lod.drawn << " patches drawn";
+            runtime::FrameTelemetry t;
+            session.endFrame(t);
+            ASSERT_EQ(session.tree().checkInvariants(), std::nullopt) << "frame " << frames;
+            ASSERT_EQ(session.streamer().checkInvariants(), std::nullopt) << "frame " << frames;
+        }
+    }
+    std::cout << "[          ] " << frames << " frames, " << teleports << " teleports, "
+              << framesWaiting << " frames with splits waiting for tiles, "
+              << session.streamer().faults().size() << " failed tiles, up to " << maxPatches
+              << " patches; " << holePixels << " hole pixels\n";
+    EXPECT_EQ(holePixels, 0u);
+    // The flight did stress streaming: tiles were late for many frames, and some failed.
+    EXPECT_GT(framesWaiting, frames / 3);
+    EXPECT_GT(session.streamer().faults().size(), 0u);
+    EXPECT_GT(maxPatches, 4u) << "the views must refine beyond the root";
+
+    // Control: the same count sees a hole when a drawn patch is left out. (No settle: 40
+    // layers cannot hold every patch these views want, so some splits wait for good.)
+    session.beginFrame(camera);
+    std::vector<runtime::PatchDraw> missingOne(session.draws().begin(), session.draws().end());
+    ASSERT_GT(missingOne.size(), 1u);
+    // Leave out the patch under the centre of the view (where the view axis meets the
+    // middle height), which the steep views of randomFullView see.
+    const double midHeightM = 0.5 * (g.minHeight() + g.maxHeight());
+    const glm::dvec3 centre =
+        camera.position + (midHeightM - camera.position.z) / camera.forward().z * camera.forward();
+    const auto underCentre = std::find_if(missingOne.begin(), missingOne.end(), [&](const auto& d) {
+        const glm::dvec2 nw = g.patchNorthWest(d.id), size = g.patchSize(d.id.level);
+        return centre.x >= nw.x && centre.x <= nw.x + size.x && centre.y <= nw.y &&
+               centre.y >= nw.y - size.y;
+    });
+    ASSERT_NE(underCentre, missingOne.end());
+    missingOne.erase(underCentre);
+    glBindFramebuffer(GL_FRAMEBUFFER, fb.value().id());
+    glViewport(0, 0, kWidth, kHeight);
+    fb.value().clear(kHoleColor, 0.0f);
+    session.renderer().draw(camera, g, session.streamer().pool(), missingOne, style);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    EXPECT_GT(countHolePixels(fb.value()), 0u) << "a missing patch must show the clear colour";
+    runtime::FrameTelemetry t;
+    session.endFrame(t);
+    EXPECT_TRUE(session.streamer().drain(std::chrono::seconds(10)));
+}
+
+}  // namespace
+}  // namespace terrain::test
