@@ -439,7 +439,7 @@ CameraPath CameraPath::defaultFor(const TerrainGeometry& geometry, double durati
     // The flight is laid out in a frame u (east), n (north) ∈ [0, 1]² centred on the DEM.
     // The frame is the DEM stretched by at most 2:1, so turns keep their shape on long,
     // narrow DEMs (which it then leaves partly unvisited) instead of flattening out.
-    const glm::dvec2 centre{0.5 * size.x, -0.5 * size.y};
+    const glm::dvec2 centre = geometry.worldAtFraction(0.5, 0.5);
     const glm::dvec2 frame{std::min(size.x, 2.0 * size.y), std::min(size.y, 2.0 * size.x)};
     const auto world = [&](glm::dvec2 un) { return centre + (un - 0.5) * frame; };
 

@@ -31,11 +31,18 @@ glm::dvec2 spacingFor(const io::Georeference& g, const io::PyramidLayout& layout
     return {dx, dy};
 }
 
+// Projected: the centre of pixel (0, 0) in map coordinates (pixel-is-area registration).
+glm::dvec2 originFor(const io::Georeference& g) {
+    if (g.crsKind != io::CrsKind::Projected) return {0.0, 0.0};
+    return {g.originX + 0.5 * g.pixelSizeX, g.originY - 0.5 * g.pixelSizeY};
+}
+
 }  // namespace
 
 TerrainGeometry::TerrainGeometry(const io::PyramidManifest& manifest)
     : m_layout(manifest.layout),
       m_spacing(spacingFor(manifest.georeference, manifest.layout)),
+      m_origin(originFor(manifest.georeference)),
       m_minHeight(manifest.statistics.minHeight),
       m_maxHeight(manifest.statistics.maxHeight) {}
 

@@ -617,6 +617,8 @@ struct GeometryCase {
     double spacingY;
     double minHeight;
     double maxHeight;
+    /// Projected: the georeferenced south-west corner (the procedural DEM's is 0, 0).
+    glm::dvec2 southWestM{0.0, 0.0};
 };
 
 TerrainGeometry geometryOf(const GeometryCase& c) {
@@ -629,6 +631,10 @@ TerrainGeometry geometryOf(const GeometryCase& c) {
         manifest.georeference.originX = 7.0;  // the Alps
         manifest.georeference.originY = 47.0;
         manifest.georeference.epsg = io::Georeference::kWgs84Geographic;
+    } else if (c.crs == io::CrsKind::Projected) {
+        manifest.georeference.originX = c.southWestM.x;
+        manifest.georeference.originY =
+            c.southWestM.y + static_cast<double>(c.height) * c.spacingY;
     }
     manifest.statistics.minHeight = c.minHeight;
     manifest.statistics.maxHeight = c.maxHeight;
@@ -649,6 +655,9 @@ const std::vector<GeometryCase>& geometryCases() {
         {"tall", 257, 4097, io::CrsKind::Projected, 2.0, 2.0, 0.0, 50.0},
         {"geographic", 3601, 3601, io::CrsKind::Geographic, 1.0 / 3600.0, 1.0 / 3600.0, 190.0,
          4800.0},
+        // 10,000 km from the CRS's origin, as a DEM far out on a planet-sized grid.
+        {"far-from-origin", 513, 513, io::CrsKind::Projected, 30.0, 30.0, 0.0, 2000.0,
+         {1.0e7, 1.0e7}},
     };
     return cases;
 }
@@ -673,10 +682,11 @@ TEST(CameraPathDefault, EveryFrameLooksAtTheDem) {
             ASSERT_LT(f.z, 0.0) << "t = " << t;
             const double along = (geometry.minHeight() - camera.position.z) / f.z;
             const glm::dvec3 hit = camera.position + along * f;
-            EXPECT_GE(hit.x, -margin) << "t = " << t;
-            EXPECT_LE(hit.x, size.x + margin) << "t = " << t;
-            EXPECT_GE(hit.y, -size.y - margin) << "t = " << t;
-            EXPECT_LE(hit.y, margin) << "t = " << t;
+            const glm::dvec2 local = glm::dvec2(hit) - geometry.origin();  // y ≤ 0 on the DEM
+            EXPECT_GE(local.x, -margin) << "t = " << t;
+            EXPECT_LE(local.x, size.x + margin) << "t = " << t;
+            EXPECT_GE(local.y, -size.y - margin) << "t = " << t;
+            EXPECT_LE(local.y, margin) << "t = " << t;
             EXPECT_NEAR(camera.fovY, rad(60.0), 1e-12);
             lowestClearance = std::min(lowestClearance, camera.position.z - geometry.maxHeight());
             steepest = std::max(steepest, -camera.pitch);
@@ -714,9 +724,9 @@ TEST(CameraPathDefault, StartsLowAndEndsWithTheWholeDemInView) {
     end.viewportWidth = 1600;
     end.viewportHeight = 900;
     path.apply(path.endS(), end);
-    const glm::dvec2 size = geometry.demSize();
-    for (const glm::dvec2 corner : {glm::dvec2(0.0, 0.0), glm::dvec2(size.x, 0.0),
-                                    glm::dvec2(0.0, -size.y), glm::dvec2(size.x, -size.y)}) {
+    for (const glm::dvec2 corner :
+         {geometry.worldAtFraction(0.0, 0.0), geometry.worldAtFraction(1.0, 0.0),
+          geometry.worldAtFraction(0.0, 1.0), geometry.worldAtFraction(1.0, 1.0)}) {
         const glm::dvec3 d = glm::dvec3(corner, geometry.minHeight()) - end.position;
         const double depth = glm::dot(d, end.forward());
         ASSERT_GT(depth, 0.0);
@@ -776,7 +786,8 @@ TEST(CameraPathExample, FlyoverLoadsAndLooksAtTheProceduralPyramid) {
         ASSERT_LT(f.z, 0.0) << "t = " << t;
         const glm::dvec3 hit =
             camera.position + (geometry.minHeight() - camera.position.z) / f.z * f;
-        EXPECT_TRUE(hit.x >= 0.0 && hit.x <= size.x && hit.y >= -size.y && hit.y <= 0.0)
+        const glm::dvec2 local = glm::dvec2(hit) - geometry.origin();
+        EXPECT_TRUE(local.x >= 0.0 && local.x <= size.x && local.y >= -size.y && local.y <= 0.0)
             << "t = " << t << ": the view meets the ground at (" << hit.x << ", " << hit.y << ")";
     }
 }

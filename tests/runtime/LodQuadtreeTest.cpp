@@ -44,9 +44,8 @@ protected:
         c.viewportWidth = 640;
         c.viewportHeight = 480;
         c.fovY = 1.0;
-        const glm::dvec2 size = m_geometry->demSize();
-        c.position = {fx * size.x, -fy * size.y, m_geometry->maxHeight() + above};
-        c.lookAt({tx * size.x, -ty * size.y, m_geometry->minHeight()});
+        c.position = {m_geometry->worldAtFraction(fx, fy), m_geometry->maxHeight() + above};
+        c.lookAt({m_geometry->worldAtFraction(tx, ty), m_geometry->minHeight()});
         return c;
     }
 

@@ -33,9 +33,8 @@ protected:
         c.viewportWidth = 320;
         c.viewportHeight = 240;
         c.fovY = 1.0;
-        const glm::dvec2 size = g.demSize();
-        c.position = {fx * size.x, -fy * size.y, g.maxHeight() + 100.0};
-        c.lookAt({tx * size.x, -ty * size.y, g.minHeight()});
+        c.position = {g.worldAtFraction(fx, fy), g.maxHeight() + 100.0};
+        c.lookAt({g.worldAtFraction(tx, ty), g.minHeight()});
         return c;
     }
 

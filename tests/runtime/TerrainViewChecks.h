@@ -29,7 +29,8 @@ inline constexpr std::array<float, 4> kHoleColor{1.0f, 0.0f, 1.0f, 1.0f};
 inline runtime::Camera randomFullView(const runtime::TerrainGeometry& g, int widthPx,
                                       int heightPx, std::mt19937_64& random) {
     std::uniform_real_distribution<double> u(0.0, 1.0);
-    const glm::dvec2 size = g.demSize();
+    const double lastColumn = static_cast<double>(g.layout().rasterWidth() - 1);
+    const double lastRow = static_cast<double>(g.layout().rasterHeight() - 1);
     const double floorM = g.minHeight() - 1.0;  // margin below the lowest sample
     const double reliefM = std::max(g.maxHeight() - g.minHeight(), 1.0);
     for (int attempt = 0; attempt < 100000; ++attempt) {
@@ -37,7 +38,8 @@ inline runtime::Camera randomFullView(const runtime::TerrainGeometry& g, int wid
         c.viewportWidth = widthPx;
         c.viewportHeight = heightPx;
         c.fovY = 0.9;
-        c.position = {(0.05 + 0.9 * u(random)) * size.x, -(0.05 + 0.9 * u(random)) * size.y,
+        const double fx = 0.05 + 0.9 * u(random), fy = 0.05 + 0.9 * u(random);
+        c.position = {g.worldAtFraction(fx, fy),
                       g.maxHeight() + 2.0 + reliefM * 1.5 * u(random) * u(random)};
         c.yaw = 2.0 * std::numbers::pi * u(random);
         c.pitch = -(35.0 + 55.0 * u(random)) * std::numbers::pi / 180.0;
@@ -52,7 +54,8 @@ inline runtime::Camera randomFullView(const runtime::TerrainGeometry& g, int wid
                 }
                 const double t = (floorM - c.position.z) / ray.z;
                 const glm::dvec3 hit = c.position + t * ray;
-                inside = inside && hit.x > 0.0 && hit.x < size.x && hit.y < 0.0 && hit.y > -size.y;
+                const glm::dvec2 s = g.sampleOfWorld(hit.x, hit.y);
+                inside = inside && s.x > 0.0 && s.x < lastColumn && s.y > 0.0 && s.y < lastRow;
             }
         }
         if (inside) return c;

@@ -99,26 +99,27 @@ std::vector<Pose> poses(const runtime::TerrainGeometry& g) {
         pose.camera.fovY = 1.0;
         return pose;
     };
-    const glm::dvec3 centre{0.5 * size.x, -0.5 * size.y, 0.0};
+    const auto at = [&](double fx, double fy, double z) { return glm::dvec3(g.worldAtFraction(fx, fy), z); };
+    const glm::dvec3 centre = at(0.5, 0.5, 0.0);
     std::vector<Pose> out{
         make("looking down", centre + glm::dvec3(0, 0, high + 0.3 * size.x), 0.3, -1.5708, 640, 480,
              2.0),
         make("near", centre + glm::dvec3(0, 0, high + 2.0), 1.0, -0.2, 1280, 720, 2.0),
-        make("grazing", {0.1 * size.x, -0.1 * size.y, high + 1.0}, 2.4, 0.0, 1920, 1080, 2.0),
-        make("far", {-2.0 * size.x, 2.0 * size.y, high + 0.5 * size.x}, 2.356, -0.15, 640, 480,
+        make("grazing", at(0.1, 0.1, high + 1.0), 2.4, 0.0, 1920, 1080, 2.0),
+        make("far", at(-2.0, -2.0, high + 0.5 * size.x), 2.356, -0.15, 640, 480,
              2.0),
         make("below the terrain", centre + glm::dvec3(0, 0, low - 20.0), 0.0, 0.4, 320, 240, 2.0),
-        make("oblique, eps 1", {0.2 * size.x, -0.8 * size.y, high + 0.05 * size.x}, 0.7, -0.4, 800,
+        make("oblique, eps 1", at(0.2, 0.8, high + 0.05 * size.x), 0.7, -0.4, 800,
              600, 1.0),
-        make("oblique, eps 8", {0.8 * size.x, -0.2 * size.y, high + 0.05 * size.x}, 3.9, -0.3, 800,
+        make("oblique, eps 8", at(0.8, 0.2, high + 0.05 * size.x), 3.9, -0.3, 800,
              600, 8.0),
     };
     std::mt19937_64 random(11);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     for (int i = 0; i < 13; ++i) {
-        const glm::dvec3 position{
-            u(random) * size.x, -u(random) * size.y,
-            low + (high - low) * u(random) + 0.4 * size.x * u(random) * u(random)};
+        const double fx = u(random), fy = u(random);
+        const glm::dvec3 position =
+            at(fx, fy, low + (high - low) * u(random) + 0.4 * size.x * u(random) * u(random));
         out.push_back(make("random " + std::to_string(i), position,
                            2.0 * std::numbers::pi * u(random), -1.5 + 1.6 * u(random),
                            i % 2 == 0 ? 1024 : 320, i % 2 == 0 ? 768 : 240,

@@ -40,9 +40,8 @@ protected:
         c.viewportWidth = 640;
         c.viewportHeight = 480;
         c.fovY = 1.0;
-        const glm::dvec2 size = g.demSize();
-        c.position = {0.3 * size.x, -0.2 * size.y, g.maxHeight() + 200.0};
-        c.lookAt({0.6 * size.x, -0.7 * size.y, g.minHeight()});
+        c.position = {g.worldAtFraction(0.3, 0.2), g.maxHeight() + 200.0};
+        c.lookAt({g.worldAtFraction(0.6, 0.7), g.minHeight()});
         return c;
     }
 
@@ -130,10 +129,10 @@ TEST_F(TileStreamerTest, TinyBudgetsSlowReadsAndFaultsNeverLeaveAHole) {
     std::uint64_t framesDrawn = 0;
     for (int i = 0; i < 600; ++i) {
         if (i % 20 == 0) {  // teleport
-            const glm::dvec2 size = g.demSize();
-            c.position = {u(random) * size.x, -u(random) * size.y,
-                          g.maxHeight() + 10.0 + 2000.0 * u(random)};
-            c.lookAt({u(random) * size.x, -u(random) * size.y, g.minHeight()});
+            const double fx = u(random), fy = u(random);
+            c.position = {g.worldAtFraction(fx, fy), g.maxHeight() + 10.0 + 2000.0 * u(random)};
+            const double tx = u(random), ty = u(random);
+            c.lookAt({g.worldAtFraction(tx, ty), g.minHeight()});
         }
         frame(*s, g, c, 0.5, f);
         std::this_thread::sleep_for(std::chrono::microseconds(500));  // a frame's worth of time
@@ -184,8 +183,8 @@ TEST_F(TileStreamerTest, MissingShardIsReportedOncePerPatchAndAncestorsDraw) {
     c.viewportWidth = 640;
     c.viewportHeight = 480;
     c.fovY = 1.0;
-    c.position = {0.05 * g.demSize().x, -0.05 * g.demSize().y, g.maxHeight() + 50.0};
-    c.lookAt({0.1 * g.demSize().x, -0.1 * g.demSize().y, g.minHeight()});
+    c.position = {g.worldAtFraction(0.05, 0.05), g.maxHeight() + 50.0};
+    c.lookAt({g.worldAtFraction(0.1, 0.1), g.minHeight()});
     Frame f;
     for (int i = 0; i < 400; ++i) {
         frame(s, g, c, 0.5, f);

@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
     camera.viewportHeight = height;
     camera.fovY = fovDegrees * std::numbers::pi / 180.0;
     camera.pitch = -15.0 * std::numbers::pi / 180.0;
-    const glm::dvec2 from{0.2 * size.x, -0.2 * size.y};
+    const glm::dvec2 from = geometry.worldAtFraction(0.2, 0.2);
     const glm::dvec2 direction = glm::normalize(glm::dvec2(size.x, -size.y));
     camera.yaw = std::atan2(direction.x, direction.y);
 

@@ -27,9 +27,9 @@ StressFlight::StressFlight(const runtime::TerrainGeometry& geometry, std::uint64
     : m_geometry(geometry), m_random(seed), m_groundHeight(std::move(groundHeight)) {}
 
 glm::dvec2 StressFlight::randomPoint() {
-    const glm::dvec2 size = m_geometry.demSize();
     std::uniform_real_distribution<double> u(0.0, 1.0);
-    return {u(m_random) * size.x, -u(m_random) * size.y};
+    const double fx = u(m_random), fy = u(m_random);
+    return m_geometry.worldAtFraction(fx, fy);
 }
 
 void StressFlight::cruise(double speedMps, double altitudeM) {
@@ -97,15 +97,16 @@ void StressFlight::step(double dt, runtime::Camera& camera) {
     if (m_cruising) {
         const glm::dvec2 size = m_geometry.demSize();
         if (!m_cruiseStarted) {  // a tenth of the way along the diagonal
-            camera.position = {0.1 * size.x, -0.1 * size.y, 0.0};
+            camera.position = {m_geometry.worldAtFraction(0.1, 0.1), 0.0};
             m_heading = std::atan2(size.x, -size.y);
             m_cruiseStarted = true;
         }
         glm::dvec3& p = camera.position;
         p.x += std::sin(m_heading) * m_speedMps * dt;
         p.y += std::cos(m_heading) * m_speedMps * dt;
-        const bool outside = p.x < 0.05 * size.x || p.x > 0.95 * size.x ||
-                             p.y > -0.05 * size.y || p.y < -0.95 * size.y;
+        const glm::dvec2 local = glm::dvec2(p) - m_geometry.origin();  // y ≤ 0 over the DEM
+        const bool outside = local.x < 0.05 * size.x || local.x > 0.95 * size.x ||
+                             local.y > -0.05 * size.y || local.y < -0.95 * size.y;
         if (outside) m_heading += std::numbers::pi;  // turn round at the ends
         p.z = m_groundHeight(p.x, p.y) + m_altitudeM;
         camera.yaw = m_heading;
@@ -129,10 +130,11 @@ void StressFlight::step(double dt, runtime::Camera& camera) {
             p.x += std::sin(m_heading) * m_speedMps * dt;
             p.y += std::cos(m_heading) * m_speedMps * dt;
             // Turn back at the DEM's edges.
-            if (p.x < 0.0 || p.x > size.x) m_heading = -m_heading;
-            if (p.y > 0.0 || p.y < -size.y) m_heading = std::numbers::pi - m_heading;
-            p.x = std::clamp(p.x, 0.0, size.x);
-            p.y = std::clamp(p.y, -size.y, 0.0);
+            const glm::dvec2 o = m_geometry.origin();
+            if (p.x < o.x || p.x > o.x + size.x) m_heading = -m_heading;
+            if (p.y > o.y || p.y < o.y - size.y) m_heading = std::numbers::pi - m_heading;
+            p.x = std::clamp(p.x, o.x, o.x + size.x);
+            p.y = std::clamp(p.y, o.y - size.y, o.y);
             p.z = m_groundHeight(p.x, p.y) + m_altitudeM;
             camera.yaw = m_heading;
             break;

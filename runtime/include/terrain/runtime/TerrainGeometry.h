@@ -1,9 +1,14 @@
 // TerrainGeometry: where a pyramid's samples and patches lie in the world frame the
 // runtime works in: x east, y north, z up, metres, double precision (DESIGN.md,
-// "Coordinates and precision"). Sample (0, 0) of the DEM is the world origin.
+// "Coordinates and precision").
 //
-// Projected pyramids use their pixel size; unknown CRSs use 1 m; geographic pyramids use
-// the local east/north metres of one pixel at the DEM's centre on the WGS84 ellipsoid
+// Projected pyramids live in their CRS's own coordinates: world x, y of a sample are its
+// easting and northing (sample centres, so sample (0, 0) is half a pixel inside the
+// georeferenced corner), and a camera path or a jump-to-coordinates speaks the map's
+// language. A DEM 10,000 km from the CRS origin costs the GPU nothing: everything reaching
+// it is relative to the camera's sample. Unknown CRSs put sample (0, 0) at the origin with
+// 1 m spacing; geographic pyramids put it at the origin too, with the local east/north
+// metres of one pixel at the DEM's centre on the WGS84 ellipsoid
 // (GeographicLib::LocalCartesian), a planar approximation that is exact at the centre.
 // The ellipsoidal mapping will replace spacingFor() and patchBounds() only: callers work
 // with world boxes and never with sample spacings directly.
@@ -26,13 +31,21 @@ public:
     /// Metres between two DEM samples, east (x) and south (y).
     glm::dvec2 sampleSpacing() const { return m_spacing; }
 
+    /// World x, y of DEM sample (0, 0), the north-west corner of the DEM's extent.
+    glm::dvec2 origin() const { return m_origin; }
     /// World x, y of a finest-level (DEM) sample position; fractional samples allowed.
     glm::dvec2 worldOfSample(double column, double row) const {
-        return {column * m_spacing.x, -row * m_spacing.y};
+        return {m_origin.x + column * m_spacing.x, m_origin.y - row * m_spacing.y};
     }
     /// The DEM sample position (fractional) of a world x, y.
     glm::dvec2 sampleOfWorld(double x, double y) const {
-        return {x / m_spacing.x, -y / m_spacing.y};
+        return {(x - m_origin.x) / m_spacing.x, (m_origin.y - y) / m_spacing.y};
+    }
+    /// World x, y at fractions of the DEM's extent: (0, 0) is sample (0, 0), the
+    /// north-west corner, (1, 1) the south-east corner; fractions outside [0, 1] allowed.
+    glm::dvec2 worldAtFraction(double eastFraction, double southFraction) const {
+        const glm::dvec2 size = demSize();
+        return {m_origin.x + eastFraction * size.x, m_origin.y - southFraction * size.y};
     }
 
     /// The patch's footprint (its N × N samples without apron) and the heights of `info`.
@@ -41,7 +54,8 @@ public:
     glm::dvec2 patchNorthWest(const io::PatchId& id) const;
     glm::dvec2 patchSize(int level) const;
 
-    /// The DEM's extent in world x, y: [0, width − 1] × [−(height − 1), 0] samples.
+    /// The size of the DEM's extent in world x, y: (width − 1, height − 1) samples in
+    /// metres; it spans worldAtFraction(0, 0) to worldAtFraction(1, 1).
     glm::dvec2 demSize() const;
 
     /// The manifest's height range, metres.
@@ -51,6 +65,7 @@ public:
 private:
     io::PyramidLayout m_layout;
     glm::dvec2 m_spacing{1.0};
+    glm::dvec2 m_origin{0.0};
     double m_minHeight = 0.0;
     double m_maxHeight = 0.0;
 };
