@@ -10,6 +10,7 @@
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/io/PeakMemory.h"
 #include "terrain/io/RgbaImageWriter.h"
+#include "terrain/runtime/GroundHeight.h"
 #include "terrain/runtime/HeadlessGlContext.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
@@ -72,26 +73,6 @@ int fail(const std::string& message) {
 }
 
 std::size_t mebibytes(double mib) { return static_cast<std::size_t>(mib * 1024.0 * 1024.0); }
-
-/// The maximum height of the finest resident patch under (x, y): the flight keeps its
-/// altitude above it, which is conservative (above the real ground).
-double groundHeight(const runtime::TileStreamer& streamer, const runtime::TerrainGeometry& geometry,
-                    double x, double y) {
-    const io::PyramidLayout& layout = geometry.layout();
-    const glm::dvec2 sample = geometry.sampleOfWorld(x, y);
-    double height = geometry.maxHeight();
-    for (int level = 0; level <= layout.finestLevel(); ++level) {
-        const double patchSamples =
-            static_cast<double>(layout.patchQuads()) * static_cast<double>(layout.levelStep(level));
-        const io::PatchId id{level, static_cast<std::int64_t>(std::floor(sample.x / patchSamples)),
-                             static_cast<std::int64_t>(std::floor(sample.y / patchSamples))};
-        if (!layout.contains(id)) break;
-        const io::PatchInfo* info = streamer.pool().info(id);
-        if (info == nullptr) break;
-        height = info->maxHeight;
-    }
-    return height;
-}
 
 struct ResidentMemoryTrend {
     std::size_t samples = 0;
@@ -188,7 +169,7 @@ int run(const StressOptions& o) {
     camera.viewportHeight = o.heightPx;
     camera.fovY = o.fovDegrees * std::numbers::pi / 180.0;
     tools::StressFlight flight(geometry, o.seed, [&](double x, double y) {
-        return groundHeight(streamer, geometry, x, y);
+        return runtime::conservativeGroundHeight(streamer, geometry, x, y);
     });
     if (o.flight == "cruise") flight.cruise(o.cruiseSpeedMps, o.cruiseAltitudeM);
     runtime::TerrainStyle style;
