@@ -8,6 +8,12 @@
 // same inputs through the same `precise` operations from both, and bit-identical factors:
 // no crack inside a patch. Skirts decide their block's border edge the same way, so their
 // top vertices are the patch's edge vertices.
+//
+// Blocks and skirts whose box lies outside the view frustum are discarded here (all outer
+// levels 0): the coarse LOD culls whole patches, but a patch of a near view is mostly off
+// screen, and Yusov's rule tessellates a near block finely wherever it lies. A discarded
+// block leaves no crack on screen: its area is off screen, and its visible neighbours'
+// edge factors do not depend on it being drawn.
 #include "Bindings.h"
 #include "terrain_patches.glsl"
 
@@ -17,8 +23,12 @@ layout(binding = TERRAIN_BINDING_HEIGHTS) uniform sampler2DArray u_heights;
 layout(binding = TERRAIN_BINDING_BLOCK_ERRORS) uniform sampler2DArray u_blockErrors;
 uniform mat4 u_viewProjection;  // camera-relative metres to clip space
 uniform vec2 u_viewportPx;
-uniform float u_errorPx;           // ε
+uniform float u_errorPx;            // ε
 uniform int u_fixedSimplification;  // −1: error-driven; else every edge uses this d
+uniform int u_cullBlocks;           // 1: discard blocks and skirts outside the frustum
+// The view frustum's planes (left, right, bottom, top, near) in camera-relative metres,
+// normals inward: dot(n, p) + w ≥ 0 inside.
+uniform vec4 u_frustumPlanes[5];
 
 layout(location = 0) in vec2 i_sample[];
 layout(location = 1) flat in int i_instance[];
@@ -29,15 +39,17 @@ layout(location = 1) flat out int o_instance[];
 layout(location = 2) out float o_edgeFactor[];
 layout(location = 3) out float o_edgeErrorM[];
 layout(location = 4) patch out float o_skirtDropM;  // 0 for blocks
-layout(location = 5) patch out int o_debugFactor;  // block: inner factor; skirt: along the edge
+layout(location = 5) patch out int o_debugFactor;   // block: inner factor; skirt: along the edge
 
 #ifdef TERRAIN_DEBUG_TESS_FACTORS
 struct TessFactorRecord {
-    ivec4 outer;
+    ivec4 outer;  // before culling
     ivec2 inner;
-    int isSkirt;
+    int flags;  // kRecordSkirt | kRecordCulled
     float skirtDropM;
 };
+const int kRecordSkirt = 1;   // RecordedTessFactors::kSkirt
+const int kRecordCulled = 2;  // RecordedTessFactors::kCulled
 layout(std430, binding = TERRAIN_BINDING_DEBUG_TESS_FACTORS) writeonly buffer TessFactors {
     TessFactorRecord u_tessFactors[];  // (instance · (K² + 4K) + primitive)
 };
@@ -89,6 +101,31 @@ void edgeLod(PatchInstance patch_, ivec2 block, int edge, out int d, out float e
         }
     }
     errorM = d == 0 ? patch_.errors.x : edgeErrorM[d - 1];
+}
+
+// Whether the box [lo, hi] (camera-relative metres) lies entirely outside one plane of the
+// frustum. Conservative: the box must clear the plane by a margin that covers float
+// rounding of the box and planes, so nothing visible is ever discarded.
+bool outsideFrustum(vec3 lo, vec3 hi) {
+    for (int i = 0; i < 5; ++i) {
+        vec4 plane = u_frustumPlanes[i];
+        vec3 far = mix(lo, hi, greaterThanEqual(plane.xyz, vec3(0.0)));  // furthest along n
+        float marginM = 0.05 + 1.0e-5 * (abs(far.x) + abs(far.y) + abs(far.z));
+        if (dot(plane.xyz, far) + plane.w < -marginM) return true;
+    }
+    return false;
+}
+
+// The camera-relative box of `block` of the patch, from the patch's height range, reaching
+// `dropM` further down (a skirt's drop; 0 for the block itself).
+bool blockOutsideFrustum(PatchInstance patch_, ivec2 block, float dropM) {
+    // The north-west corner at the patch's lowest height, the south-east one at its highest:
+    // together they span the box. Rows run south, so the north-west corner has the larger y.
+    vec3 nw = terrainPositionM(patch_, vec2(block * u_blockQuads), patch_.errors.z);
+    vec3 se = terrainPositionM(patch_, vec2((block + 1) * u_blockQuads), patch_.errors.w);
+    vec3 lo = vec3(nw.x, se.y, nw.z - dropM);
+    vec3 hi = vec3(se.x, nw.y, se.z);
+    return outsideFrustum(lo, hi);
 }
 
 void main() {
@@ -145,12 +182,17 @@ void main() {
         o_skirtDropM = 0.0;
     }
     o_debugFactor = int(inner);
+    bool culled = u_cullBlocks != 0 && blockOutsideFrustum(patch_, block, o_skirtDropM);
 #ifdef TERRAIN_DEBUG_TESS_FACTORS
     int record = i_instance[0] * (blocks + 4 * u_blocksPerSide) + primitive;
     u_tessFactors[record].outer = ivec4(gl_TessLevelOuter[0], gl_TessLevelOuter[1],
                                         gl_TessLevelOuter[2], gl_TessLevelOuter[3]);
     u_tessFactors[record].inner = ivec2(gl_TessLevelInner[0], gl_TessLevelInner[1]);
-    u_tessFactors[record].isSkirt = isSkirt ? 1 : 0;
+    u_tessFactors[record].flags = (isSkirt ? kRecordSkirt : 0) | (culled ? kRecordCulled : 0);
     u_tessFactors[record].skirtDropM = o_skirtDropM;
 #endif
+    if (culled) {
+        // An outer level of 0 discards the primitive (GL 4.5 §11.2.2).
+        for (int i = 0; i < 4; ++i) gl_TessLevelOuter[i] = 0.0;
+    }
 }

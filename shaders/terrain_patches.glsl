@@ -15,7 +15,7 @@ struct PatchInstance {
     // in DEM samples (x east, y south); z: DEM samples per patch sample, 2^(finest − level).
     vec4 originAndStep;
     // x: Err(P), metres (Yusov §4); y: skirt depth, metres: the CPU's bound on the Λ of
-    // any neighbouring patch (SkirtDepth.h).
+    // any neighbouring patch (SkirtDepth.h); z, w: the patch's min and max height, metres.
     vec4 errors;
     ivec4 layerLevel;  // x: texture-array layer, y: level
 };

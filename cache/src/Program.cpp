@@ -82,6 +82,12 @@ void Program::setUniform(std::string_view name, const std::array<float, 4>& valu
     glProgramUniform4fv(id(), uniformLocation(name), 1, value.data());
 }
 
+void Program::setUniformVec4Array(std::string_view name, std::span<const float> values) {
+    TERRAIN_ASSERT(values.size() % 4 == 0, "Program::setUniformVec4Array: not whole vec4s");
+    glProgramUniform4fv(id(), uniformLocation(name), static_cast<GLsizei>(values.size() / 4),
+                        values.data());
+}
+
 void Program::setUniformMat4(std::string_view name, std::span<const float, 16> columnMajor) {
     glProgramUniformMatrix4fv(id(), uniformLocation(name), 1, GL_FALSE, columnMajor.data());
 }

@@ -41,6 +41,23 @@ int edgeSimplification(std::span<const double, io::kMaxSimplification> projected
 
 int tessFactorOf(int blockQuads, int d) { return std::max(1, blockQuads >> d); }
 
+bool blockOutsideFrustum(const Camera& camera, const TerrainGeometry& geometry,
+                         const io::PatchId& id, const io::PatchInfo& info, glm::ivec2 block,
+                         double dropM) {
+    const io::PyramidLayout& layout = geometry.layout();
+    const double step = static_cast<double>(layout.levelStep(id.level));
+    const double quads = static_cast<double>(layout.blockQuads());
+    const double column = static_cast<double>(layout.patchOriginX(id)) * step;
+    const double row = static_cast<double>(layout.patchOriginY(id)) * step;
+    const glm::dvec2 nw =
+        geometry.worldOfSample(column + block.x * quads * step, row + block.y * quads * step);
+    const glm::dvec2 se = geometry.worldOfSample(column + (block.x + 1) * quads * step,
+                                                 row + (block.y + 1) * quads * step);
+    const Aabb box{.min = {nw.x, se.y, static_cast<double>(info.minHeight) - dropM},
+                   .max = {se.x, nw.y, static_cast<double>(info.maxHeight)}};
+    return !camera.frustum().intersects(box);
+}
+
 std::vector<BlockFactors> patchBlockFactors(const Camera& camera, const TerrainGeometry& geometry,
                                             const io::PatchRecord& record, double errorPx) {
     const io::PyramidLayout& layout = geometry.layout();
@@ -99,6 +116,7 @@ std::vector<BlockFactors> patchBlockFactors(const Camera& camera, const TerrainG
             }
             const int inner = *std::min_element(f.outer.begin(), f.outer.end());
             f.inner = {inner, inner};
+            f.culled = blockOutsideFrustum(camera, geometry, record.id, record.info, block, 0.0);
         }
     }
     return out;

@@ -114,12 +114,13 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
     for (const PatchDraw& p : patches) {
         TERRAIN_ASSERT(pool.isResident(p.id) && pool.layerOf(p.id) == p.layer,
                        "TerrainRenderer: drawing a patch that is not resident on its layer");
+        const io::PatchInfo& info = *pool.info(p.id);
         const std::int64_t step = layout.levelStep(p.id.level);
         const double originX = static_cast<double>(layout.patchOriginX(p.id) * step) - anchor.x;
         const double originY = static_cast<double>(layout.patchOriginY(p.id) * step) - anchor.y;
         m_staging.push_back({{static_cast<float>(originX), static_cast<float>(originY),
                               static_cast<float>(step), 0.0f},
-                             {p.errorM, p.skirtDepthM, 0.0f, 0.0f},
+                             {p.errorM, p.skirtDepthM, info.minHeight, info.maxHeight},
                              {p.layer, p.id.level, 0, 0}});
     }
     m_instances.upload(0, std::as_bytes(std::span(m_staging)));
@@ -143,6 +144,20 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
     m_program.setUniform("u_errorPx", static_cast<float>(style.errorPx));
     m_program.setUniform("u_fixedSimplification",
                          fixedSimplification(style.fixedTessFactor, m_blockQuads));
+    m_program.setUniform("u_cullBlocks", style.cullBlocks ? 1 : 0);
+    // The frustum relative to the camera, in double before the cast: the world planes'
+    // offsets are planet-sized, the relative ones are not.
+    const Frustum frustum = camera.frustum();
+    std::array<float, 4 * 5> planes{};
+    for (std::size_t i = 0; i < frustum.planes.size(); ++i) {
+        const glm::dvec4& p = frustum.planes[i];
+        const double w = p.w + glm::dot(glm::dvec3(p), camera.position);
+        planes[4 * i + 0] = static_cast<float>(p.x);
+        planes[4 * i + 1] = static_cast<float>(p.y);
+        planes[4 * i + 2] = static_cast<float>(p.z);
+        planes[4 * i + 3] = static_cast<float>(w);
+    }
+    m_program.setUniformVec4Array("u_frustumPlanes", planes);
     m_program.setUniform("u_sunDirection", std::array<float, 3>{-0.5345f, 0.6414f, 0.5505f});
     m_program.setUniform("u_heightRangeM",
                          std::array<float, 2>{static_cast<float>(geometry.minHeight()),

@@ -22,8 +22,8 @@ io::Result<std::unique_ptr<TerrainSession>> TerrainSession::open(
     auto renderer = TerrainRenderer::create(streamer.value()->layout(),
                                             streamer.value()->pool().capacity(), options.renderer);
     if (!renderer) return io::Error{pyramid.string() + ": " + renderer.error().message};
-    return std::unique_ptr<TerrainSession>(new TerrainSession(
-        std::move(streamer).value(), std::move(renderer).value(), options.lod));
+    return std::unique_ptr<TerrainSession>(
+        new TerrainSession(std::move(streamer).value(), std::move(renderer).value(), options.lod));
 }
 
 TerrainSession::TerrainSession(std::unique_ptr<TileStreamer> streamer, TerrainRenderer renderer,

@@ -29,8 +29,8 @@ class NoHolesWhileStreamingTest : public GlTest {};
 
 TEST_F(NoHolesWhileStreamingTest, TeleportsWithTinyBudgetsSlowAndFailingReads) {
     runtime::TerrainSessionOptions options;
-    options.streaming.gpuLayers = 40;                  // of 341 patches
-    options.streaming.cpuCacheBytes = 256 * 1024;      // a dozen tiles
+    options.streaming.gpuLayers = 40;                   // of 341 patches
+    options.streaming.cpuCacheBytes = 256 * 1024;       // a dozen tiles
     options.streaming.uploadBytesPerFrame = 24 * 1024;  // about two tiles a frame
     options.streaming.io.faults = {.errorRate = 0.1, .addedLatencyMs = 2.0, .seed = 11};
     options.lod.errorPx = 1.0;
@@ -73,8 +73,8 @@ TEST_F(NoHolesWhileStreamingTest, TeleportsWithTinyBudgetsSlowAndFailingReads) {
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
             const std::uint64_t holes = countHolePixels(fb.value());
             holePixels += holes;
-            EXPECT_EQ(holes, 0u) << "frame " << frames << " (teleport " << teleports
-                                 << ", hold " << i << "): " << lod.drawn << " patches drawn";
+            EXPECT_EQ(holes, 0u) << "frame " << frames << " (teleport " << teleports << ", hold "
+                                 << i << "): " << lod.drawn << " patches drawn";
             runtime::FrameTelemetry t;
             session.endFrame(t);
             ASSERT_EQ(session.tree().checkInvariants(), std::nullopt) << "frame " << frames;

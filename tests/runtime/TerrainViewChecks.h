@@ -26,8 +26,8 @@ inline constexpr std::array<float, 4> kHoleColor{1.0f, 0.0f, 1.0f, 1.0f};
 /// highest sample, pitched between −35° and −90°, all four corner rays meeting the plane
 /// z = minHeight inside the DEM rectangle. Since the camera is above the surface and each
 /// ray reaches the plane (at or below the surface) over the DEM, it crosses the terrain.
-inline runtime::Camera randomFullView(const runtime::TerrainGeometry& g, int widthPx,
-                                      int heightPx, std::mt19937_64& random) {
+inline runtime::Camera randomFullView(const runtime::TerrainGeometry& g, int widthPx, int heightPx,
+                                      std::mt19937_64& random) {
     std::uniform_real_distribution<double> u(0.0, 1.0);
     const double lastColumn = static_cast<double>(g.layout().rasterWidth() - 1);
     const double lastRow = static_cast<double>(g.layout().rasterHeight() - 1);

@@ -82,8 +82,10 @@ nlohmann::json statsJson(const runtime::LatencyHistogram& h, double scale = 1.0)
     const auto value = [&](double v) {
         return std::isnan(v) ? nlohmann::json() : nlohmann::json(v * scale);
     };
-    return {{"p50", value(h.percentile(50.0))}, {"p95", value(h.percentile(95.0))},
-            {"max", value(h.max())}, {"mean", value(h.mean())}};
+    return {{"p50", value(h.percentile(50.0))},
+            {"p95", value(h.percentile(95.0))},
+            {"max", value(h.max())},
+            {"mean", value(h.mean())}};
 }
 
 int run(const RenderOptions& o) {
@@ -166,7 +168,8 @@ int run(const RenderOptions& o) {
 
         runtime::FrameTelemetry t;
         session.endFrame(t);
-        if ((o.every > 0 && frame % o.every == 0) || chosen.contains(frame) || frame + 1 == frames) {
+        if ((o.every > 0 && frame % o.every == 0) || chosen.contains(frame) ||
+            frame + 1 == frames) {
             const auto file = outputDir / fmt::format("frame-{:05}.png", frame);
             if (auto written = writeFrame(framebuffer.value(), file); !written) {
                 return fail(written.error().message);
@@ -210,8 +213,10 @@ int run(const RenderOptions& o) {
             {"height_px", o.heightPx},
             {"error_px", o.errorPx},
             {"settle", o.settle},
-            {"triangles", {{"p50", triangles.percentile(50.0) * 1000.0}, {"max", maxTriangles},
-                           {"mean", triangles.mean() * 1000.0}}},
+            {"triangles",
+             {{"p50", triangles.percentile(50.0) * 1000.0},
+              {"max", maxTriangles},
+              {"mean", triangles.mean() * 1000.0}}},
             {"patches_drawn_max", maxPatches},
             {"draw_calls_max", maxDrawCalls},
             {"lod_update_us", statsJson(lodUs, 1000.0)},
@@ -225,12 +230,13 @@ int run(const RenderOptions& o) {
         };
         std::puts(out.dump(2).c_str());
     }
-    fmt::print(stderr,
-               "terrain-render: {} frames of {}x{} at ε = {} px into {} ({} PNGs): triangles p50 "
-               "{:.0f} (max {}), {} patches max, {} draw call(s) per frame, LOD update p50 {:.0f} µs\n",
-               frames, o.widthPx, o.heightPx, o.errorPx, o.outputDir, framesWritten,
-               triangles.percentile(50.0) * 1000.0, maxTriangles, maxPatches, maxDrawCalls,
-               lodUs.percentile(50.0) * 1000.0);
+    fmt::print(
+        stderr,
+        "terrain-render: {} frames of {}x{} at ε = {} px into {} ({} PNGs): triangles p50 "
+        "{:.0f} (max {}), {} patches max, {} draw call(s) per frame, LOD update p50 {:.0f} µs\n",
+        frames, o.widthPx, o.heightPx, o.errorPx, o.outputDir, framesWritten,
+        triangles.percentile(50.0) * 1000.0, maxTriangles, maxPatches, maxDrawCalls,
+        lodUs.percentile(50.0) * 1000.0);
     return 0;
 }
 
@@ -243,25 +249,42 @@ int main(int argc, char** argv) {
         "(docs/telemetry.md) and, with --json, a summary."};
     RenderOptions o;
     app.add_option("pyramid", o.pyramid, "Pyramid folder (terrain-build's output)")->required();
-    app.add_option("--path", o.pathFile, "Camera path JSON (docs/camera-path.md); default: a path made for the pyramid");
+    app.add_option("--path", o.pathFile,
+                   "Camera path JSON (docs/camera-path.md); default: a path made for the pyramid");
     app.add_option("--save-path", o.savePath, "Write the camera path used to this file");
     app.add_option("--duration-s", o.durationS, "Length of the default path, seconds (20)");
-    app.add_option("-o,--output", o.outputDir, "Folder for frames and telemetry.csv")->capture_default_str();
-    app.add_option("--width", o.widthPx, "Frame width, pixels")->capture_default_str()->check(CLI::Range(16, 16384));
-    app.add_option("--height", o.heightPx, "Frame height, pixels")->capture_default_str()->check(CLI::Range(16, 16384));
+    app.add_option("-o,--output", o.outputDir, "Folder for frames and telemetry.csv")
+        ->capture_default_str();
+    app.add_option("--width", o.widthPx, "Frame width, pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(16, 16384));
+    app.add_option("--height", o.heightPx, "Frame height, pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(16, 16384));
     app.add_option("--error-px", o.errorPx, "Screen-space error threshold ε, pixels")
-        ->capture_default_str()->check(CLI::Range(0.05, 1e4));
-    app.add_option("--fps", o.fps, "Path seconds per frame = 1 / fps")->capture_default_str()->check(CLI::Range(0.01, 1e4));
+        ->capture_default_str()
+        ->check(CLI::Range(0.05, 1e4));
+    app.add_option("--fps", o.fps, "Path seconds per frame = 1 / fps")
+        ->capture_default_str()
+        ->check(CLI::Range(0.01, 1e4));
     app.add_option("--frames", o.frames, "Frames to render (default: the whole path)");
-    app.add_option("--every", o.every, "Write every k-th frame as a PNG (0: none; the last is always written)")
+    app.add_option("--every", o.every,
+                   "Write every k-th frame as a PNG (0: none; the last is always written)")
         ->capture_default_str();
     app.add_option("--frame", o.frameList, "Also write these frames (repeatable)");
     app.add_flag("--settle", o.settle, "Wait for streaming before drawing each frame");
-    app.add_option("--cpu-cache-mib", o.cpuCacheMiB, "CPU tile cache budget, MiB")->capture_default_str();
-    app.add_option("--gpu-layers", o.gpuLayers, "GPU tile pool layers")->capture_default_str()->check(CLI::Range(1, 1 << 16));
-    app.add_option("--upload-mib-per-frame", o.uploadMiBPerFrame, "GPU upload budget per frame, MiB")->capture_default_str();
-    app.add_option("--debug-view", o.debugView, "shaded, level (colour by patch level) or tess (by tessellation factor)")
-        ->capture_default_str()->check(CLI::IsMember({"shaded", "level", "tess"}));
+    app.add_option("--cpu-cache-mib", o.cpuCacheMiB, "CPU tile cache budget, MiB")
+        ->capture_default_str();
+    app.add_option("--gpu-layers", o.gpuLayers, "GPU tile pool layers")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1 << 16));
+    app.add_option("--upload-mib-per-frame", o.uploadMiBPerFrame,
+                   "GPU upload budget per frame, MiB")
+        ->capture_default_str();
+    app.add_option("--debug-view", o.debugView,
+                   "shaded, level (colour by patch level) or tess (by tessellation factor)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"shaded", "level", "tess"}));
     app.add_flag("--wireframe", o.wireframe, "Draw triangle edges");
     app.add_flag("--no-skirts", o.noSkirts, "Leave out the skirts (shows cracks between patches)");
     app.add_option("--fog", o.fogDensity, "Fog density per metre (default from the DEM's extent)");

@@ -45,6 +45,8 @@ public:
     void setUniform(std::string_view name, const std::array<float, 2>& value);
     void setUniform(std::string_view name, const std::array<float, 3>& value);
     void setUniform(std::string_view name, const std::array<float, 4>& value);
+    /// A vec4[] uniform from element 0: values.size() / 4 vectors (a multiple of 4 floats).
+    void setUniformVec4Array(std::string_view name, std::span<const float> values);
     /// A column-major 4x4 matrix.
     void setUniformMat4(std::string_view name, std::span<const float, 16> columnMajor);
 

@@ -33,6 +33,8 @@ struct BlockFactors {
     /// proj(e_c^(d),−, e_c^(d),+) of each edge for d = 1..4, pixels (+∞: an end behind the
     /// near plane): what d was chosen from.
     std::array<std::array<double, io::kMaxSimplification>, 4> projectedPx{};
+    /// The block's box lies outside the view frustum: the control stage discards it.
+    bool culled = false;
 };
 
 /// The length in pixels of the vertical segment centre ± lengthM/2 · e_z (camera-relative
@@ -47,6 +49,14 @@ int edgeSimplification(std::span<const double, io::kMaxSimplification> projected
 /// The edge factor of simplification d: max(1, blockQuads >> d), a power of two dividing
 /// blockQuads (a simplification coarser than the block keeps its corners: 1).
 int tessFactorOf(int blockQuads, int d);
+
+/// Whether the control stage may discard `block` of patch `id`: its box — the block's
+/// footprint, the patch's height range from `info`, reaching `dropM` further down (a
+/// skirt's drop; 0 for the block) — lies outside `camera`'s frustum. In double, without
+/// the control stage's float margin, so the GPU never culls a block this keeps.
+bool blockOutsideFrustum(const Camera& camera, const TerrainGeometry& geometry,
+                         const io::PatchId& id, const io::PatchInfo& info, glm::ivec2 block,
+                         double dropM);
 
 /// The factors of every block of `record`'s patch seen by `camera` at ε = errorPx,
 /// row-major by block (blocksPerSide² entries). Err(P) is record.info.error.

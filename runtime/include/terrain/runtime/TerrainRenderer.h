@@ -41,6 +41,9 @@ struct TerrainStyle {
     TerrainDebugView debugView = TerrainDebugView::Shaded;
     bool wireframe = false;  ///< glPolygonMode GL_LINE during the draw
     bool skirts = true;      ///< false: the draw has no skirt primitives (cracks show)
+    /// The control stage discards blocks and skirts whose box lies outside the view
+    /// frustum (false: every block of every drawn patch is tessellated, for comparisons).
+    bool cullBlocks = true;
     std::array<float, 3> skyColor{0.72f, 0.80f, 0.90f};
     float fogDensityPerM = 0.0f;  ///< 0: no fog
     /// submit() measures the draw (GL_PRIMITIVES_GENERATED, GL_TIME_ELAPSED) and waits for
@@ -64,10 +67,18 @@ struct TerrainRendererOptions {
 
 /// What the control stage chose for one primitive (recordTessFactors only).
 struct RecordedTessFactors {
-    std::array<std::int32_t, 4> outer{};  ///< GL order: west (u = 0), north, east, south
+    static constexpr std::int32_t kSkirt = 1;   ///< flags: the primitive is a skirt
+    static constexpr std::int32_t kCulled = 2;  ///< flags: discarded, outside the frustum
+
+    /// GL order: west (u = 0), north, east, south; the factors chosen before culling (a
+    /// culled primitive's levels are all 0).
+    std::array<std::int32_t, 4> outer{};
     std::array<std::int32_t, 2> inner{};
-    std::int32_t isSkirt = 0;
+    std::int32_t flags = 0;
     float skirtDropM = 0.0f;  ///< skirts: Λ_ec(d) + the instance's skirt depth
+
+    bool isSkirt() const { return (flags & kSkirt) != 0; }
+    bool culled() const { return (flags & kCulled) != 0; }
 };
 static_assert(sizeof(RecordedTessFactors) == 32);  // std430 TessFactorRecord, terrain.tesc
 
@@ -108,7 +119,7 @@ private:
     // The std430 layout of PatchInstance in terrain_patches.glsl.
     struct alignas(16) PatchInstance {
         std::array<float, 4> originAndStep;  ///< north-west − anchor (DEM samples), step
-        std::array<float, 4> errors;         ///< Err(P), skirt depth, metres
+        std::array<float, 4> errors;         ///< Err(P), skirt depth, min and max height, metres
         std::array<std::int32_t, 4> layerLevel;
     };
     static_assert(sizeof(PatchInstance) == 48);
