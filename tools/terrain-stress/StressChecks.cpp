@@ -17,8 +17,9 @@ std::string name(const io::PatchId& id) {
 }  // namespace
 
 std::optional<std::string> StressChecks::afterFrame(const runtime::TileStreamer& streamer,
+                                                    const runtime::LodQuadtree& tree,
                                                     std::span<const runtime::PatchDraw> drawn,
-                                                    const runtime::PatchSelectionStats& selection) {
+                                                    const runtime::LodUpdateStats& lod) {
     if (auto broken = streamer.checkInvariants()) return broken;
     const cache::GpuTilePool& pool = streamer.pool();
     const io::PyramidLayout& layout = streamer.layout();
@@ -26,15 +27,16 @@ std::optional<std::string> StressChecks::afterFrame(const runtime::TileStreamer&
     m_drawnSorted.clear();
     for (const runtime::PatchDraw& d : drawn) {
         if (d.layer < 0 || d.layer >= pool.capacity()) {
-            return fmt::format("patch {} drawn from layer {}, outside the pool", name(d.id), d.layer);
+            return fmt::format("patch {} drawn from layer {}, outside the pool", name(d.id),
+                               d.layer);
         }
         const std::optional<io::PatchId> holder = pool.patchOnLayer(d.layer);
         if (!holder) {
             return fmt::format("patch {} drawn from layer {}, which is free", name(d.id), d.layer);
         }
         if (!(*holder == d.id) || !pool.isResident(d.id)) {
-            return fmt::format("patch {} drawn from layer {}, which holds {}", name(d.id),
-                               d.layer, name(*holder));
+            return fmt::format("patch {} drawn from layer {}, which holds {}", name(d.id), d.layer,
+                               name(*holder));
         }
         m_drawnSorted.push_back(d.id);
     }
@@ -57,11 +59,13 @@ std::optional<std::string> StressChecks::afterFrame(const runtime::TileStreamer&
         }
     }
     const std::uint64_t domain = runtime::finestPatchesCovered(layout, {0, 0, 0});
-    if (selection.visited > 0 && selection.coveredFinestPatches != domain) {
+    const bool haveRoot = lod.drawn + lod.culled > 0;
+    if (haveRoot && lod.coveredFinestPatches != domain) {
         return fmt::format("drawn and culled patches cover {} of the {} finest-level patches: {}",
-                           selection.coveredFinestPatches, domain,
-                           selection.coveredFinestPatches < domain ? "a hole" : "an overlap");
+                           lod.coveredFinestPatches, domain,
+                           lod.coveredFinestPatches < domain ? "a hole" : "an overlap");
     }
+    if (auto broken = tree.checkInvariants()) return "LOD tree: " + *broken;
     if (pool.layersUsed() > pool.capacity()) {
         return fmt::format("{} GPU layers used of {}", pool.layersUsed(), pool.capacity());
     }
@@ -83,10 +87,11 @@ std::optional<std::string> StressChecks::afterDrain(const runtime::TileStreamer&
     const io::IoThreadStats io = streamer.ioStats();
     if (io.requested != io.completed + io.cancelled + io.failed || io.queueDepth != 0 ||
         io.inFlight != 0 || io.unpolled != 0) {
-        return fmt::format("I/O thread: {} requested, {} completed, {} cancelled, {} failed, {} "
-                           "queued, {} in flight, {} unpolled",
-                           io.requested, io.completed, io.cancelled, io.failed, io.queueDepth,
-                           io.inFlight, io.unpolled);
+        return fmt::format(
+            "I/O thread: {} requested, {} completed, {} cancelled, {} failed, {} "
+            "queued, {} in flight, {} unpolled",
+            io.requested, io.completed, io.cancelled, io.failed, io.queueDepth, io.inFlight,
+            io.unpolled);
     }
     if (io.requested != ledger.submitted) {
         return fmt::format("the I/O thread saw {} requests, the streamer made {}", io.requested,

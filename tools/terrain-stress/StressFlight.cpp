@@ -49,7 +49,8 @@ void StressFlight::teleport(runtime::Camera& camera) {
     const double spacing = std::min(m_geometry.sampleSpacing().x, m_geometry.sampleSpacing().y);
     const glm::dvec2 p = randomPoint();
     const glm::dvec2 target = randomPoint();
-    const double altitude = std::exp(std::lerp(std::log(2.0 * spacing), std::log(extent), u(m_random)));
+    const double altitude =
+        std::exp(std::lerp(std::log(2.0 * spacing), std::log(extent), u(m_random)));
     camera.position = {p.x, p.y, m_groundHeight(p.x, p.y) + altitude};
     camera.lookAt({target.x, target.y, m_groundHeight(target.x, target.y)});
     m_nextTeleportS = m_phaseLeftS - std::lerp(0.25, 0.75, u(m_random));

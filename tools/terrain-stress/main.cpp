@@ -12,12 +12,10 @@
 #include "terrain/io/RgbaImageWriter.h"
 #include "terrain/runtime/GroundHeight.h"
 #include "terrain/runtime/HeadlessGlContext.h"
-#include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
 #include "terrain/runtime/TerrainGeometry.h"
-#include "terrain/runtime/TerrainRenderer.h"
-#include "terrain/runtime/TileStreamer.h"
+#include "terrain/runtime/TerrainSession.h"
 
 #include <epoxy/gl.h>
 #include <fmt/core.h>
@@ -95,7 +93,8 @@ ResidentMemoryTrend residentMemoryTrend(const std::vector<double>& samples) {
     t.samples = samples.size();
     if (samples.size() < 2) return t;
     const std::size_t window = std::clamp<std::size_t>(samples.size() / 4, 1, 60);
-    t.baselineBytes = median({samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(window)});
+    t.baselineBytes =
+        median({samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(window)});
     t.endBytes = median({samples.end() - static_cast<std::ptrdiff_t>(window), samples.end()});
     t.minBytes = *std::min_element(samples.begin(), samples.end());
     t.maxBytes = *std::max_element(samples.begin(), samples.end());
@@ -114,7 +113,9 @@ ResidentMemoryTrend residentMemoryTrend(const std::vector<double>& samples) {
 }
 
 nlohmann::json percentilesJson(const runtime::LatencyHistogram& h) {
-    const auto value = [](double v) { return std::isnan(v) ? nlohmann::json() : nlohmann::json(v); };
+    const auto value = [](double v) {
+        return std::isnan(v) ? nlohmann::json() : nlohmann::json(v);
+    };
     return {{"count", h.count()},
             {"p50", value(h.percentile(50.0))},
             {"p95", value(h.percentile(95.0))},
@@ -143,18 +144,21 @@ int run(const StressOptions& o) {
     auto context = runtime::HeadlessGlContext::create();
     if (!context) return fail(context.error().message);
 
-    runtime::TileStreamerOptions streamerOptions;
-    streamerOptions.cpuCacheBytes = mebibytes(o.cpuCacheMiB);
-    streamerOptions.gpuLayers = o.gpuLayers;
-    streamerOptions.uploadBytesPerFrame = mebibytes(o.uploadMiBPerFrame);
-    streamerOptions.io.faults = {.errorRate = o.faultRate, .addedLatencyMs = o.latencyMs, .seed = o.seed};
-    auto opened = runtime::TileStreamer::open(o.pyramid, streamerOptions);
+    // The runtime's own frame: streaming, the LOD quadtree (which pins what it holds in the
+    // small pool and splits only into resident children), one draw.
+    runtime::TerrainSessionOptions sessionOptions;
+    sessionOptions.streaming.cpuCacheBytes = mebibytes(o.cpuCacheMiB);
+    sessionOptions.streaming.gpuLayers = o.gpuLayers;
+    sessionOptions.streaming.uploadBytesPerFrame = mebibytes(o.uploadMiBPerFrame);
+    sessionOptions.streaming.io.faults = {
+        .errorRate = o.faultRate, .addedLatencyMs = o.latencyMs, .seed = o.seed};
+    sessionOptions.lod.errorPx = o.errorPx;
+    auto opened = runtime::TerrainSession::open(o.pyramid, sessionOptions);
     if (!opened) return fail(opened.error().message);
-    runtime::TileStreamer& streamer = *opened.value();
-    const runtime::TerrainGeometry geometry(streamer.manifest());
+    runtime::TerrainSession& session = *opened.value();
+    runtime::TileStreamer& streamer = session.streamer();
+    const runtime::TerrainGeometry& geometry = session.geometry();
 
-    auto renderer = runtime::TerrainRenderer::create(streamer.layout(), streamer.pool().capacity());
-    if (!renderer) return fail(renderer.error().message);
     auto framebuffer = gl::Framebuffer::create(o.widthPx, o.heightPx, "stress frame");
     if (!framebuffer) return fail(framebuffer.error().message);
     std::optional<runtime::TelemetryCsvWriter> csv;
@@ -180,7 +184,8 @@ int run(const StressOptions& o) {
     if (!o.framesDir.empty()) {
         std::error_code ec;
         std::filesystem::create_directories(o.framesDir, ec);
-        if (ec) return fail(fmt::format("{}: cannot create the folder: {}", o.framesDir, ec.message()));
+        if (ec)
+            return fail(fmt::format("{}: cannot create the folder: {}", o.framesDir, ec.message()));
     }
 
     // Load latencies once warmed up (the cold start fills an empty view at once), in
@@ -194,8 +199,6 @@ int run(const StressOptions& o) {
     });
     tools::StressChecks checks;
     runtime::TelemetrySummary summary;
-    std::vector<runtime::PatchDraw> draws;
-    draws.reserve(static_cast<std::size_t>(streamer.pool().capacity()));
     std::vector<std::string> violations;
     std::uint64_t violationCount = 0;
     const auto violation = [&](std::uint64_t frame, const std::string& what) {
@@ -223,16 +226,15 @@ int run(const StressOptions& o) {
         const double elapsedS = std::chrono::duration<double>(Clock::now() - loopStart).count();
         if (o.frames > 0 ? frame >= o.frames : elapsedS >= o.durationS) break;
 
-        streamer.beginFrame();
-        // Motion by the last frame's duration (capped), as a real-time viewer moves.
+        // Motion by the last frame's duration (capped), as a real-time viewer moves; the
+        // flight reads the ground from what is resident, so it moves before the frame.
         flight.step(std::min(0.1, lastFrameS), camera);
-        const runtime::PatchSelectionStats selection =
-            runtime::selectPatches(camera, geometry, o.errorPx, streamer, draws);
+        const runtime::LodUpdateStats lod = session.beginFrame(camera);
 
         framebuffer.value().clear(sky, 0.0f);  // reversed Z: far is 0
         glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.value().id());
         glViewport(0, 0, o.widthPx, o.heightPx);
-        renderer.value().draw(camera, geometry, streamer.pool(), draws, style);
+        session.draw(camera, style);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         if (!o.framesDir.empty() && frame % o.frameEvery == 0) {
             if (auto written = writeFrame(framebuffer.value(), o, frame); !written) {
@@ -241,23 +243,25 @@ int run(const StressOptions& o) {
         }
 
         runtime::FrameTelemetry t;
-        streamer.endFrame(t);
+        session.endFrame(t);
         glFinish();  // a frame ends when it is drawn, as a swap would make it
-        if (auto broken = checks.afterFrame(streamer, draws, selection)) violation(frame, *broken);
+        if (auto broken = checks.afterFrame(streamer, session.tree(), session.draws(), lod)) {
+            violation(frame, *broken);
+        }
 
         const auto now = Clock::now();
         t.frame = frame;
         t.timeS = std::chrono::duration<double>(now - loopStart).count();
         t.frameMs = std::chrono::duration<double, std::milli>(now - previous).count();
         lastFrameS = t.frameMs / 1000.0;
-        t.patchesDrawn = selection.drawn;
-        t.patchesCulled = selection.culled;
         previous = now;
         summary.add(t);
         if (csv) csv->write(t);
 
-        for (; faultsPrinted < streamer.faults().size() && faultsPrinted < kFaultsToPrint; ++faultsPrinted) {
-            fmt::print(stderr, "terrain-stress: fault: {}\n", streamer.faults()[faultsPrinted].message);
+        for (; faultsPrinted < streamer.faults().size() && faultsPrinted < kFaultsToPrint;
+             ++faultsPrinted) {
+            fmt::print(stderr, "terrain-stress: fault: {}\n",
+                       streamer.faults()[faultsPrinted].message);
         }
         warm = t.timeS >= o.warmupS;
         if (t.timeS >= nextRssSampleS) {
@@ -272,7 +276,8 @@ int run(const StressOptions& o) {
     }
     const double loopS = std::chrono::duration<double>(Clock::now() - loopStart).count();
 
-    if (!streamer.drain(std::chrono::seconds(30))) violation(frame, "requests did not end within 30 s of cancelling them all");
+    if (!streamer.drain(std::chrono::seconds(30)))
+        violation(frame, "requests did not end within 30 s of cancelling them all");
     if (auto broken = tools::StressChecks::afterDrain(streamer)) violation(frame, *broken);
     if (csv) {
         if (auto closed = csv->close(); !closed) return fail(closed.error().message);
@@ -294,7 +299,8 @@ int run(const StressOptions& o) {
         nlohmann::json faults = nlohmann::json::array();
         for (std::size_t i = 0; i < streamer.faults().size() && i < kFaultsToPrint; ++i) {
             const runtime::TileFault& f = streamer.faults()[i];
-            faults.push_back({{"level", f.id.level}, {"x", f.id.x}, {"y", f.id.y}, {"message", f.message}});
+            faults.push_back(
+                {{"level", f.id.level}, {"x", f.id.x}, {"y", f.id.y}, {"message", f.message}});
         }
         const nlohmann::json out{
             {"tool", "terrain-stress"},
@@ -338,21 +344,23 @@ int run(const StressOptions& o) {
               {"slope_bytes_per_minute", rss.slopeBytesPerMinute},
               {"peak_bytes", io::peakResidentBytes()}}},
             {"telemetry", summary.toJson()},
-            {"telemetry_csv", o.telemetryCsv.empty() ? nlohmann::json() : nlohmann::json(o.telemetryCsv)},
+            {"telemetry_csv",
+             o.telemetryCsv.empty() ? nlohmann::json() : nlohmann::json(o.telemetryCsv)},
             {"total_seconds", std::chrono::duration<double>(Clock::now() - start).count()},
             {"gl", tools::glInfoJson(context.value()->info())},
         };
         std::puts(out.dump(2).c_str());
     }
-    fmt::print(stderr,
-               "terrain-stress: {} frames in {:.1f} s, {} teleports; {} tiles loaded ({:.0f} tiles/s), "
-               "{} cancelled, {} failed; load latency p50 {:.1f} ms, p95 {:.1f} ms, p99 {:.1f} ms "
-               "(after warm-up p99 {:.1f} ms, {:.0f} frames); "
-               "resident memory {:+.2f}% after warm-up; {} invariant violations\n",
-               frame, loopS, flight.teleports(), ledger.completed, tilesPerS, ledger.cancelled,
-               ledger.failed, latency.percentile(50.0), latency.percentile(95.0),
-               latency.percentile(99.0), steadyLatencyMs.percentile(99.0),
-               steadyLatencyFrames.percentile(99.0), growthPercent, violationCount);
+    fmt::print(
+        stderr,
+        "terrain-stress: {} frames in {:.1f} s, {} teleports; {} tiles loaded ({:.0f} tiles/s), "
+        "{} cancelled, {} failed; load latency p50 {:.1f} ms, p95 {:.1f} ms, p99 {:.1f} ms "
+        "(after warm-up p99 {:.1f} ms, {:.0f} frames); "
+        "resident memory {:+.2f}% after warm-up; {} invariant violations\n",
+        frame, loopS, flight.teleports(), ledger.completed, tilesPerS, ledger.cancelled,
+        ledger.failed, latency.percentile(50.0), latency.percentile(95.0), latency.percentile(99.0),
+        steadyLatencyMs.percentile(99.0), steadyLatencyFrames.percentile(99.0), growthPercent,
+        violationCount);
     if (streamer.faults().size() > faultsPrinted) {
         fmt::print(stderr, "terrain-stress: {} more faults not printed\n",
                    streamer.faults().size() - faultsPrinted);
@@ -371,44 +379,68 @@ int main(int argc, char** argv) {
     StressOptions o;
     app.add_option("pyramid", o.pyramid, "Pyramid folder (terrain-build's output)")->required();
     app.add_option("--cpu-cache-mib", o.cpuCacheMiB, "CPU tile cache budget, MiB")
-        ->capture_default_str()->check(CLI::Range(0.0, 1e6));
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1e6));
     app.add_option("--gpu-layers", o.gpuLayers, "GPU tile pool layers (one tile each)")
-        ->capture_default_str()->check(CLI::Range(1, 1 << 16));
-    app.add_option("--upload-mib-per-frame", o.uploadMiBPerFrame, "GPU upload budget per frame, MiB")
-        ->capture_default_str()->check(CLI::Range(0.0, 1e4));
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1 << 16));
+    app.add_option("--upload-mib-per-frame", o.uploadMiBPerFrame,
+                   "GPU upload budget per frame, MiB")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1e4));
     app.add_option("--fault-rate", o.faultRate, "Probability that a tile read fails (injected)")
-        ->capture_default_str()->check(CLI::Range(0.0, 1.0));
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
     app.add_option("--latency-ms", o.latencyMs, "Latency added to every tile read, ms")
-        ->capture_default_str()->check(CLI::Range(0.0, 1e5));
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1e5));
     app.add_option("--duration-s", o.durationS, "How long to fly, seconds")
-        ->capture_default_str()->check(CLI::Range(0.0, 1e7));
-    app.add_option("--frames", o.frames, "Stop after this many frames instead (0: use --duration-s)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1e7));
+    app.add_option("--frames", o.frames,
+                   "Stop after this many frames instead (0: use --duration-s)")
         ->capture_default_str();
-    app.add_option("--seed", o.seed, "Seed of the flight and of the injected faults")->capture_default_str();
-    app.add_option("--width", o.widthPx, "Frame width, pixels")->capture_default_str()->check(CLI::Range(16, 8192));
-    app.add_option("--height", o.heightPx, "Frame height, pixels")->capture_default_str()->check(CLI::Range(16, 8192));
+    app.add_option("--seed", o.seed, "Seed of the flight and of the injected faults")
+        ->capture_default_str();
+    app.add_option("--width", o.widthPx, "Frame width, pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(16, 8192));
+    app.add_option("--height", o.heightPx, "Frame height, pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(16, 8192));
     app.add_option("--error-px", o.errorPx, "Screen-space error threshold ε, pixels")
-        ->capture_default_str()->check(CLI::Range(0.05, 1e4));
+        ->capture_default_str()
+        ->check(CLI::Range(0.05, 1e4));
     app.add_option("--fov", o.fovDegrees, "Vertical field of view, degrees")
-        ->capture_default_str()->check(CLI::Range(5.0, 150.0));
-    app.add_option("--tess-factor", o.tessFactor, "Segments per tessellation-block edge (power of two)")
-        ->capture_default_str()->check(CLI::Range(1, 64));
-    app.add_option("--warmup-s", o.warmupS, "Seconds of warm-up: then the resident-memory baseline is taken and after-warm-up latencies start")
-        ->capture_default_str()->check(CLI::Range(0.0, 1e6));
+        ->capture_default_str()
+        ->check(CLI::Range(5.0, 150.0));
+    app.add_option("--tess-factor", o.tessFactor,
+                   "Segments per tessellation-block edge (power of two)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 64));
+    app.add_option("--warmup-s", o.warmupS,
+                   "Seconds of warm-up: then the resident-memory baseline is taken and "
+                   "after-warm-up latencies start")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1e6));
     app.add_option("--max-rss-growth-percent", o.maxRssGrowthPercent,
                    "Fail when resident memory grows more than this after warm-up");
     app.add_option("--flight", o.flight,
                    "stress: teleports, low flight and zoom bursts; cruise: a steady flight at "
                    "--speed-mps, --altitude-m above the ground (for latency measurements)")
-        ->capture_default_str()->check(CLI::IsMember({"stress", "cruise"}));
+        ->capture_default_str()
+        ->check(CLI::IsMember({"stress", "cruise"}));
     app.add_option("--speed-mps", o.cruiseSpeedMps, "Cruise speed, m/s")
-        ->capture_default_str()->check(CLI::Range(0.0, 1e6));
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1e6));
     app.add_option("--altitude-m", o.cruiseAltitudeM, "Cruise altitude above the ground, m")
-        ->capture_default_str()->check(CLI::Range(0.0, 1e7));
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1e7));
     app.add_option("--telemetry", o.telemetryCsv, "Write the per-frame cache telemetry CSV here");
     app.add_option("--frames-dir", o.framesDir, "Write every --frame-every-th frame as a PNG here");
     app.add_option("--frame-every", o.frameEvery, "Frames between two PNGs")
-        ->capture_default_str()->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40));
+        ->capture_default_str()
+        ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40));
     app.add_flag("--color-by-level", o.colorByLevel, "Colour patches by level in the PNGs");
     app.add_flag("--json", o.json, "Print a JSON summary on stdout");
     CLI11_PARSE(app, argc, argv);
