@@ -43,3 +43,10 @@ if(_oiio_includes)
   set_target_properties(OpenImageIO::OpenImageIO PROPERTIES
     INTERFACE_INCLUDE_DIRECTORIES "${_oiio_existing}")
 endif()
+
+# Dear ImGui for terrain-view's overlay. Debian 12's libimgui-dev ships a static libimgui.a
+# that already holds the GLFW and OpenGL 3 backends (headers under backends/), and an
+# imgui.pc that pulls in stb (its font rasteriser); the imported target carries both.
+if(TERRAIN_BUILD_TOOLS)
+  pkg_check_modules(imgui REQUIRED IMPORTED_TARGET imgui)
+endif()

@@ -78,6 +78,8 @@ io::Status GlfwWindowContext::makeCurrent() {
 
 void GlfwWindowContext::swapBuffers() { glfwSwapBuffers(m_window); }
 
+void GlfwWindowContext::setVsync(bool vsync) { glfwSwapInterval(vsync ? 1 : 0); }
+
 bool GlfwWindowContext::shouldClose() const { return glfwWindowShouldClose(m_window) != 0; }
 
 FramebufferSize GlfwWindowContext::framebufferSize() const {

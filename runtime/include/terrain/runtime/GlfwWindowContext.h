@@ -51,6 +51,10 @@ public:
     /// Presents the back buffer. Render thread only.
     void swapBuffers();
 
+    /// Waits for the display's vertical blank in swapBuffers() (true) or not. The context
+    /// must be current. Render thread only.
+    void setVsync(bool vsync);
+
     bool shouldClose() const;
 
     /// Size of the default framebuffer in pixels (differs from the window size on

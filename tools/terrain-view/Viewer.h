@@ -1,0 +1,139 @@
+// Viewer: terrain-view's window, session and frame loop. Each frame: poll events, turn them
+// into actions and camera motion (or play the path), run the TerrainSession frame protocol
+// into the offscreen scene, copy it to the window, draw the overlay on top, write what was
+// asked for (screenshot, telemetry row, path keyframe), present.
+#pragma once
+
+#include "ImGuiLayer.h"
+#include "OutputNames.h"
+#include "PathRecorder.h"
+#include "SceneTarget.h"
+#include "TelemetryHistory.h"
+#include "ViewerOptions.h"
+#include "ViewerOverlay.h"
+#include "ViewerSettings.h"
+#include "WindowInput.h"
+
+#include "terrain/io/PyramidManifest.h"
+#include "terrain/io/Result.h"
+#include "terrain/runtime/Camera.h"
+#include "terrain/runtime/CameraController.h"
+#include "terrain/runtime/CameraPath.h"
+#include "terrain/runtime/GlfwWindowContext.h"
+#include "terrain/runtime/TelemetryCsvWriter.h"
+#include "terrain/runtime/TelemetrySummary.h"
+#include "terrain/runtime/TerrainSession.h"
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace terrain::view {
+
+/// Main thread only (GLFW and the GL context live there).
+class Viewer {
+public:
+    /// Checks the pyramid, the path file and the output folders before opening the window,
+    /// then opens the window (OpenGL 4.5 core), the session and the overlay. Errors name
+    /// the file or say what the system lacks.
+    static io::Result<std::unique_ptr<Viewer>> create(const ViewerOptions& options);
+    ~Viewer();
+    Viewer(const Viewer&) = delete;
+    Viewer& operator=(const Viewer&) = delete;
+
+    /// Runs until the window closes, Esc, --frames or --exit-after; writes the exit files
+    /// and the --json summary. Returns the exit status (1 when an exit file could not be
+    /// written or OpenGL reported an error).
+    int run();
+
+private:
+    using Clock = std::chrono::steady_clock;
+
+    Viewer(const ViewerOptions& options, io::PyramidManifest manifest);
+    io::Status openSession(double cpuCacheMiB, int gpuLayers);
+    void reopenSession();
+    void initialCamera();
+    void homeView();
+
+    void handle(ViewerAction action);
+    void applySettings();
+    void moveCamera(const runtime::CameraInput& input, double dtS);
+    void orbitAt(double xPx, double yPx, bool fallbackAhead);
+    void jump();
+    void refineJump(const runtime::CameraInput& input);
+    void toggleRecording();
+    io::Status startTelemetryLog();
+    void toggleTelemetryLog();
+    void takeScreenshot(const std::filesystem::path& path);
+    void checkGlErrors();
+    void setStatus(std::string message, bool error = false);
+    double groundAt(double x, double y) const;
+    OverlayModel overlayModel(const runtime::FrameTelemetry& frame) const;
+    bool finishExitFiles();
+    void printSummary(double wallS) const;
+
+    ViewerOptions m_options;
+    io::PyramidManifest m_manifest;
+    std::string m_pyramidName;
+    std::string m_crsText;
+    std::optional<runtime::CameraPath> m_path;
+    std::optional<runtime::CameraPath> m_home;
+
+    // Destroyed in reverse: the session's GL objects and the overlay before the window.
+    std::unique_ptr<runtime::GlfwWindowContext> m_window;
+    std::unique_ptr<ImGuiLayer> m_imgui;
+    std::unique_ptr<WindowInput> m_input;
+    std::unique_ptr<runtime::TerrainSession> m_session;
+    SceneTarget m_scene;
+    ViewerOverlay m_overlay;
+
+    ViewerSettings m_settings;
+    ViewerSettings m_applied;  // what the session, style and window have now
+    double m_appliedCpuCacheMiB = 0.0;
+    int m_appliedGpuLayers = 0;
+    runtime::TerrainStyle m_style;
+    runtime::Camera m_camera;
+    runtime::CameraController m_controller;
+    runtime::GroundHeightFn m_ground;
+
+    // A jump lands over a conservative ground height, which drops as finer tiles of the
+    // target arrive: for a few seconds (until the user moves) the jump is redone on it.
+    struct LandingJump {
+        double x = 0.0;
+        double y = 0.0;
+        double heightM = 0.0;
+        double groundM = 0.0;
+        double untilS = 0.0;
+    };
+    std::optional<LandingJump> m_landing;
+    bool m_playing = false;
+    double m_pathTimeS = 0.0;
+    PathRecorder m_recorder;
+    std::filesystem::path m_recordingFile;
+    OutputNames m_recordNames;
+    OutputNames m_screenshotNames;
+    OutputNames m_telemetryNames;
+    std::optional<runtime::TelemetryCsvWriter> m_csv;
+    std::string m_logFileText;  // m_csv's file, for the overlay
+
+    TelemetryHistory m_history;
+    runtime::TelemetrySummary m_summary;
+    std::uint64_t m_frame = 0;
+    double m_timeS = 0.0;  // flight time: wall clock, or frames / --fps
+    bool m_quit = false;
+    bool m_screenshotRequested = false;
+    std::size_t m_glErrorsReported = 0;
+    std::string m_status;
+    bool m_statusIsError = false;
+    bool m_exitFilesFailed = false;
+
+    std::vector<std::string> m_screenshotsWritten;
+    std::vector<std::string> m_telemetryWritten;
+    std::vector<std::string> m_pathsRecorded;
+};
+
+}  // namespace terrain::view

@@ -1,0 +1,110 @@
+// terrain-view: flies through a pyramid in a window (GLFW, OpenGL 4.5) with the runtime's
+// streaming, LOD quadtree and tessellated draw — the same frame as terrain-render — under a
+// Dear ImGui overlay of live telemetry and controls. docs/viewer.md is its manual.
+#include "KeyBindings.h"
+#include "Viewer.h"
+#include "ViewerOptions.h"
+
+#include <fmt/core.h>
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+namespace {
+
+std::string keyList() {
+    std::string text = "\nKeys (also in the overlay's \"Keys\" section):\n";
+    for (const auto& control : terrain::view::heldControls()) {
+        text += fmt::format("  {:<22} {}\n", control.keys, control.description);
+    }
+    for (const auto& binding : terrain::view::keyBindings()) {
+        text += fmt::format("  {:<22} {}\n", binding.keys, binding.description);
+    }
+    return text;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    using terrain::view::ViewerOptions;
+    CLI::App app{
+        "Fly through a pyramid (terrain-build's output) in a window: mouse-look and WASD flight, "
+        "orbit, jump to coordinates, a live telemetry overlay, camera paths, screenshots and "
+        "telemetry logs. Needs a display with OpenGL 4.5 (run it under `xvfb-run -a` without "
+        "one). Manual: docs/viewer.md."};
+    app.footer(keyList());
+    ViewerOptions o;
+    app.add_option("pyramid", o.pyramid, "Pyramid folder (terrain-build's output)")->required();
+    app.add_option("--path", o.pathFile,
+                   "Play this camera path (docs/camera-path.md) from the start; Space pauses");
+    app.add_option("--record", o.recordFile,
+                   "Record the flight as a camera path from the start, saved at exit or when R "
+                   "stops it");
+    app.add_option("--screenshot", o.screenshotFile,
+                   "Write a PNG of the window (overlay included) at exit");
+    app.add_option(
+        "--telemetry", o.telemetryFile,
+        "Log the per-frame telemetry CSV (docs/telemetry.md) from the start; T stops it");
+    app.add_option("--frames", o.frames, "Exit after this many frames");
+    app.add_option("--exit-after", o.exitAfterS, "Exit after this many seconds")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--fps", o.fixedFps,
+                   "Advance flight time by 1/FPS per frame instead of by the clock (reproducible "
+                   "playback, recordings and screenshots)")
+        ->check(CLI::Range(0.01, 1e4));
+    app.add_flag("--settle", o.settle,
+                 "Wait for streaming before each frame (the settled view, e.g. for screenshots)");
+    app.add_option("--width", o.widthPx, "Window width, pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(64, 16384));
+    app.add_option("--height", o.heightPx, "Window height, pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(64, 16384));
+    app.add_flag(
+        "--no-vsync", [&o](std::int64_t) { o.vsync = false; },
+        "Do not wait for the display's refresh (V toggles)");
+    app.add_flag("--no-overlay", o.hideOverlay, "Start with the overlay hidden (F1 toggles)");
+    app.add_option("--error-px", o.errorPx,
+                   "Screen-space error threshold ε, pixels ([ and ] change it)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.1, 64.0));
+    app.add_option("--cpu-cache-mib", o.cpuCacheMiB, "CPU tile cache budget, MiB")
+        ->capture_default_str()
+        ->check(CLI::Range(1.0, 1024.0 * 1024.0));
+    app.add_option("--gpu-layers", o.gpuLayers, "GPU tile pool layers (tiles resident on the GPU)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1 << 16));
+    app.add_option("--upload-mib-per-frame", o.uploadMiBPerFrame,
+                   "GPU upload budget per frame, MiB")
+        ->capture_default_str()
+        ->check(CLI::Range(0.01, 4096.0));
+    app.add_option("--measure-every", o.measureEvery,
+                   "Measure triangles and GPU time every N frames (1: every frame; measuring "
+                   "waits for the GPU)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 100000));
+    app.add_option("--debug-view", o.debugView,
+                   "shaded, level (colour by patch level) or tess (by tessellation factor)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"shaded", "level", "tess"}));
+    app.add_flag("--wireframe", o.wireframe, "Draw triangle edges");
+    app.add_flag("--no-skirts", o.noSkirts, "Leave out the skirts (shows cracks between patches)");
+    app.add_flag("--no-fog", o.noFog, "No fog");
+    app.add_option("--fog", o.fogDensity, "Fog density per metre (default from the DEM's extent)")
+        ->check(CLI::NonNegativeNumber);
+    app.add_flag("--orbit", o.orbit, "Start orbiting the point at the centre of the view");
+    app.add_option("--goto", o.jumpTo,
+                   "Start over world X,Y[,HEIGHT above ground] (a projected pyramid's easting, "
+                   "northing)")
+        ->delimiter(',')
+        ->expected(2, 3);
+    app.add_flag("--json", o.json, "Print a JSON summary on stdout at exit");
+    CLI11_PARSE(app, argc, argv);
+
+    auto viewer = terrain::view::Viewer::create(o);
+    if (!viewer) {
+        fmt::print(stderr, "terrain-view: {}\n", viewer.error().message);
+        return 1;
+    }
+    return viewer.value()->run();
+}
