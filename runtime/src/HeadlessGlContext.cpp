@@ -3,6 +3,8 @@
 // EGL_MESA_platform_surfaceless. No surface is ever made (EGL_KHR_surfaceless_context).
 #include "terrain/runtime/HeadlessGlContext.h"
 
+#include "terrain/runtime/DriverWorkarounds.h"
+
 // epoxy/gl.h must precede the EGL headers: it declares the khrplatform types itself and
 // conflicts with them when EGL's copy came first.
 #include <epoxy/gl.h>
@@ -405,6 +407,7 @@ io::Result<std::unique_ptr<HeadlessGlContext>> HeadlessGlContext::create(
 HeadlessGlContext::HeadlessGlContext(std::unique_ptr<Egl> egl, bool echoDebugMessages)
     : m_egl(std::move(egl)) {
     m_info = queryCurrentGlInfo(m_egl->platform, m_egl->detail);
+    applyDriverWorkarounds(m_info);
     m_debugLog.setEcho(echoDebugMessages);
     m_debugLog.install();
 }

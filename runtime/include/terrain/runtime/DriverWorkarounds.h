@@ -1,0 +1,24 @@
+// DriverWorkarounds: the one place where the runtime works around a GL driver's behaviour,
+// each workaround with its reason and the measurement that justified it. Context classes
+// call applyDriverWorkarounds() once their context is current.
+#pragma once
+
+#include "terrain/runtime/GlInfo.h"
+
+namespace terrain::runtime {
+
+/// What applyDriverWorkarounds() did, for tools' --json and tests.
+struct DriverWorkaroundsApplied {
+    /// llvmpipe: glibc no longer trims the heap (M_TRIM_THRESHOLD raised to 2 GiB). Mesa's software
+    /// tessellator allocates its vertex output per draw from the heap and frees it; glibc
+    /// then returned the heap's top to the kernel after every frame, and the next frame
+    /// page-faulted it all back in: a third of a terrain frame in the kernel (perf), and
+    /// 108 → 29 ms per frame of terrain-stress --flight cruise at 480×270, ε = 0.5 px over
+    /// the Puget Sound 4K pyramid. Memory stays at its high-water mark instead.
+    bool llvmpipeHeapTrimOff = false;
+};
+
+/// Applies what `info`'s driver needs; process-wide, idempotent. Render thread.
+DriverWorkaroundsApplied applyDriverWorkarounds(const GlInfo& info);
+
+}  // namespace terrain::runtime
