@@ -31,8 +31,8 @@ using Json = nlohmann::ordered_json;
 constexpr std::string_view kFormatName = "terrain-camera-path";
 constexpr int kFormatVersion = 1;
 constexpr std::string_view kPositionUnits =
-    "metres, world frame of the pyramid: x east, y north, z up, origin at the DEM's "
-    "north-west sample";
+    "metres, world frame of the pyramid: x east, y north, z up; a projected pyramid's own "
+    "map coordinates (easting, northing of sample centres)";
 constexpr std::string_view kAngleUnits =
     "degrees; yaw 0 looks north (+y), 90 east (+x); pitch positive looks up";
 constexpr std::string_view kTimeUnits = "seconds";

@@ -1,6 +1,8 @@
 // GLFW window with an OpenGL 4.5 core (debug) context.
 #include "terrain/runtime/GlfwWindowContext.h"
 
+#include "terrain/runtime/DriverWorkarounds.h"
+
 #include "GlfwLibrary.h"
 
 #include <epoxy/gl.h>
@@ -54,6 +56,7 @@ GlfwWindowContext::GlfwWindowContext(std::unique_ptr<detail::GlfwLibrary> librar
                                      GLFWwindow* window, bool echoDebugMessages)
     : m_library(std::move(library)), m_window(window) {
     m_info = queryCurrentGlInfo("glfw", std::string("GLFW ") + glfwGetVersionString());
+    applyDriverWorkarounds(m_info);
     m_debugLog.setEcho(echoDebugMessages);
     m_debugLog.install();
 }

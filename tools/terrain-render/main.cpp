@@ -3,10 +3,10 @@
 // CSV (streaming and cache columns joined with triangles, patches, draw calls, LOD update
 // time and GPU time) and a --json summary. Without --settle it shows what a real-time user
 // would see: tiles that have not arrived yet are drawn by their coarser ancestors.
+#include "GlImagePng.h"
 #include "GlInfoJson.h"
 
 #include "terrain/gl/Framebuffer.h"
-#include "terrain/io/RgbaImageWriter.h"
 #include "terrain/runtime/CameraPath.h"
 #include "terrain/runtime/HeadlessGlContext.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
@@ -23,7 +23,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <numbers>
 #include <optional>
@@ -64,18 +63,6 @@ struct RenderOptions {
 int fail(const std::string& message) {
     fmt::print(stderr, "terrain-render: {}\n", message);
     return 1;
-}
-
-io::Status writeFrame(const gl::Framebuffer& framebuffer, const std::filesystem::path& path) {
-    const int w = framebuffer.width(), h = framebuffer.height();
-    const std::vector<std::uint8_t> bottomUp = framebuffer.readColorRgba8();
-    const std::size_t rowBytes = static_cast<std::size_t>(w) * 4;
-    std::vector<std::uint8_t> topDown(bottomUp.size());
-    for (int y = 0; y < h; ++y) {
-        std::memcpy(topDown.data() + static_cast<std::size_t>(y) * rowBytes,
-                    bottomUp.data() + static_cast<std::size_t>(h - 1 - y) * rowBytes, rowBytes);
-    }
-    return io::writeRgba8Png(path, w, h, topDown);
 }
 
 nlohmann::json statsJson(const runtime::LatencyHistogram& h, double scale = 1.0) {
@@ -171,7 +158,7 @@ int run(const RenderOptions& o) {
         if ((o.every > 0 && frame % o.every == 0) || chosen.contains(frame) ||
             frame + 1 == frames) {
             const auto file = outputDir / fmt::format("frame-{:05}.png", frame);
-            if (auto written = writeFrame(framebuffer.value(), file); !written) {
+            if (auto written = tools::writeFramebufferPng(framebuffer.value(), file); !written) {
                 return fail(written.error().message);
             }
             ++framesWritten;

@@ -3,13 +3,13 @@
 // against small caches, renders every frame headless (EGL) so the GPU tile pool is real,
 // checks the streaming invariants every frame, and prints throughput, latency percentiles
 // and a --json summary. Any violation makes the exit status 1.
+#include "GlImagePng.h"
 #include "GlInfoJson.h"
 #include "StressChecks.h"
 #include "StressFlight.h"
 
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/io/PeakMemory.h"
-#include "terrain/io/RgbaImageWriter.h"
 #include "terrain/runtime/GroundHeight.h"
 #include "terrain/runtime/HeadlessGlContext.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
@@ -26,7 +26,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <numbers>
 #include <optional>
@@ -124,21 +123,6 @@ nlohmann::json percentilesJson(const runtime::LatencyHistogram& h) {
 }
 
 /// Frame `frame` as <framesDir>/frame-NNNNNN.png (top row first).
-io::Status writeFrame(const gl::Framebuffer& framebuffer, const StressOptions& o,
-                      std::uint64_t frame) {
-    const std::vector<std::uint8_t> bottomUp = framebuffer.readColorRgba8();
-    const std::size_t rowBytes = static_cast<std::size_t>(o.widthPx) * 4;
-    std::vector<std::uint8_t> topDown(bottomUp.size());
-    for (int y = 0; y < o.heightPx; ++y) {
-        std::memcpy(topDown.data() + static_cast<std::size_t>(y) * rowBytes,
-                    bottomUp.data() + static_cast<std::size_t>(o.heightPx - 1 - y) * rowBytes,
-                    rowBytes);
-    }
-    const std::filesystem::path path =
-        std::filesystem::path(o.framesDir) / fmt::format("frame-{:06}.png", frame);
-    return io::writeRgba8Png(path, o.widthPx, o.heightPx, topDown);
-}
-
 int run(const StressOptions& o) {
     const auto start = Clock::now();
     auto context = runtime::HeadlessGlContext::create();
@@ -237,7 +221,9 @@ int run(const StressOptions& o) {
         session.draw(camera, style);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         if (!o.framesDir.empty() && frame % o.frameEvery == 0) {
-            if (auto written = writeFrame(framebuffer.value(), o, frame); !written) {
+            const std::filesystem::path file =
+                std::filesystem::path(o.framesDir) / fmt::format("frame-{:06}.png", frame);
+            if (auto written = tools::writeFramebufferPng(framebuffer.value(), file); !written) {
                 return fail(written.error().message);
             }
         }

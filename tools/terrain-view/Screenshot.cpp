@@ -1,12 +1,11 @@
 // glReadPixels of the back buffer, flipped to top-down rows, as PNG.
 #include "Screenshot.h"
 
-#include "terrain/io/RgbaImageWriter.h"
+#include "GlImagePng.h"
 
 #include <epoxy/gl.h>
 
 #include <cstdint>
-#include <cstring>
 #include <vector>
 
 namespace terrain::view {
@@ -28,16 +27,7 @@ io::Status writeWindowScreenshot(const std::filesystem::path& path, int widthPx,
     glBindBuffer(GL_PIXEL_PACK_BUFFER, static_cast<GLuint>(previousPackBuffer));
     glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(previousRead));
 
-    std::vector<std::uint8_t> topDown(bottomUp.size());
-    for (int y = 0; y < heightPx; ++y) {
-        std::memcpy(topDown.data() + static_cast<std::size_t>(y) * rowBytes,
-                    bottomUp.data() + static_cast<std::size_t>(heightPx - 1 - y) * rowBytes,
-                    rowBytes);
-    }
-    // The window's alpha is whatever blending left there (or nothing, without an alpha
-    // channel): a screenshot is opaque.
-    for (std::size_t i = 3; i < topDown.size(); i += 4) topDown[i] = 255;
-    return io::writeRgba8Png(path, widthPx, heightPx, topDown);
+    return tools::writeGlRgbaPng(path, widthPx, heightPx, bottomUp);
 }
 
 }  // namespace terrain::view

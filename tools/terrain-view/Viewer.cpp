@@ -1,7 +1,6 @@
 // terrain-view's frame loop and the actions of its keys and overlay.
 #include "Viewer.h"
 
-#include "DriverWorkarounds.h"
 #include "GlInfoJson.h"
 #include "Screenshot.h"
 
@@ -83,7 +82,6 @@ io::Result<std::unique_ptr<Viewer>> Viewer::create(const ViewerOptions& options)
                          "display, run it under `xvfb-run -a`; terrain-render renders headless)"};
     }
     viewer->m_window = std::move(window).value();
-    keepGlDriverLoadedForLeakChecks();
 
     if (auto opened = viewer->openSession(options.cpuCacheMiB, options.gpuLayers); !opened) {
         return opened.error();

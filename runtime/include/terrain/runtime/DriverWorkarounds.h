@@ -1,6 +1,7 @@
-// DriverWorkarounds: the one place where the runtime works around a GL driver's behaviour,
-// each workaround with its reason and the measurement that justified it. Context classes
-// call applyDriverWorkarounds() once their context is current.
+// DriverWorkarounds: the one place where the runtime works around a GL driver's or a system
+// library's behaviour, each workaround with its reason and the measurement or report that
+// justified it. Both context classes call applyDriverWorkarounds() once their context is
+// current.
 #pragma once
 
 #include "terrain/runtime/GlInfo.h"
@@ -9,16 +10,23 @@ namespace terrain::runtime {
 
 /// What applyDriverWorkarounds() did, for tools' --json and tests.
 struct DriverWorkaroundsApplied {
-    /// llvmpipe: glibc no longer trims the heap (M_TRIM_THRESHOLD raised to 2 GiB). Mesa's software
-    /// tessellator allocates its vertex output per draw from the heap and frees it; glibc
-    /// then returned the heap's top to the kernel after every frame, and the next frame
-    /// page-faulted it all back in: a third of a terrain frame in the kernel (perf), and
-    /// 108 → 29 ms per frame of terrain-stress --flight cruise at 480×270, ε = 0.5 px over
-    /// the Puget Sound 4K pyramid. Memory stays at its high-water mark instead.
+    /// llvmpipe: glibc no longer trims the heap (M_TRIM_THRESHOLD raised to 2 GiB). Mesa's
+    /// software tessellator allocates its vertex output per draw from the heap and frees
+    /// it; glibc then returned the heap's top to the kernel after every frame, and the next
+    /// frame page-faulted it all back in: a third of a terrain frame in the kernel (perf),
+    /// and 108 → 29 ms per frame of terrain-stress --flight cruise at 480×270, ε = 0.5 px
+    /// over the Puget Sound 4K pyramid. Memory stays at its high-water mark instead.
     bool llvmpipeHeapTrimOff = false;
+    /// AddressSanitizer builds: the loaded Mesa DRI driver (e.g. swrast_dri.so) is never
+    /// unloaded. It keeps a few blocks reachable only from its own globals, and GLFW's
+    /// glfwTerminate unloads it when the X display closes, so LeakSanitizer reported them
+    /// at exit with stack frames in a module that is gone (no suppression can name it).
+    /// Pinned, the driver lives as long as the process, as it does behind EGL anyway.
+    bool driModulePinnedForLeakChecks = false;
 };
 
-/// Applies what `info`'s driver needs; process-wide, idempotent. Render thread.
+/// Applies what `info`'s driver needs; process-wide, idempotent. Render thread, with the
+/// context current.
 DriverWorkaroundsApplied applyDriverWorkarounds(const GlInfo& info);
 
 }  // namespace terrain::runtime
