@@ -1,8 +1,10 @@
-// Offscreen framebuffer: colour RGBA8 + depth32F textures, completeness checked once.
+// Offscreen framebuffer: colour RGBA8 + depth32F textures (+ an optional R32F colour
+// attachment), completeness checked once.
 #include "terrain/gl/Framebuffer.h"
 
 #include "terrain/io/Assert.h"
 
+#include <array>
 #include <cstddef>
 #include <span>
 #include <string>
@@ -38,6 +40,16 @@ const char* framebufferStatusName(GLenum status) {
 }  // namespace
 
 io::Result<Framebuffer> Framebuffer::create(int width, int height, std::string_view label) {
+    return create(width, height, label, false);
+}
+
+io::Result<Framebuffer> Framebuffer::createWithFloatAttachment(int width, int height,
+                                                               std::string_view label) {
+    return create(width, height, label, true);
+}
+
+io::Result<Framebuffer> Framebuffer::create(int width, int height, std::string_view label,
+                                            bool floatAttachment) {
     const std::string name =
         label.empty() ? std::string("framebuffer") : "framebuffer '" + std::string(label) + "'";
     const std::string colorLabel = std::string(label) + " colour";
@@ -65,7 +77,22 @@ io::Result<Framebuffer> Framebuffer::create(int width, int height, std::string_v
     framebuffer.m_depth.setSampling(GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
     glNamedFramebufferTexture(id, GL_COLOR_ATTACHMENT0, framebuffer.m_color.id(), 0);
     glNamedFramebufferTexture(id, GL_DEPTH_ATTACHMENT, framebuffer.m_depth.id(), 0);
-    glNamedFramebufferDrawBuffer(id, GL_COLOR_ATTACHMENT0);
+    if (floatAttachment) {
+        const std::string floatLabel = std::string(label) + " float";
+        auto extra =
+            Texture::create2D({.internalFormat = GL_R32F, .width = width, .height = height},
+                              label.empty() ? std::string_view() : floatLabel);
+        if (!extra) {
+            return io::Error{name + ": " + extra.error().message};
+        }
+        framebuffer.m_float = std::move(extra).value();
+        framebuffer.m_float.setSampling(GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
+        glNamedFramebufferTexture(id, GL_COLOR_ATTACHMENT1, framebuffer.m_float.id(), 0);
+        const std::array<GLenum, 2> drawBuffers{GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+        glNamedFramebufferDrawBuffers(id, 2, drawBuffers.data());
+    } else {
+        glNamedFramebufferDrawBuffer(id, GL_COLOR_ATTACHMENT0);
+    }
     glNamedFramebufferReadBuffer(id, GL_COLOR_ATTACHMENT0);
 
     const GLenum status = glCheckNamedFramebufferStatus(id, GL_FRAMEBUFFER);
@@ -92,6 +119,31 @@ std::vector<std::uint8_t> Framebuffer::readColorRgba8(int x, int y, int width, i
 
 std::vector<std::uint8_t> Framebuffer::readColorRgba8() const {
     return readColorRgba8(0, 0, width(), height());
+}
+
+std::vector<float> Framebuffer::readDepth() const {
+    TERRAIN_ASSERT(valid());
+    const TextureRegion region = m_depth.wholeLevel(0);
+    std::vector<float> depth(static_cast<std::size_t>(region.width) *
+                             static_cast<std::size_t>(region.height));
+    m_depth.readBack(region, GL_DEPTH_COMPONENT, GL_FLOAT,
+                     std::as_writable_bytes(std::span(depth)));
+    return depth;
+}
+
+void Framebuffer::clearFloatAttachment(float value) {
+    TERRAIN_ASSERT(hasFloatAttachment(), "Framebuffer: no float attachment");
+    const std::array<float, 4> rgba{value, 0.0f, 0.0f, 0.0f};
+    glClearNamedFramebufferfv(id(), GL_COLOR, 1, rgba.data());
+}
+
+std::vector<float> Framebuffer::readFloatAttachment() const {
+    TERRAIN_ASSERT(hasFloatAttachment(), "Framebuffer: no float attachment");
+    const TextureRegion region = m_float.wholeLevel(0);
+    std::vector<float> values(static_cast<std::size_t>(region.width) *
+                              static_cast<std::size_t>(region.height));
+    m_float.readBack(region, GL_RED, GL_FLOAT, std::as_writable_bytes(std::span(values)));
+    return values;
 }
 
 }  // namespace terrain::gl

@@ -1,0 +1,99 @@
+// The image measures of accuracy (ImageComparison.h) on small hand-made images: RMSE and
+// PSNR, cracks told apart from silhouettes, and popping as the LOD's change beyond the
+// reference's.
+#include "terrain/runtime/ImageComparison.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace terrain::runtime {
+namespace {
+
+constexpr std::array<std::uint8_t, 3> kClear{255, 0, 255};
+
+/// An image from rows of characters (row 0 first, as stored): '.' clear colour, 'T' grey
+/// terrain; depth 1 for terrain, 0 for clear.
+FrameImages image(const std::vector<std::string>& rows) {
+    FrameImages img;
+    img.height = static_cast<int>(rows.size());
+    img.width = static_cast<int>(rows.front().size());
+    for (const std::string& row : rows) {
+        for (const char c : row) {
+            const bool terrain = c == 'T';
+            img.rgba.insert(img.rgba.end(), {terrain ? std::uint8_t{128} : kClear[0],
+                                             terrain ? std::uint8_t{128} : kClear[1],
+                                             terrain ? std::uint8_t{128} : kClear[2], 255});
+            img.depth.push_back(terrain ? 1.0f : 0.0f);
+        }
+    }
+    return img;
+}
+
+TEST(ImageComparison, RmseAndPsnr) {
+    std::vector<std::uint8_t> a(4 * 100, 10), b = a;
+    const ImageDifference same = compareImages(a, b);
+    EXPECT_EQ(same.rmse, 0.0);
+    EXPECT_EQ(same.psnrDb, kIdenticalPsnrDb);
+    b[0] = 10 + 30;    // R of pixel 0
+    b[4 * 7 + 2] = 0;  // B of pixel 7: −10
+    b[3] = 0;          // alpha is ignored
+    const ImageDifference d = compareImages(a, b);
+    EXPECT_NEAR(d.rmse, std::sqrt((30.0 * 30.0 + 10.0 * 10.0) / 300.0), 1e-12);
+    EXPECT_NEAR(d.psnrDb, 20.0 * std::log10(255.0 / d.rmse), 1e-12);
+}
+
+TEST(ImageComparison, CracksAreEnclosedAndSilhouettesReachTheSky) {
+    const FrameImages reference = image({
+        "TTTTTT",
+        "TTTTTT",
+        "TTTTTT",
+        "TTTT..",
+        "......",
+    });
+    const FrameImages lod = image({
+        "TTTTTT",
+        "TT.TTT",  // a crack: clear, enclosed by terrain
+        "TTTTT.",  // a silhouette drawn too low: clear, touching the sky below-right
+        "TTTT..",
+        "......",
+    });
+    const UncoveredPixels u = countUncoveredPixels(lod, reference, kClear);
+    EXPECT_EQ(u.uncovered, 2u);
+    EXPECT_EQ(u.cracks, 1u);
+    // A crack on the image border is still a crack (the border is not sky).
+    const FrameImages border = image({
+        ".TTTTT",
+        "TTTTTT",
+        "TTTTTT",
+        "TTTT..",
+        "......",
+    });
+    EXPECT_EQ(countUncoveredPixels(border, reference, kClear).cracks, 1u);
+    EXPECT_EQ(countUncoveredPixels(reference, reference, kClear).uncovered, 0u);
+}
+
+TEST(ImageComparison, PoppingIsTheLodChangeTheReferenceDoesNotShow) {
+    const std::vector<std::uint8_t> still(4 * 10, 100);
+    std::vector<std::uint8_t> popped = still;
+    popped[0] = 160;  // one pixel's red changes by 60: its mean change is 20 levels
+    // The reference did not change: all of the LOD's change is popping.
+    EXPECT_NEAR(poppingLevels(still, popped, still, still), 20.0 / 10.0, 1e-12);
+    EXPECT_NEAR(meanImageChange(still, popped), 2.0, 1e-12);
+    // The reference changed the same way: no popping.
+    EXPECT_EQ(poppingLevels(still, popped, still, popped), 0.0);
+    // The reference changed more: floored at 0, never negative.
+    std::vector<std::uint8_t> moved = still;
+    moved[0] = 250;
+    EXPECT_EQ(poppingLevels(still, popped, still, moved), 0.0);
+    // Per pixel: a change elsewhere in the reference does not excuse this one.
+    std::vector<std::uint8_t> elsewhere = still;
+    elsewhere[4 * 5] = 160;
+    EXPECT_NEAR(poppingLevels(still, popped, still, elsewhere), 2.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace terrain::runtime

@@ -1,0 +1,135 @@
+// The reference renderer is right (DESIGN.md, "Measurement is part of the product"): every
+// pixel it draws lies on the full-resolution mesh that FullResolutionSurface evaluates on
+// the CPU (depth unprojected in double, and its world-height target), so the ground truth
+// and the error measure agree on what the truth is. And the measures have a floor of
+// (almost) zero: an LOD drawn at full resolution — every patch at the finest level, every
+// block edge unsimplified — measures within the rasterisation tolerance of the reference,
+// looks the same (shading shared through terrain_shading.glsl) and has no cracks; that
+// floor is where kRasterTolerancePx comes from (docs/accuracy.md).
+#include "AccuracyScenes.h"
+#include "GlTestFixture.h"
+#include "TempFolder.h"
+#include "TerrainViewChecks.h"
+#include "terrain/io/DemReader.h"
+#include "terrain/runtime/AccuracyProbe.h"
+#include "terrain/runtime/ScreenSpaceError.h"
+
+#include <glm/matrix.hpp>
+
+#include <cmath>
+#include <iostream>
+#include <random>
+
+namespace terrain::test {
+namespace {
+
+constexpr int kWidth = 256;
+constexpr int kHeight = 192;
+
+class ReferenceRendererTest : public GlTest {
+protected:
+    static void SetUpTestSuite() {
+        GlTest::SetUpTestSuite();
+        folder() = std::make_unique<TempFolder>();
+        auto reader = io::openDem({"procedural:size=257,seed=3"});
+        ASSERT_TRUE(reader) << reader.error().message;
+        pyramid() = buildScenePyramid(*reader.value(), *folder(), "procedural");
+    }
+    static void TearDownTestSuite() {
+        folder().reset();
+        GlTest::TearDownTestSuite();
+    }
+    static std::unique_ptr<TempFolder>& folder() {
+        static std::unique_ptr<TempFolder> f;
+        return f;
+    }
+    static std::filesystem::path& pyramid() {
+        static std::filesystem::path p;
+        return p;
+    }
+
+    /// Poses over the scene: steep full views and a grazing one at 2 m.
+    static std::vector<runtime::Camera> poses(runtime::FullResolutionSurface& surface) {
+        std::mt19937_64 random(5);
+        std::vector<runtime::Camera> out;
+        for (int i = 0; i < 3; ++i)
+            out.push_back(randomFullView(surface.geometry(), kWidth, kHeight, random));
+        out.push_back(groundPose(surface, kWidth, kHeight, 0.3, 0.6, 70.0, -2.0, 2.0));
+        out.push_back(wholeTerrainPose(surface.geometry(), kWidth, kHeight));
+        return out;
+    }
+};
+
+TEST_F(ReferenceRendererTest, EveryPixelLiesOnTheFullResolutionMesh) {
+    auto probe =
+        runtime::AccuracyProbe::create(pyramid(), {.widthPx = kWidth, .heightPx = kHeight});
+    ASSERT_TRUE(probe) << probe.error().message;
+    runtime::FullResolutionSurface& surface = probe.value()->surface();
+    for (const runtime::Camera& camera : poses(surface)) {
+        auto reference = probe.value()->renderReference(camera, {});
+        ASSERT_TRUE(reference) << reference.error().message;
+        const runtime::FrameImages& img = reference.value().images;
+        ASSERT_EQ(img.heightM.size(), img.pixels());
+        EXPECT_GT(reference.value().draw.tiles, 0u);
+        // The reference's depth measured as if it were an LOD frame: against its own
+        // diagonal (the fixed-diagonal figure) it must be exact up to rounding.
+        auto self = runtime::measureScreenSpaceError(camera, img.depth, {}, {}, surface, 1.0);
+        ASSERT_TRUE(self) << self.error().message;
+        const runtime::ScreenSpaceErrorStats& e = self.value();
+        std::cout << "[          ] " << describe(camera) << ": " << e.pixels
+                  << " pixels, largest projected distance to the CPU mesh " << e.maxFixedDiagonalPx
+                  << " px (nearer diagonal " << e.maxPx << ")\n";
+        EXPECT_GT(e.pixels, img.pixels() / 5) << describe(camera);
+        EXPECT_LT(e.maxFixedDiagonalPx, kRasterTolerancePx) << describe(camera);
+        EXPECT_EQ(e.outsidePixels, 0u) << describe(camera);
+        EXPECT_EQ(e.nonFinitePixels, 0u) << describe(camera);
+        // The world-height target holds the mesh's height where the depth says.
+        const glm::dmat4 inverse = glm::inverse(camera.relativeViewProjection());
+        double worstRelative = 0.0;
+        for (int y = 0; y < kHeight; ++y) {
+            for (int x = 0; x < kWidth; ++x) {
+                const std::size_t i = static_cast<std::size_t>(y * kWidth + x);
+                if (!img.drawn(i)) {
+                    EXPECT_TRUE(std::isnan(img.heightM[i]));
+                    continue;
+                }
+                const glm::dvec3 rel =
+                    runtime::unprojectPixel(inverse, kWidth, kHeight, x, y, img.depth[i]);
+                const double z = camera.position.z + rel.z;
+                worstRelative = std::max(
+                    worstRelative, std::abs(img.heightM[i] - z) / std::max(1.0, glm::length(rel)));
+            }
+        }
+        EXPECT_LT(worstRelative, 1e-4) << describe(camera);
+    }
+}
+
+TEST_F(ReferenceRendererTest, FullResolutionLodMeasuresWithinTheTolerance) {
+    // ε far below a pixel: the coarse LOD splits every visible patch down to the finest
+    // level (Err(P) = 0 only there) and the fine LOD keeps every edge at d = 0 except on
+    // exactly flat blocks, whose simplification changes nothing.
+    constexpr double kTinyErrorPx = 1e-3;
+    auto opened = runtime::TerrainSession::open(pyramid(), roomySessionOptions(kTinyErrorPx));
+    ASSERT_TRUE(opened) << opened.error().message;
+    auto probe =
+        runtime::AccuracyProbe::create(pyramid(), {.widthPx = kWidth, .heightPx = kHeight});
+    ASSERT_TRUE(probe) << probe.error().message;
+    const int finest = opened.value()->geometry().layout().finestLevel();
+    for (const runtime::Camera& camera : poses(probe.value()->surface())) {
+        const SettledMeasure m =
+            measureSettled(*opened.value(), *probe.value(), camera, kTinyErrorPx);
+        for (const runtime::PatchDraw& d : opened.value()->draws()) {
+            EXPECT_EQ(d.id.level, finest);
+        }
+        const runtime::FrameAccuracy& a = m.accuracy;
+        std::cout << "[          ] " << describe(camera) << ": " << describe(a) << "\n";
+        EXPECT_TRUE(a.finite()) << describe(camera);
+        EXPECT_GT(a.error.pixels, 0u);
+        EXPECT_LE(a.error.maxPx, kRasterTolerancePx) << describe(camera) << ": " << describe(a);
+        EXPECT_EQ(a.crackPixels, 0u) << describe(camera);
+        EXPECT_EQ(a.error.outsidePixels, 0u) << describe(camera);
+    }
+}
+
+}  // namespace
+}  // namespace terrain::test
