@@ -1,0 +1,338 @@
+#!/usr/bin/python3
+"""Speed-against-accuracy charts (and a Markdown report) from terrain-bench's CSV files.
+
+Charts, as PNG, one curve per LOD method (the `method` column; several summary files may
+be given, so comparison methods drop in as more curves):
+  triangles_vs_error.png   mean triangles per frame against the measured screen-space error
+  frame_time_vs_error.png  frame time (and the draw's GL_TIME_ELAPSED) against the error
+  psnr_vs_triangles.png    PSNR of the shaded image against triangles
+  error_timeline.png       each frame's largest measured error along the flight (frames.csv)
+  telemetry_timeline.png   frame time, resident tiles, queue depth and load latency over a
+                           flight, from any telemetry CSV (docs/telemetry.md)
+
+Usage:
+  terrain_charts.py --bench-dir DIR --out DIR [--report]
+  terrain_charts.py --summary S.csv [--summary T.csv ...] [--frames F.csv]
+                    [--telemetry TELEMETRY.csv] --out DIR
+  terrain_charts.py --telemetry TELEMETRY.csv --out DIR   (the timeline of any flight)
+  terrain_charts.py --check                               (matplotlib loads?)
+Run it with Debian's /usr/bin/python3, which sees python3-matplotlib. Definitions of every
+figure: docs/accuracy.md.
+"""
+
+import argparse
+import csv
+import json
+import math
+import os
+import sys
+
+
+def fail(message):
+    print(f"terrain_charts.py: {message}", file=sys.stderr)
+    sys.exit(2)
+
+
+try:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+except ImportError as error:  # pragma: no cover - depends on the machine
+    fail(f"matplotlib is missing ({error}): install Debian's python3-matplotlib and run this "
+         "script with /usr/bin/python3 (a pyenv or venv python3 does not see it)")
+
+
+def read_csv(path):
+    try:
+        with open(path, newline="") as f:
+            rows = list(csv.DictReader(f))
+    except OSError as error:
+        fail(f"{path}: cannot read: {error.strerror}")
+    if not rows:
+        fail(f"{path}: no data rows")
+    return rows
+
+
+def number(row, key, path="CSV"):
+    if key not in row:
+        fail(f"{path}: no column '{key}'")
+    text = row[key]
+    if text is None or text == "":
+        return math.nan
+    try:
+        return float(text)
+    except ValueError:
+        fail(f"{path}: column '{key}' holds '{text}', not a number")
+
+
+def by_method(rows):
+    methods = {}
+    for row in rows:
+        methods.setdefault(row.get("method", "yusov2011"), []).append(row)
+    for method_rows in methods.values():
+        method_rows.sort(key=lambda r: float(r["threshold_px"]))
+    return methods
+
+
+def finite(xs, ys):
+    pairs = [(x, y) for x, y in zip(xs, ys) if math.isfinite(x) and math.isfinite(y)]
+    return [p[0] for p in pairs], [p[1] for p in pairs]
+
+
+def positive_log(ax, axis, values):
+    if values and all(v > 0 for v in values if math.isfinite(v)):
+        (ax.set_xscale if axis == "x" else ax.set_yscale)("log")
+
+
+def annotate_thresholds(ax, xs, ys, thresholds):
+    for x, y, t in zip(xs, ys, thresholds):
+        if math.isfinite(x) and math.isfinite(y):
+            ax.annotate(f"ε={t:g}", (x, y), textcoords="offset points", xytext=(4, 4), fontsize=7)
+
+
+def save(fig, out_dir, name):
+    path = os.path.join(out_dir, name)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def chart_triangles_vs_error(methods, out_dir, source):
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    all_x, all_y = [], []
+    for method, rows in methods.items():
+        t = [number(r, "threshold_px", source) for r in rows]
+        tri = [number(r, "triangles_mean", source) for r in rows]
+        emax = [number(r, "error_max_px", source) for r in rows]
+        emean = [number(r, "error_mean_px", source) for r in rows]
+        x, y = finite(emax, tri)
+        line, = ax.plot(x, y, "o-", label=f"{method}: largest error")
+        xm, ym = finite(emean, tri)
+        ax.plot(xm, ym, "o--", mfc="none", color=line.get_color(), label=f"{method}: mean error")
+        annotate_thresholds(ax, emax, tri, t)
+        all_x += x + xm
+        all_y += y + ym
+    positive_log(ax, "x", all_x)
+    positive_log(ax, "y", all_y)
+    ax.set_xlabel("measured screen-space error (px)")
+    ax.set_ylabel("triangles per frame (mean)")
+    ax.set_title("Triangles against measured error")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    return save(fig, out_dir, "triangles_vs_error.png")
+
+
+def chart_frame_time_vs_error(methods, out_dir, source):
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    all_x = []
+    for method, rows in methods.items():
+        t = [number(r, "threshold_px", source) for r in rows]
+        emax = [number(r, "error_max_px", source) for r in rows]
+        frame = [number(r, "frame_ms_mean", source) for r in rows]
+        gpu = [number(r, "gpu_ms_mean", source) for r in rows]
+        gpu_source = rows[0].get("gpu_ms_source", "")
+        x, y = finite(emax, frame)
+        line, = ax.plot(x, y, "o-", label=f"{method}: frame time (wall)")
+        xg, yg = finite(emax, gpu)
+        gpu_label = "draw time, llvmpipe CPU" if gpu_source == "llvmpipe-cpu" else "GPU time"
+        ax.plot(xg, yg, "s--", mfc="none", color=line.get_color(),
+                label=f"{method}: {gpu_label} (GL_TIME_ELAPSED)")
+        annotate_thresholds(ax, emax, frame, t)
+        all_x += x
+    positive_log(ax, "x", all_x)
+    ax.set_xlabel("measured screen-space error, largest (px)")
+    ax.set_ylabel("milliseconds per frame (mean)")
+    ax.set_title("Frame time against measured error")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    return save(fig, out_dir, "frame_time_vs_error.png")
+
+
+def chart_psnr_vs_triangles(methods, out_dir, source):
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    all_x = []
+    for method, rows in methods.items():
+        t = [number(r, "threshold_px", source) for r in rows]
+        tri = [number(r, "triangles_mean", source) for r in rows]
+        psnr = [number(r, "psnr_db_mean", source) for r in rows]
+        x, y = finite(tri, psnr)
+        ax.plot(x, y, "o-", label=method)
+        annotate_thresholds(ax, tri, psnr, t)
+        all_x += x
+    positive_log(ax, "x", all_x)
+    ax.set_xlabel("triangles per frame (mean)")
+    ax.set_ylabel("PSNR of the shaded image (dB, mean)")
+    ax.set_title("Image quality against triangles")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    return save(fig, out_dir, "psnr_vs_triangles.png")
+
+
+def chart_error_timeline(frame_rows, out_dir, source):
+    fig, ax = plt.subplots(figsize=(7.2, 4.2))
+    series = {}
+    for row in frame_rows:
+        key = (row.get("method", "yusov2011"), number(row, "threshold_px", source))
+        series.setdefault(key, []).append(row)
+    for (method, threshold), rows in sorted(series.items(), key=lambda kv: (kv[0][0], kv[0][1])):
+        frames = [number(r, "frame", source) for r in rows]
+        emax = [number(r, "error_max_px", source) for r in rows]
+        line, = ax.plot(frames, emax, "-", lw=1.2, label=f"{method} ε={threshold:g}")
+        ax.axhline(threshold, color=line.get_color(), lw=0.7, ls=":")
+    ax.set_yscale("log")
+    ax.set_xlabel("frame")
+    ax.set_ylabel("largest measured error (px); dotted: ε")
+    ax.set_title("Measured error along the flight")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    return save(fig, out_dir, "error_timeline.png")
+
+
+def chart_telemetry_timeline(rows, out_dir, source):
+    time = [number(r, "time_s", source) for r in rows]
+    fig, axes = plt.subplots(4, 1, figsize=(7.2, 8.0), sharex=True)
+    axes[0].plot(time, [number(r, "frame_ms", source) for r in rows], lw=1)
+    axes[0].set_ylabel("frame ms")
+    axes[1].plot(time, [number(r, "gpu_layers_used", source) for r in rows], lw=1, label="GPU layers used")
+    axes[1].plot(time, [number(r, "cpu_cache_entries", source) for r in rows], lw=1, label="CPU cache entries")
+    axes[1].set_ylabel("resident tiles")
+    axes[1].legend(fontsize=7)
+    axes[2].plot(time, [number(r, "queue_depth", source) for r in rows], lw=1, label="queue depth")
+    axes[2].plot(time, [number(r, "io_in_flight", source) for r in rows], lw=1, label="reads in flight")
+    axes[2].set_ylabel("requests")
+    axes[2].legend(fontsize=7)
+    for key, label in (("load_latency_p50_ms", "p50"), ("load_latency_p95_ms", "p95"),
+                       ("load_latency_p99_ms", "p99")):
+        axes[3].plot(time, [number(r, key, source) for r in rows], lw=1, label=label)
+    axes[3].set_ylabel("load latency ms")
+    axes[3].legend(fontsize=7)
+    axes[3].set_xlabel("time (s)")
+    for ax in axes:
+        ax.grid(True, alpha=0.3)
+    axes[0].set_title("Streaming telemetry over the flight")
+    return save(fig, out_dir, "telemetry_timeline.png")
+
+
+def fmt(value, digits=2):
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "–"
+    if isinstance(value, float) and value.is_integer() and abs(value) >= 1000:
+        return f"{value:,.0f}"
+    if abs(value) >= 1000:
+        return f"{value:,.0f}"
+    return f"{value:.{digits}f}"
+
+
+def write_report(out_dir, bench, summary_rows, charts, summary_path):
+    lines = ["# Speed against accuracy", ""]
+    if bench:
+        lines += [f"Pyramid `{bench.get('pyramid')}`, "
+                  f"{bench['raster']['width']} × {bench['raster']['height']} samples, "
+                  f"{bench['raster']['levels']} levels of {bench['raster']['patch_samples']}-sample "
+                  f"patches ({bench['raster']['block_quads']}-quad blocks); "
+                  f"{bench['frames']} frames of {bench['width_px']} × {bench['height_px']} px on the "
+                  f"{'default' if bench['path'] == 'default' else bench['path']} camera path "
+                  f"({bench['path_duration_s']:g} s), "
+                  f"{'streaming settled before each frame' if bench['settle'] else 'frames drawn as streaming had them'}; "
+                  f"renderer {bench['gl']['renderer']} ({bench['gl']['version']}).", "",
+                  "Made by:", "", "```sh", bench.get("command", ""), "```", ""]
+        if bench.get("gpu_ms_source") == "llvmpipe-cpu":
+            lines += ["**GPU ms are CPU figures here**: llvmpipe rasterises on the CPU, and "
+                      "GL_TIME_ELAPSED measures that work, not a GPU.", ""]
+    tol = bench.get("tolerance_px", 0.05) if bench else 0.05
+    lines += ["## Per threshold", "",
+              "| method | ε px | triangles | patches | draw calls | LOD µs | GPU ms | frame ms | "
+              "resident MiB | error max px | median frame max px | mean px | frames > ε+tol | "
+              "PSNR dB (min) | cracks | popping |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in summary_rows:
+        n = lambda key: number(r, key, summary_path)
+        lines.append(
+            f"| {r['method']} | {n('threshold_px'):g} | {fmt(n('triangles_mean'), 0)} | "
+            f"{fmt(n('patches_mean'), 1)} | {fmt(n('draw_calls_max'), 0)} | {fmt(n('lod_update_us_mean'), 0)} | "
+            f"{fmt(n('gpu_ms_mean'))} | {fmt(n('frame_ms_mean'))} | "
+            f"{fmt(n('resident_bytes_max') / 1048576.0, 1)} | {fmt(n('error_max_px'))} | "
+            f"{fmt(n('error_max_median_px'))} | {fmt(n('error_mean_px'), 3)} | "
+            f"{fmt(n('frames_over_threshold'), 0)} / {fmt(n('frames'), 0)} | "
+            f"{fmt(n('psnr_db_mean'), 1)} ({fmt(n('psnr_db_min'), 1)}) | "
+            f"{fmt(n('crack_pixels_total'), 0)} | {fmt(n('popping_levels_mean'), 3)} |")
+    lines += ["", f"*error*: measured screen-space error against the full-resolution reference "
+              f"(largest over all frames, the median of the frames' largest, and the mean over "
+              f"pixels); *frames > ε+tol*: frames whose largest error exceeds ε + {tol:g} px "
+              f"(the rasterisation tolerance); *popping*: LOD image change beyond the "
+              f"reference's, in 8-bit levels. Definitions: docs/accuracy.md.", ""]
+    lines += ["## Charts", ""]
+    for title, path in charts:
+        lines += [f"### {title}", "", f"![{title}]({os.path.basename(path)})", ""]
+    samples = sorted(f for f in os.listdir(out_dir) if f.startswith("sample-") and f.endswith(".png"))
+    if samples:
+        lines += ["## Sample frame", "", "The reference (full resolution) and the LOD at each ε:", ""]
+        for f in samples:
+            lines += [f"![{f}]({f})", ""]
+    path = os.path.join(out_dir, "report.md")
+    with open(path + ".tmp", "w") as f:
+        f.write("\n".join(lines))
+    os.replace(path + ".tmp", path)
+    return path
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--bench-dir", help="terrain-bench's output folder (summary.csv, frames.csv, telemetry, bench.json)")
+    parser.add_argument("--summary", action="append", default=[], help="summary CSV (repeatable: one or more methods each)")
+    parser.add_argument("--frames", help="per-frame CSV, for the error timeline")
+    parser.add_argument("--telemetry", help="telemetry CSV (docs/telemetry.md), for the timeline")
+    parser.add_argument("--out", required=True, help="folder for the PNGs (and report.md)")
+    parser.add_argument("--report", action="store_true", help="also write report.md")
+    parser.add_argument("--check", action="store_true",
+                        help="only check that matplotlib loads (exit status 0) and stop")
+    if "--check" in sys.argv[1:]:
+        return  # the imports above succeeded
+    args = parser.parse_args()
+
+    bench = None
+    summaries = list(args.summary)
+    frames = args.frames
+    telemetry = args.telemetry
+    if args.bench_dir:
+        summaries.insert(0, os.path.join(args.bench_dir, "summary.csv"))
+        frames = frames or os.path.join(args.bench_dir, "frames.csv")
+        bench_json = os.path.join(args.bench_dir, "bench.json")
+        if os.path.exists(bench_json):
+            with open(bench_json) as f:
+                bench = json.load(f)
+    if not summaries and not telemetry:
+        fail("give --bench-dir, --summary or --telemetry")
+    os.makedirs(args.out, exist_ok=True)
+
+    charts = []
+    summary_rows = []
+    if summaries:
+        for path in summaries:
+            summary_rows += read_csv(path)
+        methods = by_method(summary_rows)
+        source = ", ".join(summaries)
+        charts.append(("Triangles against measured error", chart_triangles_vs_error(methods, args.out, source)))
+        charts.append(("Frame time against measured error", chart_frame_time_vs_error(methods, args.out, source)))
+        charts.append(("PSNR against triangles", chart_psnr_vs_triangles(methods, args.out, source)))
+    if frames and os.path.exists(frames):
+        charts.append(("Measured error along the flight", chart_error_timeline(read_csv(frames), args.out, frames)))
+    if telemetry is None and args.bench_dir and summary_rows:
+        # The flight at the threshold nearest Yusov's 2 px.
+        thresholds = sorted({number(r, "threshold_px") for r in summary_rows}, key=lambda t: abs(t - 2.0))
+        candidate = os.path.join(args.bench_dir, f"telemetry-eps-{thresholds[0]:g}.csv")
+        telemetry = candidate if os.path.exists(candidate) else None
+    if telemetry:
+        charts.append(("Streaming telemetry", chart_telemetry_timeline(read_csv(telemetry), args.out, telemetry)))
+    if args.report:
+        if not summary_rows:
+            fail("--report needs a summary CSV")
+        write_report(args.out, bench, summary_rows, charts, ", ".join(summaries))
+    for _, path in charts:
+        print(path)
+
+
+if __name__ == "__main__":
+    main()

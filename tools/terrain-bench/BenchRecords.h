@@ -1,0 +1,111 @@
+// BenchRecords: what terrain-bench measures — one FrameRecord per (method, threshold,
+// frame), the per-threshold ThresholdSummary derived from them — and the two CSV files that
+// hold them (docs/accuracy.md, "terrain-bench"). Column names carry their units and are
+// stable: the chart tool (tools/charts/terrain_charts.py) reads them by name.
+#pragma once
+
+#include "terrain/io/Result.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace terrain::tools {
+
+inline constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
+
+struct FrameRecord {
+    std::string method;        ///< the LOD method, "yusov2011"
+    double thresholdPx = 0.0;  ///< ε of both LOD stages
+    std::uint64_t frame = 0;
+    double pathTimeS = 0.0;          ///< where on the camera path
+    glm::dvec3 cameraPosition{0.0};  ///< world metres, so any frame can be looked at again
+    double cameraYawDeg = 0.0;
+    double cameraPitchDeg = 0.0;
+
+    // Speed.
+    std::uint64_t triangles = 0;  ///< GL_PRIMITIVES_GENERATED of the LOD draw (skirts included)
+    std::uint64_t patches = 0;
+    std::uint64_t drawCalls = 0;
+    double lodUpdateUs = kNoValue;    ///< the frame's first LOD update for this camera
+    double gpuMs = kNoValue;          ///< GL_TIME_ELAPSED of the draw (CPU time on llvmpipe)
+    double drawMs = kNoValue;         ///< wall time of the draw up to glFinish
+    double frameMs = kNoValue;        ///< beginFrame + draw up to glFinish + endFrame, wall
+    std::uint64_t residentBytes = 0;  ///< GPU layers used × bytes per layer + CPU cache bytes
+    bool waitedForStreaming = false;  ///< splits waited for tiles; the view was settled first
+
+    // Accuracy against the reference.
+    double errorMaxPx = kNoValue;
+    double errorMeanPx = kNoValue;
+    double errorP99Px = kNoValue;
+    std::uint64_t errorPixels = 0;
+    std::uint64_t errorOverThresholdPixels = 0;
+    double errorFixedDiagonalMaxPx = kNoValue;
+    /// The largest error of any one pixel (errorMaxPx needs two adjacent pixels to agree;
+    /// ScreenSpaceError.h).
+    double errorMaxSinglePixelPx = kNoValue;
+    /// Where errorMaxPx was found: pixel (x right, y down from the top row) and the drawn
+    /// surface point there, world metres.
+    int errorWorstX = -1;
+    int errorWorstY = -1;
+    glm::dvec3 errorWorstWorld{0.0};
+    std::uint64_t skirtPixels = 0;
+    double skirtErrorMaxPx = kNoValue;
+    double rmse = kNoValue;
+    double psnrDb = kNoValue;
+    std::uint64_t crackPixels = 0;
+    std::uint64_t uncoveredPixels = 0;
+    double poppingLevels = kNoValue;
+    double lodChangeLevels = kNoValue;
+    double referenceChangeLevels = kNoValue;
+    std::uint64_t referenceTriangles = 0;
+    double referenceMs = kNoValue;
+};
+
+struct ThresholdSummary {
+    std::string method;
+    double thresholdPx = 0.0;
+    std::uint64_t frames = 0;
+    double trianglesMean = 0.0;
+    std::uint64_t trianglesMax = 0;
+    double patchesMean = 0.0;
+    std::uint64_t drawCallsMax = 0;
+    double lodUpdateUsMean = kNoValue;
+    double lodUpdateUsP95 = kNoValue;
+    double gpuMsMean = kNoValue;
+    double drawMsMean = kNoValue;
+    double frameMsMean = kNoValue;
+    double frameMsP95 = kNoValue;
+    std::uint64_t residentBytesMax = 0;
+    double errorMaxPx = kNoValue;           ///< largest over every frame
+    double errorMaxMedianPx = kNoValue;     ///< median over frames of each frame's largest
+    double errorMeanPx = kNoValue;          ///< mean over frames of each frame's mean
+    double errorP99MeanPx = kNoValue;       ///< mean over frames of each frame's p99
+    std::uint64_t framesOverThreshold = 0;  ///< frames whose error max > ε + tolerance
+    double errorFixedDiagonalMaxPx = kNoValue;
+    double errorMaxSinglePixelPx = kNoValue;
+    double rmseMean = kNoValue;
+    double psnrDbMean = kNoValue;
+    double psnrDbMin = kNoValue;
+    std::uint64_t crackPixelsTotal = 0;
+    double poppingLevelsMean = kNoValue;
+    std::uint64_t framesWaited = 0;
+};
+
+/// Per (method, threshold) in the order they first appear in `records`.
+std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, double tolerancePx);
+
+/// frames.csv: one row per record. summary.csv: one row per summary; `gpuMsSource`
+/// ("gl-timer-query" or "llvmpipe-cpu") is written in a column of every row of both.
+io::Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRecord> records,
+                          const std::string& gpuMsSource);
+io::Status writeSummaryCsv(const std::filesystem::path& path,
+                           std::span<const ThresholdSummary> summaries,
+                           const std::string& gpuMsSource);
+
+}  // namespace terrain::tools

@@ -1,0 +1,445 @@
+// terrain-bench: speed against accuracy (issue 6; docs/accuracy.md). Flies a camera path
+// through a pyramid once per error threshold ε — one TerrainSession per threshold, so no
+// threshold inherits another's LOD tree — and measures every frame: triangles, patches,
+// draw calls, LOD µs, GPU ms, resident bytes, and against the reference renderer (drawn
+// once per frame, shared by every threshold) the measured screen-space error, RMSE/PSNR,
+// cracks and popping. Writes frames.csv, summary.csv, one telemetry CSV per threshold and
+// bench.json; --report DIR also runs the chart tool for PNG charts and report.md.
+#include "BenchRecords.h"
+#include "ChartScript.h"
+#include "GlInfoJson.h"
+
+#include "terrain/cache/GpuTilePool.h"
+#include "terrain/io/AtomicFile.h"
+#include "terrain/io/RgbaImageWriter.h"
+#include "terrain/runtime/AccuracyProbe.h"
+#include "terrain/runtime/CameraPath.h"
+#include "terrain/runtime/HeadlessGlContext.h"
+#include "terrain/runtime/TelemetryCsvWriter.h"
+#include "terrain/runtime/TerrainSession.h"
+
+#include <epoxy/gl.h>
+#include <fmt/core.h>
+#include <unistd.h>
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using namespace terrain;
+namespace fs = std::filesystem;
+
+constexpr const char* kMethod = "yusov2011";
+
+struct BenchOptions {
+    std::string pyramid;
+    std::vector<double> thresholdsPx{0.5, 1.0, 2.0, 4.0, 8.0, 16.0};
+    std::string pathFile;
+    double durationS = 20.0;
+    int frames = 48;
+    int widthPx = 640;
+    int heightPx = 360;
+    std::string outputDir;
+    std::string reportDir;
+    bool noSettle = false;
+    bool coarseOnly = false;
+    double tolerancePx = 0.05;
+    double cpuCacheMiB = 256.0;
+    int gpuLayers = 1024;
+    double uploadMiBPerFrame = 64.0;
+    double fogDensity = 0.0;
+    int sampleFrame = -1;  // -1: the middle frame
+    bool json = false;
+    std::string commandLine;
+};
+
+int fail(const std::string& message) {
+    fmt::print(stderr, "terrain-bench: {}\n", message);
+    return 1;
+}
+
+io::Status writePng(const runtime::FrameImages& images, const fs::path& path) {
+    const std::size_t rowBytes = static_cast<std::size_t>(images.width) * 4;
+    std::vector<std::uint8_t> topDown(images.rgba.size());
+    for (int y = 0; y < images.height; ++y) {
+        std::memcpy(topDown.data() + static_cast<std::size_t>(y) * rowBytes,
+                    images.rgba.data() + static_cast<std::size_t>(images.height - 1 - y) * rowBytes,
+                    rowBytes);
+    }
+    return io::writeRgba8Png(path, images.width, images.height, topDown);
+}
+
+std::string thresholdName(double px) { return fmt::format("{}", px); }
+
+nlohmann::json summaryJson(const tools::ThresholdSummary& s) {
+    const auto v = [](double x) { return std::isnan(x) ? nlohmann::json() : nlohmann::json(x); };
+    return {{"method", s.method},
+            {"threshold_px", s.thresholdPx},
+            {"frames", s.frames},
+            {"triangles_mean", v(s.trianglesMean)},
+            {"triangles_max", s.trianglesMax},
+            {"patches_mean", v(s.patchesMean)},
+            {"draw_calls_max", s.drawCallsMax},
+            {"lod_update_us_mean", v(s.lodUpdateUsMean)},
+            {"gpu_ms_mean", v(s.gpuMsMean)},
+            {"frame_ms_mean", v(s.frameMsMean)},
+            {"resident_bytes_max", s.residentBytesMax},
+            {"error_max_px", v(s.errorMaxPx)},
+            {"error_max_median_px", v(s.errorMaxMedianPx)},
+            {"error_mean_px", v(s.errorMeanPx)},
+            {"frames_over_threshold", s.framesOverThreshold},
+            {"psnr_db_mean", v(s.psnrDbMean)},
+            {"psnr_db_min", v(s.psnrDbMin)},
+            {"rmse_mean", v(s.rmseMean)},
+            {"crack_pixels_total", s.crackPixelsTotal},
+            {"popping_levels_mean", v(s.poppingLevelsMean)},
+            {"frames_waited", s.framesWaited}};
+}
+
+/// One threshold's flight: its own session, its telemetry log and its previous frame.
+struct ThresholdRun {
+    double thresholdPx = 0.0;
+    std::unique_ptr<runtime::TerrainSession> session;
+    std::optional<runtime::TelemetryCsvWriter> telemetry;
+    std::optional<runtime::LodCapture> previous;
+};
+
+int run(const BenchOptions& o, const char* argv0) {
+    const auto start = Clock::now();
+    if (o.thresholdsPx.empty()) return fail("--thresholds: give at least one threshold");
+    for (const double t : o.thresholdsPx) {
+        if (!(t > 0.0) || !std::isfinite(t))
+            return fail(fmt::format("--thresholds: {} is not a positive number of pixels", t));
+    }
+    std::optional<tools::ChartScript> chart;
+    if (!o.reportDir.empty()) {
+        auto found = tools::findChartScript(argv0);
+        if (!found) return fail(found.error().message);
+        chart = found.value();
+        // Before the flight, not after it: a missing matplotlib fails at once.
+        if (auto usable = tools::runChartScript(*chart, {"--check"}); !usable)
+            return fail(usable.error().message);
+    }
+    const fs::path outputDir = !o.outputDir.empty()   ? fs::path(o.outputDir)
+                               : !o.reportDir.empty() ? fs::path(o.reportDir)
+                                                      : fs::path("out/bench");
+    std::error_code ec;
+    fs::create_directories(outputDir, ec);
+    if (ec)
+        return fail(
+            fmt::format("{}: cannot create the folder: {}", outputDir.string(), ec.message()));
+
+    auto context = runtime::HeadlessGlContext::create();
+    if (!context) return fail(context.error().message);
+    const runtime::GlInfo& gl = context.value()->info();
+    const bool llvmpipe = gl.renderer.find("llvmpipe") != std::string::npos;
+    const std::string gpuMsSource = llvmpipe ? "llvmpipe-cpu" : "gl-timer-query";
+
+    runtime::TerrainSessionOptions sessionOptions;
+    sessionOptions.streaming.cpuCacheBytes =
+        static_cast<std::size_t>(o.cpuCacheMiB * 1024.0 * 1024.0);
+    sessionOptions.streaming.gpuLayers = o.gpuLayers;
+    sessionOptions.streaming.uploadBytesPerFrame =
+        static_cast<std::size_t>(o.uploadMiBPerFrame * 1024.0 * 1024.0);
+    std::vector<ThresholdRun> runs;
+    for (const double threshold : o.thresholdsPx) {
+        sessionOptions.lod.errorPx = threshold;
+        auto opened = runtime::TerrainSession::open(o.pyramid, sessionOptions);
+        if (!opened) return fail(opened.error().message);
+        ThresholdRun r;
+        r.thresholdPx = threshold;
+        r.session = std::move(opened).value();
+        auto csv = runtime::TelemetryCsvWriter::create(
+            outputDir / fmt::format("telemetry-eps-{}.csv", thresholdName(threshold)));
+        if (!csv) return fail(csv.error().message);
+        r.telemetry.emplace(std::move(csv).value());
+        runs.push_back(std::move(r));
+    }
+    const runtime::TerrainGeometry& geometry = runs.front().session->geometry();
+    const std::size_t bytesPerLayer = cache::GpuTilePool::bytesPerLayer(geometry.layout());
+
+    std::optional<runtime::CameraPath> path;
+    if (o.pathFile.empty()) {
+        path = runtime::CameraPath::defaultFor(geometry, o.durationS);
+    } else {
+        auto loaded = runtime::CameraPath::load(o.pathFile);
+        if (!loaded) return fail(loaded.error().message);
+        path = std::move(loaded).value();
+    }
+    if (auto saved = path->save(outputDir / "camera-path.json"); !saved)
+        return fail(saved.error().message);
+
+    auto probe =
+        runtime::AccuracyProbe::create(o.pyramid, {.widthPx = o.widthPx, .heightPx = o.heightPx});
+    if (!probe) return fail(probe.error().message);
+
+    runtime::Camera camera;
+    camera.viewportWidth = o.widthPx;
+    camera.viewportHeight = o.heightPx;
+    camera.nearPlane = 0.5;
+    const int sampleFrame = o.sampleFrame >= 0 ? o.sampleFrame : o.frames / 2;
+    const std::string method =
+        o.coarseOnly ? std::string(kMethod) + "-coarse-only" : std::string(kMethod);
+
+    std::vector<tools::FrameRecord> records;
+    std::optional<runtime::ReferenceCapture> previousReference;
+    const bool progress = isatty(STDERR_FILENO) != 0;
+    for (int frame = 0; frame < o.frames; ++frame) {
+        const double t =
+            path->startS() + (o.frames > 1 ? path->durationS() * frame / (o.frames - 1) : 0.0);
+        path->apply(t, camera);
+        auto reference = probe.value()->renderReference(
+            camera, {.fogDensityPerM = static_cast<float>(o.fogDensity)});
+        if (!reference) return fail(reference.error().message);
+        if (frame == sampleFrame) {
+            if (auto w = writePng(reference.value().images, outputDir / "sample-reference.png"); !w)
+                return fail(w.error().message);
+        }
+        for (ThresholdRun& r : runs) {
+            runtime::TerrainSession& session = *r.session;
+            runtime::TerrainStyle style;
+            style.errorPx = r.thresholdPx;
+            style.measure = true;
+            style.fogDensityPerM = static_cast<float>(o.fogDensity);
+            if (o.coarseOnly) style.fixedTessFactor = geometry.layout().blockQuads();
+            tools::FrameRecord rec;
+            rec.method = method;
+            rec.thresholdPx = r.thresholdPx;
+            rec.frame = static_cast<std::uint64_t>(frame);
+            rec.pathTimeS = t;
+            rec.cameraPosition = camera.position;
+            rec.cameraYawDeg = camera.yaw * 180.0 / std::numbers::pi;
+            rec.cameraPitchDeg = camera.pitch * 180.0 / std::numbers::pi;
+
+            auto frameStart = Clock::now();
+            const runtime::LodUpdateStats first = session.beginFrame(camera);
+            rec.lodUpdateUs = session.lodUpdateUs();
+            if (!o.noSettle &&
+                (first.waitingSplits > 0 || session.streamer().loadsOutstanding() > 0)) {
+                // Let streaming catch up so the figures are the LOD method's, not the
+                // disk's; LOD µs stays the first update's.
+                runtime::FrameTelemetry discarded;
+                session.endFrame(discarded);
+                if (!session.settle(camera, std::chrono::seconds(120))) {
+                    return fail(
+                        fmt::format("frame {} at ε = {} px: streaming did not settle within 120 s",
+                                    frame, r.thresholdPx));
+                }
+                rec.waitedForStreaming = true;
+                frameStart = Clock::now();
+                session.beginFrame(camera);
+            }
+            const runtime::LodCapture lod = probe.value()->captureLod(session, camera, style);
+            runtime::FrameTelemetry telemetry;
+            session.endFrame(telemetry);
+            rec.frameMs =
+                std::chrono::duration<double, std::milli>(Clock::now() - frameStart).count();
+            rec.drawMs = lod.drawMs;
+            rec.triangles = lod.draw.triangles;
+            rec.gpuMs = lod.draw.gpuMs;
+            rec.patches = telemetry.patchesDrawn;
+            rec.drawCalls = telemetry.drawCalls;
+            rec.residentBytes = telemetry.gpuLayersUsed * bytesPerLayer + telemetry.cpuCacheBytes;
+            telemetry.frame = static_cast<std::uint64_t>(frame);
+            telemetry.timeS = std::chrono::duration<double>(Clock::now() - start).count();
+            telemetry.frameMs = rec.frameMs;
+            r.telemetry->write(telemetry);
+
+            auto accuracy = probe.value()->compare(
+                camera, lod, reference.value(), r.thresholdPx, r.previous ? &*r.previous : nullptr,
+                previousReference ? &*previousReference : nullptr);
+            if (!accuracy) return fail(accuracy.error().message);
+            const runtime::FrameAccuracy& a = accuracy.value();
+            rec.errorMaxPx = a.error.maxPx;
+            rec.errorMeanPx = a.error.meanPx;
+            rec.errorP99Px = a.error.p99Px;
+            rec.errorPixels = a.error.pixels;
+            rec.errorOverThresholdPixels = a.error.pixelsOverThreshold;
+            rec.errorFixedDiagonalMaxPx = a.error.maxFixedDiagonalPx;
+            rec.errorMaxSinglePixelPx = a.error.maxSinglePixelPx;
+            rec.errorWorstX = a.error.worstX;
+            rec.errorWorstY = a.error.worstY < 0 ? -1 : o.heightPx - 1 - a.error.worstY;
+            rec.errorWorstWorld = a.error.worstWorld;
+            rec.skirtPixels = a.error.skirtPixels;
+            rec.skirtErrorMaxPx = a.error.skirtMaxPx;
+            rec.rmse = a.image.rmse;
+            rec.psnrDb = a.image.psnrDb;
+            rec.crackPixels = a.crackPixels;
+            rec.uncoveredPixels = a.uncoveredPixels;
+            rec.poppingLevels = a.poppingLevels;
+            rec.lodChangeLevels = a.lodChangeLevels;
+            rec.referenceChangeLevels = a.referenceChangeLevels;
+            rec.referenceTriangles = reference.value().draw.triangles;
+            rec.referenceMs = reference.value().drawMs;
+            if (a.error.pixels == 0 && a.referencePixels > 0) {
+                fmt::print(stderr, "terrain-bench: frame {} at ε = {} px: no pixel measured\n",
+                           frame, r.thresholdPx);
+            }
+            if (frame == sampleFrame) {
+                const auto file =
+                    outputDir / fmt::format("sample-eps-{}.png", thresholdName(r.thresholdPx));
+                if (auto w = writePng(lod.images, file); !w) return fail(w.error().message);
+            }
+            records.push_back(rec);
+            r.previous = lod;
+            if (context.value()->debugLog().errorCount() > 0) {
+                return fail("OpenGL reported an error:\n" +
+                            context.value()->debugLog().formatErrors());
+            }
+        }
+        previousReference = std::move(reference).value();
+        if (progress) fmt::print(stderr, "\rterrain-bench: frame {}/{}", frame + 1, o.frames);
+    }
+    if (progress) fmt::print(stderr, "\n");
+    for (ThresholdRun& r : runs) {
+        if (auto closed = r.telemetry->close(); !closed) return fail(closed.error().message);
+        r.session->streamer().drain(std::chrono::seconds(10));
+    }
+
+    const std::vector<tools::ThresholdSummary> summaries = tools::summarise(records, o.tolerancePx);
+    if (auto w = tools::writeFramesCsv(outputDir / "frames.csv", records, gpuMsSource); !w)
+        return fail(w.error().message);
+    if (auto w = tools::writeSummaryCsv(outputDir / "summary.csv", summaries, gpuMsSource); !w)
+        return fail(w.error().message);
+
+    const io::PyramidLayout& layout = geometry.layout();
+    nlohmann::json thresholds = nlohmann::json::array();
+    for (const tools::ThresholdSummary& s : summaries) thresholds.push_back(summaryJson(s));
+    const nlohmann::json out{
+        {"tool", "terrain-bench"},
+        {"command", o.commandLine},
+        {"pyramid", o.pyramid},
+        {"raster",
+         {{"width", layout.rasterWidth()},
+          {"height", layout.rasterHeight()},
+          {"patch_samples", layout.patchSamples()},
+          {"block_quads", layout.blockQuads()},
+          {"levels", layout.levelCount()},
+          {"sample_spacing_m", {geometry.sampleSpacing().x, geometry.sampleSpacing().y}}}},
+        {"path", o.pathFile.empty() ? nlohmann::json("default") : nlohmann::json(o.pathFile)},
+        {"path_duration_s", path->durationS()},
+        {"frames", o.frames},
+        {"width_px", o.widthPx},
+        {"height_px", o.heightPx},
+        {"settle", !o.noSettle},
+        {"tolerance_px", o.tolerancePx},
+        {"method", method},
+        {"output_dir", outputDir.string()},
+        {"gpu_ms_source", gpuMsSource},
+        {"gpu_ms_note", llvmpipe ? "llvmpipe rasterises on the CPU: gpu_ms is the CPU time of "
+                                   "the draw as GL_TIME_ELAPSED reports it, not GPU time"
+                                 : "GL_TIME_ELAPSED of the terrain draw"},
+        {"thresholds", thresholds},
+        {"total_seconds", std::chrono::duration<double>(Clock::now() - start).count()},
+        {"gl", tools::glInfoJson(gl)},
+    };
+    if (auto w = io::writeAtomically(
+            outputDir / "bench.json",
+            [&](const fs::path& temporary) -> io::Status {
+                std::FILE* file = std::fopen(temporary.c_str(), "w");
+                if (file == nullptr)
+                    return io::Error{(outputDir / "bench.json").string() + ": cannot write"};
+                const std::string text = out.dump(2) + "\n";
+                const bool ok = std::fwrite(text.data(), 1, text.size(), file) == text.size();
+                return std::fclose(file) == 0 && ok
+                           ? io::Status{}
+                           : io::Status{
+                                 io::Error{(outputDir / "bench.json").string() + ": write failed"}};
+            });
+        !w) {
+        return fail(w.error().message);
+    }
+
+    if (chart) {
+        fs::create_directories(o.reportDir, ec);
+        if (ec)
+            return fail(fmt::format("{}: cannot create the folder: {}", o.reportDir, ec.message()));
+        auto ran = tools::runChartScript(
+            *chart, {"--bench-dir", outputDir.string(), "--out", o.reportDir, "--report"});
+        if (!ran) return fail(ran.error().message);
+    }
+    if (o.json) std::puts(out.dump(2).c_str());
+    for (const tools::ThresholdSummary& s : summaries) {
+        fmt::print(stderr,
+                   "terrain-bench: ε = {:>5} px: triangles {:>9.0f}, measured error max {:.3f} px "
+                   "(median of frame maxima {:.3f}, mean {:.3f}), PSNR {:.2f} dB, {} of {} frames "
+                   "over ε + {} px, "
+                   "{} crack pixels\n",
+                   s.thresholdPx, s.trianglesMean, s.errorMaxPx, s.errorMaxMedianPx, s.errorMeanPx,
+                   s.psnrDbMean, s.framesOverThreshold, s.frames, o.tolerancePx,
+                   s.crackPixelsTotal);
+    }
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{
+        "Speed against accuracy: fly a camera path through a pyramid at several error thresholds "
+        "and measure every frame against the full-resolution reference renderer "
+        "(docs/accuracy.md). "
+        "Writes frames.csv, summary.csv, telemetry-eps-*.csv and bench.json; --report DIR adds "
+        "PNG charts and report.md."};
+    BenchOptions o;
+    app.add_option("pyramid", o.pyramid, "Pyramid folder (terrain-build's output)")->required();
+    app.add_option("--thresholds", o.thresholdsPx, "Error thresholds ε in pixels (comma-separated)")
+        ->delimiter(',')
+        ->capture_default_str();
+    app.add_option("--path", o.pathFile,
+                   "Camera path JSON (docs/camera-path.md); default: a path made for the pyramid");
+    app.add_option("--duration-s", o.durationS, "Length of the default path, seconds")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    app.add_option("--frames", o.frames, "Frames, evenly spread over the path")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 100000));
+    app.add_option("--width", o.widthPx, "Frame width, pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(16, 16384));
+    app.add_option("--height", o.heightPx, "Frame height, pixels")
+        ->capture_default_str()
+        ->check(CLI::Range(16, 16384));
+    app.add_option(
+        "-o,--output", o.outputDir,
+        "Folder for the CSVs and bench.json (default: the report folder, else out/bench)");
+    app.add_option(
+        "--report", o.reportDir,
+        "Write PNG charts and report.md into this folder (needs /usr/bin/python3 with matplotlib)");
+    app.add_flag("--no-settle", o.noSettle,
+                 "Draw each frame as streaming has it (default: let streaming settle first)");
+    app.add_flag("--coarse-only", o.coarseOnly,
+                 "Draw every block at its patch's full resolution (no fine LOD): the coarse LOD's "
+                 "own error; method yusov2011-coarse-only");
+    app.add_option("--tolerance-px", o.tolerancePx,
+                   "Rasterisation tolerance added to ε when counting frames over ε")
+        ->capture_default_str();
+    app.add_option("--cpu-cache-mib", o.cpuCacheMiB, "CPU tile cache budget per threshold, MiB")
+        ->capture_default_str();
+    app.add_option("--gpu-layers", o.gpuLayers, "GPU tile pool layers per threshold")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 1 << 16));
+    app.add_option("--upload-mib-per-frame", o.uploadMiBPerFrame,
+                   "GPU upload budget per frame, MiB")
+        ->capture_default_str();
+    app.add_option("--fog", o.fogDensity, "Fog density per metre (0: none)")->capture_default_str();
+    app.add_option("--sample-frame", o.sampleFrame,
+                   "Frame written as sample PNGs (default: the middle one)");
+    app.add_flag("--json", o.json, "Print the JSON summary on stdout");
+    CLI11_PARSE(app, argc, argv);
+    for (int i = 0; i < argc; ++i) o.commandLine += (i == 0 ? "" : " ") + std::string(argv[i]);
+    return run(o, argv[0]);
+}
