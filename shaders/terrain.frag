@@ -1,25 +1,24 @@
-// Terrain draw, fragment stage: hillshade from a directional sun over a hypsometric tint,
-// or a debug colour (patch level, block tessellation factor), then distance fog to the
-// sky colour.
+// Terrain draw, fragment stage: the shaded view (terrain_shading.glsl, shared with the
+// reference renderer so the two differ only where geometry or normals do) or a debug colour
+// (patch level, block tessellation factor) under the same sun and fog. Fragments beyond the
+// DEM's extent — the overhang of a level's last patches — are discarded.
 #include "Bindings.h"
+#include "terrain_shading.glsl"
 
-uniform vec3 u_sunDirection;  // towards the sun, unit length, world frame
-uniform vec2 u_heightRangeM;  // min, max of the DEM
-uniform vec3 u_skyColor;
-uniform float u_fogDensityPerM;
 uniform int u_debugView;  // TerrainDebugView: 0 shaded, 1 level, 2 tessellation factor
+uniform vec2 u_demFirstSample;  // terrain_patches.glsl
+uniform vec2 u_demLastSample;
 
 layout(location = 0) in vec3 i_fromCameraM;
 layout(location = 1) in vec3 i_normal;
 layout(location = 2) in float i_heightM;
 layout(location = 3) flat in int i_level;
 layout(location = 4) flat in int i_tessFactor;
+layout(location = 5) in vec2 i_demSample;
 layout(location = TERRAIN_FRAG_COLOR) out vec4 o_color;
 
-vec3 tint(float t) {
-    const vec3 low = vec3(0.34, 0.50, 0.30), mid = vec3(0.62, 0.55, 0.42), high = vec3(0.93);
-    return t < 0.6 ? mix(low, mid, t / 0.6) : mix(mid, high, (t - 0.6) / 0.4);
-}
+// Interpolation may put the DEM's own edge a hair outside it.
+const float kEdgeToleranceSamples = 1.0e-3;
 
 vec3 levelColor(int level) {
     const vec3 palette[6] = vec3[](vec3(0.90, 0.30, 0.25), vec3(0.95, 0.65, 0.20),
@@ -39,14 +38,14 @@ vec3 tessFactorColor(int factor) {
 }
 
 void main() {
-    vec3 n = normalize(i_normal);
-    float lambert = max(dot(n, u_sunDirection), 0.0);
-    float t = clamp((i_heightM - u_heightRangeM.x) / max(u_heightRangeM.y - u_heightRangeM.x, 1.0),
-                    0.0, 1.0);
-    vec3 base = u_debugView == 1 ? levelColor(i_level)
-              : u_debugView == 2 ? tessFactorColor(i_tessFactor)
-                                 : tint(t);
-    vec3 lit = base * (0.25 + 0.75 * lambert);
-    float fog = 1.0 - exp(-u_fogDensityPerM * length(i_fromCameraM));
-    o_color = vec4(mix(lit, u_skyColor, fog), 1.0);
+    if (any(lessThan(i_demSample, u_demFirstSample - kEdgeToleranceSamples)) ||
+        any(greaterThan(i_demSample, u_demLastSample + kEdgeToleranceSamples))) {
+        discard;
+    }
+    if (u_debugView == 0) {
+        o_color = vec4(terrainShade(i_normal, i_heightM, i_fromCameraM), 1.0);
+        return;
+    }
+    vec3 base = u_debugView == 1 ? levelColor(i_level) : tessFactorColor(i_tessFactor);
+    o_color = vec4(terrainShadeColor(base, i_normal, i_fromCameraM), 1.0);
 }

@@ -67,6 +67,7 @@ vec4 blockErrorM(PatchInstance patch_, ivec2 block) {
 // proj(e_c^(d),−, e_c^(d),+) of Yusov §5: the vertical segment centre ± Λ/2 · e_z through
 // the world-view-projection, in pixels.
 float projectedSegmentPx(vec3 centreM, float errorM) {
+    if (errorM <= 0.0) return 0.0;  // no error: nothing to see, even behind the camera
     precise vec3 halfUp = vec3(0.0, 0.0, 0.5 * errorM);
     precise vec4 lo = u_viewProjection * vec4(centreM - halfUp, 1.0);
     precise vec4 hi = u_viewProjection * vec4(centreM + halfUp, 1.0);
@@ -128,6 +129,13 @@ bool blockOutsideFrustum(PatchInstance patch_, ivec2 block, float dropM) {
     return outsideFrustum(lo, hi);
 }
 
+// Whether `block` lies wholly beyond the DEM's extent (in a patch overhanging its right
+// or bottom edge): it would draw only clamped copies of the edge.
+bool blockBeyondDem(PatchInstance patch_, ivec2 block) {
+    vec2 first = terrainDemSample(patch_, vec2(block * u_blockQuads));
+    return any(greaterThan(first, u_demLastSample));
+}
+
 void main() {
     o_sample[gl_InvocationID] = i_sample[gl_InvocationID];
     o_instance[gl_InvocationID] = i_instance[gl_InvocationID];
@@ -182,7 +190,8 @@ void main() {
         o_skirtDropM = 0.0;
     }
     o_debugFactor = int(inner);
-    bool culled = u_cullBlocks != 0 && blockOutsideFrustum(patch_, block, o_skirtDropM);
+    bool culled = blockBeyondDem(patch_, block) ||
+                  (u_cullBlocks != 0 && blockOutsideFrustum(patch_, block, o_skirtDropM));
 #ifdef TERRAIN_DEBUG_TESS_FACTORS
     int record = i_instance[0] * (blocks + 4 * u_blocksPerSide) + primitive;
     u_tessFactors[record].outer = ivec4(gl_TessLevelOuter[0], gl_TessLevelOuter[1],

@@ -21,6 +21,7 @@ layout(location = 1) out vec3 o_normal;
 layout(location = 2) out float o_heightM;
 layout(location = 3) flat out int o_level;
 layout(location = 4) flat out int o_tessFactor;
+layout(location = 5) out vec2 o_demSample;  // minus the anchor: the fragment stage clips
 
 float heightAt(ivec2 texel, int layer) {
     return texelFetch(u_heights, ivec3(texel, layer), 0).r;
@@ -42,6 +43,7 @@ void main() {
     o_heightM = h;
     o_level = patch_.layerLevel.y;
     o_tessFactor = i_debugFactor;
+    o_demSample = terrainDemSample(patch_, vec2(sampleXY));
     // Blocks have no drop; a skirt's top row (v = 0) is exactly the patch's edge.
     precise vec3 position = terrainPositionM(patch_, vec2(sampleXY), h);
     precise float drop = i_skirtDropM * u.y;

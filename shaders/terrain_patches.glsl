@@ -29,6 +29,11 @@ uniform int u_blockQuads;           // B, quads along a block side
 uniform vec2 u_cameraSampleFraction;  // camera x, y in DEM samples minus the anchor, [0, 1)
 uniform vec2 u_sampleSpacingM;      // metres per DEM sample, east and south
 uniform float u_cameraHeightM;
+// The DEM's extent in DEM samples minus the anchor: its first (0, 0) and last (width − 1,
+// height − 1) sample. A level's last patches overhang it (they are whole patches of
+// clamped samples): nothing beyond it is data, and nothing beyond it is drawn.
+uniform vec2 u_demFirstSample;
+uniform vec2 u_demLastSample;
 
 const ivec2 kEdgeNeighbour[4] = ivec2[](ivec2(-1, 0), ivec2(0, -1), ivec2(1, 0), ivec2(0, 1));
 
@@ -44,6 +49,12 @@ ivec2 terrainSkirtBlock(int edge, int i) {
 void terrainEdgeEnds(int edge, out ivec2 a, out ivec2 b) {
     a = edge == 2 ? ivec2(1, 0) : edge == 3 ? ivec2(0, 1) : ivec2(0, 0);
     b = (edge == 0 || edge == 2) ? a + ivec2(0, 1) : a + ivec2(1, 0);
+}
+
+// DEM sample (minus the anchor) of patch sample `s`: exact integers near the camera.
+vec2 terrainDemSample(PatchInstance patch_, vec2 s) {
+    precise vec2 demSample = patch_.originAndStep.xy + s * patch_.originAndStep.z;
+    return demSample;
 }
 
 // Camera-relative metres of patch sample `s` (integers, apron excluded) at height h.

@@ -22,6 +22,7 @@ constexpr std::array<glm::ivec2, 4> kEdgeEnd{{{0, 1}, {1, 0}, {1, 1}, {1, 1}}};
 
 double projectedSegmentPx(const glm::dmat4& relativeViewProjection, const glm::dvec2& viewportPx,
                           const glm::dvec3& centreM, const double lengthM) {
+    if (lengthM <= 0.0) return 0.0;  // no error: nothing to see, even behind the camera
     const glm::dvec3 halfUp{0.0, 0.0, 0.5 * lengthM};
     const glm::dvec4 lo = relativeViewProjection * glm::dvec4(centreM - halfUp, 1.0);
     const glm::dvec4 hi = relativeViewProjection * glm::dvec4(centreM + halfUp, 1.0);
@@ -41,14 +42,19 @@ int edgeSimplification(std::span<const double, io::kMaxSimplification> projected
 
 int tessFactorOf(int blockQuads, int d) { return std::max(1, blockQuads >> d); }
 
-bool blockOutsideFrustum(const Camera& camera, const TerrainGeometry& geometry,
-                         const io::PatchId& id, const io::PatchInfo& info, glm::ivec2 block,
-                         double dropM) {
+bool blockDiscarded(const Camera& camera, const TerrainGeometry& geometry, const io::PatchId& id,
+                    const io::PatchInfo& info, glm::ivec2 block, double dropM) {
     const io::PyramidLayout& layout = geometry.layout();
     const double step = static_cast<double>(layout.levelStep(id.level));
     const double quads = static_cast<double>(layout.blockQuads());
     const double column = static_cast<double>(layout.patchOriginX(id)) * step;
     const double row = static_cast<double>(layout.patchOriginY(id)) * step;
+    const double firstColumn = column + block.x * quads * step;
+    const double firstRow = row + block.y * quads * step;
+    if (firstColumn > static_cast<double>(layout.rasterWidth() - 1) ||
+        firstRow > static_cast<double>(layout.rasterHeight() - 1)) {
+        return true;  // wholly beyond the DEM
+    }
     const glm::dvec2 nw =
         geometry.worldOfSample(column + block.x * quads * step, row + block.y * quads * step);
     const glm::dvec2 se = geometry.worldOfSample(column + (block.x + 1) * quads * step,
@@ -116,7 +122,7 @@ std::vector<BlockFactors> patchBlockFactors(const Camera& camera, const TerrainG
             }
             const int inner = *std::min_element(f.outer.begin(), f.outer.end());
             f.inner = {inner, inner};
-            f.culled = blockOutsideFrustum(camera, geometry, record.id, record.info, block, 0.0);
+            f.culled = blockDiscarded(camera, geometry, record.id, record.info, block, 0.0);
         }
     }
     return out;

@@ -2,6 +2,8 @@
 // time into a texture array and drawn as instances of one grid of indexed triangles.
 #include "terrain/runtime/ReferenceRenderer.h"
 
+#include "terrain/runtime/TerrainShading.h"
+
 #include "Bindings.h"
 #include "terrain/io/Assert.h"
 #include "terrain/runtime/ProgramBuilder.h"
@@ -87,7 +89,7 @@ io::Result<ReferenceDrawStats> ReferenceRenderer::draw(const Camera& camera,
     m_program.setUniform("u_cameraHeightM", static_cast<float>(camera.position.z));
     m_program.setUniformMat4("u_viewProjection",
                              std::span<const float, 16>(glm::value_ptr(viewProjection), 16));
-    m_program.setUniform("u_sunDirection", kSunDirection);
+    m_program.setUniform("u_sunDirection", kTerrainSunDirection);
     m_program.setUniform("u_heightRangeM",
                          std::array<float, 2>{static_cast<float>(geometry.minHeight()),
                                               static_cast<float>(geometry.maxHeight())});

@@ -7,6 +7,7 @@
 #include "terrain/io/Assert.h"
 #include "terrain/io/PatchErrors.h"
 #include "terrain/runtime/ProgramBuilder.h"
+#include "terrain/runtime/TerrainShading.h"
 
 #include <epoxy/gl.h>
 #include <glm/gtc/type_ptr.hpp>
@@ -126,6 +127,13 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
     m_instances.upload(0, std::as_bytes(std::span(m_staging)));
 
     const glm::dvec2 fraction = cameraSample - anchor;
+    const glm::dvec2 lastSample{static_cast<double>(layout.rasterWidth() - 1),
+                                static_cast<double>(layout.rasterHeight() - 1)};
+    m_program.setUniform("u_demFirstSample", std::array<float, 2>{static_cast<float>(-anchor.x),
+                                                                  static_cast<float>(-anchor.y)});
+    m_program.setUniform("u_demLastSample",
+                         std::array<float, 2>{static_cast<float>(lastSample.x - anchor.x),
+                                              static_cast<float>(lastSample.y - anchor.y)});
     const glm::dvec2 spacing = geometry.sampleSpacing();
     const glm::mat4 viewProjection(camera.relativeViewProjection());
     m_program.setUniform("u_blocksPerSide", m_blocksPerSide);
@@ -158,7 +166,7 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
         planes[4 * i + 3] = static_cast<float>(w);
     }
     m_program.setUniformVec4Array("u_frustumPlanes", planes);
-    m_program.setUniform("u_sunDirection", std::array<float, 3>{-0.5345f, 0.6414f, 0.5505f});
+    m_program.setUniform("u_sunDirection", kTerrainSunDirection);
     m_program.setUniform("u_heightRangeM",
                          std::array<float, 2>{static_cast<float>(geometry.minHeight()),
                                               static_cast<float>(geometry.maxHeight())});

@@ -356,30 +356,15 @@ struct Pose {
     runtime::Camera camera;
 };
 
-/// Whether some level's patches overhang the DEM: their samples beyond its edge hold
-/// clamped heights (docs/pyramid-format.md) and the LOD draws them, beyond the DEM's
-/// extent where the full-resolution surface and the reference end.
-inline bool patchesOverhangTheDem(const io::PyramidLayout& l) {
-    for (int level = 0; level <= l.finestLevel(); ++level) {
-        if ((l.levelSamplesX(level) - 1) * l.levelStep(level) > l.rasterWidth() - 1 ||
-            (l.levelSamplesY(level) - 1) * l.levelStep(level) > l.rasterHeight() - 1) {
-            return true;
-        }
-    }
-    return false;
-}
-
-/// What every settled frame must satisfy besides its error bound. Pixels of LOD terrain
-/// beyond the DEM (outsidePixels) can only come from patches overhanging it.
+/// What every settled frame must satisfy besides its error bound: among it, no LOD
+/// terrain beyond the DEM (outsidePixels), overhanging patches or not.
 inline void expectStable(const std::string& what, const runtime::Camera& camera,
-                         const SettledMeasure& m, bool overhang = false) {
+                         const SettledMeasure& m) {
     const runtime::FrameAccuracy& a = m.accuracy;
     EXPECT_TRUE(m.settled) << what;
     EXPECT_TRUE(a.finite()) << what << ": NaN or infinite figures, " << describe(camera);
     EXPECT_EQ(a.crackPixels, 0u) << what << ": cracks, " << describe(camera) << ": " << describe(a);
-    if (!overhang) {
-        EXPECT_EQ(a.error.outsidePixels, 0u) << what << ", " << describe(camera);
-    }
+    EXPECT_EQ(a.error.outsidePixels, 0u) << what << ", " << describe(camera);
     EXPECT_GT(a.error.pixels, 0u) << what << ": nothing measured, " << describe(camera);
     EXPECT_GT(m.triangles, 0u) << what;
 }
@@ -413,7 +398,6 @@ inline SweepResult sweep(const std::filesystem::path& pyramid, const std::vector
     EXPECT_TRUE(reader) << reader.error().message;
     if (!reader) return result;
     const int fullResolution = session.geometry().layout().blockQuads();
-    const bool overhang = patchesOverhangTheDem(session.geometry().layout());
     for (const Pose& pose : poses) {
         for (const double errorPx : errorsPx) {
             const std::string what =
@@ -421,7 +405,7 @@ inline SweepResult sweep(const std::filesystem::path& pyramid, const std::vector
             const SettledMeasure m = measureSettled(session, *probe.value(), pose.camera, errorPx);
             std::cout << "[          ] " << what << ": " << m.triangles << " triangles, "
                       << m.patches << " patches; " << describe(m.accuracy) << "\n";
-            expectStable(what, pose.camera, m, overhang);
+            expectStable(what, pose.camera, m);
             const double maxPx = m.accuracy.error.maxPx;
             ++result.frames;
             result.framesOverThreshold += maxPx > errorPx + kRasterTolerancePx ? 1 : 0;
@@ -447,7 +431,7 @@ inline SweepResult sweep(const std::filesystem::path& pyramid, const std::vector
                 measureSettled(session, *probe.value(), pose.camera, errorPx, fullResolution);
             std::cout << "[          ]   coarse LOD only: " << c.triangles << " triangles; "
                       << describe(c.accuracy) << "\n";
-            expectStable(what + " (coarse LOD only)", pose.camera, c, overhang);
+            expectStable(what + " (coarse LOD only)", pose.camera, c);
             result.worstCoarseRatio =
                 std::max(result.worstCoarseRatio, c.accuracy.error.maxPx / errorPx);
             EXPECT_LE(c.accuracy.error.maxPx, errorPx + kRasterTolerancePx)

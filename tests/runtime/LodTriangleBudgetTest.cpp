@@ -133,7 +133,6 @@ TEST_F(LodTriangleBudgetTest, FlatPlainIsOnePatchOfMinimumTriangles) {
     };
     auto probe = runtime::AccuracyProbe::create(pyramid, {.widthPx = kWidth, .heightPx = kHeight});
     ASSERT_TRUE(probe) << probe.error().message;
-    std::uint64_t edgesBehind = 0, fullFactorEdgesBehind = 0;
     for (const runtime::Camera& camera : poses) {
         for (const double errorPx : {0.5, 1.0, 4.0}) {
             const std::string what = describe(camera) + " at ε = " + std::to_string(errorPx);
@@ -142,40 +141,23 @@ TEST_F(LodTriangleBudgetTest, FlatPlainIsOnePatchOfMinimumTriangles) {
             EXPECT_EQ(all.patches.front().id.level, 0)
                 << what << ": a flat patch (Err(P) = 0) was split";
             ASSERT_EQ(all.factors.size(), static_cast<std::size_t>(k * k + 4 * k));
-            // Every block edge of the plain is simplified to factor 1 — except, today, an
-            // edge whose centre lies behind the camera: the fine LOD's rule projects its
-            // (zero-length) error segment as infinitely long there and keeps the edge at
-            // full resolution (docs/accuracy.md, "Findings"). Such an edge may have either.
-            const std::vector<runtime::BlockFactors> cpu =
-                runtime::patchBlockFactors(camera, g, root.value(), errorPx);
-            bool anyBehind = false;
+            // Every block edge of the plain is simplified to factor 1, wherever it lies —
+            // also behind the camera, where an error of 0 projects to nothing.
             for (int b = 0; b < k * k; ++b) {
                 const runtime::RecordedTessFactors& f = all.factors[static_cast<std::size_t>(b)];
                 for (int e = 0; e < 4; ++e) {
-                    const bool behind =
-                        std::isinf(cpu[static_cast<std::size_t>(b)]
-                                       .projectedPx[static_cast<std::size_t>(e)][0]);
-                    anyBehind = anyBehind || behind;
-                    edgesBehind += behind ? 1 : 0;
-                    fullFactorEdgesBehind +=
-                        behind && f.outer[static_cast<std::size_t>(e)] > 1 ? 1 : 0;
-                    if (!behind) {
-                        EXPECT_EQ(f.outer[static_cast<std::size_t>(e)], 1)
-                            << what << ", block " << b << " edge " << e;
-                    }
+                    EXPECT_EQ(f.outer[static_cast<std::size_t>(e)], 1)
+                        << what << ", block " << b << " edge " << e;
                 }
             }
-            // Without block culling the count is the formula's exactly when no edge centre
-            // is behind the camera; block culling only ever removes primitives.
-            if (!anyBehind) {
-                EXPECT_EQ(all.triangles, minimum) << what;
-            }
+            // Without block culling the count is the formula's exactly; block culling only
+            // ever removes primitives.
+            EXPECT_EQ(all.triangles, minimum) << what;
             const DrawnView culled = drawSettled(pyramid, camera, errorPx, true);
             EXPECT_LE(culled.triangles, all.triangles) << what;
             EXPECT_GT(culled.triangles, 0u) << what;
             std::cout << "[          ] " << what << ": " << all.triangles << " triangles ("
-                      << culled.triangles << " with block culling); minimum " << minimum
-                      << (anyBehind ? ", some edge centres behind the camera" : "") << "\n";
+                      << culled.triangles << " with block culling); minimum " << minimum << "\n";
         }
         // And it is exact: no error, no crack.
         auto session = runtime::TerrainSession::open(pyramid, roomySessionOptions(1.0));
@@ -188,10 +170,7 @@ TEST_F(LodTriangleBudgetTest, FlatPlainIsOnePatchOfMinimumTriangles) {
         EXPECT_GT(m.accuracy.image.psnrDb, 40.0) << describe(camera);
     }
     std::cout << "[          ] flat plain: 1 patch, minimum " << minimum
-              << " triangles (2·K² + 8·K, K = " << k << "); " << fullFactorEdgesBehind << " of "
-              << edgesBehind
-              << " block edges whose centre is behind the camera kept at full resolution\n";
-    RecordProperty("flat_edges_behind_camera_full_factor", static_cast<int>(fullFactorEdgesBehind));
+              << " triangles (2·K² + 8·K, K = " << k << ")\n";
 }
 
 TEST_F(LodTriangleBudgetTest, FlatPatchesOfABumpyDemGetTheMinimum) {

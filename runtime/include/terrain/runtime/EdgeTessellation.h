@@ -33,13 +33,14 @@ struct BlockFactors {
     /// proj(e_c^(d),−, e_c^(d),+) of each edge for d = 1..4, pixels (+∞: an end behind the
     /// near plane): what d was chosen from.
     std::array<std::array<double, io::kMaxSimplification>, 4> projectedPx{};
-    /// The block's box lies outside the view frustum: the control stage discards it.
+    /// The control stage discards the block: blockDiscarded().
     bool culled = false;
 };
 
 /// The length in pixels of the vertical segment centre ± lengthM/2 · e_z (camera-relative
 /// metres) projected by `relativeViewProjection` onto a viewport of `viewportPx`; +∞ when
-/// an end is behind the near plane (clip z > w in the reversed-Z projection).
+/// an end is behind the near plane (clip z > w in the reversed-Z projection) unless the
+/// length is 0: a block without error may be simplified wherever it lies.
 double projectedSegmentPx(const glm::dmat4& relativeViewProjection, const glm::dvec2& viewportPx,
                           const glm::dvec3& centreM, double lengthM);
 
@@ -50,13 +51,13 @@ int edgeSimplification(std::span<const double, io::kMaxSimplification> projected
 /// blockQuads (a simplification coarser than the block keeps its corners: 1).
 int tessFactorOf(int blockQuads, int d);
 
-/// Whether the control stage may discard `block` of patch `id`: its box — the block's
-/// footprint, the patch's height range from `info`, reaching `dropM` further down (a
-/// skirt's drop; 0 for the block) — lies outside `camera`'s frustum. In double, without
-/// the control stage's float margin, so the GPU never culls a block this keeps.
-bool blockOutsideFrustum(const Camera& camera, const TerrainGeometry& geometry,
-                         const io::PatchId& id, const io::PatchInfo& info, glm::ivec2 block,
-                         double dropM);
+/// Whether the control stage may discard `block` of patch `id`: it lies wholly beyond the
+/// DEM's extent (a patch overhanging its edge), or its box — the block's footprint, the
+/// patch's height range from `info`, reaching `dropM` further down (a skirt's drop; 0 for
+/// the block) — lies outside `camera`'s frustum. In double, without the control stage's
+/// float margin, so the GPU never discards a block this keeps.
+bool blockDiscarded(const Camera& camera, const TerrainGeometry& geometry, const io::PatchId& id,
+                    const io::PatchInfo& info, glm::ivec2 block, double dropM);
 
 /// The factors of every block of `record`'s patch seen by `camera` at ε = errorPx,
 /// row-major by block (blocksPerSide² entries). Err(P) is record.info.error.

@@ -46,8 +46,6 @@ class ReferenceRenderer {
 public:
     static constexpr int kMaxTileQuads = 128;
     static constexpr int kBatchTiles = 32;
-    /// The sun of the shaded view; TerrainRenderer uses the same direction.
-    static constexpr std::array<float, 3> kSunDirection{-0.5345f, 0.6414f, 0.5505f};
 
     /// For pyramids of `layout` (its patch size sets the tile size).
     static io::Result<ReferenceRenderer> create(const io::PyramidLayout& layout);
