@@ -2,9 +2,8 @@
 // time into a texture array and drawn as instances of one grid of indexed triangles.
 #include "terrain/runtime/ReferenceRenderer.h"
 
-#include "terrain/runtime/TerrainShading.h"
-
 #include "Bindings.h"
+#include "TerrainFrameUniforms.h"
 #include "terrain/io/Assert.h"
 #include "terrain/runtime/ProgramBuilder.h"
 
@@ -73,35 +72,11 @@ io::Result<ReferenceDrawStats> ReferenceRenderer::draw(const Camera& camera,
     const int tileSide = quads + 3;
     const auto recordSide = static_cast<std::size_t>(layout.tileSamples());
 
-    // As the LOD draw: positions reach the GPU as DEM samples relative to the anchor, the
-    // DEM sample at or before the camera, so both draws are equally exact.
-    const glm::dvec2 cameraSample = geometry.sampleOfWorld(camera.position.x, camera.position.y);
-    const glm::dvec2 anchor = glm::floor(cameraSample);
-    const glm::dvec2 fraction = cameraSample - anchor;
+    // Placed and shaded as the LOD draw, so both draws are equally exact and alike.
     const glm::dvec2 spacing = geometry.sampleSpacing();
-    const glm::mat4 viewProjection(camera.relativeViewProjection());
+    const glm::dvec2 anchor = setCameraFrameUniforms(m_program, camera, geometry);
+    setShadingUniforms(m_program, geometry, style.skyColor, style.fogDensityPerM);
     m_program.setUniform("u_tileSamples", quads + 1);
-    m_program.setUniform(
-        "u_cameraSampleFraction",
-        std::array<float, 2>{static_cast<float>(fraction.x), static_cast<float>(fraction.y)});
-    m_program.setUniform("u_sampleSpacingM", std::array<float, 2>{static_cast<float>(spacing.x),
-                                                                  static_cast<float>(spacing.y)});
-    m_program.setUniform("u_cameraHeightM", static_cast<float>(camera.position.z));
-    m_program.setUniformMat4("u_viewProjection",
-                             std::span<const float, 16>(glm::value_ptr(viewProjection), 16));
-    m_program.setUniform("u_sunDirection", kTerrainSunDirection);
-    m_program.setUniform("u_heightRangeM",
-                         std::array<float, 2>{static_cast<float>(geometry.minHeight()),
-                                              static_cast<float>(geometry.maxHeight())});
-    m_program.setUniform("u_demFirstSample", std::array<float, 2>{static_cast<float>(-anchor.x),
-                                                                  static_cast<float>(-anchor.y)});
-    m_program.setUniform(
-        "u_demLastSample",
-        std::array<float, 2>{
-            static_cast<float>(static_cast<double>(layout.rasterWidth() - 1) - anchor.x),
-            static_cast<float>(static_cast<double>(layout.rasterHeight() - 1) - anchor.y)});
-    m_program.setUniform("u_skyColor", style.skyColor);
-    m_program.setUniform("u_fogDensityPerM", style.fogDensityPerM);
 
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glEnable(GL_DEPTH_TEST);

@@ -4,10 +4,10 @@
 #include "terrain/runtime/TerrainRenderer.h"
 
 #include "Bindings.h"
+#include "TerrainFrameUniforms.h"
 #include "terrain/io/Assert.h"
 #include "terrain/io/PatchErrors.h"
 #include "terrain/runtime/ProgramBuilder.h"
-#include "terrain/runtime/TerrainShading.h"
 
 #include <epoxy/gl.h>
 #include <glm/gtc/type_ptr.hpp>
@@ -106,11 +106,10 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
     m_measure = style.measure;
     if (patches.empty()) return;
 
-    // Positions reach the GPU as DEM samples relative to the anchor, the DEM sample at or
-    // before the camera: integers, exact in float near the camera (terrainPositionM).
+    // Patch origins reach the GPU relative to the anchor, as every position does
+    // (terrainPositionM).
     const io::PyramidLayout& layout = geometry.layout();
-    const glm::dvec2 cameraSample = geometry.sampleOfWorld(camera.position.x, camera.position.y);
-    const glm::dvec2 anchor = glm::floor(cameraSample);
+    const glm::dvec2 anchor = setCameraFrameUniforms(m_program, camera, geometry);
     m_staging.clear();
     for (const PatchDraw& p : patches) {
         TERRAIN_ASSERT(pool.isResident(p.id) && pool.layerOf(p.id) == p.layer,
@@ -126,26 +125,8 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
     }
     m_instances.upload(0, std::as_bytes(std::span(m_staging)));
 
-    const glm::dvec2 fraction = cameraSample - anchor;
-    const glm::dvec2 lastSample{static_cast<double>(layout.rasterWidth() - 1),
-                                static_cast<double>(layout.rasterHeight() - 1)};
-    m_program.setUniform("u_demFirstSample", std::array<float, 2>{static_cast<float>(-anchor.x),
-                                                                  static_cast<float>(-anchor.y)});
-    m_program.setUniform("u_demLastSample",
-                         std::array<float, 2>{static_cast<float>(lastSample.x - anchor.x),
-                                              static_cast<float>(lastSample.y - anchor.y)});
-    const glm::dvec2 spacing = geometry.sampleSpacing();
-    const glm::mat4 viewProjection(camera.relativeViewProjection());
     m_program.setUniform("u_blocksPerSide", m_blocksPerSide);
     m_program.setUniform("u_blockQuads", m_blockQuads);
-    m_program.setUniform(
-        "u_cameraSampleFraction",
-        std::array<float, 2>{static_cast<float>(fraction.x), static_cast<float>(fraction.y)});
-    m_program.setUniform("u_sampleSpacingM", std::array<float, 2>{static_cast<float>(spacing.x),
-                                                                  static_cast<float>(spacing.y)});
-    m_program.setUniform("u_cameraHeightM", static_cast<float>(camera.position.z));
-    m_program.setUniformMat4("u_viewProjection",
-                             std::span<const float, 16>(glm::value_ptr(viewProjection), 16));
     m_program.setUniform("u_viewportPx",
                          std::array<float, 2>{static_cast<float>(camera.viewportWidth),
                                               static_cast<float>(camera.viewportHeight)});
@@ -166,12 +147,7 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
         planes[4 * i + 3] = static_cast<float>(w);
     }
     m_program.setUniformVec4Array("u_frustumPlanes", planes);
-    m_program.setUniform("u_sunDirection", kTerrainSunDirection);
-    m_program.setUniform("u_heightRangeM",
-                         std::array<float, 2>{static_cast<float>(geometry.minHeight()),
-                                              static_cast<float>(geometry.maxHeight())});
-    m_program.setUniform("u_skyColor", style.skyColor);
-    m_program.setUniform("u_fogDensityPerM", style.fogDensityPerM);
+    setShadingUniforms(m_program, geometry, style.skyColor, style.fogDensityPerM);
     m_program.setUniform("u_debugView", static_cast<int>(style.debugView));
 }
 
