@@ -3,6 +3,7 @@
 // CSV (streaming and cache columns joined with triangles, patches, draw calls, LOD update
 // time and GPU time) and a --json summary. Without --settle it shows what a real-time user
 // would see: tiles that have not arrived yet are drawn by their coarser ancestors.
+#include "DrawStyleFlags.h"
 #include "GlImagePng.h"
 #include "GlInfoJson.h"
 
@@ -53,10 +54,7 @@ struct RenderOptions {
     double cpuCacheMiB = 256.0;
     int gpuLayers = 1024;
     double uploadMiBPerFrame = 16.0;
-    std::string debugView = "shaded";
-    bool wireframe = false;
-    bool noSkirts = false;
-    double fogDensity = -1.0;  // < 0: from the DEM's extent
+    tools::DrawStyleFlags look;
     bool json = false;
 };
 
@@ -117,14 +115,10 @@ int run(const RenderOptions& o) {
     runtime::TerrainStyle style;
     style.errorPx = static_cast<float>(o.errorPx);
     style.measure = true;
-    style.wireframe = o.wireframe;
-    style.skirts = !o.noSkirts;
-    style.debugView = o.debugView == "level"  ? runtime::TerrainDebugView::Level
-                      : o.debugView == "tess" ? runtime::TerrainDebugView::TessFactor
-                                              : runtime::TerrainDebugView::Shaded;
-    const glm::dvec2 extent = geometry.demSize();
-    style.fogDensityPerM = static_cast<float>(
-        o.fogDensity >= 0.0 ? o.fogDensity : 0.5 / std::max(1.0, std::max(extent.x, extent.y)));
+    style.wireframe = o.look.wireframe;
+    style.skirts = !o.look.noSkirts;
+    style.debugView = o.look.debugViewValue();
+    style.fogDensityPerM = o.look.fogDensityPerM(geometry);
     const std::array<float, 4> sky{style.skyColor[0], style.skyColor[1], style.skyColor[2], 1.0f};
 
     runtime::Camera camera;
@@ -268,13 +262,7 @@ int main(int argc, char** argv) {
     app.add_option("--upload-mib-per-frame", o.uploadMiBPerFrame,
                    "GPU upload budget per frame, MiB")
         ->capture_default_str();
-    app.add_option("--debug-view", o.debugView,
-                   "shaded, level (colour by patch level) or tess (by tessellation factor)")
-        ->capture_default_str()
-        ->check(CLI::IsMember({"shaded", "level", "tess"}));
-    app.add_flag("--wireframe", o.wireframe, "Draw triangle edges");
-    app.add_flag("--no-skirts", o.noSkirts, "Leave out the skirts (shows cracks between patches)");
-    app.add_option("--fog", o.fogDensity, "Fog density per metre (default from the DEM's extent)");
+    o.look.addTo(app);
     app.add_flag("--json", o.json, "Print a JSON summary on stdout");
     CLI11_PARSE(app, argc, argv);
     return run(o);

@@ -30,12 +30,6 @@ constexpr double kLandingS = 5.0;  // how long a jump follows the arriving groun
 
 double mibToBytes(double mib) { return mib * 1024.0 * 1024.0; }
 
-runtime::TerrainDebugView debugViewNamed(const std::string& name) {
-    if (name == "level") return runtime::TerrainDebugView::Level;
-    if (name == "tess") return runtime::TerrainDebugView::TessFactor;
-    return runtime::TerrainDebugView::Shaded;
-}
-
 std::string crsText(const io::Georeference& georeference) {
     std::string text = io::crsKindName(georeference.crsKind);
     if (georeference.epsg != 0) text += fmt::format(", EPSG:{}", georeference.epsg);
@@ -108,9 +102,9 @@ Viewer::Viewer(const ViewerOptions& options, io::PyramidManifest manifest)
       m_screenshotNames(options.screenshotFile, "terrain-view", ".png"),
       m_telemetryNames(options.telemetryFile, "terrain-view-telemetry", ".csv") {
     m_settings.errorPx = options.errorPx;
-    m_settings.debugView = debugViewNamed(options.debugView);
-    m_settings.wireframe = options.wireframe;
-    m_settings.skirts = !options.noSkirts;
+    m_settings.debugView = options.look.debugViewValue();
+    m_settings.wireframe = options.look.wireframe;
+    m_settings.skirts = !options.look.noSkirts;
     m_settings.fog = !options.noFog;
     m_settings.vsync = options.vsync;
     m_settings.measureEvery = std::max(1, options.measureEvery);
@@ -189,9 +183,7 @@ void Viewer::initialCamera() {
     m_camera.viewportWidth = std::max(1, m_options.widthPx);
     m_camera.viewportHeight = std::max(1, m_options.heightPx);
     const glm::dvec2 extent = geometry.demSize();
-    m_settings.fogDensityPerM = static_cast<float>(
-        m_options.fogDensity >= 0.0 ? m_options.fogDensity
-                                    : 0.5 / std::max(1.0, std::max(extent.x, extent.y)));
+    m_settings.fogDensityPerM = m_options.look.fogDensityPerM(geometry);
     const glm::dvec2 centre = geometry.worldAtFraction(0.5, 0.5);
     m_settings.jumpX = centre.x;
     m_settings.jumpY = centre.y;

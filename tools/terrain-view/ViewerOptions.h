@@ -1,6 +1,8 @@
 // ViewerOptions: terrain-view's command line (main.cpp parses it; docs/viewer.md lists it).
 #pragma once
 
+#include "DrawStyleFlags.h"
+
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -27,11 +29,8 @@ struct ViewerOptions {
     int gpuLayers = 1024;
     double uploadMiBPerFrame = 16.0;
     int measureEvery = 30;  ///< measure triangles and GPU time every this many frames
-    std::string debugView = "shaded";
-    bool wireframe = false;
-    bool noSkirts = false;
+    tools::DrawStyleFlags look;
     bool noFog = false;
-    double fogDensity = -1.0;    ///< < 0: from the DEM's extent
     bool orbit = false;          ///< start orbiting the view's centre
     std::vector<double> jumpTo;  ///< X Y [height above ground]: start there
     bool json = false;

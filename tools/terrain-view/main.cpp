@@ -83,15 +83,8 @@ int main(int argc, char** argv) {
                    "waits for the GPU)")
         ->capture_default_str()
         ->check(CLI::Range(1, 100000));
-    app.add_option("--debug-view", o.debugView,
-                   "shaded, level (colour by patch level) or tess (by tessellation factor)")
-        ->capture_default_str()
-        ->check(CLI::IsMember({"shaded", "level", "tess"}));
-    app.add_flag("--wireframe", o.wireframe, "Draw triangle edges");
-    app.add_flag("--no-skirts", o.noSkirts, "Leave out the skirts (shows cracks between patches)");
+    o.look.addTo(app)->check(CLI::NonNegativeNumber);
     app.add_flag("--no-fog", o.noFog, "No fog");
-    app.add_option("--fog", o.fogDensity, "Fog density per metre (default from the DEM's extent)")
-        ->check(CLI::NonNegativeNumber);
     app.add_flag("--orbit", o.orbit, "Start orbiting the point at the centre of the view");
     app.add_option("--goto", o.jumpTo,
                    "Start over world X,Y[,HEIGHT above ground] (a projected pyramid's easting, "

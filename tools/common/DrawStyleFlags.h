@@ -1,0 +1,48 @@
+// The command-line flags of the terrain draw's look, shared by the programs that show it
+// (terrain-render, terrain-view).
+#pragma once
+
+#include "terrain/runtime/TerrainGeometry.h"
+#include "terrain/runtime/TerrainRenderer.h"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <string>
+
+namespace terrain::tools {
+
+struct DrawStyleFlags {
+    std::string debugView = "shaded";
+    bool wireframe = false;
+    bool noSkirts = false;
+    double fogDensity = -1.0;  ///< < 0: from the DEM's extent
+
+    /// Adds --debug-view, --wireframe, --no-skirts and --fog; returns --fog.
+    CLI::Option* addTo(CLI::App& app) {
+        app.add_option("--debug-view", debugView,
+                       "shaded, level (colour by patch level) or tess (by tessellation factor)")
+            ->capture_default_str()
+            ->check(CLI::IsMember({"shaded", "level", "tess"}));
+        app.add_flag("--wireframe", wireframe, "Draw triangle edges");
+        app.add_flag("--no-skirts", noSkirts,
+                     "Leave out the skirts (shows cracks between patches)");
+        return app.add_option("--fog", fogDensity,
+                              "Fog density per metre (default from the DEM's extent)");
+    }
+
+    runtime::TerrainDebugView debugViewValue() const {
+        if (debugView == "level") return runtime::TerrainDebugView::Level;
+        if (debugView == "tess") return runtime::TerrainDebugView::TessFactor;
+        return runtime::TerrainDebugView::Shaded;
+    }
+
+    /// --fog, or by default 1 − e^−0.5 ≈ 39 % fog across the DEM's larger side.
+    float fogDensityPerM(const runtime::TerrainGeometry& geometry) const {
+        const glm::dvec2 extent = geometry.demSize();
+        return static_cast<float>(
+            fogDensity >= 0.0 ? fogDensity : 0.5 / std::max(1.0, std::max(extent.x, extent.y)));
+    }
+};
+
+}  // namespace terrain::tools
