@@ -19,7 +19,6 @@
 #include <cmath>
 #include <iostream>
 #include <random>
-#include <thread>
 
 namespace terrain::test {
 namespace {
@@ -268,14 +267,8 @@ TEST_F(AccuracyStabilityTest, TeleportsFasterThanStreaming) {
                 return wholeTerrainPose(g, kWidth, kHeight);
         }
     };
-    // The root first: before it nothing can be drawn.
     runtime::Camera camera = randomPose();
-    for (int i = 0; i < 5000 && session.draws().empty(); ++i) {
-        session.beginFrame(camera);
-        runtime::FrameTelemetry t;
-        session.endFrame(t);
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
+    waitForTheRoot(session, camera);
     ASSERT_FALSE(session.draws().empty()) << "the root never arrived";
 
     runtime::TerrainStyle style;

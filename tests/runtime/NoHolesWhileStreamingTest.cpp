@@ -16,7 +16,6 @@
 #include <algorithm>
 #include <chrono>
 #include <random>
-#include <thread>
 #include <vector>
 
 namespace terrain::test {
@@ -43,13 +42,7 @@ TEST_F(NoHolesWhileStreamingTest, TeleportsWithTinyBudgetsSlowAndFailingReads) {
 
     std::mt19937_64 random(7);
     runtime::Camera camera = randomFullView(g, kWidth, kHeight, random);
-    // The root is the one tile the view must wait for: before it nothing can be drawn.
-    for (int i = 0; i < 5000 && session.draws().empty(); ++i) {
-        session.beginFrame(camera);
-        runtime::FrameTelemetry t;
-        session.endFrame(t);
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
+    waitForTheRoot(session, camera);
     ASSERT_FALSE(session.draws().empty()) << "the root never arrived";
 
     runtime::TerrainStyle style;

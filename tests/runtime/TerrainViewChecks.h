@@ -1,20 +1,23 @@
 // TerrainViewChecks: what the crack and hole tests share: camera poses whose whole view is
-// terrain, and a count of the pixels still showing the clear colour (magenta, which the
-// terrain shading never produces) after a draw.
+// terrain, waiting for the root tile, and a count of the pixels still showing the clear
+// colour (magenta, which the terrain shading never produces) after a draw.
 #pragma once
 
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/TerrainGeometry.h"
+#include "terrain/runtime/TerrainSession.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
 #include <random>
+#include <thread>
 #include <vector>
 
 namespace terrain::test {
@@ -62,6 +65,17 @@ inline runtime::Camera randomFullView(const runtime::TerrainGeometry& g, int wid
     }
     ADD_FAILURE() << "no pose found whose view is all terrain";
     return {};
+}
+
+/// Runs frames of `camera` until the session has something to draw: the root is the one
+/// tile every view must wait for. Whether it arrived: !session.draws().empty().
+inline void waitForTheRoot(runtime::TerrainSession& session, const runtime::Camera& camera) {
+    for (int i = 0; i < 5000 && session.draws().empty(); ++i) {
+        session.beginFrame(camera);
+        runtime::FrameTelemetry t;
+        session.endFrame(t);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
 }
 
 /// Pixels of `fb` that still hold kHoleColor.
