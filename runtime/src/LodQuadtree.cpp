@@ -25,7 +25,9 @@ float priorityOf(double screenError) {
 LodQuadtree::LodQuadtree(TileStreamer& streamer, const TerrainGeometry& geometry,
                          LodOptions options)
     : m_streamer(streamer), m_geometry(geometry), m_options(options) {
-    TERRAIN_ASSERT(options.errorPx > 0.0 && options.hysteresis >= 1.0, "LodQuadtree: bad options");
+    TERRAIN_ASSERT(options.errorPx > 0.0 && options.coarseShare > 0.0 &&
+                       options.coarseShare <= 1.0 && options.hysteresis >= 1.0,
+                   "LodQuadtree: bad options");
     const auto capacity = static_cast<std::size_t>(streamer.pool().capacity());
     m_nodes.reserve(kBlock * (capacity + 1));
     m_freeBlocks.reserve(capacity + 1);
@@ -41,7 +43,9 @@ LodQuadtree::~LodQuadtree() {
 }
 
 void LodQuadtree::setOptions(const LodOptions& options) {
-    TERRAIN_ASSERT(options.errorPx > 0.0 && options.hysteresis >= 1.0, "LodQuadtree: bad options");
+    TERRAIN_ASSERT(options.errorPx > 0.0 && options.coarseShare > 0.0 &&
+                       options.coarseShare <= 1.0 && options.hysteresis >= 1.0,
+                   "LodQuadtree: bad options");
     m_options = options;
     m_recheckAll = true;
 }
@@ -75,21 +79,23 @@ void LodQuadtree::schedule(int node, CheckKind kind, double travel) {
 }
 
 void LodQuadtree::pushCheck(int node, CheckKind kind, double atOdometer) {
-    m_checks.push_back({atOdometer, node, m_nodes[static_cast<std::size_t>(node)].generation, kind});
+    m_checks.push_back(
+        {atOdometer, node, m_nodes[static_cast<std::size_t>(node)].generation, kind});
     std::push_heap(m_checks.begin(), m_checks.end(), laterCheck<Check, Check>);
 }
 
-// A leaf's split decision can change only once ρ falls to ρ_split = γ·Err/ε. A leaf that
+// A leaf's split decision can change only once ρ falls to ρ_split = γ·Err/ε_c (ε_c: the
+// coarse stage's threshold, LodOptions::coarseErrorPx). A leaf that
 // can never split (the finest level, or a child that failed to load) needs no check.
 void LodQuadtree::scheduleLeaf(int index) {
     const Node& node = m_nodes[static_cast<std::size_t>(index)];
     if (node.splitBlocked || node.id.level >= m_geometry.layout().finestLevel()) return;
     const double rho = distanceToBox(m_camera.position, node.box);
-    const double rhoSplit = m_gamma * static_cast<double>(node.errorM) / m_options.errorPx;
+    const double rhoSplit = m_gamma * static_cast<double>(node.errorM) / m_options.coarseErrorPx();
     schedule(index, CheckKind::Split, rho - rhoSplit);
 }
 
-// A node whose children are all leaves may merge once ρ grows to ρ_merge = γ·Err·h/ε.
+// A node whose children are all leaves may merge once ρ grows to ρ_merge = γ·Err·h/ε_c.
 void LodQuadtree::scheduleMergeIfCandidate(int index) {
     const Node& node = m_nodes[static_cast<std::size_t>(index)];
     if (node.leaf()) return;
@@ -97,8 +103,8 @@ void LodQuadtree::scheduleMergeIfCandidate(int index) {
         if (!m_nodes[static_cast<std::size_t>(node.firstChild + i)].leaf()) return;
     }
     const double rho = distanceToBox(m_camera.position, node.box);
-    const double rhoMerge =
-        m_gamma * static_cast<double>(node.errorM) * m_options.hysteresis / m_options.errorPx;
+    const double rhoMerge = m_gamma * static_cast<double>(node.errorM) * m_options.hysteresis /
+                            m_options.coarseErrorPx();
     schedule(index, CheckKind::Merge, rhoMerge - rho);
 }
 
@@ -150,7 +156,7 @@ void LodQuadtree::evaluateLeaf(int index) {
     ++m_stats.evaluations;
     if (!node.visible) return;  // the culling walk re-evaluates it when it comes into view
     const double error = screenError(node);
-    const bool wantsSplit = error > m_options.errorPx &&
+    const bool wantsSplit = error > m_options.coarseErrorPx() &&
                             node.id.level < m_geometry.layout().finestLevel() && !node.splitBlocked;
     if (wantsSplit && trySplit(index, error)) return;
     Node& again = m_nodes[static_cast<std::size_t>(index)];
@@ -169,10 +175,11 @@ void LodQuadtree::evaluateLeaf(int index) {
 void LodQuadtree::evaluateMerge(int index) {
     Node& node = m_nodes[static_cast<std::size_t>(index)];
     for (int i = 0; i < node.childCount; ++i) {
-        if (!m_nodes[static_cast<std::size_t>(node.firstChild + i)].leaf()) return;  // not a candidate
+        if (!m_nodes[static_cast<std::size_t>(node.firstChild + i)].leaf())
+            return;  // not a candidate
     }
     ++m_stats.evaluations;
-    if (screenError(node) * m_options.hysteresis < m_options.errorPx) {
+    if (screenError(node) * m_options.hysteresis < m_options.coarseErrorPx()) {
         collapse(index);
         ++m_stats.merges;
         scheduleLeaf(index);
@@ -201,7 +208,7 @@ void LodQuadtree::collapse(int index) {
         m_streamer.unpin(child.id);
         ++child.generation;  // its pending checks are stale now
         child.waiting = false;
-        child.parent = -2;   // freed
+        child.parent = -2;  // freed
     }
     freeBlock(first);
 }
@@ -244,7 +251,8 @@ void LodQuadtree::cull(int index, int planeMask, std::vector<PatchDraw>& out) {
             cull(index, planeMask, out);
             return;
         }
-        out.push_back({.id = now.id, .layer = now.layer, .errorM = now.errorM, .skirtDepthM = 0.0f});
+        out.push_back(
+            {.id = now.id, .layer = now.layer, .errorM = now.errorM, .skirtDepthM = 0.0f});
         ++m_stats.drawn;
         m_stats.coveredFinestPatches += finestPatchesCovered(m_geometry.layout(), now.id);
         return;

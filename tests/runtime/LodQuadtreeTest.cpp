@@ -88,7 +88,8 @@ protected:
 };
 
 TEST_F(LodQuadtreeTest, SettlesOnTheCutOfASelectionFromTheRoot) {
-    m_tree = std::make_unique<LodQuadtree>(*m_streamer, *m_geometry, runtime::LodOptions{.errorPx = 1.0});
+    const runtime::LodOptions options{.errorPx = 1.0};
+    m_tree = std::make_unique<LodQuadtree>(*m_streamer, *m_geometry, options);
     const Camera c = camera(0.2, 0.3, 300.0, 0.6, 0.5);
     const LodUpdateStats settled = settle(c);
     EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
@@ -100,7 +101,7 @@ TEST_F(LodQuadtreeTest, SettlesOnTheCutOfASelectionFromTheRoot) {
     std::vector<PatchDraw> fromRoot;
     m_streamer->beginFrame();
     const runtime::PatchSelectionStats reference =
-        runtime::selectPatches(c, *m_geometry, 1.0, *m_streamer, fromRoot);
+        runtime::selectPatches(c, *m_geometry, options.coarseErrorPx(), *m_streamer, fromRoot);
     runtime::FrameTelemetry t;
     m_streamer->endFrame(t);
     EXPECT_EQ(reference.waitingSplits, 0u);
@@ -162,7 +163,8 @@ TEST_F(LodQuadtreeTest, InvariantsHoldThroughAFlightAndTreeFollowsTheCamera) {
 }
 
 TEST_F(LodQuadtreeTest, ChangingTheThresholdReevaluatesEverything) {
-    m_tree = std::make_unique<LodQuadtree>(*m_streamer, *m_geometry, runtime::LodOptions{.errorPx = 4.0});
+    m_tree = std::make_unique<LodQuadtree>(*m_streamer, *m_geometry,
+                                           runtime::LodOptions{.errorPx = 4.0});
     const Camera c = camera(0.3, 0.3, 200.0, 0.7, 0.7);
     const LodUpdateStats coarse = settle(c);
     m_tree->setOptions({.errorPx = 0.5});
@@ -193,7 +195,8 @@ TEST_F(LodQuadtreeTest, UnsplittableLeavesDoNotRecheckWithinAFrame) {
     auto opened = TileStreamer::open(streamingTestPyramid(), options);
     ASSERT_TRUE(opened) << opened.error().message;
     m_streamer = std::move(opened).value();
-    m_tree = std::make_unique<LodQuadtree>(*m_streamer, *m_geometry, runtime::LodOptions{.errorPx = 0.5});
+    m_tree = std::make_unique<LodQuadtree>(*m_streamer, *m_geometry,
+                                           runtime::LodOptions{.errorPx = 0.5});
     // Just above the highest sample: inside the bounding boxes of the patches below.
     Camera c = camera(0.5, 0.5, 0.5, 0.55, 0.55);
     c.position.z = m_geometry->maxHeight() - 1.0;

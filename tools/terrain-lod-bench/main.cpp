@@ -69,7 +69,8 @@ int main(int argc, char** argv) {
     if (!opened) return fail(opened.error().message);
     runtime::TileStreamer& streamer = *opened.value();
     const runtime::TerrainGeometry geometry(streamer.manifest());
-    runtime::LodQuadtree tree(streamer, geometry, {.errorPx = errorPx});
+    const runtime::LodOptions lodOptions{.errorPx = errorPx};
+    runtime::LodQuadtree tree(streamer, geometry, lodOptions);
 
     // A straight, level flight along the DEM's diagonal, looking ahead and 15° down.
     const glm::dvec2 size = geometry.demSize();
@@ -117,7 +118,8 @@ int main(int argc, char** argv) {
         // Selecting from the root, on the settled view at the same position.
         runFrame([&] {
             const auto start = Clock::now();
-            runtime::selectPatches(camera, geometry, errorPx, streamer, rootDraws);
+            runtime::selectPatches(camera, geometry, lodOptions.coarseErrorPx(), streamer,
+                                   rootDraws);
             const double us = microsecondsSince(start);
             rootUs.add(us / 1000.0);
             rootSum += us;

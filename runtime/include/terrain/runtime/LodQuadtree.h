@@ -1,11 +1,12 @@
 // LodQuadtree: the coarse LOD of Yusov & Shevtsov 2011, §5, as a persistent unbalanced
 // patch quadtree updated incrementally every frame (DESIGN.md, "LOD and drawing").
 //
-// A leaf is split when its screen-space error Err_Scr(P) = γ · Err(P) / ρ(c, V) exceeds ε
-// and all its children are resident on the GPU (until then the leaf keeps drawing and the
-// children are requested, highest screen-space error first); the four (or fewer, at the
-// DEM's edges) leaves under a node are merged back when the node's Err_Scr drops below
-// ε / hysteresis, so a camera resting near a threshold changes nothing from frame to frame.
+// A leaf is split when its screen-space error Err_Scr(P) = γ · Err(P) / ρ(c, V) exceeds
+// the coarse threshold ε_c = coarseShare · ε and all its children are resident on the GPU
+// (until then the leaf keeps drawing and the children are requested, highest screen-space
+// error first); the four (or fewer, at the DEM's edges) leaves under a node are merged back
+// when the node's Err_Scr drops below ε_c / hysteresis, so a camera resting near a
+// threshold changes nothing from frame to frame.
 //
 // Frame coherence: ρ(c, V) — the distance from the camera to a box — changes by at most as
 // much as the camera moves, so after evaluating a node the tree knows how far the camera
@@ -35,10 +36,19 @@
 namespace terrain::runtime {
 
 struct LodOptions {
-    double errorPx = 2.0;  ///< ε, pixels
-    /// Merge when Err_Scr of the parent < ε / hysteresis (> 1): the band between the split
-    /// and the merge thresholds keeps decisions stable.
+    double errorPx = 2.0;  ///< ε, pixels: what the drawn surface (both stages) is held to
+    /// The coarse stage selects patches with Err_Scr(P) ≤ coarseShare · ε, leaving the fine
+    /// stage room: its bound Λ(d) = λ(d) + Err(P) contains Err(P), so a patch selected at
+    /// the whole ε leaves its blocks nothing to simplify, and a larger ε could then draw
+    /// more triangles than a smaller one (docs/accuracy.md, "Splitting ε between the
+    /// stages").
+    double coarseShare = 0.5;
+    /// Merge when Err_Scr of the parent < coarse ε / hysteresis (> 1): the band between the
+    /// split and the merge thresholds keeps decisions stable.
     double hysteresis = 1.25;
+
+    /// The coarse stage's threshold, pixels.
+    double coarseErrorPx() const { return errorPx * coarseShare; }
 };
 
 struct LodUpdateStats {
