@@ -1,5 +1,7 @@
 // Terrain draw, tessellation control: the fine-grain LOD of Yusov & Shevtsov 2011, §5
-// ("Fine-Grain Level of Detail Selection"), one tessellation factor per block edge.
+// ("Fine-Grain Level of Detail Selection"), one tessellation factor per block edge, with
+// the edge error's projection bounded over the blocks sharing the edge rather than taken at
+// its centre (EdgeTessellation.h says why).
 // The CPU reference is runtime/src/EdgeTessellation.cpp; TessellationFactorsTest compares
 // the two.
 //
@@ -19,7 +21,6 @@
 
 layout(vertices = 4) out;
 
-layout(binding = TERRAIN_BINDING_HEIGHTS) uniform sampler2DArray u_heights;
 layout(binding = TERRAIN_BINDING_BLOCK_ERRORS) uniform sampler2DArray u_blockErrors;
 uniform mat4 u_viewProjection;  // camera-relative metres to clip space
 uniform vec2 u_viewportPx;
@@ -55,8 +56,6 @@ layout(std430, binding = TERRAIN_BINDING_DEBUG_TESS_FACTORS) writeonly buffer Te
 };
 #endif
 
-const float kBehindNearPlanePx = 3.0e38;  // an end behind the near plane: infinitely long
-
 // Λ(d) = λ(d) + Err(P), d = 1..4 (Yusov §5, "Tessellation Blocks").
 vec4 blockErrorM(PatchInstance patch_, ivec2 block) {
     precise vec4 lambda = texelFetch(u_blockErrors, ivec3(block, patch_.layerLevel.x), 0);
@@ -64,41 +63,85 @@ vec4 blockErrorM(PatchInstance patch_, ivec2 block) {
     return total;
 }
 
-// proj(e_c^(d),−, e_c^(d),+) of Yusov §5: the vertical segment centre ± Λ/2 · e_z through
-// the world-view-projection, in pixels.
-float projectedSegmentPx(vec3 centreM, float errorM) {
-    if (errorM <= 0.0) return 0.0;  // no error: nothing to see, even behind the camera
-    precise vec3 halfUp = vec3(0.0, 0.0, 0.5 * errorM);
-    precise vec4 lo = u_viewProjection * vec4(centreM - halfUp, 1.0);
-    precise vec4 hi = u_viewProjection * vec4(centreM + halfUp, 1.0);
-    if (lo.z > lo.w || hi.z > hi.w) return kBehindNearPlanePx;  // reversed Z: in front, z ≤ w
-    precise vec2 deltaPx = (hi.xy / hi.w - lo.xy / lo.w) * (0.5 * u_viewportPx);
-    precise float lengthPx = length(deltaPx);
-    return lengthPx;
+// An upper bound, in pixels per metre, on the on-screen length of any vertical segment in
+// the box [lo, hi] (camera-relative metres); the derivation is verticalErrorPxPerM's
+// (EdgeTessellation.h). It replaces Yusov's proj(e_c^(d),−, e_c^(d),+) at the edge centre
+// (§5), which points of the block nearer the camera exceed.
+float verticalErrorPxPerM(vec3 lo, vec3 hi) {
+    float nearM = u_viewProjection[3].z;  // Camera::projection: z_clip = near
+    float depthMin = 3.0e38;
+    vec2 ndcLo = vec2(3.0e38), ndcHi = vec2(-3.0e38);
+    for (int i = 0; i < 8; ++i) {
+        vec3 corner = vec3((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y,
+                           (i & 4) != 0 ? hi.z : lo.z);
+        vec4 clip = u_viewProjection * vec4(corner, 1.0);
+        depthMin = min(depthMin, clip.w);
+        vec2 ndc = clip.xy / clip.w;
+        ndcLo = min(ndcLo, ndc);
+        ndcHi = max(ndcHi, ndc);
+    }
+    if (!(depthMin > 0.0)) {  // the box reaches behind the camera: the screen bounds it
+        ndcLo = vec2(-1.0);
+        ndcHi = vec2(1.0);
+    }
+    ndcLo = clamp(ndcLo, -1.0, 1.0);
+    ndcHi = clamp(ndcHi, -1.0, 1.0);
+    vec4 a = u_viewProjection[2];  // the clip-space image of e_z
+    vec2 halfViewport = 0.5 * u_viewportPx;
+    float largest = 0.0;
+    for (int i = 0; i < 4; ++i) {
+        vec2 ndc = vec2((i & 1) != 0 ? ndcHi.x : ndcLo.x, (i & 2) != 0 ? ndcHi.y : ndcLo.y);
+        largest = max(largest, length((a.xy - ndc * a.w) * halfViewport));
+    }
+    // A point in the frustum has |p| ≤ w · √(1 + tan²x + tan²y), and the rows of the
+    // projection's x and y are the camera's right and up over tan x and tan y.
+    vec3 rowX = vec3(u_viewProjection[0].x, u_viewProjection[1].x, u_viewProjection[2].x);
+    vec3 rowY = vec3(u_viewProjection[0].y, u_viewProjection[1].y, u_viewProjection[2].y);
+    float diagonal = sqrt(1.0 + 1.0 / dot(rowX, rowX) + 1.0 / dot(rowY, rowY));
+    vec3 outside = max(max(lo, -hi), vec3(0.0));  // camera at the origin
+    float depthOfDistance = length(outside) / diagonal;
+    return largest / max(max(depthMin, depthOfDistance), nearM);
+}
+
+// The camera-relative box of blocks first..last (inclusive) of the patch: their footprint,
+// and the patch's height range reaching `belowM` further down and `aboveM` further up.
+void blocksBoxM(PatchInstance patch_, ivec2 first, ivec2 last, float belowM, float aboveM,
+                out vec3 lo, out vec3 hi) {
+    // The north-west corner at the patch's lowest height, the south-east one at its highest:
+    // together they span the box. Rows run south, so the north-west corner has the larger y.
+    vec3 nw = terrainPositionM(patch_, vec2(first * u_blockQuads), patch_.errors.z);
+    vec3 se = terrainPositionM(patch_, vec2((last + 1) * u_blockQuads), patch_.errors.w);
+    lo = vec3(nw.x, se.y, nw.z - belowM);
+    hi = vec3(se.x, nw.y, se.z + aboveM);
 }
 
 // Edge `edge` of `block`: its simplification d and Λ_ec(d) (Err(P) at d = 0).
 void edgeLod(PatchInstance patch_, ivec2 block, int edge, out int d, out float errorM) {
-    int layer = patch_.layerLevel.x;
-    // e_c, the edge's centre: a sample, since blocks have an even number of quads.
-    ivec2 a, b;
-    terrainEdgeEnds(edge, a, b);
-    ivec2 centre = block * u_blockQuads + (a + b) * (u_blockQuads / 2);
-    float h = texelFetch(u_heights, ivec3(centre + 1, layer), 0).r;  // + 1: the apron
-    vec3 centreM = terrainPositionM(patch_, vec2(centre), h);
-    // Λ_ec(d): the max over the blocks of this patch sharing the edge (Yusov §5).
+    // Λ_ec(d): the max over the blocks of this patch sharing the edge (Yusov §5), and the
+    // box of those blocks, where the edge's d must hold. Both blocks compute the same box
+    // from the same integers, so they agree on the edge bit for bit.
     vec4 edgeErrorM = blockErrorM(patch_, block);
     ivec2 other = block + kEdgeNeighbour[edge];
+    ivec2 first = block, last = block;
     if (all(greaterThanEqual(other, ivec2(0))) && all(lessThan(other, ivec2(u_blocksPerSide)))) {
         edgeErrorM = max(edgeErrorM, blockErrorM(patch_, other));
+        first = min(block, other);
+        last = max(block, other);
     }
     if (u_fixedSimplification >= 0) {
         d = u_fixedSimplification;
     } else {
-        // d = argmax_d proj(...) < ε; 0 (full resolution) when no d qualifies.
+        // Heights widened by Err(P): the full-resolution surface, where an error's
+        // segment ends, may lie that far beyond the patch's samples.
+        vec3 lo, hi;
+        blocksBoxM(patch_, first, last, patch_.errors.x, patch_.errors.x, lo, hi);
+        float pxPerM = verticalErrorPxPerM(lo, hi);
+        // d = argmax_d Λ_ec(d) · pxPerM < ε; 0 (full resolution) when no d qualifies. No
+        // error is nothing to see, wherever the box lies.
         d = 0;
         for (int k = 1; k <= 4; ++k) {
-            if (projectedSegmentPx(centreM, edgeErrorM[k - 1]) < u_errorPx) d = k;
+            float errorK = edgeErrorM[k - 1];
+            if (errorK <= 0.0 || errorK * pxPerM < u_errorPx) d = k;
         }
     }
     errorM = d == 0 ? patch_.errors.x : edgeErrorM[d - 1];
@@ -120,12 +163,8 @@ bool outsideFrustum(vec3 lo, vec3 hi) {
 // The camera-relative box of `block` of the patch, from the patch's height range, reaching
 // `dropM` further down (a skirt's drop; 0 for the block itself).
 bool blockOutsideFrustum(PatchInstance patch_, ivec2 block, float dropM) {
-    // The north-west corner at the patch's lowest height, the south-east one at its highest:
-    // together they span the box. Rows run south, so the north-west corner has the larger y.
-    vec3 nw = terrainPositionM(patch_, vec2(block * u_blockQuads), patch_.errors.z);
-    vec3 se = terrainPositionM(patch_, vec2((block + 1) * u_blockQuads), patch_.errors.w);
-    vec3 lo = vec3(nw.x, se.y, nw.z - dropM);
-    vec3 hi = vec3(se.x, nw.y, se.z);
+    vec3 lo, hi;
+    blocksBoxM(patch_, block, block, dropM, 0.0, lo, hi);
     return outsideFrustum(lo, hi);
 }
 

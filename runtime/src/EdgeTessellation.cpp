@@ -4,6 +4,8 @@
 
 #include "terrain/io/Assert.h"
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/vec4.hpp>
 
 #include <algorithm>
@@ -14,21 +16,49 @@ namespace terrain::runtime {
 namespace {
 
 constexpr std::array<glm::ivec2, 4> kEdgeNeighbour{{{-1, 0}, {0, -1}, {1, 0}, {0, 1}}};
-// Ends of each edge in block corners (terrainEdgeEnds in terrain_patches.glsl).
-constexpr std::array<glm::ivec2, 4> kEdgeStart{{{0, 0}, {0, 0}, {1, 0}, {0, 1}}};
-constexpr std::array<glm::ivec2, 4> kEdgeEnd{{{0, 1}, {1, 0}, {1, 1}, {1, 1}}};
 
 }  // namespace
 
-double projectedSegmentPx(const glm::dmat4& relativeViewProjection, const glm::dvec2& viewportPx,
-                          const glm::dvec3& centreM, const double lengthM) {
-    if (lengthM <= 0.0) return 0.0;  // no error: nothing to see, even behind the camera
-    const glm::dvec3 halfUp{0.0, 0.0, 0.5 * lengthM};
-    const glm::dvec4 lo = relativeViewProjection * glm::dvec4(centreM - halfUp, 1.0);
-    const glm::dvec4 hi = relativeViewProjection * glm::dvec4(centreM + halfUp, 1.0);
-    if (lo.z > lo.w || hi.z > hi.w) return std::numeric_limits<double>::infinity();
-    const glm::dvec2 deltaPx = (glm::dvec2(hi) / hi.w - glm::dvec2(lo) / lo.w) * (0.5 * viewportPx);
-    return std::hypot(deltaPx.x, deltaPx.y);
+double verticalErrorPxPerM(const glm::dmat4& relativeViewProjection, const glm::dvec2& viewportPx,
+                           const Aabb& box) {
+    const glm::dmat4& m = relativeViewProjection;
+    const double nearM = m[3][2];  // Camera::projection: z_clip = near, the rotation adds none
+    double depthMin = std::numeric_limits<double>::infinity();
+    glm::dvec2 ndcLo{std::numeric_limits<double>::infinity()};
+    glm::dvec2 ndcHi{-std::numeric_limits<double>::infinity()};
+    for (int i = 0; i < 8; ++i) {
+        const glm::dvec3 corner{(i & 1) != 0 ? box.max.x : box.min.x,
+                                (i & 2) != 0 ? box.max.y : box.min.y,
+                                (i & 4) != 0 ? box.max.z : box.min.z};
+        const glm::dvec4 clip = m * glm::dvec4(corner, 1.0);
+        depthMin = std::min(depthMin, clip.w);
+        const glm::dvec2 ndc = glm::dvec2(clip) / clip.w;
+        ndcLo = glm::min(ndcLo, ndc);
+        ndcHi = glm::max(ndcHi, ndc);
+    }
+    if (!(depthMin > 0.0)) {
+        // The box reaches behind the camera: its projection is unbounded; the screen is not.
+        ndcLo = glm::dvec2(-1.0);
+        ndcHi = glm::dvec2(1.0);
+    }
+    ndcLo = glm::clamp(ndcLo, -1.0, 1.0);
+    ndcHi = glm::clamp(ndcHi, -1.0, 1.0);
+    const glm::dvec4 a = m[2];  // the clip-space image of e_z
+    double largest = 0.0;
+    for (const double x : {ndcLo.x, ndcHi.x}) {
+        for (const double y : {ndcLo.y, ndcHi.y}) {
+            largest = std::max(largest, std::hypot((a.x - x * a.w) * 0.5 * viewportPx.x,
+                                                   (a.y - y * a.w) * 0.5 * viewportPx.y));
+        }
+    }
+    // A point in the frustum has |p| ≤ w · √(1 + tan²x + tan²y), and the rows of the
+    // projection's x and y are the camera's right and up over tan x and tan y.
+    const glm::dvec3 rowX{m[0].x, m[1].x, m[2].x};
+    const glm::dvec3 rowY{m[0].y, m[1].y, m[2].y};
+    const double diagonal =
+        std::sqrt(1.0 + 1.0 / glm::dot(rowX, rowX) + 1.0 / glm::dot(rowY, rowY));
+    const double depthOfDistance = distanceToBox(glm::dvec3(0.0), box) / diagonal;
+    return largest / std::max({depthMin, depthOfDistance, nearM});
 }
 
 int edgeSimplification(std::span<const double, io::kMaxSimplification> projectedPx,
@@ -69,9 +99,7 @@ std::vector<BlockFactors> patchBlockFactors(const Camera& camera, const TerrainG
     const io::PyramidLayout& layout = geometry.layout();
     const int blocks = layout.blocksPerSide();
     const int quads = layout.blockQuads();
-    const int tile = layout.tileSamples();
     TERRAIN_ASSERT(record.blockErrors.size() == static_cast<std::size_t>(blocks * blocks));
-    TERRAIN_ASSERT(record.heights.size() == static_cast<std::size_t>(tile * tile));
     const double patchErrorM = static_cast<double>(record.info.error);
     const std::int64_t step = layout.levelStep(record.id.level);
     const double originColumn = static_cast<double>(layout.patchOriginX(record.id) * step);
@@ -86,33 +114,46 @@ std::vector<BlockFactors> patchBlockFactors(const Camera& camera, const TerrainG
         return static_cast<double>(lambda[static_cast<std::size_t>(d - 1)]) + patchErrorM;
     };
 
+    // The camera-relative box of blocks first..last (inclusive): their footprint, and
+    // heights from the patch's range widened by Err(P), since the full-resolution surface
+    // may lie that far beyond the patch's samples, and an error's segment ends on it.
+    const double lowM = static_cast<double>(record.info.minHeight) - patchErrorM;
+    const double highM = static_cast<double>(record.info.maxHeight) + patchErrorM;
+    const auto edgeBoxM = [&](glm::ivec2 first, glm::ivec2 last) {
+        const glm::dvec2 nw =
+            geometry.worldOfSample(originColumn + first.x * quads * static_cast<double>(step),
+                                   originRow + first.y * quads * static_cast<double>(step));
+        const glm::dvec2 se =
+            geometry.worldOfSample(originColumn + (last.x + 1) * quads * static_cast<double>(step),
+                                   originRow + (last.y + 1) * quads * static_cast<double>(step));
+        return Aabb{
+            .min = {nw.x - camera.position.x, se.y - camera.position.y, lowM - camera.position.z},
+            .max = {se.x - camera.position.x, nw.y - camera.position.y, highM - camera.position.z}};
+    };
+
     std::vector<BlockFactors> out(static_cast<std::size_t>(blocks * blocks));
     for (int by = 0; by < blocks; ++by) {
         for (int bx = 0; bx < blocks; ++bx) {
             const glm::ivec2 block{bx, by};
             BlockFactors& f = out[static_cast<std::size_t>(by * blocks + bx)];
             for (std::size_t e = 0; e < 4; ++e) {
-                // e_c: the edge's centre sample, at its height from the patch's heights.
-                const glm::ivec2 centre =
-                    block * quads + (kEdgeStart[e] + kEdgeEnd[e]) * (quads / 2);
-                const double heightM = static_cast<double>(
-                    record.heights[static_cast<std::size_t>((centre.y + 1) * tile + centre.x + 1)]);
-                const glm::dvec2 world =
-                    geometry.worldOfSample(originColumn + centre.x * static_cast<double>(step),
-                                           originRow + centre.y * static_cast<double>(step));
-                const glm::dvec3 centreM{world.x - camera.position.x, world.y - camera.position.y,
-                                         heightM - camera.position.z};
-                // Λ_ec(d): the max over the patch's blocks sharing the edge (Yusov §5).
+                // Λ_ec(d): the max over the patch's blocks sharing the edge (Yusov §5), and
+                // the box of those blocks, where the edge's d must hold.
                 const glm::ivec2 other = block + kEdgeNeighbour[e];
                 const bool shared =
                     other.x >= 0 && other.y >= 0 && other.x < blocks && other.y < blocks;
+                const glm::ivec2 first = shared ? glm::min(block, other) : block;
+                const glm::ivec2 last = shared ? glm::max(block, other) : block;
+                const double pxPerM =
+                    verticalErrorPxPerM(viewProjection, viewportPx, edgeBoxM(first, last));
                 std::array<double, io::kMaxSimplification> edgeErrorM{};
                 for (int d = 1; d <= io::kMaxSimplification; ++d) {
                     double lambda = blockErrorM(block, d);
                     if (shared) lambda = std::max(lambda, blockErrorM(other, d));
                     edgeErrorM[static_cast<std::size_t>(d - 1)] = lambda;
+                    // No error: nothing to see, wherever the box lies.
                     f.projectedPx[e][static_cast<std::size_t>(d - 1)] =
-                        projectedSegmentPx(viewProjection, viewportPx, centreM, lambda);
+                        lambda > 0.0 ? lambda * pxPerM : 0.0;
                 }
                 const int d = edgeSimplification(f.projectedPx[e], errorPx);
                 f.simplification[e] = d;

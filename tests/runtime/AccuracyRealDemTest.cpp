@@ -1,10 +1,9 @@
 // Measured accuracy on the real DEMs of ../shared/data (issue 6): Puget Sound (1k PNG,
 // 160 m, 0.1 m units) and Mount Rainier (SRTM3, geographic, with voids), built with the
 // default 129-sample patches of 8 × 8 blocks, seen from three points of the default camera
-// path (its low pass, its climb, its overview) at ε = 1, 2 and 4 px. As in the stability suite: no
-// cracks, no NaN; the coarse LOD alone within ε + kRasterTolerancePx; the full LOD within its
-// blocks' Λ(d) bounds where it exceeds ε (AccuracyScenes.h). terrain-bench charts the same on the
-// whole flight.
+// path (its low pass, its climb, its overview) at ε = 1, 2 and 4 px. As in the stability
+// suite: no cracks, no NaN; the full LOD and the coarse LOD alone within ε +
+// kRasterTolerancePx (AccuracyScenes.h). terrain-bench charts the same on the whole flight.
 #include "AccuracyScenes.h"
 #include "GlTestFixture.h"
 #include "SharedData.h"

@@ -3,6 +3,12 @@
 // "Fine-Grain Level of Detail Selection"): per block edge, the largest simplification d
 // whose edge error still projects below ε, and the factors that follow from it.
 //
+// One deviation from §5, for a guaranteed bound: Yusov projects Λ_ec(d) at the edge's
+// centre e_c only, an estimate that the block's points nearer the camera exceed (up to 3×
+// at 1 m over a slope, docs/accuracy.md). Here Λ_ec(d) is projected by an upper bound over
+// the box of the blocks sharing the edge (verticalErrorPxPerM), so the chosen d holds for
+// every point of both blocks, and so does the inner level, the coarsest edge's.
+//
 // Vertex → domain mapping of a block primitive (the vertex stage's corners): u runs east
 // along the patch's columns, v south along its rows, so GL's outer levels are
 // [0] the west edge (u = 0), [1] north (v = 0), [2] east (u = 1), [3] south (v = 1).
@@ -10,6 +16,7 @@
 
 #include "terrain/io/PatchErrors.h"
 #include "terrain/io/PatchRecord.h"
+#include "terrain/runtime/Aabb.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/TerrainGeometry.h"
 
@@ -30,19 +37,27 @@ struct BlockFactors {
     /// Λ_ec(d) of each edge at its d (Err(P) at d = 0), metres: how far the drawn edge may
     /// lie from the full-resolution surface; a skirt drops this plus the skirt depth.
     std::array<double, 4> edgeErrorM{};
-    /// proj(e_c^(d),−, e_c^(d),+) of each edge for d = 1..4, pixels (+∞: an end behind the
-    /// near plane): what d was chosen from.
+    /// Λ_ec(d) · verticalErrorPxPerM of the edge's box for d = 1..4, pixels: the most any
+    /// vertical error of Λ_ec(d) in the box may measure on screen; what d was chosen from.
     std::array<std::array<double, io::kMaxSimplification>, 4> projectedPx{};
     /// The control stage discards the block: blockDiscarded().
     bool culled = false;
 };
 
-/// The length in pixels of the vertical segment centre ± lengthM/2 · e_z (camera-relative
-/// metres) projected by `relativeViewProjection` onto a viewport of `viewportPx`; +∞ when
-/// an end is behind the near plane (clip z > w in the reversed-Z projection) unless the
-/// length is 0: a block without error may be simplified wherever it lies.
-double projectedSegmentPx(const glm::dmat4& relativeViewProjection, const glm::dvec2& viewportPx,
-                          const glm::dvec3& centreM, double lengthM);
+/// An upper bound, in pixels per metre, on the on-screen length of any vertical segment
+/// lying in `box` (camera-relative metres), seen through `relativeViewProjection` (Camera:
+/// w_clip is the depth, z_clip the near plane's distance) on a viewport of `viewportPx`.
+///
+/// Why it bounds: along p(t) = p + t·e_z the clip position moves by a = M·e_z, so NDC
+/// X = x/w moves at (a.x − X·a.w)/w, and the pixel position at
+/// |((a.x − X·a.w)·W/2, (a.y − Y·a.w)·H/2)| / w per metre. The numerator is convex in
+/// (X, Y), so its largest value over the rectangle of NDC the box covers (the hull of its
+/// corners' projections, within the screen) is at a corner of that rectangle; the depth w
+/// of a drawn point is at least the box's smallest corner depth, the near plane's, and its
+/// distance over √(1 + tan²x + tan²y) (a box reaching behind the camera may lie far in
+/// front of it where it is in view).
+double verticalErrorPxPerM(const glm::dmat4& relativeViewProjection, const glm::dvec2& viewportPx,
+                           const Aabb& box);
 
 /// Yusov §5: d = argmax_d proj(d) < ε over d = 1..4; 0 when no d qualifies.
 int edgeSimplification(std::span<const double, io::kMaxSimplification> projectedPx, double errorPx);
