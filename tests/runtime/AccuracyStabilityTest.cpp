@@ -2,8 +2,8 @@
 // methods fail, as small scenes and camera poses, each measured against the reference
 // renderer at ε = 1, 2 and 4 px after streaming settles: no cracks, no holes, no NaN, and
 // the measured screen-space error within ε + kRasterTolerancePx, for the full LOD and for
-// the coarse LOD alone (what Yusov's Err(P) guarantees; AccuracyScenes.h). Flat plains and triangle
-// counts: LodTriangleBudgetTest; holes while streaming with full views: NoHolesWhileStreamingTest
+// the coarse LOD alone (AccuracyScenes.h). Flat plains and triangle counts:
+// LodTriangleBudgetTest; holes while streaming with full views: NoHolesWhileStreamingTest
 // (teleports here add the reference's footprint, so views with sky count too).
 #include "AccuracyScenes.h"
 #include "GlTestFixture.h"
