@@ -17,6 +17,23 @@ namespace {
 
 constexpr std::array<glm::ivec2, 4> kEdgeNeighbour{{{-1, 0}, {0, -1}, {1, 0}, {0, 1}}};
 
+// The world box of blocks first..last (inclusive) of patch `id`: their footprint, heights
+// lowM..highM (the control stage's blocksBoxM in double).
+Aabb blocksWorldBox(const TerrainGeometry& geometry, const io::PatchId& id, glm::ivec2 first,
+                    glm::ivec2 last, double lowM, double highM) {
+    const io::PyramidLayout& layout = geometry.layout();
+    const double step = static_cast<double>(layout.levelStep(id.level));
+    const double quads = static_cast<double>(layout.blockQuads());
+    const double column = static_cast<double>(layout.patchOriginX(id)) * step;
+    const double row = static_cast<double>(layout.patchOriginY(id)) * step;
+    // Rows run south: the north-west corner has the larger y.
+    const glm::dvec2 nw =
+        geometry.worldOfSample(column + first.x * quads * step, row + first.y * quads * step);
+    const glm::dvec2 se = geometry.worldOfSample(column + (last.x + 1) * quads * step,
+                                                 row + (last.y + 1) * quads * step);
+    return {.min = {nw.x, se.y, lowM}, .max = {se.x, nw.y, highM}};
+}
+
 }  // namespace
 
 double verticalErrorPxPerM(const glm::dmat4& relativeViewProjection, const glm::dvec2& viewportPx,
@@ -85,13 +102,9 @@ bool blockDiscarded(const Camera& camera, const TerrainGeometry& geometry, const
         firstRow > static_cast<double>(layout.rasterHeight() - 1)) {
         return true;  // wholly beyond the DEM
     }
-    const glm::dvec2 nw =
-        geometry.worldOfSample(column + block.x * quads * step, row + block.y * quads * step);
-    const glm::dvec2 se = geometry.worldOfSample(column + (block.x + 1) * quads * step,
-                                                 row + (block.y + 1) * quads * step);
-    const Aabb box{.min = {nw.x, se.y, static_cast<double>(info.minHeight) - dropM},
-                   .max = {se.x, nw.y, static_cast<double>(info.maxHeight)}};
-    return !camera.frustum().intersects(box);
+    return !camera.frustum().intersects(blocksWorldBox(geometry, id, block, block,
+                                                       static_cast<double>(info.minHeight) - dropM,
+                                                       static_cast<double>(info.maxHeight)));
 }
 
 std::vector<BlockFactors> patchBlockFactors(const Camera& camera, const TerrainGeometry& geometry,
@@ -101,9 +114,6 @@ std::vector<BlockFactors> patchBlockFactors(const Camera& camera, const TerrainG
     const int quads = layout.blockQuads();
     TERRAIN_ASSERT(record.blockErrors.size() == static_cast<std::size_t>(blocks * blocks));
     const double patchErrorM = static_cast<double>(record.info.error);
-    const std::int64_t step = layout.levelStep(record.id.level);
-    const double originColumn = static_cast<double>(layout.patchOriginX(record.id) * step);
-    const double originRow = static_cast<double>(layout.patchOriginY(record.id) * step);
     const glm::dmat4 viewProjection = camera.relativeViewProjection();
     const glm::dvec2 viewportPx{camera.viewportWidth, camera.viewportHeight};
 
@@ -120,15 +130,8 @@ std::vector<BlockFactors> patchBlockFactors(const Camera& camera, const TerrainG
     const double lowM = static_cast<double>(record.info.minHeight) - patchErrorM;
     const double highM = static_cast<double>(record.info.maxHeight) + patchErrorM;
     const auto edgeBoxM = [&](glm::ivec2 first, glm::ivec2 last) {
-        const glm::dvec2 nw =
-            geometry.worldOfSample(originColumn + first.x * quads * static_cast<double>(step),
-                                   originRow + first.y * quads * static_cast<double>(step));
-        const glm::dvec2 se =
-            geometry.worldOfSample(originColumn + (last.x + 1) * quads * static_cast<double>(step),
-                                   originRow + (last.y + 1) * quads * static_cast<double>(step));
-        return Aabb{
-            .min = {nw.x - camera.position.x, se.y - camera.position.y, lowM - camera.position.z},
-            .max = {se.x - camera.position.x, nw.y - camera.position.y, highM - camera.position.z}};
+        const Aabb world = blocksWorldBox(geometry, record.id, first, last, lowM, highM);
+        return Aabb{.min = world.min - camera.position, .max = world.max - camera.position};
     };
 
     std::vector<BlockFactors> out(static_cast<std::size_t>(blocks * blocks));
