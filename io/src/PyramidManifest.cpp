@@ -208,8 +208,10 @@ std::string layoutText(const PyramidLayout& layout) {
 // Everything that must hold between the fields, with the reason in the message.
 Status checkManifest(const PyramidManifest& m, const std::string& name) {
     if (m.formatVersion != PyramidManifest::kFormatVersion)
-        return Error{fmt::format("{}: unsupported formatVersion {} (this program reads version {})",
-                                 name, m.formatVersion, PyramidManifest::kFormatVersion)};
+        return Error{
+            fmt::format("{}: unsupported formatVersion {} (this program reads version {}; "
+                        "rebuild the pyramid with terrain-build)",
+                        name, m.formatVersion, PyramidManifest::kFormatVersion)};
     // A layout is only made by PyramidLayout::create; one that create rejects is a default
     // (empty) one.
     const PyramidLayout& layout = m.layout;
@@ -260,7 +262,7 @@ Status checkManifest(const PyramidManifest& m, const std::string& name) {
                         "finite, the scale non-zero",
                         name, m.vertical.scale, m.vertical.offset)};
     if (m.noData.fill != ManifestNoData::kRowLinearFill)
-        return Error{fmt::format("{}: noData.fill is \"{}\"; format version 1 knows only \"{}\"",
+        return Error{fmt::format("{}: noData.fill is \"{}\"; format version 2 knows only \"{}\"",
                                  name, m.noData.fill, ManifestNoData::kRowLinearFill)};
     const double rasterSamples =
         static_cast<double>(m.layout.rasterWidth()) * static_cast<double>(m.layout.rasterHeight());
@@ -361,8 +363,10 @@ Result<PyramidManifest> fromJson(std::string_view json, const std::string& sourc
     if (version == root.end() || !version->is_number_integer())
         return Error{fmt::format("{}: \"formatVersion\" is missing or not an integer", sourceName)};
     if (version->get<std::int64_t>() != PyramidManifest::kFormatVersion)
-        return Error{fmt::format("{}: unsupported formatVersion {} (this program reads version {})",
-                                 sourceName, version->dump(), PyramidManifest::kFormatVersion)};
+        return Error{
+            fmt::format("{}: unsupported formatVersion {} (this program reads version {}; "
+                        "rebuild the pyramid with terrain-build)",
+                        sourceName, version->dump(), PyramidManifest::kFormatVersion)};
     PyramidManifest manifest;
     LayoutFields f;
     try {
@@ -371,7 +375,7 @@ Result<PyramidManifest> fromJson(std::string_view json, const std::string& sourc
         return Error{fmt::format("{}: field \"{}\" must be {}", sourceName, e.field, e.expected)};
     }
     if (f.apronSamples != 1)
-        return Error{fmt::format("{}: apronSamples is {}; format version 1 has an apron of 1",
+        return Error{fmt::format("{}: apronSamples is {}; format version 2 has an apron of 1",
                                  sourceName, f.apronSamples)};
     Result<PyramidLayout> layout = PyramidLayout::create(
         f.rasterWidth, f.rasterHeight, f.patchSamples, f.blockQuads, f.shardPatches);

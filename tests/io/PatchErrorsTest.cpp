@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -52,24 +53,107 @@ std::vector<float> randomGrid(int n, unsigned seed, float roughness) {
     return h;
 }
 
-TEST(PatchErrors, BlockErrorsEqualBruteForce) {
+TEST(PatchErrors, SimplificationErrorEqualsBruteForce) {
     const int n = 33, blockQuads = 16;
     for (unsigned seed = 1; seed <= 6; ++seed) {
         const auto h = randomGrid(n, seed, seed % 2 ? 5.0f : 0.0f);
         const GridView g{h.data(), n, n};
         for (int by = 0; by < 2; ++by) {
             for (int bx = 0; bx < 2; ++bx) {
-                const BlockErrors got =
-                    blockErrors(g, bx * blockQuads, by * blockQuads, blockQuads);
                 for (int d = 1; d <= kMaxSimplification; ++d) {
-                    const double want = bruteForce(h, n, bx * blockQuads, by * blockQuads,
-                                                   blockQuads, std::min(1 << d, blockQuads));
-                    EXPECT_GE(double(got[d - 1]), want) << "seed " << seed << " d " << d;
-                    EXPECT_NEAR(double(got[d - 1]), want, 1e-4 * (1.0 + want)) << "d " << d;
+                    const int step = std::min(1 << d, blockQuads);
+                    const float got =
+                        simplificationError(g, bx * blockQuads, by * blockQuads, blockQuads, step);
+                    const double want =
+                        bruteForce(h, n, bx * blockQuads, by * blockQuads, blockQuads, step);
+                    EXPECT_GE(double(got), want) << "seed " << seed << " d " << d;
+                    EXPECT_NEAR(double(got), want, 1e-4 * (1.0 + want)) << "d " << d;
                 }
             }
         }
     }
+}
+
+// The strip triangles of a block of `blockQuads` (top-left (x0, y0)) whose inner factor
+// is that of simplification d, enumerated from GL 4.5 §11.2.2.2 as PatchErrors.h states
+// the model: every finer power-of-two edge factor, two consecutive vertices of one side
+// and a vertex of the other within one inner spacing.
+std::vector<std::array<std::array<int, 2>, 3>> stripTriangles(int x0, int y0, int blockQuads,
+                                                              int d) {
+    const int innerFactor = std::max(1, blockQuads >> d);
+    const int inner = std::max(2, innerFactor), spacing = blockQuads / inner;
+    std::vector<std::array<std::array<int, 2>, 3>> triangles;
+    for (int edge = 0; edge < 4; ++edge) {
+        auto at = [&](int along, int inward) -> std::array<int, 2> {
+            if (edge == 0) return {x0 + along, y0 + inward};
+            if (edge == 1) return {x0 + along, y0 + blockQuads - inward};
+            if (edge == 2) return {x0 + inward, y0 + along};
+            return {x0 + blockQuads - inward, y0 + along};
+        };
+        for (int m = innerFactor == 1 ? 1 : 2 * innerFactor; m <= blockQuads; m *= 2) {
+            const int step = blockQuads / m;
+            for (int a = 0; a + step <= blockQuads; a += step)
+                for (int j = 1; j < inner; ++j)
+                    if (j * spacing >= a - spacing && j * spacing <= a + step + spacing)
+                        triangles.push_back({at(a, 0), at(a + step, 0), at(j * spacing, spacing)});
+            for (int j = 1; j + 1 < inner; ++j)
+                for (int a = 0; a <= blockQuads; a += step)
+                    if (a >= j * spacing - spacing && a <= (j + 1) * spacing + spacing)
+                        triangles.push_back(
+                            {at(j * spacing, spacing), at((j + 1) * spacing, spacing), at(a, 0)});
+        }
+    }
+    return triangles;
+}
+
+TEST(PatchErrors, TransitionErrorsEqualBruteForce) {
+    const int n = 33;
+    for (int blockQuads : {16, 8}) {
+        for (unsigned seed = 1; seed <= 3; ++seed) {
+            const auto h = randomGrid(n, seed, seed % 2 ? 8.0f : 0.5f);
+            const GridView g{h.data(), n, n};
+            auto height = [&](int x, int y) { return double(h[y * n + x]); };
+            const int x0 = 16 - blockQuads / 2, y0 = 8;  // not at the origin
+            const BlockErrors got = transitionErrors(g, x0, y0, blockQuads);
+            for (int d = 1; d <= kMaxSimplification; ++d) {
+                double want = 0.0;
+                for (const auto& t : stripTriangles(x0, y0, blockQuads, d)) {
+                    auto corner = [&](std::array<int, 2> p) {
+                        return test::Point3{double(p[0]), double(p[1]), height(p[0], p[1])};
+                    };
+                    want = std::max(want, test::triangleSurfaceDeviation(
+                                              height, corner(t[0]), corner(t[1]), corner(t[2])));
+                }
+                // The oracle's own rounding may put it a few ulps above.
+                EXPECT_GE(double(got[d - 1]), want * (1.0 - 1e-12))
+                    << "block " << blockQuads << " d " << d;
+                EXPECT_NEAR(double(got[d - 1]), want, 1e-4 * (1.0 + want))
+                    << "block " << blockQuads << " d " << d;
+            }
+        }
+    }
+}
+
+TEST(PatchErrors, BlockErrorsCoverTheRegularSimplificationAndTheStrips) {
+    const int n = 33, blockQuads = 16;
+    const auto h = randomGrid(n, 7, 8.0f);
+    const GridView g{h.data(), n, n};
+    int stripsLarger = 0;
+    for (int by = 0; by < 2; ++by) {
+        for (int bx = 0; bx < 2; ++bx) {
+            const int x0 = bx * blockQuads, y0 = by * blockQuads;
+            const BlockErrors lambda = blockErrors(g, x0, y0, blockQuads);
+            const BlockErrors strips = transitionErrors(g, x0, y0, blockQuads);
+            for (int d = 1; d <= kMaxSimplification; ++d) {
+                const float regular =
+                    simplificationError(g, x0, y0, blockQuads, std::min(1 << d, blockQuads));
+                EXPECT_EQ(lambda[d - 1], std::max(regular, strips[d - 1])) << "d " << d;
+                stripsLarger += strips[d - 1] > regular;
+            }
+        }
+    }
+    // On rough ground the strips are what bounds some levels: Yusov's λ alone would not.
+    EXPECT_GT(stripsLarger, 0);
 }
 
 TEST(PatchErrors, InterpolationErrorEqualsBruteForceAndBoundsEverySample) {
@@ -94,9 +178,21 @@ TEST(PatchErrors, PlanesHaveNoError) {
         for (int x = 0; x < n; ++x) h[y * n + x] = 0.5f * float(x) - 0.25f * float(y) + 7.0f;
     std::vector<BlockErrors> blocks(4);
     patchBlockErrors(GridView{h.data(), n, n}, 16, blocks);
+    // The strips' skewed triangles are interpolated with rational weights: a plane comes
+    // out within double rounding of 0, far below anything on screen.
+    for (const auto& b : blocks)
+        for (float e : b) EXPECT_LE(e, 1e-12f);
+    EXPECT_EQ(interpolationError(GridView{h.data(), n, n}), 0.0f);
+}
+
+TEST(PatchErrors, LevelGroundHasExactlyNoError) {
+    // What lets a flat plain collapse to factor 1 everywhere (LodTriangleBudgetTest).
+    const int n = 33;
+    const std::vector<float> h(n * n, 12.5f);
+    std::vector<BlockErrors> blocks(4);
+    patchBlockErrors(GridView{h.data(), n, n}, 16, blocks);
     for (const auto& b : blocks)
         for (float e : b) EXPECT_EQ(e, 0.0f);
-    EXPECT_EQ(interpolationError(GridView{h.data(), n, n}), 0.0f);
 }
 
 TEST(PatchErrors, SingleSpikeIsSeenByEveryCoarserLevel) {

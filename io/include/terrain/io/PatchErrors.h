@@ -47,13 +47,26 @@ float interpolationError(const GridView& children);
 /// the block's triangulation simplified by 2^d from its full-resolution triangulation
 /// (a superset of the paper's "samples not in T(d)": the fine cell centres are added so
 /// that Λ(d) = λ(d) + Err(P) bounds the distance to the finest samples, not only to the
-/// patch's own). 4 levels fit a vec4, as in the paper.
+/// patch's own), or of the transition strips a block with that inner factor can have,
+/// whichever is larger (transitionErrors). 4 levels fit a vec4, as in the paper.
 inline constexpr int kMaxSimplification = 4;
 using BlockErrors = std::array<float, kMaxSimplification>;
 
+/// For d = 1..4: the largest vertical distance between the full-resolution surface and
+/// any triangle of the transition strips of a block whose inner tessellation factor is
+/// that of simplification d, blockQuads >> d (at least 1), and whose edges are finer: the
+/// strips between each edge, at every finer power-of-two factor, and the inner mesh (GL
+/// 4.5 §11.2.2.2; an inner factor of 1 becomes 2, a fan about the block's centre). GL
+/// leaves the strips' triangulation to the implementation; every triangle that joins two
+/// consecutive vertices of one side to a vertex of the other within one inner spacing of
+/// them counts (implementations stitch in step; TransitionStripTest checks the driver).
+/// Yusov §5 leaves these triangles out; a block's inner factor is its coarsest edge's, so
+/// λ(d) must cover them. 0 where no edge can be finer than the inner factor.
+BlockErrors transitionErrors(const GridView& patch, int x0, int y0, int blockQuads);
+
 /// λ(1..4) of the block of `blockQuads` × `blockQuads` quads whose top-left sample is
-/// (x0, y0) in `patch`. A simplification coarser than the block (2^d > blockQuads) keeps
-/// only the block corners.
+/// (x0, y0) in `patch`: the larger of simplificationError and transitionErrors per level.
+/// A simplification coarser than the block (2^d > blockQuads) keeps only the block corners.
 BlockErrors blockErrors(const GridView& patch, int x0, int y0, int blockQuads);
 
 /// λ(d) for every block of a patch, row-major by block (blocksPerSide² entries), where

@@ -24,7 +24,7 @@ struct ManifestNoData {
     bool present = false;               ///< some source sample was no-data; shards carry the V mask
     std::optional<double> sourceValue;  ///< the raw value the source declared, if any
     std::int64_t samples = 0;           ///< filled samples of the DEM (not overhang)
-    std::string fill{kRowLinearFill};   ///< the fill rule; version 1 knows only row-linear
+    std::string fill{kRowLinearFill};   ///< the fill rule; version 2 knows only row-linear
     bool operator==(const ManifestNoData&) const = default;
 };
 
@@ -65,7 +65,7 @@ struct ManifestBuild {
 
 struct PyramidManifest {
     static constexpr std::string_view kFormatName = "terrain-pyramid";
-    static constexpr int kFormatVersion = 1;  ///< the only version this code reads and writes
+    static constexpr int kFormatVersion = 2;  ///< the only version this code reads and writes
     static constexpr std::string_view kFileName = "manifest.json";
     static constexpr std::string_view kVerticalUnits = "metre";
 

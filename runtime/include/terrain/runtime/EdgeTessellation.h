@@ -7,7 +7,9 @@
 // centre e_c only, an estimate that the block's points nearer the camera exceed (up to 3×
 // at 1 m over a slope, docs/accuracy.md). Here Λ_ec(d) is projected by an upper bound over
 // the box of the blocks sharing the edge (verticalErrorPxPerM), so the chosen d holds for
-// every point of both blocks, and so does the inner level, the coarsest edge's.
+// every point of both blocks, and so does the inner level, the coarsest edge's. The
+// tessellator's transition strips between finer edges and that inner level are charged
+// to it too: the pyramid's λ(d) covers them (io::transitionErrors).
 //
 // Vertex → domain mapping of a block primitive (the vertex stage's corners): u runs east
 // along the patch's columns, v south along its rows, so GL's outer levels are
