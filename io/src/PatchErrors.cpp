@@ -318,7 +318,7 @@ BlockErrors transitionErrors(const GridView& patch, int x0, int y0, int blockQua
                    y0 + blockQuads <= patch.side - 1);
     // strips[log2 inner][log2 m]: the largest deviation of the strips between edges of
     // factor m and an inner mesh of factor `inner` (≥ 2), filled where some d needs it.
-    constexpr int kFactors = 17;  // log2 of factors up to GL's 64 and beyond, with room
+    constexpr int kFactors = 17;  // log2 of factors up to 2^16, far beyond GL's 64
     std::array<std::array<double, kFactors>, kFactors> strips{};
     std::array<bool, kFactors> stripsDone{};
     BlockErrors errors{};
@@ -332,7 +332,8 @@ BlockErrors transitionErrors(const GridView& patch, int x0, int y0, int blockQua
         const int innerLog2 = std::countr_zero(static_cast<unsigned>(inner));
         TERRAIN_ASSERT(innerLog2 < kFactors);
         if (!stripsDone[static_cast<std::size_t>(innerLog2)]) {
-            // From edge factor 1: inner factors 1 and 2 share the centre vertex.
+            // For inner 2 these start at edge factor 1: inner factors 1 and 2 both make the
+            // centre fan, so they share them.
             stripDeviations(patch, x0, y0, blockQuads, inner,
                             strips[static_cast<std::size_t>(innerLog2)]);
             stripsDone[static_cast<std::size_t>(innerLog2)] = true;

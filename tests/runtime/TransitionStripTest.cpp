@@ -1,7 +1,7 @@
 // The strips GL's tessellator puts between a block's edges and its inner mesh, read back
 // from the tessellator itself: for every combination of factors the fine LOD gives a block
 // of 16 quads (inner factor the smallest edge factor, all powers of two), every triangle is
-// one that io::transitionError models, and none deviates from rough surfaces by more than
+// one that io::transitionErrors models, and none deviates from rough surfaces by more than
 // the block's λ(d) for its inner factor. This is the property the fine LOD's bound rests
 // on: a block's error is charged to its coarsest edge (EdgeTessellation.h).
 #include "GlTestFixture.h"
@@ -33,7 +33,6 @@ constexpr std::size_t kCapacityTriangles = 4096;
 
 struct SamplePoint {
     int x, y;
-    bool operator==(const SamplePoint&) const = default;
 };
 using Triangle = std::array<SamplePoint, 3>;
 
@@ -152,7 +151,7 @@ std::vector<Factors> factorsOfInnerLevel(int d) {
 }
 
 // Whether `t` is a triangle of the inner mesh (half a cell of `spacing`) or of the strip
-// along some edge as io::transitionError enumerates it: two consecutive vertices of one
+// along some edge as io::transitionErrors enumerates it: two consecutive vertices of one
 // side and a vertex of the other within one inner spacing of them. `outer` holds the edges' factors
 // in the frame order below (v = 0, v = 1, u = 0, u = 1).
 bool isModelled(const Triangle& t, int innerSpacing, const std::array<int, 4>& outer) {
