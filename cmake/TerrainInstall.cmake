@@ -1,22 +1,26 @@
 # Install rules and an exported CMake package, so another application can
 #   find_package(Terrain CONFIG REQUIRED)
 #   target_link_libraries(app PRIVATE terrain::runtime)
-# and embed the runtime. Shaders are compiled into terrain::runtime, so an installed
-# runtime needs no shader folder at run time.
+# and embed the runtime. Every library terrain_add_library() made is installed and exported
+# under its own name (terrain::base ... terrain::truth), with the umbrellas terrain::io and
+# terrain::runtime. Shaders are compiled into terrain::programs, so an installed runtime
+# needs no shader folder at run time.
 include(CMakePackageConfigHelpers)
 
-install(TARGETS terrain_io terrain_cache terrain_runtime
+get_property(_targets GLOBAL PROPERTY TERRAIN_INSTALLED_TARGETS)
+get_property(_include_dirs GLOBAL PROPERTY TERRAIN_PUBLIC_INCLUDE_DIRS)
+install(TARGETS ${_targets}
   EXPORT TerrainTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-foreach(folder io cache runtime)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/${folder}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+foreach(_dir IN LISTS _include_dirs)
+  install(DIRECTORY ${_dir}/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endforeach()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/shaders/ DESTINATION ${CMAKE_INSTALL_DATADIR}/terrain/shaders
   FILES_MATCHING PATTERN "*.glsl" PATTERN "*.vert" PATTERN "*.frag" PATTERN "*.tesc" PATTERN "*.tese"
-                 PATTERN "*.h")
+                 PATTERN "*.geom" PATTERN "*.h")
 
 set(_cmake_dir ${CMAKE_INSTALL_LIBDIR}/cmake/Terrain)
 install(EXPORT TerrainTargets NAMESPACE terrain:: DESTINATION ${_cmake_dir})

@@ -1,8 +1,8 @@
 // GpuTilePool: layer bookkeeping and fenced uploads through a persistent-mapped ring.
 #include "terrain/cache/GpuTilePool.h"
 
-#include "PixelStoreScope.h"
-#include "terrain/io/Assert.h"
+#include "terrain/gl/PixelStoreScope.h"
+#include "terrain/base/Assert.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -54,18 +54,18 @@ std::size_t GpuTilePool::bytesPerLayer(const io::PyramidLayout& layout) {
            squared(layout.blocksPerSide()) * sizeof(io::BlockErrors);
 }
 
-io::Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
+Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
                                             const GpuTilePoolDesc& desc) {
     const std::size_t layerBytes = bytesPerLayer(layout);
     if (desc.budgetBytes < layerBytes) {
-        return io::Error{"GpuTilePool: GPU budget of " + std::to_string(desc.budgetBytes) +
+        return Error{"GpuTilePool: GPU budget of " + std::to_string(desc.budgetBytes) +
                          " bytes is below one tile layer (" + std::to_string(layerBytes) +
                          " bytes)"};
     }
     GLint maxLayers = 0;
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
     if (maxLayers < 1) {
-        return io::Error{"GpuTilePool: GL_MAX_ARRAY_TEXTURE_LAYERS is " +
+        return Error{"GpuTilePool: GL_MAX_ARRAY_TEXTURE_LAYERS is " +
                          std::to_string(maxLayers)};
     }
     const auto layers = static_cast<int>(
@@ -84,7 +84,7 @@ io::Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
                                                .layers = layers},
                                               "tile pool heights");
     if (!heights) {
-        return io::Error{"GpuTilePool: " + heights.error().message};
+        return Error{"GpuTilePool: " + heights.error().message};
     }
     auto errors = gl::Texture::create2DArray({.internalFormat = GL_RGBA32F,
                                               .width = pool.m_blocksPerSide,
@@ -92,7 +92,7 @@ io::Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
                                               .layers = layers},
                                              "tile pool block errors");
     if (!errors) {
-        return io::Error{"GpuTilePool: " + errors.error().message};
+        return Error{"GpuTilePool: " + errors.error().message};
     }
     pool.m_heights = std::move(heights).value();
     pool.m_blockErrors = std::move(errors).value();
@@ -106,7 +106,7 @@ io::Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
                                 : 2 * std::max(desc.uploadBudgetBytesPerFrame, tileRingBytes);
     ringBytes = alignUp(ringBytes, kRingAlignment);
     if (ringBytes < tileRingBytes) {
-        return io::Error{"GpuTilePool: upload ring of " + std::to_string(ringBytes) +
+        return Error{"GpuTilePool: upload ring of " + std::to_string(ringBytes) +
                          " bytes cannot hold one tile (" + std::to_string(tileRingBytes) +
                          " bytes)"};
     }
@@ -114,7 +114,7 @@ io::Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
     void* mapped =
         glMapNamedBufferRange(pool.m_ring.id(), 0, static_cast<GLsizeiptr>(ringBytes), kRingFlags);
     if (mapped == nullptr) {
-        return io::Error{"GpuTilePool: cannot map the upload ring persistently (" +
+        return Error{"GpuTilePool: cannot map the upload ring persistently (" +
                          std::to_string(ringBytes) + " bytes)"};
     }
     pool.m_ringData = static_cast<std::byte*>(mapped);

@@ -2,7 +2,7 @@
 // makes isAllocated() O(1) and catches double releases.
 #include "terrain/cache/LayerFreeList.h"
 
-#include "terrain/io/Assert.h"
+#include "terrain/base/Assert.h"
 
 #include <cstddef>
 

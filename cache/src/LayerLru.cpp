@@ -1,7 +1,7 @@
 // LayerLru: prev/next arrays indexed by layer; the head is the most recently used.
 #include "terrain/cache/LayerLru.h"
 
-#include "terrain/io/Assert.h"
+#include "terrain/base/Assert.h"
 
 #include <cstddef>
 

@@ -4,7 +4,7 @@
 // cache allocates nothing.
 #include "terrain/cache/TileCache.h"
 
-#include "terrain/io/Assert.h"
+#include "terrain/base/Assert.h"
 
 #include <algorithm>
 #include <iterator>

@@ -146,7 +146,7 @@ public:
     }
 
     /// Writes every shard and the manifest into `dir` (created). Returns the manifest.
-    io::Result<io::PyramidManifest> write(const std::filesystem::path& dir) {
+    Result<io::PyramidManifest> write(const std::filesystem::path& dir) {
         std::filesystem::create_directories(dir);
         io::PyramidManifest manifest = io::PyramidManifest::forLayout(m_layout);
         manifest.noData.present = m_options.withNoData;
@@ -169,10 +169,10 @@ public:
                             const io::PatchRecord r = patch(id);
                             ++present;
                             maxError = std::max(maxError, static_cast<double>(r.info.error));
-                            if (io::Status ok = writer.value().writePatch(r); !ok)
+                            if (Status ok = writer.value().writePatch(r); !ok)
                                 return ok.error();
                         }
-                    if (io::Status ok = writer.value().finish(); !ok) return ok.error();
+                    if (Status ok = writer.value().finish(); !ok) return ok.error();
                 }
             manifest.levels[static_cast<std::size_t>(l)].presentPatches = present;
             manifest.levels[static_cast<std::size_t>(l)].maxError = maxError;
@@ -188,7 +188,7 @@ public:
             }
         manifest.noData.samples = m_options.width * m_options.height - valid;
         manifest.statistics = {lo, hi, valid, manifest.levels[0].maxError};
-        if (io::Status ok = io::writeManifest(dir, manifest); !ok) return ok.error();
+        if (Status ok = io::writeManifest(dir, manifest); !ok) return ok.error();
         return manifest;
     }
 
@@ -199,7 +199,7 @@ private:
 };
 
 /// Creates the layout from `options` and writes the pyramid into `dir`.
-inline io::Result<io::PyramidManifest> writeTinyPyramid(const std::filesystem::path& dir,
+inline Result<io::PyramidManifest> writeTinyPyramid(const std::filesystem::path& dir,
                                                         const TinyPyramidOptions& options) {
     auto layout = io::PyramidLayout::create(options.width, options.height, options.patchSamples,
                                             options.blockQuads, options.shardPatches);

@@ -1,7 +1,7 @@
 // GlImagePng: flip to top-down rows, force alpha opaque, write.
 #include "GlImagePng.h"
 
-#include "terrain/io/Assert.h"
+#include "terrain/base/Assert.h"
 #include "terrain/io/RgbaImageWriter.h"
 
 #include <cstring>
@@ -9,7 +9,7 @@
 
 namespace terrain::tools {
 
-io::Status writeGlRgbaPng(const std::filesystem::path& path, int widthPx, int heightPx,
+Status writeGlRgbaPng(const std::filesystem::path& path, int widthPx, int heightPx,
                           std::span<const std::uint8_t> bottomUpRgba) {
     const std::size_t rowBytes = static_cast<std::size_t>(widthPx) * 4;
     TERRAIN_ASSERT(bottomUpRgba.size() == rowBytes * static_cast<std::size_t>(heightPx),
@@ -26,7 +26,7 @@ io::Status writeGlRgbaPng(const std::filesystem::path& path, int widthPx, int he
     return io::writeRgba8Png(path, widthPx, heightPx, topDown);
 }
 
-io::Status writeFramebufferPng(const gl::Framebuffer& framebuffer,
+Status writeFramebufferPng(const gl::Framebuffer& framebuffer,
                                const std::filesystem::path& path) {
     return writeGlRgbaPng(path, framebuffer.width(), framebuffer.height(),
                           framebuffer.readColorRgba8());

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "terrain/gl/Framebuffer.h"
-#include "terrain/io/Result.h"
+#include "terrain/base/Result.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -13,11 +13,11 @@ namespace terrain::tools {
 
 /// Writes RGBA8 pixels whose first row is the image's bottom (glReadPixels' order) as an
 /// opaque PNG, top row first, through an atomic file. Errors name the file.
-io::Status writeGlRgbaPng(const std::filesystem::path& path, int widthPx, int heightPx,
+Status writeGlRgbaPng(const std::filesystem::path& path, int widthPx, int heightPx,
                           std::span<const std::uint8_t> bottomUpRgba);
 
 /// The colour attachment of `framebuffer` as an opaque PNG. Render thread only.
-io::Status writeFramebufferPng(const gl::Framebuffer& framebuffer,
+Status writeFramebufferPng(const gl::Framebuffer& framebuffer,
                                const std::filesystem::path& path);
 
 }  // namespace terrain::tools

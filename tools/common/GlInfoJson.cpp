@@ -2,7 +2,7 @@
 
 namespace terrain::tools {
 
-nlohmann::json glInfoJson(const runtime::GlInfo& info) {
+nlohmann::json glInfoJson(const gl::GlInfo& info) {
     return {
         {"platform", info.platform},
         {"platformDetail", info.platformDetail},

@@ -2,12 +2,12 @@
 // version the run had, so figures are never quoted without the renderer behind them.
 #pragma once
 
-#include "terrain/runtime/GlInfo.h"
+#include "terrain/gl/GlInfo.h"
 
 #include <nlohmann/json.hpp>
 
 namespace terrain::tools {
 
-nlohmann::json glInfoJson(const runtime::GlInfo& info);
+nlohmann::json glInfoJson(const gl::GlInfo& info);
 
 }  // namespace terrain::tools

@@ -2,7 +2,7 @@
 // table of columns per file so the header and every row come from the same list.
 #include "BenchRecords.h"
 
-#include "terrain/io/AtomicFile.h"
+#include "terrain/base/AtomicFile.h"
 
 #include <fmt/format.h>
 
@@ -26,11 +26,11 @@ struct Column {
 };
 
 template <typename Row>
-io::Status writeCsv(const std::filesystem::path& path, std::span<const Column<Row>> columns,
+Status writeCsv(const std::filesystem::path& path, std::span<const Column<Row>> columns,
                     std::span<const Row> rows) {
-    return io::writeAtomically(path, [&](const std::filesystem::path& temporary) -> io::Status {
+    return writeAtomically(path, [&](const std::filesystem::path& temporary) -> Status {
         std::FILE* file = std::fopen(temporary.c_str(), "w");
-        if (file == nullptr) return io::Error{path.string() + ": cannot write the file"};
+        if (file == nullptr) return Error{path.string() + ": cannot write the file"};
         std::string line;
         for (std::size_t c = 0; c < columns.size(); ++c) {
             line += (c == 0 ? "" : ",") + std::string(columns[c].name);
@@ -44,7 +44,7 @@ io::Status writeCsv(const std::filesystem::path& path, std::span<const Column<Ro
         }
         const bool written = std::fwrite(line.data(), 1, line.size(), file) == line.size();
         const bool closed = std::fclose(file) == 0;
-        if (!written || !closed) return io::Error{path.string() + ": write failed (disk full?)"};
+        if (!written || !closed) return Error{path.string() + ": write failed (disk full?)"};
         return {};
     });
 }
@@ -148,7 +148,7 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
     return out;
 }
 
-io::Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRecord> records,
+Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRecord> records,
                           const std::string& gpuMsSource) {
     using R = FrameRecord;
     const std::vector<Column<R>> columns = {
@@ -201,7 +201,7 @@ io::Status writeFramesCsv(const std::filesystem::path& path, std::span<const Fra
     return writeCsv<R>(path, columns, records);
 }
 
-io::Status writeSummaryCsv(const std::filesystem::path& path,
+Status writeSummaryCsv(const std::filesystem::path& path,
                            std::span<const ThresholdSummary> summaries,
                            const std::string& gpuMsSource) {
     using S = ThresholdSummary;

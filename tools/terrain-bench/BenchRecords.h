@@ -4,7 +4,7 @@
 // stable: the chart tool (tools/charts/terrain_charts.py) reads them by name.
 #pragma once
 
-#include "terrain/io/Result.h"
+#include "terrain/base/Result.h"
 
 #include <glm/vec3.hpp>
 
@@ -102,9 +102,9 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
 
 /// frames.csv: one row per record. summary.csv: one row per summary; `gpuMsSource`
 /// ("gl-timer-query" or "llvmpipe-cpu") is written in a column of every row of both.
-io::Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRecord> records,
+Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRecord> records,
                           const std::string& gpuMsSource);
-io::Status writeSummaryCsv(const std::filesystem::path& path,
+Status writeSummaryCsv(const std::filesystem::path& path,
                            std::span<const ThresholdSummary> summaries,
                            const std::string& gpuMsSource);
 

@@ -13,7 +13,7 @@
 
 namespace terrain::tools {
 
-io::Result<ChartScript> findChartScript(const std::filesystem::path& executable) {
+Result<ChartScript> findChartScript(const std::filesystem::path& executable) {
     namespace fs = std::filesystem;
     ChartScript chart;
     if (const char* python = std::getenv("TERRAIN_PYTHON")) {
@@ -40,11 +40,11 @@ io::Result<ChartScript> findChartScript(const std::filesystem::path& executable)
         }
         looked += (looked.empty() ? "" : ", ") + candidate.string();
     }
-    return io::Error{"the chart tool terrain_charts.py is not in " + looked +
+    return Error{"the chart tool terrain_charts.py is not in " + looked +
                      " (set TERRAIN_CHARTS_SCRIPT)"};
 }
 
-io::Status runChartScript(const ChartScript& chart, const std::vector<std::string>& args) {
+Status runChartScript(const ChartScript& chart, const std::vector<std::string>& args) {
     std::vector<std::string> argv{chart.python.string(), chart.script.string()};
     argv.insert(argv.end(), args.begin(), args.end());
     std::vector<char*> pointers;
@@ -52,7 +52,7 @@ io::Status runChartScript(const ChartScript& chart, const std::vector<std::strin
     pointers.push_back(nullptr);
     const pid_t child = fork();
     if (child < 0)
-        return io::Error{
+        return Error{
             fmt::format("{}: cannot start: {}", chart.script.string(), std::strerror(errno))};
     if (child == 0) {
         execvp(pointers[0], pointers.data());
@@ -63,11 +63,11 @@ io::Status runChartScript(const ChartScript& chart, const std::vector<std::strin
     int status = 0;
     while (waitpid(child, &status, 0) < 0) {
         if (errno != EINTR)
-            return io::Error{
+            return Error{
                 fmt::format("{}: waitpid failed: {}", chart.script.string(), std::strerror(errno))};
     }
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        return io::Error{fmt::format("{} {} failed (exit status {}); see its message above",
+        return Error{fmt::format("{} {} failed (exit status {}); see its message above",
                                      chart.python.string(), chart.script.string(),
                                      WIFEXITED(status) ? WEXITSTATUS(status) : -1)};
     }

@@ -2,7 +2,7 @@
 // /usr/bin/python3, whose python3-matplotlib it needs, for terrain-bench --report.
 #pragma once
 
-#include "terrain/io/Result.h"
+#include "terrain/base/Result.h"
 
 #include <filesystem>
 #include <string>
@@ -18,10 +18,10 @@ struct ChartScript {
 /// TERRAIN_CHARTS_SCRIPT if set; else the source tree's copy (a build tree's program);
 /// else the installed copy, <prefix>/share/terrain/charts next to <prefix>/bin. An Error
 /// names every place looked at.
-io::Result<ChartScript> findChartScript(const std::filesystem::path& executable);
+Result<ChartScript> findChartScript(const std::filesystem::path& executable);
 
 /// Runs `python script args...` (no shell) and waits; an Error when it cannot start or
 /// exits non-zero (its own message went to stderr).
-io::Status runChartScript(const ChartScript& chart, const std::vector<std::string>& args);
+Status runChartScript(const ChartScript& chart, const std::vector<std::string>& args);
 
 }  // namespace terrain::tools

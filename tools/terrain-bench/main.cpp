@@ -10,11 +10,11 @@
 #include "GlInfoJson.h"
 
 #include "terrain/cache/GpuTilePool.h"
-#include "terrain/io/AtomicFile.h"
+#include "terrain/base/AtomicFile.h"
 #include "terrain/io/RgbaImageWriter.h"
 #include "terrain/runtime/AccuracyProbe.h"
 #include "terrain/runtime/CameraPath.h"
-#include "terrain/runtime/HeadlessGlContext.h"
+#include "terrain/gl/HeadlessGlContext.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TerrainSession.h"
 
@@ -71,7 +71,7 @@ int fail(const std::string& message) {
     return 1;
 }
 
-io::Status writePng(const runtime::FrameImages& images, const fs::path& path) {
+Status writePng(const runtime::FrameImages& images, const fs::path& path) {
     const std::size_t rowBytes = static_cast<std::size_t>(images.width) * 4;
     std::vector<std::uint8_t> topDown(images.rgba.size());
     for (int y = 0; y < images.height; ++y) {
@@ -142,9 +142,9 @@ int run(const BenchOptions& o, const char* argv0) {
         return fail(
             fmt::format("{}: cannot create the folder: {}", outputDir.string(), ec.message()));
 
-    auto context = runtime::HeadlessGlContext::create();
+    auto context = gl::HeadlessGlContext::create();
     if (!context) return fail(context.error().message);
-    const runtime::GlInfo& gl = context.value()->info();
+    const gl::GlInfo& gl = context.value()->info();
     const bool llvmpipe = gl.renderer.find("llvmpipe") != std::string::npos;
     const std::string gpuMsSource = llvmpipe ? "llvmpipe-cpu" : "gl-timer-query";
 
@@ -346,18 +346,18 @@ int run(const BenchOptions& o, const char* argv0) {
         {"total_seconds", std::chrono::duration<double>(Clock::now() - start).count()},
         {"gl", tools::glInfoJson(gl)},
     };
-    if (auto w = io::writeAtomically(
+    if (auto w = writeAtomically(
             outputDir / "bench.json",
-            [&](const fs::path& temporary) -> io::Status {
+            [&](const fs::path& temporary) -> Status {
                 std::FILE* file = std::fopen(temporary.c_str(), "w");
                 if (file == nullptr)
-                    return io::Error{(outputDir / "bench.json").string() + ": cannot write"};
+                    return Error{(outputDir / "bench.json").string() + ": cannot write"};
                 const std::string text = out.dump(2) + "\n";
                 const bool ok = std::fwrite(text.data(), 1, text.size(), file) == text.size();
                 return std::fclose(file) == 0 && ok
-                           ? io::Status{}
-                           : io::Status{
-                                 io::Error{(outputDir / "bench.json").string() + ": write failed"}};
+                           ? Status{}
+                           : Status{
+                                 Error{(outputDir / "bench.json").string() + ": write failed"}};
             });
         !w) {
         return fail(w.error().message);

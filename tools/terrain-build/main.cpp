@@ -4,7 +4,7 @@
 #include "DemOpenFlags.h"
 
 #include "terrain/io/DemReader.h"
-#include "terrain/io/PeakMemory.h"
+#include "terrain/base/PeakMemory.h"
 #include "terrain/io/PyramidBuilder.h"
 
 #include <fmt/core.h>
@@ -158,7 +158,7 @@ int main(int argc, char** argv) {
              {{"read", s.phases.readSeconds},
               {"bounds", s.phases.boundsSeconds},
               {"write", s.phases.writeSeconds}}},
-            {"peakRssBytes", io::peakResidentBytes()},
+            {"peakRssBytes", peakResidentBytes()},
             {"memoryBudgetBytes", options.memoryBudgetBytes},
             {"zipLevel", options.zipLevel},
             {"rootErrorM", s.manifest.statistics.rootError},
@@ -172,7 +172,7 @@ int main(int argc, char** argv) {
                    "{:.0f} MiB\n",
                    dem.path, output, s.manifest.levels.size(), s.patches,
                    double(s.bytes) / (1 << 20), s.seconds,
-                   double(io::peakResidentBytes()) / (1 << 20));
+                   double(peakResidentBytes()) / (1 << 20));
     }
     return 0;
 }

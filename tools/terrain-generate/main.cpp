@@ -1,6 +1,6 @@
 // terrain-generate: writes any window of the procedural DEM (io/ProceduralTerrain.h) as a
 // GeoTIFF, 16-bit PNG or OpenEXR file, streaming band by band so any size fits in memory.
-#include "terrain/io/AtomicFile.h"
+#include "terrain/base/AtomicFile.h"
 #include "terrain/io/HeightImageWriter.h"
 #include "terrain/io/ProceduralTerrain.h"
 
@@ -153,7 +153,7 @@ int main(int argc, char** argv) {
     const double samples = static_cast<double>(ww) * static_cast<double>(wh);
     // Fail on an unwritable folder now, not after a long generation (the probe's temporary
     // file is removed again at once).
-    if (auto probe = terrain::io::AtomicFile::create(output); !probe)
+    if (auto probe = terrain::AtomicFile::create(output); !probe)
         return fail(probe.error().message);
 
     terrain::io::HeightImageOptions options;
@@ -187,7 +187,7 @@ int main(int argc, char** argv) {
         generateSeconds += std::chrono::duration<double>(Clock::now() - start).count();
     };
     const auto start = Clock::now();
-    std::optional<terrain::io::Result<terrain::io::HeightImageSummary>> maybeWritten;
+    std::optional<terrain::Result<terrain::io::HeightImageSummary>> maybeWritten;
     if (format.value() == HeightImageFormat::Png16 && !pngOffset &&
         samples <= static_cast<double>(kPngInMemorySamples)) {
         // The PNG writer reads its source twice to find the offset; generating twice

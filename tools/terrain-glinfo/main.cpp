@@ -2,7 +2,7 @@
 // it got, or exactly why it got nothing. The first thing to run on a new machine.
 #include "GlInfoJson.h"
 
-#include "terrain/runtime/HeadlessGlContext.h"
+#include "terrain/gl/HeadlessGlContext.h"
 
 #include <fmt/core.h>
 #include <CLI/CLI.hpp>
@@ -21,14 +21,14 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     using namespace terrain;
-    runtime::HeadlessGlOptions options;
-    options.platform = runtime::parseEglPlatform(platformName).value();
-    auto context = runtime::HeadlessGlContext::create(options);
+    gl::HeadlessGlOptions options;
+    options.platform = gl::parseEglPlatform(platformName).value();
+    auto context = gl::HeadlessGlContext::create(options);
     if (!context) {
         fmt::print(stderr, "terrain-glinfo: {}\n", context.error().message);
         return 1;
     }
-    const runtime::GlInfo& info = context.value()->info();
+    const gl::GlInfo& info = context.value()->info();
     if (json) {
         std::puts(nlohmann::json{{"gl", tools::glInfoJson(info)}}.dump(2).c_str());
     } else {

@@ -90,7 +90,7 @@ Inspection inspectPyramid(io::PyramidReader& reader, const InspectOptions& optio
                         }
                         if (!options.verify) continue;
                         const auto start = Clock::now();
-                        if (io::Status read = reader.readPatch(id, record); !read) {
+                        if (Status read = reader.readPatch(id, record); !read) {
                             result.problems.push_back({file, id, read.error().message});
                         } else {
                             checkPatchContents(layout, reader.hasMask(), record, file,

@@ -5,7 +5,7 @@
 // one update of each. Prints medians, p95 and the speed-up; --json for scripts.
 #include "GlInfoJson.h"
 
-#include "terrain/runtime/HeadlessGlContext.h"
+#include "terrain/gl/HeadlessGlContext.h"
 #include "terrain/runtime/LatencyHistogram.h"
 #include "terrain/runtime/LodQuadtree.h"
 #include "terrain/runtime/PatchSelection.h"
@@ -20,7 +20,6 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
-#include <thread>
 #include <vector>
 
 namespace {
@@ -59,7 +58,7 @@ int main(int argc, char** argv) {
     app.add_flag("--json", json, "Print a JSON summary on stdout");
     CLI11_PARSE(app, argc, argv);
 
-    auto context = runtime::HeadlessGlContext::create();
+    auto context = gl::HeadlessGlContext::create();
     if (!context) return fail(context.error().message);
     runtime::TileStreamerOptions options;
     options.gpuLayers = gpuLayers;
@@ -113,7 +112,7 @@ int main(int argc, char** argv) {
             runtime::LodUpdateStats s;
             runFrame([&] { s = tree.update(camera, treeDraws); });
             if (s.waitingSplits == 0 && streamer.loadsOutstanding() == 0) break;
-            std::this_thread::sleep_for(std::chrono::microseconds(200));
+            streamer.waitForReads(std::chrono::milliseconds(100));
         }
         // Selecting from the root, on the settled view at the same position.
         runFrame([&] {

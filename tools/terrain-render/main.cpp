@@ -9,7 +9,7 @@
 
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/runtime/CameraPath.h"
-#include "terrain/runtime/HeadlessGlContext.h"
+#include "terrain/gl/HeadlessGlContext.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
 #include "terrain/runtime/TerrainGeometry.h"
@@ -75,7 +75,7 @@ nlohmann::json statsJson(const runtime::LatencyHistogram& h, double scale = 1.0)
 
 int run(const RenderOptions& o) {
     const auto start = Clock::now();
-    auto context = runtime::HeadlessGlContext::create();
+    auto context = gl::HeadlessGlContext::create();
     if (!context) return fail(context.error().message);
 
     runtime::TerrainSessionOptions sessionOptions;

@@ -9,9 +9,9 @@
 #include "StressFlight.h"
 
 #include "terrain/gl/Framebuffer.h"
-#include "terrain/io/PeakMemory.h"
+#include "terrain/base/PeakMemory.h"
 #include "terrain/runtime/GroundHeight.h"
-#include "terrain/runtime/HeadlessGlContext.h"
+#include "terrain/gl/HeadlessGlContext.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
 #include "terrain/runtime/TerrainGeometry.h"
@@ -125,7 +125,7 @@ nlohmann::json percentilesJson(const runtime::LatencyHistogram& h) {
 /// Frame `frame` as <framesDir>/frame-NNNNNN.png (top row first).
 int run(const StressOptions& o) {
     const auto start = Clock::now();
-    auto context = runtime::HeadlessGlContext::create();
+    auto context = gl::HeadlessGlContext::create();
     if (!context) return fail(context.error().message);
 
     // The runtime's own frame: streaming, the LOD quadtree (which pins what it holds in the
@@ -252,7 +252,7 @@ int run(const StressOptions& o) {
         warm = t.timeS >= o.warmupS;
         if (t.timeS >= nextRssSampleS) {
             // Sampled once a second after warm-up: reading /proc allocates.
-            rssSamples.push_back(static_cast<double>(io::currentResidentBytes()));
+            rssSamples.push_back(static_cast<double>(currentResidentBytes()));
             nextRssSampleS = t.timeS + 1.0;
         }
         if (context.value()->debugLog().errorCount() > 0) {
@@ -328,7 +328,7 @@ int run(const StressOptions& o) {
               {"max_bytes", rss.maxBytes},
               {"growth_after_warmup_percent", growthPercent},
               {"slope_bytes_per_minute", rss.slopeBytesPerMinute},
-              {"peak_bytes", io::peakResidentBytes()}}},
+              {"peak_bytes", peakResidentBytes()}}},
             {"telemetry", summary.toJson()},
             {"telemetry_csv",
              o.telemetryCsv.empty() ? nlohmann::json() : nlohmann::json(o.telemetryCsv)},

@@ -24,7 +24,7 @@ void applyStyle() {
 
 }  // namespace
 
-io::Result<std::unique_ptr<ImGuiLayer>> ImGuiLayer::create(GLFWwindow* window) {
+Result<std::unique_ptr<ImGuiLayer>> ImGuiLayer::create(GLFWwindow* window) {
     IMGUI_CHECKVERSION();
     ImGuiContext* context = ImGui::CreateContext();
     std::unique_ptr<ImGuiLayer> layer(new ImGuiLayer(context));
@@ -34,9 +34,9 @@ io::Result<std::unique_ptr<ImGuiLayer>> ImGuiLayer::create(GLFWwindow* window) {
     applyStyle();
     // Events are forwarded by WindowInput: it shares them between the overlay and the camera.
     layer->m_glfwBackend = ImGui_ImplGlfw_InitForOpenGL(window, false);
-    if (!layer->m_glfwBackend) return io::Error{"Dear ImGui: the GLFW backend did not start"};
+    if (!layer->m_glfwBackend) return Error{"Dear ImGui: the GLFW backend did not start"};
     layer->m_glBackend = ImGui_ImplOpenGL3_Init(kGlslVersion);
-    if (!layer->m_glBackend) return io::Error{"Dear ImGui: the OpenGL 3 backend did not start"};
+    if (!layer->m_glBackend) return Error{"Dear ImGui: the OpenGL 3 backend did not start"};
     return layer;
 }
 

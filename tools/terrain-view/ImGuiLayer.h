@@ -3,7 +3,7 @@
 // Events reach ImGui through WindowInput, which decides what the overlay and the camera get.
 #pragma once
 
-#include "terrain/io/Result.h"
+#include "terrain/base/Result.h"
 
 #include <memory>
 
@@ -15,7 +15,7 @@ namespace terrain::view {
 /// Main thread only (GLFW), with the window's GL context current.
 class ImGuiLayer {
 public:
-    static io::Result<std::unique_ptr<ImGuiLayer>> create(GLFWwindow* window);
+    static Result<std::unique_ptr<ImGuiLayer>> create(GLFWwindow* window);
     ~ImGuiLayer();
     ImGuiLayer(const ImGuiLayer&) = delete;
     ImGuiLayer& operator=(const ImGuiLayer&) = delete;

@@ -41,20 +41,20 @@ std::filesystem::path OutputNames::next() {
     return named.empty() ? nextKeyed() : named;
 }
 
-io::Status checkOutputFolder(const std::filesystem::path& file, const std::string& what) {
+Status checkOutputFolder(const std::filesystem::path& file, const std::string& what) {
     const std::filesystem::path folder =
         file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path();
     std::error_code ec;
     if (!std::filesystem::is_directory(folder, ec)) {
-        return io::Error{file.string() + ": cannot write the " + what + ": the folder " +
+        return Error{file.string() + ": cannot write the " + what + ": the folder " +
                          folder.string() + " does not exist"};
     }
     if (::access(folder.c_str(), W_OK) != 0) {
-        return io::Error{file.string() + ": cannot write the " + what + ": the folder " +
+        return Error{file.string() + ": cannot write the " + what + ": the folder " +
                          folder.string() + " is not writable"};
     }
     if (std::filesystem::is_directory(file, ec)) {
-        return io::Error{file.string() + ": cannot write the " + what + ": it is a folder"};
+        return Error{file.string() + ": cannot write the " + what + ": it is a folder"};
     }
     return {};
 }

@@ -4,7 +4,7 @@
 // to it (or in the working folder), never overwriting an earlier one.
 #pragma once
 
-#include "terrain/io/Result.h"
+#include "terrain/base/Result.h"
 
 #include <filesystem>
 #include <string>
@@ -36,6 +36,6 @@ private:
 
 /// Checks at start-up that `file` can be created later: its folder exists and is a folder.
 /// The error names the file and says what is wrong.
-io::Status checkOutputFolder(const std::filesystem::path& file, const std::string& what);
+Status checkOutputFolder(const std::filesystem::path& file, const std::string& what);
 
 }  // namespace terrain::view

@@ -25,7 +25,7 @@ void PathRecorder::sample(double timeS, const runtime::Camera& camera) {
     if (timeS - m_startS - recordedS() >= kIntervalS) add(timeS, camera);
 }
 
-io::Result<runtime::CameraPath> PathRecorder::finish(double timeS, const runtime::Camera& camera) {
+Result<runtime::CameraPath> PathRecorder::finish(double timeS, const runtime::Camera& camera) {
     m_recording = false;
     if (m_keyframes.empty() || timeS - m_startS - recordedS() >= kMinKeyframeGapS) {
         add(timeS, camera);

@@ -3,7 +3,7 @@
 // kIntervalS of flight time, which the path's Catmull–Rom spline passes through exactly.
 #pragma once
 
-#include "terrain/io/Result.h"
+#include "terrain/base/Result.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/CameraPath.h"
 
@@ -26,7 +26,7 @@ public:
     void sample(double timeS, const runtime::Camera& camera);
     /// Adds the camera at `timeS` as the last keyframe (unless it is within a millisecond of
     /// the previous one) and returns the path; recording() is false afterwards.
-    io::Result<runtime::CameraPath> finish(double timeS, const runtime::Camera& camera);
+    Result<runtime::CameraPath> finish(double timeS, const runtime::Camera& camera);
 
     bool recording() const { return m_recording; }
     std::size_t keyframeCount() const { return m_keyframes.size(); }

@@ -8,7 +8,7 @@
 
 namespace terrain::view {
 
-io::Status SceneTarget::resize(int widthPx, int heightPx) {
+Status SceneTarget::resize(int widthPx, int heightPx) {
     if (m_framebuffer.valid() && widthPx == width() && heightPx == height()) return {};
     auto created = gl::Framebuffer::create(widthPx, heightPx, "terrain-view scene");
     if (!created) return created.error();

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "terrain/gl/Framebuffer.h"
-#include "terrain/io/Result.h"
+#include "terrain/base/Result.h"
 
 #include <array>
 #include <optional>
@@ -17,7 +17,7 @@ namespace terrain::view {
 class SceneTarget {
 public:
     /// (Re)creates the framebuffer when the size changed. Sizes must be positive.
-    io::Status resize(int widthPx, int heightPx);
+    Status resize(int widthPx, int heightPx);
 
     int width() const { return m_framebuffer.width(); }
     int height() const { return m_framebuffer.height(); }

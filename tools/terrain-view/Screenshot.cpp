@@ -10,7 +10,7 @@
 
 namespace terrain::view {
 
-io::Status writeWindowScreenshot(const std::filesystem::path& path, int widthPx, int heightPx) {
+Status writeWindowScreenshot(const std::filesystem::path& path, int widthPx, int heightPx) {
     const std::size_t rowBytes = static_cast<std::size_t>(widthPx) * 4;
     std::vector<std::uint8_t> bottomUp(rowBytes * static_cast<std::size_t>(heightPx));
 

@@ -44,7 +44,7 @@ std::string displayName(const std::filesystem::path& pyramid) {
 
 }  // namespace
 
-io::Result<std::unique_ptr<Viewer>> Viewer::create(const ViewerOptions& options) {
+Result<std::unique_ptr<Viewer>> Viewer::create(const ViewerOptions& options) {
     // Everything that can be checked without a window is checked first, so a typo in a file
     // name gives a message rather than a window that flashes and closes.
     auto manifest = io::readManifest(options.pyramid);
@@ -65,13 +65,13 @@ io::Result<std::unique_ptr<Viewer>> Viewer::create(const ViewerOptions& options)
         if (auto ok = checkOutputFolder(file, what); !ok) return ok.error();
     }
 
-    runtime::GlfwWindowOptions windowOptions;
+    gl::GlfwWindowOptions windowOptions;
     windowOptions.vsync = options.vsync;
-    auto window = runtime::GlfwWindowContext::create(options.widthPx, options.heightPx,
+    auto window = gl::GlfwWindowContext::create(options.widthPx, options.heightPx,
                                                      "terrain-view - " + viewer->m_pyramidName,
                                                      windowOptions);
     if (!window) {
-        return io::Error{window.error().message +
+        return Error{window.error().message +
                          "\nterrain-view needs a display with OpenGL 4.5 core (without a "
                          "display, run it under `xvfb-run -a`; terrain-render renders headless)"};
     }
@@ -122,7 +122,7 @@ Viewer::~Viewer() {
     m_session.reset();
 }
 
-io::Status Viewer::openSession(double cpuCacheMiB, int gpuLayers) {
+Status Viewer::openSession(double cpuCacheMiB, int gpuLayers) {
     runtime::TerrainSessionOptions options;
     options.streaming.cpuCacheBytes = static_cast<std::size_t>(mibToBytes(cpuCacheMiB));
     options.streaming.gpuLayers = gpuLayers;
@@ -416,7 +416,7 @@ void Viewer::toggleRecording() {
                           path.value().durationS()));
 }
 
-io::Status Viewer::startTelemetryLog() {
+Status Viewer::startTelemetryLog() {
     const std::filesystem::path file = m_telemetryNames.next();
     auto writer = runtime::TelemetryCsvWriter::create(file);
     if (!writer) return writer.error();
@@ -432,7 +432,7 @@ void Viewer::toggleTelemetryLog() {
         return;
     }
     const std::uint64_t rows = m_csv->rowCount();
-    const io::Status closed = m_csv->close();
+    const Status closed = m_csv->close();
     m_csv.reset();
     if (!closed) {
         setStatus(closed.error().message, true);
@@ -444,7 +444,7 @@ void Viewer::toggleTelemetryLog() {
 }
 
 void Viewer::takeScreenshot(const std::filesystem::path& path) {
-    const runtime::FramebufferSize size = m_window->framebufferSize();
+    const gl::FramebufferSize size = m_window->framebufferSize();
     if (auto written = writeWindowScreenshot(path, size.width, size.height); !written) {
         setStatus(written.error().message, true);
         m_exitFilesFailed = true;
@@ -455,10 +455,10 @@ void Viewer::takeScreenshot(const std::filesystem::path& path) {
 }
 
 void Viewer::checkGlErrors() {
-    const runtime::GlDebugLog& log = m_window->debugLog();
+    const gl::GlDebugLog& log = m_window->debugLog();
     if (log.errorCount() <= m_glErrorsReported) return;
     if (m_glErrorsReported < kGlErrorsPrinted) {
-        const std::vector<runtime::GlDebugMessage> errors = log.errors();
+        const std::vector<gl::GlDebugMessage> errors = log.errors();
         for (std::size_t i = m_glErrorsReported; i < errors.size() && i < kGlErrorsPrinted; ++i) {
             std::fprintf(stderr, "terrain-view: %s\n", errors[i].describe().c_str());
         }
@@ -535,7 +535,7 @@ int Viewer::run() {
                           (m_options.frames > 0 && m_frame + 1 >= m_options.frames) ||
                           (m_options.exitAfterS > 0.0 && wallS >= m_options.exitAfterS);
 
-        const runtime::FramebufferSize size = m_window->framebufferSize();
+        const gl::FramebufferSize size = m_window->framebufferSize();
         if (size.width <= 0 || size.height <= 0) {
             glfwWaitEventsTimeout(0.1);  // minimised: nothing to draw
             if (last) break;
@@ -617,7 +617,7 @@ int Viewer::run() {
                                {"width", w.width},
                                {"height", w.height}});
         }
-        const runtime::FramebufferSize size = m_window->framebufferSize();
+        const gl::FramebufferSize size = m_window->framebufferSize();
         const nlohmann::json out{
             {"tool", "terrain-view"},
             {"pyramid", m_options.pyramid},

@@ -15,11 +15,11 @@
 #include "WindowInput.h"
 
 #include "terrain/io/PyramidManifest.h"
-#include "terrain/io/Result.h"
+#include "terrain/base/Result.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/CameraController.h"
 #include "terrain/runtime/CameraPath.h"
-#include "terrain/runtime/GlfwWindowContext.h"
+#include "terrain/gl/GlfwWindowContext.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
 #include "terrain/runtime/TerrainSession.h"
@@ -40,7 +40,7 @@ public:
     /// Checks the pyramid, the path file and the output folders before opening the window,
     /// then opens the window (OpenGL 4.5 core), the session and the overlay. Errors name
     /// the file or say what the system lacks.
-    static io::Result<std::unique_ptr<Viewer>> create(const ViewerOptions& options);
+    static Result<std::unique_ptr<Viewer>> create(const ViewerOptions& options);
     ~Viewer();
     Viewer(const Viewer&) = delete;
     Viewer& operator=(const Viewer&) = delete;
@@ -54,7 +54,7 @@ private:
     using Clock = std::chrono::steady_clock;
 
     Viewer(const ViewerOptions& options, io::PyramidManifest manifest);
-    io::Status openSession(double cpuCacheMiB, int gpuLayers);
+    Status openSession(double cpuCacheMiB, int gpuLayers);
     void reopenSession();
     void initialCamera();
     void homeView();
@@ -66,7 +66,7 @@ private:
     void jump();
     void refineJump(const runtime::CameraInput& input);
     void toggleRecording();
-    io::Status startTelemetryLog();
+    Status startTelemetryLog();
     void toggleTelemetryLog();
     void takeScreenshot(const std::filesystem::path& path);
     void checkGlErrors();
@@ -84,7 +84,7 @@ private:
     std::optional<runtime::CameraPath> m_home;
 
     // Destroyed in reverse: the session's GL objects and the overlay before the window.
-    std::unique_ptr<runtime::GlfwWindowContext> m_window;
+    std::unique_ptr<gl::GlfwWindowContext> m_window;
     std::unique_ptr<ImGuiLayer> m_imgui;
     std::unique_ptr<WindowInput> m_input;
     std::unique_ptr<runtime::TerrainSession> m_session;

@@ -11,7 +11,7 @@
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/CameraController.h"
 #include "terrain/runtime/FrameTelemetry.h"
-#include "terrain/runtime/GlInfo.h"
+#include "terrain/gl/GlInfo.h"
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -28,7 +28,7 @@ namespace terrain::view {
 struct OverlayModel {
     std::string_view pyramidName;
     std::string_view crsText;
-    const runtime::GlInfo* gl = nullptr;
+    const gl::GlInfo* gl = nullptr;
     int framebufferWidth = 0;
     int framebufferHeight = 0;
 

@@ -1,7 +1,7 @@
 // An application that embeds the installed runtime: evaluates the procedural terrain,
 // opens a headless OpenGL 4.5 context and builds an embedded shader program.
 #include <terrain/io/ProceduralTerrain.h>
-#include <terrain/runtime/HeadlessGlContext.h>
+#include <terrain/gl/HeadlessGlContext.h>
 #include <terrain/runtime/ProgramBuilder.h>
 
 #include <cmath>
@@ -17,7 +17,7 @@ int main() {
     const float h = terrain.value().sample(512, 512);
     if (!std::isfinite(h)) return 1;
 
-    auto context = runtime::HeadlessGlContext::create();
+    auto context = gl::HeadlessGlContext::create();
     if (!context) {
         std::fprintf(stderr, "consumer: %s\n", context.error().message.c_str());
         return 1;

@@ -11,7 +11,7 @@
 #include "terrain/io/PatchIdHash.h"
 #include "terrain/io/PatchRecord.h"
 #include "terrain/io/PyramidLayout.h"
-#include "terrain/io/Result.h"
+#include "terrain/base/Result.h"
 
 #include <array>
 #include <cstddef>
@@ -60,7 +60,7 @@ public:
     /// Creates the texture arrays (immutable storage) and the ring. Errors: a budget below
     /// one layer, texture sizes beyond GL limits, a ring that cannot be mapped. Layers are
     /// clamped to GL_MAX_ARRAY_TEXTURE_LAYERS. Render thread only.
-    static io::Result<GpuTilePool> create(const io::PyramidLayout& layout,
+    static Result<GpuTilePool> create(const io::PyramidLayout& layout,
                                           const GpuTilePoolDesc& desc);
 
     GpuTilePool() = default;

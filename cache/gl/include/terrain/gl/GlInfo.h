@@ -1,0 +1,33 @@
+// GlInfo: what a GL context turned out to be (platform, driver strings, version, the
+// limits the terrain draw depends on), for start-up checks, tools and telemetry.
+#pragma once
+
+#include <string>
+
+namespace terrain::gl {
+
+struct GlInfo {
+    std::string platform;        ///< "egl-device", "egl-surfaceless" or "glfw"
+    std::string platformDetail;  ///< e.g. "EGL 1.5 (Mesa Project), device 0 of 1 (software)"
+    std::string vendor;          ///< GL_VENDOR
+    std::string renderer;        ///< GL_RENDERER
+    std::string version;         ///< GL_VERSION
+    std::string glslVersion;     ///< GL_SHADING_LANGUAGE_VERSION
+    int major = 0;
+    int minor = 0;
+    bool coreProfile = false;
+    bool debugContext = false;
+    int maxTessGenLevel = 0;        ///< GL_MAX_TESS_GEN_LEVEL
+    int maxPatchVertices = 0;       ///< GL_MAX_PATCH_VERTICES
+    int maxTextureSize = 0;         ///< GL_MAX_TEXTURE_SIZE
+    int maxArrayTextureLayers = 0;  ///< GL_MAX_ARRAY_TEXTURE_LAYERS
+
+    bool atLeast(int wantMajor, int wantMinor) const {
+        return major > wantMajor || (major == wantMajor && minor >= wantMinor);
+    }
+};
+
+/// Reads strings, version and limits of the current context. Render thread only.
+GlInfo queryCurrentGlInfo(std::string platform, std::string platformDetail);
+
+}  // namespace terrain::gl

@@ -1,0 +1,77 @@
+// DemReader: one interface over every DEM a user brings (GeoTIFF/PNG/EXR through
+// OpenImageIO, SRTM .hgt, anything GDAL knows, mosaics of several files, and the
+// procedural source), read window by window so no raster is ever held whole.
+#pragma once
+
+#include "terrain/io/Georeference.h"
+#include "terrain/base/Result.h"
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace terrain::io {
+
+/// Heights in metres are `raw · scale + offset` (e.g. Puget Sound PNGs: scale 0.1).
+struct VerticalTransform {
+    double scale = 1.0;
+    double offset = 0.0;
+    bool operator==(const VerticalTransform&) const = default;
+};
+
+struct DemInfo {
+    std::string path;                 ///< the input (first input of a mosaic), for messages
+    std::string readerName;           ///< "oiio", "gdal", "hgt", "procedural"
+    std::vector<std::string> inputs;  ///< every input file (or the procedural spec)
+    std::int64_t width = 0;           ///< columns (x, east)
+    std::int64_t height = 0;          ///< rows (y, south); row 0 is the north edge
+    /// Source sample type: "uint8", "int8", "uint16", "int16", "uint32", "int32",
+    /// "float16", "float32", "float64" (GDAL also "int64", "uint64").
+    std::string sampleType;
+    bool hasGeoreference = false;  ///< from the file or the options
+    /// Without one: crsKind Unknown, origin 0, pixel size 1 (map units are samples).
+    Georeference georeference;
+    VerticalTransform vertical;
+    /// Raw value the source declares as no-data (GeoTIFF GDAL_NODATA, netCDF _FillValue,
+    /// SRTM voids −32768), compared before the vertical transform.
+    std::optional<double> noDataValue;  ///< raw value; samples equal to it read as NaN
+};
+
+class DemReader {
+public:
+    virtual ~DemReader() = default;
+    virtual const DemInfo& info() const = 0;
+
+    /// Reads columns [x0, x0 + width) of rows [y0, y0 + rows) into `out` (row-major,
+    /// width · rows floats) as metres: the vertical transform applied, no-data and NaN
+    /// samples as quiet NaN. The window must lie inside the raster. A broken or
+    /// truncated file is an Error naming the file and what is wrong. One thread at a time.
+    virtual Status readWindow(std::int64_t x0, std::int64_t y0, std::int64_t width,
+                              std::int64_t rows, std::span<float> out) = 0;
+};
+
+/// What the command line may say about the inputs; each set field overrides the file.
+struct DemOpenOptions {
+    std::optional<double> verticalScale;
+    std::optional<double> verticalOffset;
+    std::optional<double> pixelSize;  ///< map units per sample, both axes
+    std::optional<double> originX;    ///< map x of the west edge of column 0
+    std::optional<double> originY;    ///< map y of the north edge of row 0
+    std::optional<int> epsg;          ///< sets crsKind and wkt from PROJ; unknown codes are Errors
+    std::optional<double> noDataValue;  ///< raw value; samples equal to it read as NaN
+};
+
+/// Opens one input, or several as a mosaic (same CRS and pixel size, aligned grids).
+/// An input "procedural:size=16385,seed=7,spacing=10" (keys optional; also width=,
+/// height=) is the built-in procedural terrain. The reader is chosen by extension:
+/// .hgt → SRTM reader; .tif/.tiff/.png/.exr/.jpg/.jpeg → OpenImageIO (GeoTIFF tags through
+/// libtiff); anything else and every mosaic → GDAL. Errors start with the input's path:
+/// missing, empty, truncated or corrupt files, unsupported sample types, rotated rasters,
+/// mosaic inputs that do not match the first. Calling thread.
+Result<std::unique_ptr<DemReader>> openDem(const std::vector<std::string>& inputs,
+                                           const DemOpenOptions& options = {});
+
+}  // namespace terrain::io

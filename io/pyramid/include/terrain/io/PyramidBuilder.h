@@ -1,0 +1,64 @@
+// PyramidBuilder: turns a DEM of any size into the on-disk pyramid
+// (docs/pyramid-format.md), streaming: it holds a band of two patch rows of one level at
+// a time, never the raster, and computes every patch's error bounds on the way
+// (Yusov & Shevtsov 2011, §4 and §5).
+#pragma once
+
+#include "terrain/io/DemReader.h"
+#include "terrain/io/PyramidLayout.h"
+#include "terrain/io/PyramidManifest.h"
+#include "terrain/base/Result.h"
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+
+namespace terrain::io {
+
+struct PyramidBuildProgress {
+    int level = 0;          ///< level being written
+    double fraction = 0.0;  ///< of the whole build, by samples
+};
+
+struct PyramidBuildOptions {
+    int patchSamples = PyramidLayout::kDefaultPatchSamples;
+    int blockQuads = PyramidLayout::kDefaultBlockQuads;
+    int shardPatches = PyramidLayout::kDefaultShardPatches;
+    std::uint64_t memoryBudgetBytes = std::uint64_t{1} << 30;
+    unsigned threads = 0;  ///< 0: one per hardware thread
+    /// OpenEXR ZIP level of the tiles, 0 (stored uncompressed) … 9; lossless at every
+    /// level. 0 by default: zlib dominates the build (a 16,385² build takes about twice as
+    /// long at level 1) and tile decoding dominates streaming, for about a third more disk.
+    int zipLevel = 0;
+    bool overwrite = false;  ///< replace an existing pyramid at the output path
+    /// Called on the building thread after every band.
+    std::function<void(const PyramidBuildProgress&)> progress;
+    /// Polled between bands; when it becomes true the build stops, removes its partial
+    /// output and returns an Error.
+    const std::atomic<bool>* cancel = nullptr;
+};
+
+/// Where the time went, summed over all levels (seconds of the building thread).
+struct PyramidBuildPhases {
+    double readSeconds = 0.0;    ///< source reads and no-data fill (or level rasters)
+    double boundsSeconds = 0.0;  ///< min/max, λ(d), Err_Int, coarser level rasters
+    double writeSeconds = 0.0;   ///< tile compression and shard files
+};
+
+struct PyramidBuildSummary {
+    PyramidManifest manifest;
+    std::int64_t patches = 0;
+    std::uint64_t bytes = 0;  ///< shard files and manifest on disk
+    double seconds = 0.0;
+    PyramidBuildPhases phases;
+};
+
+/// Builds the pyramid of `reader`'s DEM at `output` (a folder). The folder is built as
+/// "<output>.partial-<pid>" and renamed into place only when complete, so an interrupted
+/// or failed build never leaves a valid-looking pyramid. Errors name the file and the
+/// problem. Calling thread (plus worker threads it owns).
+Result<PyramidBuildSummary> buildPyramid(DemReader& reader, const std::filesystem::path& output,
+                                         const PyramidBuildOptions& options = {});
+
+}  // namespace terrain::io

@@ -1,0 +1,109 @@
+// PyramidManifest: the pyramid's manifest.json (docs/pyramid-format.md, "manifest.json"):
+// format version, layout, georeference, no-data, statistics, levels, source and build.
+// A folder is a pyramid exactly when it holds a manifest that reads back without error.
+// Every function here is pure or touches only its own file: any thread.
+#pragma once
+
+#include "terrain/io/DemReader.h"
+#include "terrain/io/Georeference.h"
+#include "terrain/io/PyramidLayout.h"
+#include "terrain/base/Result.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace terrain::io {
+
+struct ManifestNoData {
+    static constexpr std::string_view kRowLinearFill = "row-linear";
+
+    bool present = false;               ///< some source sample was no-data; shards carry the V mask
+    std::optional<double> sourceValue;  ///< the raw value the source declared, if any
+    std::int64_t samples = 0;           ///< filled samples of the DEM (not overhang)
+    std::string fill{kRowLinearFill};   ///< the fill rule; version 2 knows only row-linear
+    bool operator==(const ManifestNoData&) const = default;
+};
+
+/// Over the DEM's valid samples (filled and overhanging samples excluded).
+struct ManifestStatistics {
+    double minHeight = 0.0;  ///< metres; 0 when there is no valid sample
+    double maxHeight = 0.0;
+    std::int64_t validSamples = 0;
+    double rootError = 0.0;  ///< Err(P) of the root patch, metres
+    bool operator==(const ManifestStatistics&) const = default;
+};
+
+struct ManifestLevel {
+    int level = 0;
+    std::int64_t patchesX = 0;
+    std::int64_t patchesY = 0;
+    std::int64_t presentPatches = 0;
+    std::int64_t shardsX = 0;
+    std::int64_t shardsY = 0;
+    std::int64_t sampleStep = 1;  ///< DEM samples between two samples of the level
+    double maxError = 0.0;        ///< largest Err(P) of the level's patches, metres
+    bool operator==(const ManifestLevel&) const = default;
+};
+
+struct ManifestSource {
+    std::vector<std::string> inputs;
+    std::string reader;      ///< DemInfo::readerName
+    std::string sampleType;  ///< DemInfo::sampleType
+    bool operator==(const ManifestSource&) const = default;
+};
+
+struct ManifestBuild {
+    std::string tool;
+    std::string version;
+    double seconds = 0.0;
+    bool operator==(const ManifestBuild&) const = default;
+};
+
+struct PyramidManifest {
+    static constexpr std::string_view kFormatName = "terrain-pyramid";
+    static constexpr int kFormatVersion = 2;  ///< the only version this code reads and writes
+    static constexpr std::string_view kFileName = "manifest.json";
+    static constexpr std::string_view kVerticalUnits = "metre";
+
+    int formatVersion = kFormatVersion;
+    /// patchSamples, blockQuads, shardPatches, raster size, finestLevel (apronSamples is
+    /// always 1). fromJson builds it with PyramidLayout::create, so it is always valid
+    /// in a manifest that was read; writeManifest checks it again.
+    PyramidLayout layout;
+    Georeference georeference;   ///< crsKind, epsg, wkt, origin and pixel size
+    VerticalTransform vertical;  ///< stored metres = source · scale + offset
+    ManifestNoData noData;
+    ManifestStatistics statistics;
+    std::vector<ManifestLevel> levels;  ///< one per level, root first
+    ManifestSource source;
+    ManifestBuild build;
+
+    /// A manifest for `layout`: the layout and one level entry per level (patch and shard
+    /// counts, sample step; presentPatches = all patches, maxError = 0), the rest default.
+    /// The builder fills in the rest.
+    static PyramidManifest forLayout(const PyramidLayout& layout);
+
+    bool operator==(const PyramidManifest&) const = default;
+};
+
+/// The manifest as JSON text (keys in the order of the spec, 2-space indent). Doubles are
+/// written with enough digits to read back bit for bit.
+std::string toJson(const PyramidManifest& manifest);
+
+/// Parses and checks manifest JSON: format name, a supported formatVersion, every field
+/// present with the right type, a layout PyramidLayout::create accepts, and finestLevel
+/// and levels that match it. Errors start with `sourceName` (the file, for messages).
+Result<PyramidManifest> fromJson(std::string_view json, const std::string& sourceName);
+
+/// Checks `manifest` as fromJson would, then writes `<pyramidDir>/manifest.json` through
+/// an AtomicFile. The folder must exist.
+Status writeManifest(const std::filesystem::path& pyramidDir, const PyramidManifest& manifest);
+
+/// Reads `<pyramidDir>/manifest.json`. A folder without one is "not a pyramid".
+Result<PyramidManifest> readManifest(const std::filesystem::path& pyramidDir);
+
+}  // namespace terrain::io

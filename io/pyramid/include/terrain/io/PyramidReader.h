@@ -1,0 +1,65 @@
+// PyramidReader: reads patches of a pyramid on disk (docs/pyramid-format.md) in O(1):
+// the patch's shard path follows from its id, the shard's tile offset table gives the
+// tile. Shards stay open in a small LRU so a streaming I/O thread does not reopen a file
+// per tile.
+#pragma once
+
+#include "terrain/io/PatchRecord.h"
+#include "terrain/io/PyramidLayout.h"
+#include "terrain/io/PyramidManifest.h"
+#include "terrain/base/Result.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+
+namespace terrain::io {
+
+/// One reader per thread: a reader and everything it returns belong to the thread that
+/// uses it (it holds open files and scratch buffers). Several readers, one per thread,
+/// may read the same pyramid at once. Move-only.
+class PyramidReader {
+public:
+    static constexpr int kDefaultOpenShards = 16;
+
+    /// Reads and checks the manifest (readManifest); shard files are opened on demand.
+    static Result<PyramidReader> open(const std::filesystem::path& pyramidDir,
+                                      int maxOpenShards = kDefaultOpenShards);
+
+    PyramidReader(PyramidReader&& other) noexcept;
+    PyramidReader& operator=(PyramidReader&& other) noexcept;
+    PyramidReader(const PyramidReader&) = delete;
+    PyramidReader& operator=(const PyramidReader&) = delete;
+    ~PyramidReader();
+
+    const std::filesystem::path& folder() const;
+    const PyramidManifest& manifest() const;
+    const PyramidLayout& layout() const;
+    bool hasMask() const;  ///< the shards carry the V mask (manifest noData.present)
+
+    /// Heights (+ mask), block errors and info of a present patch, its CRC-32 verified.
+    /// Errors, each naming the shard file and the patch: outside the pyramid, absent
+    /// (does not overlap the DEM), missing or corrupt/truncated shard, checksum mismatch.
+    Result<PatchRecord> readPatch(const PatchId& id);
+
+    /// The same into `out`, reusing its vectors' storage (no allocation once they have
+    /// grown). On an Error `out` holds nothing useful.
+    Status readPatch(const PatchId& id, PatchRecord& out);
+
+    /// The patch's info only (from the shard's patchInfo tile, cached while the shard is
+    /// open); absent patches are not an error here (present = false).
+    Result<PatchInfo> patchInfo(const PatchId& id);
+
+    /// Path of the shard file holding `id` (which must be contained).
+    std::filesystem::path shardFile(const PatchId& id) const;
+
+    int openShards() const;               ///< shards open now, ≤ maxOpenShards
+    std::uint64_t shardOpenings() const;  ///< shard files opened so far (LRU misses)
+
+private:
+    struct Impl;
+    explicit PyramidReader(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> m_impl;
+};
+
+}  // namespace terrain::io

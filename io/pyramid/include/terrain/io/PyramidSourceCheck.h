@@ -1,0 +1,40 @@
+// Re-checks a pyramid's error bounds against its source DEM: every valid DEM sample must
+// lie within Err(P) of the surface of the patch that covers it, at every level, whichever
+// diagonal the GPU's tessellator draws (terrain-inspect --verify --source).
+#pragma once
+
+#include "terrain/io/DemReader.h"
+#include "terrain/io/PyramidReader.h"
+#include "terrain/base/Result.h"
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace terrain::io {
+
+struct ErrorBoundViolation {
+    PatchId patch;
+    std::int64_t x = 0;  ///< DEM sample
+    std::int64_t y = 0;
+    double distanceM = 0.0;
+    float boundM = 0.0f;
+};
+
+struct SourceCheckReport {
+    std::int64_t samplesChecked = 0;  ///< valid DEM samples × levels
+    std::int64_t violationCount = 0;
+    std::vector<ErrorBoundViolation> violations;  ///< the first kMaxListed
+    /// Per level, the largest distance / Err(P) over patches with Err(P) > 0: how tight
+    /// the bound is (≤ 1 when it holds).
+    std::vector<double> tightestRatio;
+    static constexpr std::size_t kMaxListed = 20;
+};
+
+/// Streams the source once, row by row, keeping one row of patches per level. The source
+/// must have the pyramid's raster size. Calling thread (plus one worker per level).
+Result<SourceCheckReport> checkErrorBoundsAgainstSource(
+    const std::filesystem::path& pyramidDir, DemReader& source,
+    const std::function<void(double fraction)>& progress = {});
+
+}  // namespace terrain::io

@@ -1,0 +1,72 @@
+// ShardWriter: writes one shard of the pyramid, the patches (l, px, py) of one S × S block
+// of a level, as the multi-part OpenEXR file docs/pyramid-format.md describes, under a
+// temporary name that finish() renames into place.
+#pragma once
+
+#include "terrain/io/PatchRecord.h"
+#include "terrain/io/PyramidLayout.h"
+#include "terrain/base/Result.h"
+
+#include <filesystem>
+#include <memory>
+
+namespace terrain::io {
+
+struct ShardWriterOptions {
+    /// zlib level of the ZIP-compressed tiles (1 fastest … 9 smallest; lossless at every
+    /// level). Level 1 costs about 20 % less CPU than OpenEXR's default (4) for 11 % more
+    /// bytes on a real DEM and the same bytes on float data (docs/pyramid-format.md,
+    /// "Compression"). 0 stores the tiles uncompressed (NO_COMPRESSION): 10 times cheaper to
+    /// write, for float data whose low mantissa bytes do not compress anyway.
+    static constexpr int kDefaultZipLevel = 1;
+    int zipLevel = kDefaultZipLevel;
+};
+
+/// Writes one shard. Move-only; used by one thread at a time (its owner). Compression runs
+/// on OpenEXR's process-wide worker pool (setCompressionThreads): tiles are compressed in
+/// parallel whenever a whole row of the shard's patches is ready, and at finish().
+/// Destroying a writer before finish() succeeded removes its temporary file; nothing
+/// appears at the final path.
+class ShardWriter {
+public:
+    /// Creates the final path's folders and the temporary file beside it, and writes the
+    /// file's headers. `withMask`: the heights part carries the V mask (the pyramid has
+    /// no-data). Errors name `finalPath`.
+    static Result<ShardWriter> create(const std::filesystem::path& finalPath,
+                                      const PyramidLayout& layout, const ShardId& shard,
+                                      bool withMask, const ShardWriterOptions& options = {});
+
+    ShardWriter(ShardWriter&& other) noexcept;
+    ShardWriter& operator=(ShardWriter&& other) noexcept;
+    ShardWriter(const ShardWriter&) = delete;
+    ShardWriter& operator=(const ShardWriter&) = delete;
+    ~ShardWriter();
+
+    /// Stores one present patch of this shard, in any order, each patch at most once.
+    /// Computes record.info.crc32 (the value passed in is ignored) from the heights, mask
+    /// and block errors as the spec defines it. Preconditions (asserted): the patch lies
+    /// in this shard and was not written before, info.present, heights has
+    /// tileSamples² values, valid tileSamples² (withMask) or none, blockErrors
+    /// blocksPerSide². An I/O error (e.g. a full disk) is an Error naming the file; after
+    /// one, every later call returns it again.
+    Status writePatch(const PatchRecord& record);
+
+    /// Writes all-zero tiles (present = 0) for the patches never written, the patchInfo
+    /// tile, closes the file and renames it into place. Call once.
+    Status finish();
+
+    const std::filesystem::path& path() const;  ///< the final path
+    const ShardId& shard() const;
+
+    /// Worker threads of OpenEXR's process-wide pool that compress tiles (0: compress on
+    /// the calling thread). Until this is called the first ShardWriter::create sets one
+    /// per hardware thread. Call it while no shard is being written.
+    static void setCompressionThreads(int threads);
+
+private:
+    struct Impl;
+    explicit ShardWriter(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> m_impl;
+};
+
+}  // namespace terrain::io

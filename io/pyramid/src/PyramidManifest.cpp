@@ -1,0 +1,424 @@
+// manifest.json of a pyramid (docs/pyramid-format.md): JSON through nlohmann, every field
+// checked on the way in so a damaged or foreign manifest is an Error that names the field.
+#include "terrain/io/PyramidManifest.h"
+
+#include "terrain/base/AtomicFile.h"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <utility>
+
+namespace terrain::io {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// A field that is missing or of the wrong type; turned into an Error at the API boundary.
+struct FieldError {
+    std::string field;
+    std::string expected;
+};
+
+std::string join(const std::string& parent, std::string_view key) {
+    return parent.empty() ? std::string(key) : fmt::format("{}.{}", parent, key);
+}
+
+const Json& member(const Json& object, const std::string& parent, std::string_view key) {
+    const auto it = object.find(key);
+    if (it == object.end()) throw FieldError{join(parent, key), "present"};
+    return *it;
+}
+
+const Json& objectField(const Json& object, const std::string& parent, std::string_view key) {
+    const Json& value = member(object, parent, key);
+    if (!value.is_object()) throw FieldError{join(parent, key), "an object"};
+    return value;
+}
+
+const Json& arrayField(const Json& object, const std::string& parent, std::string_view key) {
+    const Json& value = member(object, parent, key);
+    if (!value.is_array()) throw FieldError{join(parent, key), "an array"};
+    return value;
+}
+
+std::int64_t int64Field(const Json& object, const std::string& parent, std::string_view key) {
+    const Json& value = member(object, parent, key);
+    if (value.is_number_unsigned()) {
+        const auto u = value.get<std::uint64_t>();
+        if (u > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+            throw FieldError{join(parent, key), "a 64-bit integer"};
+        return static_cast<std::int64_t>(u);
+    }
+    if (!value.is_number_integer()) throw FieldError{join(parent, key), "an integer"};
+    return value.get<std::int64_t>();
+}
+
+int intField(const Json& object, const std::string& parent, std::string_view key) {
+    const std::int64_t v = int64Field(object, parent, key);
+    if (v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max())
+        throw FieldError{join(parent, key), "a 32-bit integer"};
+    return static_cast<int>(v);
+}
+
+double numberField(const Json& object, const std::string& parent, std::string_view key) {
+    const Json& value = member(object, parent, key);
+    if (!value.is_number()) throw FieldError{join(parent, key), "a number"};
+    return value.get<double>();
+}
+
+std::optional<double> optionalNumberField(const Json& object, const std::string& parent,
+                                          std::string_view key) {
+    const auto it = object.find(key);
+    if (it == object.end() || it->is_null()) return std::nullopt;
+    if (!it->is_number()) throw FieldError{join(parent, key), "a number or null"};
+    return it->get<double>();
+}
+
+bool boolField(const Json& object, const std::string& parent, std::string_view key) {
+    const Json& value = member(object, parent, key);
+    if (!value.is_boolean()) throw FieldError{join(parent, key), "true or false"};
+    return value.get<bool>();
+}
+
+std::string stringField(const Json& object, const std::string& parent, std::string_view key) {
+    const Json& value = member(object, parent, key);
+    if (!value.is_string()) throw FieldError{join(parent, key), "a string"};
+    return value.get<std::string>();
+}
+
+CrsKind crsKindFromName(const std::string& name, const std::string& field) {
+    for (CrsKind kind : {CrsKind::Unknown, CrsKind::Projected, CrsKind::Geographic})
+        if (name == crsKindName(kind)) return kind;
+    throw FieldError{field, "\"projected\", \"geographic\" or \"unknown\""};
+}
+
+Json georeferenceJson(const PyramidManifest& m) {
+    const Georeference& g = m.georeference;
+    Json j;
+    j["crsKind"] = crsKindName(g.crsKind);
+    j["epsg"] = g.epsg == Georeference::kUnknownProjectedCrs ? Json(nullptr) : Json(g.epsg);
+    j["wkt"] = g.wkt;
+    j["originX"] = g.originX;
+    j["originY"] = g.originY;
+    j["pixelSizeX"] = g.pixelSizeX;
+    j["pixelSizeY"] = g.pixelSizeY;
+    j["verticalScale"] = m.vertical.scale;
+    j["verticalOffset"] = m.vertical.offset;
+    j["verticalUnits"] = PyramidManifest::kVerticalUnits;
+    return j;
+}
+
+void readGeoreference(const Json& root, PyramidManifest& m) {
+    const std::string p = "georeference";
+    const Json& j = objectField(root, "", p);
+    Georeference& g = m.georeference;
+    g.crsKind = crsKindFromName(stringField(j, p, "crsKind"), join(p, "crsKind"));
+    const Json& epsg = member(j, p, "epsg");
+    g.epsg = epsg.is_null() ? Georeference::kUnknownProjectedCrs : intField(j, p, "epsg");
+    g.wkt = stringField(j, p, "wkt");
+    g.originX = numberField(j, p, "originX");
+    g.originY = numberField(j, p, "originY");
+    g.pixelSizeX = numberField(j, p, "pixelSizeX");
+    g.pixelSizeY = numberField(j, p, "pixelSizeY");
+    m.vertical.scale = numberField(j, p, "verticalScale");
+    m.vertical.offset = numberField(j, p, "verticalOffset");
+    if (stringField(j, p, "verticalUnits") != PyramidManifest::kVerticalUnits)
+        throw FieldError{join(p, "verticalUnits"), "\"metre\""};
+}
+
+// The layout fields as written; PyramidLayout::create checks them afterwards.
+struct LayoutFields {
+    int patchSamples = 0, apronSamples = 0, blockQuads = 0, shardPatches = 0, finestLevel = 0;
+    std::int64_t rasterWidth = 0, rasterHeight = 0;
+};
+
+PyramidManifest parseFields(const Json& root, LayoutFields& f) {
+    PyramidManifest m;
+    m.formatVersion = intField(root, "", "formatVersion");
+    f.patchSamples = intField(root, "", "patchSamples");
+    f.apronSamples = intField(root, "", "apronSamples");
+    f.blockQuads = intField(root, "", "blockQuads");
+    f.shardPatches = intField(root, "", "shardPatches");
+    f.finestLevel = intField(root, "", "finestLevel");
+    const Json& raster = objectField(root, "", "raster");
+    f.rasterWidth = int64Field(raster, "raster", "width");
+    f.rasterHeight = int64Field(raster, "raster", "height");
+    readGeoreference(root, m);
+
+    const Json& noData = objectField(root, "", "noData");
+    m.noData.present = boolField(noData, "noData", "present");
+    m.noData.sourceValue = optionalNumberField(noData, "noData", "sourceValue");
+    m.noData.samples = int64Field(noData, "noData", "samples");
+    m.noData.fill = stringField(noData, "noData", "fill");
+
+    const Json& stats = objectField(root, "", "statistics");
+    m.statistics.minHeight = numberField(stats, "statistics", "minHeight");
+    m.statistics.maxHeight = numberField(stats, "statistics", "maxHeight");
+    m.statistics.validSamples = int64Field(stats, "statistics", "validSamples");
+    m.statistics.rootError = numberField(stats, "statistics", "rootError");
+
+    const Json& levels = arrayField(root, "", "levels");
+    for (std::size_t i = 0; i < levels.size(); ++i) {
+        const std::string p = fmt::format("levels[{}]", i);
+        if (!levels[i].is_object()) throw FieldError{p, "an object"};
+        const Json& l = levels[i];
+        ManifestLevel level;
+        level.level = intField(l, p, "level");
+        level.patchesX = int64Field(l, p, "patchesX");
+        level.patchesY = int64Field(l, p, "patchesY");
+        level.presentPatches = int64Field(l, p, "presentPatches");
+        level.shardsX = int64Field(l, p, "shardsX");
+        level.shardsY = int64Field(l, p, "shardsY");
+        level.sampleStep = int64Field(l, p, "sampleStep");
+        level.maxError = numberField(l, p, "maxError");
+        m.levels.push_back(level);
+    }
+
+    const Json& source = objectField(root, "", "source");
+    const Json& inputs = arrayField(source, "source", "inputs");
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+        if (!inputs[i].is_string())
+            throw FieldError{fmt::format("source.inputs[{}]", i), "a string"};
+        m.source.inputs.push_back(inputs[i].get<std::string>());
+    }
+    m.source.reader = stringField(source, "source", "reader");
+    m.source.sampleType = stringField(source, "source", "sampleType");
+
+    const Json& build = objectField(root, "", "build");
+    m.build.tool = stringField(build, "build", "tool");
+    m.build.version = stringField(build, "build", "version");
+    m.build.seconds = numberField(build, "build", "seconds");
+    return m;
+}
+
+// What describes the raster's layout in words, for messages.
+std::string layoutText(const PyramidLayout& layout) {
+    return fmt::format("a {} × {} raster in patches of {} samples and shards of {} patches",
+                       layout.rasterWidth(), layout.rasterHeight(), layout.patchSamples(),
+                       layout.shardPatches());
+}
+
+// Everything that must hold between the fields, with the reason in the message.
+Status checkManifest(const PyramidManifest& m, const std::string& name) {
+    if (m.formatVersion != PyramidManifest::kFormatVersion)
+        return Error{
+            fmt::format("{}: unsupported formatVersion {} (this program reads version {}; "
+                        "rebuild the pyramid with terrain-build)",
+                        name, m.formatVersion, PyramidManifest::kFormatVersion)};
+    // A layout is only made by PyramidLayout::create; one that create rejects is a default
+    // (empty) one.
+    const PyramidLayout& layout = m.layout;
+    const Result<PyramidLayout> created =
+        PyramidLayout::create(layout.rasterWidth(), layout.rasterHeight(), layout.patchSamples(),
+                              layout.blockQuads(), layout.shardPatches());
+    if (!created) return Error{fmt::format("{}: bad layout: {}", name, created.error().message)};
+    const std::string what = layoutText(layout);
+    if (std::ssize(m.levels) != layout.levelCount())
+        return Error{fmt::format("{}: inconsistent layout: {} levels listed, but {} has {}", name,
+                                 m.levels.size(), what, layout.levelCount())};
+    for (int l = 0; l < layout.levelCount(); ++l) {
+        const ManifestLevel& level = m.levels[static_cast<std::size_t>(l)];
+        const auto mismatch = [&](std::string_view field, std::int64_t listed,
+                                  std::int64_t expected) {
+            return Error{fmt::format("{}: inconsistent layout: levels[{}].{} is {}, but {} has {}",
+                                     name, l, field, listed, what, expected)};
+        };
+        if (level.level != l) return mismatch("level", level.level, l);
+        if (level.patchesX != layout.patchesX(l))
+            return mismatch("patchesX", level.patchesX, layout.patchesX(l));
+        if (level.patchesY != layout.patchesY(l))
+            return mismatch("patchesY", level.patchesY, layout.patchesY(l));
+        if (level.shardsX != layout.shardsX(l))
+            return mismatch("shardsX", level.shardsX, layout.shardsX(l));
+        if (level.shardsY != layout.shardsY(l))
+            return mismatch("shardsY", level.shardsY, layout.shardsY(l));
+        if (level.sampleStep != layout.levelStep(l))
+            return mismatch("sampleStep", level.sampleStep, layout.levelStep(l));
+        if (level.presentPatches < 0 || level.presentPatches > layout.patchCount(l))
+            return Error{fmt::format("{}: levels[{}].presentPatches is {}, outside 0 … {}", name, l,
+                                     level.presentPatches, layout.patchCount(l))};
+        if (!std::isfinite(level.maxError) || level.maxError < 0.0)
+            return Error{fmt::format("{}: levels[{}].maxError is {}; an error bound is ≥ 0", name,
+                                     l, level.maxError)};
+    }
+    const Georeference& g = m.georeference;
+    if (!std::isfinite(g.originX) || !std::isfinite(g.originY) || !(g.pixelSizeX > 0.0) ||
+        !(g.pixelSizeY > 0.0) || !std::isfinite(g.pixelSizeX) || !std::isfinite(g.pixelSizeY))
+        return Error{
+            fmt::format("{}: georeference: origin ({}, {}) and pixel size ({}, {}) must "
+                        "be finite, pixel sizes > 0",
+                        name, g.originX, g.originY, g.pixelSizeX, g.pixelSizeY)};
+    if (!std::isfinite(m.vertical.scale) || m.vertical.scale == 0.0 ||
+        !std::isfinite(m.vertical.offset))
+        return Error{
+            fmt::format("{}: georeference: verticalScale {} and verticalOffset {} must be "
+                        "finite, the scale non-zero",
+                        name, m.vertical.scale, m.vertical.offset)};
+    if (m.noData.fill != ManifestNoData::kRowLinearFill)
+        return Error{fmt::format("{}: noData.fill is \"{}\"; format version 2 knows only \"{}\"",
+                                 name, m.noData.fill, ManifestNoData::kRowLinearFill)};
+    const double rasterSamples =
+        static_cast<double>(m.layout.rasterWidth()) * static_cast<double>(m.layout.rasterHeight());
+    if (m.noData.samples < 0 || static_cast<double>(m.noData.samples) > rasterSamples)
+        return Error{fmt::format("{}: noData.samples is {}, outside 0 … {} × {}", name,
+                                 m.noData.samples, m.layout.rasterWidth(),
+                                 m.layout.rasterHeight())};
+    if (m.statistics.validSamples < 0 ||
+        static_cast<double>(m.statistics.validSamples) > rasterSamples)
+        return Error{fmt::format("{}: statistics.validSamples is {}, outside 0 … {} × {}", name,
+                                 m.statistics.validSamples, m.layout.rasterWidth(),
+                                 m.layout.rasterHeight())};
+    if (!std::isfinite(m.statistics.rootError) || m.statistics.rootError < 0.0)
+        return Error{fmt::format("{}: statistics.rootError is {}; an error bound is ≥ 0", name,
+                                 m.statistics.rootError)};
+    return {};
+}
+
+}  // namespace
+
+PyramidManifest PyramidManifest::forLayout(const PyramidLayout& layout) {
+    PyramidManifest m;
+    m.layout = layout;
+    for (int l = 0; l < layout.levelCount(); ++l) {
+        m.levels.push_back({.level = l,
+                            .patchesX = layout.patchesX(l),
+                            .patchesY = layout.patchesY(l),
+                            .presentPatches = layout.patchCount(l),
+                            .shardsX = layout.shardsX(l),
+                            .shardsY = layout.shardsY(l),
+                            .sampleStep = layout.levelStep(l),
+                            .maxError = 0.0});
+    }
+    return m;
+}
+
+std::string toJson(const PyramidManifest& m) {
+    Json j;
+    j["format"] = PyramidManifest::kFormatName;
+    j["formatVersion"] = m.formatVersion;
+    j["patchSamples"] = m.layout.patchSamples();
+    j["apronSamples"] = m.layout.apronSamples();
+    j["blockQuads"] = m.layout.blockQuads();
+    j["shardPatches"] = m.layout.shardPatches();
+    j["finestLevel"] = m.layout.finestLevel();
+    j["raster"] = {{"width", m.layout.rasterWidth()}, {"height", m.layout.rasterHeight()}};
+    j["georeference"] = georeferenceJson(m);
+    j["noData"] = {{"present", m.noData.present},
+                   {"sourceValue", m.noData.sourceValue ? Json(*m.noData.sourceValue) : Json()},
+                   {"samples", m.noData.samples},
+                   {"fill", m.noData.fill}};
+    j["statistics"] = {{"minHeight", m.statistics.minHeight},
+                       {"maxHeight", m.statistics.maxHeight},
+                       {"validSamples", m.statistics.validSamples},
+                       {"rootError", m.statistics.rootError}};
+    Json levels = Json::array();
+    for (const ManifestLevel& l : m.levels) {
+        levels.push_back({{"level", l.level},
+                          {"patchesX", l.patchesX},
+                          {"patchesY", l.patchesY},
+                          {"presentPatches", l.presentPatches},
+                          {"shardsX", l.shardsX},
+                          {"shardsY", l.shardsY},
+                          {"sampleStep", l.sampleStep},
+                          {"maxError", l.maxError}});
+    }
+    j["levels"] = std::move(levels);
+    j["source"] = {{"inputs", m.source.inputs},
+                   {"reader", m.source.reader},
+                   {"sampleType", m.source.sampleType}};
+    j["build"] = {
+        {"tool", m.build.tool}, {"version", m.build.version}, {"seconds", m.build.seconds}};
+    return j.dump(2) + "\n";
+}
+
+Result<PyramidManifest> fromJson(std::string_view json, const std::string& sourceName) {
+    Json root;
+    try {
+        root = Json::parse(json.begin(), json.end());
+    } catch (const Json::parse_error& e) {
+        return Error{fmt::format("{}: not valid JSON: {}", sourceName, e.what())};
+    }
+    if (!root.is_object())
+        return Error{
+            fmt::format("{}: not a pyramid manifest: the JSON is not an object", sourceName)};
+    const auto format = root.find("format");
+    if (format == root.end() || !format->is_string())
+        return Error{
+            fmt::format("{}: not a pyramid manifest: no \"format\" string (expected "
+                        "\"{}\")",
+                        sourceName, PyramidManifest::kFormatName)};
+    if (format->get<std::string>() != PyramidManifest::kFormatName)
+        return Error{fmt::format("{}: not a pyramid manifest: \"format\" is \"{}\", not \"{}\"",
+                                 sourceName, format->get<std::string>(),
+                                 PyramidManifest::kFormatName)};
+    // The version decides how the rest reads, so it is checked before anything else.
+    const auto version = root.find("formatVersion");
+    if (version == root.end() || !version->is_number_integer())
+        return Error{fmt::format("{}: \"formatVersion\" is missing or not an integer", sourceName)};
+    if (version->get<std::int64_t>() != PyramidManifest::kFormatVersion)
+        return Error{
+            fmt::format("{}: unsupported formatVersion {} (this program reads version {}; "
+                        "rebuild the pyramid with terrain-build)",
+                        sourceName, version->dump(), PyramidManifest::kFormatVersion)};
+    PyramidManifest manifest;
+    LayoutFields f;
+    try {
+        manifest = parseFields(root, f);
+    } catch (const FieldError& e) {
+        return Error{fmt::format("{}: field \"{}\" must be {}", sourceName, e.field, e.expected)};
+    }
+    if (f.apronSamples != 1)
+        return Error{fmt::format("{}: apronSamples is {}; format version 2 has an apron of 1",
+                                 sourceName, f.apronSamples)};
+    Result<PyramidLayout> layout = PyramidLayout::create(
+        f.rasterWidth, f.rasterHeight, f.patchSamples, f.blockQuads, f.shardPatches);
+    if (!layout)
+        return Error{fmt::format("{}: bad layout: {}", sourceName, layout.error().message)};
+    manifest.layout = layout.value();
+    if (f.finestLevel != manifest.layout.finestLevel())
+        return Error{fmt::format("{}: inconsistent layout: finestLevel is {}, but {} has {}",
+                                 sourceName, f.finestLevel, layoutText(manifest.layout),
+                                 manifest.layout.finestLevel())};
+    if (Status checked = checkManifest(manifest, sourceName); !checked) return checked.error();
+    return manifest;
+}
+
+Status writeManifest(const std::filesystem::path& pyramidDir, const PyramidManifest& manifest) {
+    const std::filesystem::path path = pyramidDir / PyramidManifest::kFileName;
+    if (Status checked = checkManifest(manifest, path.string()); !checked) return checked;
+    const std::string text = toJson(manifest);
+    return writeAtomically(path, [&](const std::filesystem::path& temporary) -> Status {
+        std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+        out.write(text.data(), static_cast<std::streamsize>(text.size()));
+        out.close();
+        if (!out)
+            return Error{fmt::format("{}: cannot write: {}", path.string(), std::strerror(errno))};
+        return {};
+    });
+}
+
+Result<PyramidManifest> readManifest(const std::filesystem::path& pyramidDir) {
+    const std::filesystem::path path = pyramidDir / PyramidManifest::kFileName;
+    std::error_code ec;
+    if (!std::filesystem::is_directory(pyramidDir, ec))
+        return Error{fmt::format("{}: not a pyramid: no such folder", pyramidDir.string())};
+    if (!std::filesystem::is_regular_file(path, ec))
+        return Error{fmt::format("{}: not a pyramid: no {}", pyramidDir.string(),
+                                 PyramidManifest::kFileName)};
+    std::ifstream in(path, std::ios::binary);
+    if (!in.is_open())
+        return Error{fmt::format("{}: cannot open: {}", path.string(), std::strerror(errno))};
+    std::ostringstream text;
+    text << in.rdbuf();  // an empty file leaves text empty: a JSON parse error below
+    if (in.bad()) return Error{fmt::format("{}: cannot read the file", path.string())};
+    return fromJson(text.str(), path.string());
+}
+
+}  // namespace terrain::io

@@ -1,0 +1,67 @@
+// The structure of a shard file (docs/pyramid-format.md, "Shard files"): part, channel and
+// attribute names and the OpenEXR headers, shared by the shard writer and the reader so
+// the two cannot drift apart.
+#pragma once
+
+#include "terrain/io/PatchRecord.h"
+#include "terrain/io/PyramidLayout.h"
+#include "terrain/base/Result.h"
+
+#include <ImfHeader.h>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace terrain::io::shard {
+
+inline constexpr int kFormatVersion = 1;
+
+inline constexpr const char* kHeightsPart = "heights";
+inline constexpr const char* kBlockErrorsPart = "blockErrors";
+inline constexpr const char* kPatchInfoPart = "patchInfo";
+inline constexpr int kHeightsIndex = 0;  // part order as written; readers look parts up by name
+inline constexpr int kBlockErrorsIndex = 1;
+inline constexpr int kPatchInfoIndex = 2;
+inline constexpr int kPartCount = 3;
+
+inline constexpr const char* kHeightChannel = "Z";
+inline constexpr const char* kMaskChannel = "V";
+inline constexpr std::array<const char*, 4> kBlockErrorChannels = {"L1", "L2", "L3", "L4"};
+
+inline constexpr const char* kFormatVersionAttribute = "terrain:formatVersion";
+inline constexpr const char* kLevelAttribute = "terrain:level";
+inline constexpr const char* kShardAttribute = "terrain:shard";
+
+/// Mask samples as stored (HALF bits of 1.0 and 0.0).
+inline constexpr std::uint16_t kHalfOne = 0x3C00;
+inline constexpr std::uint16_t kHalfZero = 0x0000;
+
+/// One pixel of the patchInfo part, laid out for an OpenEXR frame buffer (xStride =
+/// sizeof(StoredInfo)).
+struct StoredInfo {
+    std::uint32_t present = 0;
+    float minHeight = 0.0f;
+    float maxHeight = 0.0f;
+    float error = 0.0f;
+    float approxError = 0.0f;
+    float quantError = 0.0f;
+    std::uint32_t noDataSamples = 0;
+    std::uint32_t crc32 = 0;
+};
+
+StoredInfo toStored(const PatchInfo& info);
+PatchInfo fromStored(const StoredInfo& stored);
+
+/// The three part headers of shard `s`, in part order. zipLevel is the writer's ephemeral
+/// setting (not stored in the file); 0 means NO_COMPRESSION.
+std::vector<Imf::Header> shardHeaders(const PyramidLayout& layout, const ShardId& s, bool withMask,
+                                      int zipLevel);
+
+/// Checks that `actual` (one part's header, found by name) has the structure of
+/// `expected`: type, tiling, data window, channels and terrain attributes. The message
+/// says what differs, without the file name.
+Status checkPartHeader(const Imf::Header& actual, const Imf::Header& expected);
+
+}  // namespace terrain::io::shard

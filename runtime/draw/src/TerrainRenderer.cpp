@@ -1,0 +1,214 @@
+// TerrainRenderer: camera-relative instance records (double → float after subtracting the
+// camera's anchor sample), then one glDrawArraysInstanced of 4 vertices per block and skirt
+// primitive (terrain_patches.glsl lists them).
+#include "terrain/runtime/TerrainRenderer.h"
+
+#include "Bindings.h"
+#include "terrain/runtime/TerrainFrameUniforms.h"
+#include "terrain/base/Assert.h"
+#include "terrain/io/PatchErrors.h"
+#include "terrain/runtime/ProgramBuilder.h"
+
+#include <epoxy/gl.h>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+namespace terrain::runtime {
+namespace {
+
+/// GL's polygon mode while the draw runs, GL_FILL (the default) after it.
+class PolygonModeScope {
+public:
+    explicit PolygonModeScope(bool wireframe) : m_active(wireframe) {
+        if (m_active) glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    }
+    ~PolygonModeScope() {
+        if (m_active) glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    }
+    PolygonModeScope(const PolygonModeScope&) = delete;
+    PolygonModeScope& operator=(const PolygonModeScope&) = delete;
+
+private:
+    bool m_active;
+};
+
+/// The simplification d of a fixed factor: the factor rounded down to a power of two in
+/// [max(1, blockQuads >> 4), blockQuads] is blockQuads >> d, with d ≤ 4 so the block
+/// errors λ(d) still bound the skirts' drop. −1 (error-driven) for factor ≤ 0.
+int fixedSimplification(int factor, int blockQuads) {
+    if (factor <= 0) return -1;
+    const auto clamped = static_cast<unsigned>(std::clamp(factor, 1, blockQuads));
+    const int d = std::countr_zero(static_cast<unsigned>(blockQuads)) -
+                  std::countr_zero(std::bit_floor(clamped));
+    return std::min(d, io::kMaxSimplification);
+}
+
+}  // namespace
+
+Result<TerrainRenderer> TerrainRenderer::create(const io::PyramidLayout& layout,
+                                                    int maxInstances,
+                                                    const TerrainRendererOptions& options) {
+    TERRAIN_ASSERT(maxInstances >= 1);
+    ProgramBuilder builder("terrain");
+    builder.stage("terrain.vert").stage("terrain.tesc").stage("terrain.tese").stage("terrain.frag");
+    if (options.recordTessFactors) builder.define("TERRAIN_DEBUG_TESS_FACTORS");
+    auto program = builder.build();
+    if (!program) return program.error();
+    auto primitives = gl::Query::create(gl::QueryKind::PrimitivesGenerated, "terrain triangles");
+    if (!primitives) return primitives.error();
+    auto time = gl::Query::create(gl::QueryKind::TimeElapsed, "terrain GPU time");
+    if (!time) return time.error();
+
+    TerrainRenderer r;
+    r.m_program = std::move(program).value();
+    r.m_primitivesQuery = std::move(primitives).value();
+    r.m_timeQuery = std::move(time).value();
+    r.m_vertexArray = gl::VertexArray::create("terrain patches (attribute-less)");
+    r.m_maxInstances = maxInstances;
+    r.m_blocksPerSide = layout.blocksPerSide();
+    r.m_blockQuads = layout.blockQuads();
+    r.m_instances =
+        gl::Buffer::create(sizeof(PatchInstance) * static_cast<std::size_t>(maxInstances),
+                           GL_DYNAMIC_STORAGE_BIT, "terrain patch instances");
+    if (options.recordTessFactors) {
+        r.m_tessFactors = gl::Buffer::create(
+            sizeof(RecordedTessFactors) * static_cast<std::size_t>(maxInstances) *
+                static_cast<std::size_t>(r.primitivesPerInstance(true)),
+            0, "terrain tessellation factors (debug)");
+    }
+    r.m_staging.reserve(static_cast<std::size_t>(maxInstances));
+    return r;
+}
+
+int TerrainRenderer::primitivesPerInstance(bool skirts) const {
+    return m_blocksPerSide * m_blocksPerSide + (skirts ? 4 * m_blocksPerSide : 0);
+}
+
+TerrainDrawStats TerrainRenderer::draw(const Camera& camera, const TerrainGeometry& geometry,
+                                       const cache::GpuTilePool& pool,
+                                       std::span<const PatchDraw> patches,
+                                       const TerrainStyle& style) {
+    prepare(camera, geometry, pool, patches, style);
+    return submit(pool);
+}
+
+void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geometry,
+                              const cache::GpuTilePool& pool, std::span<const PatchDraw> patches,
+                              const TerrainStyle& style) {
+    TERRAIN_ASSERT(patches.size() <= static_cast<std::size_t>(m_maxInstances),
+                   "TerrainRenderer: more patches than instances");
+    m_preparedInstances = static_cast<int>(patches.size());
+    m_skirts = style.skirts;
+    m_wireframe = style.wireframe;
+    m_measure = style.measure;
+    if (patches.empty()) return;
+
+    // Patch origins reach the GPU relative to the anchor, as every position does
+    // (terrainPositionM).
+    const io::PyramidLayout& layout = geometry.layout();
+    const glm::dvec2 anchor = setCameraFrameUniforms(m_program, camera, geometry);
+    m_staging.clear();
+    for (const PatchDraw& p : patches) {
+        TERRAIN_ASSERT(pool.isResident(p.id) && pool.layerOf(p.id) == p.layer,
+                       "TerrainRenderer: drawing a patch that is not resident on its layer");
+        const io::PatchInfo& info = *pool.info(p.id);
+        const std::int64_t step = layout.levelStep(p.id.level);
+        const double originX = static_cast<double>(layout.patchOriginX(p.id) * step) - anchor.x;
+        const double originY = static_cast<double>(layout.patchOriginY(p.id) * step) - anchor.y;
+        m_staging.push_back({{static_cast<float>(originX), static_cast<float>(originY),
+                              static_cast<float>(step), 0.0f},
+                             {p.errorM, p.skirtDepthM, info.minHeight, info.maxHeight},
+                             {p.layer, p.id.level, 0, 0}});
+    }
+    m_instances.upload(0, std::as_bytes(std::span(m_staging)));
+
+    m_program.setUniform("u_blocksPerSide", m_blocksPerSide);
+    m_program.setUniform("u_blockQuads", m_blockQuads);
+    m_program.setUniform("u_viewportPx",
+                         std::array<float, 2>{static_cast<float>(camera.viewportWidth),
+                                              static_cast<float>(camera.viewportHeight)});
+    m_program.setUniform("u_errorPx", static_cast<float>(style.errorPx));
+    m_program.setUniform("u_fixedSimplification",
+                         fixedSimplification(style.fixedTessFactor, m_blockQuads));
+    m_program.setUniform("u_cullBlocks", style.cullBlocks ? 1 : 0);
+    // The frustum relative to the camera, in double before the cast: the world planes'
+    // offsets are planet-sized, the relative ones are not.
+    const Frustum frustum = camera.frustum();
+    std::array<float, 4 * 5> planes{};
+    for (std::size_t i = 0; i < frustum.planes.size(); ++i) {
+        const glm::dvec4& p = frustum.planes[i];
+        const double w = p.w + glm::dot(glm::dvec3(p), camera.position);
+        planes[4 * i + 0] = static_cast<float>(p.x);
+        planes[4 * i + 1] = static_cast<float>(p.y);
+        planes[4 * i + 2] = static_cast<float>(p.z);
+        planes[4 * i + 3] = static_cast<float>(w);
+    }
+    m_program.setUniformVec4Array("u_frustumPlanes", planes);
+    setShadingUniforms(m_program, geometry, style.skyColor, style.fogDensityPerM);
+    m_program.setUniform("u_debugView", static_cast<int>(style.debugView));
+}
+
+TerrainDrawStats TerrainRenderer::submit(const cache::GpuTilePool& pool) {
+    if (m_preparedInstances == 0) return {};
+    // Reversed Z: depth = near / distance, cleared to 0, nearer is greater.
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glUseProgram(m_program.id());
+    glBindVertexArray(m_vertexArray.id());
+    glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, pool.heights().id());
+    glBindTextureUnit(TERRAIN_BINDING_BLOCK_ERRORS, pool.blockErrors().id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_PATCH_INSTANCES, m_instances.id());
+    if (m_tessFactors.valid()) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_DEBUG_TESS_FACTORS,
+                         m_tessFactors.id());
+    }
+    glPatchParameteri(GL_PATCH_VERTICES, 4);
+    {
+        const PolygonModeScope polygonMode(m_wireframe);
+        if (m_measure) {
+            m_primitivesQuery.begin();
+            m_timeQuery.begin();
+        }
+        glDrawArraysInstanced(GL_PATCHES, 0, 4 * primitivesPerInstance(m_skirts),
+                              static_cast<GLsizei>(m_preparedInstances));
+        if (m_measure) {
+            m_timeQuery.end();
+            m_primitivesQuery.end();
+        }
+    }
+    if (m_tessFactors.valid()) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_DEBUG_TESS_FACTORS, 0);
+    }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_PATCH_INSTANCES, 0);
+    glBindTextureUnit(TERRAIN_BINDING_BLOCK_ERRORS, 0);
+    glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, 0);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_DEPTH_TEST);
+    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+
+    TerrainDrawStats stats{.drawCalls = 1, .instances = m_preparedInstances};
+    if (m_measure) {
+        stats.triangles = m_primitivesQuery.waitResult();
+        stats.gpuMs = static_cast<double>(m_timeQuery.waitResult()) * 1e-6;
+    }
+    m_preparedInstances = 0;
+    return stats;
+}
+
+std::vector<RecordedTessFactors> TerrainRenderer::readTessFactors(int instances) const {
+    TERRAIN_ASSERT(m_tessFactors.valid(), "TerrainRenderer: created without recordTessFactors");
+    TERRAIN_ASSERT(instances >= 0 && instances <= m_maxInstances);
+    std::vector<RecordedTessFactors> records(static_cast<std::size_t>(instances) *
+                                             static_cast<std::size_t>(primitivesPerInstance(true)));
+    glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);  // the control stage's writes, then a read
+    m_tessFactors.readBack(0, std::as_writable_bytes(std::span(records)));
+    return records;
+}
+
+}  // namespace terrain::runtime

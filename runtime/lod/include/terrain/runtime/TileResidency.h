@@ -1,0 +1,49 @@
+// TileResidency: the seam between the LOD and streaming, the handful of calls the LOD makes
+// to learn which patches it may draw and to ask for the ones it wants. TileStreamer
+// (runtime/streaming) implements it over the I/O thread, the CPU cache and the GPU pool;
+// the LOD's tests use FakeTileResidency (tests/support), which makes tiles resident on a
+// chosen frame and fails chosen ids on one thread, without GL.
+//
+// A patch the LOD draws must be resident: its layer holds its heights and block errors.
+// "Resident" is the implementation's word for that; the LOD only asks and pins.
+#pragma once
+
+#include "terrain/io/PatchRecord.h"
+#include "terrain/io/PyramidLayout.h"
+
+namespace terrain::runtime {
+
+/// Render thread only (one thread: whichever thread runs the LOD).
+class TileResidency {
+public:
+    virtual ~TileResidency() = default;
+
+    /// The LOD wants `id` this frame. Its summary when resident (which also keeps it
+    /// resident through this frame); otherwise null, after making sure it is on its way:
+    /// requested with `priority` (higher first; re-prioritised every frame), unless it
+    /// failed before.
+    virtual const io::PatchInfo* acquire(const io::PatchId& id, float priority) = 0;
+    /// The layer of a resident patch (acquire() returned its info this frame, or pinned).
+    virtual int layerOf(const io::PatchId& id) const = 0;
+    /// `id` failed to load and will not be asked for again: whatever covers it draws in
+    /// its place.
+    virtual bool hasFailed(const io::PatchId& id) const = 0;
+    /// Keeps a resident patch resident until unpin(), whatever later frames want: the LOD
+    /// tree pins the patches it holds. `id` must be resident and not pinned.
+    virtual void pin(const io::PatchId& id) = 0;
+    virtual void unpin(const io::PatchId& id) = 0;
+    /// How many patches can be resident at once (the GPU pool's layers).
+    virtual int capacity() const = 0;
+
+    /// The summary of `id` if it is resident now, else null; neither requests nor keeps it
+    /// (for ground-height queries and invariant checks).
+    virtual const io::PatchInfo* residentInfo(const io::PatchId& id) const = 0;
+    virtual bool isPinned(const io::PatchId& id) const = 0;
+
+protected:
+    TileResidency() = default;
+    TileResidency(const TileResidency&) = default;
+    TileResidency& operator=(const TileResidency&) = default;
+};
+
+}  // namespace terrain::runtime

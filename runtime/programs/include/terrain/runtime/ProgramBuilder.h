@@ -1,0 +1,60 @@
+// ProgramBuilder: the one way programs are made. Takes stage files by name (the stage
+// comes from the extension), loads them (embedded, or TERRAIN_SHADER_DIR), prepends
+// `#version 450 core` and defines, resolves #include, and reports compile and link errors
+// as "<file>:<line>: ..." in an Error.
+#pragma once
+
+#include "terrain/gl/Program.h"
+#include "terrain/base/Result.h"
+#include "terrain/runtime/ShaderLoader.h"
+#include "terrain/runtime/ShaderPreprocessor.h"
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace terrain::runtime {
+
+enum class ShaderStage { Vertex, TessControl, TessEvaluation, Geometry, Fragment, Compute };
+
+/// By extension: .vert .tesc .tese .geom .frag .comp; std::nullopt otherwise.
+std::optional<ShaderStage> shaderStageFromFileName(std::string_view fileName);
+
+/// GL_VERTEX_SHADER, ...
+GLenum glShaderType(ShaderStage stage);
+
+class ProgramBuilder {
+public:
+    /// `label` names the program in messages and GL debug labels.
+    explicit ProgramBuilder(std::string label);
+
+    /// A stage file, read through the loader when build() runs.
+    ProgramBuilder& stage(std::string fileName);
+
+    /// A stage whose text is given; `fileName` picks the stage and names it in messages.
+    /// Its includes still come from the loader.
+    ProgramBuilder& stageSource(std::string fileName, std::string text);
+
+    /// `#define name value`, after the #version line, in every stage.
+    ProgramBuilder& define(std::string name, std::string value = "1");
+
+    /// Where files come from; default ShaderLoader::fromEnvironment().
+    ProgramBuilder& loader(ShaderLoader loader);
+
+    /// Loads, preprocesses, compiles and links. Render thread only.
+    Result<gl::Program> build() const;
+
+private:
+    struct StageInput {
+        std::string fileName;
+        std::optional<std::string> text;  ///< set by stageSource()
+    };
+
+    std::string m_label;
+    std::vector<StageInput> m_stages;
+    std::vector<ShaderDefine> m_defines;
+    std::optional<ShaderLoader> m_loader;
+};
+
+}  // namespace terrain::runtime

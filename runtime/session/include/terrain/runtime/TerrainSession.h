@@ -1,0 +1,99 @@
+// TerrainSession: one open pyramid being flown through — the tile streamer, the LOD
+// quadtree and the terrain renderer — and the frame protocol that ties them together, so
+// every program (terrain-render, the viewer, the benchmarks, tests) runs the same frame:
+//
+//   beginFrame(camera)  finished reads in; the LOD tree updated for the camera (unless
+//                       frozen); the skirt depths of the draw list assigned;
+//   draw(camera, style) the one instanced draw into the caller's bound framebuffer (any
+//                       number of times: a frozen LOD seen from another camera, say);
+//   endFrame(t)         requests no longer wanted cancelled; `t` filled with the
+//                       streaming, cache, LOD and draw columns of the telemetry log.
+//
+// The caller owns the GL context (current on this thread), the framebuffer, the clock
+// and the frame/time columns of the telemetry (frame, time_s, frame_ms).
+#pragma once
+
+#include "terrain/base/Result.h"
+#include "terrain/runtime/Camera.h"
+#include "terrain/runtime/FrameTelemetry.h"
+#include "terrain/runtime/LodQuadtree.h"
+#include "terrain/runtime/PatchSelection.h"
+#include "terrain/runtime/TerrainGeometry.h"
+#include "terrain/runtime/TerrainRenderer.h"
+#include "terrain/runtime/TileStreamer.h"
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace terrain::runtime {
+
+struct TerrainSessionOptions {
+    TileStreamerOptions streaming;
+    LodOptions lod;
+    TerrainRendererOptions renderer;
+};
+
+/// Render thread only; destroy it before its GL context.
+class TerrainSession {
+public:
+    /// Opens the pyramid (errors name it), starts streaming, builds the renderer.
+    static Result<std::unique_ptr<TerrainSession>> open(const std::filesystem::path& pyramid,
+                                                            const TerrainSessionOptions& options);
+    ~TerrainSession();
+    TerrainSession(const TerrainSession&) = delete;
+    TerrainSession& operator=(const TerrainSession&) = delete;
+
+    /// Starts a frame: takes finished reads, then (unless the LOD is frozen) updates the
+    /// tree for `camera` and rebuilds the draw list. Allocates nothing once warm.
+    const LodUpdateStats& beginFrame(const Camera& camera);
+    /// Draws this frame's patches seen from `camera` into the bound framebuffer, whose
+    /// depth must be cleared to 0 (reversed Z). Between beginFrame and endFrame.
+    TerrainDrawStats draw(const Camera& camera, const TerrainStyle& style);
+    /// Ends the frame and fills every column of `t` but frame, time_s and frame_ms (LOD
+    /// and draw columns from this frame's beginFrame and its last draw).
+    void endFrame(FrameTelemetry& t);
+
+    /// Runs frames (without drawing) for `camera` until no split waits for tiles and
+    /// nothing is loading, so the next frame shows the settled view; false on timeout.
+    /// Between endFrame and the next beginFrame. A frozen LOD is settled as it is.
+    bool settle(const Camera& camera, std::chrono::milliseconds timeout);
+
+    /// A frozen LOD keeps its draw list (and the tree) as they are: beginFrame streams but
+    /// decides nothing, so the cut can be inspected from another camera.
+    void setLodFrozen(bool frozen) { m_lodFrozen = frozen; }
+    bool lodFrozen() const { return m_lodFrozen; }
+    void setLodOptions(const LodOptions& options) { m_tree->setOptions(options); }
+    const LodOptions& lodOptions() const { return m_tree->options(); }
+
+    /// This frame's draw list (every patch resident, skirt depths assigned).
+    std::span<const PatchDraw> draws() const { return m_draws; }
+    const LodUpdateStats& lodStats() const { return m_lodStats; }
+    double lodUpdateUs() const { return m_lodUpdateUs; }
+
+    TileStreamer& streamer() { return *m_streamer; }
+    const TileStreamer& streamer() const { return *m_streamer; }
+    const LodQuadtree& tree() const { return *m_tree; }
+    const TerrainGeometry& geometry() const { return m_geometry; }
+    TerrainRenderer& renderer() { return m_renderer; }
+
+private:
+    TerrainSession(std::unique_ptr<TileStreamer> streamer, TerrainRenderer renderer,
+                   const LodOptions& lod);
+
+    // Declared in destruction order's reverse: the tree holds pins in the streamer's pool.
+    std::unique_ptr<TileStreamer> m_streamer;
+    TerrainGeometry m_geometry;
+    TerrainRenderer m_renderer;
+    std::unique_ptr<LodQuadtree> m_tree;
+
+    std::vector<PatchDraw> m_draws;
+    LodUpdateStats m_lodStats;
+    double m_lodUpdateUs = 0.0;
+    TerrainDrawStats m_lastDraw;
+    bool m_lodFrozen = false;
+};
+
+}  // namespace terrain::runtime

@@ -1,0 +1,92 @@
+// TerrainSession: the frame protocol of streamer, LOD tree and renderer.
+#include "terrain/runtime/TerrainSession.h"
+
+#include "terrain/base/Assert.h"
+#include "terrain/runtime/SkirtDepth.h"
+
+#include <utility>
+
+namespace terrain::runtime {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+}  // namespace
+
+Result<std::unique_ptr<TerrainSession>> TerrainSession::open(
+    const std::filesystem::path& pyramid, const TerrainSessionOptions& options) {
+    auto streamer = TileStreamer::open(pyramid, options.streaming);
+    if (!streamer) return streamer.error();
+    // The tree draws only resident patches, so the pool's capacity bounds one draw.
+    auto renderer = TerrainRenderer::create(streamer.value()->layout(),
+                                            streamer.value()->pool().capacity(), options.renderer);
+    if (!renderer) return Error{pyramid.string() + ": " + renderer.error().message};
+    return std::unique_ptr<TerrainSession>(
+        new TerrainSession(std::move(streamer).value(), std::move(renderer).value(), options.lod));
+}
+
+TerrainSession::TerrainSession(std::unique_ptr<TileStreamer> streamer, TerrainRenderer renderer,
+                               const LodOptions& lod)
+    : m_streamer(std::move(streamer)),
+      m_geometry(m_streamer->manifest()),
+      m_renderer(std::move(renderer)),
+      m_tree(std::make_unique<LodQuadtree>(*m_streamer, m_geometry, lod)) {
+    m_draws.reserve(static_cast<std::size_t>(m_streamer->pool().capacity()));
+}
+
+TerrainSession::~TerrainSession() {
+    m_tree.reset();  // unpins its patches while the pool exists
+}
+
+const LodUpdateStats& TerrainSession::beginFrame(const Camera& camera) {
+    m_streamer->beginFrame();
+    m_lastDraw = {};
+    if (m_lodFrozen) {
+        m_lodUpdateUs = 0.0;
+        m_lodStats.splits = m_lodStats.merges = m_lodStats.evaluations = 0;
+        return m_lodStats;
+    }
+    const auto start = Clock::now();
+    m_lodStats = m_tree->update(camera, m_draws);
+    assignSkirtDepths(m_draws, m_streamer->pool());
+    m_lodUpdateUs = std::chrono::duration<double, std::micro>(Clock::now() - start).count();
+    return m_lodStats;
+}
+
+TerrainDrawStats TerrainSession::draw(const Camera& camera, const TerrainStyle& style) {
+    m_lastDraw = m_renderer.draw(camera, m_geometry, m_streamer->pool(), m_draws, style);
+    return m_lastDraw;
+}
+
+void TerrainSession::endFrame(FrameTelemetry& t) {
+    m_streamer->endFrame(t);
+    t.patchesDrawn = m_lodStats.drawn;
+    t.patchesCulled = m_lodStats.culled;
+    t.lodUpdateUs = m_lodUpdateUs;
+    t.lodSplits = m_lodStats.splits;
+    t.lodMerges = m_lodStats.merges;
+    t.drawCalls = static_cast<std::uint64_t>(m_lastDraw.drawCalls);
+    t.triangles = m_lastDraw.triangles;
+    t.gpuMs = m_lastDraw.drawCalls > 0 && m_lastDraw.gpuMs > 0.0 ? m_lastDraw.gpuMs
+                                                                 : FrameTelemetry::kNoValue;
+}
+
+bool TerrainSession::settle(const Camera& camera, std::chrono::milliseconds timeout) {
+    if (m_lodFrozen) return true;  // nothing would change: the cut is held as it is
+    const auto deadline = Clock::now() + timeout;
+    while (true) {
+        const LodUpdateStats& lod = beginFrame(camera);
+        const bool settled = !m_draws.empty() && lod.waitingSplits == 0 && lod.splits == 0 &&
+                             lod.merges == 0 && m_streamer->loadsOutstanding() == 0;
+        FrameTelemetry ignored;
+        m_streamer->endFrame(ignored);
+        if (settled) return true;
+        const auto now = Clock::now();
+        if (now > deadline) return false;
+        // Nothing changes until a read finishes; when none is left, the next frame uploads
+        // what waits in the CPU cache.
+        m_streamer->waitForReads(std::chrono::ceil<std::chrono::milliseconds>(deadline - now));
+    }
+}
+
+}  // namespace terrain::runtime

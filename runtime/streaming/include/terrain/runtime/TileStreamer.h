@@ -1,0 +1,173 @@
+// TileStreamer: the streaming path of one pyramid, from disk to the GPU (DESIGN.md,
+// "Streaming and caches"): the background IoThread reads what the LOD asks for, decoded
+// tiles wait in the CPU TileCache, and the GpuTilePool uploads them within a per-frame
+// byte budget, evicting layers the current view does not use.
+//
+// Frame protocol (render thread, GL context current):
+//   beginFrame()  takes finished reads into the CPU cache, starts the pool's frame;
+//   acquire(...)  for every patch the LOD wants, parents before children;
+//   endFrame(t)   cancels requests no longer wanted, fences uploads, fills telemetry.
+//
+// Faults: a tile that fails to read is reported once (faults()), counted, and never asked
+// for again; acquire() keeps answering null for it, so the LOD keeps drawing its nearest
+// resident ancestor and no hole appears.
+#pragma once
+
+#include "terrain/cache/GpuTilePool.h"
+#include "terrain/cache/TileCache.h"
+#include "terrain/io/IoThread.h"
+#include "terrain/io/PatchIdHash.h"
+#include "terrain/io/PyramidManifest.h"
+#include "terrain/base/Result.h"
+#include "terrain/runtime/FrameTelemetry.h"
+#include "terrain/runtime/LatencyHistogram.h"
+#include "terrain/runtime/LatencyWindow.h"
+#include "terrain/runtime/TileResidency.h"
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+namespace terrain::runtime {
+
+struct TileStreamerOptions {
+    std::size_t cpuCacheBytes = std::size_t{64} << 20;
+    /// GPU layers of the tile pool; the pool's memory is gpuLayers × bytesPerLayer.
+    int gpuLayers = 256;
+    std::size_t uploadBytesPerFrame = std::size_t{4} << 20;
+    io::IoThreadOptions io;
+};
+
+struct TileFault {
+    io::PatchId id;
+    std::string message;  ///< names the shard file (or the injected fault) and the patch
+};
+
+/// A patch that became resident on the GPU after the LOD first wanted it.
+struct TileLoad {
+    io::PatchId id;
+    double latencyMs = 0.0;         ///< first wanted → resident (uploaded)
+    std::uint64_t latencyFrames = 0;  ///< the same in frames (0: resident in the same frame)
+};
+
+/// Every request the streamer made and how many have ended: after drain(),
+/// submitted == completed + failed + cancelled.
+struct TileRequestLedger {
+    std::uint64_t submitted = 0;
+    std::uint64_t completed = 0;
+    std::uint64_t failed = 0;
+    std::uint64_t cancelled = 0;
+    std::uint64_t ended() const { return completed + failed + cancelled; }
+};
+
+/// Render thread only (owns GL objects and the IoThread's owner side). In steady state
+/// (no faults, the I/O thread's own reads aside) a frame allocates no memory. Serves the
+/// LOD as its TileResidency: resident means uploaded to a layer of the GPU pool.
+class TileStreamer final : public TileResidency {
+public:
+    /// Opens the pyramid, starts the I/O thread, creates the GPU pool. Errors name the
+    /// pyramid or the budget that does not fit.
+    static Result<std::unique_ptr<TileStreamer>> open(const std::filesystem::path& pyramid,
+                                                          const TileStreamerOptions& options);
+    ~TileStreamer() override;
+    TileStreamer(const TileStreamer&) = delete;
+    TileStreamer& operator=(const TileStreamer&) = delete;
+
+    const io::PyramidManifest& manifest() const { return m_manifest; }
+    const io::PyramidLayout& layout() const { return m_manifest.layout; }
+
+    void beginFrame();
+
+    // TileResidency. acquire(): resident on the GPU (possibly uploaded just now from the
+    // CPU cache), which also keeps its layer from eviction this frame; or on its way:
+    // requested from disk with `priority` unless it is in the CPU cache waiting for
+    // upload budget, or it failed before. pin(): GpuTilePool::pin.
+    const io::PatchInfo* acquire(const io::PatchId& id, float priority) override;
+    int layerOf(const io::PatchId& id) const override;
+    bool hasFailed(const io::PatchId& id) const override { return m_failed.contains(id); }
+    void pin(const io::PatchId& id) override { m_pool.pin(id); }
+    void unpin(const io::PatchId& id) override { m_pool.unpin(id); }
+    int capacity() const override { return m_pool.capacity(); }
+    const io::PatchInfo* residentInfo(const io::PatchId& id) const override {
+        return m_pool.info(id);
+    }
+    bool isPinned(const io::PatchId& id) const override { return m_pool.isPinned(id); }
+
+    void endFrame(FrameTelemetry& telemetry);
+
+    /// Waits until a read has finished (taken by the next beginFrame), the I/O thread has
+    /// nothing left to read, or `timeout`: for callers that must wait for streaming
+    /// (settling a view, tests) instead of sleeping. Between frames.
+    void waitForReads(std::chrono::milliseconds timeout) { m_io->waitForCompletion(timeout); }
+
+    /// Cancels every request and waits until all have ended; false on timeout.
+    /// For shutdown checks: afterwards ledger() must balance.
+    bool drain(std::chrono::milliseconds timeout);
+
+    const std::vector<TileFault>& faults() const { return m_faults; }
+    const TileRequestLedger& ledger() const { return m_ledger; }
+    /// Request → resident latency of every load so far.
+    const LatencyHistogram& loadLatencies() const { return m_loadLatencies; }
+    /// Called for every load as it becomes resident (render thread, inside acquire()), e.g.
+    /// to keep latency statistics of one part of a run. Must not call back into the
+    /// streamer.
+    void setLoadObserver(std::function<void(const TileLoad&)> observer) {
+        m_loadObserver = std::move(observer);
+    }
+    const cache::GpuTilePool& pool() const { return m_pool; }
+    const cache::TileCache& cpuCache() const { return m_cache; }
+    io::IoThreadStats ioStats() const { return m_io->stats(); }
+    /// Patches requested or waiting for upload (bounded by what the LOD wants).
+    std::size_t loadsOutstanding() const { return m_loads.size(); }
+
+    /// The first broken invariant of the streamer and its pool, or nullopt: the pool's
+    /// own, the CPU cache within its budget, the ledger never ending more than it made.
+    std::optional<std::string> checkInvariants() const;
+
+private:
+    using Clock = std::chrono::steady_clock;
+    struct LoadState {
+        Clock::time_point firstWanted;
+        std::uint64_t firstWantedFrame = 0;
+        std::uint64_t lastWantedFrame = 0;
+        int liveRequests = 0;  // submitted and not yet ended
+        bool cancelRequested = false;
+    };
+    using LoadMap = std::unordered_map<io::PatchId, LoadState, io::PatchIdHash>;
+
+    TileStreamer(io::PyramidManifest manifest, std::unique_ptr<io::IoThread> io,
+                 cache::GpuTilePool pool, const TileStreamerOptions& options);
+    bool uploadFromCache(const io::PatchId& id);
+    LoadState& loadStateOf(const io::PatchId& id);
+    void eraseLoad(LoadMap::iterator it);
+    void takeCompletions();
+
+    io::PyramidManifest m_manifest;
+    std::unique_ptr<io::IoThread> m_io;
+    cache::TileCache m_cache;
+    cache::GpuTilePool m_pool;
+
+    std::uint64_t m_frame = 0;
+    LoadMap m_loads;
+    std::vector<LoadMap::node_type> m_spareLoadNodes;  // reused: no allocation per request
+    std::vector<io::Completion> m_completions;          // poll() target, capacity kept
+    std::unordered_set<io::PatchId, io::PatchIdHash> m_failed;
+    std::vector<TileFault> m_faults;
+    TileRequestLedger m_ledger;
+
+    LatencyWindow m_recentLoads;
+    LatencyHistogram m_loadLatencies;
+    std::function<void(const TileLoad&)> m_loadObserver;
+    FrameTelemetry m_frameCounts;  // this frame's counts so far
+    std::uint64_t m_bytesReadBefore = 0;
+};
+
+}  // namespace terrain::runtime

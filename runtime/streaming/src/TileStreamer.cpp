@@ -1,0 +1,261 @@
+// TileStreamer: completions into the CPU cache, uploads from it within the frame budget,
+// and a map of the loads the LOD wants, swept every frame for cancellations.
+#include "terrain/runtime/TileStreamer.h"
+
+#include "terrain/base/Assert.h"
+
+#include <fmt/format.h>
+
+#include <iterator>
+#include <utility>
+
+namespace terrain::runtime {
+
+Result<std::unique_ptr<TileStreamer>> TileStreamer::open(const std::filesystem::path& pyramid,
+                                                             const TileStreamerOptions& options) {
+    auto manifest = io::readManifest(pyramid);
+    if (!manifest) return manifest.error();
+    if (options.gpuLayers < 1) {
+        return Error{fmt::format("{}: the GPU tile pool needs at least 1 layer, not {}",
+                                     pyramid.string(), options.gpuLayers)};
+    }
+    const io::PyramidLayout& layout = manifest.value().layout;
+    const std::size_t layerBytes = cache::GpuTilePool::bytesPerLayer(layout);
+    auto pool = cache::GpuTilePool::create(
+        layout, {.budgetBytes = layerBytes * static_cast<std::size_t>(options.gpuLayers),
+                 .uploadBudgetBytesPerFrame = options.uploadBytesPerFrame,
+                 .ringBytes = 0});
+    if (!pool) return Error{pyramid.string() + ": " + pool.error().message};
+    auto io = io::IoThread::start(pyramid, options.io);
+    if (!io) return io.error();
+    return std::unique_ptr<TileStreamer>(new TileStreamer(std::move(manifest).value(),
+                                                          std::move(io).value(),
+                                                          std::move(pool).value(), options));
+}
+
+TileStreamer::TileStreamer(io::PyramidManifest manifest, std::unique_ptr<io::IoThread> io,
+                           cache::GpuTilePool pool, const TileStreamerOptions& options)
+    : m_manifest(std::move(manifest)),
+      m_io(std::move(io)),
+      m_cache(options.cpuCacheBytes),
+      m_pool(std::move(pool)) {
+    // Sized for the busiest frames up front; the map and vectors keep their high-water
+    // storage, so steady frames do not allocate.
+    const auto capacity = static_cast<std::size_t>(m_pool.capacity());
+    m_loads.reserve(4 * capacity);
+    m_spareLoadNodes.reserve(4 * capacity);
+    m_completions.reserve(options.io.maxUnpolled + 64);
+}
+
+TileStreamer::~TileStreamer() = default;
+
+void TileStreamer::beginFrame() {
+    ++m_frame;
+    m_frameCounts = {};
+    m_cache.resetCounters();
+    m_pool.beginFrame();
+    takeCompletions();
+}
+
+void TileStreamer::takeCompletions() {
+    m_completions.clear();
+    m_io->poll(m_completions);
+    for (io::Completion& c : m_completions) {
+        const auto load = m_loads.find(c.id);
+        if (load != m_loads.end()) --load->second.liveRequests;
+        switch (c.status) {
+            case io::CompletionStatus::Completed:
+                ++m_ledger.completed;
+                ++m_frameCounts.requestsCompleted;
+                if (m_cache.insert(std::move(c.record)) == cache::TileCacheInsertResult::TooLarge) {
+                    m_io->recycle(std::move(c.record));
+                }
+                break;
+            case io::CompletionStatus::Failed:
+                ++m_ledger.failed;
+                ++m_frameCounts.requestsFailed;
+                // Reported once: a failed patch is never requested again.
+                if (m_failed.insert(c.id).second) m_faults.push_back({c.id, std::move(c.error)});
+                if (load != m_loads.end() && load->second.liveRequests == 0) eraseLoad(load);
+                break;
+            case io::CompletionStatus::Cancelled:
+                ++m_ledger.cancelled;
+                ++m_frameCounts.requestsCancelled;
+                m_io->recycle(std::move(c.record));
+                break;
+        }
+    }
+    // Records the cache dropped give their storage back to the reader.
+    while (auto evicted = m_cache.takeEvicted()) m_io->recycle(std::move(*evicted));
+}
+
+TileStreamer::LoadState& TileStreamer::loadStateOf(const io::PatchId& id) {
+    if (const auto found = m_loads.find(id); found != m_loads.end()) return found->second;
+    const LoadState fresh{.firstWanted = Clock::now(),
+                          .firstWantedFrame = m_frame,
+                          .lastWantedFrame = m_frame,
+                          .liveRequests = 0,
+                          .cancelRequested = false};
+    if (!m_spareLoadNodes.empty()) {
+        LoadMap::node_type node = std::move(m_spareLoadNodes.back());
+        m_spareLoadNodes.pop_back();
+        node.key() = id;
+        node.mapped() = fresh;
+        return m_loads.insert(std::move(node)).position->second;
+    }
+    return m_loads.emplace(id, fresh).first->second;
+}
+
+void TileStreamer::eraseLoad(LoadMap::iterator it) { m_spareLoadNodes.push_back(m_loads.extract(it)); }
+
+bool TileStreamer::uploadFromCache(const io::PatchId& id) {
+    if (!m_pool.uploadBudgetLeft()) {
+        ++m_frameCounts.gpuUploadsDeferred;
+        return false;
+    }
+    if (!m_pool.allocateEvicting(id)) return false;  // every layer is drawn this frame
+    // Looked up only now, so a CPU cache hit is a tile that goes to the GPU.
+    const io::PatchRecord* record = m_cache.find(id);
+    TERRAIN_ASSERT(record != nullptr, "TileStreamer: upload of a patch not in the CPU cache");
+    if (!m_pool.upload(*record)) {
+        m_pool.release(id);  // the ring is full of this frame's uploads: next frame
+        return false;
+    }
+    return true;
+}
+
+const io::PatchInfo* TileStreamer::acquire(const io::PatchId& id, float priority) {
+    if (const io::PatchInfo* info = m_pool.info(id)) {
+        m_pool.touch(id);
+        return info;
+    }
+    if (m_failed.contains(id)) return nullptr;
+    LoadState& load = loadStateOf(id);
+    load.lastWantedFrame = m_frame;
+    if (m_cache.contains(id)) {
+        if (!uploadFromCache(id)) return nullptr;
+        const double ms =
+            std::chrono::duration<double, std::milli>(Clock::now() - load.firstWanted).count();
+        m_recentLoads.add(ms);
+        m_loadLatencies.add(ms);
+        ++m_frameCounts.loadsResident;
+        if (m_loadObserver) m_loadObserver({id, ms, m_frame - load.firstWantedFrame});
+        if (load.liveRequests == 0) eraseLoad(m_loads.find(id));
+        return m_pool.info(id);
+    }
+    // A live request is only re-prioritised: it may have finished already, its completion
+    // waiting for the next poll, and a second request would read the tile twice.
+    if (load.liveRequests > 0 && !load.cancelRequested) {
+        m_io->reprioritise(id, priority);
+        return nullptr;
+    }
+    // A new request (after a cancel, the cancelled one still ends once, as Cancelled or
+    // as it finished).
+    if (m_io->submit(id, priority)) {
+        ++load.liveRequests;
+        ++m_ledger.submitted;
+        ++m_frameCounts.requestsMade;
+        ++m_frameCounts.cpuCacheMisses;
+    }
+    load.cancelRequested = false;
+    return nullptr;
+}
+
+int TileStreamer::layerOf(const io::PatchId& id) const {
+    const std::optional<int> layer = m_pool.layerOf(id);
+    TERRAIN_ASSERT(layer.has_value(), "TileStreamer::layerOf a patch without a layer");
+    return *layer;
+}
+
+void TileStreamer::endFrame(FrameTelemetry& t) {
+    for (auto it = m_loads.begin(); it != m_loads.end();) {
+        const auto next = std::next(it);
+        LoadState& load = it->second;
+        if (load.lastWantedFrame != m_frame) {
+            if (load.liveRequests == 0) {
+                eraseLoad(it);
+            } else if (!load.cancelRequested) {
+                m_io->cancel(it->first);  // false when it finished already: polled next frame
+                load.cancelRequested = true;
+            }
+        }
+        it = next;
+    }
+    m_pool.endFrame();
+
+    const io::IoThreadStats io = m_io->stats();
+    const cache::TileCacheCounters& cpu = m_cache.counters();
+    const cache::GpuTilePoolFrameStats& gpu = m_pool.frameStats();
+    t.requestsMade = m_frameCounts.requestsMade;
+    t.requestsCancelled = m_frameCounts.requestsCancelled;
+    t.requestsCompleted = m_frameCounts.requestsCompleted;
+    t.requestsFailed = m_frameCounts.requestsFailed;
+    t.queueDepth = io.queueDepth;
+    t.ioInFlight = io.inFlight;
+    t.cpuCacheHits = cpu.hits;
+    t.cpuCacheMisses = m_frameCounts.cpuCacheMisses;
+    t.cpuCacheEvictions = cpu.evictions;
+    t.cpuCacheEntries = m_cache.entryCount();
+    t.cpuCacheBytes = m_cache.bytes();
+    t.cpuCacheBudgetBytes = m_cache.budgetBytes();
+    t.gpuLayersUsed = static_cast<std::uint64_t>(m_pool.layersUsed());
+    t.gpuLayersFree = static_cast<std::uint64_t>(m_pool.layersFree());
+    t.gpuEvictions = static_cast<std::uint64_t>(gpu.evictions);
+    t.gpuUploads = static_cast<std::uint64_t>(gpu.uploads);
+    t.gpuUploadBytes = gpu.bytesUploaded;
+    t.gpuUploadsDeferred =
+        m_frameCounts.gpuUploadsDeferred + static_cast<std::uint64_t>(gpu.uploadsDeferred);
+    t.gpuRingStalls = static_cast<std::uint64_t>(gpu.ringStalls);
+    t.loadsResident = m_frameCounts.loadsResident;
+    t.loadLatencyP50Ms = m_recentLoads.percentile(50.0);
+    t.loadLatencyP95Ms = m_recentLoads.percentile(95.0);
+    t.loadLatencyP99Ms = m_recentLoads.percentile(99.0);
+    t.diskReadBytes = io.bytesRead - m_bytesReadBefore;
+    m_bytesReadBefore = io.bytesRead;
+    t.faultsTotal = m_faults.size();
+}
+
+bool TileStreamer::drain(std::chrono::milliseconds timeout) {
+    for (auto& [id, load] : m_loads) {
+        if (load.liveRequests > 0 && !load.cancelRequested) {
+            m_io->cancel(id);
+            load.cancelRequested = true;
+        }
+    }
+    const auto deadline = Clock::now() + timeout;
+    while (true) {
+        takeCompletions();
+        const io::IoThreadStats s = m_io->stats();
+        if (s.queueDepth == 0 && s.inFlight == 0 && s.unpolled == 0) break;
+        const auto now = Clock::now();
+        if (now > deadline) return false;
+        m_io->waitForCompletion(std::chrono::ceil<std::chrono::milliseconds>(deadline - now));
+    }
+    for (auto it = m_loads.begin(); it != m_loads.end();) {
+        const auto next = std::next(it);
+        if (it->second.liveRequests == 0) eraseLoad(it);
+        it = next;
+    }
+    return m_ledger.ended() == m_ledger.submitted;
+}
+
+std::optional<std::string> TileStreamer::checkInvariants() const {
+    if (auto broken = m_pool.checkInvariants()) return "GPU tile pool: " + *broken;
+    if (m_cache.bytes() > m_cache.budgetBytes()) {
+        return fmt::format("CPU tile cache holds {} bytes over its budget of {}", m_cache.bytes(),
+                           m_cache.budgetBytes());
+    }
+    if (m_ledger.ended() > m_ledger.submitted) {
+        return fmt::format("{} requests ended but only {} were made", m_ledger.ended(),
+                           m_ledger.submitted);
+    }
+    for (const auto& [id, load] : m_loads) {
+        if (load.liveRequests < 0) {
+            return fmt::format("patch L{} ({}, {}) has {} live requests", id.level, id.x, id.y,
+                               load.liveRequests);
+        }
+    }
+    return std::nullopt;
+}
+
+}  // namespace terrain::runtime

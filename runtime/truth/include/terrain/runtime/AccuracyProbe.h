@@ -1,0 +1,120 @@
+// AccuracyProbe: one frame's accuracy against ground truth, end to end, for the benchmark
+// and the stability tests (docs/accuracy.md): it draws a TerrainSession's frame into its
+// own framebuffer (with skirts as the style says, and once more without, to tell skirt
+// pixels apart), draws the reference (ReferenceRenderer) for the same camera, reads both
+// back and computes the measured screen-space error (ScreenSpaceError.h), RMSE/PSNR, crack
+// pixels and popping (ImageComparison.h).
+#pragma once
+
+#include "terrain/gl/Framebuffer.h"
+#include "terrain/base/Result.h"
+#include "terrain/runtime/Camera.h"
+#include "terrain/runtime/FrameImages.h"
+#include "terrain/runtime/FullResolutionSurface.h"
+#include "terrain/runtime/ImageComparison.h"
+#include "terrain/runtime/ReferenceRenderer.h"
+#include "terrain/runtime/ScreenSpaceError.h"
+#include "terrain/runtime/TerrainRenderer.h"
+#include "terrain/runtime/TerrainSession.h"
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <vector>
+
+namespace terrain::runtime {
+
+struct AccuracyProbeOptions {
+    int widthPx = 256;
+    int heightPx = 192;
+    /// Cleared before both draws: pure magenta, which the terrain's shading never
+    /// produces, so an LOD pixel of this colour is a crack or a hole.
+    std::array<float, 4> clearColor{1.0f, 0.0f, 1.0f, 1.0f};
+    std::size_t surfaceBudgetBytes = FullResolutionSurface::kDefaultBudgetBytes;
+};
+
+struct LodCapture {
+    FrameImages images;  ///< as drawn, with the style's skirts
+    /// The same frame drawn without skirts (empty when the style has none).
+    std::vector<float> depthWithoutSkirts;
+    TerrainDrawStats draw;  ///< of the first draw (triangles, GPU ms when style.measure)
+    double drawMs = 0.0;    ///< wall time of the first draw up to glFinish
+};
+
+struct ReferenceCapture {
+    FrameImages images;
+    ReferenceDrawStats draw;
+    double drawMs = 0.0;  ///< wall time of the reference draw up to glFinish
+};
+
+struct FrameAccuracy {
+    static constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
+
+    ScreenSpaceErrorStats error;
+    ImageDifference image;
+    /// Clear colour in the LOD where the reference drew terrain, enclosed by terrain
+    /// (countUncoveredPixels): cracks and holes.
+    std::uint64_t crackPixels = 0;
+    /// All clear-colour LOD pixels where the reference drew terrain, silhouettes included.
+    std::uint64_t uncoveredPixels = 0;
+    std::uint64_t referencePixels = 0;  ///< pixels where the reference drew terrain
+    std::uint64_t lodPixels = 0;        ///< pixels where the LOD drew anything
+    /// ImageComparison's poppingLevels and its two terms; NaN without a previous frame.
+    double poppingLevels = kNoValue;
+    double lodChangeLevels = kNoValue;
+    double referenceChangeLevels = kNoValue;
+
+    /// No NaN among the figures (popping aside when there was no previous frame) and no
+    /// pixel whose measure was not finite.
+    bool finite() const;
+};
+
+/// The reference's look from the LOD style's (sky colour, fog).
+ReferenceStyle referenceStyleOf(const TerrainStyle& style);
+
+/// Render thread only; destroy it before its GL context.
+class AccuracyProbe {
+public:
+    /// Opens the pyramid's finest level and creates the renderers and framebuffers.
+    static Result<std::unique_ptr<AccuracyProbe>> create(
+        const std::filesystem::path& pyramid, const AccuracyProbeOptions& options = {});
+
+    /// Draws and reads back the ground truth for `camera` (viewport = the options' size).
+    Result<ReferenceCapture> renderReference(const Camera& camera, const ReferenceStyle& style);
+
+    /// Draws the session's frame for `camera` (between session.beginFrame and endFrame)
+    /// with `style`, then without skirts, and reads both back.
+    LodCapture captureLod(TerrainSession& session, const Camera& camera, const TerrainStyle& style);
+
+    /// The measures of `lod` against `reference` (same camera); with the previous frame's
+    /// captures (same sequence of cameras) also popping. `thresholdPx` (ε) counts the
+    /// pixels over it.
+    Result<FrameAccuracy> compare(const Camera& camera, const LodCapture& lod,
+                                      const ReferenceCapture& reference, double thresholdPx,
+                                      const LodCapture* previousLod = nullptr,
+                                      const ReferenceCapture* previousReference = nullptr);
+
+    /// captureLod, renderReference and compare for one frame (no popping), thresholdPx =
+    /// style.errorPx.
+    Result<FrameAccuracy> measure(TerrainSession& session, const Camera& camera,
+                                      const TerrainStyle& style);
+
+    FullResolutionSurface& surface() { return m_surface; }
+    const AccuracyProbeOptions& options() const { return m_options; }
+    std::array<std::uint8_t, 3> clearRgb() const;
+
+private:
+    AccuracyProbe(FullResolutionSurface surface, ReferenceRenderer reference,
+                  gl::Framebuffer lodTarget, gl::Framebuffer referenceTarget,
+                  const AccuracyProbeOptions& options);
+
+    FullResolutionSurface m_surface;
+    ReferenceRenderer m_reference;
+    gl::Framebuffer m_lodTarget;
+    gl::Framebuffer m_referenceTarget;
+    AccuracyProbeOptions m_options;
+};
+
+}  // namespace terrain::runtime

@@ -1,0 +1,171 @@
+// AccuracyProbe: two framebuffers (LOD, reference), the draws into them, the read-backs and
+// the measures.
+#include "terrain/runtime/AccuracyProbe.h"
+
+#include <epoxy/gl.h>
+
+#include <chrono>
+#include <cmath>
+
+namespace terrain::runtime {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double millisecondsSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+/// Binds `target` and its viewport for the scope; unbinds (framebuffer 0) after.
+class TargetScope {
+public:
+    explicit TargetScope(const gl::Framebuffer& target) {
+        glBindFramebuffer(GL_FRAMEBUFFER, target.id());
+        glViewport(0, 0, target.width(), target.height());
+    }
+    ~TargetScope() { glBindFramebuffer(GL_FRAMEBUFFER, 0); }
+    TargetScope(const TargetScope&) = delete;
+    TargetScope& operator=(const TargetScope&) = delete;
+};
+
+}  // namespace
+
+bool FrameAccuracy::finite() const {
+    const double figures[] = {error.maxPx,
+                              error.meanPx,
+                              error.p99Px,
+                              error.maxFixedDiagonalPx,
+                              error.meanFixedDiagonalPx,
+                              error.skirtMaxPx,
+                              image.rmse,
+                              image.psnrDb};
+    for (const double v : figures) {
+        if (!std::isfinite(v)) return false;
+    }
+    return error.nonFinitePixels == 0;
+}
+
+ReferenceStyle referenceStyleOf(const TerrainStyle& style) {
+    return {.skyColor = style.skyColor, .fogDensityPerM = style.fogDensityPerM};
+}
+
+AccuracyProbe::AccuracyProbe(FullResolutionSurface surface, ReferenceRenderer reference,
+                             gl::Framebuffer lodTarget, gl::Framebuffer referenceTarget,
+                             const AccuracyProbeOptions& options)
+    : m_surface(std::move(surface)),
+      m_reference(std::move(reference)),
+      m_lodTarget(std::move(lodTarget)),
+      m_referenceTarget(std::move(referenceTarget)),
+      m_options(options) {}
+
+Result<std::unique_ptr<AccuracyProbe>> AccuracyProbe::create(
+    const std::filesystem::path& pyramid, const AccuracyProbeOptions& options) {
+    auto surface = FullResolutionSurface::open(pyramid, options.surfaceBudgetBytes);
+    if (!surface) return surface.error();
+    auto reference = ReferenceRenderer::create(surface.value().layout());
+    if (!reference) return reference.error();
+    auto lodTarget = gl::Framebuffer::create(options.widthPx, options.heightPx, "accuracy LOD");
+    if (!lodTarget) return lodTarget.error();
+    auto referenceTarget = gl::Framebuffer::createWithFloatAttachment(
+        options.widthPx, options.heightPx, "accuracy reference");
+    if (!referenceTarget) return referenceTarget.error();
+    return std::unique_ptr<AccuracyProbe>(new AccuracyProbe(
+        std::move(surface).value(), std::move(reference).value(), std::move(lodTarget).value(),
+        std::move(referenceTarget).value(), options));
+}
+
+std::array<std::uint8_t, 3> AccuracyProbe::clearRgb() const {
+    std::array<std::uint8_t, 3> rgb{};
+    for (std::size_t c = 0; c < 3; ++c) {
+        rgb[c] = static_cast<std::uint8_t>(std::lround(m_options.clearColor[c] * 255.0f));
+    }
+    return rgb;
+}
+
+Result<ReferenceCapture> AccuracyProbe::renderReference(const Camera& camera,
+                                                            const ReferenceStyle& style) {
+    TERRAIN_ASSERT(
+        camera.viewportWidth == m_options.widthPx && camera.viewportHeight == m_options.heightPx,
+        "AccuracyProbe: the camera's viewport is not the probe's");
+    ReferenceCapture capture;
+    m_referenceTarget.clear(m_options.clearColor, 0.0f);  // reversed Z: far is 0
+    m_referenceTarget.clearFloatAttachment(std::numeric_limits<float>::quiet_NaN());
+    {
+        const TargetScope scope(m_referenceTarget);
+        const auto start = Clock::now();
+        auto drawn = m_reference.draw(camera, m_surface, style);
+        if (!drawn) return drawn.error();
+        glFinish();
+        capture.drawMs = millisecondsSince(start);
+        capture.draw = drawn.value();
+    }
+    capture.images = readFrameImages(m_referenceTarget);
+    return capture;
+}
+
+LodCapture AccuracyProbe::captureLod(TerrainSession& session, const Camera& camera,
+                                     const TerrainStyle& style) {
+    TERRAIN_ASSERT(
+        camera.viewportWidth == m_options.widthPx && camera.viewportHeight == m_options.heightPx,
+        "AccuracyProbe: the camera's viewport is not the probe's");
+    LodCapture capture;
+    m_lodTarget.clear(m_options.clearColor, 0.0f);
+    {
+        const TargetScope scope(m_lodTarget);
+        const auto start = Clock::now();
+        capture.draw = session.draw(camera, style);
+        glFinish();
+        capture.drawMs = millisecondsSince(start);
+    }
+    capture.images = readFrameImages(m_lodTarget);
+    if (style.skirts) {
+        TerrainStyle withoutSkirts = style;
+        withoutSkirts.skirts = false;
+        withoutSkirts.measure = false;
+        m_lodTarget.clear(m_options.clearColor, 0.0f);
+        {
+            const TargetScope scope(m_lodTarget);
+            session.draw(camera, withoutSkirts);
+        }
+        capture.depthWithoutSkirts = m_lodTarget.readDepth();
+    }
+    return capture;
+}
+
+Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapture& lod,
+                                                 const ReferenceCapture& reference,
+                                                 double thresholdPx, const LodCapture* previousLod,
+                                                 const ReferenceCapture* previousReference) {
+    FrameAccuracy a;
+    auto error = measureScreenSpaceError(camera, lod.images.depth, lod.depthWithoutSkirts,
+                                         reference.images.depth, m_surface, thresholdPx);
+    if (!error) return error.error();
+    a.error = error.value();
+    a.image = compareImages(lod.images.rgba, reference.images.rgba);
+    const UncoveredPixels uncovered =
+        countUncoveredPixels(lod.images, reference.images, clearRgb());
+    a.crackPixels = uncovered.cracks;
+    a.uncoveredPixels = uncovered.uncovered;
+    for (std::size_t i = 0; i < reference.images.pixels(); ++i) {
+        a.referencePixels += reference.images.drawn(i) ? 1 : 0;
+        a.lodPixels += lod.images.drawn(i) ? 1 : 0;
+    }
+    if (previousLod != nullptr && previousReference != nullptr) {
+        a.lodChangeLevels = meanImageChange(previousLod->images.rgba, lod.images.rgba);
+        a.referenceChangeLevels =
+            meanImageChange(previousReference->images.rgba, reference.images.rgba);
+        a.poppingLevels = poppingLevels(previousLod->images.rgba, lod.images.rgba,
+                                        previousReference->images.rgba, reference.images.rgba);
+    }
+    return a;
+}
+
+Result<FrameAccuracy> AccuracyProbe::measure(TerrainSession& session, const Camera& camera,
+                                                 const TerrainStyle& style) {
+    const LodCapture lod = captureLod(session, camera, style);
+    auto reference = renderReference(camera, referenceStyleOf(style));
+    if (!reference) return reference.error();
+    return compare(camera, lod, reference.value(), style.errorPx);
+}
+
+}  // namespace terrain::runtime

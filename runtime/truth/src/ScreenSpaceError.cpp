@@ -1,0 +1,156 @@
+// ScreenSpaceError: unproject the LOD's depth in double, look up the full-resolution
+// surface below, project both points, measure pixels.
+#include "terrain/runtime/ScreenSpaceError.h"
+
+#include <glm/geometric.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/matrix.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace terrain::runtime {
+
+Result<ScreenSpaceErrorStats> measureScreenSpaceError(
+    const Camera& camera, std::span<const float> lodDepth, std::span<const float> lodDepthNoSkirts,
+    std::span<const float> referenceDepth, FullResolutionSurface& surface, double thresholdPx) {
+    const int w = camera.viewportWidth, h = camera.viewportHeight;
+    const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+    TERRAIN_ASSERT(lodDepth.size() == pixels, "measureScreenSpaceError: depth size");
+    TERRAIN_ASSERT(lodDepthNoSkirts.empty() || lodDepthNoSkirts.size() == pixels);
+    TERRAIN_ASSERT(referenceDepth.empty() || referenceDepth.size() == pixels);
+
+    const glm::dmat4 viewProjection = camera.relativeViewProjection();
+    const glm::dmat4 inverse = glm::inverse(viewProjection);
+    ScreenSpaceErrorStats stats;
+    std::vector<double> errors;
+    // Per pixel: the error, −1 where nothing was measured; and what it was measured
+    // against, for the report of the worst pixel.
+    std::vector<float> errorImage(pixels, -1.0f);
+    std::vector<glm::dvec4> measuredAt(pixels);
+    double sum = 0.0, sumFixed = 0.0;
+    // The projected distance between W_lod (at the pixel's centre, by construction) and the
+    // point at height `z` straight above or below it; +∞ if that point is behind the camera.
+    const auto verticalPx = [&](const glm::dvec3& relative, const glm::dvec2& centre, double dz) {
+        if (dz == 0.0) return 0.0;
+        const glm::dvec2 q = projectToPixels(viewProjection, w, h, relative + glm::dvec3(0, 0, dz));
+        if (std::isnan(q.x)) return std::numeric_limits<double>::infinity();
+        return glm::length(q - centre);
+    };
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                                  static_cast<std::size_t>(x);
+            const float depth = lodDepth[i];
+            if (std::isnan(depth)) {
+                ++stats.nonFinitePixels;
+                continue;
+            }
+            if (!(depth > 0.0f)) continue;  // nothing drawn
+            if (!referenceDepth.empty() && !(referenceDepth[i] > 0.0f)) continue;
+            const bool skirt = !lodDepthNoSkirts.empty() && lodDepthNoSkirts[i] != depth;
+            const glm::dvec3 relative = unprojectPixel(inverse, w, h, x, y, depth);
+            const glm::dvec3 world = camera.position + relative;
+            if (!std::isfinite(world.x) || !std::isfinite(world.y) || !std::isfinite(world.z)) {
+                ++stats.nonFinitePixels;
+                continue;
+            }
+            auto below = surface.heightAt(world.x, world.y);
+            if (!below) return below.error();
+            if (!below.value().inside) {
+                // The rasteriser snaps vertices to sub-pixel positions, so a pixel centre
+                // just past the DEM's edge may be covered: measure it at the edge when the
+                // edge is less than a pixel away on screen.
+                const glm::dvec2 edge = surface.clampToDem(world.x, world.y);
+                const glm::dvec3 edgeRelative{edge.x - camera.position.x,
+                                              edge.y - camera.position.y, relative.z};
+                const glm::dvec2 a = projectToPixels(viewProjection, w, h, relative);
+                const glm::dvec2 b = projectToPixels(viewProjection, w, h, edgeRelative);
+                if (glm::length(a - b) < 1.0) {
+                    below = surface.heightAt(edge.x, edge.y);
+                    if (!below) return below.error();
+                }
+            }
+            const SurfaceHeight& s = below.value();
+            if (!s.inside) {
+                if (skirt) {
+                    ++stats.skirtPixels;
+                } else {
+                    ++stats.outsidePixels;
+                }
+                continue;
+            }
+            // The projection of W_lod: the pixel's centre, up to rounding; projecting it too
+            // keeps both ends of the segment under the same arithmetic.
+            const glm::dvec2 centre = projectToPixels(viewProjection, w, h, relative);
+            const double nearest = std::clamp(world.z, s.lowM, s.highM);
+            const double errorPx = verticalPx(relative, centre, nearest - world.z);
+            if (!std::isfinite(errorPx) || std::isnan(centre.x)) {
+                ++stats.nonFinitePixels;
+                continue;
+            }
+            if (skirt) {
+                ++stats.skirtPixels;
+                stats.skirtMaxPx = std::max(stats.skirtMaxPx, errorPx);
+                continue;
+            }
+            const double fixedPx = verticalPx(relative, centre, s.referenceM - world.z);
+            ++stats.pixels;
+            sum += errorPx;
+            sumFixed += std::isfinite(fixedPx) ? fixedPx : 0.0;
+            errors.push_back(errorPx);
+            errorImage[i] = static_cast<float>(errorPx);
+            measuredAt[i] = glm::dvec4(world, nearest);
+            stats.maxFixedDiagonalPx = std::max(stats.maxFixedDiagonalPx, fixedPx);
+            stats.maxSinglePixelPx = std::max(stats.maxSinglePixelPx, errorPx);
+            if (errorPx > thresholdPx) {
+                ++stats.pixelsOverThreshold;
+                if (stats.overThreshold.size() < ScreenSpaceErrorStats::kMaxKeptPixels) {
+                    stats.overThreshold.push_back(
+                        {.x = x, .y = y, .world = world, .surfaceM = nearest, .errorPx = errorPx});
+                }
+            }
+        }
+    }
+    // The largest error two adjacent pixels both show: for every pixel, the smaller of its
+    // own error and its largest measured 8-neighbour's.
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                                  static_cast<std::size_t>(x);
+            if (errorImage[i] < 0.0f) continue;
+            float neighbour = -1.0f;
+            for (int j = std::max(y - 1, 0); j <= std::min(y + 1, h - 1); ++j) {
+                for (int k = std::max(x - 1, 0); k <= std::min(x + 1, w - 1); ++k) {
+                    if (j == y && k == x) continue;
+                    neighbour = std::max(
+                        neighbour,
+                        errorImage[static_cast<std::size_t>(j) * static_cast<std::size_t>(w) +
+                                   static_cast<std::size_t>(k)]);
+                }
+            }
+            if (neighbour < 0.0f) continue;  // a lone measured pixel shows nothing twice
+            const double shared =
+                std::min(static_cast<double>(errorImage[i]), static_cast<double>(neighbour));
+            if (shared > stats.maxPx || stats.worstX < 0) {
+                stats.maxPx = shared;
+                stats.worstX = x;
+                stats.worstY = y;
+                stats.worstWorld = glm::dvec3(measuredAt[i]);
+                stats.worstReferenceM = measuredAt[i].w;
+            }
+        }
+    }
+    if (stats.pixels > 0) {
+        const auto n = static_cast<double>(stats.pixels);
+        stats.meanPx = sum / n;
+        stats.meanFixedDiagonalPx = sumFixed / n;
+        const auto rank = static_cast<std::size_t>(std::ceil(0.99 * n)) - 1;
+        std::nth_element(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(rank),
+                         errors.end());
+        stats.p99Px = errors[rank];
+    }
+    return stats;
+}
+
+}  // namespace terrain::runtime

@@ -1,0 +1,299 @@
+// runtime::LodQuadtree on FakeTileResidency (one thread, no GL, no sleeps: tiles arrive on
+// the frame the fake says): it settles on the same cut as selecting from the root, keeps its
+// invariants (leaves tile the domain, only complete child sets, every node pinned and
+// resident) through a flight with late, budgeted and failing tiles, a static camera changes
+// nothing (no flicker, no work), small moves near thresholds do not pop, a changed ε
+// re-evaluates everything, and the tree gives back every pin it took.
+#include "FakeTileResidency.h"
+#include "StreamingTestPyramid.h"
+#include "terrain/runtime/LodQuadtree.h"
+#include "terrain/runtime/PatchSelection.h"
+#include "terrain/runtime/TerrainGeometry.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <memory>
+#include <optional>
+#include <random>
+#include <tuple>
+#include <vector>
+
+namespace terrain::test {
+namespace {
+
+using runtime::Camera;
+using runtime::LodQuadtree;
+using runtime::LodUpdateStats;
+using runtime::PatchDraw;
+
+class LodQuadtreeTest : public ::testing::Test {
+protected:
+    void SetUp() override { open({}); }
+    void TearDown() override { m_tree.reset(); }
+
+    void open(const FakeTileResidencyOptions& options) {
+        m_tree.reset();
+        m_residency = FakeTileResidency::fromPyramid(streamingTestPyramid(), options);
+        ASSERT_TRUE(m_residency);
+        auto manifest = io::readManifest(streamingTestPyramid());
+        ASSERT_TRUE(manifest) << manifest.error().message;
+        m_geometry.emplace(manifest.value());
+    }
+
+    Camera camera(double fx, double fy, double above, double tx, double ty) const {
+        Camera c;
+        c.viewportWidth = 640;
+        c.viewportHeight = 480;
+        c.fovY = 1.0;
+        c.position = {m_geometry->worldAtFraction(fx, fy), m_geometry->maxHeight() + above};
+        c.lookAt({m_geometry->worldAtFraction(tx, ty), m_geometry->minHeight()});
+        return c;
+    }
+
+    LodUpdateStats frame(const Camera& c) {
+        m_residency->beginFrame();
+        const LodUpdateStats stats = m_tree->update(c, m_draws);
+        m_residency->endFrame();
+        return stats;
+    }
+
+    /// Frames until no split is waiting for children and nothing is loading: with tiles
+    /// that arrive a frame after they are asked for, a handful per level.
+    LodUpdateStats settle(const Camera& c) {
+        LodUpdateStats stats;
+        for (int i = 0; i < 100; ++i) {
+            stats = frame(c);
+            if (stats.drawn > 0 && stats.waitingSplits == 0 && m_residency->pending() == 0 &&
+                stats.splits == 0 && stats.merges == 0) {
+                return stats;
+            }
+        }
+        ADD_FAILURE() << "the tree did not settle in 100 frames";
+        return stats;
+    }
+
+    std::uint64_t domain() const {
+        return runtime::finestPatchesCovered(m_residency->layout(), {0, 0, 0});
+    }
+
+    static std::vector<io::PatchId> ids(const std::vector<PatchDraw>& draws) {
+        std::vector<io::PatchId> out;
+        for (const PatchDraw& d : draws) out.push_back(d.id);
+        std::sort(out.begin(), out.end(), [](const io::PatchId& a, const io::PatchId& b) {
+            return std::tie(a.level, a.y, a.x) < std::tie(b.level, b.y, b.x);
+        });
+        return out;
+    }
+
+    std::unique_ptr<FakeTileResidency> m_residency;
+    std::optional<runtime::TerrainGeometry> m_geometry;
+    std::unique_ptr<LodQuadtree> m_tree;
+    std::vector<PatchDraw> m_draws;
+};
+
+TEST_F(LodQuadtreeTest, DrawsTheRootOnTheFrameItArrives) {
+    open({.framesToArrive = 3});
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry);
+    const Camera c = camera(0.5, 0.5, 2000.0, 0.5, 0.6);
+    for (int i = 1; i <= 3; ++i) {
+        EXPECT_EQ(frame(c).drawn, 0u) << "frame " << i << ": the root is not resident yet";
+        EXPECT_TRUE(m_draws.empty());
+    }
+    const LodUpdateStats fourth = frame(c);
+    ASSERT_EQ(m_draws.size(), 1u) << "the root arrives on frame 4 and is drawn at once";
+    EXPECT_EQ(m_draws[0].id, (io::PatchId{0, 0, 0}));
+    EXPECT_EQ(m_draws[0].layer, m_residency->layerOf({0, 0, 0}));
+    EXPECT_EQ(fourth.coveredFinestPatches, domain());
+    EXPECT_TRUE(m_residency->isPinned({0, 0, 0}));
+}
+
+TEST_F(LodQuadtreeTest, SettlesOnTheCutOfASelectionFromTheRoot) {
+    const runtime::LodOptions options{.errorPx = 1.0};
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry, options);
+    const Camera c = camera(0.2, 0.3, 300.0, 0.6, 0.5);
+    const LodUpdateStats settled = settle(c);
+    EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
+    EXPECT_GT(settled.drawn, 8u);
+    EXPECT_EQ(settled.coveredFinestPatches, domain());
+
+    std::vector<PatchDraw> fromRoot;
+    m_residency->beginFrame();
+    const runtime::PatchSelectionStats reference = runtime::selectPatches(
+        c, *m_geometry, options.coarseErrorPx(), *m_residency, fromRoot);
+    m_residency->endFrame();
+    EXPECT_EQ(reference.waitingSplits, 0u);
+    EXPECT_EQ(ids(m_draws), ids(fromRoot));
+}
+
+TEST_F(LodQuadtreeTest, StaticCameraChangesNothingAndCostsNothing) {
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry);
+    const Camera c = camera(0.5, 0.5, 150.0, 0.5, 0.9);
+    settle(c);
+    const std::vector<io::PatchId> before = ids(m_draws);
+    const std::uint64_t requests = m_residency->requests();
+    for (int i = 0; i < 20; ++i) {
+        const LodUpdateStats s = frame(c);
+        EXPECT_EQ(s.evaluations, 0u) << "frame " << i;
+        EXPECT_EQ(s.splits + s.merges, 0u);
+        EXPECT_EQ(ids(m_draws), before);
+    }
+    EXPECT_EQ(m_residency->requests(), requests) << "a settled view asks for nothing";
+    // Moving back and forth by a metre near the thresholds does not pop.
+    std::uint64_t changes = 0;
+    for (int i = 0; i < 40; ++i) {
+        Camera moved = c;
+        moved.position.x += (i % 2 == 0) ? 1.0 : -1.0;
+        const LodUpdateStats s = frame(moved);
+        changes += s.splits + s.merges;
+    }
+    EXPECT_EQ(changes, 0u) << "hysteresis keeps small moves from splitting and merging";
+    EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
+}
+
+TEST_F(LodQuadtreeTest, InvariantsHoldThroughAFlightAndTreeFollowsTheCamera) {
+    open({.framesToArrive = 2, .arrivalsPerFrame = 4});
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry);
+    std::uint64_t splits = 0, merges = 0, framesDrawn = 0;
+    int maxLevelNear = 0;
+    for (int i = 0; i < 400; ++i) {
+        const double t = i / 400.0;
+        const Camera c = camera(0.1 + 0.8 * t, 0.1 + 0.8 * t, 50.0 + 3000.0 * t * t, 0.9, 0.9);
+        const LodUpdateStats s = frame(c);
+        splits += s.splits;
+        merges += s.merges;
+        if (i >= 2) {
+            ASSERT_GT(s.drawn, 0u) << "frame " << i << ": the root arrived on frame 3";
+            ++framesDrawn;
+            ASSERT_EQ(s.coveredFinestPatches, domain()) << "frame " << i;
+        }
+        ASSERT_EQ(m_tree->checkInvariants(), std::nullopt) << "frame " << i;
+        for (const PatchDraw& d : m_draws) {
+            ASSERT_NE(m_residency->residentInfo(d.id), nullptr);
+            ASSERT_EQ(m_residency->layerOf(d.id), d.layer);
+            if (i < 100) maxLevelNear = std::max(maxLevelNear, d.id.level);
+        }
+    }
+    EXPECT_EQ(framesDrawn, 398u);
+    EXPECT_GT(splits, 0u);
+    EXPECT_GT(merges, 0u) << "climbing away merges what was split near the ground";
+    EXPECT_EQ(maxLevelNear, m_residency->layout().finestLevel());
+}
+
+TEST_F(LodQuadtreeTest, ChangingTheThresholdReevaluatesEverything) {
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry,
+                                           runtime::LodOptions{.errorPx = 4.0});
+    const Camera c = camera(0.3, 0.3, 200.0, 0.7, 0.7);
+    const LodUpdateStats coarse = settle(c);
+    m_tree->setOptions({.errorPx = 0.5});
+    const LodUpdateStats fine = settle(c);
+    EXPECT_GT(fine.drawn, coarse.drawn);
+    m_tree->setOptions({.errorPx = 4.0});
+    const LodUpdateStats back = settle(c);
+    // Back to the coarse cut, except where hysteresis keeps a split whose parent's error
+    // lies between ε / hysteresis and ε.
+    EXPECT_LT(back.drawn, fine.drawn);
+    EXPECT_GE(back.drawn, coarse.drawn);
+    EXPECT_LE(back.drawn, coarse.drawn + coarse.drawn / 4);
+    EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
+}
+
+// Never a hole while streaming: teleports far faster than tiles arrive (3 frames late, 2 a
+// frame), a pool of 40 layers for 341 patches and one load in ten failing. Every frame the
+// drawn and culled leaves tile the domain exactly once, every drawn patch is resident on its
+// layer and none failed; the views refine beyond the root and splits do wait for tiles.
+TEST_F(LodQuadtreeTest, NeverAHoleWithLateBudgetedAndFailingTiles) {
+    open({.capacity = 40,
+          .framesToArrive = 3,
+          .arrivalsPerFrame = 2,
+          .fails = [](const io::PatchId& id) {
+              return id.level > 0 && (id.x * 7 + id.y * 13 + id.level) % 10 == 3;
+          }});
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry,
+                                           runtime::LodOptions{.errorPx = 1.0});
+    std::mt19937_64 random(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::uniform_int_distribution<int> holdFrames(1, 10);
+    int frames = 0, framesWaiting = 0, teleports = 0;
+    std::uint64_t maxDrawn = 0;
+    while (frames < 300) {
+        const Camera c = camera(u(random), u(random), 10.0 + 2000.0 * u(random), u(random),
+                                u(random));
+        ++teleports;
+        for (int hold = holdFrames(random); hold > 0 && frames < 300; --hold, ++frames) {
+            const LodUpdateStats s = frame(c);
+            ASSERT_EQ(m_tree->checkInvariants(), std::nullopt) << "frame " << frames;
+            if (frames < 3) continue;  // the root arrives on frame 4
+            ASSERT_EQ(s.coveredFinestPatches, domain()) << "frame " << frames;
+            for (const PatchDraw& d : m_draws) {
+                ASSERT_EQ(m_residency->layerOf(d.id), d.layer);
+                ASSERT_FALSE(m_residency->hasFailed(d.id));
+            }
+            framesWaiting += s.waitingSplits > 0 ? 1 : 0;
+            maxDrawn = std::max(maxDrawn, s.drawn);
+        }
+    }
+    EXPECT_GT(framesWaiting, frames / 3) << "tiles were late for many frames";
+    EXPECT_GT(m_residency->failed().size(), 0u);
+    EXPECT_GT(m_residency->evictions(), 0u) << "40 layers cannot hold every view";
+    EXPECT_GT(maxDrawn, 4u) << "the views refine beyond the root";
+    EXPECT_LE(m_residency->pinnedCount(), 40u);
+}
+
+// A patch whose child failed keeps drawing in its place and never splits again; its
+// siblings' subtrees are unaffected.
+TEST_F(LodQuadtreeTest, AFailedChildKeepsItsParentDrawing) {
+    const io::PatchId lost{2, 1, 1};
+    open({.fails = [lost](const io::PatchId& id) { return id == lost; }});
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry,
+                                           runtime::LodOptions{.errorPx = 0.5});
+    // Low over the lost patch's area, so its parent wants to split.
+    const Camera c = camera(0.3, 0.3, 20.0, 0.35, 0.35);
+    settle(c);
+    ASSERT_TRUE(m_residency->hasFailed(lost));
+    const io::PatchId parent{1, 0, 0};
+    const bool parentDrawn = std::any_of(m_draws.begin(), m_draws.end(),
+                                         [&](const PatchDraw& d) { return d.id == parent; });
+    EXPECT_TRUE(parentDrawn) << "the parent of the failed patch draws in its place";
+    for (const PatchDraw& d : m_draws) {
+        for (io::PatchId up = d.id; up.level > lost.level;) {
+            up = {up.level - 1, up.x / 2, up.y / 2};
+            EXPECT_FALSE(up == lost) << "a descendant of the failed patch is drawn";
+        }
+    }
+    EXPECT_GT(m_draws.size(), 4u) << "the rest of the view refines";
+    EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
+}
+
+// Leaves that can never split — the finest level with the camera inside its box, or a
+// patch whose child failed to load — once re-scheduled their own check at zero travel and
+// a frame never ended. Every frame must end, and a still camera must cost nothing.
+TEST_F(LodQuadtreeTest, UnsplittableLeavesDoNotRecheckWithinAFrame) {
+    open({.fails = [](const io::PatchId& id) { return id.level > 1 && (id.x + 2 * id.y) % 3 == 0; }});
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry,
+                                           runtime::LodOptions{.errorPx = 0.5});
+    // Just above the highest sample: inside the bounding boxes of the patches below.
+    Camera c = camera(0.5, 0.5, 0.5, 0.55, 0.55);
+    c.position.z = m_geometry->maxHeight() - 1.0;
+    settle(c);
+    EXPECT_GT(m_residency->failed().size(), 0u);
+    for (int i = 0; i < 10; ++i) {
+        const LodUpdateStats s = frame(c);
+        EXPECT_EQ(s.evaluations, 0u) << "frame " << i;
+    }
+    EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
+}
+
+// The tree pins what it holds and gives every pin back: no layer leaks when it goes.
+TEST_F(LodQuadtreeTest, DestroyingTheTreeUnpinsEveryLayer) {
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry,
+                                           runtime::LodOptions{.errorPx = 1.0});
+    const LodUpdateStats settled = settle(camera(0.2, 0.3, 300.0, 0.6, 0.5));
+    EXPECT_EQ(m_residency->pinnedCount(), settled.nodes);
+    EXPECT_GT(settled.nodes, settled.drawn);
+    m_tree.reset();
+    EXPECT_EQ(m_residency->pinnedCount(), 0u);
+}
+
+}  // namespace
+}  // namespace terrain::test

@@ -1,0 +1,248 @@
+// runtime::TileStreamer end to end, with the real I/O thread and GPU pool on a real
+// context, driven by runtime::selectPatches: the root arrives first, every drawn patch is
+// resident on its layer of the pool, drawn and culled patches tile the domain even with
+// tiny budgets, injected latency and injected faults; faults are reported once, naming
+// the shard file, and their ancestors keep drawing; every request ends once; telemetry
+// counts every frame. Frames wait for the I/O thread's outcomes (waitForReads), never
+// sleep, and no assertion counts on how fast the thread reads. The selection's own rules
+// are tested without threads or GL in tests/runtime/lod/PatchSelectionTest.cpp.
+#include "GlTestFixture.h"
+#include "StreamingTestPyramid.h"
+#include "TempFolder.h"
+#include "terrain/io/PatchIdHash.h"
+#include "terrain/io/PyramidManifest.h"
+#include "terrain/runtime/PatchSelection.h"
+#include "terrain/runtime/TerrainGeometry.h"
+#include "terrain/runtime/TileStreamer.h"
+
+#include <chrono>
+#include <filesystem>
+#include <random>
+#include <unordered_set>
+#include <vector>
+
+namespace terrain::test {
+namespace {
+
+using runtime::Camera;
+using runtime::PatchDraw;
+using runtime::PatchSelectionStats;
+using runtime::TileStreamer;
+
+class TileStreamerTest : public GlTest {
+protected:
+    static std::unique_ptr<TileStreamer> open(const runtime::TileStreamerOptions& options) {
+        auto opened = TileStreamer::open(streamingTestPyramid(), options);
+        EXPECT_TRUE(opened) << opened.error().message;
+        return opened ? std::move(opened).value() : nullptr;
+    }
+
+    static Camera lowOblique(const runtime::TerrainGeometry& g) {
+        Camera c;
+        c.viewportWidth = 640;
+        c.viewportHeight = 480;
+        c.fovY = 1.0;
+        c.position = {g.worldAtFraction(0.3, 0.2), g.maxHeight() + 200.0};
+        c.lookAt({g.worldAtFraction(0.6, 0.7), g.minHeight()});
+        return c;
+    }
+
+    struct Frame {
+        std::vector<PatchDraw> draws;
+        PatchSelectionStats stats;
+    };
+
+    /// One frame: select, check what a draw would reference, end the frame.
+    static void frame(TileStreamer& s, const runtime::TerrainGeometry& g, const Camera& c,
+                      double errorPx, Frame& f) {
+        s.beginFrame();
+        f.stats = runtime::selectPatches(c, g, errorPx, s, f.draws);
+        runtime::FrameTelemetry t;
+        s.endFrame(t);
+    }
+
+    /// Drawn patches are resident on their layers and, with the culled ones, cover every
+    /// finest-level patch exactly once.
+    static void expectCoverage(const TileStreamer& s, const Frame& f) {
+        const std::uint64_t domain = runtime::finestPatchesCovered(s.layout(), {0, 0, 0});
+        EXPECT_EQ(f.stats.coveredFinestPatches, domain);
+        std::unordered_set<io::PatchId, io::PatchIdHash> drawn;
+        for (const PatchDraw& d : f.draws) {
+            EXPECT_TRUE(s.pool().isResident(d.id));
+            EXPECT_EQ(s.pool().patchOnLayer(d.layer), std::optional<io::PatchId>(d.id));
+            EXPECT_TRUE(drawn.insert(d.id).second);
+        }
+        for (const PatchDraw& d : f.draws) {
+            for (io::PatchId up = d.id; up.level > 0;) {
+                up = {up.level - 1, up.x / 2, up.y / 2};
+                EXPECT_FALSE(drawn.contains(up)) << "a drawn patch overlaps an ancestor";
+            }
+        }
+        EXPECT_EQ(s.checkInvariants(), std::nullopt);
+    }
+};
+
+TEST_F(TileStreamerTest, SettlesOnAResidentCoverOfTheView) {
+    auto s = open({});
+    ASSERT_TRUE(s);
+    const runtime::TerrainGeometry g(s->manifest());
+    const Camera c = lowOblique(g);
+    Frame f;
+    frame(*s, g, c, 1.0, f);
+    EXPECT_TRUE(f.draws.empty()) << "nothing can draw before the root arrives";
+    bool settled = false;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (!settled && std::chrono::steady_clock::now() < deadline) {
+        frame(*s, g, c, 1.0, f);
+        settled = !f.draws.empty() && f.stats.waitingSplits == 0 && s->loadsOutstanding() == 0;
+        if (!settled) s->waitForReads(std::chrono::milliseconds(100));
+    }
+    ASSERT_TRUE(settled) << "the view never settled";
+    expectCoverage(*s, f);
+    EXPECT_GT(f.draws.size(), 4u);
+    EXPECT_GT(f.stats.culled, 0u) << "the oblique view sees only part of the DEM";
+    const int levels = s->layout().levelCount();
+    int finest = 0;
+    for (const PatchDraw& d : f.draws) finest = std::max(finest, d.id.level);
+    EXPECT_EQ(finest, levels - 1) << "a low view at 1 px needs the finest level somewhere";
+
+    // A static camera changes nothing once settled.
+    const std::vector<PatchDraw> before = f.draws;
+    const auto requested = s->ledger().submitted;
+    frame(*s, g, c, 1.0, f);
+    EXPECT_EQ(s->ledger().submitted, requested);
+    ASSERT_EQ(f.draws.size(), before.size());
+    for (std::size_t i = 0; i < before.size(); ++i) EXPECT_EQ(f.draws[i].id, before[i].id);
+    EXPECT_TRUE(s->drain(std::chrono::seconds(10)));
+}
+
+TEST_F(TileStreamerTest, TinyBudgetsSlowReadsAndFaultsEndEveryRequestOnce) {
+    runtime::TileStreamerOptions o;
+    o.gpuLayers = 12;
+    o.cpuCacheBytes = 6 * 5000;  // a handful of 35² tiles
+    o.uploadBytesPerFrame = 1;   // one upload per frame
+    o.io.faults = {.errorRate = 0.2, .addedLatencyMs = 1.0, .seed = 7};
+    auto s = open(o);
+    ASSERT_TRUE(s);
+    const runtime::TerrainGeometry g(s->manifest());
+    std::mt19937_64 random(3);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    Camera c = lowOblique(g);
+    Frame f;
+    std::uint64_t framesDrawn = 0;
+    for (int i = 0; i < 600; ++i) {
+        if (i % 20 == 0) {  // teleport
+            const double fx = u(random), fy = u(random);
+            c.position = {g.worldAtFraction(fx, fy), g.maxHeight() + 10.0 + 2000.0 * u(random)};
+            const double tx = u(random), ty = u(random);
+            c.lookAt({g.worldAtFraction(tx, ty), g.minHeight()});
+        }
+        frame(*s, g, c, 0.5, f);
+        s->waitForReads(std::chrono::milliseconds(50));  // a read's worth of time
+        if (f.stats.visited == 0) continue;  // the root is not in yet
+        ++framesDrawn;
+        ASSERT_NO_FATAL_FAILURE(expectCoverage(*s, f));
+        for (const PatchDraw& d : f.draws) EXPECT_FALSE(s->hasFailed(d.id));
+    }
+    EXPECT_GT(framesDrawn, 0u) << "the root never arrived";
+    ASSERT_TRUE(s->drain(std::chrono::seconds(10)));
+    const runtime::TileRequestLedger& ledger = s->ledger();
+    EXPECT_EQ(ledger.submitted, ledger.completed + ledger.cancelled + ledger.failed);
+    const io::IoThreadStats io = s->ioStats();
+    EXPECT_EQ(io.requested, ledger.submitted);
+    EXPECT_GT(ledger.failed, 0u) << "a 20% fault rate over hundreds of reads fails some";
+    EXPECT_EQ(io.injectedFaults, ledger.failed);
+    // Each fault is reported once, names its patch, and is never requested again.
+    std::unordered_set<io::PatchId, io::PatchIdHash> reported;
+    for (const runtime::TileFault& fault : s->faults()) {
+        EXPECT_TRUE(reported.insert(fault.id).second);
+        EXPECT_NE(fault.message.find("injected fault"), std::string::npos) << fault.message;
+        EXPECT_TRUE(o.io.faults.failsRead(fault.id));
+    }
+    // A patch may fail more than once (a cancel, then a new request of it, both reading
+    // it), but it is reported once.
+    EXPECT_LE(reported.size(), ledger.failed);
+    EXPECT_GT(reported.size(), 0u);
+}
+
+// A real fault: a finest-level shard file is missing. Each of its patches is reported once,
+// naming the shard file, and the area keeps being drawn by resident ancestors.
+TEST_F(TileStreamerTest, MissingShardIsReportedOncePerPatchAndAncestorsDraw) {
+    TempFolder folder;
+    const std::filesystem::path copy = folder.path() / "damaged.pyramid";
+    std::filesystem::copy(streamingTestPyramid(), copy, std::filesystem::copy_options::recursive);
+    auto manifest = io::readManifest(copy);
+    ASSERT_TRUE(manifest) << manifest.error().message;
+    const io::PyramidLayout& layout = manifest.value().layout;
+    const io::ShardId lost{layout.finestLevel(), 0, 0};
+    const std::filesystem::path shard = copy / layout.shardPath(lost);
+    ASSERT_TRUE(std::filesystem::remove(shard)) << shard;
+
+    auto opened = TileStreamer::open(copy, {});
+    ASSERT_TRUE(opened) << opened.error().message;
+    TileStreamer& s = *opened.value();
+    const runtime::TerrainGeometry g(s.manifest());
+    Camera c;  // low over the north-west corner, where the lost shard lies, looking down
+    c.viewportWidth = 640;
+    c.viewportHeight = 480;
+    c.fovY = 1.0;
+    c.position = {g.worldAtFraction(0.05, 0.05), g.maxHeight() + 50.0};
+    c.lookAt({g.worldAtFraction(0.1, 0.1), g.minHeight()});
+    Frame f;
+    for (int i = 0; i < 400; ++i) {
+        frame(s, g, c, 0.5, f);
+        if (f.stats.visited > 0) {
+            ASSERT_NO_FATAL_FAILURE(expectCoverage(s, f));
+        }
+        if (f.stats.waitingSplits == 0 && s.loadsOutstanding() == 0 && i > 0) break;
+        s.waitForReads(std::chrono::milliseconds(100));
+    }
+    ASSERT_FALSE(s.faults().empty()) << "the view needs patches of the lost shard";
+    std::unordered_set<io::PatchId, io::PatchIdHash> reported;
+    for (const runtime::TileFault& fault : s.faults()) {
+        EXPECT_TRUE(reported.insert(fault.id).second) << "reported twice";
+        EXPECT_EQ(layout.shardOf(fault.id), lost);
+        EXPECT_NE(fault.message.find(shard.filename().string()), std::string::npos) << fault.message;
+    }
+    for (const PatchDraw& d : f.draws) {
+        EXPECT_FALSE(d.id.level == lost.level && layout.shardOf(d.id) == lost)
+            << "a patch of the lost shard is drawn";
+    }
+    EXPECT_GT(f.draws.size(), 0u);
+    EXPECT_TRUE(s.drain(std::chrono::seconds(10)));
+    EXPECT_GE(s.ledger().failed, s.faults().size());
+}
+
+TEST_F(TileStreamerTest, TelemetryCountsTheFrame) {
+    auto s = open({});
+    ASSERT_TRUE(s);
+    const runtime::TerrainGeometry g(s->manifest());
+    const Camera c = lowOblique(g);
+    std::vector<PatchDraw> draws;
+    runtime::FrameTelemetry sum;
+    std::uint64_t frames = 0, residentTotal = 0;
+    for (int i = 0; i < 400; ++i) {
+        s->beginFrame();
+        runtime::selectPatches(c, g, 1.0, *s, draws);
+        runtime::FrameTelemetry t;
+        s->endFrame(t);
+        ++frames;
+        sum.requestsMade += t.requestsMade;
+        sum.requestsCompleted += t.requestsCompleted;
+        sum.gpuUploads += t.gpuUploads;
+        sum.diskReadBytes += t.diskReadBytes;
+        residentTotal += t.loadsResident;
+        EXPECT_EQ(t.gpuLayersUsed + t.gpuLayersFree, static_cast<std::uint64_t>(s->pool().capacity()));
+        EXPECT_LE(t.cpuCacheBytes, t.cpuCacheBudgetBytes);
+        if (i > 0 && s->loadsOutstanding() == 0) break;
+        s->waitForReads(std::chrono::milliseconds(100));
+    }
+    EXPECT_EQ(sum.requestsMade, s->ledger().submitted);
+    EXPECT_EQ(sum.requestsCompleted, s->ledger().completed);
+    EXPECT_EQ(sum.gpuUploads, static_cast<std::uint64_t>(s->pool().layersUsed()));
+    EXPECT_EQ(residentTotal, s->loadLatencies().count());
+    EXPECT_GE(sum.diskReadBytes, sum.requestsCompleted * 33u * 33u * sizeof(float));
+}
+
+}  // namespace
+}  // namespace terrain::test
