@@ -463,8 +463,9 @@ TEST_F(PyramidFormat, TruncatedToHalf) {
     EXPECT_GE(readAllOrFail(m_dir, records, file.string(), "half"), 1);
 }
 
-// meshoptimizer-style: every single-bit flip of every byte of a small shard, and every
-// truncated prefix, is either detected or harmless; never a crash, never wrong data. The
+// meshoptimizer-style: a flipped bit in every byte of a small shard (a different bit from
+// byte to byte), and every truncated prefix, is either detected or harmless; never a crash,
+// never wrong data. The
 // one-patch shard is the case where OpenEXR stores the patchInfo tile uncompressed (zlib
 // would make it larger), so only the checksum can notice a flipped error bound.
 class EveryDamage : public PyramidFormat, public ::testing::WithParamInterface<int> {};
