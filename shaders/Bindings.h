@@ -1,9 +1,9 @@
 // Binding points shared by C++ and GLSL: this file is valid in both languages.
-// C++ includes it through terrain::runtime's include path ("Bindings.h"); shaders include
+// C++ includes it through terrain::programs' include path ("Bindings.h"); shaders include
 // it with `#include "Bindings.h"`, which the program builder resolves. Only #define and
 // comments here: anything else would stop being valid in one of the two languages.
-// Each kind (vertex attribute, texture unit, uniform block, storage block, fragment
-// output) has its own numbering, so equal numbers across kinds do not collide.
+// Each kind (vertex attribute, texture unit, storage block, fragment output) has its own
+// numbering, so equal numbers across kinds do not collide.
 #ifndef TERRAIN_BINDINGS_H
 #define TERRAIN_BINDINGS_H
 
@@ -15,11 +15,7 @@
 
 // Texture units of the terrain draw (the GPU tile pool's texture arrays).
 #define TERRAIN_BINDING_HEIGHTS 0
-#define TERRAIN_BINDING_NORMALS 1
-#define TERRAIN_BINDING_BLOCK_ERRORS 2
-
-// Uniform blocks.
-#define TERRAIN_BINDING_FRAME_UNIFORMS 0
+#define TERRAIN_BINDING_BLOCK_ERRORS 1
 
 // Shader storage blocks.
 #define TERRAIN_BINDING_PATCH_INSTANCES 0

@@ -16,7 +16,6 @@ namespace {
 // 16 keeps every RGBA32F texel aligned as well.
 constexpr std::size_t kRingAlignment = 16;
 constexpr GLbitfield kRingFlags = GL_MAP_WRITE_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
-constexpr GLuint64 kWaitTimeoutNs = 1'000'000'000;
 
 std::size_t alignUp(std::size_t value, std::size_t alignment) {
     return (value + alignment - 1) / alignment * alignment;
@@ -27,25 +26,6 @@ std::size_t squared(int side) {
 }
 
 }  // namespace
-
-GpuTilePool::Fence::Fence(Fence&& other) noexcept
-    : sync(std::exchange(other.sync, nullptr)), ringEnd(other.ringEnd) {}
-
-GpuTilePool::Fence& GpuTilePool::Fence::operator=(Fence&& other) noexcept {
-    if (this != &other) {
-        reset();
-        sync = std::exchange(other.sync, nullptr);
-        ringEnd = other.ringEnd;
-    }
-    return *this;
-}
-
-void GpuTilePool::Fence::reset() {
-    if (sync != nullptr) {
-        glDeleteSync(sync);
-        sync = nullptr;
-    }
-}
 
 GpuTilePool::~GpuTilePool() = default;  // deleting the ring buffer also unmaps it
 
@@ -275,16 +255,10 @@ std::optional<std::size_t> GpuTilePool::reserveRing(std::size_t bytes) {
 
 void GpuTilePool::retireOldestFence(bool wait) {
     TERRAIN_ASSERT(m_fenceCount > 0);
-    Fence& oldest = m_fences[static_cast<std::size_t>(m_fenceFirst)];
-    if (wait) {
-        GLenum result = glClientWaitSync(oldest.sync, GL_SYNC_FLUSH_COMMANDS_BIT, kWaitTimeoutNs);
-        while (result == GL_TIMEOUT_EXPIRED) {
-            result = glClientWaitSync(oldest.sync, 0, kWaitTimeoutNs);
-        }
-        TERRAIN_ASSERT(result != GL_WAIT_FAILED, "GpuTilePool: glClientWaitSync failed");
-    }
+    FencedUploads& oldest = m_fences[static_cast<std::size_t>(m_fenceFirst)];
+    if (wait) oldest.fence.wait();
     m_ringTail = oldest.ringEnd;
-    oldest.reset();
+    oldest.fence.reset();
     m_fenceFirst = (m_fenceFirst + 1) % kMaxFences;
     --m_fenceCount;
 }
@@ -316,7 +290,7 @@ bool GpuTilePool::upload(const io::PatchRecord& record) {
     const int layer = found->second.layer;
     {
         // Tight packing, and the caller's unpack binding and pixel-store state put back.
-        const gl::detail::PixelStoreScope pixelStore;
+        const gl::PixelStoreScope pixelStore;
         glBindBuffer(GL_PIXEL_UNPACK_BUFFER, m_ring.id());
         // Pointers are offsets into the bound unpack buffer.
         glTextureSubImage3D(m_heights.id(), 0, 0, 0, layer, m_tileSamples, m_tileSamples, 1, GL_RED,
@@ -341,11 +315,7 @@ void GpuTilePool::beginFrame() {
     m_stats = {};
     ++m_frame;
     while (m_fenceCount > 0) {
-        const Fence& oldest = m_fences[static_cast<std::size_t>(m_fenceFirst)];
-        const GLenum result = glClientWaitSync(oldest.sync, 0, 0);
-        if (result != GL_ALREADY_SIGNALED && result != GL_CONDITION_SATISFIED) {
-            break;
-        }
+        if (!m_fences[static_cast<std::size_t>(m_fenceFirst)].fence.signalled()) break;
         retireOldestFence(false);
     }
 }
@@ -358,9 +328,10 @@ void GpuTilePool::endFrame() {
         retireOldestFence(true);
         ++m_stats.ringStalls;
     }
-    Fence& fence = m_fences[static_cast<std::size_t>((m_fenceFirst + m_fenceCount) % kMaxFences)];
-    fence.sync = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
-    fence.ringEnd = m_ringHead;
+    FencedUploads& fenced =
+        m_fences[static_cast<std::size_t>((m_fenceFirst + m_fenceCount) % kMaxFences)];
+    fenced.fence = gl::Fence::insert();
+    fenced.ringEnd = m_ringHead;
     m_ringFenced = m_ringHead;
     ++m_fenceCount;
 }

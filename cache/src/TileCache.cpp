@@ -17,6 +17,13 @@ std::size_t TileCache::recordBytes(const io::PatchRecord& record) {
            record.blockErrors.size() * sizeof(io::BlockErrors) + kEntryOverheadBytes;
 }
 
+std::size_t TileCache::tileBytes(const io::PyramidLayout& layout, bool withMask) {
+    const auto tile = static_cast<std::size_t>(layout.tileSamples());
+    const auto blocks = static_cast<std::size_t>(layout.blocksPerSide());
+    return tile * tile * (sizeof(float) + (withMask ? sizeof(std::uint8_t) : 0)) +
+           blocks * blocks * sizeof(io::BlockErrors) + kEntryOverheadBytes;
+}
+
 TileCache::TileCache(std::size_t budgetBytes) : m_budgetBytes(budgetBytes) {
     m_recycled.reserve(kMaxRecycledRecords);
 }

@@ -44,6 +44,21 @@ TEST(TileCache, RecordBytesCountsEveryVectorPlusOverhead) {
                                                   TileCache::kEntryOverheadBytes);
 }
 
+TEST(TileCache, TileBytesIsWhatAWholeTileOfTheLayoutIsCharged) {
+    const io::PyramidLayout layout = io::PyramidLayout::create(513, 513, 33, 8, 4).value();
+    for (const bool withMask : {false, true}) {
+        io::PatchRecord record;
+        const auto tile = static_cast<std::size_t>(layout.tileSamples());
+        const auto blocks = static_cast<std::size_t>(layout.blocksPerSide());
+        record.heights.resize(tile * tile);
+        if (withMask) record.valid.resize(tile * tile);
+        record.blockErrors.resize(blocks * blocks);
+        EXPECT_EQ(TileCache::tileBytes(layout, withMask), TileCache::recordBytes(record));
+        TileCache tooSmall(TileCache::recordBytes(record) - 1);
+        EXPECT_EQ(tooSmall.insert(std::move(record)), TileCacheInsertResult::TooLarge);
+    }
+}
+
 TEST(TileCache, FindReturnsTheStoredRecordAndCounts) {
     TileCache cache(10 * chargedBytes(kHeights));
     EXPECT_EQ(cache.insert(makeRecord(patch(1), kHeights)), TileCacheInsertResult::Inserted);

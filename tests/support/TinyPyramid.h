@@ -125,16 +125,13 @@ public:
                 r.heights[k] = levelSample(id.level, x0 + i, y0 + j);
                 if (m_options.withNoData) r.valid[k] = levelValid(id.level, x0 + i, y0 + j);
             }
+        // Overhanging samples count as no-data whether or not the pyramid stores a mask.
+        std::vector<std::uint8_t> valid(r.heights.size());
+        for (int j = 0; j < tile; ++j)
+            for (int i = 0; i < tile; ++i)
+                valid[static_cast<std::size_t>(j * tile + i)] = levelValid(id.level, x0 + i, y0 + j);
         r.info.present = true;
-        r.info.minHeight = std::numeric_limits<float>::infinity();
-        r.info.maxHeight = -std::numeric_limits<float>::infinity();
-        for (int j = 1; j <= n; ++j)
-            for (int i = 1; i <= n; ++i) {
-                const float h = r.heights[static_cast<std::size_t>(j * tile + i)];
-                r.info.minHeight = std::min(r.info.minHeight, h);
-                r.info.maxHeight = std::max(r.info.maxHeight, h);
-                if (levelValid(id.level, x0 + i, y0 + j) == 0) ++r.info.noDataSamples;
-            }
+        io::summariseDrawnSamples(m_layout, r.heights, valid, r.info);
         r.info.approxError = approxError(id);
         r.info.quantError = 0.0f;
         r.info.error = r.info.approxError;

@@ -2,7 +2,9 @@
 
 namespace terrain::tools {
 
-nlohmann::json glInfoJson(const gl::GlInfo& info) {
+nlohmann::json glInfoJson(const gl::GlContext& context) {
+    const gl::GlInfo& info = context.info();
+    const gl::DriverWorkaroundsApplied& applied = context.driverWorkarounds();
     return {
         {"platform", info.platform},
         {"platformDetail", info.platformDetail},
@@ -17,6 +19,10 @@ nlohmann::json glInfoJson(const gl::GlInfo& info) {
         {"maxTessGenLevel", info.maxTessGenLevel},
         {"maxTextureSize", info.maxTextureSize},
         {"maxArrayTextureLayers", info.maxArrayTextureLayers},
+        {"driverWorkarounds",
+         {{"llvmpipeHeapTrimOff", applied.llvmpipeHeapTrimOff},
+          {"driModulePinnedForLeakChecks", applied.driModulePinnedForLeakChecks},
+          {"genQueriesForPipelineStatistics", gl::kGenQueriesForPipelineStatistics}}},
     };
 }
 

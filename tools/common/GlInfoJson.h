@@ -1,13 +1,14 @@
 // The "gl" object of every rendering tool's --json summary: which platform, driver and
-// version the run had, so figures are never quoted without the renderer behind them.
+// version the run had, and which driver workarounds were applied, so figures are never
+// quoted without the renderer behind them.
 #pragma once
 
-#include "terrain/gl/GlInfo.h"
+#include "terrain/gl/GlContext.h"
 
 #include <nlohmann/json.hpp>
 
 namespace terrain::tools {
 
-nlohmann::json glInfoJson(const gl::GlInfo& info);
+nlohmann::json glInfoJson(const gl::GlContext& context);
 
 }  // namespace terrain::tools

@@ -7,11 +7,13 @@
 // bench.json; --report DIR also runs the chart tool for PNG charts and report.md.
 #include "BenchRecords.h"
 #include "ChartScript.h"
+#include "GlImagePng.h"
+#include "FrameSizeFlags.h"
 #include "GlInfoJson.h"
+#include "StreamingBudgetFlags.h"
 
 #include "terrain/cache/GpuTilePool.h"
 #include "terrain/base/AtomicFile.h"
-#include "terrain/io/RgbaImageWriter.h"
 #include "terrain/runtime/AccuracyProbe.h"
 #include "terrain/runtime/CameraPath.h"
 #include "terrain/gl/HeadlessGlContext.h"
@@ -28,7 +30,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <numbers>
@@ -57,9 +58,7 @@ struct BenchOptions {
     bool noSettle = false;
     bool coarseOnly = false;
     double tolerancePx = 0.05;
-    double cpuCacheMiB = 256.0;
-    int gpuLayers = 1024;
-    double uploadMiBPerFrame = 64.0;
+    tools::StreamingBudgets budgets{.cpuCacheMiB = 256.0, .gpuLayers = 1024, .uploadMiBPerFrame = 64.0};
     double fogDensity = 0.0;
     int sampleFrame = -1;  // -1: the middle frame
     bool json = false;
@@ -72,14 +71,7 @@ int fail(const std::string& message) {
 }
 
 Status writePng(const runtime::FrameImages& images, const fs::path& path) {
-    const std::size_t rowBytes = static_cast<std::size_t>(images.width) * 4;
-    std::vector<std::uint8_t> topDown(images.rgba.size());
-    for (int y = 0; y < images.height; ++y) {
-        std::memcpy(topDown.data() + static_cast<std::size_t>(y) * rowBytes,
-                    images.rgba.data() + static_cast<std::size_t>(images.height - 1 - y) * rowBytes,
-                    rowBytes);
-    }
-    return io::writeRgba8Png(path, images.width, images.height, topDown);
+    return tools::writeGlRgbaPng(path, images.width, images.height, images.rgba);
 }
 
 std::string thresholdName(double px) { return fmt::format("{}", px); }
@@ -149,11 +141,7 @@ int run(const BenchOptions& o, const char* argv0) {
     const std::string gpuMsSource = llvmpipe ? "llvmpipe-cpu" : "gl-timer-query";
 
     runtime::TerrainSessionOptions sessionOptions;
-    sessionOptions.streaming.cpuCacheBytes =
-        static_cast<std::size_t>(o.cpuCacheMiB * 1024.0 * 1024.0);
-    sessionOptions.streaming.gpuLayers = o.gpuLayers;
-    sessionOptions.streaming.uploadBytesPerFrame =
-        static_cast<std::size_t>(o.uploadMiBPerFrame * 1024.0 * 1024.0);
+    o.budgets.applyTo(sessionOptions.streaming);
     std::vector<ThresholdRun> runs;
     for (const double threshold : o.thresholdsPx) {
         sessionOptions.lod.errorPx = threshold;
@@ -344,7 +332,7 @@ int run(const BenchOptions& o, const char* argv0) {
                                  : "GL_TIME_ELAPSED of the terrain draw"},
         {"thresholds", thresholds},
         {"total_seconds", std::chrono::duration<double>(Clock::now() - start).count()},
-        {"gl", tools::glInfoJson(gl)},
+        {"gl", tools::glInfoJson(*context.value())},
     };
     if (auto w = writeAtomically(
             outputDir / "bench.json",
@@ -407,12 +395,7 @@ int main(int argc, char** argv) {
     app.add_option("--frames", o.frames, "Frames, evenly spread over the path")
         ->capture_default_str()
         ->check(CLI::Range(1, 100000));
-    app.add_option("--width", o.widthPx, "Frame width, pixels")
-        ->capture_default_str()
-        ->check(CLI::Range(16, 16384));
-    app.add_option("--height", o.heightPx, "Frame height, pixels")
-        ->capture_default_str()
-        ->check(CLI::Range(16, 16384));
+    tools::addFrameSizeFlags(app, o.widthPx, o.heightPx);
     app.add_option(
         "-o,--output", o.outputDir,
         "Folder for the CSVs and bench.json (default: the report folder, else out/bench)");
@@ -427,14 +410,7 @@ int main(int argc, char** argv) {
     app.add_option("--tolerance-px", o.tolerancePx,
                    "Rasterisation tolerance added to ε when counting frames over ε")
         ->capture_default_str();
-    app.add_option("--cpu-cache-mib", o.cpuCacheMiB, "CPU tile cache budget per threshold, MiB")
-        ->capture_default_str();
-    app.add_option("--gpu-layers", o.gpuLayers, "GPU tile pool layers per threshold")
-        ->capture_default_str()
-        ->check(CLI::Range(1, 1 << 16));
-    app.add_option("--upload-mib-per-frame", o.uploadMiBPerFrame,
-                   "GPU upload budget per frame, MiB")
-        ->capture_default_str();
+    tools::addStreamingBudgetFlags(app, o.budgets, " (each threshold's session)");
     app.add_option("--fog", o.fogDensity, "Fog density per metre (0: none)")->capture_default_str();
     app.add_option("--sample-frame", o.sampleFrame,
                    "Frame written as sample PNGs (default: the middle one)");

@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     }
     const gl::GlInfo& info = context.value()->info();
     if (json) {
-        std::puts(nlohmann::json{{"gl", tools::glInfoJson(info)}}.dump(2).c_str());
+        std::puts(nlohmann::json{{"gl", tools::glInfoJson(*context.value())}}.dump(2).c_str());
     } else {
         fmt::print(
             "platform:  {} ({})\nvendor:    {}\nrenderer:  {}\nversion:   {}\nGLSL:      {}\n"

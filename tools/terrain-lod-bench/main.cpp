@@ -3,7 +3,9 @@
 // on the same frames with the same resident tiles. Each frame first lets streaming catch
 // up (so both see a settled view, and the figure is the LOD's, not the disk's), then times
 // one update of each. Prints medians, p95 and the speed-up; --json for scripts.
+#include "FrameSizeFlags.h"
 #include "GlInfoJson.h"
+#include "StreamingBudgetFlags.h"
 
 #include "terrain/gl/HeadlessGlContext.h"
 #include "terrain/runtime/LatencyHistogram.h"
@@ -42,28 +44,28 @@ int main(int argc, char** argv) {
     CLI::App app{"LOD update CPU time per frame on a smooth flight: the frame-coherent quadtree "
                  "against re-selecting from the root every frame."};
     std::string pyramid;
-    int width = 1920, height = 1080, frames = 600, gpuLayers = 4096;
+    int width = 1920, height = 1080, frames = 600;
+    // Budgets large enough that streaming never limits the LOD being timed.
+    tools::StreamingBudgets budgets{
+        .cpuCacheMiB = 1024.0, .gpuLayers = 4096, .uploadMiBPerFrame = 256.0};
     double errorPx = 2.0, speedMps = 150.0, altitudeM = 200.0, fovDegrees = 60.0;
     bool json = false;
     app.add_option("pyramid", pyramid, "Pyramid folder")->required();
-    app.add_option("--width", width, "Viewport width, pixels")->capture_default_str();
-    app.add_option("--height", height, "Viewport height, pixels")->capture_default_str();
+    tools::addFrameSizeFlags(app, width, height, "Viewport");
     app.add_option("--error-px", errorPx, "ε, pixels")->capture_default_str();
     app.add_option("--frames", frames, "Frames of the flight (60 per second of flight)")
         ->capture_default_str();
     app.add_option("--speed-mps", speedMps, "Flight speed")->capture_default_str();
     app.add_option("--altitude-m", altitudeM, "Height above the DEM's highest point")
         ->capture_default_str();
-    app.add_option("--gpu-layers", gpuLayers, "GPU tile pool layers")->capture_default_str();
+    tools::addStreamingBudgetFlags(app, budgets);
     app.add_flag("--json", json, "Print a JSON summary on stdout");
     CLI11_PARSE(app, argc, argv);
 
     auto context = gl::HeadlessGlContext::create();
     if (!context) return fail(context.error().message);
     runtime::TileStreamerOptions options;
-    options.gpuLayers = gpuLayers;
-    options.cpuCacheBytes = std::size_t{1} << 30;
-    options.uploadBytesPerFrame = std::size_t{256} << 20;
+    budgets.applyTo(options);
     auto opened = runtime::TileStreamer::open(pyramid, options);
     if (!opened) return fail(opened.error().message);
     runtime::TileStreamer& streamer = *opened.value();
@@ -145,7 +147,7 @@ int main(int argc, char** argv) {
             {"from_root_us", {{"p50", rootMedianUs}, {"p95", rootUs.percentile(95.0) * 1000.0},
                               {"max", rootUs.max() * 1000.0}, {"mean", rootSum / frames}}},
             {"speedup_median", rootMedianUs / treeMedianUs},
-            {"gl", tools::glInfoJson(context.value()->info())},
+            {"gl", tools::glInfoJson(*context.value())},
         };
         std::puts(out.dump(2).c_str());
     }

@@ -5,7 +5,9 @@
 // would see: tiles that have not arrived yet are drawn by their coarser ancestors.
 #include "DrawStyleFlags.h"
 #include "GlImagePng.h"
+#include "FrameSizeFlags.h"
 #include "GlInfoJson.h"
+#include "StreamingBudgetFlags.h"
 
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/runtime/CameraPath.h"
@@ -51,9 +53,7 @@ struct RenderOptions {
     std::uint64_t every = 30;
     std::vector<std::uint64_t> frameList;
     bool settle = false;
-    double cpuCacheMiB = 256.0;
-    int gpuLayers = 1024;
-    double uploadMiBPerFrame = 16.0;
+    tools::StreamingBudgets budgets{.cpuCacheMiB = 256.0, .gpuLayers = 1024, .uploadMiBPerFrame = 16.0};
     tools::DrawStyleFlags look;
     bool json = false;
 };
@@ -79,11 +79,7 @@ int run(const RenderOptions& o) {
     if (!context) return fail(context.error().message);
 
     runtime::TerrainSessionOptions sessionOptions;
-    sessionOptions.streaming.cpuCacheBytes =
-        static_cast<std::size_t>(o.cpuCacheMiB * 1024.0 * 1024.0);
-    sessionOptions.streaming.gpuLayers = o.gpuLayers;
-    sessionOptions.streaming.uploadBytesPerFrame =
-        static_cast<std::size_t>(o.uploadMiBPerFrame * 1024.0 * 1024.0);
+    o.budgets.applyTo(sessionOptions.streaming);
     sessionOptions.lod.errorPx = o.errorPx;
     auto opened = runtime::TerrainSession::open(o.pyramid, sessionOptions);
     if (!opened) return fail(opened.error().message);
@@ -207,7 +203,7 @@ int run(const RenderOptions& o) {
                                      : "GL_TIME_ELAPSED of the terrain draw"},
             {"telemetry", summary.toJson()},
             {"total_seconds", std::chrono::duration<double>(Clock::now() - start).count()},
-            {"gl", tools::glInfoJson(context.value()->info())},
+            {"gl", tools::glInfoJson(*context.value())},
         };
         std::puts(out.dump(2).c_str());
     }
@@ -236,12 +232,7 @@ int main(int argc, char** argv) {
     app.add_option("--duration-s", o.durationS, "Length of the default path, seconds (20)");
     app.add_option("-o,--output", o.outputDir, "Folder for frames and telemetry.csv")
         ->capture_default_str();
-    app.add_option("--width", o.widthPx, "Frame width, pixels")
-        ->capture_default_str()
-        ->check(CLI::Range(16, 16384));
-    app.add_option("--height", o.heightPx, "Frame height, pixels")
-        ->capture_default_str()
-        ->check(CLI::Range(16, 16384));
+    tools::addFrameSizeFlags(app, o.widthPx, o.heightPx);
     app.add_option("--error-px", o.errorPx, "Screen-space error threshold ε, pixels")
         ->capture_default_str()
         ->check(CLI::Range(0.05, 1e4));
@@ -254,14 +245,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--frame", o.frameList, "Also write these frames (repeatable)");
     app.add_flag("--settle", o.settle, "Wait for streaming before drawing each frame");
-    app.add_option("--cpu-cache-mib", o.cpuCacheMiB, "CPU tile cache budget, MiB")
-        ->capture_default_str();
-    app.add_option("--gpu-layers", o.gpuLayers, "GPU tile pool layers")
-        ->capture_default_str()
-        ->check(CLI::Range(1, 1 << 16));
-    app.add_option("--upload-mib-per-frame", o.uploadMiBPerFrame,
-                   "GPU upload budget per frame, MiB")
-        ->capture_default_str();
+    tools::addStreamingBudgetFlags(app, o.budgets);
     o.look.addTo(app);
     app.add_flag("--json", o.json, "Print a JSON summary on stdout");
     CLI11_PARSE(app, argc, argv);

@@ -78,20 +78,8 @@ Result<std::vector<io::PatchRecord>> patchPool(io::DemReader& dem,
                 std::copy(valid.begin(), valid.end(), &r.valid[static_cast<std::size_t>(j * tile)]);
         }
         // Filled samples count as no-data only where the mask records them.
-        if (withMask)
-            for (int j = 1; j <= n; ++j)
-                for (int i = 1; i <= n; ++i)
-                    r.info.noDataSamples +=
-                        r.valid[static_cast<std::size_t>(j * tile + i)] == 0 ? 1U : 0U;
         r.info.present = true;
-        r.info.minHeight = std::numeric_limits<float>::infinity();
-        r.info.maxHeight = -std::numeric_limits<float>::infinity();
-        for (int j = 1; j <= n; ++j)
-            for (int i = 1; i <= n; ++i) {
-                const float h = r.heights[static_cast<std::size_t>(j * tile + i)];
-                r.info.minHeight = std::min(r.info.minHeight, h);
-                r.info.maxHeight = std::max(r.info.maxHeight, h);
-            }
+        io::summariseDrawnSamples(layout, r.heights, r.valid, r.info);
         r.blockErrors.resize(
             static_cast<std::size_t>(layout.blocksPerSide() * layout.blocksPerSide()));
         io::patchBlockErrors({r.heights.data() + tile + 1, n, tile}, layout.blockQuads(),

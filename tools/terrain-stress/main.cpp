@@ -3,8 +3,10 @@
 // against small caches, renders every frame headless (EGL) so the GPU tile pool is real,
 // checks the streaming invariants every frame, and prints throughput, latency percentiles
 // and a --json summary. Any violation makes the exit status 1.
+#include "FrameSizeFlags.h"
 #include "GlImagePng.h"
 #include "GlInfoJson.h"
+#include "StreamingBudgetFlags.h"
 #include "StressChecks.h"
 #include "StressFlight.h"
 
@@ -39,9 +41,7 @@ using namespace terrain;
 
 struct StressOptions {
     std::string pyramid;
-    double cpuCacheMiB = 8.0;
-    int gpuLayers = 64;
-    double uploadMiBPerFrame = 2.0;
+    tools::StreamingBudgets budgets{.cpuCacheMiB = 8.0, .gpuLayers = 64, .uploadMiBPerFrame = 2.0};
     double faultRate = 0.0;
     double latencyMs = 0.0;
     double durationS = 30.0;
@@ -69,7 +69,6 @@ int fail(const std::string& message) {
     return 1;
 }
 
-std::size_t mebibytes(double mib) { return static_cast<std::size_t>(mib * 1024.0 * 1024.0); }
 
 struct ResidentMemoryTrend {
     std::size_t samples = 0;
@@ -131,9 +130,7 @@ int run(const StressOptions& o) {
     // The runtime's own frame: streaming, the LOD quadtree (which pins what it holds in the
     // small pool and splits only into resident children), one draw.
     runtime::TerrainSessionOptions sessionOptions;
-    sessionOptions.streaming.cpuCacheBytes = mebibytes(o.cpuCacheMiB);
-    sessionOptions.streaming.gpuLayers = o.gpuLayers;
-    sessionOptions.streaming.uploadBytesPerFrame = mebibytes(o.uploadMiBPerFrame);
+    o.budgets.applyTo(sessionOptions.streaming);
     sessionOptions.streaming.io.faults = {
         .errorRate = o.faultRate, .addedLatencyMs = o.latencyMs, .seed = o.seed};
     sessionOptions.lod.errorPx = o.errorPx;
@@ -293,9 +290,9 @@ int run(const StressOptions& o) {
             {"pyramid", o.pyramid},
             {"passed", violationCount == 0},
             {"config",
-             {{"cpu_cache_mib", o.cpuCacheMiB},
+             {{"cpu_cache_mib", o.budgets.cpuCacheMiB},
               {"gpu_layers", streamer.pool().capacity()},
-              {"upload_mib_per_frame", o.uploadMiBPerFrame},
+              {"upload_mib_per_frame", o.budgets.uploadMiBPerFrame},
               {"fault_rate", o.faultRate},
               {"added_latency_ms", o.latencyMs},
               {"seed", o.seed},
@@ -333,7 +330,7 @@ int run(const StressOptions& o) {
             {"telemetry_csv",
              o.telemetryCsv.empty() ? nlohmann::json() : nlohmann::json(o.telemetryCsv)},
             {"total_seconds", std::chrono::duration<double>(Clock::now() - start).count()},
-            {"gl", tools::glInfoJson(context.value()->info())},
+            {"gl", tools::glInfoJson(*context.value())},
         };
         std::puts(out.dump(2).c_str());
     }
@@ -364,16 +361,7 @@ int main(int argc, char** argv) {
         "violation."};
     StressOptions o;
     app.add_option("pyramid", o.pyramid, "Pyramid folder (terrain-build's output)")->required();
-    app.add_option("--cpu-cache-mib", o.cpuCacheMiB, "CPU tile cache budget, MiB")
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 1e6));
-    app.add_option("--gpu-layers", o.gpuLayers, "GPU tile pool layers (one tile each)")
-        ->capture_default_str()
-        ->check(CLI::Range(1, 1 << 16));
-    app.add_option("--upload-mib-per-frame", o.uploadMiBPerFrame,
-                   "GPU upload budget per frame, MiB")
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 1e4));
+    tools::addStreamingBudgetFlags(app, o.budgets);
     app.add_option("--fault-rate", o.faultRate, "Probability that a tile read fails (injected)")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
@@ -388,12 +376,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--seed", o.seed, "Seed of the flight and of the injected faults")
         ->capture_default_str();
-    app.add_option("--width", o.widthPx, "Frame width, pixels")
-        ->capture_default_str()
-        ->check(CLI::Range(16, 8192));
-    app.add_option("--height", o.heightPx, "Frame height, pixels")
-        ->capture_default_str()
-        ->check(CLI::Range(16, 8192));
+    tools::addFrameSizeFlags(app, o.widthPx, o.heightPx);
     app.add_option("--error-px", o.errorPx, "Screen-space error threshold ε, pixels")
         ->capture_default_str()
         ->check(CLI::Range(0.05, 1e4));

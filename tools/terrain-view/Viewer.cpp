@@ -28,8 +28,6 @@ constexpr std::chrono::seconds kSettleTimeout{60};
 constexpr std::size_t kGlErrorsPrinted = 10;
 constexpr double kLandingS = 5.0;  // how long a jump follows the arriving ground heights
 
-double mibToBytes(double mib) { return mib * 1024.0 * 1024.0; }
-
 std::string crsText(const io::Georeference& georeference) {
     std::string text = io::crsKindName(georeference.crsKind);
     if (georeference.epsg != 0) text += fmt::format(", EPSG:{}", georeference.epsg);
@@ -77,7 +75,8 @@ Result<std::unique_ptr<Viewer>> Viewer::create(const ViewerOptions& options) {
     }
     viewer->m_window = std::move(window).value();
 
-    if (auto opened = viewer->openSession(options.cpuCacheMiB, options.gpuLayers); !opened) {
+    if (auto opened = viewer->openSession(options.budgets.cpuCacheMiB, options.budgets.gpuLayers);
+        !opened) {
         return opened.error();
     }
     auto imgui = ImGuiLayer::create(viewer->m_window->window());
@@ -109,8 +108,8 @@ Viewer::Viewer(const ViewerOptions& options, io::PyramidManifest manifest)
     m_settings.vsync = options.vsync;
     m_settings.measureEvery = std::max(1, options.measureEvery);
     m_settings.overlayVisible = !options.hideOverlay;
-    m_settings.cpuCacheMiB = options.cpuCacheMiB;
-    m_settings.gpuLayers = options.gpuLayers;
+    m_settings.cpuCacheMiB = options.budgets.cpuCacheMiB;
+    m_settings.gpuLayers = options.budgets.gpuLayers;
     m_ground = [this](double x, double y) { return groundAt(x, y); };
 }
 
@@ -124,10 +123,11 @@ Viewer::~Viewer() {
 
 Status Viewer::openSession(double cpuCacheMiB, int gpuLayers) {
     runtime::TerrainSessionOptions options;
-    options.streaming.cpuCacheBytes = static_cast<std::size_t>(mibToBytes(cpuCacheMiB));
-    options.streaming.gpuLayers = gpuLayers;
-    options.streaming.uploadBytesPerFrame =
-        static_cast<std::size_t>(mibToBytes(m_options.uploadMiBPerFrame));
+    // The overlay changes the cache budgets; the upload budget stays the command line's.
+    tools::StreamingBudgets budgets = m_options.budgets;
+    budgets.cpuCacheMiB = cpuCacheMiB;
+    budgets.gpuLayers = gpuLayers;
+    budgets.applyTo(options.streaming);
     options.lod.errorPx = m_settings.errorPx;
     auto opened = runtime::TerrainSession::open(m_options.pyramid, options);
     if (!opened) return opened.error();
@@ -649,7 +649,7 @@ int Viewer::run() {
             {"patches_drawn_last", m_history.empty() ? 0 : m_history.latest().patchesDrawn},
             {"gl_errors", m_glErrorsReported},
             {"telemetry", m_summary.toJson()},
-            {"gl", tools::glInfoJson(m_window->info())},
+            {"gl", tools::glInfoJson(*m_window)},
         };
         std::puts(out.dump(2).c_str());
     }

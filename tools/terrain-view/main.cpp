@@ -1,6 +1,7 @@
 // terrain-view: flies through a pyramid in a window (GLFW, OpenGL 4.5) with the runtime's
 // streaming, LOD quadtree and tessellated draw — the same frame as terrain-render — under a
 // Dear ImGui overlay of live telemetry and controls. docs/viewer.md is its manual.
+#include "FrameSizeFlags.h"
 #include "KeyBindings.h"
 #include "Viewer.h"
 #include "ViewerOptions.h"
@@ -54,12 +55,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.01, 1e4));
     app.add_flag("--settle", o.settle,
                  "Wait for streaming before each frame (the settled view, e.g. for screenshots)");
-    app.add_option("--width", o.widthPx, "Window width, pixels")
-        ->capture_default_str()
-        ->check(CLI::Range(64, 16384));
-    app.add_option("--height", o.heightPx, "Window height, pixels")
-        ->capture_default_str()
-        ->check(CLI::Range(64, 16384));
+    terrain::tools::addFrameSizeFlags(app, o.widthPx, o.heightPx, "Window", 64);
     app.add_flag(
         "--no-vsync", [&o](std::int64_t) { o.vsync = false; },
         "Do not wait for the display's refresh (V toggles)");
@@ -68,16 +64,7 @@ int main(int argc, char** argv) {
                    "Screen-space error threshold ε, pixels ([ and ] change it)")
         ->capture_default_str()
         ->check(CLI::Range(0.1, 64.0));
-    app.add_option("--cpu-cache-mib", o.cpuCacheMiB, "CPU tile cache budget, MiB")
-        ->capture_default_str()
-        ->check(CLI::Range(1.0, 1024.0 * 1024.0));
-    app.add_option("--gpu-layers", o.gpuLayers, "GPU tile pool layers (tiles resident on the GPU)")
-        ->capture_default_str()
-        ->check(CLI::Range(1, 1 << 16));
-    app.add_option("--upload-mib-per-frame", o.uploadMiBPerFrame,
-                   "GPU upload budget per frame, MiB")
-        ->capture_default_str()
-        ->check(CLI::Range(0.01, 4096.0));
+    terrain::tools::addStreamingBudgetFlags(app, o.budgets);
     app.add_option("--measure-every", o.measureEvery,
                    "Measure triangles and GPU time every N frames (1: every frame; measuring "
                    "waits for the GPU)")

@@ -56,7 +56,7 @@ GlfwWindowContext::GlfwWindowContext(std::unique_ptr<detail::GlfwLibrary> librar
                                      GLFWwindow* window, bool echoDebugMessages)
     : m_library(std::move(library)), m_window(window) {
     m_info = queryCurrentGlInfo("glfw", std::string("GLFW ") + glfwGetVersionString());
-    applyDriverWorkarounds(m_info);
+    m_driverWorkarounds = applyDriverWorkarounds(m_info);
     m_debugLog.setEcho(echoDebugMessages);
     m_debugLog.install();
 }

@@ -339,6 +339,9 @@ HeadlessGlContext::Egl::~Egl() {
     static_assert(kKeepEglDisplaysInitialised, "eglTerminate is never called");
 }
 
+namespace {
+
+/// "auto", "device", "surfaceless".
 std::string_view eglPlatformName(EglPlatform platform) {
     switch (platform) {
         case EglPlatform::Automatic:
@@ -350,6 +353,8 @@ std::string_view eglPlatformName(EglPlatform platform) {
     }
     return "unknown";
 }
+
+}  // namespace
 
 Result<EglPlatform> parseEglPlatform(std::string_view text) {
     for (EglPlatform platform :
@@ -407,7 +412,7 @@ Result<std::unique_ptr<HeadlessGlContext>> HeadlessGlContext::create(
 HeadlessGlContext::HeadlessGlContext(std::unique_ptr<Egl> egl, bool echoDebugMessages)
     : m_egl(std::move(egl)) {
     m_info = queryCurrentGlInfo(m_egl->platform, m_egl->detail);
-    applyDriverWorkarounds(m_info);
+    m_driverWorkarounds = applyDriverWorkarounds(m_info);
     m_debugLog.setEcho(echoDebugMessages);
     m_debugLog.install();
 }

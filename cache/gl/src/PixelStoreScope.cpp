@@ -1,7 +1,7 @@
 // Saves, overrides and restores the pixel-store state around one pixel transfer.
 #include "terrain/gl/PixelStoreScope.h"
 
-namespace terrain::gl::detail {
+namespace terrain::gl {
 
 PixelStoreScope::PixelStoreScope() {
     for (std::size_t i = 0; i < kParameters.size(); ++i) {
@@ -26,4 +26,4 @@ PixelStoreScope::~PixelStoreScope() {
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(m_savedUnpackBuffer));
 }
 
-}  // namespace terrain::gl::detail
+}  // namespace terrain::gl

@@ -112,11 +112,4 @@ std::uint64_t Query::waitResult() const {
     return readQueryObject(id(), GL_QUERY_RESULT);
 }
 
-std::optional<std::uint64_t> Query::tryResult() const {
-    if (!resultAvailable()) {
-        return std::nullopt;
-    }
-    return waitResult();
-}
-
 }  // namespace terrain::gl

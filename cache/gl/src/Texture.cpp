@@ -211,7 +211,7 @@ void Texture::upload(const TextureRegion& region, GLenum format, GLenum type,
     TERRAIN_ASSERT(contains(region), "Texture::upload outside the texture");
     TERRAIN_ASSERT(pixels.size() == imageSizeBytes(region, format, type),
                    "Texture::upload: pixel span does not match the region");
-    const detail::PixelStoreScope pixelStore;
+    const PixelStoreScope pixelStore;
     if (m_target == GL_TEXTURE_2D_ARRAY) {
         glTextureSubImage3D(id(), region.level, region.x, region.y, region.layer, region.width,
                             region.height, region.layers, format, type, pixels.data());
@@ -227,7 +227,7 @@ void Texture::readBack(const TextureRegion& region, GLenum format, GLenum type,
     TERRAIN_ASSERT(contains(region), "Texture::readBack outside the texture");
     TERRAIN_ASSERT(out.size() == imageSizeBytes(region, format, type),
                    "Texture::readBack: output span does not match the region");
-    const detail::PixelStoreScope pixelStore;
+    const PixelStoreScope pixelStore;
     glGetTextureSubImage(id(), region.level, region.x, region.y, region.layer, region.width,
                          region.height, region.layers, format, type,
                          static_cast<GLsizei>(out.size()), out.data());

@@ -30,20 +30,6 @@ void VertexArray::setFloatAttribute(GLuint location, GLuint bindingIndex, int co
     glVertexArrayAttribBinding(id(), location, bindingIndex);
 }
 
-void VertexArray::setIntegerAttribute(GLuint location, GLuint bindingIndex, int components,
-                                      GLenum type, std::size_t relativeOffsetBytes) {
-    TERRAIN_ASSERT(valid());
-    glEnableVertexArrayAttrib(id(), location);
-    glVertexArrayAttribIFormat(id(), location, components, type,
-                               static_cast<GLuint>(relativeOffsetBytes));
-    glVertexArrayAttribBinding(id(), location, bindingIndex);
-}
-
-void VertexArray::setBindingDivisor(GLuint bindingIndex, GLuint divisor) {
-    TERRAIN_ASSERT(valid());
-    glVertexArrayBindingDivisor(id(), bindingIndex, divisor);
-}
-
 void VertexArray::setIndexBuffer(const Buffer& buffer) {
     TERRAIN_ASSERT(valid() && buffer.valid());
     glVertexArrayElementBuffer(id(), buffer.id());

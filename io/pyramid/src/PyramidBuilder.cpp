@@ -459,30 +459,20 @@ private:
                   q = m_layout.patchQuads();
         record.id = id;
         record.heights.resize(static_cast<std::size_t>(t * t));
-        record.valid.resize(m_withMask ? static_cast<std::size_t>(t * t) : 0);
+        // The flags are copied even without a mask to store: they mark the overhanging
+        // samples, which noDataSamples counts. clear() keeps the storage for the next patch.
+        record.valid.resize(static_cast<std::size_t>(t * t));
         const std::int64_t x0 = id.x * q;  // band column of the apron = level x − 1 + 1
         for (int j = 0; j < t; ++j) {
             const std::int64_t row = id.y * q - 1 + j;
             std::copy_n(band.heightRow(row) + x0, t, record.heights.data() + j * t);
-            if (m_withMask) std::copy_n(band.validRow(row) + x0, t, record.valid.data() + j * t);
+            std::copy_n(band.validRow(row) + x0, t, record.valid.data() + j * t);
         }
         PatchInfo& info = record.info;
         info = PatchInfo{};
         info.present = true;
-        float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-        std::uint32_t noData = 0;
-        for (int j = 1; j <= n; ++j) {
-            const float* h = band.heightRow(id.y * q - 1 + j) + x0;
-            const std::uint8_t* v = band.validRow(id.y * q - 1 + j) + x0;
-            for (int i = 1; i <= n; ++i) {
-                lo = std::min(lo, h[i]);
-                hi = std::max(hi, h[i]);
-                noData += v[i] == 0 ? 1u : 0u;
-            }
-        }
-        info.minHeight = lo;
-        info.maxHeight = hi;
-        info.noDataSamples = noData;
+        summariseDrawnSamples(m_layout, record.heights, record.valid, info);
+        if (!m_withMask) record.valid.clear();
         const GridView interior{record.heights.data() + t + 1, n, t};
         record.blockErrors.resize(
             static_cast<std::size_t>(m_layout.blocksPerSide() * m_layout.blocksPerSide()));

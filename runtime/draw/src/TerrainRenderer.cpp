@@ -7,6 +7,8 @@
 #include "terrain/runtime/TerrainFrameUniforms.h"
 #include "terrain/base/Assert.h"
 #include "terrain/io/PatchErrors.h"
+#include "terrain/gl/PolygonModeScope.h"
+#include "terrain/gl/ReversedZScope.h"
 #include "terrain/runtime/ProgramBuilder.h"
 
 #include <epoxy/gl.h>
@@ -18,22 +20,6 @@
 
 namespace terrain::runtime {
 namespace {
-
-/// GL's polygon mode while the draw runs, GL_FILL (the default) after it.
-class PolygonModeScope {
-public:
-    explicit PolygonModeScope(bool wireframe) : m_active(wireframe) {
-        if (m_active) glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
-    }
-    ~PolygonModeScope() {
-        if (m_active) glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-    }
-    PolygonModeScope(const PolygonModeScope&) = delete;
-    PolygonModeScope& operator=(const PolygonModeScope&) = delete;
-
-private:
-    bool m_active;
-};
 
 /// The simplification d of a fixed factor: the factor rounded down to a power of two in
 /// [max(1, blockQuads >> 4), blockQuads] is blockQuads >> d, with d ≤ 4 so the block
@@ -153,10 +139,7 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
 
 TerrainDrawStats TerrainRenderer::submit(const cache::GpuTilePool& pool) {
     if (m_preparedInstances == 0) return {};
-    // Reversed Z: depth = near / distance, cleared to 0, nearer is greater.
-    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GREATER);
+    const gl::ReversedZScope reversedZ;
     glUseProgram(m_program.id());
     glBindVertexArray(m_vertexArray.id());
     glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, pool.heights().id());
@@ -168,7 +151,7 @@ TerrainDrawStats TerrainRenderer::submit(const cache::GpuTilePool& pool) {
     }
     glPatchParameteri(GL_PATCH_VERTICES, 4);
     {
-        const PolygonModeScope polygonMode(m_wireframe);
+        const gl::PolygonModeScope polygonMode(m_wireframe);
         if (m_measure) {
             m_primitivesQuery.begin();
             m_timeQuery.begin();
@@ -188,9 +171,6 @@ TerrainDrawStats TerrainRenderer::submit(const cache::GpuTilePool& pool) {
     glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, 0);
     glBindVertexArray(0);
     glUseProgram(0);
-    glDepthFunc(GL_LESS);
-    glDisable(GL_DEPTH_TEST);
-    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
 
     TerrainDrawStats stats{.drawCalls = 1, .instances = m_preparedInstances};
     if (m_measure) {

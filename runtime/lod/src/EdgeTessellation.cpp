@@ -78,6 +78,10 @@ double verticalErrorPxPerM(const glm::dmat4& relativeViewProjection, const glm::
     return largest / std::max({depthMin, depthOfDistance, nearM});
 }
 
+// The control stage's steps (terrain.tesc), mirrored.
+namespace {
+
+/// Yusov §5: d = argmax_d proj(d) < ε over d = 1..4; 0 when no d qualifies.
 int edgeSimplification(std::span<const double, io::kMaxSimplification> projectedPx,
                        double errorPx) {
     int d = 0;
@@ -87,8 +91,15 @@ int edgeSimplification(std::span<const double, io::kMaxSimplification> projected
     return d;
 }
 
+/// The edge factor of simplification d: max(1, blockQuads >> d), a power of two dividing
+/// blockQuads (a simplification coarser than the block keeps its corners: 1).
 int tessFactorOf(int blockQuads, int d) { return std::max(1, blockQuads >> d); }
 
+/// Whether the control stage may discard `block` of patch `id`: it lies wholly beyond the
+/// DEM's extent (a patch overhanging its edge), or its box — the block's footprint, the
+/// patch's height range from `info`, reaching `dropM` further down (a skirt's drop; 0 for
+/// the block) — lies outside `camera`'s frustum. In double, without the control stage's
+/// float margin, so the GPU never discards a block this keeps.
 bool blockDiscarded(const Camera& camera, const TerrainGeometry& geometry, const io::PatchId& id,
                     const io::PatchInfo& info, glm::ivec2 block, double dropM) {
     const io::PyramidLayout& layout = geometry.layout();
@@ -106,6 +117,8 @@ bool blockDiscarded(const Camera& camera, const TerrainGeometry& geometry, const
                                                        static_cast<double>(info.minHeight) - dropM,
                                                        static_cast<double>(info.maxHeight)));
 }
+
+}  // namespace
 
 std::vector<BlockFactors> patchBlockFactors(const Camera& camera, const TerrainGeometry& geometry,
                                             const io::PatchRecord& record, double errorPx) {

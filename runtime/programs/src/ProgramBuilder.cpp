@@ -7,7 +7,11 @@
 #include <utility>
 
 namespace terrain::runtime {
+namespace {
 
+enum class ShaderStage { Vertex, TessControl, TessEvaluation, Geometry, Fragment, Compute };
+
+/// By extension: .vert .tesc .tese .geom .frag .comp; std::nullopt otherwise.
 std::optional<ShaderStage> shaderStageFromFileName(std::string_view fileName) {
     const std::size_t dot = fileName.rfind('.');
     if (dot == std::string_view::npos) {
@@ -52,6 +56,8 @@ GLenum glShaderType(ShaderStage stage) {
     }
     return GL_NONE;
 }
+
+}  // namespace
 
 ProgramBuilder::ProgramBuilder(std::string label) : m_label(std::move(label)) {}
 

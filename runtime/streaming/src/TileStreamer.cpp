@@ -20,6 +20,14 @@ Result<std::unique_ptr<TileStreamer>> TileStreamer::open(const std::filesystem::
                                      pyramid.string(), options.gpuLayers)};
     }
     const io::PyramidLayout& layout = manifest.value().layout;
+    // A tile the CPU cache cannot hold never reaches the GPU: the terrain would never draw.
+    const std::size_t tileBytes =
+        cache::TileCache::tileBytes(layout, manifest.value().noData.present);
+    if (options.cpuCacheBytes < tileBytes) {
+        return Error{fmt::format("{}: a CPU tile cache of {} bytes holds no tile; a tile of this "
+                                 "pyramid needs {} bytes",
+                                 pyramid.string(), options.cpuCacheBytes, tileBytes)};
+    }
     const std::size_t layerBytes = cache::GpuTilePool::bytesPerLayer(layout);
     auto pool = cache::GpuTilePool::create(
         layout, {.budgetBytes = layerBytes * static_cast<std::size_t>(options.gpuLayers),

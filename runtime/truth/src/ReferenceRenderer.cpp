@@ -5,6 +5,7 @@
 #include "Bindings.h"
 #include "terrain/runtime/TerrainFrameUniforms.h"
 #include "terrain/base/Assert.h"
+#include "terrain/gl/ReversedZScope.h"
 #include "terrain/runtime/ProgramBuilder.h"
 
 #include <epoxy/gl.h>
@@ -78,10 +79,7 @@ Result<ReferenceDrawStats> ReferenceRenderer::draw(const Camera& camera,
     setShadingUniforms(m_program, geometry, style.skyColor, style.fogDensityPerM);
     m_program.setUniform("u_tileSamples", quads + 1);
 
-    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GREATER);
-
+    const gl::ReversedZScope reversedZ;
     const Frustum frustum = camera.frustum();
     const glm::dvec2 tileSizeM = spacing * static_cast<double>(quads);
     ReferenceDrawStats stats;
@@ -158,9 +156,6 @@ Result<ReferenceDrawStats> ReferenceRenderer::draw(const Camera& camera,
         ++stats.batches;
     }
     m_staging.clear();
-    glDepthFunc(GL_LESS);
-    glDisable(GL_DEPTH_TEST);
-    glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
     if (!status) return status.error();
     stats.triangles =
         stats.tiles * 2 * static_cast<std::uint64_t>(quads) * static_cast<std::uint64_t>(quads);

@@ -6,6 +6,7 @@
 // re-evaluates everything, and the tree gives back every pin it took.
 #include "FakeTileResidency.h"
 #include "StreamingTestPyramid.h"
+#include "TestCameras.h"
 #include "terrain/runtime/LodQuadtree.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TerrainGeometry.h"
@@ -42,13 +43,7 @@ protected:
     }
 
     Camera camera(double fx, double fy, double above, double tx, double ty) const {
-        Camera c;
-        c.viewportWidth = 640;
-        c.viewportHeight = 480;
-        c.fovY = 1.0;
-        c.position = {m_geometry->worldAtFraction(fx, fy), m_geometry->maxHeight() + above};
-        c.lookAt({m_geometry->worldAtFraction(tx, ty), m_geometry->minHeight()});
-        return c;
+        return cameraOverDem(*m_geometry, fx, fy, above, tx, ty);
     }
 
     LodUpdateStats frame(const Camera& c) {

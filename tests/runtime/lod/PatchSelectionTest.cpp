@@ -5,6 +5,7 @@
 // culled patches still tile the domain exactly once, none overlapping another: no hole.
 #include "FakeTileResidency.h"
 #include "StreamingTestPyramid.h"
+#include "TestCameras.h"
 #include "terrain/io/PatchIdHash.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TerrainGeometry.h"
@@ -35,15 +36,7 @@ protected:
         m_geometry.emplace(manifest.value());
     }
 
-    Camera lowOblique() const {
-        Camera c;
-        c.viewportWidth = 640;
-        c.viewportHeight = 480;
-        c.fovY = 1.0;
-        c.position = {m_geometry->worldAtFraction(0.3, 0.2), m_geometry->maxHeight() + 200.0};
-        c.lookAt({m_geometry->worldAtFraction(0.6, 0.7), m_geometry->minHeight()});
-        return c;
-    }
+    Camera lowOblique() const { return cameraOverDem(*m_geometry, 0.3, 0.2, 200.0, 0.6, 0.7); }
 
     PatchSelectionStats frame(const Camera& c, double errorPx) {
         m_residency->beginFrame();
@@ -152,12 +145,8 @@ TEST_F(PatchSelectionTest, AFailedAreaIsDrawnByItsAncestors) {
         return id.level == finest && id.x < 4 && id.y < 4;
     };
     open({.fails = lost});
-    Camera c;  // low over the north-west corner, looking down
-    c.viewportWidth = 640;
-    c.viewportHeight = 480;
-    c.fovY = 1.0;
-    c.position = {m_geometry->worldAtFraction(0.05, 0.05), m_geometry->maxHeight() + 50.0};
-    c.lookAt({m_geometry->worldAtFraction(0.1, 0.1), m_geometry->minHeight()});
+    // Low over the north-west corner, looking down.
+    const Camera c = cameraOverDem(*m_geometry, 0.05, 0.05, 50.0, 0.1, 0.1);
     PatchSelectionStats stats;
     for (int i = 0; i < 20; ++i) stats = frame(c, 0.5);
     EXPECT_EQ(m_residency->pending(), 0u);

@@ -9,6 +9,8 @@
 #include "GlTestFixture.h"
 #include "StreamingTestPyramid.h"
 #include "TempFolder.h"
+#include "TestCameras.h"
+#include "terrain/cache/TileCache.h"
 #include "terrain/io/PatchIdHash.h"
 #include "terrain/io/PyramidManifest.h"
 #include "terrain/runtime/PatchSelection.h"
@@ -38,13 +40,7 @@ protected:
     }
 
     static Camera lowOblique(const runtime::TerrainGeometry& g) {
-        Camera c;
-        c.viewportWidth = 640;
-        c.viewportHeight = 480;
-        c.fovY = 1.0;
-        c.position = {g.worldAtFraction(0.3, 0.2), g.maxHeight() + 200.0};
-        c.lookAt({g.worldAtFraction(0.6, 0.7), g.minHeight()});
-        return c;
+        return cameraOverDem(g, 0.3, 0.2, 200.0, 0.6, 0.7);
     }
 
     struct Frame {
@@ -182,12 +178,8 @@ TEST_F(TileStreamerTest, MissingShardIsReportedOncePerPatchAndAncestorsDraw) {
     ASSERT_TRUE(opened) << opened.error().message;
     TileStreamer& s = *opened.value();
     const runtime::TerrainGeometry g(s.manifest());
-    Camera c;  // low over the north-west corner, where the lost shard lies, looking down
-    c.viewportWidth = 640;
-    c.viewportHeight = 480;
-    c.fovY = 1.0;
-    c.position = {g.worldAtFraction(0.05, 0.05), g.maxHeight() + 50.0};
-    c.lookAt({g.worldAtFraction(0.1, 0.1), g.minHeight()});
+    // Low over the north-west corner, where the lost shard lies, looking down.
+    const Camera c = cameraOverDem(g, 0.05, 0.05, 50.0, 0.1, 0.1);
     Frame f;
     for (int i = 0; i < 400; ++i) {
         frame(s, g, c, 0.5, f);
@@ -211,6 +203,25 @@ TEST_F(TileStreamerTest, MissingShardIsReportedOncePerPatchAndAncestorsDraw) {
     EXPECT_GT(f.draws.size(), 0u);
     EXPECT_TRUE(s.drain(std::chrono::seconds(10)));
     EXPECT_GE(s.ledger().failed, s.faults().size());
+}
+
+// A CPU cache too small for one tile would never let a tile reach the GPU, and the terrain
+// would never draw: opening the pyramid says so instead.
+TEST_F(TileStreamerTest, ACpuCacheThatHoldsNoTileIsRefused) {
+    auto manifest = io::readManifest(streamingTestPyramid());
+    ASSERT_TRUE(manifest) << manifest.error().message;
+    const std::size_t tileBytes =
+        cache::TileCache::tileBytes(manifest.value().layout, manifest.value().noData.present);
+    runtime::TileStreamerOptions o;
+    o.cpuCacheBytes = tileBytes - 1;
+    auto refused = TileStreamer::open(streamingTestPyramid(), o);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find(streamingTestPyramid().string()), std::string::npos)
+        << refused.error().message;
+    EXPECT_NE(refused.error().message.find("holds no tile"), std::string::npos)
+        << refused.error().message;
+    o.cpuCacheBytes = tileBytes;
+    EXPECT_TRUE(TileStreamer::open(streamingTestPyramid(), o));
 }
 
 TEST_F(TileStreamerTest, TelemetryCountsTheFrame) {

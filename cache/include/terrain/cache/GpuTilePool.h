@@ -7,6 +7,7 @@
 #include "terrain/cache/LayerFreeList.h"
 #include "terrain/cache/LayerLru.h"
 #include "terrain/gl/Buffer.h"
+#include "terrain/gl/Fence.h"
 #include "terrain/gl/Texture.h"
 #include "terrain/io/PatchIdHash.h"
 #include "terrain/io/PatchRecord.h"
@@ -90,7 +91,6 @@ public:
     /// Makes a pinned layer evictable again, as the most recently used. Render thread only.
     void unpin(const io::PatchId& id);
     bool isPinned(const io::PatchId& id) const;
-    int layersPinned() const { return m_pinnedCount; }
     /// Render thread only.
     std::optional<int> layerOf(const io::PatchId& id) const;
     /// Allocated and its upload issued (GL orders later draws after it). Render thread only.
@@ -155,17 +155,9 @@ private:
     };
     using SlotMap = std::unordered_map<io::PatchId, Slot, io::PatchIdHash>;
 
-    /// A GLsync owner: deleted on destruction, moved by exchange.
-    class Fence {
-    public:
-        Fence() = default;
-        ~Fence() { reset(); }
-        Fence(Fence&& other) noexcept;
-        Fence& operator=(Fence&& other) noexcept;
-        Fence(const Fence&) = delete;
-        Fence& operator=(const Fence&) = delete;
-        void reset();
-        GLsync sync = nullptr;
+    /// A frame's uploads: the GPU has read their ring bytes once `fence` is signalled.
+    struct FencedUploads {
+        gl::Fence fence;
         std::uint64_t ringEnd = 0;  ///< ring position just past the fenced uploads
     };
     static constexpr int kMaxFences = 8;
@@ -195,7 +187,7 @@ private:
     std::uint64_t m_ringHead = 0;     // total bytes reserved (positions grow, wrap by modulo)
     std::uint64_t m_ringTail = 0;     // bytes before this the GPU has finished reading
     std::uint64_t m_ringFenced = 0;   // bytes before this are covered by a fence
-    std::array<Fence, kMaxFences> m_fences;
+    std::array<FencedUploads, kMaxFences> m_fences;
     int m_fenceFirst = 0;
     int m_fenceCount = 0;
 

@@ -58,6 +58,9 @@ public:
     /// Bytes an entry is charged: the sizes (not capacities) of its vectors in bytes plus
     /// kEntryOverheadBytes.
     static std::size_t recordBytes(const io::PatchRecord& record);
+    /// What recordBytes() charges a patch of `layout` (with its no-data mask when
+    /// `withMask`): a budget below it holds no tile at all.
+    static std::size_t tileBytes(const io::PyramidLayout& layout, bool withMask);
 
     explicit TileCache(std::size_t budgetBytes);
 

@@ -36,7 +36,6 @@ public:
     GLuint id() const { return m_handle.id(); }
     bool valid() const { return m_handle.valid(); }
     std::size_t sizeBytes() const { return m_sizeBytes; }
-    GLbitfield storageFlags() const { return m_storageFlags; }
 
 private:
     BufferHandle m_handle;

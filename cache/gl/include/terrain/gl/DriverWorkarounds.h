@@ -15,7 +15,7 @@ namespace terrain::gl {
 /// the object (and its debug label) comes into being at the first glBeginQuery (Query.cpp).
 inline constexpr bool kGenQueriesForPipelineStatistics = true;
 
-/// What applyDriverWorkarounds() did, for tools' --json and tests.
+/// What applyDriverWorkarounds() did, for tools' --json (GlContext::driverWorkarounds()).
 struct DriverWorkaroundsApplied {
     /// llvmpipe: glibc no longer trims the heap (M_TRIM_THRESHOLD raised to 2 GiB). Mesa's
     /// software tessellator allocates its vertex output per draw from the heap and frees

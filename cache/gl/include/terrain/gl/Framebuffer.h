@@ -54,9 +54,7 @@ public:
     bool valid() const { return m_handle.valid(); }
     int width() const { return m_color.width(); }
     int height() const { return m_color.height(); }
-    const Texture& colorTexture() const { return m_color; }
     const Texture& depthTexture() const { return m_depth; }
-    const Texture& floatTexture() const { return m_float; }
 
 private:
     static Result<Framebuffer> create(int width, int height, std::string_view label,

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "terrain/base/Result.h"
+#include "terrain/gl/DriverWorkarounds.h"
 #include "terrain/gl/GlDebugLog.h"
 #include "terrain/gl/GlInfo.h"
 
@@ -32,6 +33,13 @@ public:
     /// GL debug output of this context.
     virtual GlDebugLog& debugLog() = 0;
     virtual const GlDebugLog& debugLog() const = 0;
+
+    /// What applyDriverWorkarounds() did when the context was created (tools report it
+    /// in their --json beside info(), so a figure names what was worked around).
+    const DriverWorkaroundsApplied& driverWorkarounds() const { return m_driverWorkarounds; }
+
+protected:
+    DriverWorkaroundsApplied m_driverWorkarounds;
 };
 
 }  // namespace terrain::gl

@@ -46,9 +46,6 @@ public:
     /// Records one message (called by the driver callback; public for tests).
     void record(GLenum source, GLenum type, GLuint id, GLenum severity, std::string_view text);
 
-    /// Errors are: type ERROR, UNDEFINED_BEHAVIOR or DEPRECATED_BEHAVIOR, or severity HIGH.
-    static bool isError(GLenum type, GLenum severity);
-
     /// Messages since the last clear(), oldest first, at most kMaxStoredMessages.
     const std::vector<GlDebugMessage>& messages() const { return m_messages; }
 
@@ -72,6 +69,9 @@ public:
     bool echo() const { return m_echo; }
 
 private:
+    /// Errors are: type ERROR, UNDEFINED_BEHAVIOR or DEPRECATED_BEHAVIOR, or severity HIGH.
+    static bool isError(GLenum type, GLenum severity);
+
     std::vector<GlDebugMessage> m_messages;
     std::size_t m_errorCount = 0;
     std::size_t m_messageCount = 0;

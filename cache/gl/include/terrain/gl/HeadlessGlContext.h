@@ -17,9 +17,6 @@ enum class EglPlatform {
     Surfaceless,  ///< EGL_MESA_platform_surfaceless
 };
 
-/// "auto", "device", "surfaceless".
-std::string_view eglPlatformName(EglPlatform platform);
-
 /// Parses "auto", "device" or "surfaceless" (the values of TERRAIN_EGL_PLATFORM).
 Result<EglPlatform> parseEglPlatform(std::string_view text);
 

@@ -6,7 +6,7 @@
 
 #include <array>
 
-namespace terrain::gl::detail {
+namespace terrain::gl {
 
 /// While alive: alignment 1, no row length / skips / image height, and no pixel pack or
 /// unpack buffer bound (so pointers are client memory, not buffer offsets).
@@ -30,4 +30,4 @@ private:
     GLint m_savedUnpackBuffer = 0;
 };
 
-}  // namespace terrain::gl::detail
+}  // namespace terrain::gl

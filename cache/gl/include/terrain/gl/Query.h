@@ -39,9 +39,6 @@ public:
     /// The result, waiting for the GPU if needed. Render thread only.
     std::uint64_t waitResult() const;
 
-    /// The result if already available. Render thread only.
-    std::optional<std::uint64_t> tryResult() const;
-
     GLuint id() const { return m_handle.id(); }
     bool valid() const { return m_handle.valid(); }
     QueryKind kind() const { return m_kind; }

@@ -27,13 +27,6 @@ public:
     void setFloatAttribute(GLuint location, GLuint bindingIndex, int components, GLenum type,
                            bool normalized, std::size_t relativeOffsetBytes);
 
-    /// Enables integer attribute `location` (glVertexArrayAttribIFormat).
-    void setIntegerAttribute(GLuint location, GLuint bindingIndex, int components, GLenum type,
-                             std::size_t relativeOffsetBytes);
-
-    /// Per-instance stepping for a binding slot (0 = per vertex).
-    void setBindingDivisor(GLuint bindingIndex, GLuint divisor);
-
     /// Element (index) buffer for glDrawElements*.
     void setIndexBuffer(const Buffer& buffer);
 

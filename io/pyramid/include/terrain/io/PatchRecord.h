@@ -6,6 +6,7 @@
 #include "terrain/io/PyramidLayout.h"
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace terrain::io {
@@ -30,5 +31,13 @@ struct PatchRecord {
                                            ///< pyramid has no no-data
     std::vector<BlockErrors> blockErrors;  ///< blocksPerSide², row-major: λ(1..4)
 };
+
+/// Sets info's minHeight, maxHeight and noDataSamples from a patch's N × N drawn samples,
+/// the apron excluded: the one definition every writer of patches uses. `heights` holds
+/// layout.tileSamples()² samples (apron included); `valid` as many flags (0: filled or
+/// overhanging, whether or not the pyramid stores a mask), or is empty when every sample
+/// is valid.
+void summariseDrawnSamples(const PyramidLayout& layout, std::span<const float> heights,
+                           std::span<const std::uint8_t> valid, PatchInfo& info);
 
 }  // namespace terrain::io

@@ -120,7 +120,6 @@ public:
 
     /// The wheel's multiplier of the fly speed (1 at first).
     double speedScale() const { return m_speedScale; }
-    void setSpeedScale(double scale);
     /// The speed keys would fly at now (without boost or slow), m/s, from the last update.
     double speedMps() const { return m_speedMps; }
     /// The camera's height above the ground at the last update, metres (may be negative
@@ -129,6 +128,7 @@ public:
     const glm::dvec3& velocity() const { return m_velocity; }
 
 private:
+    void setSpeedScale(double scale);
     double flySpeed(double heightAboveGround) const;
     void flyStep(Camera& camera, const CameraInput& input, double stepS,
                  const GroundHeightFn& ground);

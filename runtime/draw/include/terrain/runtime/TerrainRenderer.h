@@ -107,15 +107,16 @@ public:
     /// prepare() wrote. (Drivers may allocate inside the draw call: Mesa's tessellator does.)
     TerrainDrawStats submit(const cache::GpuTilePool& pool);
 
-    /// Quad patch primitives per instance: blocksPerSide² blocks, then 4 · blocksPerSide
-    /// skirts when the style has them.
-    int primitivesPerInstance(bool skirts) const;
     /// recordTessFactors only: the records of the last draw, (instance · (K² + 4K) +
     /// primitive) for K = blocksPerSide (skirt records exist only if it drew skirts).
     /// Waits for the GPU.
     std::vector<RecordedTessFactors> readTessFactors(int instances) const;
 
 private:
+    /// Quad patch primitives per instance: blocksPerSide² blocks, then 4 · blocksPerSide
+    /// skirts when the style has them.
+    int primitivesPerInstance(bool skirts) const;
+
     // The std430 layout of PatchInstance in terrain_patches.glsl.
     struct alignas(16) PatchInstance {
         std::array<float, 4> originAndStep;  ///< north-west − anchor (DEM samples), step

@@ -42,7 +42,7 @@ struct BlockFactors {
     /// Λ_ec(d) · verticalErrorPxPerM of the edge's box for d = 1..4, pixels: the most any
     /// vertical error of Λ_ec(d) in the box may measure on screen; what d was chosen from.
     std::array<std::array<double, io::kMaxSimplification>, 4> projectedPx{};
-    /// The control stage discards the block: blockDiscarded().
+    /// The control stage discards the block (wholly beyond the DEM, or outside the view).
     bool culled = false;
 };
 
@@ -60,21 +60,6 @@ struct BlockFactors {
 /// front of it where it is in view).
 double verticalErrorPxPerM(const glm::dmat4& relativeViewProjection, const glm::dvec2& viewportPx,
                            const Aabb& box);
-
-/// Yusov §5: d = argmax_d proj(d) < ε over d = 1..4; 0 when no d qualifies.
-int edgeSimplification(std::span<const double, io::kMaxSimplification> projectedPx, double errorPx);
-
-/// The edge factor of simplification d: max(1, blockQuads >> d), a power of two dividing
-/// blockQuads (a simplification coarser than the block keeps its corners: 1).
-int tessFactorOf(int blockQuads, int d);
-
-/// Whether the control stage may discard `block` of patch `id`: it lies wholly beyond the
-/// DEM's extent (a patch overhanging its edge), or its box — the block's footprint, the
-/// patch's height range from `info`, reaching `dropM` further down (a skirt's drop; 0 for
-/// the block) — lies outside `camera`'s frustum. In double, without the control stage's
-/// float margin, so the GPU never discards a block this keeps.
-bool blockDiscarded(const Camera& camera, const TerrainGeometry& geometry, const io::PatchId& id,
-                    const io::PatchInfo& info, glm::ivec2 block, double dropM);
 
 /// The factors of every block of `record`'s patch seen by `camera` at ε = errorPx,
 /// row-major by block (blocksPerSide² entries). Err(P) is record.info.error.

@@ -16,14 +16,6 @@
 
 namespace terrain::runtime {
 
-enum class ShaderStage { Vertex, TessControl, TessEvaluation, Geometry, Fragment, Compute };
-
-/// By extension: .vert .tesc .tese .geom .frag .comp; std::nullopt otherwise.
-std::optional<ShaderStage> shaderStageFromFileName(std::string_view fileName);
-
-/// GL_VERTEX_SHADER, ...
-GLenum glShaderType(ShaderStage stage);
-
 class ProgramBuilder {
 public:
     /// `label` names the program in messages and GL debug labels.

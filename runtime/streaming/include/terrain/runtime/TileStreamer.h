@@ -123,7 +123,6 @@ public:
         m_loadObserver = std::move(observer);
     }
     const cache::GpuTilePool& pool() const { return m_pool; }
-    const cache::TileCache& cpuCache() const { return m_cache; }
     io::IoThreadStats ioStats() const { return m_io->stats(); }
     /// Patches requested or waiting for upload (bounded by what the LOD wants).
     std::size_t loadsOutstanding() const { return m_loads.size(); }
