@@ -1,5 +1,5 @@
 # Script mode (cmake -P): writes a C++ file that holds the text of every shader file, so
-# terrain::runtime needs no shader folder at run time.
+# terrain::programs needs no shader folder at run time.
 #   cmake -DOUTPUT=<file.cpp> -DSHADER_FILES=<a|b|c> -P EmbedShaders.cmake
 # SHADER_FILES is '|'-separated because a ';' list does not survive a custom command line.
 # Each file becomes a raw-string literal with its own delimiter; a file that contains the

@@ -2,7 +2,7 @@
 // ("Fine-Grain Level of Detail Selection"), one tessellation factor per block edge, with
 // the edge error's projection bounded over the blocks sharing the edge rather than taken at
 // its centre (EdgeTessellation.h says why).
-// The CPU reference is runtime/src/EdgeTessellation.cpp; TessellationFactorsTest compares
+// The CPU reference is runtime/lod/src/EdgeTessellation.cpp; TessellationFactorsTest compares
 // the two.
 //
 // Invocation i of a block primitive decides the block's edge i (GL's outer order); the

@@ -2,7 +2,7 @@
 // reference renderer (reference.frag) uses it, so its image differs from the LOD draw's
 // only where the geometry or the normals differ; terrain.frag uses it for every view
 // (hillshade from a directional sun over a hypsometric tint, then distance fog). The sun
-// is set on the C++ side by setShadingUniforms (runtime/src/TerrainFrameUniforms.h).
+// is set on the C++ side by setShadingUniforms (runtime/draw/include/terrain/runtime/TerrainFrameUniforms.h).
 
 uniform vec3 u_sunDirection;  // towards the sun, unit length, world frame
 uniform vec2 u_heightRangeM;  // min, max of the DEM

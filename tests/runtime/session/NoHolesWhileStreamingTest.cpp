@@ -3,8 +3,10 @@
 // tiny caches, slow reads, failed reads, teleports far faster than tiles arrive — every
 // frame covers the whole visible terrain. Each frame of a teleporting flight between views
 // that are all terrain is drawn over a clear colour the terrain never produces, and no
-// pixel of it may remain. The control draws one frame with a patch left out and must see
-// the clear colour, so the count can fail.
+// pixel of it may remain. The control draws the last frame without one of its patches
+// (each in turn, until one shows) and must see the clear colour, so the count can fail.
+// This is the end-to-end check on the real streamer, I/O thread and GPU; the rule itself
+// is tested frame by frame, without threads or GL, in tests/runtime/lod/.
 #include "GlTestFixture.h"
 #include "StreamingTestPyramid.h"
 #include "TerrainViewChecks.h"
