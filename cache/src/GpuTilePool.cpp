@@ -1,8 +1,8 @@
 // GpuTilePool: layer bookkeeping and fenced uploads through a persistent-mapped ring.
 #include "terrain/cache/GpuTilePool.h"
 
-#include "terrain/gl/PixelStoreScope.h"
 #include "terrain/base/Assert.h"
+#include "terrain/gl/PixelStoreScope.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -35,18 +35,16 @@ std::size_t GpuTilePool::bytesPerLayer(const io::PyramidLayout& layout) {
 }
 
 Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
-                                            const GpuTilePoolDesc& desc) {
+                                        const GpuTilePoolDesc& desc) {
     const std::size_t layerBytes = bytesPerLayer(layout);
     if (desc.budgetBytes < layerBytes) {
         return Error{"GpuTilePool: GPU budget of " + std::to_string(desc.budgetBytes) +
-                         " bytes is below one tile layer (" + std::to_string(layerBytes) +
-                         " bytes)"};
+                     " bytes is below one tile layer (" + std::to_string(layerBytes) + " bytes)"};
     }
     GLint maxLayers = 0;
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
     if (maxLayers < 1) {
-        return Error{"GpuTilePool: GL_MAX_ARRAY_TEXTURE_LAYERS is " +
-                         std::to_string(maxLayers)};
+        return Error{"GpuTilePool: GL_MAX_ARRAY_TEXTURE_LAYERS is " + std::to_string(maxLayers)};
     }
     const auto layers = static_cast<int>(
         std::min(desc.budgetBytes / layerBytes, static_cast<std::size_t>(maxLayers)));
@@ -87,15 +85,14 @@ Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
     ringBytes = alignUp(ringBytes, kRingAlignment);
     if (ringBytes < tileRingBytes) {
         return Error{"GpuTilePool: upload ring of " + std::to_string(ringBytes) +
-                         " bytes cannot hold one tile (" + std::to_string(tileRingBytes) +
-                         " bytes)"};
+                     " bytes cannot hold one tile (" + std::to_string(tileRingBytes) + " bytes)"};
     }
     pool.m_ring = gl::Buffer::create(ringBytes, kRingFlags, "tile pool upload ring");
     void* mapped =
         glMapNamedBufferRange(pool.m_ring.id(), 0, static_cast<GLsizeiptr>(ringBytes), kRingFlags);
     if (mapped == nullptr) {
         return Error{"GpuTilePool: cannot map the upload ring persistently (" +
-                         std::to_string(ringBytes) + " bytes)"};
+                     std::to_string(ringBytes) + " bytes)"};
     }
     pool.m_ringData = static_cast<std::byte*>(mapped);
 

@@ -78,7 +78,7 @@ public:
     const io::DemInfo& info() const override { return m_info; }
 
     Status readWindow(std::int64_t x0, std::int64_t y0, std::int64_t width, std::int64_t rows,
-                          std::span<float> out) override {
+                      std::span<float> out) override {
         for (std::int64_t y = 0; y < rows; ++y) {
             for (std::int64_t x = 0; x < width; ++x) {
                 out[static_cast<std::size_t>(y * width + x)] = m_height(x0 + x, y0 + y);

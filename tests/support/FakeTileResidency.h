@@ -56,7 +56,8 @@ public:
         EXPECT_TRUE(reader) << reader.error().message;
         if (!reader) return nullptr;
         const io::PyramidLayout layout = reader.value().layout();
-        auto infos = std::make_shared<std::unordered_map<io::PatchId, io::PatchInfo, io::PatchIdHash>>();
+        auto infos =
+            std::make_shared<std::unordered_map<io::PatchId, io::PatchInfo, io::PatchIdHash>>();
         for (int level = 0; level < layout.levelCount(); ++level) {
             for (std::int64_t y = 0; y < layout.patchesY(level); ++y) {
                 for (std::int64_t x = 0; x < layout.patchesX(level); ++x) {
@@ -93,7 +94,10 @@ public:
         auto pending = m_pending.find(id);
         if (pending == m_pending.end()) {
             ++m_requests;
-            pending = m_pending.emplace(id, m_frame + static_cast<std::uint64_t>(m_options.framesToArrive)).first;
+            pending =
+                m_pending
+                    .emplace(id, m_frame + static_cast<std::uint64_t>(m_options.framesToArrive))
+                    .first;
         }
         if (pending->second > m_frame || m_arrivalsThisFrame >= m_options.arrivalsPerFrame) {
             return nullptr;
@@ -108,7 +112,11 @@ public:
         m_pending.erase(pending);
         ++m_arrivalsThisFrame;
         Layer& l = m_layers[static_cast<std::size_t>(*layer)];
-        l = {.id = id, .info = m_infoOf(id), .used = true, .pinned = false, .lastUsedFrame = m_frame};
+        l = {.id = id,
+             .info = m_infoOf(id),
+             .used = true,
+             .pinned = false,
+             .lastUsedFrame = m_frame};
         m_resident[id] = *layer;
         return &l.info;
     }
@@ -133,8 +141,9 @@ public:
     int capacity() const override { return m_options.capacity; }
     const io::PatchInfo* residentInfo(const io::PatchId& id) const override {
         const auto resident = m_resident.find(id);
-        return resident == m_resident.end() ? nullptr
-                                            : &m_layers[static_cast<std::size_t>(resident->second)].info;
+        return resident == m_resident.end()
+                   ? nullptr
+                   : &m_layers[static_cast<std::size_t>(resident->second)].info;
     }
     bool isPinned(const io::PatchId& id) const override {
         const auto resident = m_resident.find(id);
@@ -189,7 +198,8 @@ private:
             const Layer& l = m_layers[static_cast<std::size_t>(i)];
             if (!l.used) return i;
             if (l.pinned || l.lastUsedFrame == m_frame) continue;
-            if (victim < 0 || l.lastUsedFrame < m_layers[static_cast<std::size_t>(victim)].lastUsedFrame) {
+            if (victim < 0 ||
+                l.lastUsedFrame < m_layers[static_cast<std::size_t>(victim)].lastUsedFrame) {
                 victim = i;
             }
         }

@@ -129,7 +129,8 @@ public:
         std::vector<std::uint8_t> valid(r.heights.size());
         for (int j = 0; j < tile; ++j)
             for (int i = 0; i < tile; ++i)
-                valid[static_cast<std::size_t>(j * tile + i)] = levelValid(id.level, x0 + i, y0 + j);
+                valid[static_cast<std::size_t>(j * tile + i)] =
+                    levelValid(id.level, x0 + i, y0 + j);
         r.info.present = true;
         io::summariseDrawnSamples(m_layout, r.heights, valid, r.info);
         r.info.approxError = approxError(id);
@@ -166,8 +167,7 @@ public:
                             const io::PatchRecord r = patch(id);
                             ++present;
                             maxError = std::max(maxError, static_cast<double>(r.info.error));
-                            if (Status ok = writer.value().writePatch(r); !ok)
-                                return ok.error();
+                            if (Status ok = writer.value().writePatch(r); !ok) return ok.error();
                         }
                     if (Status ok = writer.value().finish(); !ok) return ok.error();
                 }
@@ -197,7 +197,7 @@ private:
 
 /// Creates the layout from `options` and writes the pyramid into `dir`.
 inline Result<io::PyramidManifest> writeTinyPyramid(const std::filesystem::path& dir,
-                                                        const TinyPyramidOptions& options) {
+                                                    const TinyPyramidOptions& options) {
     auto layout = io::PyramidLayout::create(options.width, options.height, options.patchSamples,
                                             options.blockQuads, options.shardPatches);
     if (!layout) return layout.error();

@@ -10,7 +10,7 @@
 namespace terrain::tools {
 
 Status writeGlRgbaPng(const std::filesystem::path& path, int widthPx, int heightPx,
-                          std::span<const std::uint8_t> bottomUpRgba) {
+                      std::span<const std::uint8_t> bottomUpRgba) {
     const std::size_t rowBytes = static_cast<std::size_t>(widthPx) * 4;
     TERRAIN_ASSERT(bottomUpRgba.size() == rowBytes * static_cast<std::size_t>(heightPx),
                    "writeGlRgbaPng: pixel count does not match the size");
@@ -26,8 +26,7 @@ Status writeGlRgbaPng(const std::filesystem::path& path, int widthPx, int height
     return io::writeRgba8Png(path, widthPx, heightPx, topDown);
 }
 
-Status writeFramebufferPng(const gl::Framebuffer& framebuffer,
-                               const std::filesystem::path& path) {
+Status writeFramebufferPng(const gl::Framebuffer& framebuffer, const std::filesystem::path& path) {
     return writeGlRgbaPng(path, framebuffer.width(), framebuffer.height(),
                           framebuffer.readColorRgba8());
 }

@@ -2,8 +2,8 @@
 // way every program turns a rendered frame into a file.
 #pragma once
 
-#include "terrain/gl/Framebuffer.h"
 #include "terrain/base/Result.h"
+#include "terrain/gl/Framebuffer.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -14,10 +14,9 @@ namespace terrain::tools {
 /// Writes RGBA8 pixels whose first row is the image's bottom (glReadPixels' order) as an
 /// opaque PNG, top row first, through an atomic file. Errors name the file.
 Status writeGlRgbaPng(const std::filesystem::path& path, int widthPx, int heightPx,
-                          std::span<const std::uint8_t> bottomUpRgba);
+                      std::span<const std::uint8_t> bottomUpRgba);
 
 /// The colour attachment of `framebuffer` as an opaque PNG. Render thread only.
-Status writeFramebufferPng(const gl::Framebuffer& framebuffer,
-                               const std::filesystem::path& path);
+Status writeFramebufferPng(const gl::Framebuffer& framebuffer, const std::filesystem::path& path);
 
 }  // namespace terrain::tools

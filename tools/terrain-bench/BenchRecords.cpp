@@ -27,7 +27,7 @@ struct Column {
 
 template <typename Row>
 Status writeCsv(const std::filesystem::path& path, std::span<const Column<Row>> columns,
-                    std::span<const Row> rows) {
+                std::span<const Row> rows) {
     return writeAtomically(path, [&](const std::filesystem::path& temporary) -> Status {
         std::FILE* file = std::fopen(temporary.c_str(), "w");
         if (file == nullptr) return Error{path.string() + ": cannot write the file"};
@@ -149,7 +149,7 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
 }
 
 Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRecord> records,
-                          const std::string& gpuMsSource) {
+                      const std::string& gpuMsSource) {
     using R = FrameRecord;
     const std::vector<Column<R>> columns = {
         {"method", [](const R& r) { return r.method; }},
@@ -202,8 +202,8 @@ Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRe
 }
 
 Status writeSummaryCsv(const std::filesystem::path& path,
-                           std::span<const ThresholdSummary> summaries,
-                           const std::string& gpuMsSource) {
+                       std::span<const ThresholdSummary> summaries,
+                       const std::string& gpuMsSource) {
     using S = ThresholdSummary;
     const std::vector<Column<S>> columns = {
         {"method", [](const S& s) { return s.method; }},

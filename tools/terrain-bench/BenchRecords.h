@@ -103,9 +103,8 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
 /// frames.csv: one row per record. summary.csv: one row per summary; `gpuMsSource`
 /// ("gl-timer-query" or "llvmpipe-cpu") is written in a column of every row of both.
 Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRecord> records,
-                          const std::string& gpuMsSource);
+                      const std::string& gpuMsSource);
 Status writeSummaryCsv(const std::filesystem::path& path,
-                           std::span<const ThresholdSummary> summaries,
-                           const std::string& gpuMsSource);
+                       std::span<const ThresholdSummary> summaries, const std::string& gpuMsSource);
 
 }  // namespace terrain::tools

@@ -41,7 +41,7 @@ Result<ChartScript> findChartScript(const std::filesystem::path& executable) {
         looked += (looked.empty() ? "" : ", ") + candidate.string();
     }
     return Error{"the chart tool terrain_charts.py is not in " + looked +
-                     " (set TERRAIN_CHARTS_SCRIPT)"};
+                 " (set TERRAIN_CHARTS_SCRIPT)"};
 }
 
 Status runChartScript(const ChartScript& chart, const std::vector<std::string>& args) {
@@ -68,8 +68,8 @@ Status runChartScript(const ChartScript& chart, const std::vector<std::string>& 
     }
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
         return Error{fmt::format("{} {} failed (exit status {}); see its message above",
-                                     chart.python.string(), chart.script.string(),
-                                     WIFEXITED(status) ? WEXITSTATUS(status) : -1)};
+                                 chart.python.string(), chart.script.string(),
+                                 WIFEXITED(status) ? WEXITSTATUS(status) : -1)};
     }
     return {};
 }

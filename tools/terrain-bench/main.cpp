@@ -7,16 +7,16 @@
 // bench.json; --report DIR also runs the chart tool for PNG charts and report.md.
 #include "BenchRecords.h"
 #include "ChartScript.h"
-#include "GlImagePng.h"
 #include "FrameSizeFlags.h"
+#include "GlImagePng.h"
 #include "GlInfoJson.h"
 #include "StreamingBudgetFlags.h"
 
-#include "terrain/cache/GpuTilePool.h"
 #include "terrain/base/AtomicFile.h"
+#include "terrain/cache/GpuTilePool.h"
+#include "terrain/gl/HeadlessGlContext.h"
 #include "terrain/runtime/AccuracyProbe.h"
 #include "terrain/runtime/CameraPath.h"
-#include "terrain/gl/HeadlessGlContext.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TerrainSession.h"
 
@@ -58,7 +58,8 @@ struct BenchOptions {
     bool noSettle = false;
     bool coarseOnly = false;
     double tolerancePx = 0.05;
-    tools::StreamingBudgets budgets{.cpuCacheMiB = 256.0, .gpuLayers = 1024, .uploadMiBPerFrame = 64.0};
+    tools::StreamingBudgets budgets{
+        .cpuCacheMiB = 256.0, .gpuLayers = 1024, .uploadMiBPerFrame = 64.0};
     double fogDensity = 0.0;
     int sampleFrame = -1;  // -1: the middle frame
     bool json = false;
@@ -344,8 +345,7 @@ int run(const BenchOptions& o, const char* argv0) {
                 const bool ok = std::fwrite(text.data(), 1, text.size(), file) == text.size();
                 return std::fclose(file) == 0 && ok
                            ? Status{}
-                           : Status{
-                                 Error{(outputDir / "bench.json").string() + ": write failed"}};
+                           : Status{Error{(outputDir / "bench.json").string() + ": write failed"}};
             });
         !w) {
         return fail(w.error().message);

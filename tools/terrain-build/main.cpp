@@ -3,8 +3,8 @@
 // memory stays under --memory whatever the input size.
 #include "DemOpenFlags.h"
 
-#include "terrain/io/DemReader.h"
 #include "terrain/base/PeakMemory.h"
+#include "terrain/io/DemReader.h"
 #include "terrain/io/PyramidBuilder.h"
 
 #include <fmt/core.h>
@@ -171,8 +171,7 @@ int main(int argc, char** argv) {
                    "terrain-build: {} → {}: {} levels, {} patches, {:.1f} MiB, {:.2f} s, peak RSS "
                    "{:.0f} MiB\n",
                    dem.path, output, s.manifest.levels.size(), s.patches,
-                   double(s.bytes) / (1 << 20), s.seconds,
-                   double(peakResidentBytes()) / (1 << 20));
+                   double(s.bytes) / (1 << 20), s.seconds, double(peakResidentBytes()) / (1 << 20));
     }
     return 0;
 }

@@ -41,8 +41,9 @@ double microsecondsSince(Clock::time_point start) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"LOD update CPU time per frame on a smooth flight: the frame-coherent quadtree "
-                 "against re-selecting from the root every frame."};
+    CLI::App app{
+        "LOD update CPU time per frame on a smooth flight: the frame-coherent quadtree "
+        "against re-selecting from the root every frame."};
     std::string pyramid;
     int width = 1920, height = 1080, frames = 600;
     // Budgets large enough that streaming never limits the LOD being timed.
@@ -142,21 +143,28 @@ int main(int argc, char** argv) {
             {"mean_patches_drawn", static_cast<double>(drawnSum) / frames},
             {"mean_evaluations_per_frame", static_cast<double>(evaluationsSum) / frames},
             {"frames_with_different_cuts", mismatchedFrames},
-            {"tree_update_us", {{"p50", treeMedianUs}, {"p95", treeUs.percentile(95.0) * 1000.0},
-                                {"max", treeUs.max() * 1000.0}, {"mean", treeSum / frames}}},
-            {"from_root_us", {{"p50", rootMedianUs}, {"p95", rootUs.percentile(95.0) * 1000.0},
-                              {"max", rootUs.max() * 1000.0}, {"mean", rootSum / frames}}},
+            {"tree_update_us",
+             {{"p50", treeMedianUs},
+              {"p95", treeUs.percentile(95.0) * 1000.0},
+              {"max", treeUs.max() * 1000.0},
+              {"mean", treeSum / frames}}},
+            {"from_root_us",
+             {{"p50", rootMedianUs},
+              {"p95", rootUs.percentile(95.0) * 1000.0},
+              {"max", rootUs.max() * 1000.0},
+              {"mean", rootSum / frames}}},
             {"speedup_median", rootMedianUs / treeMedianUs},
             {"gl", tools::glInfoJson(*context.value())},
         };
         std::puts(out.dump(2).c_str());
     }
-    fmt::print(stderr,
-               "terrain-lod-bench: {} frames at {}x{}, ε = {} px, {:.0f} patches drawn on average: "
-               "quadtree update median {:.1f} µs (p95 {:.1f}), from the root {:.1f} µs (p95 {:.1f}): "
-               "{:.1f}x; {} frames with different cuts (hysteresis)\n",
-               frames, width, height, errorPx, static_cast<double>(drawnSum) / frames, treeMedianUs,
-               treeUs.percentile(95.0) * 1000.0, rootMedianUs, rootUs.percentile(95.0) * 1000.0,
-               rootMedianUs / treeMedianUs, mismatchedFrames);
+    fmt::print(
+        stderr,
+        "terrain-lod-bench: {} frames at {}x{}, ε = {} px, {:.0f} patches drawn on average: "
+        "quadtree update median {:.1f} µs (p95 {:.1f}), from the root {:.1f} µs (p95 {:.1f}): "
+        "{:.1f}x; {} frames with different cuts (hysteresis)\n",
+        frames, width, height, errorPx, static_cast<double>(drawnSum) / frames, treeMedianUs,
+        treeUs.percentile(95.0) * 1000.0, rootMedianUs, rootUs.percentile(95.0) * 1000.0,
+        rootMedianUs / treeMedianUs, mismatchedFrames);
     return 0;
 }

@@ -4,14 +4,14 @@
 // time and GPU time) and a --json summary. Without --settle it shows what a real-time user
 // would see: tiles that have not arrived yet are drawn by their coarser ancestors.
 #include "DrawStyleFlags.h"
-#include "GlImagePng.h"
 #include "FrameSizeFlags.h"
+#include "GlImagePng.h"
 #include "GlInfoJson.h"
 #include "StreamingBudgetFlags.h"
 
 #include "terrain/gl/Framebuffer.h"
-#include "terrain/runtime/CameraPath.h"
 #include "terrain/gl/HeadlessGlContext.h"
+#include "terrain/runtime/CameraPath.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
 #include "terrain/runtime/TerrainGeometry.h"
@@ -53,7 +53,8 @@ struct RenderOptions {
     std::uint64_t every = 30;
     std::vector<std::uint64_t> frameList;
     bool settle = false;
-    tools::StreamingBudgets budgets{.cpuCacheMiB = 256.0, .gpuLayers = 1024, .uploadMiBPerFrame = 16.0};
+    tools::StreamingBudgets budgets{
+        .cpuCacheMiB = 256.0, .gpuLayers = 1024, .uploadMiBPerFrame = 16.0};
     tools::DrawStyleFlags look;
     bool json = false;
 };

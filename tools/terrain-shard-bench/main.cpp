@@ -51,15 +51,14 @@ double cpuSeconds() {
 }
 
 // Tiles of (N + 2)² samples cut at random places of the DEM, with their block errors.
-Result<std::vector<io::PatchRecord>> patchPool(io::DemReader& dem,
-                                                   const io::PyramidLayout& layout, int count,
-                                                   bool withMask, std::uint32_t seed) {
+Result<std::vector<io::PatchRecord>> patchPool(io::DemReader& dem, const io::PyramidLayout& layout,
+                                               int count, bool withMask, std::uint32_t seed) {
     const io::DemInfo& info = dem.info();
     const int tile = layout.tileSamples();
     const int n = layout.patchSamples();
     if (info.width < tile || info.height < tile)
         return Error{fmt::format("{}: {} × {} samples, smaller than a {}² tile", info.path,
-                                     info.width, info.height, tile)};
+                                 info.width, info.height, tile)};
     std::mt19937 rng(seed);
     std::uniform_int_distribution<std::int64_t> px(0, info.width - tile), py(0, info.height - tile);
     std::vector<io::PatchRecord> pool;

@@ -10,10 +10,10 @@
 #include "StressChecks.h"
 #include "StressFlight.h"
 
-#include "terrain/gl/Framebuffer.h"
 #include "terrain/base/PeakMemory.h"
-#include "terrain/runtime/GroundHeight.h"
+#include "terrain/gl/Framebuffer.h"
 #include "terrain/gl/HeadlessGlContext.h"
+#include "terrain/runtime/GroundHeight.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
 #include "terrain/runtime/TerrainGeometry.h"
@@ -68,7 +68,6 @@ int fail(const std::string& message) {
     fmt::print(stderr, "terrain-stress: {}\n", message);
     return 1;
 }
-
 
 struct ResidentMemoryTrend {
     std::size_t samples = 0;

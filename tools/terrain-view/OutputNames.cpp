@@ -47,11 +47,11 @@ Status checkOutputFolder(const std::filesystem::path& file, const std::string& w
     std::error_code ec;
     if (!std::filesystem::is_directory(folder, ec)) {
         return Error{file.string() + ": cannot write the " + what + ": the folder " +
-                         folder.string() + " does not exist"};
+                     folder.string() + " does not exist"};
     }
     if (::access(folder.c_str(), W_OK) != 0) {
         return Error{file.string() + ": cannot write the " + what + ": the folder " +
-                         folder.string() + " is not writable"};
+                     folder.string() + " is not writable"};
     }
     if (std::filesystem::is_directory(file, ec)) {
         return Error{file.string() + ": cannot write the " + what + ": it is a folder"};

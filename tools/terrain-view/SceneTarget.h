@@ -5,8 +5,8 @@
 // this pixel" for orbit pivots.
 #pragma once
 
-#include "terrain/gl/Framebuffer.h"
 #include "terrain/base/Result.h"
+#include "terrain/gl/Framebuffer.h"
 
 #include <array>
 #include <optional>

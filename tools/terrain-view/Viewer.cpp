@@ -65,13 +65,13 @@ Result<std::unique_ptr<Viewer>> Viewer::create(const ViewerOptions& options) {
 
     gl::GlfwWindowOptions windowOptions;
     windowOptions.vsync = options.vsync;
-    auto window = gl::GlfwWindowContext::create(options.widthPx, options.heightPx,
-                                                     "terrain-view - " + viewer->m_pyramidName,
-                                                     windowOptions);
+    auto window =
+        gl::GlfwWindowContext::create(options.widthPx, options.heightPx,
+                                      "terrain-view - " + viewer->m_pyramidName, windowOptions);
     if (!window) {
         return Error{window.error().message +
-                         "\nterrain-view needs a display with OpenGL 4.5 core (without a "
-                         "display, run it under `xvfb-run -a`; terrain-render renders headless)"};
+                     "\nterrain-view needs a display with OpenGL 4.5 core (without a "
+                     "display, run it under `xvfb-run -a`; terrain-render renders headless)"};
     }
     viewer->m_window = std::move(window).value();
 

@@ -26,7 +26,8 @@ struct ViewerOptions {
     bool vsync = true;
     bool hideOverlay = false;
     double errorPx = 2.0;
-    tools::StreamingBudgets budgets{.cpuCacheMiB = 256.0, .gpuLayers = 1024, .uploadMiBPerFrame = 16.0};
+    tools::StreamingBudgets budgets{
+        .cpuCacheMiB = 256.0, .gpuLayers = 1024, .uploadMiBPerFrame = 16.0};
     int measureEvery = 30;  ///< measure triangles and GPU time every this many frames
     tools::DrawStyleFlags look;
     bool noFog = false;

@@ -8,10 +8,10 @@
 #include "TelemetryHistory.h"
 #include "ViewerSettings.h"
 
+#include "terrain/gl/GlInfo.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/CameraController.h"
 #include "terrain/runtime/FrameTelemetry.h"
-#include "terrain/gl/GlInfo.h"
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>

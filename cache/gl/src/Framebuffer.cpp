@@ -44,12 +44,12 @@ Result<Framebuffer> Framebuffer::create(int width, int height, std::string_view 
 }
 
 Result<Framebuffer> Framebuffer::createWithFloatAttachment(int width, int height,
-                                                               std::string_view label) {
+                                                           std::string_view label) {
     return create(width, height, label, true);
 }
 
 Result<Framebuffer> Framebuffer::create(int width, int height, std::string_view label,
-                                            bool floatAttachment) {
+                                        bool floatAttachment) {
     const std::string name =
         label.empty() ? std::string("framebuffer") : "framebuffer '" + std::string(label) + "'";
     const std::string colorLabel = std::string(label) + " colour";

@@ -36,7 +36,7 @@ Result<std::unique_ptr<GlfwLibrary>> GlfwLibrary::acquire() {
         if (glfwInit() != GLFW_TRUE) {
             const std::string errors = takeErrors();
             return Error{"GLFW: glfwInit failed: " +
-                             (errors.empty() ? std::string("no reason given") : errors)};
+                         (errors.empty() ? std::string("no reason given") : errors)};
         }
     }
     ++g_references;

@@ -35,9 +35,9 @@ Result<std::unique_ptr<GlfwWindowContext>> GlfwWindowContext::create(
     GLFWwindow* window = glfwCreateWindow(width, height, titleText.c_str(), nullptr, nullptr);
     if (window == nullptr) {
         const std::string errors = detail::GlfwLibrary::takeErrors();
-        return Error{"GLFW: cannot open a " + std::to_string(width) + "x" +
-                         std::to_string(height) + " window with OpenGL 4.5 core: " +
-                         (errors.empty() ? std::string("no reason given") : errors)};
+        return Error{"GLFW: cannot open a " + std::to_string(width) + "x" + std::to_string(height) +
+                     " window with OpenGL 4.5 core: " +
+                     (errors.empty() ? std::string("no reason given") : errors)};
     }
     glfwMakeContextCurrent(window);
     glfwSwapInterval(options.vsync ? 1 : 0);
@@ -73,8 +73,7 @@ GlfwWindowContext::~GlfwWindowContext() {
 Status GlfwWindowContext::makeCurrent() {
     glfwMakeContextCurrent(m_window);
     if (glfwGetCurrentContext() != m_window) {
-        return Error{"GLFW: glfwMakeContextCurrent failed: " +
-                         detail::GlfwLibrary::takeErrors()};
+        return Error{"GLFW: glfwMakeContextCurrent failed: " + detail::GlfwLibrary::takeErrors()};
     }
     return {};
 }

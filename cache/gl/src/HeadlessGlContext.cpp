@@ -139,9 +139,9 @@ struct EglEntryPoints {
 
 /// Makes a 4.5 core context on `display` and makes it current, or says why not.
 Result<std::unique_ptr<HeadlessGlContext::Egl>> createOnDisplay(EGLDisplay display,
-                                                                    bool debugContext,
-                                                                    std::string platform,
-                                                                    std::string detail) {
+                                                                bool debugContext,
+                                                                std::string platform,
+                                                                std::string detail) {
     if (display == EGL_NO_DISPLAY) {
         return Error{eglFailure("eglGetPlatformDisplayEXT")};
     }
@@ -167,7 +167,7 @@ Result<std::unique_ptr<HeadlessGlContext::Egl>> createOnDisplay(EGLDisplay displ
     const bool egl15 = eglMajor > 1 || (eglMajor == 1 && eglMinor >= 5);
     if (!egl15 && !hasExtension(extensions, "EGL_KHR_create_context")) {
         return Error{"EGL " + std::to_string(eglMajor) + "." + std::to_string(eglMinor) +
-                         " without EGL_KHR_create_context cannot ask for a core profile"};
+                     " without EGL_KHR_create_context cannot ask for a core profile"};
     }
     if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE) {
         return Error{eglFailure("eglBindAPI(EGL_OPENGL_API)")};
@@ -182,8 +182,8 @@ Result<std::unique_ptr<HeadlessGlContext::Egl>> createOnDisplay(EGLDisplay displ
         if (eglChooseConfig(display, configAttributes, &config, 1, &count) != EGL_TRUE ||
             count < 1) {
             return Error{count < 1 && eglGetError() == EGL_SUCCESS
-                                 ? std::string("eglChooseConfig found no OpenGL config")
-                                 : eglFailure("eglChooseConfig")};
+                             ? std::string("eglChooseConfig found no OpenGL config")
+                             : eglFailure("eglChooseConfig")};
         }
     }
 
@@ -200,7 +200,7 @@ Result<std::unique_ptr<HeadlessGlContext::Egl>> createOnDisplay(EGLDisplay displ
     egl->context = eglCreateContext(display, config, EGL_NO_CONTEXT, contextAttributes.data());
     if (egl->context == EGL_NO_CONTEXT) {
         return Error{eglFailure(debugContext ? "eglCreateContext(OpenGL 4.5 core, debug)"
-                                                 : "eglCreateContext(OpenGL 4.5 core)")};
+                                             : "eglCreateContext(OpenGL 4.5 core)")};
     }
     if (eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, egl->context) != EGL_TRUE) {
         return Error{eglFailure("eglMakeCurrent(no surface)")};
@@ -218,8 +218,8 @@ Result<std::unique_ptr<HeadlessGlContext::Egl>> createOnDisplay(EGLDisplay displ
     if (!versionOk || (profile & GL_CONTEXT_CORE_PROFILE_BIT) == 0) {
         eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         return Error{"got OpenGL " + std::to_string(glMajor) + "." + std::to_string(glMinor) +
-                         ((profile & GL_CONTEXT_CORE_PROFILE_BIT) != 0 ? " core" : " (not core)") +
-                         ", need 4.5 core"};
+                     ((profile & GL_CONTEXT_CORE_PROFILE_BIT) != 0 ? " core" : " (not core)") +
+                     ", need 4.5 core"};
     }
     return egl;
 }
@@ -364,7 +364,7 @@ Result<EglPlatform> parseEglPlatform(std::string_view text) {
         }
     }
     return Error{"unknown EGL platform '" + std::string(text) +
-                     "': use device, surfaceless or auto"};
+                 "': use device, surfaceless or auto"};
 }
 
 Result<std::unique_ptr<HeadlessGlContext>> HeadlessGlContext::create(

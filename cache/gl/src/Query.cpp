@@ -1,8 +1,8 @@
 // Query objects; results are read into client memory even if a query buffer is bound.
 #include "terrain/gl/Query.h"
 
-#include "terrain/gl/DriverWorkarounds.h"
 #include "terrain/base/Assert.h"
+#include "terrain/gl/DriverWorkarounds.h"
 
 #include <string>
 #include <utility>
@@ -67,7 +67,7 @@ bool Query::isSupported(QueryKind kind) {
 Result<Query> Query::create(QueryKind kind, std::string_view label) {
     if (!isSupported(kind)) {
         return Error{std::string("query '") + std::string(label) + "': " + queryName(kind) +
-                         " needs OpenGL 4.6 or GL_ARB_pipeline_statistics_query"};
+                     " needs OpenGL 4.6 or GL_ARB_pipeline_statistics_query"};
     }
     Query query;
     query.m_kind = kind;

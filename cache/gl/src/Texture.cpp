@@ -2,8 +2,8 @@
 // pool layers, a huge tile) is an Error at creation, not a GL error later.
 #include "terrain/gl/Texture.h"
 
-#include "terrain/gl/PixelStoreScope.h"
 #include "terrain/base/Assert.h"
+#include "terrain/gl/PixelStoreScope.h"
 
 #include <algorithm>
 #include <bit>
@@ -107,7 +107,7 @@ std::size_t pixelSizeBytes(GLenum format, GLenum type) {
 Result<Texture> Texture::create2D(const TextureDesc& desc, std::string_view label) {
     if (desc.layers != 1) {
         return Error{describe(label) + ": a 2D texture has exactly one layer, not " +
-                         std::to_string(desc.layers)};
+                     std::to_string(desc.layers)};
     }
     return create(GL_TEXTURE_2D, desc, label);
 }
@@ -116,27 +116,26 @@ Result<Texture> Texture::create2DArray(const TextureDesc& desc, std::string_view
     return create(GL_TEXTURE_2D_ARRAY, desc, label);
 }
 
-Result<Texture> Texture::create(GLenum target, const TextureDesc& desc,
-                                    std::string_view label) {
+Result<Texture> Texture::create(GLenum target, const TextureDesc& desc, std::string_view label) {
     const std::string name = describe(label);
     const int maxSize = getInteger(GL_MAX_TEXTURE_SIZE);
     if (desc.width < 1 || desc.height < 1 || desc.width > maxSize || desc.height > maxSize) {
         return Error{name + ": size " + std::to_string(desc.width) + "x" +
-                         std::to_string(desc.height) + " is outside 1.." + std::to_string(maxSize) +
-                         " (GL_MAX_TEXTURE_SIZE)"};
+                     std::to_string(desc.height) + " is outside 1.." + std::to_string(maxSize) +
+                     " (GL_MAX_TEXTURE_SIZE)"};
     }
     if (target == GL_TEXTURE_2D_ARRAY) {
         const int maxLayers = getInteger(GL_MAX_ARRAY_TEXTURE_LAYERS);
         if (desc.layers < 1 || desc.layers > maxLayers) {
             return Error{name + ": " + std::to_string(desc.layers) + " layers is outside 1.." +
-                             std::to_string(maxLayers) + " (GL_MAX_ARRAY_TEXTURE_LAYERS)"};
+                         std::to_string(maxLayers) + " (GL_MAX_ARRAY_TEXTURE_LAYERS)"};
         }
     }
     const auto largest = static_cast<unsigned>(std::max(desc.width, desc.height));
     const int maxLevels = std::bit_width(largest);
     if (desc.levels < 1 || desc.levels > maxLevels) {
         return Error{name + ": " + std::to_string(desc.levels) + " mip levels is outside 1.." +
-                         std::to_string(maxLevels) + " for its size"};
+                     std::to_string(maxLevels) + " for its size"};
     }
 
     GLuint id = 0;
@@ -161,7 +160,7 @@ Result<Texture> Texture::create(GLenum target, const TextureDesc& desc,
     glGetTextureParameteriv(id, GL_TEXTURE_IMMUTABLE_FORMAT, &immutable);
     if (immutable != GL_TRUE) {
         return Error{name + ": glTextureStorage failed for internal format " +
-                         hexEnum(desc.internalFormat) + " (unsized format or out of memory)"};
+                     hexEnum(desc.internalFormat) + " (unsized format or out of memory)"};
     }
     texture.setSampling(desc.levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR, GL_LINEAR,
                         GL_CLAMP_TO_EDGE);

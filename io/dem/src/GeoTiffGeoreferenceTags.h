@@ -3,8 +3,8 @@
 // readGeoTiffGeoreference and the DEM reader, which opens the file once for both.
 #pragma once
 
-#include "terrain/io/Georeference.h"
 #include "terrain/base/Result.h"
+#include "terrain/io/Georeference.h"
 
 #include <tiffio.h>
 

@@ -5,8 +5,8 @@
 // expose.
 #pragma once
 
-#include "terrain/io/Georeference.h"
 #include "terrain/base/Result.h"
+#include "terrain/io/Georeference.h"
 
 #include <cstdint>
 #include <optional>

@@ -116,9 +116,8 @@ void IoThread::recycle(PatchRecord&& record) {
 
 bool IoThread::waitForCompletion(std::chrono::milliseconds timeout) {
     std::unique_lock lock(m_mutex);
-    m_finished.wait_for(lock, timeout, [&] {
-        return !m_ready.empty() || (m_pending.empty() && !m_inFlight);
-    });
+    m_finished.wait_for(lock, timeout,
+                        [&] { return !m_ready.empty() || (m_pending.empty() && !m_inFlight); });
     return !m_ready.empty();
 }
 

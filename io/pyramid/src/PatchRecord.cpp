@@ -13,7 +13,8 @@ void summariseDrawnSamples(const PyramidLayout& layout, std::span<const float> h
     const auto tile = static_cast<std::size_t>(layout.tileSamples());
     const auto n = static_cast<std::size_t>(layout.patchSamples());
     TERRAIN_ASSERT(heights.size() == tile * tile, "summariseDrawnSamples: heights size");
-    TERRAIN_ASSERT(valid.empty() || valid.size() == tile * tile, "summariseDrawnSamples: mask size");
+    TERRAIN_ASSERT(valid.empty() || valid.size() == tile * tile,
+                   "summariseDrawnSamples: mask size");
     float lo = std::numeric_limits<float>::infinity(), hi = -lo;
     std::uint32_t noData = 0;
     for (std::size_t j = 1; j <= n; ++j) {

@@ -3,9 +3,9 @@
 // the two cannot drift apart.
 #pragma once
 
+#include "terrain/base/Result.h"
 #include "terrain/io/PatchRecord.h"
 #include "terrain/io/PyramidLayout.h"
-#include "terrain/base/Result.h"
 
 #include <ImfHeader.h>
 

@@ -44,9 +44,7 @@ double Camera::errorScale() const {
     return 0.5 * std::max(horizontal, vertical);
 }
 
-glm::dmat4 Camera::viewRotation() const {
-    return glm::lookAt(glm::dvec3(0.0), forward(), up());
-}
+glm::dmat4 Camera::viewRotation() const { return glm::lookAt(glm::dvec3(0.0), forward(), up()); }
 
 glm::dmat4 Camera::projection() const {
     const double f = 1.0 / std::tan(0.5 * fovY);

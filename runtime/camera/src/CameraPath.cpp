@@ -319,7 +319,7 @@ std::optional<std::size_t> CameraPath::firstOverflowingKeyframe() const {
 }
 
 Result<CameraPath> CameraPath::checked(std::vector<CameraKeyframe> keyframes,
-                                           const std::string& sourceName) {
+                                       const std::string& sourceName) {
     if (std::optional<std::string> problem = problemWith(keyframes))
         return Error{fmt::format("{}: {}", sourceName, *problem)};
     CameraPath path(std::move(keyframes));
@@ -343,8 +343,7 @@ Result<CameraPath> CameraPath::load(const std::filesystem::path& path) {
     if (std::filesystem::is_directory(path, ec))
         return Error{name + ": is a folder, not a camera path file"};
     std::ifstream in(path, std::ios::binary);
-    if (!in.is_open())
-        return Error{fmt::format("{}: cannot open: {}", name, std::strerror(errno))};
+    if (!in.is_open()) return Error{fmt::format("{}: cannot open: {}", name, std::strerror(errno))};
     std::ostringstream text;
     text << in.rdbuf();  // an empty file leaves text empty: a JSON parse error below
     if (in.bad()) return Error{name + ": cannot read the file"};

@@ -53,8 +53,8 @@ glm::dvec2 TerrainGeometry::patchNorthWest(const io::PatchId& id) const {
 }
 
 glm::dvec2 TerrainGeometry::patchSize(int level) const {
-    const double samples = static_cast<double>(m_layout.patchQuads()) *
-                           static_cast<double>(m_layout.levelStep(level));
+    const double samples =
+        static_cast<double>(m_layout.patchQuads()) * static_cast<double>(m_layout.levelStep(level));
     return {samples * m_spacing.x, samples * m_spacing.y};
 }
 

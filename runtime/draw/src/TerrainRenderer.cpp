@@ -4,12 +4,12 @@
 #include "terrain/runtime/TerrainRenderer.h"
 
 #include "Bindings.h"
-#include "terrain/runtime/TerrainFrameUniforms.h"
 #include "terrain/base/Assert.h"
-#include "terrain/io/PatchErrors.h"
 #include "terrain/gl/PolygonModeScope.h"
 #include "terrain/gl/ReversedZScope.h"
+#include "terrain/io/PatchErrors.h"
 #include "terrain/runtime/ProgramBuilder.h"
+#include "terrain/runtime/TerrainFrameUniforms.h"
 
 #include <epoxy/gl.h>
 #include <glm/gtc/type_ptr.hpp>
@@ -34,9 +34,8 @@ int fixedSimplification(int factor, int blockQuads) {
 
 }  // namespace
 
-Result<TerrainRenderer> TerrainRenderer::create(const io::PyramidLayout& layout,
-                                                    int maxInstances,
-                                                    const TerrainRendererOptions& options) {
+Result<TerrainRenderer> TerrainRenderer::create(const io::PyramidLayout& layout, int maxInstances,
+                                                const TerrainRendererOptions& options) {
     TERRAIN_ASSERT(maxInstances >= 1);
     ProgramBuilder builder("terrain");
     builder.stage("terrain.vert").stage("terrain.tesc").stage("terrain.tese").stage("terrain.frag");

@@ -107,8 +107,7 @@ PatchSelectionStats selectPatches(const Camera& camera, const TerrainGeometry& g
                                   std::vector<PatchDraw>& out) {
     out.clear();
     const io::PatchId root{0, 0, 0};
-    const io::PatchInfo* rootInfo =
-        residency.acquire(root, std::numeric_limits<float>::max());
+    const io::PatchInfo* rootInfo = residency.acquire(root, std::numeric_limits<float>::max());
     if (rootInfo == nullptr) return {};
     Selector selector(camera, geometry, errorPx, residency, out);
     selector.visit(root, *rootInfo);

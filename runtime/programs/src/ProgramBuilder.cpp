@@ -94,12 +94,11 @@ Result<gl::Program> ProgramBuilder::build() const {
         const auto stage = shaderStageFromFileName(input.fileName);
         if (!stage) {
             return Error{name + ": " + input.fileName +
-                             ": unknown stage (use .vert .tesc .tese .geom .frag .comp)"};
+                         ": unknown stage (use .vert .tesc .tese .geom .frag .comp)"};
         }
         Result<ShaderFile> file =
-            input.text
-                ? Result<ShaderFile>(ShaderFile{input.fileName, input.fileName, *input.text})
-                : loader.load(input.fileName);
+            input.text ? Result<ShaderFile>(ShaderFile{input.fileName, input.fileName, *input.text})
+                       : loader.load(input.fileName);
         if (!file) {
             return Error{name + ": " + file.error().message};
         }
@@ -111,9 +110,8 @@ Result<gl::Program> ProgramBuilder::build() const {
         gl::Shader shader =
             gl::Shader::create(glShaderType(*stage), m_label + "/" + input.fileName);
         if (!shader.compile(preprocessed.value().text)) {
-            return Error{
-                name + ": " + file.value().displayName + " failed to compile:\n" +
-                translateShaderLog(shader.infoLog(), preprocessed.value().sourceNames)};
+            return Error{name + ": " + file.value().displayName + " failed to compile:\n" +
+                         translateShaderLog(shader.infoLog(), preprocessed.value().sourceNames)};
         }
         stageList += (stageList.empty() ? "" : ", ") + file.value().displayName;
         shaders.push_back(std::move(shader));

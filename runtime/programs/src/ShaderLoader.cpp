@@ -36,15 +36,15 @@ Result<ShaderFile> ShaderLoader::load(std::string_view name) const {
                     [](const std::filesystem::path& part) { return part == ".."; });
     if (name.empty() || relative.is_absolute() || escapes) {
         return Error{"shader '" + std::string(name) +
-                         "': names are relative to the shader folder, without '..'"};
+                     "': names are relative to the shader folder, without '..'"};
     }
 
     if (!m_directory) {
         const EmbeddedShader* shader = findEmbeddedShader(name);
         if (shader == nullptr) {
             return Error{std::string(name) +
-                             ": no such embedded shader (files of shaders/ "
-                             "are embedded at build time)"};
+                         ": no such embedded shader (files of shaders/ "
+                         "are embedded at build time)"};
         }
         return ShaderFile{std::string(name), std::string(name), std::string(shader->source)};
     }
@@ -53,7 +53,7 @@ Result<ShaderFile> ShaderLoader::load(std::string_view name) const {
     std::ifstream file(path, std::ios::binary);
     if (!file) {
         return Error{path.string() + ": cannot open shader (" + kShaderDirEnv +
-                         " or the loader's folder points here)"};
+                     " or the loader's folder points here)"};
     }
     std::ostringstream text;
     text << file.rdbuf();

@@ -60,11 +60,11 @@ public:
         for (const ShaderDefine& define : defines) {
             if (!isIdentifier(define.name)) {
                 return Error{root.displayName + ": define '" + define.name +
-                                 "' is not an identifier"};
+                             "' is not an identifier"};
             }
             if (define.value.find_first_of("\r\n") != std::string::npos) {
                 return Error{root.displayName + ": define '" + define.name +
-                                 "' has a line break in its value"};
+                             "' has a line break in its value"};
             }
             m_output += "#define " + define.name;
             if (!define.value.empty()) {
@@ -111,14 +111,14 @@ private:
             const std::string location = file.displayName + ":" + std::to_string(lineNumber);
             if (static_cast<unsigned long>(lineNumber) >= kSourceLineStride) {
                 return Error{location + ": shader files are limited to " +
-                                 std::to_string(kSourceLineStride - 1) + " lines"};
+                             std::to_string(kSourceLineStride - 1) + " lines"};
             }
 
             if (directiveArgument(line, "version")) {
                 return Error{location +
-                                 ": remove the #version line; the program builder "
-                                 "adds '" +
-                                 std::string(kGlslVersionLine) + "'"};
+                             ": remove the #version line; the program builder "
+                             "adds '" +
+                             std::string(kGlslVersionLine) + "'"};
             }
             const auto include = directiveArgument(line, "include");
             if (!include) {
@@ -133,12 +133,12 @@ private:
             }
             if (depth + 1 >= kMaxIncludeDepth) {
                 return Error{location + ": includes nested deeper than " +
-                                 std::to_string(kMaxIncludeDepth)};
+                             std::to_string(kMaxIncludeDepth)};
             }
             auto included = m_loader.load(*name);
             if (!included) {
                 return Error{location + ": cannot include \"" + *name +
-                                 "\": " + included.error().message};
+                             "\": " + included.error().message};
             }
             const ShaderFile& child = included.value();
             if (std::find(m_includeStack.begin(), m_includeStack.end(), child.displayName) !=
@@ -182,8 +182,8 @@ private:
 }  // namespace
 
 Result<PreprocessedShader> preprocessShader(const ShaderFile& root,
-                                                std::span<const ShaderDefine> defines,
-                                                const ShaderLoader& loader) {
+                                            std::span<const ShaderDefine> defines,
+                                            const ShaderLoader& loader) {
     Preprocessor preprocessor(loader);
     if (auto status = preprocessor.run(root, defines); !status) {
         return status.error();

@@ -13,8 +13,8 @@ using Clock = std::chrono::steady_clock;
 
 }  // namespace
 
-Result<std::unique_ptr<TerrainSession>> TerrainSession::open(
-    const std::filesystem::path& pyramid, const TerrainSessionOptions& options) {
+Result<std::unique_ptr<TerrainSession>> TerrainSession::open(const std::filesystem::path& pyramid,
+                                                             const TerrainSessionOptions& options) {
     auto streamer = TileStreamer::open(pyramid, options.streaming);
     if (!streamer) return streamer.error();
     // The tree draws only resident patches, so the pool's capacity bounds one draw.

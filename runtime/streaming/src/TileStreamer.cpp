@@ -12,21 +12,22 @@
 namespace terrain::runtime {
 
 Result<std::unique_ptr<TileStreamer>> TileStreamer::open(const std::filesystem::path& pyramid,
-                                                             const TileStreamerOptions& options) {
+                                                         const TileStreamerOptions& options) {
     auto manifest = io::readManifest(pyramid);
     if (!manifest) return manifest.error();
     if (options.gpuLayers < 1) {
         return Error{fmt::format("{}: the GPU tile pool needs at least 1 layer, not {}",
-                                     pyramid.string(), options.gpuLayers)};
+                                 pyramid.string(), options.gpuLayers)};
     }
     const io::PyramidLayout& layout = manifest.value().layout;
     // A tile the CPU cache cannot hold never reaches the GPU: the terrain would never draw.
     const std::size_t tileBytes =
         cache::TileCache::tileBytes(layout, manifest.value().noData.present);
     if (options.cpuCacheBytes < tileBytes) {
-        return Error{fmt::format("{}: a CPU tile cache of {} bytes holds no tile; a tile of this "
-                                 "pyramid needs {} bytes",
-                                 pyramid.string(), options.cpuCacheBytes, tileBytes)};
+        return Error{
+            fmt::format("{}: a CPU tile cache of {} bytes holds no tile; a tile of this "
+                        "pyramid needs {} bytes",
+                        pyramid.string(), options.cpuCacheBytes, tileBytes)};
     }
     const std::size_t layerBytes = cache::GpuTilePool::bytesPerLayer(layout);
     auto pool = cache::GpuTilePool::create(
@@ -36,9 +37,8 @@ Result<std::unique_ptr<TileStreamer>> TileStreamer::open(const std::filesystem::
     if (!pool) return Error{pyramid.string() + ": " + pool.error().message};
     auto io = io::IoThread::start(pyramid, options.io);
     if (!io) return io.error();
-    return std::unique_ptr<TileStreamer>(new TileStreamer(std::move(manifest).value(),
-                                                          std::move(io).value(),
-                                                          std::move(pool).value(), options));
+    return std::unique_ptr<TileStreamer>(new TileStreamer(
+        std::move(manifest).value(), std::move(io).value(), std::move(pool).value(), options));
 }
 
 TileStreamer::TileStreamer(io::PyramidManifest manifest, std::unique_ptr<io::IoThread> io,
@@ -114,7 +114,9 @@ TileStreamer::LoadState& TileStreamer::loadStateOf(const io::PatchId& id) {
     return m_loads.emplace(id, fresh).first->second;
 }
 
-void TileStreamer::eraseLoad(LoadMap::iterator it) { m_spareLoadNodes.push_back(m_loads.extract(it)); }
+void TileStreamer::eraseLoad(LoadMap::iterator it) {
+    m_spareLoadNodes.push_back(m_loads.extract(it));
+}
 
 bool TileStreamer::uploadFromCache(const io::PatchId& id) {
     if (!m_pool.uploadBudgetLeft()) {

@@ -73,8 +73,8 @@ Result<TelemetryCsvWriter> TelemetryCsvWriter::create(const std::filesystem::pat
     state->stream = std::fopen(state->file.temporaryPath().c_str(), "wb");
     if (state->stream == nullptr) {
         return Error{fmt::format("{}: cannot open the temporary file '{}' for writing: {}",
-                                     path.string(), state->file.temporaryPath().string(),
-                                     std::strerror(errno))};
+                                 path.string(), state->file.temporaryPath().string(),
+                                 std::strerror(errno))};
     }
     // Our buffer, so that stdio does not allocate one lazily in the first write().
     std::array<char, kStdioBufferBytes>& buffer = state->stdioBuffer;
@@ -91,7 +91,7 @@ Result<TelemetryCsvWriter> TelemetryCsvWriter::create(const std::filesystem::pat
     state->put(out);
     if (state->writeErrno != 0) {
         return Error{fmt::format("{}: cannot write the header row: {}", path.string(),
-                                     std::strerror(state->writeErrno))};
+                                 std::strerror(state->writeErrno))};
     }
     return TelemetryCsvWriter(path, std::move(state));
 }
@@ -141,7 +141,7 @@ Status TelemetryCsvWriter::close() {
     }
     if (error != 0) {
         return Error{fmt::format("{}: cannot write the telemetry log: {}", m_path.string(),
-                                     std::strerror(error))};
+                                 std::strerror(error))};
     }
     return state->file.commit();
 }

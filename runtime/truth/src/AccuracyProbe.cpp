@@ -58,8 +58,8 @@ AccuracyProbe::AccuracyProbe(FullResolutionSurface surface, ReferenceRenderer re
       m_referenceTarget(std::move(referenceTarget)),
       m_options(options) {}
 
-Result<std::unique_ptr<AccuracyProbe>> AccuracyProbe::create(
-    const std::filesystem::path& pyramid, const AccuracyProbeOptions& options) {
+Result<std::unique_ptr<AccuracyProbe>> AccuracyProbe::create(const std::filesystem::path& pyramid,
+                                                             const AccuracyProbeOptions& options) {
     auto surface = FullResolutionSurface::open(pyramid, options.surfaceBudgetBytes);
     if (!surface) return surface.error();
     auto reference = ReferenceRenderer::create(surface.value().layout());
@@ -83,7 +83,7 @@ std::array<std::uint8_t, 3> AccuracyProbe::clearRgb() const {
 }
 
 Result<ReferenceCapture> AccuracyProbe::renderReference(const Camera& camera,
-                                                            const ReferenceStyle& style) {
+                                                        const ReferenceStyle& style) {
     TERRAIN_ASSERT(
         camera.viewportWidth == m_options.widthPx && camera.viewportHeight == m_options.heightPx,
         "AccuracyProbe: the camera's viewport is not the probe's");
@@ -133,9 +133,9 @@ LodCapture AccuracyProbe::captureLod(TerrainSession& session, const Camera& came
 }
 
 Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapture& lod,
-                                                 const ReferenceCapture& reference,
-                                                 double thresholdPx, const LodCapture* previousLod,
-                                                 const ReferenceCapture* previousReference) {
+                                             const ReferenceCapture& reference, double thresholdPx,
+                                             const LodCapture* previousLod,
+                                             const ReferenceCapture* previousReference) {
     FrameAccuracy a;
     auto error = measureScreenSpaceError(camera, lod.images.depth, lod.depthWithoutSkirts,
                                          reference.images.depth, m_surface, thresholdPx);
@@ -161,7 +161,7 @@ Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapt
 }
 
 Result<FrameAccuracy> AccuracyProbe::measure(TerrainSession& session, const Camera& camera,
-                                                 const TerrainStyle& style) {
+                                             const TerrainStyle& style) {
     const LodCapture lod = captureLod(session, camera, style);
     auto reference = renderReference(camera, referenceStyleOf(style));
     if (!reference) return reference.error();

@@ -26,7 +26,7 @@ FullResolutionSurface::FullResolutionSurface(io::PyramidReader reader, std::size
       m_budgetBytes(budgetBytes) {}
 
 Result<FullResolutionSurface> FullResolutionSurface::open(const std::filesystem::path& pyramid,
-                                                              std::size_t budgetBytes) {
+                                                          std::size_t budgetBytes) {
     auto reader = io::PyramidReader::open(pyramid);
     if (!reader) return reader.error();
     return FullResolutionSurface(std::move(reader).value(), budgetBytes);

@@ -3,10 +3,10 @@
 #include "terrain/runtime/ReferenceRenderer.h"
 
 #include "Bindings.h"
-#include "terrain/runtime/TerrainFrameUniforms.h"
 #include "terrain/base/Assert.h"
 #include "terrain/gl/ReversedZScope.h"
 #include "terrain/runtime/ProgramBuilder.h"
+#include "terrain/runtime/TerrainFrameUniforms.h"
 
 #include <epoxy/gl.h>
 #include <glm/gtc/type_ptr.hpp>
@@ -61,8 +61,8 @@ Result<ReferenceRenderer> ReferenceRenderer::create(const io::PyramidLayout& lay
 }
 
 Result<ReferenceDrawStats> ReferenceRenderer::draw(const Camera& camera,
-                                                       FullResolutionSurface& surface,
-                                                       const ReferenceStyle& style) {
+                                                   FullResolutionSurface& surface,
+                                                   const ReferenceStyle& style) {
     const TerrainGeometry& geometry = surface.geometry();
     const io::PyramidLayout& layout = surface.layout();
     TERRAIN_ASSERT(std::min(layout.patchQuads(), kMaxTileQuads) == m_tileQuads,

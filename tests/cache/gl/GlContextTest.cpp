@@ -58,8 +58,7 @@ TEST_F(GlContextTest, DebugLogCountsErrorsAndNotNotifications) {
 }
 
 TEST(HeadlessGlContext, ForcedSurfacelessPlatform) {
-    auto context =
-        gl::HeadlessGlContext::create({.platform = gl::EglPlatform::Surfaceless});
+    auto context = gl::HeadlessGlContext::create({.platform = gl::EglPlatform::Surfaceless});
     if (!context) {
         // Only Mesa provides EGL_MESA_platform_surfaceless; the Error must say what failed.
         EXPECT_TRUE(contains(context.error().message, "egl-surfaceless"))
@@ -144,8 +143,8 @@ TEST(GlfwWindowContext, OpensAWindowOrSaysWhyNot) {
     const char* wayland = std::getenv("WAYLAND_DISPLAY");
     const bool haveDisplay =
         (display != nullptr && display[0] != '\0') || (wayland != nullptr && wayland[0] != '\0');
-    auto window = gl::GlfwWindowContext::create(64, 48, "terrain test",
-                                                     {.vsync = false, .visible = false});
+    auto window =
+        gl::GlfwWindowContext::create(64, 48, "terrain test", {.vsync = false, .visible = false});
     if (!haveDisplay) {
         ASSERT_FALSE(window);
         EXPECT_TRUE(contains(window.error().message, "GLFW")) << window.error().message;

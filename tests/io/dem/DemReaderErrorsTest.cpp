@@ -147,11 +147,10 @@ TEST_F(DemReaderErrorsTest, EveryReaderSurvivesTruncatedPrefixes) {
         const char* name;
         int prefixes;
     };
-    for (const Case c :
-         {Case{"luxembourg_elev_30s.tif", 400}, Case{"srtm3_n46w122_rainier.tif", 40},
-          Case{"srtm/N57E011.hgt", 10}, Case{"kilauea_utm5n_30m.nc", 30},
-          Case{"etopo20_global.nc", 40}, Case{"puget_sound_1k.png", 12},
-          Case{"puget_sound_4k_8bit.jpg", 8}}) {
+    for (const Case c : {Case{"luxembourg_elev_30s.tif", 400},
+                         Case{"srtm3_n46w122_rainier.tif", 40}, Case{"srtm/N57E011.hgt", 10},
+                         Case{"kilauea_utm5n_30m.nc", 30}, Case{"etopo20_global.nc", 40},
+                         Case{"puget_sound_1k.png", 12}, Case{"puget_sound_4k_8bit.jpg", 8}}) {
         TERRAIN_SHARED_DATA_OR_SKIP(path, c.name);
         const std::vector<char> bytes = test::readBytes(path);
         const std::string ext = path.extension().string();

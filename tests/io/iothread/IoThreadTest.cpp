@@ -129,7 +129,7 @@ TEST_F(IoThreadTest, ServesHighestPriorityFirstAndCapsUnpolledResults) {
     const std::vector<float> priorities = {1.0f, 7.0f, 3.0f, 7.0f, 5.0f, -1.0f};
     for (std::size_t i = 0; i < priorities.size(); ++i)
         EXPECT_TRUE(io->submit(m_patches[2 + i], priorities[i]));
-    EXPECT_FALSE(io->submit(m_patches[7], 6.0f));  // re-prioritised: -1 → 6
+    EXPECT_FALSE(io->submit(m_patches[7], 6.0f));       // re-prioritised: -1 → 6
     EXPECT_TRUE(io->reprioritise(m_patches[2], 2.0f));  // 1 → 2: still after 3
     EXPECT_FALSE(io->reprioritise(m_patches[0], 9.0f)) << "finished: not pending";
     EXPECT_FALSE(io->reprioritise(m_patches[8], 9.0f)) << "never requested";

@@ -20,8 +20,8 @@ namespace {
 // Every height the surface of cell (cx, cy, side s) can have at (x, y): one per diagonal.
 std::vector<double> surfaceHeights(const std::vector<float>& h, int n, int cx, int cy, int s,
                                    double x, double y) {
-    return test::cellSurfaceHeights([&](int i, int j) { return double(h[j * n + i]); }, cx, cy,
-                                    s, x, y);
+    return test::cellSurfaceHeights([&](int i, int j) { return double(h[j * n + i]); }, cx, cy, s,
+                                    x, y);
 }
 
 double bruteForce(const std::vector<float>& h, int n, int x0, int y0, int quads, int step) {

@@ -633,8 +633,7 @@ TerrainGeometry geometryOf(const GeometryCase& c) {
         manifest.georeference.epsg = io::Georeference::kWgs84Geographic;
     } else if (c.crs == io::CrsKind::Projected) {
         manifest.georeference.originX = c.southWestM.x;
-        manifest.georeference.originY =
-            c.southWestM.y + static_cast<double>(c.height) * c.spacingY;
+        manifest.georeference.originY = c.southWestM.y + static_cast<double>(c.height) * c.spacingY;
     }
     manifest.statistics.minHeight = c.minHeight;
     manifest.statistics.maxHeight = c.maxHeight;
@@ -656,7 +655,14 @@ const std::vector<GeometryCase>& geometryCases() {
         {"geographic", 3601, 3601, io::CrsKind::Geographic, 1.0 / 3600.0, 1.0 / 3600.0, 190.0,
          4800.0},
         // 10,000 km from the CRS's origin, as a DEM far out on a planet-sized grid.
-        {"far-from-origin", 513, 513, io::CrsKind::Projected, 30.0, 30.0, 0.0, 2000.0,
+        {"far-from-origin",
+         513,
+         513,
+         io::CrsKind::Projected,
+         30.0,
+         30.0,
+         0.0,
+         2000.0,
          {1.0e7, 1.0e7}},
     };
     return cases;

@@ -114,8 +114,8 @@ TEST_F(LodQuadtreeTest, SettlesOnTheCutOfASelectionFromTheRoot) {
 
     std::vector<PatchDraw> fromRoot;
     m_residency->beginFrame();
-    const runtime::PatchSelectionStats reference = runtime::selectPatches(
-        c, *m_geometry, options.coarseErrorPx(), *m_residency, fromRoot);
+    const runtime::PatchSelectionStats reference =
+        runtime::selectPatches(c, *m_geometry, options.coarseErrorPx(), *m_residency, fromRoot);
     m_residency->endFrame();
     EXPECT_EQ(reference.waitingSplits, 0u);
     EXPECT_EQ(ids(m_draws), ids(fromRoot));
@@ -212,8 +212,8 @@ TEST_F(LodQuadtreeTest, NeverAHoleWithLateBudgetedAndFailingTiles) {
     int frames = 0, framesWaiting = 0, teleports = 0;
     std::uint64_t maxDrawn = 0;
     while (frames < 300) {
-        const Camera c = camera(u(random), u(random), 10.0 + 2000.0 * u(random), u(random),
-                                u(random));
+        const Camera c =
+            camera(u(random), u(random), 10.0 + 2000.0 * u(random), u(random), u(random));
         ++teleports;
         for (int hold = holdFrames(random); hold > 0 && frames < 300; --hold, ++frames) {
             const LodUpdateStats s = frame(c);
@@ -264,7 +264,9 @@ TEST_F(LodQuadtreeTest, AFailedChildKeepsItsParentDrawing) {
 // patch whose child failed to load — once re-scheduled their own check at zero travel and
 // a frame never ended. Every frame must end, and a still camera must cost nothing.
 TEST_F(LodQuadtreeTest, UnsplittableLeavesDoNotRecheckWithinAFrame) {
-    open({.fails = [](const io::PatchId& id) { return id.level > 1 && (id.x + 2 * id.y) % 3 == 0; }});
+    open({.fails = [](const io::PatchId& id) {
+        return id.level > 1 && (id.x + 2 * id.y) % 3 == 0;
+    }});
     m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry,
                                            runtime::LodOptions{.errorPx = 0.5});
     // Just above the highest sample: inside the bounding boxes of the patches below.

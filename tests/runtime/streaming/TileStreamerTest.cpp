@@ -135,7 +135,7 @@ TEST_F(TileStreamerTest, TinyBudgetsSlowReadsAndFaultsEndEveryRequestOnce) {
         }
         frame(*s, g, c, 0.5, f);
         s->waitForReads(std::chrono::milliseconds(50));  // a read's worth of time
-        if (f.stats.visited == 0) continue;  // the root is not in yet
+        if (f.stats.visited == 0) continue;              // the root is not in yet
         ++framesDrawn;
         ASSERT_NO_FATAL_FAILURE(expectCoverage(*s, f));
         for (const PatchDraw& d : f.draws) EXPECT_FALSE(s->hasFailed(d.id));
@@ -194,7 +194,8 @@ TEST_F(TileStreamerTest, MissingShardIsReportedOncePerPatchAndAncestorsDraw) {
     for (const runtime::TileFault& fault : s.faults()) {
         EXPECT_TRUE(reported.insert(fault.id).second) << "reported twice";
         EXPECT_EQ(layout.shardOf(fault.id), lost);
-        EXPECT_NE(fault.message.find(shard.filename().string()), std::string::npos) << fault.message;
+        EXPECT_NE(fault.message.find(shard.filename().string()), std::string::npos)
+            << fault.message;
     }
     for (const PatchDraw& d : f.draws) {
         EXPECT_FALSE(d.id.level == lost.level && layout.shardOf(d.id) == lost)
@@ -243,7 +244,8 @@ TEST_F(TileStreamerTest, TelemetryCountsTheFrame) {
         sum.gpuUploads += t.gpuUploads;
         sum.diskReadBytes += t.diskReadBytes;
         residentTotal += t.loadsResident;
-        EXPECT_EQ(t.gpuLayersUsed + t.gpuLayersFree, static_cast<std::uint64_t>(s->pool().capacity()));
+        EXPECT_EQ(t.gpuLayersUsed + t.gpuLayersFree,
+                  static_cast<std::uint64_t>(s->pool().capacity()));
         EXPECT_LE(t.cpuCacheBytes, t.cpuCacheBudgetBytes);
         if (i > 0 && s->loadsOutstanding() == 0) break;
         s->waitForReads(std::chrono::milliseconds(100));

@@ -4,6 +4,7 @@
 // Yusov & Shevtsov 2011, §5: texture arrays, a list of unused subresources, one draw call.
 #pragma once
 
+#include "terrain/base/Result.h"
 #include "terrain/cache/LayerFreeList.h"
 #include "terrain/cache/LayerLru.h"
 #include "terrain/gl/Buffer.h"
@@ -12,7 +13,6 @@
 #include "terrain/io/PatchIdHash.h"
 #include "terrain/io/PatchRecord.h"
 #include "terrain/io/PyramidLayout.h"
-#include "terrain/base/Result.h"
 
 #include <array>
 #include <cstddef>
@@ -61,8 +61,7 @@ public:
     /// Creates the texture arrays (immutable storage) and the ring. Errors: a budget below
     /// one layer, texture sizes beyond GL limits, a ring that cannot be mapped. Layers are
     /// clamped to GL_MAX_ARRAY_TEXTURE_LAYERS. Render thread only.
-    static Result<GpuTilePool> create(const io::PyramidLayout& layout,
-                                          const GpuTilePoolDesc& desc);
+    static Result<GpuTilePool> create(const io::PyramidLayout& layout, const GpuTilePoolDesc& desc);
 
     GpuTilePool() = default;
     ~GpuTilePool();
@@ -166,8 +165,8 @@ private:
     void retireOldestFence(bool wait);
 
     LayerFreeList m_freeList{0};
-    LayerLru m_lru{0};                  // allocated layers that are not pinned
-    std::vector<std::uint8_t> m_pinned;  // per layer
+    LayerLru m_lru{0};                                     // allocated layers that are not pinned
+    std::vector<std::uint8_t> m_pinned;                    // per layer
     mutable std::vector<std::uint8_t> m_invariantScratch;  // per layer, for checkInvariants()
     int m_pinnedCount = 0;
     std::vector<io::PatchId> m_layerPatch;  // per allocated layer, its patch

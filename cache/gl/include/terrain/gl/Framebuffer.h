@@ -4,9 +4,9 @@
 // these.
 #pragma once
 
+#include "terrain/base/Result.h"
 #include "terrain/gl/Handle.h"
 #include "terrain/gl/Texture.h"
-#include "terrain/base/Result.h"
 
 #include <array>
 #include <cstdint>
@@ -26,7 +26,7 @@ public:
     /// As create(), plus a GL_R32F colour attachment 1 for a fragment output at location 1;
     /// both colour attachments are draw buffers. Render thread only.
     static Result<Framebuffer> createWithFloatAttachment(int width, int height,
-                                                             std::string_view label = {});
+                                                         std::string_view label = {});
 
     /// Clears colour and depth (glClearNamedFramebuffer: no binding changes). Like any
     /// GL clear it honours the current scissor test and write masks. Render thread only.
@@ -58,7 +58,7 @@ public:
 
 private:
     static Result<Framebuffer> create(int width, int height, std::string_view label,
-                                          bool floatAttachment);
+                                      bool floatAttachment);
 
     FramebufferHandle m_handle;
     Texture m_color;

@@ -34,8 +34,9 @@ class GlfwWindowContext final : public GlContext {
 public:
     /// Opens the window and makes its context current on the calling thread, which must
     /// be the main thread (a GLFW rule). GLFW's own error text ends up in the Error.
-    static Result<std::unique_ptr<GlfwWindowContext>> create(
-        int width, int height, std::string_view title, const GlfwWindowOptions& options = {});
+    static Result<std::unique_ptr<GlfwWindowContext>> create(int width, int height,
+                                                             std::string_view title,
+                                                             const GlfwWindowOptions& options = {});
 
     /// Closes the window. Main thread only.
     ~GlfwWindowContext() override;

@@ -35,8 +35,7 @@ public:
     /// Creates the context and makes it current on the calling thread. When no platform
     /// gives OpenGL 4.5 core, the Error lists every attempt and its EGL error, and the
     /// EGL context current before (if any) is current again.
-    static Result<std::unique_ptr<HeadlessGlContext>> create(
-        const HeadlessGlOptions& options = {});
+    static Result<std::unique_ptr<HeadlessGlContext>> create(const HeadlessGlOptions& options = {});
 
     /// Destroys the context; the context current before (if another) stays current.
     /// Render thread only.

@@ -2,8 +2,8 @@
 // evaluation invocations); results are read as 64-bit integers.
 #pragma once
 
-#include "terrain/gl/Handle.h"
 #include "terrain/base/Result.h"
+#include "terrain/gl/Handle.h"
 
 #include <cstdint>
 #include <optional>

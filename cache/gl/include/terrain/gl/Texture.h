@@ -2,8 +2,8 @@
 // only. The GPU tile pool keeps tiles as layers of 2D-array textures.
 #pragma once
 
-#include "terrain/gl/Handle.h"
 #include "terrain/base/Result.h"
+#include "terrain/gl/Handle.h"
 
 #include <cstddef>
 #include <span>
@@ -72,8 +72,7 @@ public:
     int levels() const { return m_levels; }
 
 private:
-    static Result<Texture> create(GLenum target, const TextureDesc& desc,
-                                      std::string_view label);
+    static Result<Texture> create(GLenum target, const TextureDesc& desc, std::string_view label);
     bool contains(const TextureRegion& region) const;
 
     TextureHandle m_handle;

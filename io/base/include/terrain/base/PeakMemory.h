@@ -1,4 +1,5 @@
-// Peak and current resident memory of this process (VmHWM, VmRSS), for --json summaries and benchmarks.
+// Peak and current resident memory of this process (VmHWM, VmRSS), for --json summaries and
+// benchmarks.
 #pragma once
 
 #include <cstdint>

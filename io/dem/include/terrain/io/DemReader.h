@@ -3,8 +3,8 @@
 // procedural source), read window by window so no raster is ever held whole.
 #pragma once
 
-#include "terrain/io/Georeference.h"
 #include "terrain/base/Result.h"
+#include "terrain/io/Georeference.h"
 
 #include <cstdint>
 #include <memory>

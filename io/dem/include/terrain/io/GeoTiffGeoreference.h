@@ -3,8 +3,8 @@
 // libtiff).
 #pragma once
 
-#include "terrain/io/Georeference.h"
 #include "terrain/base/Result.h"
+#include "terrain/io/Georeference.h"
 
 #include <filesystem>
 

@@ -3,8 +3,8 @@
 // memory (a 16,385² DEM) can be written. Every file goes through AtomicFile.
 #pragma once
 
-#include "terrain/io/Georeference.h"
 #include "terrain/base/Result.h"
+#include "terrain/io/Georeference.h"
 
 #include <cstdint>
 #include <filesystem>

@@ -8,8 +8,8 @@
 // number of threads that fill them.
 #pragma once
 
-#include "terrain/io/Georeference.h"
 #include "terrain/base/Result.h"
+#include "terrain/io/Georeference.h"
 
 #include <array>
 #include <cstddef>

@@ -26,11 +26,11 @@
 // I/O thread may allocate while it reads (file access, failure messages).
 #pragma once
 
+#include "terrain/base/Result.h"
 #include "terrain/io/FaultInjection.h"
 #include "terrain/io/PatchRecord.h"
 #include "terrain/io/PyramidLayout.h"
 #include "terrain/io/PyramidReader.h"
-#include "terrain/base/Result.h"
 #include "terrain/io/TileRequestQueue.h"
 
 #include <chrono>

@@ -4,10 +4,10 @@
 // (Yusov & Shevtsov 2011, §4 and §5).
 #pragma once
 
+#include "terrain/base/Result.h"
 #include "terrain/io/DemReader.h"
 #include "terrain/io/PyramidLayout.h"
 #include "terrain/io/PyramidManifest.h"
-#include "terrain/base/Result.h"
 
 #include <atomic>
 #include <cstdint>

@@ -4,10 +4,10 @@
 // Every function here is pure or touches only its own file: any thread.
 #pragma once
 
+#include "terrain/base/Result.h"
 #include "terrain/io/DemReader.h"
 #include "terrain/io/Georeference.h"
 #include "terrain/io/PyramidLayout.h"
-#include "terrain/base/Result.h"
 
 #include <cstdint>
 #include <filesystem>

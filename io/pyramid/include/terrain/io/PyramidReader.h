@@ -4,10 +4,10 @@
 // per tile.
 #pragma once
 
+#include "terrain/base/Result.h"
 #include "terrain/io/PatchRecord.h"
 #include "terrain/io/PyramidLayout.h"
 #include "terrain/io/PyramidManifest.h"
-#include "terrain/base/Result.h"
 
 #include <cstdint>
 #include <filesystem>

@@ -3,9 +3,9 @@
 // diagonal the GPU's tessellator draws (terrain-inspect --verify --source).
 #pragma once
 
+#include "terrain/base/Result.h"
 #include "terrain/io/DemReader.h"
 #include "terrain/io/PyramidReader.h"
-#include "terrain/base/Result.h"
 
 #include <cstdint>
 #include <functional>

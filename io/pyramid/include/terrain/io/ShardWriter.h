@@ -3,9 +3,9 @@
 // temporary name that finish() renames into place.
 #pragma once
 
+#include "terrain/base/Result.h"
 #include "terrain/io/PatchRecord.h"
 #include "terrain/io/PyramidLayout.h"
-#include "terrain/base/Result.h"
 
 #include <filesystem>
 #include <memory>

@@ -93,7 +93,7 @@ private:
     /// fromKeyframes and load: checks, builds, and checks the tangents are finite. Errors
     /// start with `sourceName`.
     static Result<CameraPath> checked(std::vector<CameraKeyframe> keyframes,
-                                          const std::string& sourceName);
+                                      const std::string& sourceName);
     std::optional<std::size_t> firstOverflowingKeyframe() const;
 
     std::vector<CameraKeyframe> m_keyframes;

@@ -7,13 +7,13 @@
 // per-instance data lives in a storage buffer written once a frame.
 #pragma once
 
+#include "terrain/base/Result.h"
 #include "terrain/cache/GpuTilePool.h"
 #include "terrain/gl/Buffer.h"
 #include "terrain/gl/Program.h"
 #include "terrain/gl/Query.h"
 #include "terrain/gl/VertexArray.h"
 #include "terrain/io/PyramidLayout.h"
-#include "terrain/base/Result.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TerrainGeometry.h"
@@ -89,7 +89,7 @@ class TerrainRenderer {
 public:
     /// `maxInstances` bounds the patches of one draw (the pool's capacity is enough).
     static Result<TerrainRenderer> create(const io::PyramidLayout& layout, int maxInstances,
-                                              const TerrainRendererOptions& options = {});
+                                          const TerrainRendererOptions& options = {});
 
     /// Draws `patches` (every one resident in `pool`, TERRAIN_ASSERT) seen by `camera`:
     /// prepare() then submit(). Depth must be cleared to 0 (reversed Z). Give the patches

@@ -54,16 +54,17 @@ struct LodOptions {
 
 struct LodUpdateStats {
     std::uint64_t drawn = 0;
-    std::uint64_t culled = 0;         ///< leaves outside the frustum
-    std::uint64_t evaluations = 0;    ///< split or merge decisions computed this frame
+    std::uint64_t culled = 0;       ///< leaves outside the frustum
+    std::uint64_t evaluations = 0;  ///< split or merge decisions computed this frame
     std::uint64_t splits = 0;
-    std::uint64_t merges = 0;         ///< including subtrees collapsed as they left the view
-    std::uint64_t waitingSplits = 0;  ///< leaves too coarse whose children are not resident
-    std::uint64_t nodes = 0;          ///< nodes in the tree after the update
+    std::uint64_t merges = 0;                ///< including subtrees collapsed as they left the view
+    std::uint64_t waitingSplits = 0;         ///< leaves too coarse whose children are not resident
+    std::uint64_t nodes = 0;                 ///< nodes in the tree after the update
     std::uint64_t coveredFinestPatches = 0;  ///< as PatchSelectionStats
 };
 
-/// Render thread only. Holds pins in `residency`: destroy it before the residency. Allocates nothing per frame once its node and queue storage have grown.
+/// Render thread only. Holds pins in `residency`: destroy it before the residency. Allocates
+/// nothing per frame once its node and queue storage have grown.
 class LodQuadtree {
 public:
     LodQuadtree(TileResidency& residency, const TerrainGeometry& geometry, LodOptions options = {});
@@ -95,8 +96,8 @@ private:
         int firstChild = -1;  // childCount consecutive nodes
         std::uint8_t childCount = 0;
         bool visible = false;
-        bool waiting = false;        // in m_waiting
-        bool splitBlocked = false;   // a child failed to load: never splits
+        bool waiting = false;          // in m_waiting
+        bool splitBlocked = false;     // a child failed to load: never splits
         std::uint32_t generation = 0;  // bumped when a node changes: stale checks are skipped
         bool leaf() const { return childCount == 0; }
     };
@@ -124,7 +125,7 @@ private:
     const TerrainGeometry& m_geometry;
     LodOptions m_options;
 
-    std::vector<Node> m_nodes;    // blocks of 4; the root is node 0 (alone in block 0)
+    std::vector<Node> m_nodes;  // blocks of 4; the root is node 0 (alone in block 0)
     std::vector<int> m_freeBlocks;
     std::vector<Check> m_checks;  // min-heap on atOdometer
     std::vector<int> m_waiting;   // leaves re-tried every frame

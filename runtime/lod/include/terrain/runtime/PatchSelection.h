@@ -22,16 +22,16 @@ namespace terrain::runtime {
 
 struct PatchDraw {
     io::PatchId id;
-    int layer = -1;        ///< the patch's layer in the GPU tile pool's texture arrays
-    float errorM = 0.0f;   ///< Err(P), metres: Λ(d) = λ(d) + Err(P) (Yusov §5)
+    int layer = -1;       ///< the patch's layer in the GPU tile pool's texture arrays
+    float errorM = 0.0f;  ///< Err(P), metres: Λ(d) = λ(d) + Err(P) (Yusov §5)
     /// How far below the edge the patch's skirts reach, metres (see the renderer).
     float skirtDepthM = 0.0f;
 };
 
 struct PatchSelectionStats {
     std::uint64_t drawn = 0;
-    std::uint64_t culled = 0;   ///< resident patches outside the frustum (not drawn)
-    std::uint64_t visited = 0;  ///< patches whose screen-space error was evaluated
+    std::uint64_t culled = 0;         ///< resident patches outside the frustum (not drawn)
+    std::uint64_t visited = 0;        ///< patches whose screen-space error was evaluated
     std::uint64_t waitingSplits = 0;  ///< drawn although too coarse: children not resident
     /// Finest-level patches under the drawn and culled patches; equals
     /// finestPatchesCovered(root) when they tile the domain (and something was drawn).

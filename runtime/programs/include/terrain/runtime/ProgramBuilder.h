@@ -4,8 +4,8 @@
 // as "<file>:<line>: ..." in an Error.
 #pragma once
 
-#include "terrain/gl/Program.h"
 #include "terrain/base/Result.h"
+#include "terrain/gl/Program.h"
 #include "terrain/runtime/ShaderLoader.h"
 #include "terrain/runtime/ShaderPreprocessor.h"
 

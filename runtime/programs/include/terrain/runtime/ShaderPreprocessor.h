@@ -40,7 +40,7 @@ struct PreprocessedShader {
 /// define is an Error naming file and line. Includes are found by a line scan, not a full
 /// preprocessor: an #include inside `#if 0` is still read.
 Result<PreprocessedShader> preprocessShader(const ShaderFile& root,
-                                                std::span<const ShaderDefine> defines,
-                                                const ShaderLoader& loader);
+                                            std::span<const ShaderDefine> defines,
+                                            const ShaderLoader& loader);
 
 }  // namespace terrain::runtime

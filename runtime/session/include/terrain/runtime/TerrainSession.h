@@ -41,7 +41,7 @@ class TerrainSession {
 public:
     /// Opens the pyramid (errors name it), starts streaming, builds the renderer.
     static Result<std::unique_ptr<TerrainSession>> open(const std::filesystem::path& pyramid,
-                                                            const TerrainSessionOptions& options);
+                                                        const TerrainSessionOptions& options);
     ~TerrainSession();
     TerrainSession(const TerrainSession&) = delete;
     TerrainSession& operator=(const TerrainSession&) = delete;

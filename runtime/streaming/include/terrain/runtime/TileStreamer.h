@@ -13,12 +13,12 @@
 // resident ancestor and no hole appears.
 #pragma once
 
+#include "terrain/base/Result.h"
 #include "terrain/cache/GpuTilePool.h"
 #include "terrain/cache/TileCache.h"
 #include "terrain/io/IoThread.h"
 #include "terrain/io/PatchIdHash.h"
 #include "terrain/io/PyramidManifest.h"
-#include "terrain/base/Result.h"
 #include "terrain/runtime/FrameTelemetry.h"
 #include "terrain/runtime/LatencyHistogram.h"
 #include "terrain/runtime/LatencyWindow.h"
@@ -54,7 +54,7 @@ struct TileFault {
 /// A patch that became resident on the GPU after the LOD first wanted it.
 struct TileLoad {
     io::PatchId id;
-    double latencyMs = 0.0;         ///< first wanted → resident (uploaded)
+    double latencyMs = 0.0;           ///< first wanted → resident (uploaded)
     std::uint64_t latencyFrames = 0;  ///< the same in frames (0: resident in the same frame)
 };
 
@@ -76,7 +76,7 @@ public:
     /// Opens the pyramid, starts the I/O thread, creates the GPU pool. Errors name the
     /// pyramid or the budget that does not fit.
     static Result<std::unique_ptr<TileStreamer>> open(const std::filesystem::path& pyramid,
-                                                          const TileStreamerOptions& options);
+                                                      const TileStreamerOptions& options);
     ~TileStreamer() override;
     TileStreamer(const TileStreamer&) = delete;
     TileStreamer& operator=(const TileStreamer&) = delete;
@@ -157,7 +157,7 @@ private:
     std::uint64_t m_frame = 0;
     LoadMap m_loads;
     std::vector<LoadMap::node_type> m_spareLoadNodes;  // reused: no allocation per request
-    std::vector<io::Completion> m_completions;          // poll() target, capacity kept
+    std::vector<io::Completion> m_completions;         // poll() target, capacity kept
     std::unordered_set<io::PatchId, io::PatchIdHash> m_failed;
     std::vector<TileFault> m_faults;
     TileRequestLedger m_ledger;

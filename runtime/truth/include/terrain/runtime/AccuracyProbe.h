@@ -6,8 +6,8 @@
 // pixels and popping (ImageComparison.h).
 #pragma once
 
-#include "terrain/gl/Framebuffer.h"
 #include "terrain/base/Result.h"
+#include "terrain/gl/Framebuffer.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/FrameImages.h"
 #include "terrain/runtime/FullResolutionSurface.h"
@@ -78,8 +78,8 @@ ReferenceStyle referenceStyleOf(const TerrainStyle& style);
 class AccuracyProbe {
 public:
     /// Opens the pyramid's finest level and creates the renderers and framebuffers.
-    static Result<std::unique_ptr<AccuracyProbe>> create(
-        const std::filesystem::path& pyramid, const AccuracyProbeOptions& options = {});
+    static Result<std::unique_ptr<AccuracyProbe>> create(const std::filesystem::path& pyramid,
+                                                         const AccuracyProbeOptions& options = {});
 
     /// Draws and reads back the ground truth for `camera` (viewport = the options' size).
     Result<ReferenceCapture> renderReference(const Camera& camera, const ReferenceStyle& style);
@@ -92,14 +92,14 @@ public:
     /// captures (same sequence of cameras) also popping. `thresholdPx` (ε) counts the
     /// pixels over it.
     Result<FrameAccuracy> compare(const Camera& camera, const LodCapture& lod,
-                                      const ReferenceCapture& reference, double thresholdPx,
-                                      const LodCapture* previousLod = nullptr,
-                                      const ReferenceCapture* previousReference = nullptr);
+                                  const ReferenceCapture& reference, double thresholdPx,
+                                  const LodCapture* previousLod = nullptr,
+                                  const ReferenceCapture* previousReference = nullptr);
 
     /// captureLod, renderReference and compare for one frame (no popping), thresholdPx =
     /// style.errorPx.
     Result<FrameAccuracy> measure(TerrainSession& session, const Camera& camera,
-                                      const TerrainStyle& style);
+                                  const TerrainStyle& style);
 
     FullResolutionSurface& surface() { return m_surface; }
     const AccuracyProbeOptions& options() const { return m_options; }

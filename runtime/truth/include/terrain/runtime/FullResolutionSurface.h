@@ -7,11 +7,11 @@
 // bounds, no tessellation.
 #pragma once
 
+#include "terrain/base/Result.h"
 #include "terrain/io/PatchIdHash.h"
 #include "terrain/io/PatchRecord.h"
 #include "terrain/io/PyramidLayout.h"
 #include "terrain/io/PyramidReader.h"
-#include "terrain/base/Result.h"
 #include "terrain/runtime/TerrainGeometry.h"
 
 #include <cstddef>
@@ -43,7 +43,7 @@ public:
 
     /// Opens the pyramid (errors name it). `budgetBytes` bounds the finest patches kept.
     static Result<FullResolutionSurface> open(const std::filesystem::path& pyramid,
-                                                  std::size_t budgetBytes = kDefaultBudgetBytes);
+                                              std::size_t budgetBytes = kDefaultBudgetBytes);
 
     const TerrainGeometry& geometry() const { return *m_geometry; }
     const io::PyramidLayout& layout() const { return m_reader.layout(); }

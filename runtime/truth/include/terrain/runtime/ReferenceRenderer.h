@@ -13,11 +13,11 @@
 // purpose: it must be right, not fast.
 #pragma once
 
+#include "terrain/base/Result.h"
 #include "terrain/gl/Buffer.h"
 #include "terrain/gl/Program.h"
 #include "terrain/gl/Texture.h"
 #include "terrain/gl/VertexArray.h"
-#include "terrain/base/Result.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/FullResolutionSurface.h"
 
@@ -54,7 +54,7 @@ public:
     /// height (metres) at location 1. Depth must be cleared to 0 (reversed Z), as for the
     /// LOD draw. Errors (a patch that cannot be read) name the shard file and the patch.
     Result<ReferenceDrawStats> draw(const Camera& camera, FullResolutionSurface& surface,
-                                        const ReferenceStyle& style);
+                                    const ReferenceStyle& style);
 
     int tileQuads() const { return m_tileQuads; }
 
