@@ -21,8 +21,8 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
-#include <string>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -74,7 +74,8 @@ public:
 
     const io::PyramidLayout& layout() const { return m_layout; }
 
-    /// Starts a frame: patches whose time has come arrive (up to arrivalsPerFrame), or fail.
+    /// Starts a frame: a patch asked for framesToArrive frames ago or more becomes resident
+    /// when acquire() asks for it again (at most arrivalsPerFrame this frame), or fails.
     void beginFrame() {
         ++m_frame;
         m_arrivalsThisFrame = 0;
@@ -152,10 +153,8 @@ public:
     }
 
     // For tests -----------------------------------------------------------------------------
-    std::uint64_t frame() const { return m_frame; }
     std::uint64_t requests() const { return m_requests; }  ///< distinct loads asked for
     std::size_t pending() const { return m_pending.size(); }
-    std::size_t residentCount() const { return m_resident.size(); }
     std::size_t pinnedCount() const {
         std::size_t n = 0;
         for (const Layer& l : m_layers) n += l.used && l.pinned ? 1 : 0;
@@ -163,18 +162,6 @@ public:
     }
     std::uint64_t evictions() const { return m_evictions; }
     const std::unordered_set<io::PatchId, io::PatchIdHash>& failed() const { return m_failed; }
-    /// Makes `id` resident now if a layer is free (ignoring arrival time and budget).
-    const io::PatchInfo* makeResident(const io::PatchId& id) {
-        const int saved = m_options.framesToArrive;
-        m_options.framesToArrive = 0;
-        m_pending.erase(id);
-        const int arrivals = m_arrivalsThisFrame;
-        m_arrivalsThisFrame = 0;
-        const io::PatchInfo* info = acquire(id, 0.0f);
-        m_arrivalsThisFrame = arrivals;
-        m_options.framesToArrive = saved;
-        return info;
-    }
 
 private:
     struct Layer {
