@@ -6,6 +6,7 @@
 #include "TempFolder.h"
 #include "terrain/io/DemReader.h"
 #include "terrain/io/PyramidBuilder.h"
+#include "terrain/io/PyramidManifest.h"
 
 #include <gtest/gtest.h>
 
@@ -29,6 +30,16 @@ inline const std::filesystem::path& streamingTestPyramid() {
     }();
     static const std::filesystem::path path = folder->path() / "p.pyramid";
     return path;
+}
+
+/// Its manifest, read once.
+inline const io::PyramidManifest& streamingTestManifest() {
+    static const io::PyramidManifest manifest = [] {
+        auto read = io::readManifest(streamingTestPyramid());
+        EXPECT_TRUE(read) << read.error().message;
+        return read ? std::move(read).value() : io::PyramidManifest{};
+    }();
+    return manifest;
 }
 
 }  // namespace terrain::test

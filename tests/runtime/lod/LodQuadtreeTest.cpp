@@ -37,9 +37,7 @@ protected:
         m_tree.reset();
         m_residency = FakeTileResidency::fromPyramid(streamingTestPyramid(), options);
         ASSERT_TRUE(m_residency);
-        auto manifest = io::readManifest(streamingTestPyramid());
-        ASSERT_TRUE(manifest) << manifest.error().message;
-        m_geometry.emplace(manifest.value());
+        m_geometry.emplace(streamingTestManifest());
     }
 
     Camera camera(double fx, double fy, double above, double tx, double ty) const {

@@ -31,9 +31,7 @@ protected:
     void open(const FakeTileResidencyOptions& options) {
         m_residency = FakeTileResidency::fromPyramid(streamingTestPyramid(), options);
         ASSERT_TRUE(m_residency);
-        auto manifest = io::readManifest(streamingTestPyramid());
-        ASSERT_TRUE(manifest) << manifest.error().message;
-        m_geometry.emplace(manifest.value());
+        m_geometry.emplace(streamingTestManifest());
     }
 
     Camera lowOblique() const { return cameraOverDem(*m_geometry, 0.3, 0.2, 200.0, 0.6, 0.7); }
@@ -136,10 +134,7 @@ TEST_F(PatchSelectionTest, TinyBudgetsLateTilesAndFailuresNeverLeaveAHole) {
 
 // A whole area whose loads fail (a lost shard's patches) is drawn by resident ancestors.
 TEST_F(PatchSelectionTest, AFailedAreaIsDrawnByItsAncestors) {
-    const int finest = [] {
-        auto manifest = io::readManifest(streamingTestPyramid());
-        return manifest ? manifest.value().layout.finestLevel() : 0;
-    }();
+    const int finest = streamingTestManifest().layout.finestLevel();
     // The finest patches of the north-west shard (4 × 4 patches).
     const auto lost = [finest](const io::PatchId& id) {
         return id.level == finest && id.x < 4 && id.y < 4;

@@ -209,10 +209,9 @@ TEST_F(TileStreamerTest, MissingShardIsReportedOncePerPatchAndAncestorsDraw) {
 // A CPU cache too small for one tile would never let a tile reach the GPU, and the terrain
 // would never draw: opening the pyramid says so instead.
 TEST_F(TileStreamerTest, ACpuCacheThatHoldsNoTileIsRefused) {
-    auto manifest = io::readManifest(streamingTestPyramid());
-    ASSERT_TRUE(manifest) << manifest.error().message;
+    const io::PyramidManifest& manifest = streamingTestManifest();
     const std::size_t tileBytes =
-        cache::TileCache::tileBytes(manifest.value().layout, manifest.value().noData.present);
+        cache::TileCache::tileBytes(manifest.layout, manifest.noData.present);
     runtime::TileStreamerOptions o;
     o.cpuCacheBytes = tileBytes - 1;
     auto refused = TileStreamer::open(streamingTestPyramid(), o);

@@ -27,7 +27,6 @@
 #include <glm/vec3.hpp>
 
 #include <array>
-#include <span>
 #include <vector>
 
 namespace terrain::runtime {
