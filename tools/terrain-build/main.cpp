@@ -5,6 +5,7 @@
 
 #include "terrain/base/PeakMemory.h"
 #include "terrain/io/DemReader.h"
+#include "terrain/io/GlobePyramidBuilder.h"
 #include "terrain/io/PyramidBuilder.h"
 
 #include <fmt/core.h>
@@ -85,7 +86,7 @@ int main(int argc, char** argv) {
     std::string memory = "1GiB";
     io::PyramidBuildOptions options;
     tools::DemOpenFlags demFlags;
-    bool json = false, quiet = false;
+    bool json = false, quiet = false, globe = false;
     app.add_option("INPUT", inputs, "DEM file(s); several files form a mosaic")->required();
     app.add_option("-o,--output", output, "Pyramid folder to create")->required();
     app.add_option("--memory", memory, "Peak memory budget, e.g. 1GiB, 512MiB")
@@ -105,6 +106,9 @@ int main(int argc, char** argv) {
     app.add_option("--threads", options.threads, "Worker threads (0: one per core)")
         ->capture_default_str();
     demFlags.addTo(app);
+    app.add_flag("--globe", globe,
+                 "Build a globe pyramid: the geographic (longitude/latitude) source resampled onto "
+                 "the WGS84 cube-sphere, instead of a planar sheet around its centre");
     app.add_flag("--overwrite", options.overwrite, "Replace an existing pyramid");
     app.add_flag("--json", json, "Print a JSON summary on stdout");
     app.add_flag("-q,--quiet", quiet, "No progress bar");
@@ -128,7 +132,8 @@ int main(int argc, char** argv) {
         bar.emplace();
         options.progress = [&](const io::PyramidBuildProgress& p) { bar->update(p); };
     }
-    auto built = io::buildPyramid(*reader.value(), output, options);
+    auto built = globe ? io::buildGlobePyramid(*reader.value(), output, options)
+                       : io::buildPyramid(*reader.value(), output, options);
     if (bar) bar->finish();
     if (!built)
         return g_interrupted ? (fail(built.error().message), 130) : fail(built.error().message);
@@ -141,6 +146,7 @@ int main(int argc, char** argv) {
             levels.push_back({{"level", level.level},
                               {"patchesX", level.patchesX},
                               {"patchesY", level.patchesY},
+                              {"presentPatches", level.presentPatches},
                               {"maxErrorM", level.maxError}});
         const nlohmann::json summary{
             {"tool", "terrain-build"},
@@ -150,6 +156,9 @@ int main(int argc, char** argv) {
             {"raster",
              {{"width", dem.width}, {"height", dem.height}, {"sampleType", dem.sampleType}}},
             {"levels", s.manifest.levels.size()},
+            {"tiling", s.manifest.globe ? "globe" : "planar"},
+            {"faceFinestLevel", s.manifest.globe ? nlohmann::json(s.manifest.globe->faceFinestLevel)
+                                                 : nlohmann::json()},
             {"levelDetails", levels},
             {"patches", s.patches},
             {"bytes", s.bytes},

@@ -3,6 +3,7 @@
 // this check run the same functions (io::patchBlockErrors) on the same floats.
 #include "PatchChecks.h"
 
+#include "terrain/io/GlobePatchErrors.h"
 #include "terrain/io/PatchErrors.h"
 
 #include <fmt/format.h>
@@ -17,9 +18,11 @@ Problem patchProblem(const std::string& file, const io::PatchId& id, const std::
     return {file, id, fmt::format("{}: patch L{} ({}, {}): {}", file, id.level, id.x, id.y, what)};
 }
 
-void checkPatchContents(const io::PyramidLayout& layout, bool hasMask,
+void checkPatchContents(const io::PyramidManifest& manifest, bool hasMask,
                         const io::PatchRecord& record, const std::string& file,
                         std::vector<Problem>& problems) {
+    const io::PyramidLayout& layout = manifest.layout;
+    const bool globe = manifest.globe.has_value();
     const io::PatchId& id = record.id;
     const io::PatchInfo& info = record.info;
     const auto report = [&](const std::string& what) {
@@ -55,7 +58,13 @@ void checkPatchContents(const io::PyramidLayout& layout, bool hasMask,
                            info.minHeight, info.maxHeight, lo, hi));
 
     std::vector<io::BlockErrors> lambda(record.blockErrors.size());
-    io::patchBlockErrors({record.heights.data() + tile + 1, n, tile}, layout.blockQuads(), lambda);
+    const io::GridView interior{record.heights.data() + tile + 1, n, tile};
+    if (globe)
+        io::globePatchBlockErrors(interior, layout.blockQuads(),
+                                  id.level - io::ManifestGlobe::kLevelOffset, info.minHeight,
+                                  lambda);
+    else
+        io::patchBlockErrors(interior, layout.blockQuads(), lambda);
     for (std::size_t b = 0; b < lambda.size(); ++b) {
         if (lambda[b] != record.blockErrors[b]) {
             const int k = layout.blocksPerSide();
@@ -76,13 +85,15 @@ void checkPatchContents(const io::PyramidLayout& layout, bool hasMask,
             fmt::format("bounds out of order: Err(P) {} m must be ≥ Err_Appr(P) {} m + δ {} m, "
                         "both ≥ 0",
                         info.error, info.approxError, info.quantError));
-    if (id.level == layout.finestLevel() && info.approxError != 0.0f)
+    // A globe's finest level is resampled: its Err(P) is measured against the source.
+    if (!globe && id.level == layout.finestLevel() && info.approxError != 0.0f)
         report(
             fmt::format("Err_Appr(P) is {} m at the finest level (0 expected)", info.approxError));
 
     // Samples beyond the DEM, in finest-level coordinates, count as no-data.
     const std::int64_t step = layout.levelStep(id.level);
     const auto beyond = [&](int i, int j) {
+        if (globe) return false;  // faces are whole squares; "not data" is in the mask
         return (layout.patchOriginX(id) + i) * step > layout.rasterWidth() - 1 ||
                (layout.patchOriginY(id) + j) * step > layout.rasterHeight() - 1;
     };

@@ -5,6 +5,7 @@
 
 #include "terrain/io/PatchRecord.h"
 #include "terrain/io/PyramidLayout.h"
+#include "terrain/io/PyramidManifest.h"
 
 #include <optional>
 #include <string>
@@ -22,7 +23,7 @@ struct Problem {
 Problem patchProblem(const std::string& file, const io::PatchId& id, const std::string& what);
 
 /// Appends a Problem for every check `record` fails. `hasMask`: the pyramid stores V.
-void checkPatchContents(const io::PyramidLayout& layout, bool hasMask,
+void checkPatchContents(const io::PyramidManifest& manifest, bool hasMask,
                         const io::PatchRecord& record, const std::string& file,
                         std::vector<Problem>& problems);
 

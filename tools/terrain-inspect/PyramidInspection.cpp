@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include <utility>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -38,9 +40,20 @@ Inspection inspectPyramid(io::PyramidReader& reader, const InspectOptions& optio
         summary.shards = layout.shardCount(l);
         std::vector<float> approx(static_cast<std::size_t>(layout.patchCount(l)), kAbsent);
         std::vector<float> errors;
+        const io::ManifestLevel& listedLevel = manifest.levels[static_cast<std::size_t>(l)];
         for (std::int64_t sy = 0; sy < layout.shardsY(l); ++sy) {
             for (std::int64_t sx = 0; sx < layout.shardsX(l); ++sx) {
                 const io::ShardId s{l, sx, sy};
+                // A globe pyramid is sparse: only the shards it lists have files.
+                if (manifest.globe &&
+                    !std::binary_search(listedLevel.presentShards.begin(),
+                                        listedLevel.presentShards.end(), s,
+                                        [](const io::ShardId& a, const io::ShardId& b) {
+                                            return std::pair(a.y, a.x) < std::pair(b.y, b.x);
+                                        })) {
+                    donePatches += std::int64_t{layout.shardCountX(s)} * layout.shardCountY(s);
+                    continue;
+                }
                 const io::PatchId first{l, layout.shardFirstX(s), layout.shardFirstY(s)};
                 const std::string file = reader.shardFile(first).string();
                 std::error_code ec;
@@ -75,6 +88,17 @@ Inspection inspectPyramid(io::PyramidReader& reader, const InspectOptions& optio
                                     if (!layout.contains(child)) continue;
                                     const float a = childApprox[static_cast<std::size_t>(
                                         child.y * layout.patchesX(l + 1) + child.x)];
+                                    const bool listedChild =
+                                        (p.presentChildren >> (cy * 2 + cx)) & 1;
+                                    if (manifest.globe && listedChild != (a != kAbsent))
+                                        result.problems.push_back(patchProblem(
+                                            file, id,
+                                            fmt::format(
+                                                "presentChildren says child L{} ({}, {}) is "
+                                                "{}, but it is {}",
+                                                child.level, child.x, child.y,
+                                                listedChild ? "present" : "absent",
+                                                a != kAbsent ? "present" : "absent")));
                                     if (a > worstChild) {
                                         worstChild = a;
                                         worstId = child;
@@ -93,7 +117,7 @@ Inspection inspectPyramid(io::PyramidReader& reader, const InspectOptions& optio
                         if (Status read = reader.readPatch(id, record); !read) {
                             result.problems.push_back({file, id, read.error().message});
                         } else {
-                            checkPatchContents(layout, reader.hasMask(), record, file,
+                            checkPatchContents(manifest, reader.hasMask(), record, file,
                                                result.problems);
                         }
                         ++result.patchesVerified;
@@ -129,8 +153,11 @@ Inspection inspectPyramid(io::PyramidReader& reader, const InspectOptions& optio
                              folder, l, listed.maxError, summary.maxError)});
         childApprox = std::move(approx);
     }
-    const LevelSummary& root = result.levels.front();
-    if (root.presentPatches == 1 && root.missingShards == 0 &&
+    // A globe's roots are its six faces, the first level below the layout's empty top.
+    const LevelSummary& root =
+        result
+            .levels[manifest.globe ? static_cast<std::size_t>(io::ManifestGlobe::kLevelOffset) : 0];
+    if ((root.presentPatches == 1 || manifest.globe) && root.missingShards == 0 &&
         static_cast<double>(root.maxError) != manifest.statistics.rootError)
         result.problems.push_back(
             {folder, std::nullopt,

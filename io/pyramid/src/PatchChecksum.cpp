@@ -2,6 +2,8 @@
 // chunks so nothing is allocated per patch.
 #include "PatchChecksum.h"
 
+#include "ShardFormat.h"
+
 #include <zlib.h>
 
 #include <algorithm>
@@ -67,7 +69,7 @@ std::uint32_t patchChecksum(std::span<const float> heights, std::span<const std:
         }
     }
     unsigned char* out = bytes.data();
-    storeLittleEndian(std::uint32_t{info.present ? 1U : 0U}, out);
+    storeLittleEndian(shard::storedPresent(info), out);
     storeLittleEndian(info.minHeight, out + 4);
     storeLittleEndian(info.maxHeight, out + 8);
     storeLittleEndian(info.error, out + 12);

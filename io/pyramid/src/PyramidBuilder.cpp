@@ -8,6 +8,7 @@
 // is then known when the coarser level's pass reaches P.
 #include "terrain/io/PyramidBuilder.h"
 
+#include "BuildOutput.h"
 #include "ParallelFor.h"
 #include "terrain/base/Assert.h"
 #include "terrain/io/NoDataFill.h"
@@ -16,7 +17,6 @@
 #include "terrain/io/ShardWriter.h"
 
 #include <fmt/core.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -293,34 +293,6 @@ struct LevelGrid {
         return values[static_cast<std::size_t>(y * width + x)];
     }
 };
-
-// Removes the partial output folder unless the build completed.
-class PartialFolder {
-public:
-    explicit PartialFolder(fs::path path) : m_path(std::move(path)) {}
-    ~PartialFolder() {
-        if (!m_keep) {
-            std::error_code ec;
-            fs::remove_all(m_path, ec);
-        }
-    }
-    PartialFolder(const PartialFolder&) = delete;
-    PartialFolder& operator=(const PartialFolder&) = delete;
-    const fs::path& path() const { return m_path; }
-    void keep() { m_keep = true; }
-
-private:
-    fs::path m_path;
-    bool m_keep = false;
-};
-
-std::uint64_t folderBytes(const fs::path& folder) {
-    std::uint64_t bytes = 0;
-    std::error_code ec;
-    for (const auto& entry : fs::recursive_directory_iterator(folder, ec))
-        if (entry.is_regular_file(ec)) bytes += entry.file_size(ec);
-    return bytes;
-}
 
 class Builder {
 public:
@@ -620,16 +592,9 @@ Result<PyramidBuildSummary> buildPyramid(DemReader& reader, const fs::path& outp
             "implemented yet)",
             dem.path, dem.width, neededBytes >> 20, options.memoryBudgetBytes >> 20)};
 
-    std::error_code ec;
-    if (fs::exists(output, ec) && !options.overwrite)
-        return Error{output.string() + ": already exists (pass --overwrite to replace it)"};
-    const fs::path absoluteOutput = fs::absolute(output, ec);
-    PartialFolder partial(absoluteOutput.parent_path() / (absoluteOutput.filename().string() +
-                                                          ".partial-" + std::to_string(getpid())));
-    fs::create_directories(partial.path() / "tmp", ec);
-    if (ec)
-        return Error{partial.path().string() +
-                     ": cannot create the output folder: " + ec.message()};
+    Result<PartialBuildFolder> created = PartialBuildFolder::create(output, options.overwrite);
+    if (!created) return created.error();
+    PartialBuildFolder& partial = created.value();
 
     // The mask is stored when the source declares a no-data value. NaN samples of a float
     // source that declares none are filled and counted all the same, but not masked: the
@@ -638,7 +603,6 @@ Result<PyramidBuildSummary> buildPyramid(DemReader& reader, const fs::path& outp
     const bool withMask = dem.noDataValue.has_value();
     Builder builder(reader, l, options, partial.path(), withMask);
     if (auto built = builder.run(); !built) return built.error();
-    fs::remove_all(partial.path() / "tmp", ec);
 
     PyramidBuildSummary summary;
     summary.manifest = makeManifest(reader, l, builder, withMask);
@@ -650,24 +614,7 @@ Result<PyramidBuildSummary> buildPyramid(DemReader& reader, const fs::path& outp
         return written.error();
     summary.bytes = folderBytes(partial.path());
 
-    // Swap into place: the old pyramid (if replacing) is moved aside first, removed last.
-    const fs::path old = absoluteOutput.string() + ".old-" + std::to_string(getpid());
-    const bool replacing = fs::exists(absoluteOutput, ec);
-    if (replacing) {
-        fs::rename(absoluteOutput, old, ec);
-        if (ec)
-            return Error{output.string() +
-                         ": cannot move the existing pyramid aside: " + ec.message()};
-    }
-    fs::rename(partial.path(), absoluteOutput, ec);
-    if (ec) {
-        std::error_code ignored;
-        if (replacing) fs::rename(old, absoluteOutput, ignored);  // put the old one back
-        return Error{output.string() +
-                     ": cannot move the finished pyramid into place: " + ec.message()};
-    }
-    partial.keep();
-    if (replacing) fs::remove_all(old, ec);
+    if (Status committed = partial.commit(); !committed) return committed.error();
     return summary;
 }
 

@@ -3,6 +3,7 @@
 #include "terrain/io/PyramidManifest.h"
 
 #include "terrain/base/AtomicFile.h"
+#include "terrain/io/GlobeLayout.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -178,6 +179,18 @@ PyramidManifest parseFields(const Json& root, LayoutFields& f) {
         level.shardsY = int64Field(l, p, "shardsY");
         level.sampleStep = int64Field(l, p, "sampleStep");
         level.maxError = numberField(l, p, "maxError");
+        if (m.formatVersion == PyramidManifest::kGlobeFormatVersion) {
+            const Json& shards = arrayField(l, p, "presentShards");
+            for (std::size_t s = 0; s < shards.size(); ++s) {
+                const std::string sp = fmt::format("{}.presentShards[{}]", p, s);
+                const Json& pair = shards[s];
+                if (!pair.is_array() || pair.size() != 2 || !pair[0].is_number_integer() ||
+                    !pair[1].is_number_integer())
+                    throw FieldError{sp, "a pair of integers [sx, sy]"};
+                level.presentShards.push_back(
+                    {level.level, pair[0].get<std::int64_t>(), pair[1].get<std::int64_t>()});
+            }
+        }
         m.levels.push_back(level);
     }
 
@@ -195,6 +208,15 @@ PyramidManifest parseFields(const Json& root, LayoutFields& f) {
     m.build.tool = stringField(build, "build", "tool");
     m.build.version = stringField(build, "build", "version");
     m.build.seconds = numberField(build, "build", "seconds");
+
+    if (m.formatVersion == PyramidManifest::kGlobeFormatVersion) {
+        const Json& globe = objectField(root, "", "globe");
+        if (stringField(globe, "globe", "tiling") != ManifestGlobe::kTiling)
+            throw FieldError{"globe.tiling", fmt::format("\"{}\"", ManifestGlobe::kTiling)};
+        if (intField(globe, "globe", "levelOffset") != ManifestGlobe::kLevelOffset)
+            throw FieldError{"globe.levelOffset", std::to_string(ManifestGlobe::kLevelOffset)};
+        m.globe = ManifestGlobe{.faceFinestLevel = intField(globe, "globe", "faceFinestLevel")};
+    }
     return m;
 }
 
@@ -206,12 +228,60 @@ std::string layoutText(const PyramidLayout& layout) {
 }
 
 // Everything that must hold between the fields, with the reason in the message.
-Status checkManifest(const PyramidManifest& m, const std::string& name) {
-    if (m.formatVersion != PyramidManifest::kFormatVersion)
+Status checkGlobe(const PyramidManifest& m, const std::string& name) {
+    const int expectedVersion =
+        m.globe ? PyramidManifest::kGlobeFormatVersion : PyramidManifest::kFormatVersion;
+    if (m.formatVersion != expectedVersion)
+        return Error{fmt::format("{}: formatVersion is {}, but a {} pyramid is version {}", name,
+                                 m.formatVersion, m.globe ? "globe" : "planar", expectedVersion)};
+    if (!m.globe) {
+        for (const ManifestLevel& level : m.levels)
+            if (!level.presentShards.empty())
+                return Error{
+                    fmt::format("{}: levels[{}] lists present shards, which only a "
+                                "globe pyramid has",
+                                name, level.level)};
+        return {};
+    }
+    const int faceLevel = m.globe->faceFinestLevel;
+    const Result<PyramidLayout> expected = globeLayout(
+        faceLevel, m.layout.patchSamples(), m.layout.blockQuads(), m.layout.shardPatches());
+    if (!expected) return Error{fmt::format("{}: globe: {}", name, expected.error().message)};
+    if (!(expected.value() == m.layout))
         return Error{
-            fmt::format("{}: unsupported formatVersion {} (this program reads version {}; "
-                        "rebuild the pyramid with terrain-build)",
-                        name, m.formatVersion, PyramidManifest::kFormatVersion)};
+            fmt::format("{}: globe: faceFinestLevel {} needs a {} × {} raster, not {} × {}", name,
+                        faceLevel, expected.value().rasterWidth(), expected.value().rasterHeight(),
+                        m.layout.rasterWidth(), m.layout.rasterHeight())};
+    if (m.georeference.crsKind != CrsKind::Geographic)
+        return Error{fmt::format("{}: globe: the georeference must be geographic, not {}", name,
+                                 crsKindName(m.georeference.crsKind))};
+    for (const ManifestLevel& level : m.levels) {
+        if (level.level < ManifestGlobe::kLevelOffset &&
+            (level.presentPatches != 0 || !level.presentShards.empty()))
+            return Error{fmt::format("{}: globe: level {} is above the faces and holds no patch",
+                                     name, level.level)};
+        for (std::size_t i = 0; i < level.presentShards.size(); ++i) {
+            const ShardId& s = level.presentShards[i];
+            if (s.x < 0 || s.y < 0 || s.x >= level.shardsX || s.y >= level.shardsY)
+                return Error{
+                    fmt::format("{}: levels[{}].presentShards[{}] = [{}, {}] is outside "
+                                "the level's {} × {} shards",
+                                name, level.level, i, s.x, s.y, level.shardsX, level.shardsY)};
+            if (i > 0) {
+                const ShardId& before = level.presentShards[i - 1];
+                if (std::pair(before.y, before.x) >= std::pair(s.y, s.x))
+                    return Error{
+                        fmt::format("{}: levels[{}].presentShards is not sorted by "
+                                    "(sy, sx) without repeats",
+                                    name, level.level)};
+            }
+        }
+    }
+    return {};
+}
+
+Status checkManifest(const PyramidManifest& m, const std::string& name) {
+    if (Status globe = checkGlobe(m, name); !globe) return globe;
     // A layout is only made by PyramidLayout::create; one that create rejects is a default
     // (empty) one.
     const PyramidLayout& layout = m.layout;
@@ -294,7 +364,8 @@ PyramidManifest PyramidManifest::forLayout(const PyramidLayout& layout) {
                             .shardsX = layout.shardsX(l),
                             .shardsY = layout.shardsY(l),
                             .sampleStep = layout.levelStep(l),
-                            .maxError = 0.0});
+                            .maxError = 0.0,
+                            .presentShards = {}});
     }
     return m;
 }
@@ -320,14 +391,16 @@ std::string toJson(const PyramidManifest& m) {
                        {"rootError", m.statistics.rootError}};
     Json levels = Json::array();
     for (const ManifestLevel& l : m.levels) {
-        levels.push_back({{"level", l.level},
-                          {"patchesX", l.patchesX},
-                          {"patchesY", l.patchesY},
-                          {"presentPatches", l.presentPatches},
-                          {"shardsX", l.shardsX},
-                          {"shardsY", l.shardsY},
-                          {"sampleStep", l.sampleStep},
-                          {"maxError", l.maxError}});
+        Json level = {{"level", l.level},           {"patchesX", l.patchesX},
+                      {"patchesY", l.patchesY},     {"presentPatches", l.presentPatches},
+                      {"shardsX", l.shardsX},       {"shardsY", l.shardsY},
+                      {"sampleStep", l.sampleStep}, {"maxError", l.maxError}};
+        if (m.globe) {
+            Json shards = Json::array();
+            for (const ShardId& s : l.presentShards) shards.push_back({s.x, s.y});
+            level["presentShards"] = std::move(shards);
+        }
+        levels.push_back(std::move(level));
     }
     j["levels"] = std::move(levels);
     j["source"] = {{"inputs", m.source.inputs},
@@ -335,6 +408,10 @@ std::string toJson(const PyramidManifest& m) {
                    {"sampleType", m.source.sampleType}};
     j["build"] = {
         {"tool", m.build.tool}, {"version", m.build.version}, {"seconds", m.build.seconds}};
+    if (m.globe)
+        j["globe"] = {{"tiling", ManifestGlobe::kTiling},
+                      {"levelOffset", ManifestGlobe::kLevelOffset},
+                      {"faceFinestLevel", m.globe->faceFinestLevel}};
     return j.dump(2) + "\n";
 }
 
@@ -362,11 +439,13 @@ Result<PyramidManifest> fromJson(std::string_view json, const std::string& sourc
     const auto version = root.find("formatVersion");
     if (version == root.end() || !version->is_number_integer())
         return Error{fmt::format("{}: \"formatVersion\" is missing or not an integer", sourceName)};
-    if (version->get<std::int64_t>() != PyramidManifest::kFormatVersion)
+    if (version->get<std::int64_t>() != PyramidManifest::kFormatVersion &&
+        version->get<std::int64_t>() != PyramidManifest::kGlobeFormatVersion)
         return Error{
-            fmt::format("{}: unsupported formatVersion {} (this program reads version {}; "
-                        "rebuild the pyramid with terrain-build)",
-                        sourceName, version->dump(), PyramidManifest::kFormatVersion)};
+            fmt::format("{}: unsupported formatVersion {} (this program reads versions {} "
+                        "(planar) and {} (globe); rebuild the pyramid with terrain-build)",
+                        sourceName, version->dump(), PyramidManifest::kFormatVersion,
+                        PyramidManifest::kGlobeFormatVersion)};
     PyramidManifest manifest;
     LayoutFields f;
     try {

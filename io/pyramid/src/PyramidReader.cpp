@@ -18,6 +18,7 @@
 #include <cstring>
 #include <exception>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace terrain::io {
@@ -60,6 +61,17 @@ struct PyramidReader::Impl {
     Error patchError(const std::filesystem::path& file, const PatchId& id,
                      const std::string& what) const {
         return Error{fmt::format("{}: {}: {}", file.string(), patchName(id), what)};
+    }
+
+    // A globe pyramid is sparse: a shard it does not list has no file and no present patch.
+    bool shardListed(const ShardId& s) const {
+        if (!manifest.globe) return true;
+        const std::vector<ShardId>& listed =
+            manifest.levels[static_cast<std::size_t>(s.level)].presentShards;
+        return std::binary_search(listed.begin(), listed.end(), s,
+                                  [](const ShardId& a, const ShardId& b) {
+                                      return std::pair(a.y, a.x) < std::pair(b.y, b.x);
+                                  });
     }
 
     Status checkContains(const PatchId& id) const {
@@ -167,11 +179,13 @@ struct PyramidReader::Impl {
         // Absent patches are all zeros (their crc32 too), so a damaged present flag is
         // noticed here whichever way it flipped (1 → 0 here, 0 → 1 by the checksum).
         const shard::StoredInfo zero{};
+        const std::uint32_t maxPresent =
+            manifest.globe ? shard::kMaxStoredPresentGlobe : shard::kMaxStoredPresentPlanar;
         for (std::size_t i = 0; i < shard.infos.size(); ++i) {
             const shard::StoredInfo& p = shard.infos[i];
             const bool absentButNotZero =
                 p.present == 0 && std::memcmp(&p, &zero, sizeof(shard::StoredInfo)) != 0;
-            if (p.present > 1 || absentButNotZero)
+            if (p.present > maxPresent || absentButNotZero)
                 return Error{fmt::format(
                     "corrupt patchInfo: pixel ({}, {}) has present = {} and {} other fields",
                     i % static_cast<std::size_t>(shard.countX),
@@ -190,6 +204,9 @@ struct PyramidReader::Impl {
 
     Status read(const PatchId& id, PatchRecord& out) {
         if (Status inside = checkContains(id); !inside) return inside;
+        if (!shardListed(layout.shardOf(id)))
+            return patchError(shardFile(layout.shardOf(id)), id,
+                              "the patch is absent (the globe pyramid has no data there)");
         Result<OpenShard*> opened = shard(layout.shardOf(id), id);
         if (!opened) return opened.error();
         OpenShard& s = *opened.value();
@@ -295,6 +312,7 @@ Status PyramidReader::readPatch(const PatchId& id, PatchRecord& out) {
 Result<PatchInfo> PyramidReader::patchInfo(const PatchId& id) {
     Impl& r = *m_impl;
     if (Status inside = r.checkContains(id); !inside) return inside.error();
+    if (!r.shardListed(r.layout.shardOf(id))) return PatchInfo{};
     Result<OpenShard*> opened = r.shard(r.layout.shardOf(id), id);
     if (!opened) return opened.error();
     const OpenShard& s = *opened.value();

@@ -1,5 +1,6 @@
 #include "terrain/io/PyramidSourceCheck.h"
 
+#include "GlobeSourceCheck.h"
 #include "ParallelFor.h"
 #include "terrain/io/PatchErrors.h"
 
@@ -86,6 +87,8 @@ Result<SourceCheckReport> checkErrorBoundsAgainstSource(
     const std::function<void(double fraction)>& progress) {
     auto first = PyramidReader::open(pyramidDir);
     if (!first) return first.error();
+    if (first.value().manifest().globe)
+        return checkGlobeErrorBoundsAgainstSource(first.value(), source, progress);
     const PyramidLayout layout = first.value().layout();
     const DemInfo& dem = source.info();
     if (dem.width != layout.rasterWidth() || dem.height != layout.rasterHeight())

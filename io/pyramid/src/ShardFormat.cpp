@@ -45,14 +45,19 @@ const Attribute* findAttribute(const Imf::Header& h, const char* name) {
 
 }  // namespace
 
+std::uint32_t storedPresent(const PatchInfo& info) {
+    return info.present ? 1U + 2U * info.presentChildren : 0U;
+}
+
 StoredInfo toStored(const PatchInfo& info) {
-    return {info.present ? 1U : 0U, info.minHeight,  info.maxHeight,     info.error,
-            info.approxError,       info.quantError, info.noDataSamples, info.crc32};
+    return {storedPresent(info), info.minHeight,  info.maxHeight,     info.error,
+            info.approxError,    info.quantError, info.noDataSamples, info.crc32};
 }
 
 PatchInfo fromStored(const StoredInfo& s) {
-    return {s.present != 0, s.minHeight,  s.maxHeight,     s.error,
-            s.approxError,  s.quantError, s.noDataSamples, s.crc32};
+    return {s.present != 0,  s.minHeight,   s.maxHeight,
+            s.error,         s.approxError, s.quantError,
+            s.noDataSamples, s.crc32,       static_cast<std::uint8_t>(s.present >> 1)};
 }
 
 std::vector<Imf::Header> shardHeaders(const PyramidLayout& layout, const ShardId& s, bool withMask,

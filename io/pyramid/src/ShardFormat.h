@@ -51,6 +51,12 @@ struct StoredInfo {
     std::uint32_t crc32 = 0;
 };
 
+/// The stored `present` channel: 0 absent; 1 + 2 · presentChildren present (planar
+/// pyramids: always 0 or 1).
+std::uint32_t storedPresent(const PatchInfo& info);
+/// The largest `present` a format version allows: 1 (version 2), 31 (version 3).
+inline constexpr std::uint32_t kMaxStoredPresentPlanar = 1;
+inline constexpr std::uint32_t kMaxStoredPresentGlobe = 31;
 StoredInfo toStored(const PatchInfo& info);
 PatchInfo fromStored(const StoredInfo& stored);
 

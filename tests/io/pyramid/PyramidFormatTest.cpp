@@ -239,9 +239,12 @@ TEST_F(PyramidFormat, ManifestErrors) {
     // Version 1's block errors left out the tessellator's transition strips.
     e = errorFor(edited([](auto& j) { j["formatVersion"] = 1; }));
     EXPECT_TRUE(contains(e,
-                         "unsupported formatVersion 1 (this program reads version 2; rebuild "
-                         "the pyramid with terrain-build)"))
+                         "unsupported formatVersion 1 (this program reads versions 2 (planar) "
+                         "and 3 (globe); rebuild the pyramid with terrain-build)"))
         << e;
+    // A planar manifest that claims version 3 lacks the globe it would need.
+    e = errorFor(edited([](auto& j) { j["formatVersion"] = 3; }));
+    EXPECT_TRUE(contains(e, "field \"levels[0].presentShards\" must be present")) << e;
     e = errorFor(edited([](auto& j) { j["levels"][3]["patchesX"] = 4; }));
     EXPECT_TRUE(contains(e, "inconsistent layout: levels[3].patchesX is 4")) << e;
     EXPECT_TRUE(contains(e, "has 5")) << e;

@@ -20,6 +20,11 @@ struct PatchInfo {
     float quantError = 0.0f;          ///< δ: 0 for lossless float32 storage
     std::uint32_t noDataSamples = 0;  ///< filled or overhanging among the N × N
     std::uint32_t crc32 = 0;          ///< of the stored tiles; set by the shard writer
+    /// Globe pyramids (format version 3) only: which of the four children exist, bit
+    /// (cy · 2 + cx) for the child at offset (cx, cy). A globe pyramid is sparse, and the LOD
+    /// learns from a resident parent where finer data is without asking the disk. Always 0
+    /// in a planar pyramid, whose children all exist.
+    std::uint8_t presentChildren = 0;
     bool operator==(const PatchInfo&) const = default;
 };
 

@@ -46,7 +46,22 @@ struct ManifestLevel {
     std::int64_t shardsY = 0;
     std::int64_t sampleStep = 1;  ///< DEM samples between two samples of the level
     double maxError = 0.0;        ///< largest Err(P) of the level's patches, metres
+    /// Globe pyramids only (sparse): the shards (sx, sy) that exist; every other shard of the
+    /// level holds absent patches only and has no file. Sorted by (sy, sx).
+    std::vector<ShardId> presentShards;
     bool operator==(const ManifestLevel&) const = default;
+};
+
+/// A globe pyramid's tiling (format version 3, docs/pyramid-format.md, "Globe pyramids"):
+/// the six cube faces of terrain::globe side by side in one layout. Face level l of face f
+/// is layout level l + kLevelOffset, its patch (x, y) the layout patch (f · 2^l + x, y).
+struct ManifestGlobe {
+    static constexpr std::string_view kTiling = "wgs84-tangent-cube";
+    /// Layout levels above the faces: the layout is 6 faces wide, so its levels 0 to 2
+    /// (1, 2 and 3 patches wide) would mix faces; they hold no patch.
+    static constexpr int kLevelOffset = 3;
+    int faceFinestLevel = 0;  ///< L: face levels 0 … L
+    bool operator==(const ManifestGlobe&) const = default;
 };
 
 struct ManifestSource {
@@ -65,7 +80,8 @@ struct ManifestBuild {
 
 struct PyramidManifest {
     static constexpr std::string_view kFormatName = "terrain-pyramid";
-    static constexpr int kFormatVersion = 2;  ///< the only version this code reads and writes
+    static constexpr int kFormatVersion = 2;       ///< planar pyramids
+    static constexpr int kGlobeFormatVersion = 3;  ///< globe pyramids (`globe` is set)
     static constexpr std::string_view kFileName = "manifest.json";
     static constexpr std::string_view kVerticalUnits = "metre";
 
@@ -81,6 +97,9 @@ struct PyramidManifest {
     std::vector<ManifestLevel> levels;  ///< one per level, root first
     ManifestSource source;
     ManifestBuild build;
+    /// Set exactly for a globe pyramid (formatVersion 3); the georeference is then the
+    /// source's (geographic), and the layout is globeLayout(globe->faceFinestLevel, …).
+    std::optional<ManifestGlobe> globe;
 
     /// A manifest for `layout`: the layout and one level entry per level (patch and shard
     /// counts, sample step; presentPatches = all patches, maxError = 0), the rest default.

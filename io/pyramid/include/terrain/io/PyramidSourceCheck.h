@@ -33,6 +33,10 @@ struct SourceCheckReport {
 
 /// Streams the source once, row by row, keeping one row of patches per level. The source
 /// must have the pyramid's raster size. Calling thread (plus one worker per level).
+/// For a globe pyramid (version 3) the source is any geographic DEM it was built from: each
+/// valid sample is checked at every face level along its ellipsoid normal against the
+/// drawn triangles of the patch holding it (GlobePatchSurface); `x`, `y` of a violation are
+/// the source sample, and levels above the faces report a ratio of 0.
 Result<SourceCheckReport> checkErrorBoundsAgainstSource(
     const std::filesystem::path& pyramidDir, DemReader& source,
     const std::function<void(double fraction)>& progress = {});

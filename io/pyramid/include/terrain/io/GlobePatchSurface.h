@@ -1,0 +1,43 @@
+// GlobePatchSurface: the surface a globe patch is drawn as, in double: flat triangles between
+// its samples, each sample at its height along its ellipsoid normal (terrain::globe). Err(P)
+// of a globe pyramid is measured against it: the height, along a source sample's own normal,
+// at which that normal pierces the patch's triangles, for both diagonals of the cell (the
+// tessellator chooses one). This is the error the reference renderer measures on screen
+// (along the normal), so the bound needs no model of curvature or projection: it is exact at
+// every source sample.
+#pragma once
+
+#include "terrain/globe/GlobePatch.h"
+
+#include <glm/vec3.hpp>
+
+#include <span>
+#include <utility>
+#include <vector>
+
+namespace terrain::io {
+
+class GlobePatchSurface {
+public:
+    /// `heights`: the patch's tile, (quads + 3)² samples with the one-sample apron, row-major.
+    GlobePatchSurface(const globe::GlobePatchId& id, int quads, std::span<const float> heights);
+
+    /// The drawn heights along `unitNormal` (a direction inside the patch or on its border),
+    /// with the cell's a–d diagonal and with its b–c diagonal: the ellipsoid height of the
+    /// point where the normal line through the surface point of `unitNormal` meets the
+    /// triangle of the cell it passes through.
+    std::pair<double, double> drawnHeights(const glm::dvec3& unitNormal) const;
+
+    const globe::GlobePatchId& id() const { return m_id; }
+
+private:
+    const glm::dvec3& position(int i, int j) const {
+        return m_positions[static_cast<std::size_t>(j * (m_quads + 1) + i)];
+    }
+
+    globe::GlobePatchId m_id;
+    int m_quads = 0;
+    std::vector<glm::dvec3> m_positions;  // (quads + 1)², ECEF, the apron left out
+};
+
+}  // namespace terrain::io

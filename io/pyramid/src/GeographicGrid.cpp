@@ -1,0 +1,170 @@
+#include "GeographicGrid.h"
+
+#include "terrain/globe/Wgs84.h"
+#include "terrain/io/NoDataFill.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <span>
+
+namespace terrain::io {
+
+namespace {
+
+constexpr double kDegree = std::numbers::pi / 180.0;
+
+// Integer pixel and weight of a fractional centre coordinate, clamped to [0, count − 1].
+struct Axis {
+    std::int64_t first = 0, second = 0;
+    double weight = 0.0;  // of `second`
+};
+
+Axis clampedAxis(double centre, std::int64_t count) {
+    if (centre <= 0.0) return {0, 0, 0.0};
+    const double last = double(count - 1);
+    if (centre >= last) return {count - 1, count - 1, 0.0};
+    const auto first = static_cast<std::int64_t>(centre);
+    return {first, first + 1, centre - double(first)};
+}
+
+}  // namespace
+
+Result<GeographicGrid> GeographicGrid::read(DemReader& reader, std::uint64_t memoryBudgetBytes) {
+    const DemInfo& dem = reader.info();
+    const Georeference& g = dem.georeference;
+    if (g.crsKind != CrsKind::Geographic)
+        return Error{
+            fmt::format("{}: a globe pyramid needs a geographic (longitude/latitude) "
+                        "source, and this one is {}",
+                        dem.path, crsKindName(g.crsKind))};
+    const double bytes = double(dem.width) * double(dem.height) * 5.0;
+    if (bytes > double(memoryBudgetBytes))
+        return Error{
+            fmt::format("{}: {} × {} samples need {} MiB in the globe builder, more than "
+                        "the memory budget of {} MiB (raise --memory; sharded globe "
+                        "builds are not implemented yet)",
+                        dem.path, dem.width, dem.height, static_cast<std::uint64_t>(bytes) >> 20,
+                        memoryBudgetBytes >> 20)};
+    // A global grid may repeat its first column(s) after 360° (ETOPO's −180 and +180): those
+    // columns are the same longitudes, and the grid wraps after the first 360°.
+    const double span = double(dem.width) * g.pixelSizeX;
+    const double tolerance = 1e-3 * g.pixelSizeX;
+    const auto repeated =
+        static_cast<std::int64_t>(std::floor((span - 360.0 + tolerance) / g.pixelSizeX));
+    if (g.originY > 90.0 + tolerance ||
+        g.originY - double(dem.height) * g.pixelSizeY < -90.0 - tolerance || repeated > 1 ||
+        (repeated == 1 && std::abs(span - g.pixelSizeX - 360.0) > tolerance) ||
+        (repeated == 0 && span > 360.0 + tolerance))
+        return Error{fmt::format(
+            "{}: the geographic extent (west {}, north {}, {} × {} pixels of "
+            "{}° × {}°) is not on the globe",
+            dem.path, g.originX, g.originY, dem.width, dem.height, g.pixelSizeX, g.pixelSizeY)};
+
+    GeographicGrid grid;
+    grid.m_width = dem.width;
+    grid.m_height = dem.height;
+    grid.m_west = g.originX;
+    grid.m_north = g.originY;
+    grid.m_pixelLon = g.pixelSizeX;
+    grid.m_pixelLat = g.pixelSizeY;
+    grid.m_wraps = span >= 360.0 - tolerance;
+    grid.m_wrapColumns = dem.width - std::max<std::int64_t>(repeated, 0);
+    const auto samples = static_cast<std::size_t>(dem.width * dem.height);
+    grid.m_heights.resize(samples);
+    grid.m_valid.resize(samples);
+    // Row bands keep the reader's calls large without a second copy of the raster.
+    const std::int64_t bandRows = std::max<std::int64_t>(1, (std::int64_t{1} << 22) / dem.width);
+    double minHeight = std::numeric_limits<double>::infinity();
+    double maxHeight = -minHeight;
+    for (std::int64_t row = 0; row < dem.height; row += bandRows) {
+        const std::int64_t rows = std::min(bandRows, dem.height - row);
+        std::span<float> band(grid.m_heights.data() + row * dem.width,
+                              static_cast<std::size_t>(rows * dem.width));
+        if (Status read = reader.readWindow(0, row, dem.width, rows, band); !read)
+            return read.error();
+        for (std::int64_t r = 0; r < rows; ++r) {
+            const auto offset = static_cast<std::size_t>((row + r) * dem.width);
+            std::span<float> heights(grid.m_heights.data() + offset,
+                                     static_cast<std::size_t>(dem.width));
+            std::span<std::uint8_t> valid(grid.m_valid.data() + offset, heights.size());
+            fillNoDataRow(heights, valid);
+            for (std::size_t i = 0; i < heights.size(); ++i) {
+                if (!valid[i]) continue;
+                ++grid.m_validSamples;
+                minHeight = std::min(minHeight, double(heights[i]));
+                maxHeight = std::max(maxHeight, double(heights[i]));
+            }
+        }
+    }
+    grid.m_minHeight = grid.m_validSamples > 0 ? minHeight : 0.0;
+    grid.m_maxHeight = grid.m_validSamples > 0 ? maxHeight : 0.0;
+    return grid;
+}
+
+GeographicGrid::Resampled GeographicGrid::at(double latitudeDeg, double longitudeDeg) const {
+    // Within one pixel beyond the extent the edge pixels are extended (not valid, not
+    // inside): the face grid is at least as fine as a pixel, so the drop to the bare
+    // ellipsoid happens outside every cell that holds a source sample, and Err(P) measures
+    // the source, not the cliff at its border.
+    const double y = m_north - latitudeDeg;
+    const double height = double(m_height) * m_pixelLat;
+    if (y < -m_pixelLat || y > height + m_pixelLat) return {};
+    double x = std::fmod(longitudeDeg - m_west, 360.0);
+    if (x < 0.0) x += 360.0;
+    const double width = double(m_width) * m_pixelLon;
+    if (!m_wraps && x > width + m_pixelLon) {
+        if (x < 360.0 - m_pixelLon) return {};
+        x -= 360.0;  // just west of the grid
+    }
+    const bool inside = y >= 0.0 && y <= height && (m_wraps || (x >= 0.0 && x <= width));
+
+    const Axis rows = clampedAxis(y / m_pixelLat - 0.5, m_height);
+    Axis columns;
+    if (m_wraps) {
+        // Between the last and the first column across the seam of a 360° grid.
+        const double centre = x / m_pixelLon - 0.5;
+        const double first = std::floor(centre);
+        columns.weight = centre - first;
+        columns.first =
+            (static_cast<std::int64_t>(first) % m_wrapColumns + m_wrapColumns) % m_wrapColumns;
+        columns.second = (columns.first + 1) % m_wrapColumns;
+    } else {
+        columns = clampedAxis(x / m_pixelLon - 0.5, m_width);
+    }
+    Resampled out;
+    out.inside = inside;
+    out.valid = inside;
+    double sum = 0.0;
+    const std::int64_t rowIndex[2] = {rows.first, rows.second};
+    const double rowWeight[2] = {1.0 - rows.weight, rows.weight};
+    const std::int64_t columnIndex[2] = {columns.first, columns.second};
+    const double columnWeight[2] = {1.0 - columns.weight, columns.weight};
+    for (int r = 0; r < 2; ++r) {
+        for (int c = 0; c < 2; ++c) {
+            const double w = rowWeight[r] * columnWeight[c];
+            if (w == 0.0) continue;
+            const std::size_t i = index(columnIndex[c], rowIndex[r]);
+            sum += w * double(m_heights[i]);
+            out.valid = out.valid && m_valid[i] != 0;
+        }
+    }
+    out.height = static_cast<float>(sum);
+    return out;
+}
+
+double GeographicGrid::finestSpacingMetres() const {
+    const double south = southDeg();
+    const double closestToEquator =
+        (south <= 0.0 && m_north >= 0.0) ? 0.0 : std::min(std::abs(south), std::abs(m_north));
+    // The meridian's radius of curvature is smallest (b²/a) at the equator.
+    const double alongMeridian = m_pixelLat * kDegree * globe::Wgs84::kMinCurvatureRadius;
+    const double alongParallel = m_pixelLon * globe::Wgs84::kEquatorialRadius * kDegree *
+                                 std::cos(closestToEquator * kDegree);
+    return std::min(alongMeridian, alongParallel);
+}
+
+}  // namespace terrain::io

@@ -1,0 +1,66 @@
+// GeographicGrid: a geographic (longitude/latitude) source DEM held in memory, resampled at
+// any latitude and longitude for the globe builder. No-data samples are filled by the
+// pyramid's row-linear rule (docs/pyramid-format.md, "No-data") and remembered as invalid, so
+// a void is drawn as its fill, never as a hole to the ellipsoid. Samples are pixel areas
+// (Georeference.h): sample (col, row) is the value at the pixel's centre.
+#pragma once
+
+#include "terrain/base/Result.h"
+#include "terrain/io/DemReader.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace terrain::io {
+
+class GeographicGrid {
+public:
+    /// Reads the whole source. Errors: not geographic, more than `memoryBudgetBytes` to hold.
+    static Result<GeographicGrid> read(DemReader& reader, std::uint64_t memoryBudgetBytes);
+
+    struct Resampled {
+        float height = 0.0f;  ///< metres; 0 more than a pixel beyond the source
+        bool inside = false;  ///< within the source's extent (pixel areas)
+        bool valid = false;   ///< inside, and every sample it interpolates is valid
+    };
+    /// Bilinear between the four pixel centres around the point, clamped to the edge pixels
+    /// up to one pixel beyond the extent; across the antimeridian when the grid spans 360°.
+    Resampled at(double latitudeDeg, double longitudeDeg) const;
+
+    std::int64_t width() const { return m_width; }
+    std::int64_t height() const { return m_height; }
+    /// Latitude and longitude of pixel (col, row)'s centre.
+    double latitudeOf(std::int64_t row) const { return m_north - (double(row) + 0.5) * m_pixelLat; }
+    double longitudeOf(std::int64_t col) const { return m_west + (double(col) + 0.5) * m_pixelLon; }
+    float heightAt(std::int64_t col, std::int64_t row) const { return m_heights[index(col, row)]; }
+    bool validAt(std::int64_t col, std::int64_t row) const { return m_valid[index(col, row)] != 0; }
+
+    /// The smallest distance between neighbouring samples, metres: along a meridian, or along
+    /// the parallel closest to the equator within the grid.
+    double finestSpacingMetres() const;
+    double westDeg() const { return m_west; }
+    double northDeg() const { return m_north; }
+    double eastDeg() const { return m_west + double(m_width) * m_pixelLon; }
+    double southDeg() const { return m_north - double(m_height) * m_pixelLat; }
+    bool wrapsLongitude() const { return m_wraps; }
+
+    std::int64_t validSamples() const { return m_validSamples; }
+    double minHeight() const { return m_minHeight; }  ///< over valid samples (0 if none)
+    double maxHeight() const { return m_maxHeight; }
+
+private:
+    std::size_t index(std::int64_t col, std::int64_t row) const {
+        return static_cast<std::size_t>(row * m_width + col);
+    }
+
+    std::int64_t m_width = 0, m_height = 0;
+    double m_west = 0.0, m_north = 0.0, m_pixelLon = 1.0, m_pixelLat = 1.0;
+    bool m_wraps = false;
+    std::int64_t m_wrapColumns = 0;  // columns before the longitudes repeat (wrapping grids)
+    std::vector<float> m_heights;
+    std::vector<std::uint8_t> m_valid;
+    std::int64_t m_validSamples = 0;
+    double m_minHeight = 0.0, m_maxHeight = 0.0;
+};
+
+}  // namespace terrain::io

@@ -1,0 +1,421 @@
+#include "terrain/io/GlobePyramidBuilder.h"
+
+#include "BuildOutput.h"
+#include "GeographicGrid.h"
+#include "ParallelFor.h"
+#include "terrain/globe/CubeSphere.h"
+#include "terrain/globe/GlobePatch.h"
+#include "terrain/globe/Wgs84.h"
+#include "terrain/io/GlobeLayout.h"
+#include "terrain/io/GlobePatchErrors.h"
+#include "terrain/io/GlobePatchSurface.h"
+#include "terrain/io/PatchErrors.h"
+#include "terrain/io/PatchRecord.h"
+#include "terrain/io/ShardWriter.h"
+
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+namespace terrain::io {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using globe::GlobePatchId;
+
+double secondsSince(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+float roundUp(double value) {
+    auto f = static_cast<float>(value);
+    if (double(f) < value) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    return f;
+}
+
+// A patch of one level, as a hash key: face, x and y (each < 2^29 up to face level 28).
+using PatchKey = std::uint64_t;
+PatchKey keyOf(int face, std::int64_t x, std::int64_t y) {
+    return (std::uint64_t(face) << 58) | (std::uint64_t(y) << 29) | std::uint64_t(x);
+}
+GlobePatchId idOf(PatchKey key, int level) {
+    return {static_cast<int>(key >> 58), level, static_cast<std::int64_t>(key & ((1u << 29) - 1)),
+            static_cast<std::int64_t>((key >> 29) & ((1u << 29) - 1))};
+}
+
+// Every source sample's place on the cube, computed once: the face and its coordinates.
+struct SamplePlaces {
+    std::vector<std::uint8_t> face;
+    std::vector<double> s, t;
+};
+
+SamplePlaces placeSamples(const GeographicGrid& grid, unsigned threads) {
+    SamplePlaces places;
+    const auto count = static_cast<std::size_t>(grid.width() * grid.height());
+    places.face.resize(count);
+    places.s.resize(count);
+    places.t.resize(count);
+    parallelFor(grid.height(), threads, [&](std::int64_t row) {
+        const double latitude = grid.latitudeOf(row);
+        for (std::int64_t col = 0; col < grid.width(); ++col) {
+            const auto i = static_cast<std::size_t>(row * grid.width() + col);
+            const globe::FacePoint p =
+                globe::facePointOf(globe::Wgs84::normalAt(latitude, grid.longitudeOf(col)));
+            places.face[i] = static_cast<std::uint8_t>(p.face);
+            places.s[i] = p.s;
+            places.t[i] = p.t;
+        }
+    });
+    return places;
+}
+
+std::int64_t patchIndex(double coordinate, std::int64_t n) {
+    return std::clamp<std::int64_t>(static_cast<std::int64_t>(coordinate * double(n)), 0, n - 1);
+}
+
+struct LevelPatch {
+    PatchRecord record;
+    bool holdsSource = false;  // some source sample lies in it (else it only overlaps the extent)
+    double measuredError = 0.0;
+};
+
+class GlobeBuilder {
+public:
+    GlobeBuilder(const GeographicGrid& grid, const PyramidLayout& layout, int faceLevels,
+                 const PyramidBuildOptions& options, const fs::path& folder)
+        : m_grid(grid),
+          m_layout(layout),
+          m_finestFaceLevel(faceLevels),
+          m_options(options),
+          m_folder(folder),
+          m_threads(options.threads != 0 ? options.threads
+                                         : std::max(1u, std::thread::hardware_concurrency())) {
+        m_shardOptions.zipLevel = options.zipLevel;
+        m_levelMaxError.assign(static_cast<std::size_t>(layout.levelCount()), 0.0);
+        m_presentPatches.assign(m_levelMaxError.size(), 0);
+        m_presentShards.resize(m_levelMaxError.size());
+    }
+
+    Status run() {
+        auto start = Clock::now();
+        m_places = placeSamples(m_grid, m_threads);
+        m_phases.readSeconds += secondsSince(start);
+        std::unordered_map<PatchKey, float> finerErrors;
+        std::unordered_set<PatchKey> finerKeys;
+        for (int level = m_finestFaceLevel; level >= 0; --level) {
+            if (m_options.cancel != nullptr && m_options.cancel->load())
+                return Error{"the build was cancelled"};
+            std::map<PatchKey, LevelPatch> patches;
+            start = Clock::now();
+            collectPatches(level, patches);
+            m_phases.readSeconds += secondsSince(start);
+            start = Clock::now();
+            measureErrors(level, patches);
+            std::unordered_map<PatchKey, float> errors;
+            for (auto& [key, patch] : patches)
+                finishPatch(key, level, patch, finerKeys, finerErrors, errors);
+            m_phases.boundsSeconds += secondsSince(start);
+            start = Clock::now();
+            if (Status written = write(level, patches); !written) return written;
+            m_phases.writeSeconds += secondsSince(start);
+            finerKeys.clear();
+            for (const auto& [key, patch] : patches) finerKeys.insert(key);
+            finerErrors = std::move(errors);
+            if (m_options.progress)
+                m_options.progress(
+                    {level + ManifestGlobe::kLevelOffset,
+                     double(m_finestFaceLevel - level + 1) / double(m_finestFaceLevel + 1)});
+        }
+        return {};
+    }
+
+    const PyramidBuildPhases& phases() const { return m_phases; }
+    std::int64_t patches() const { return m_patches; }
+    const std::vector<double>& levelMaxError() const { return m_levelMaxError; }
+    const std::vector<std::int64_t>& presentPatches() const { return m_presentPatches; }
+    const std::vector<std::vector<ShardId>>& presentShards() const { return m_presentShards; }
+    double rootError() const { return m_rootError; }
+
+private:
+    // The level's patches: every patch holding a source sample, and those of their
+    // neighbours with a sample inside the source's extent (a patch can overlap the extent's
+    // outer half pixel without holding a sample centre); at level 0 the six faces always.
+    void collectPatches(int level, std::map<PatchKey, LevelPatch>& patches) {
+        const std::int64_t n = globe::patchesPerFaceSide(level);
+        std::unordered_set<PatchKey> holding;
+        for (std::size_t i = 0; i < m_places.face.size(); ++i)
+            holding.insert(keyOf(m_places.face[i], patchIndex(m_places.s[i], n),
+                                 patchIndex(m_places.t[i], n)));
+        // Edge neighbours, and theirs (which covers the diagonal ones, across cube corners too).
+        std::unordered_set<PatchKey> candidates = holding;
+        constexpr globe::PatchSide kSides[] = {globe::PatchSide::Left, globe::PatchSide::Right,
+                                               globe::PatchSide::Top, globe::PatchSide::Bottom};
+        for (const PatchKey key : holding) {
+            for (const globe::PatchSide side : kSides) {
+                const GlobePatchId edge = globe::neighbourOf(idOf(key, level), side).id;
+                candidates.insert(keyOf(edge.face, edge.x, edge.y));
+                for (const globe::PatchSide next : kSides) {
+                    const GlobePatchId beyond = globe::neighbourOf(edge, next).id;
+                    candidates.insert(keyOf(beyond.face, beyond.x, beyond.y));
+                }
+            }
+        }
+        if (level == 0)
+            for (int face = 0; face < globe::kCubeFaces; ++face)
+                candidates.insert(keyOf(face, 0, 0));
+
+        std::vector<PatchKey> keys(candidates.begin(), candidates.end());
+        std::vector<LevelPatch> built(keys.size());
+        std::vector<std::uint8_t> keep(keys.size(), 0);
+        parallelFor(std::ssize(keys), m_threads, [&](std::int64_t k) {
+            const auto i = static_cast<std::size_t>(k);
+            const bool insideAny = resample(idOf(keys[i], level), built[i].record);
+            built[i].holdsSource = holding.contains(keys[i]);
+            keep[i] = built[i].holdsSource || insideAny || level == 0;
+        });
+        for (std::size_t i = 0; i < keys.size(); ++i)
+            if (keep[i]) patches.emplace(keys[i], std::move(built[i]));
+    }
+
+    // The patch's tile from the source; true when some drawn sample lies inside its extent.
+    bool resample(const GlobePatchId& id, PatchRecord& record) const {
+        const int quads = m_layout.patchQuads();
+        const int tile = m_layout.tileSamples();
+        record.id = layoutPatchOf(id);
+        record.heights.assign(static_cast<std::size_t>(tile * tile), 0.0f);
+        record.valid.assign(record.heights.size(), 0);
+        bool insideAny = false;
+        for (int j = -1; j <= quads + 1; ++j) {
+            for (int i = -1; i <= quads + 1; ++i) {
+                const globe::Geodetic where =
+                    globe::Wgs84::geodeticOfNormal(globe::patchSampleDirection(id, quads, i, j));
+                const GeographicGrid::Resampled value =
+                    m_grid.at(where.latitudeDeg, where.longitudeDeg);
+                const auto at = static_cast<std::size_t>((j + 1) * tile + i + 1);
+                record.heights[at] = value.height;
+                record.valid[at] = value.valid ? 1 : 0;
+                const bool drawn = i >= 0 && j >= 0 && i <= quads && j <= quads;
+                insideAny = insideAny || (drawn && value.inside);
+            }
+        }
+        return insideAny;
+    }
+
+    // Err(P) measured at every valid source sample: the distance along its normal to the
+    // patch's triangles, whichever diagonal the tessellator draws.
+    void measureErrors(int level, std::map<PatchKey, LevelPatch>& patches) const {
+        const std::int64_t n = globe::patchesPerFaceSide(level);
+        const int quads = m_layout.patchQuads();
+        const std::int64_t rowsPerTask = 16;
+        const std::int64_t tasks = (m_grid.height() + rowsPerTask - 1) / rowsPerTask;
+        std::mutex merge;
+        parallelFor(tasks, m_threads, [&](std::int64_t task) {
+            std::unordered_map<PatchKey, std::unique_ptr<GlobePatchSurface>> surfaces;
+            std::unordered_map<PatchKey, double> worst;
+            const std::int64_t firstRow = task * rowsPerTask;
+            for (std::int64_t row = firstRow;
+                 row < std::min(firstRow + rowsPerTask, m_grid.height()); ++row) {
+                const double latitude = m_grid.latitudeOf(row);
+                for (std::int64_t col = 0; col < m_grid.width(); ++col) {
+                    if (!m_grid.validAt(col, row)) continue;
+                    const auto i = static_cast<std::size_t>(row * m_grid.width() + col);
+                    const PatchKey key = keyOf(m_places.face[i], patchIndex(m_places.s[i], n),
+                                               patchIndex(m_places.t[i], n));
+                    auto& surface = surfaces[key];
+                    if (!surface) {
+                        const LevelPatch& patch = patches.at(key);
+                        surface = std::make_unique<GlobePatchSurface>(idOf(key, level), quads,
+                                                                      patch.record.heights);
+                    }
+                    const glm::dvec3 normal =
+                        globe::Wgs84::normalAt(latitude, m_grid.longitudeOf(col));
+                    const auto [alongAD, alongBC] = surface->drawnHeights(normal);
+                    const double h = m_grid.heightAt(col, row);
+                    double& patchWorst = worst[key];
+                    patchWorst =
+                        std::max({patchWorst, std::abs(h - alongAD), std::abs(h - alongBC)});
+                }
+            }
+            const std::scoped_lock lock(merge);
+            for (const auto& [key, error] : worst) {
+                LevelPatch& patch = patches.at(key);
+                patch.measuredError = std::max(patch.measuredError, error);
+            }
+        });
+    }
+
+    void finishPatch(PatchKey key, int level, LevelPatch& patch,
+                     const std::unordered_set<PatchKey>& finerKeys,
+                     const std::unordered_map<PatchKey, float>& finerErrors,
+                     std::unordered_map<PatchKey, float>& errors) {
+        PatchRecord& record = patch.record;
+        PatchInfo& info = record.info;
+        info = PatchInfo{};
+        info.present = true;
+        summariseDrawnSamples(m_layout, record.heights, record.valid, info);
+        const GlobePatchId id = idOf(key, level);
+        double error = patch.measuredError;
+        if (level < m_finestFaceLevel) {
+            for (int child = 0; child < 4; ++child) {
+                const PatchKey childKey =
+                    keyOf(id.face, 2 * id.x + (child & 1), 2 * id.y + (child >> 1));
+                if (!finerKeys.contains(childKey)) continue;
+                info.presentChildren =
+                    static_cast<std::uint8_t>(info.presentChildren | (1u << child));
+                error = std::max(error, double(finerErrors.at(childKey)));
+            }
+        }
+        info.approxError = roundUp(error);
+        info.quantError = 0.0f;
+        info.error = info.approxError;
+        errors[key] = info.error;
+
+        const int tile = m_layout.tileSamples();
+        const GridView interior{record.heights.data() + tile + 1, m_layout.patchSamples(), tile};
+        record.blockErrors.resize(
+            static_cast<std::size_t>(m_layout.blocksPerSide() * m_layout.blocksPerSide()));
+        globePatchBlockErrors(interior, m_layout.blockQuads(), level, info.minHeight,
+                              record.blockErrors);
+        if (level == 0) m_rootError = std::max(m_rootError, double(info.error));
+    }
+
+    Status write(int faceLevel, std::map<PatchKey, LevelPatch>& patches) {
+        const int level = faceLevel + ManifestGlobe::kLevelOffset;
+        std::map<std::pair<std::int64_t, std::int64_t>, std::vector<const PatchRecord*>> byShard;
+        for (const auto& [key, patch] : patches) {
+            const ShardId shard = m_layout.shardOf(patch.record.id);
+            byShard[{shard.y, shard.x}].push_back(&patch.record);
+        }
+        for (const auto& [yx, records] : byShard) {
+            const ShardId shard{level, yx.second, yx.first};
+            const fs::path path = m_folder / m_layout.shardPath(shard);
+            std::error_code ec;
+            fs::create_directories(path.parent_path(), ec);
+            if (ec)
+                return Error{path.parent_path().string() +
+                             ": cannot create folder: " + ec.message()};
+            auto writer = ShardWriter::create(path, m_layout, shard, true, m_shardOptions);
+            if (!writer) return writer.error();
+            for (const PatchRecord* record : records) {
+                if (Status written = writer.value().writePatch(*record); !written) return written;
+                m_levelMaxError[static_cast<std::size_t>(level)] = std::max(
+                    m_levelMaxError[static_cast<std::size_t>(level)], double(record->info.error));
+            }
+            if (Status finished = writer.value().finish(); !finished) return finished;
+            m_presentShards[static_cast<std::size_t>(level)].push_back(shard);
+        }
+        m_presentPatches[static_cast<std::size_t>(level)] = std::ssize(patches);
+        m_patches += std::ssize(patches);
+        return {};
+    }
+
+    const GeographicGrid& m_grid;
+    const PyramidLayout& m_layout;
+    int m_finestFaceLevel;
+    const PyramidBuildOptions& m_options;
+    fs::path m_folder;
+    unsigned m_threads;
+    ShardWriterOptions m_shardOptions;
+    SamplePlaces m_places;
+    PyramidBuildPhases m_phases;
+    std::int64_t m_patches = 0;
+    std::vector<double> m_levelMaxError;
+    std::vector<std::int64_t> m_presentPatches;
+    std::vector<std::vector<ShardId>> m_presentShards;
+    double m_rootError = 0.0;
+};
+
+}  // namespace
+
+int globeFinestLevelFor(double spacingMetres, double latitudeDeg, double longitudeDeg, int quads) {
+    // Metres per unit of face coordinate at the place, the larger of the two directions.
+    const globe::FacePoint p =
+        globe::facePointOf(globe::Wgs84::normalAt(latitudeDeg, longitudeDeg));
+    constexpr double kStep = 1e-6;
+    const auto point = [&](double s, double t) {
+        return globe::Wgs84::pointAlongNormal(globe::directionOf(p.face, s, t), 0.0);
+    };
+    const double s0 = std::clamp(p.s, kStep, 1.0 - kStep);
+    const double t0 = std::clamp(p.t, kStep, 1.0 - kStep);
+    const double rate = std::max(glm::distance(point(s0 - kStep, t0), point(s0 + kStep, t0)),
+                                 glm::distance(point(s0, t0 - kStep), point(s0, t0 + kStep))) /
+                        (2.0 * kStep);
+    const double patchesNeeded = rate / (double(quads) * spacingMetres);
+    return std::max(0, static_cast<int>(std::ceil(std::log2(std::max(1.0, patchesNeeded)) - 1e-9)));
+}
+
+Result<PyramidBuildSummary> buildGlobePyramid(DemReader& reader, const fs::path& output,
+                                              const PyramidBuildOptions& options) {
+    const auto start = Clock::now();
+    const DemInfo& dem = reader.info();
+    Result<GeographicGrid> grid = GeographicGrid::read(reader, options.memoryBudgetBytes / 2);
+    if (!grid) return grid.error();
+    const GeographicGrid& g = grid.value();
+    const int quads = options.patchSamples - 1;
+    const double centreLat = 0.5 * (g.northDeg() + g.southDeg());
+    const double centreLon = g.wrapsLongitude() ? 0.0 : 0.5 * (g.westDeg() + g.eastDeg());
+    const int faceLevel = globeFinestLevelFor(g.finestSpacingMetres(), centreLat, centreLon, quads);
+    Result<PyramidLayout> layout =
+        globeLayout(faceLevel, options.patchSamples, options.blockQuads, options.shardPatches);
+    if (!layout) return Error{dem.path + ": " + layout.error().message};
+    const PyramidLayout& l = layout.value();
+
+    Result<PartialBuildFolder> created = PartialBuildFolder::create(output, options.overwrite);
+    if (!created) return created.error();
+    PartialBuildFolder& partial = created.value();
+    GlobeBuilder builder(g, l, faceLevel, options, partial.path());
+    if (Status built = builder.run(); !built) return Error{dem.path + ": " + built.error().message};
+
+    PyramidBuildSummary summary;
+    PyramidManifest& m = summary.manifest;
+    m = PyramidManifest::forLayout(l);
+    m.formatVersion = PyramidManifest::kGlobeFormatVersion;
+    m.globe = ManifestGlobe{.faceFinestLevel = faceLevel};
+    m.georeference = dem.georeference;
+    m.vertical = dem.vertical;
+    // The mask always: samples beyond the source are not data on a globe.
+    m.noData.present = true;
+    m.noData.sourceValue = dem.noDataValue;
+    m.noData.samples = g.width() * g.height() - g.validSamples();
+    m.statistics.minHeight = g.minHeight();
+    m.statistics.maxHeight = g.maxHeight();
+    m.statistics.validSamples = g.validSamples();
+    m.statistics.rootError = builder.rootError();
+    for (ManifestLevel& level : m.levels) {
+        const auto i = static_cast<std::size_t>(level.level);
+        level.presentPatches = builder.presentPatches()[i];
+        level.maxError = builder.levelMaxError()[i];
+        level.presentShards = builder.presentShards()[i];
+        std::sort(level.presentShards.begin(), level.presentShards.end(),
+                  [](const ShardId& a, const ShardId& b) {
+                      return std::pair(a.y, a.x) < std::pair(b.y, b.x);
+                  });
+    }
+    m.source.inputs = dem.inputs;
+    m.source.reader = dem.readerName;
+    m.source.sampleType = dem.sampleType;
+    m.build.tool = "terrain-build";
+    m.build.version = TERRAIN_VERSION;
+    summary.patches = builder.patches();
+    summary.phases = builder.phases();
+    summary.seconds = secondsSince(start);
+    m.build.seconds = summary.seconds;
+    if (Status written = writeManifest(partial.path(), m); !written) return written.error();
+    summary.bytes = folderBytes(partial.path());
+    if (Status committed = partial.commit(); !committed) return committed.error();
+    return summary;
+}
+
+}  // namespace terrain::io

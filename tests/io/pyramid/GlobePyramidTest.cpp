@@ -1,0 +1,344 @@
+// Globe pyramids (docs/pyramid-format.md, "Globe pyramids"): the layout that holds six faces,
+// the build of geographic sources at the places a globe is hard (a high-latitude region, a cap
+// over the north pole, a strip across the antimeridian, a whole-Earth grid with its repeated
+// seam column), and what must hold for each: Err(P) bounds every valid source sample at every
+// level (checked again from the files), shared edges are bit-identical across patches and
+// cube edges, children masks match the patches on disk, and only patches near data exist.
+#include "terrain/globe/Wgs84.h"
+#include "terrain/io/GlobeLayout.h"
+#include "terrain/io/GlobePatchSurface.h"
+#include "terrain/io/GlobePyramidBuilder.h"
+#include "terrain/io/PyramidReader.h"
+#include "terrain/io/PyramidSourceCheck.h"
+
+#include "TempFolder.h"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <functional>
+#include <map>
+#include <numbers>
+#include <string>
+
+namespace terrain::io {
+namespace {
+
+using globe::GlobePatchId;
+using globe::PatchSide;
+using test::TempFolder;
+
+/// A geographic source held by a function of latitude and longitude (degrees); NaN is no-data.
+class GeographicFunctionDem final : public DemReader {
+public:
+    using Height = std::function<float(double latitude, double longitude)>;
+    GeographicFunctionDem(double west, double north, std::int64_t width, std::int64_t height,
+                          double pixelLon, double pixelLat, Height heightAt)
+        : m_height(std::move(heightAt)) {
+        m_info.path = "geographic-function-dem";
+        m_info.readerName = "test";
+        m_info.inputs = {m_info.path};
+        m_info.width = width;
+        m_info.height = height;
+        m_info.sampleType = "float32";
+        m_info.hasGeoreference = true;
+        m_info.georeference = {
+            west, north, pixelLon, pixelLat, Georeference::kWgs84Geographic, CrsKind::Geographic};
+        m_info.noDataValue = -32768.0;
+    }
+    const DemInfo& info() const override { return m_info; }
+    Status readWindow(std::int64_t x0, std::int64_t y0, std::int64_t width, std::int64_t rows,
+                      std::span<float> out) override {
+        const Georeference& g = m_info.georeference;
+        for (std::int64_t y = 0; y < rows; ++y)
+            for (std::int64_t x = 0; x < width; ++x)
+                out[static_cast<std::size_t>(y * width + x)] =
+                    m_height(g.originY - (double(y0 + y) + 0.5) * g.pixelSizeY,
+                             g.originX + (double(x0 + x) + 0.5) * g.pixelSizeX);
+        return {};
+    }
+
+private:
+    DemInfo m_info;
+    Height m_height;
+};
+
+float hills(double latitude, double longitude) {
+    return static_cast<float>(800.0 + 600.0 * std::sin(latitude * 7.0) * std::cos(longitude * 5.0) +
+                              150.0 * std::sin(longitude * 31.0 + latitude * 17.0));
+}
+
+PyramidBuildOptions smallPatches() {
+    PyramidBuildOptions options;
+    options.patchSamples = 17;
+    options.blockQuads = 4;
+    options.shardPatches = 4;
+    options.threads = 2;
+    options.zipLevel = 1;
+    return options;
+}
+
+struct Built {
+    std::filesystem::path folder;
+    PyramidBuildSummary summary;
+};
+
+Built build(DemReader& source, const TempFolder& temp, const std::string& name) {
+    const std::filesystem::path out = temp.path() / (name + ".pyramid");
+    auto built = buildGlobePyramid(source, out, smallPatches());
+    EXPECT_TRUE(built) << (built ? "" : built.error().message);
+    return {out, built ? built.value() : PyramidBuildSummary{}};
+}
+
+// Err(P) against every valid source sample, at every level, read back from the files.
+void expectBoundsHold(const Built& built, DemReader& source) {
+    auto report = checkErrorBoundsAgainstSource(built.folder, source);
+    ASSERT_TRUE(report) << report.error().message;
+    EXPECT_EQ(report.value().violationCount, 0);
+    EXPECT_EQ(report.value().samplesChecked,
+              built.summary.manifest.statistics.validSamples *
+                  (built.summary.manifest.globe->faceFinestLevel + 1));
+    for (const ErrorBoundViolation& v : report.value().violations)
+        ADD_FAILURE() << "sample (" << v.x << ", " << v.y << ") is " << v.distanceM
+                      << " m from patch L" << v.patch.level << " (" << v.patch.x << ", "
+                      << v.patch.y << "), Err(P) " << v.boundM;
+}
+
+// Every present patch: its children mask matches the disk, and its shared edges with every
+// present neighbour (across cube edges too) hold the same heights, bit for bit.
+void expectConsistentPatches(const Built& built) {
+    auto opened = PyramidReader::open(built.folder);
+    ASSERT_TRUE(opened) << opened.error().message;
+    PyramidReader& reader = opened.value();
+    const PyramidLayout& layout = reader.layout();
+    const int quads = layout.patchQuads();
+    const int tile = layout.tileSamples();
+    const int faceLevels = reader.manifest().globe->faceFinestLevel + 1;
+    int edgesCompared = 0, crossFace = 0;
+    for (int level = 0; level < faceLevels; ++level) {
+        const std::int64_t n = globe::patchesPerFaceSide(level);
+        for (int face = 0; face < globe::kCubeFaces; ++face) {
+            for (std::int64_t y = 0; y < n; ++y) {
+                for (std::int64_t x = 0; x < n; ++x) {
+                    const GlobePatchId id{face, level, x, y};
+                    auto info = reader.patchInfo(layoutPatchOf(id));
+                    ASSERT_TRUE(info) << info.error().message;
+                    if (!info.value().present) continue;
+                    if (level + 1 < faceLevels) {
+                        for (int c = 0; c < 4; ++c) {
+                            auto child = reader.patchInfo(layoutPatchOf(
+                                {face, level + 1, 2 * x + (c & 1), 2 * y + (c >> 1)}));
+                            ASSERT_TRUE(child);
+                            EXPECT_EQ(child.value().present,
+                                      ((info.value().presentChildren >> c) & 1) != 0);
+                        }
+                    }
+                    auto mine = reader.readPatch(layoutPatchOf(id));
+                    ASSERT_TRUE(mine) << mine.error().message;
+                    for (const PatchSide side :
+                         {PatchSide::Left, PatchSide::Right, PatchSide::Top, PatchSide::Bottom}) {
+                        const globe::PatchNeighbour there = globe::neighbourOf(id, side);
+                        auto theirInfo = reader.patchInfo(layoutPatchOf(there.id));
+                        if (!theirInfo || !theirInfo.value().present) continue;
+                        auto theirs = reader.readPatch(layoutPatchOf(there.id));
+                        ASSERT_TRUE(theirs);
+                        const auto at = [&](const std::vector<float>& h, PatchSide s, int k) {
+                            const int i = s == PatchSide::Left    ? 0
+                                          : s == PatchSide::Right ? quads
+                                                                  : k;
+                            const int j = s == PatchSide::Top      ? 0
+                                          : s == PatchSide::Bottom ? quads
+                                                                   : k;
+                            return h[static_cast<std::size_t>((j + 1) * tile + i + 1)];
+                        };
+                        for (int k = 0; k <= quads; ++k)
+                            ASSERT_EQ(at(mine.value().heights, side, k),
+                                      at(theirs.value().heights, there.side,
+                                         there.reversed ? quads - k : k))
+                                << "face " << face << " level " << level << " (" << x << ", " << y
+                                << ") side " << int(side) << " sample " << k;
+                        ++edgesCompared;
+                        crossFace += there.id.face != face;
+                    }
+                }
+            }
+        }
+    }
+    EXPECT_GT(edgesCompared, 0);
+    ::testing::Test::RecordProperty("crossFaceEdges", crossFace);
+}
+
+TEST(GlobeLayout, FacesLieSideBySideBelowThreeEmptyLevels) {
+    for (const int faceLevel : {0, 1, 5, 11}) {
+        auto layout = globeLayout(faceLevel);
+        ASSERT_TRUE(layout) << layout.error().message;
+        EXPECT_EQ(layout.value().finestLevel(), faceLevel + ManifestGlobe::kLevelOffset);
+        for (int l = 0; l <= faceLevel; ++l) {
+            EXPECT_EQ(layout.value().patchesX(l + 3), 6 * globe::patchesPerFaceSide(l));
+            EXPECT_EQ(layout.value().patchesY(l + 3), globe::patchesPerFaceSide(l));
+        }
+    }
+    for (int level = 0; level <= 3; ++level)
+        for (int face = 0; face < globe::kCubeFaces; ++face)
+            for (std::int64_t y = 0; y < globe::patchesPerFaceSide(level); ++y)
+                for (std::int64_t x = 0; x < globe::patchesPerFaceSide(level); ++x) {
+                    const GlobePatchId id{face, level, x, y};
+                    ASSERT_EQ(globePatchOf(layoutPatchOf(id)), id);
+                }
+    EXPECT_FALSE(globeLayout(31));
+}
+
+TEST(GlobePyramid, RegionalSourceAtHighLatitude) {
+    TempFolder temp;
+    // 0.5° × 0.25° at 60° N with a few voids.
+    GeographicFunctionDem source(10.0, 60.25, 100, 50, 0.005, 0.005, [](double lat, double lon) {
+        if (std::abs(lat - 60.1) < 0.006 && std::abs(lon - 10.2) < 0.02) return std::nanf("");
+        return hills(lat, lon);
+    });
+    const Built built = build(source, temp, "regional");
+    const PyramidManifest& m = built.summary.manifest;
+    ASSERT_TRUE(m.globe);
+    EXPECT_EQ(m.formatVersion, PyramidManifest::kGlobeFormatVersion);
+    EXPECT_GE(m.globe->faceFinestLevel, 8);
+    EXPECT_EQ(m.levels[3].presentPatches, 6);  // the six faces, always
+    // Sparse: the finest level holds the region only, a sliver of the face.
+    const std::int64_t finestPatches = m.levels.back().presentPatches;
+    EXPECT_GT(finestPatches, 4);
+    EXPECT_LT(finestPatches, 400);
+    expectBoundsHold(built, source);
+    auto reader = PyramidReader::open(built.folder);
+    ASSERT_TRUE(reader);
+    // Far from the data: absent, and said so.
+    const GlobePatchId far{static_cast<int>(globe::CubeFace::South), 3, 2, 2};
+    auto info = reader.value().patchInfo(layoutPatchOf(far));
+    ASSERT_TRUE(info);
+    EXPECT_FALSE(info.value().present);
+    auto read = reader.value().readPatch(layoutPatchOf(far));
+    ASSERT_FALSE(read);
+    EXPECT_NE(read.error().message.find("absent"), std::string::npos) << read.error().message;
+    // The manifest reads back as written.
+    EXPECT_EQ(reader.value().manifest(), m);
+
+    // Damage is named: a listed shard without its file, a manifest whose shard list or
+    // tiling was edited.
+    const std::string manifestText = toJson(m);
+    const auto errorFor = [&](const std::string& from, const std::string& to) {
+        std::string text = manifestText;
+        const auto at = text.find(from);
+        EXPECT_NE(at, std::string::npos) << from;
+        text.replace(at, from.size(), to);
+        auto parsed = fromJson(text, "manifest.json");
+        return parsed ? std::string("no error") : parsed.error().message;
+    };
+    EXPECT_NE(errorFor("\"wgs84-tangent-cube\"", "\"geodetic\"").find("globe.tiling"),
+              std::string::npos);
+    const ManifestLevel& finest = m.levels.back();
+    ASSERT_GE(finest.presentShards.size(), 2u);
+    const ShardId& a = finest.presentShards[0];
+    const ShardId& b = finest.presentShards[1];
+    const std::string pair = fmt::format("[\n          {},\n          {}\n        ]", a.x, a.y);
+    const std::string swapped = fmt::format("[\n          {},\n          {}\n        ]", b.x, b.y);
+    EXPECT_NE(
+        errorFor(pair + ",\n        " + swapped, swapped + ",\n        " + pair).find("not sorted"),
+        std::string::npos);
+    std::filesystem::remove(built.folder / m.layout.shardPath(a));
+    auto reopened = PyramidReader::open(built.folder);
+    ASSERT_TRUE(reopened);
+    const PatchId inMissing{a.level, m.layout.shardFirstX(a), m.layout.shardFirstY(a)};
+    auto missing = reopened.value().patchInfo(inMissing);
+    ASSERT_FALSE(missing);
+    EXPECT_NE(missing.error().message.find("the shard file is missing"), std::string::npos)
+        << missing.error().message;
+}
+
+TEST(GlobePyramid, CapOverTheNorthPole) {
+    TempFolder temp;
+    GeographicFunctionDem source(-180.0, 90.0, 360, 20, 1.0, 0.1,
+                                 [](double lat, double lon) { return hills(lat, lon) + 200.0f; });
+    const Built built = build(source, temp, "pole");
+    expectBoundsHold(built, source);
+    expectConsistentPatches(built);
+}
+
+TEST(GlobePyramid, StripAcrossTheAntimeridian) {
+    TempFolder temp;
+    // West edge at 179.8°: its eastern half lies at −179.9° … −179.8°.
+    GeographicFunctionDem source(179.8, -29.8, 80, 40, 0.005, 0.005, hills);
+    const Built built = build(source, temp, "antimeridian");
+    expectBoundsHold(built, source);
+    expectConsistentPatches(built);
+}
+
+TEST(GlobePyramid, WholeEarthWithRepeatedSeamColumnAcrossCubeEdges) {
+    TempFolder temp;
+    // 181 columns of 2°: the last repeats the first (as ETOPO's do), which the build accepts.
+    GeographicFunctionDem source(-181.0, 90.0, 181, 90, 2.0, 2.0, hills);
+    const Built built = build(source, temp, "earth");
+    const PyramidManifest& m = built.summary.manifest;
+    ASSERT_TRUE(m.globe);
+    // Every patch of every level is present on a whole-Earth source.
+    for (int l = 0; l <= m.globe->faceFinestLevel; ++l)
+        EXPECT_EQ(m.levels[static_cast<std::size_t>(l + 3)].presentPatches,
+                  6 * globe::patchesPerFaceSide(l) * globe::patchesPerFaceSide(l));
+    expectBoundsHold(built, source);
+    expectConsistentPatches(built);
+}
+
+TEST(GlobePyramid, RefusesSourcesThatAreNotGeographic) {
+    TempFolder temp;
+    GeographicFunctionDem source(0.0, 0.0, 10, 10, 1.0, 1.0, hills);
+    auto projected = source.info();
+    struct Projected final : DemReader {
+        DemInfo info_;
+        const DemInfo& info() const override { return info_; }
+        Status readWindow(std::int64_t, std::int64_t, std::int64_t, std::int64_t,
+                          std::span<float>) override {
+            return {};
+        }
+    } reader;
+    reader.info_ = projected;
+    reader.info_.georeference.crsKind = CrsKind::Projected;
+    auto built = buildGlobePyramid(reader, temp.path() / "x.pyramid", smallPatches());
+    ASSERT_FALSE(built);
+    EXPECT_NE(built.error().message.find("geographic-function-dem: a globe pyramid needs a "
+                                         "geographic"),
+              std::string::npos)
+        << built.error().message;
+    EXPECT_FALSE(std::filesystem::exists(temp.path() / "x.pyramid"));
+}
+
+// The surface the errors are measured on, checked by geometry alone: the piercing point lies
+// on a plane through three of the cell's corners, sample normals pierce at the sample's height,
+// and a level patch sags between samples by no more than the flat-triangle bound.
+TEST(GlobePatchSurface, PiercesTheDrawnTrianglesAlongTheNormal) {
+    const int quads = 8;
+    const int tile = quads + 3;
+    for (const GlobePatchId id :
+         {GlobePatchId{0, 0, 0, 0}, GlobePatchId{4, 6, 31, 32}, GlobePatchId{2, 12, 2048, 2047}}) {
+        std::vector<float> flat(static_cast<std::size_t>(tile * tile), 250.0f);
+        const GlobePatchSurface surface(id, quads, flat);
+        for (int j = 0; j <= quads; ++j)
+            for (int i = 0; i <= quads; ++i) {
+                const auto [a, b] =
+                    surface.drawnHeights(globe::patchSampleDirection(id, quads, i, j));
+                EXPECT_NEAR(a, 250.0, 1e-6);
+                EXPECT_NEAR(b, 250.0, 1e-6);
+            }
+        const double sag =
+            globe::flatTriangleErrorBound(globe::maxSampleSpacing(id.level, quads), 250.0);
+        for (int k = 0; k < 50; ++k) {
+            const globe::FacePoint p =
+                globe::patchPoint(id, (k % 7 + 0.37) / 7.0, (k / 7 % 7 + 0.61) / 7.0);
+            const auto [a, b] = surface.drawnHeights(globe::directionOf(p.face, p.s, p.t));
+            EXPECT_LE(a, 250.0 + 1e-6);
+            EXPECT_GE(a, 250.0 - sag);
+            EXPECT_LE(b, 250.0 + 1e-6);
+            EXPECT_GE(b, 250.0 - sag);
+        }
+    }
+}
+
+}  // namespace
+}  // namespace terrain::io
