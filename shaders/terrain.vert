@@ -1,8 +1,9 @@
 // Terrain draw, vertex stage: attribute-less corners of every quad patch primitive of an
-// instance (a drawn patch): its tessellation blocks, then its skirts (terrain_patches.glsl).
+// instance (a drawn patch): its tessellation blocks, then its skirts (terrain_primitives.glsl).
+// The planar and the globe draws share it.
 // Corners are in the patch's samples; the control stage picks the factors.
 #include "Bindings.h"
-#include "terrain_patches.glsl"
+#include "terrain_primitives.glsl"
 
 layout(location = 0) out vec2 o_sample;  // corner: (column, row) in the patch's samples
 layout(location = 1) flat out int o_instance;

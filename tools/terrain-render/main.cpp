@@ -11,7 +11,10 @@
 
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/gl/HeadlessGlContext.h"
+#include "terrain/io/PyramidManifest.h"
 #include "terrain/runtime/CameraPath.h"
+#include "terrain/runtime/GlobeCamera.h"
+#include "terrain/runtime/GlobeSession.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
 #include "terrain/runtime/TerrainGeometry.h"
@@ -32,6 +35,7 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -57,6 +61,11 @@ struct RenderOptions {
         .cpuCacheMiB = 256.0, .gpuLayers = 1024, .uploadMiBPerFrame = 16.0};
     tools::DrawStyleFlags look;
     bool json = false;
+    // Globe pyramids: a fixed pose where any of these is given, else the flight from orbit.
+    std::optional<double> latitudeDeg, longitudeDeg, heightM;
+    double headingDeg = 0.0;
+    double pitchDeg = -90.0;
+    bool noHorizonCulling = false;
 };
 
 int fail(const std::string& message) {
@@ -74,10 +83,154 @@ nlohmann::json statsJson(const runtime::LatencyHistogram& h, double scale = 1.0)
             {"mean", value(h.mean())}};
 }
 
+// The centre of a globe pyramid's source, across the antimeridian too.
+std::pair<double, double> dataCentre(const io::ManifestGlobe& g) {
+    const double span = g.east >= g.west ? g.east - g.west : g.east + 360.0 - g.west;
+    double longitude = g.west + 0.5 * span;
+    if (longitude > 180.0) longitude -= 360.0;
+    return {0.5 * (g.south + g.north), longitude};
+}
+
+// The default globe flight: straight down from 20,000 km over the data's centre, the height
+// falling exponentially to 1.5 km above its highest point, tilting to the horizon at the end.
+runtime::GlobePose globePoseAt(const RenderOptions& o, const io::PyramidManifest& m,
+                               double fraction) {
+    const auto [latitude, longitude] = dataCentre(*m.globe);
+    runtime::GlobePose pose;
+    pose.where = {o.latitudeDeg.value_or(latitude), o.longitudeDeg.value_or(longitude), 0.0};
+    if (o.latitudeDeg || o.longitudeDeg || o.heightM) {
+        pose.where.height = o.heightM.value_or(20e6);
+        pose.headingDeg = o.headingDeg;
+        pose.pitchDeg = o.pitchDeg;
+        return pose;
+    }
+    const double end = std::max(m.statistics.maxHeight, 0.0) + 1500.0;
+    pose.where.height = std::exp(std::log(20e6) * (1.0 - fraction) + std::log(end) * fraction);
+    pose.pitchDeg = fraction < 0.6 ? -90.0 : -90.0 + (fraction - 0.6) / 0.4 * 70.0;
+    return pose;
+}
+
+int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time_point start) {
+    runtime::GlobeSessionOptions sessionOptions;
+    o.budgets.applyTo(sessionOptions.streaming);
+    sessionOptions.lod.errorPx = o.errorPx;
+    sessionOptions.lod.horizonCulling = !o.noHorizonCulling;
+    auto opened = runtime::GlobeSession::open(o.pyramid, sessionOptions);
+    if (!opened) return fail(opened.error().message);
+    runtime::GlobeSession& session = *opened.value();
+    const io::PyramidManifest& manifest = session.manifest();
+    std::error_code ec;
+    std::filesystem::create_directories(o.outputDir, ec);
+    if (ec) return fail(fmt::format("{}: cannot create the folder: {}", o.outputDir, ec.message()));
+    const std::filesystem::path outputDir(o.outputDir);
+    auto csv = runtime::TelemetryCsvWriter::create(outputDir / "telemetry.csv");
+    if (!csv) return fail(csv.error().message);
+    auto framebuffer = gl::Framebuffer::create(o.widthPx, o.heightPx, "terrain-render frame");
+    if (!framebuffer) return fail(framebuffer.error().message);
+    runtime::TerrainStyle style;
+    style.errorPx = static_cast<float>(o.errorPx);
+    style.measure = true;
+    style.wireframe = o.look.wireframe;
+    style.skirts = !o.look.noSkirts;
+    style.debugView = o.look.debugViewValue();
+    style.skyColor = {0.02f, 0.03f, 0.08f};  // space
+    const std::array<float, 4> sky{style.skyColor[0], style.skyColor[1], style.skyColor[2], 1.0f};
+    runtime::Camera camera;
+    camera.viewportWidth = o.widthPx;
+    camera.viewportHeight = o.heightPx;
+    const double durationS = o.durationS > 0.0 ? o.durationS : 20.0;
+    const std::uint64_t frames =
+        o.frames > 0 ? o.frames : static_cast<std::uint64_t>(std::floor(durationS * o.fps)) + 1;
+    const std::set<std::uint64_t> chosen(o.frameList.begin(), o.frameList.end());
+    runtime::TelemetrySummary summary;
+    runtime::LatencyHistogram lodUs, triangles;
+    std::uint64_t framesWritten = 0, maxDrawCalls = 0, maxTriangles = 0, maxPatches = 0;
+    std::uint64_t horizonCulled = 0, visited = 0;
+    const auto loopStart = Clock::now();
+    auto previous = loopStart;
+    for (std::uint64_t frame = 0; frame < frames; ++frame) {
+        const double fraction = frames > 1 ? double(frame) / double(frames - 1) : 0.0;
+        runtime::placeOnGlobe(camera, globePoseAt(o, manifest, fraction));
+        if (o.settle && !session.settle(camera, std::chrono::seconds(60)))
+            return fail(fmt::format("frame {}: streaming did not settle within 60 s", frame));
+        const runtime::GlobeLodStats& lod = session.beginFrame(camera);
+        horizonCulled += lod.horizonCulled;
+        visited += lod.visited;
+        framebuffer.value().clear(sky, 0.0f);
+        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.value().id());
+        glViewport(0, 0, o.widthPx, o.heightPx);
+        const runtime::TerrainDrawStats drawn = session.draw(camera, style);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        runtime::FrameTelemetry t;
+        session.endFrame(t);
+        if ((o.every > 0 && frame % o.every == 0) || chosen.contains(frame) ||
+            frame + 1 == frames) {
+            const auto file = outputDir / fmt::format("frame-{:05}.png", frame);
+            if (auto written = tools::writeFramebufferPng(framebuffer.value(), file); !written)
+                return fail(written.error().message);
+            ++framesWritten;
+        }
+        const auto now = Clock::now();
+        t.frame = frame;
+        t.timeS = std::chrono::duration<double>(now - loopStart).count();
+        t.frameMs = std::chrono::duration<double, std::milli>(now - previous).count();
+        previous = now;
+        csv.value().write(t);
+        summary.add(t);
+        lodUs.add(t.lodUpdateUs / 1000.0);
+        triangles.add(static_cast<double>(drawn.triangles) / 1000.0);
+        maxDrawCalls = std::max<std::uint64_t>(maxDrawCalls, t.drawCalls);
+        maxTriangles = std::max<std::uint64_t>(maxTriangles, drawn.triangles);
+        maxPatches = std::max<std::uint64_t>(maxPatches, t.patchesDrawn);
+        if (context.debugLog().errorCount() > 0)
+            return fail("OpenGL reported an error:\n" + context.debugLog().formatErrors());
+    }
+    if (auto closed = csv.value().close(); !closed) return fail(closed.error().message);
+    session.streamer().drain(std::chrono::seconds(10));
+    if (o.json) {
+        const nlohmann::json out{
+            {"tool", "terrain-render"},
+            {"pyramid", o.pyramid},
+            {"tiling", "globe"},
+            {"frames", frames},
+            {"frames_written", framesWritten},
+            {"output_dir", o.outputDir},
+            {"telemetry_csv", (outputDir / "telemetry.csv").string()},
+            {"width_px", o.widthPx},
+            {"height_px", o.heightPx},
+            {"error_px", o.errorPx},
+            {"settle", o.settle},
+            {"horizon_culling", !o.noHorizonCulling},
+            {"horizon_culled_fraction_of_visited",
+             visited > 0 ? double(horizonCulled) / double(visited) : 0.0},
+            {"triangles",
+             {{"p50", triangles.percentile(50.0) * 1000.0},
+              {"max", maxTriangles},
+              {"mean", triangles.mean() * 1000.0}}},
+            {"patches_drawn_max", maxPatches},
+            {"draw_calls_max", maxDrawCalls},
+            {"lod_update_us", statsJson(lodUs, 1000.0)},
+            {"telemetry", summary.toJson()},
+            {"total_seconds", std::chrono::duration<double>(Clock::now() - start).count()},
+            {"gl", tools::glInfoJson(context)},
+        };
+        std::puts(out.dump(2).c_str());
+    }
+    fmt::print(stderr,
+               "terrain-render: globe, {} frames of {}x{} at ε = {} px into {} ({} PNGs): "
+               "triangles p50 {:.0f} (max {}), {} patches max, {} draw call(s) per frame\n",
+               frames, o.widthPx, o.heightPx, o.errorPx, o.outputDir, framesWritten,
+               triangles.percentile(50.0) * 1000.0, maxTriangles, maxPatches, maxDrawCalls);
+    return 0;
+}
+
 int run(const RenderOptions& o) {
     const auto start = Clock::now();
     auto context = gl::HeadlessGlContext::create();
     if (!context) return fail(context.error().message);
+    auto manifest = io::readManifest(o.pyramid);
+    if (!manifest) return fail(manifest.error().message);
+    if (manifest.value().globe) return runGlobe(o, *context.value(), start);
 
     runtime::TerrainSessionOptions sessionOptions;
     o.budgets.applyTo(sessionOptions.streaming);
@@ -248,6 +401,20 @@ int main(int argc, char** argv) {
     app.add_flag("--settle", o.settle, "Wait for streaming before drawing each frame");
     tools::addStreamingBudgetFlags(app, o.budgets);
     o.look.addTo(app);
+    app.add_option("--lat", o.latitudeDeg,
+                   "Globe pyramids: camera latitude, degrees (a fixed pose)")
+        ->check(CLI::Range(-90.0, 90.0));
+    app.add_option("--lon", o.longitudeDeg, "Globe pyramids: camera longitude, degrees")
+        ->check(CLI::Range(-360.0, 360.0));
+    app.add_option("--altitude", o.heightM,
+                   "Globe pyramids: camera height above the WGS84 ellipsoid, metres");
+    app.add_option("--heading", o.headingDeg, "Globe pyramids: degrees clockwise from north")
+        ->capture_default_str();
+    app.add_option("--pitch", o.pitchDeg, "Globe pyramids: degrees above the horizon (-90: down)")
+        ->capture_default_str()
+        ->check(CLI::Range(-90.0, 90.0));
+    app.add_flag("--no-horizon-culling", o.noHorizonCulling,
+                 "Globe pyramids: draw patches behind the horizon too (for comparison)");
     app.add_flag("--json", o.json, "Print a JSON summary on stdout");
     CLI11_PARSE(app, argc, argv);
     return run(o);

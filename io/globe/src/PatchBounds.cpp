@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
+#include <vector>
 
 namespace terrain::globe {
 
@@ -34,27 +36,47 @@ OrientedBox patchBounds(const GlobePatchId& id, double minHeight, double maxHeig
     const glm::dvec3 right = glm::dvec3(faceFrame(id.face).right);
     const glm::dvec3 east = glm::normalize(right - glm::dot(right, up) * up);
     const glm::dvec3 south = glm::cross(up, east);
-    const std::array<glm::dvec3, 3> axes{east, south, up};
 
-    glm::dvec3 low(std::numeric_limits<double>::max());
-    glm::dvec3 high(std::numeric_limits<double>::lowest());
     // The box of the grid points is not yet conservative: the surface bulges between them. A
     // point between the grid's directions is within flatTriangleErrorBound of a grid triangle,
     // whose corners are in the box, so the box is padded by that bound; a point between the
     // two heights lies on the segment between its two height points (a point moves linearly
     // with height along a fixed normal), so the two heights are enough.
+    std::vector<glm::dvec3> points;
+    points.reserve(2 * (kGridQuads + 1) * (kGridQuads + 1));
     for (int j = 0; j <= kGridQuads; ++j) {
         for (int i = 0; i <= kGridQuads; ++i) {
             const FacePoint p = patchSamplePoint(id, kGridQuads, i, j);
             const glm::dvec3 direction = directionOf(p.face, p.s, p.t);
-            for (const double height : {minHeight, maxHeight}) {
-                const glm::dvec3 point = Wgs84::pointAlongNormal(direction, height);
-                for (int axis = 0; axis < 3; ++axis) {
-                    const double coordinate = glm::dot(point, axes[axis]);
-                    low[axis] = std::min(low[axis], coordinate);
-                    high[axis] = std::max(high[axis], coordinate);
-                }
+            for (const double height : {minHeight, maxHeight})
+                points.push_back(Wgs84::pointAlongNormal(direction, height));
+        }
+    }
+    // Near a cube corner a patch is a rhombus (60° and 120°), loose in a box square to its
+    // edges: the tangent axes are turned to the smallest footprint of a few candidates.
+    OrientedBox best;
+    double bestArea = std::numeric_limits<double>::max();
+    for (int turn = 0; turn < 6; ++turn) {
+        const double angle = turn * (std::numbers::pi / 12.0);
+        const glm::dvec3 x = std::cos(angle) * east + std::sin(angle) * south;
+        const std::array<glm::dvec3, 3> axes{x, glm::cross(up, x), up};
+        glm::dvec3 low(std::numeric_limits<double>::max());
+        glm::dvec3 high(std::numeric_limits<double>::lowest());
+        for (const glm::dvec3& point : points) {
+            for (int axis = 0; axis < 3; ++axis) {
+                const double coordinate = glm::dot(point, axes[axis]);
+                low[axis] = std::min(low[axis], coordinate);
+                high[axis] = std::max(high[axis], coordinate);
             }
+        }
+        const double area = (high.x - low.x) * (high.y - low.y);
+        if (area >= bestArea) continue;
+        bestArea = area;
+        best.axes = axes;
+        best.centre = glm::dvec3(0.0);
+        for (int axis = 0; axis < 3; ++axis) {
+            best.halfExtents[axis] = 0.5 * (high[axis] - low[axis]);
+            best.centre += 0.5 * (low[axis] + high[axis]) * axes[axis];
         }
     }
     const double gridSpacing = maxSampleAngle(id.level, kGridQuads) *
@@ -62,18 +84,8 @@ OrientedBox patchBounds(const GlobePatchId& id, double minHeight, double maxHeig
     const double bulge = flatTriangleErrorBound(gridSpacing, minHeight);
     // Rounding of the dot products above: a few ulps of the planet's radius.
     const double pad = bulge + 1e-6 * (1.0 + std::abs(maxHeight)) + 1e-8 * Wgs84::kEquatorialRadius;
-
-    OrientedBox box;
-    box.axes = axes;
-    glm::dvec3 centreInAxes{0.0};
-    for (int axis = 0; axis < 3; ++axis) {
-        low[axis] -= pad;
-        high[axis] += pad;
-        centreInAxes[axis] = 0.5 * (low[axis] + high[axis]);
-        box.halfExtents[axis] = 0.5 * (high[axis] - low[axis]);
-    }
-    box.centre = centreInAxes.x * axes[0] + centreInAxes.y * axes[1] + centreInAxes.z * axes[2];
-    return box;
+    best.halfExtents += glm::dvec3(pad);
+    return best;
 }
 
 double distanceToBox(const glm::dvec3& point, const OrientedBox& box) {

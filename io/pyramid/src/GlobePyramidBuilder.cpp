@@ -382,7 +382,12 @@ Result<PyramidBuildSummary> buildGlobePyramid(DemReader& reader, const fs::path&
     PyramidManifest& m = summary.manifest;
     m = PyramidManifest::forLayout(l);
     m.formatVersion = PyramidManifest::kGlobeFormatVersion;
-    m.globe = ManifestGlobe{.faceFinestLevel = faceLevel};
+    const double east = g.eastDeg() > 180.0 ? g.eastDeg() - 360.0 : g.eastDeg();
+    m.globe = ManifestGlobe{.faceFinestLevel = faceLevel,
+                            .west = g.wrapsLongitude() ? -180.0 : g.westDeg(),
+                            .south = g.southDeg(),
+                            .east = g.wrapsLongitude() ? 180.0 : east,
+                            .north = g.northDeg()};
     m.georeference = dem.georeference;
     m.vertical = dem.vertical;
     // The mask always: samples beyond the source are not data on a globe.

@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -215,7 +216,15 @@ PyramidManifest parseFields(const Json& root, LayoutFields& f) {
             throw FieldError{"globe.tiling", fmt::format("\"{}\"", ManifestGlobe::kTiling)};
         if (intField(globe, "globe", "levelOffset") != ManifestGlobe::kLevelOffset)
             throw FieldError{"globe.levelOffset", std::to_string(ManifestGlobe::kLevelOffset)};
-        m.globe = ManifestGlobe{.faceFinestLevel = intField(globe, "globe", "faceFinestLevel")};
+        const Json& extent = arrayField(globe, "globe", "sourceExtent");
+        if (extent.size() != 4 ||
+            !std::all_of(extent.begin(), extent.end(), [](const Json& v) { return v.is_number(); }))
+            throw FieldError{"globe.sourceExtent", "[west, south, east, north] in degrees"};
+        m.globe = ManifestGlobe{.faceFinestLevel = intField(globe, "globe", "faceFinestLevel"),
+                                .west = extent[0].get<double>(),
+                                .south = extent[1].get<double>(),
+                                .east = extent[2].get<double>(),
+                                .north = extent[3].get<double>()};
     }
     return m;
 }
@@ -409,9 +418,11 @@ std::string toJson(const PyramidManifest& m) {
     j["build"] = {
         {"tool", m.build.tool}, {"version", m.build.version}, {"seconds", m.build.seconds}};
     if (m.globe)
-        j["globe"] = {{"tiling", ManifestGlobe::kTiling},
-                      {"levelOffset", ManifestGlobe::kLevelOffset},
-                      {"faceFinestLevel", m.globe->faceFinestLevel}};
+        j["globe"] = {
+            {"tiling", ManifestGlobe::kTiling},
+            {"levelOffset", ManifestGlobe::kLevelOffset},
+            {"faceFinestLevel", m.globe->faceFinestLevel},
+            {"sourceExtent", {m.globe->west, m.globe->south, m.globe->east, m.globe->north}}};
     return j.dump(2) + "\n";
 }
 

@@ -4,6 +4,7 @@
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/matrix.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -25,10 +26,11 @@ bool Frustum::intersects(const Aabb& box) const {
 
 glm::dvec3 Camera::forward() const {
     const double p = std::clamp(pitch, -kMaxPitch, kMaxPitch);
-    return {std::sin(yaw) * std::cos(p), std::cos(yaw) * std::cos(p), std::sin(p)};
+    return frame *
+           glm::dvec3(std::sin(yaw) * std::cos(p), std::cos(yaw) * std::cos(p), std::sin(p));
 }
 
-glm::dvec3 Camera::right() const { return {std::cos(yaw), -std::sin(yaw), 0.0}; }
+glm::dvec3 Camera::right() const { return frame * glm::dvec3(std::cos(yaw), -std::sin(yaw), 0.0); }
 
 glm::dvec3 Camera::up() const { return glm::cross(right(), forward()); }
 
@@ -75,7 +77,7 @@ Frustum Camera::frustum() const {
 }
 
 void Camera::lookAt(const glm::dvec3& target) {
-    const glm::dvec3 d = target - position;
+    const glm::dvec3 d = glm::transpose(frame) * (target - position);  // in the local frame
     const double horizontal = std::hypot(d.x, d.y);
     yaw = std::atan2(d.x, d.y);
     pitch = std::clamp(std::atan2(d.z, horizontal), -kMaxPitch, kMaxPitch);

@@ -2,6 +2,7 @@
 #include "terrain/runtime/SkirtDepth.h"
 
 #include "terrain/base/Assert.h"
+#include "terrain/io/GlobeLayout.h"
 
 #include <algorithm>
 #include <optional>
@@ -16,6 +17,21 @@ void assignSkirtDepths(std::span<PatchDraw> draws, const cache::GpuTilePool& poo
         depthM = std::max(depthM, draw.errorM + *maybeBlockErrorM);
     }
     for (PatchDraw& draw : draws) draw.skirtDepthM = depthM;
+}
+
+void assignSkirtDepths(std::span<GlobePatchDraw> draws, const cache::GpuTilePool& pool) {
+    float depthM = 0.0f;
+    for (const GlobePatchDraw& draw : draws) {
+        float blockErrorM =
+            *std::max_element(draw.bareBlockErrorsM.begin(), draw.bareBlockErrorsM.end());
+        if (draw.layer >= 0) {
+            const std::optional<float> resident = pool.maxBlockErrorM(io::layoutPatchOf(draw.id));
+            TERRAIN_ASSERT(resident.has_value(), "assignSkirtDepths: a draw is not resident");
+            blockErrorM = *resident;
+        }
+        depthM = std::max(depthM, draw.errorM + blockErrorM);
+    }
+    for (GlobePatchDraw& draw : draws) draw.skirtDepthM = depthM;
 }
 
 }  // namespace terrain::runtime

@@ -3,10 +3,8 @@
 // primitive (terrain_patches.glsl lists them).
 #include "terrain/runtime/TerrainRenderer.h"
 
-#include "Bindings.h"
+#include "InstancedPatchDraw.h"
 #include "terrain/base/Assert.h"
-#include "terrain/gl/PolygonModeScope.h"
-#include "terrain/gl/ReversedZScope.h"
 #include "terrain/io/PatchErrors.h"
 #include "terrain/runtime/ProgramBuilder.h"
 #include "terrain/runtime/TerrainFrameUniforms.h"
@@ -137,45 +135,16 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
 }
 
 TerrainDrawStats TerrainRenderer::submit(const cache::GpuTilePool& pool) {
-    if (m_preparedInstances == 0) return {};
-    const gl::ReversedZScope reversedZ;
-    glUseProgram(m_program.id());
-    glBindVertexArray(m_vertexArray.id());
-    glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, pool.heights().id());
-    glBindTextureUnit(TERRAIN_BINDING_BLOCK_ERRORS, pool.blockErrors().id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_PATCH_INSTANCES, m_instances.id());
-    if (m_tessFactors.valid()) {
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_DEBUG_TESS_FACTORS,
-                         m_tessFactors.id());
-    }
-    glPatchParameteri(GL_PATCH_VERTICES, 4);
-    {
-        const gl::PolygonModeScope polygonMode(m_wireframe);
-        if (m_measure) {
-            m_primitivesQuery.begin();
-            m_timeQuery.begin();
-        }
-        glDrawArraysInstanced(GL_PATCHES, 0, 4 * primitivesPerInstance(m_skirts),
-                              static_cast<GLsizei>(m_preparedInstances));
-        if (m_measure) {
-            m_timeQuery.end();
-            m_primitivesQuery.end();
-        }
-    }
-    if (m_tessFactors.valid()) {
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_DEBUG_TESS_FACTORS, 0);
-    }
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_PATCH_INSTANCES, 0);
-    glBindTextureUnit(TERRAIN_BINDING_BLOCK_ERRORS, 0);
-    glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, 0);
-    glBindVertexArray(0);
-    glUseProgram(0);
-
-    TerrainDrawStats stats{.drawCalls = 1, .instances = m_preparedInstances};
-    if (m_measure) {
-        stats.triangles = m_primitivesQuery.waitResult();
-        stats.gpuMs = static_cast<double>(m_timeQuery.waitResult()) * 1e-6;
-    }
+    const TerrainDrawStats stats = issueInstancedPatchDraw(
+        pool, {.program = m_program,
+               .vertexArray = m_vertexArray,
+               .instances = m_instances,
+               .tessFactors = m_tessFactors.valid() ? &m_tessFactors : nullptr,
+               .verticesPerInstance = 4 * primitivesPerInstance(m_skirts),
+               .instanceCount = m_preparedInstances,
+               .wireframe = m_wireframe,
+               .primitivesQuery = m_measure ? &m_primitivesQuery : nullptr,
+               .timeQuery = m_measure ? &m_timeQuery : nullptr});
     m_preparedInstances = 0;
     return stats;
 }

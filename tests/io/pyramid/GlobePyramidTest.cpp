@@ -11,6 +11,7 @@
 #include "terrain/io/PyramidReader.h"
 #include "terrain/io/PyramidSourceCheck.h"
 
+#include "GeographicFunctionDem.h"
 #include "TempFolder.h"
 
 #include <fmt/format.h>
@@ -28,42 +29,8 @@ namespace {
 
 using globe::GlobePatchId;
 using globe::PatchSide;
+using test::GeographicFunctionDem;
 using test::TempFolder;
-
-/// A geographic source held by a function of latitude and longitude (degrees); NaN is no-data.
-class GeographicFunctionDem final : public DemReader {
-public:
-    using Height = std::function<float(double latitude, double longitude)>;
-    GeographicFunctionDem(double west, double north, std::int64_t width, std::int64_t height,
-                          double pixelLon, double pixelLat, Height heightAt)
-        : m_height(std::move(heightAt)) {
-        m_info.path = "geographic-function-dem";
-        m_info.readerName = "test";
-        m_info.inputs = {m_info.path};
-        m_info.width = width;
-        m_info.height = height;
-        m_info.sampleType = "float32";
-        m_info.hasGeoreference = true;
-        m_info.georeference = {
-            west, north, pixelLon, pixelLat, Georeference::kWgs84Geographic, CrsKind::Geographic};
-        m_info.noDataValue = -32768.0;
-    }
-    const DemInfo& info() const override { return m_info; }
-    Status readWindow(std::int64_t x0, std::int64_t y0, std::int64_t width, std::int64_t rows,
-                      std::span<float> out) override {
-        const Georeference& g = m_info.georeference;
-        for (std::int64_t y = 0; y < rows; ++y)
-            for (std::int64_t x = 0; x < width; ++x)
-                out[static_cast<std::size_t>(y * width + x)] =
-                    m_height(g.originY - (double(y0 + y) + 0.5) * g.pixelSizeY,
-                             g.originX + (double(x0 + x) + 0.5) * g.pixelSizeX);
-        return {};
-    }
-
-private:
-    DemInfo m_info;
-    Height m_height;
-};
 
 float hills(double latitude, double longitude) {
     return static_cast<float>(800.0 + 600.0 * std::sin(latitude * 7.0) * std::cos(longitude * 5.0) +

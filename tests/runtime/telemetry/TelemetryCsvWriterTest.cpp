@@ -36,7 +36,7 @@ constexpr const char* kExpectedHeader =
     "loads_resident,load_latency_p50_ms,load_latency_p95_ms,load_latency_p99_ms,"
     "disk_read_bytes,faults_total,"
     "patches_drawn,patches_culled,triangles,draw_calls,lod_update_us,gpu_ms,lod_splits,"
-    "lod_merges";
+    "lod_merges,patches_horizon_culled";
 
 std::string readFile(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
@@ -191,7 +191,7 @@ TEST(TelemetryCsvWriter, NaNIsAnEmptyField) {
               "0,0,0,0,0,0,0,"  // GPU pool
               "3,,,,"           // loads_resident, three empty percentiles
               "4096,0,0,0,"     // disk, faults, patches
-              "0,0,,,0,0");     // triangles, draw calls, two empty times, splits, merges
+              "0,0,,,0,0,0");   // triangles, draw calls, two empty times, splits, merges, horizon
 }
 
 TEST(TelemetryCsvWriter, FileAppearsOnlyOnClose) {

@@ -61,6 +61,9 @@ struct ManifestGlobe {
     /// (1, 2 and 3 patches wide) would mix faces; they hold no patch.
     static constexpr int kLevelOffset = 3;
     int faceFinestLevel = 0;  ///< L: face levels 0 … L
+    /// The source's extent, degrees (west may exceed east across the antimeridian): where
+    /// "go to the data" goes.
+    double west = -180.0, south = -90.0, east = 180.0, north = 90.0;
     bool operator==(const ManifestGlobe&) const = default;
 };
 

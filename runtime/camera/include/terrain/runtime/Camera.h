@@ -6,6 +6,7 @@
 
 #include "terrain/runtime/Aabb.h"
 
+#include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
@@ -25,12 +26,16 @@ struct Frustum {
 
 struct Camera {
     glm::dvec3 position{0.0};
-    double yaw = 0.0;    ///< radians, 0 looks north (+y), π/2 looks east (+x)
+    double yaw = 0.0;    ///< radians, 0 looks north, π/2 looks east (in `frame`)
     double pitch = 0.0;  ///< radians, positive looks up; clamped to ±kMaxPitch
     double fovY = 1.0;   ///< vertical field of view, radians
     int viewportWidth = 1;
     int viewportHeight = 1;
     double nearPlane = 0.5;  ///< metres; the projection is reversed-Z with an infinite far
+    /// The world directions of the camera's local east, north and up (columns), which yaw
+    /// and pitch are measured in: the identity for a planar pyramid (x east, y north, z up),
+    /// the ellipsoid's east-north-up at the camera on a globe (placeOnGlobe, GlobeCamera.h).
+    glm::dmat3 frame{1.0};
 
     static constexpr double kMaxPitch = 1.5690;  // 89.9°: keeps the up vector defined
 

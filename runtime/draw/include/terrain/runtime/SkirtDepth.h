@@ -6,6 +6,7 @@
 #pragma once
 
 #include "terrain/cache/GpuTilePool.h"
+#include "terrain/runtime/GlobeLod.h"
 #include "terrain/runtime/PatchSelection.h"
 
 #include <span>
@@ -17,5 +18,8 @@ namespace terrain::runtime {
 /// d is at most that. Every draw must be resident in `pool` (TERRAIN_ASSERT). Allocates
 /// nothing. Render thread only.
 void assignSkirtDepths(std::span<PatchDraw> draws, const cache::GpuTilePool& pool);
+
+/// The same for the globe's draws: a data patch's λ from the pool, a bare one's from its draw.
+void assignSkirtDepths(std::span<GlobePatchDraw> draws, const cache::GpuTilePool& pool);
 
 }  // namespace terrain::runtime

@@ -64,6 +64,8 @@ struct FrameTelemetry {
         kNoValue;  ///< GL_TIME_ELAPSED of the terrain draw (not a frame time on llvmpipe)
     std::uint64_t lodSplits = 0;
     std::uint64_t lodMerges = 0;
+    /// Globe only: patches the horizon hid (EllipsoidalOccluder), also in patchesCulled.
+    std::uint64_t patchesHorizonCulled = 0;
 };
 
 /// How a column's value is stored and written.
@@ -131,6 +133,7 @@ inline constexpr std::array kTelemetryColumns = {
     detail::realColumn("gpu_ms", &FrameTelemetry::gpuMs),
     detail::countColumn("lod_splits", &FrameTelemetry::lodSplits),
     detail::countColumn("lod_merges", &FrameTelemetry::lodMerges),
+    detail::countColumn("patches_horizon_culled", &FrameTelemetry::patchesHorizonCulled),
 };
 
 namespace detail {

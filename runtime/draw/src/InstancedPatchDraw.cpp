@@ -1,0 +1,56 @@
+#include "InstancedPatchDraw.h"
+
+#include "Bindings.h"
+#include "terrain/gl/PolygonModeScope.h"
+#include "terrain/gl/ReversedZScope.h"
+
+#include <epoxy/gl.h>
+
+namespace terrain::runtime {
+
+TerrainDrawStats issueInstancedPatchDraw(const cache::GpuTilePool& pool,
+                                         const InstancedPatchDraw& draw) {
+    if (draw.instanceCount == 0) return {};
+    const gl::ReversedZScope reversedZ;
+    glUseProgram(draw.program.id());
+    glBindVertexArray(draw.vertexArray.id());
+    glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, pool.heights().id());
+    glBindTextureUnit(TERRAIN_BINDING_BLOCK_ERRORS, pool.blockErrors().id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_PATCH_INSTANCES,
+                     draw.instances.id());
+    if (draw.tessFactors != nullptr) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_DEBUG_TESS_FACTORS,
+                         draw.tessFactors->id());
+    }
+    glPatchParameteri(GL_PATCH_VERTICES, 4);
+    const bool measure = draw.primitivesQuery != nullptr && draw.timeQuery != nullptr;
+    {
+        const gl::PolygonModeScope polygonMode(draw.wireframe);
+        if (measure) {
+            draw.primitivesQuery->begin();
+            draw.timeQuery->begin();
+        }
+        glDrawArraysInstanced(GL_PATCHES, 0, draw.verticesPerInstance,
+                              static_cast<GLsizei>(draw.instanceCount));
+        if (measure) {
+            draw.timeQuery->end();
+            draw.primitivesQuery->end();
+        }
+    }
+    if (draw.tessFactors != nullptr)
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_DEBUG_TESS_FACTORS, 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_PATCH_INSTANCES, 0);
+    glBindTextureUnit(TERRAIN_BINDING_BLOCK_ERRORS, 0);
+    glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, 0);
+    glBindVertexArray(0);
+    glUseProgram(0);
+
+    TerrainDrawStats stats{.drawCalls = 1, .instances = draw.instanceCount};
+    if (measure) {
+        stats.triangles = draw.primitivesQuery->waitResult();
+        stats.gpuMs = static_cast<double>(draw.timeQuery->waitResult()) * 1e-6;
+    }
+    return stats;
+}
+
+}  // namespace terrain::runtime

@@ -1,0 +1,32 @@
+// InstancedPatchDraw: the GL half every patch renderer shares (TerrainRenderer on the plane,
+// GlobeRenderer on the ellipsoid): bind the pool's texture arrays and the instance buffer,
+// issue ONE glDrawArraysInstanced of GL_PATCHES, measure it if asked, and put GL's state
+// back. The renderers differ only in their programs and instance records.
+#pragma once
+
+#include "terrain/cache/GpuTilePool.h"
+#include "terrain/gl/Buffer.h"
+#include "terrain/gl/Program.h"
+#include "terrain/gl/Query.h"
+#include "terrain/gl/VertexArray.h"
+#include "terrain/runtime/TerrainRenderer.h"
+
+namespace terrain::runtime {
+
+struct InstancedPatchDraw {
+    const gl::Program& program;
+    const gl::VertexArray& vertexArray;
+    const gl::Buffer& instances;
+    const gl::Buffer* tessFactors = nullptr;  ///< bound for TERRAIN_DEBUG_TESS_FACTORS
+    int verticesPerInstance = 0;
+    int instanceCount = 0;
+    bool wireframe = false;
+    /// Measures with these queries (GL_PRIMITIVES_GENERATED, GL_TIME_ELAPSED) and waits.
+    gl::Query* primitivesQuery = nullptr;
+    gl::Query* timeQuery = nullptr;
+};
+
+TerrainDrawStats issueInstancedPatchDraw(const cache::GpuTilePool& pool,
+                                         const InstancedPatchDraw& draw);
+
+}  // namespace terrain::runtime

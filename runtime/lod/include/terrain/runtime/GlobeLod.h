@@ -1,0 +1,106 @@
+// GlobeLod: the coarse LOD on the globe (DESIGN.md, "The globe", LOD), selected from the six
+// cube-face roots every frame. A patch is split when its screen-space error
+//     γ · Err(P) / ρ(c, V)
+// exceeds ε (Yusov & Shevtsov 2011, §5), with ρ the distance to the patch's true bounding
+// volume on the ellipsoid (globe::patchBounds, heights included, metres everywhere), so the
+// same view needs about the same patches at a pole, on the equator and at a cube corner.
+// Patches outside the view frustum or behind the horizon (EllipsoidalOccluder) are culled.
+//
+// A globe pyramid is sparse. Where it holds no patch the LOD draws the bare ellipsoid
+// (height 0): a bare patch's Err(P) is how far its flat triangles fall under the ellipsoid
+// (globe::flatTriangleErrorBound), so bare patches refine with distance too, from no data at
+// all. A data patch splits only when every present child (its presentChildren mask) is
+// resident; absent children are bare. A face root that has not arrived yet is drawn bare.
+//
+// Stateless (no frame coherence yet): it visits every patch it keeps or splits each frame.
+#pragma once
+
+#include "terrain/globe/GlobePatch.h"
+#include "terrain/globe/PatchBounds.h"
+#include "terrain/io/PyramidManifest.h"
+#include "terrain/runtime/Camera.h"
+#include "terrain/runtime/HorizonCulling.h"
+#include "terrain/runtime/TileResidency.h"
+
+#include <array>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace terrain::runtime {
+
+struct GlobePatchDraw {
+    globe::GlobePatchId id;
+    int layer = -1;       ///< the GPU pool layer, or −1: the bare ellipsoid (height 0)
+    float errorM = 0.0f;  ///< Err(P)
+    float skirtDepthM = 0.0f;
+    float minHeight = 0.0f;
+    float maxHeight = 0.0f;
+    /// A bare patch's λ(1..4): how far the ellipsoid bulges over its blocks simplified by 2^d.
+    std::array<float, 4> bareBlockErrorsM{};
+};
+
+struct GlobeLodOptions {
+    double errorPx = 2.0;  ///< ε, pixels
+    bool frustumCulling = true;
+    bool horizonCulling = true;
+    /// The finest level bare patches refine to (a 129-sample patch there is ~15 cm wide).
+    int maxBareLevel = 24;
+};
+
+struct GlobeLodStats {
+    std::uint64_t drawn = 0;
+    std::uint64_t drawnBare = 0;
+    std::uint64_t frustumCulled = 0;
+    std::uint64_t horizonCulled = 0;
+    std::uint64_t visited = 0;
+    std::uint64_t waitingSplits = 0;  ///< drawn although too coarse: children not resident
+    int deepestLevel = 0;
+};
+
+/// Render thread only.
+class GlobeLod {
+public:
+    /// `manifest` must be a globe pyramid's (manifest.globe set).
+    GlobeLod(const io::PyramidManifest& manifest, TileResidency& residency,
+             const GlobeLodOptions& options = {});
+
+    /// Fills `out` (cleared) with the patches to draw for `camera` (ECEF position, its frame
+    /// east-north-up: GlobeCamera.h), requesting the data patches it wants.
+    GlobeLodStats select(const Camera& camera, std::vector<GlobePatchDraw>& out);
+
+    const GlobeLodOptions& options() const { return m_options; }
+    void setOptions(const GlobeLodOptions& options) { m_options = options; }
+
+    /// Err(P) of a bare patch of `level`: the sag of its flat triangles under the ellipsoid.
+    double bareError(int level) const;
+
+private:
+    struct Node {
+        globe::GlobePatchId id;
+        const io::PatchInfo* info = nullptr;  // null: bare
+    };
+    void visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePatchDraw>& out);
+    const globe::OrientedBox& boundsOf(const globe::GlobePatchId& id, float minHeight,
+                                       float maxHeight);
+    GlobePatchDraw drawOf(const Node& node) const;
+
+    TileResidency& m_residency;
+    GlobeLodOptions m_options;
+    int m_quads = 0;
+    int m_finestDataLevel = 0;
+    double m_occluderShrink = 0.0;
+    EllipsoidalOccluder m_occluder;
+    // Per-frame state of select().
+    glm::dvec3 m_camera{0.0};
+    double m_gamma = 1.0;
+    Frustum m_frustum;
+    struct CachedBounds {
+        globe::OrientedBox box;
+        float minHeight = 0.0f;
+        float maxHeight = 0.0f;
+    };
+    std::unordered_map<std::uint64_t, CachedBounds> m_bounds;  // by patch
+};
+
+}  // namespace terrain::runtime

@@ -1,0 +1,198 @@
+// The globe end to end (GlobeSession: streaming, GlobeLod, GlobeRenderer) on the stability
+// cases of a globe (DESIGN.md, "The globe"): the whole Earth from 20,000 km, an oblique view
+// from low orbit, straight down at both poles, over a cube corner, across the antimeridian,
+// 1 m above the highest point looking at the horizon, below sea level. For each, settled:
+//  - no hole: every pixel whose view ray meets the ellipsoid lowered below the deepest drawn
+//    point shows terrain, not the clear colour (the terrain lies above that ellipsoid);
+//  - horizon culling never removes a visible pixel: the images with it on and off are equal;
+//  - one draw call, data patches drawn where the data is.
+#include "GeographicFunctionDem.h"
+#include "GlTestFixture.h"
+#include "TempFolder.h"
+#include "terrain/gl/Framebuffer.h"
+#include "terrain/io/GlobePyramidBuilder.h"
+#include "terrain/runtime/GlobeCamera.h"
+#include "terrain/runtime/GlobeSession.h"
+#include "terrain/runtime/ScreenProjection.h"
+
+#include <epoxy/gl.h>
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace terrain::runtime {
+namespace {
+
+constexpr int kWidth = 240;
+constexpr int kHeight = 160;
+constexpr double kDegree = std::numbers::pi / 180.0;
+
+// ±1.8 km of smooth relief over the whole planet, below sea level in places.
+float planet(double latitude, double longitude) {
+    const double phi = latitude * kDegree, lambda = longitude * kDegree;
+    return static_cast<float>(1500.0 * std::sin(7.0 * phi) * std::cos(5.0 * lambda) +
+                              300.0 * std::sin(31.0 * lambda + 17.0 * phi));
+}
+
+struct Pose {
+    std::string name;
+    GlobePose pose;
+};
+
+class GlobeSessionTest : public test::GlTest {
+protected:
+    static void SetUpTestSuite() {
+        test::GlTest::SetUpTestSuite();
+        s_folder = std::make_unique<test::TempFolder>();
+        test::GeographicFunctionDem source(-180.0, 90.0, 720, 360, 0.5, 0.5, planet);
+        io::PyramidBuildOptions options;
+        options.patchSamples = 33;
+        options.blockQuads = 8;
+        options.shardPatches = 8;
+        options.threads = 2;
+        s_pyramid = s_folder->path() / "planet.pyramid";
+        auto built = io::buildGlobePyramid(source, s_pyramid, options);
+        ASSERT_TRUE(built) << built.error().message;
+        s_maxHeight = built.value().manifest.statistics.maxHeight;
+        s_minHeight = built.value().manifest.statistics.minHeight;
+    }
+    static void TearDownTestSuite() {
+        s_folder.reset();
+        test::GlTest::TearDownTestSuite();
+    }
+
+    static std::vector<Pose> poses() {
+        return {
+            {"the whole Earth from 20,000 km", {{20.0, 30.0, 20e6}, 0.0, -90.0}},
+            {"oblique from 1,000 km", {{40.0, 10.0, 1e6}, 0.0, -20.0}},
+            {"straight down at the north pole", {{90.0, 0.0, 50e3}, 0.0, -90.0}},
+            {"straight down at the south pole", {{-90.0, 0.0, 50e3}, 0.0, -90.0}},
+            {"over a cube corner", {{35.26439, 45.0, 20e3}, 30.0, -45.0}},
+            {"across the antimeridian", {{0.0, 179.99, 8e3}, 90.0, -30.0}},
+            {"1 m above the highest point, at the horizon",
+             {{0.0, 0.0, s_maxHeight + 1.0}, 45.0, 0.0}},
+            {"below sea level", {{-12.86, 0.0, -700.0}, 0.0, -10.0}},
+        };
+    }
+
+    // Renders `pose` settled; returns the RGBA image.
+    std::vector<std::uint8_t> render(GlobeSession& session, gl::Framebuffer& framebuffer,
+                                     const Camera& camera, GlobeLodStats* stats = nullptr,
+                                     TerrainDrawStats* drawn = nullptr) {
+        EXPECT_TRUE(session.settle(camera, std::chrono::seconds(60)));
+        const GlobeLodStats& lod = session.beginFrame(camera);
+        if (stats != nullptr) *stats = lod;
+        framebuffer.clear({1.0f, 0.0f, 1.0f, 1.0f}, 0.0f);
+        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
+        glViewport(0, 0, kWidth, kHeight);
+        TerrainStyle style;
+        style.skyColor = {1.0f, 0.0f, 1.0f};
+        const TerrainDrawStats d = session.draw(camera, style);
+        if (drawn != nullptr) *drawn = d;
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        FrameTelemetry ignored;
+        session.endFrame(ignored);
+        return framebuffer.readColorRgba8();
+    }
+
+    static inline std::unique_ptr<test::TempFolder> s_folder;
+    static inline std::filesystem::path s_pyramid;
+    static inline double s_maxHeight = 0.0;
+    static inline double s_minHeight = 0.0;
+};
+
+Camera cameraFor(const GlobePose& pose) {
+    Camera camera;
+    camera.viewportWidth = kWidth;
+    camera.viewportHeight = kHeight;
+    camera.fovY = 50.0 * kDegree;
+    placeOnGlobe(camera, pose);
+    return camera;
+}
+
+// Whether pixel (x, y)'s ray from the camera meets the ellipsoid lowered by `lowerM`.
+bool rayMeetsLoweredEllipsoid(const Camera& camera, int x, int y, double lowerM) {
+    const glm::dmat4 inverse = glm::inverse(camera.relativeViewProjection());
+    const glm::dvec3 direction =
+        glm::normalize(unprojectPixel(inverse, kWidth, kHeight, x, y, 0.5));
+    const glm::dvec3 radii(globe::Wgs84::kEquatorialRadius - lowerM,
+                           globe::Wgs84::kEquatorialRadius - lowerM,
+                           globe::Wgs84::kPolarRadius - lowerM);
+    const glm::dvec3 o = camera.position / radii;
+    const glm::dvec3 d = direction / radii;
+    const double a = glm::dot(d, d), b = glm::dot(o, d), c = glm::dot(o, o) - 1.0;
+    const double discriminant = b * b - a * c;
+    if (discriminant < 0.0) return false;
+    return (-b + std::sqrt(discriminant)) / a > 0.0 && (c > 0.0 ? -b > 0.0 : true);
+}
+
+bool isClearColour(const std::vector<std::uint8_t>& image, int x, int y) {
+    const std::uint8_t* p = &image[static_cast<std::size_t>(4 * (y * kWidth + x))];
+    return p[0] == 255 && p[1] == 0 && p[2] == 255;
+}
+
+TEST_F(GlobeSessionTest, EveryStabilityCaseHasNoHoleAndHorizonCullingChangesNoPixel) {
+    GlobeSessionOptions options;
+    options.streaming.gpuLayers = 1024;
+    options.streaming.cpuCacheBytes = std::size_t{256} << 20;
+    auto opened = GlobeSession::open(s_pyramid, options);
+    ASSERT_TRUE(opened) << opened.error().message;
+    GlobeSession& session = *opened.value();
+    auto framebuffer = gl::Framebuffer::create(kWidth, kHeight, "globe test");
+    ASSERT_TRUE(framebuffer) << framebuffer.error().message;
+    // Below the deepest point the terrain can be drawn at: its lowest sample, minus the sag
+    // of the coarsest flat triangles (a level-0 face of 33 samples, 5 km).
+    const double lowerM =
+        -s_minHeight + globe::flatTriangleErrorBound(globe::maxSampleSpacing(0, 32)) + 100.0;
+    for (const Pose& p : poses()) {
+        SCOPED_TRACE(p.name);
+        const Camera camera = cameraFor(p.pose);
+        GlobeLodOptions lod;
+        lod.horizonCulling = true;
+        session.lod().setOptions(lod);
+        GlobeLodStats culled;
+        TerrainDrawStats drawn;
+        const std::vector<std::uint8_t> withCulling =
+            render(session, framebuffer.value(), camera, &culled, &drawn);
+        lod.horizonCulling = false;
+        session.lod().setOptions(lod);
+        GlobeLodStats all;
+        const std::vector<std::uint8_t> without =
+            render(session, framebuffer.value(), camera, &all);
+        EXPECT_EQ(drawn.drawCalls, 1);
+        EXPECT_GT(culled.drawn - culled.drawnBare, 0u) << "no data patch drawn";
+        EXPECT_LE(culled.drawn, all.drawn);
+        int differing = 0, holes = 0, checked = 0;
+        for (int y = 0; y < kHeight; ++y) {
+            for (int x = 0; x < kWidth; ++x) {
+                const std::size_t i = static_cast<std::size_t>(4 * (y * kWidth + x));
+                differing += std::equal(&withCulling[i], &withCulling[i] + 4, &without[i]) ? 0 : 1;
+                // Pixels whose neighbours' rays all meet it too: the limb's own pixel is the
+                // rasteriser's to decide.
+                bool inside = true;
+                for (int k = 0; k < 9 && inside; ++k)
+                    inside =
+                        rayMeetsLoweredEllipsoid(camera, std::clamp(x + k % 3 - 1, 0, kWidth - 1),
+                                                 std::clamp(y + k / 3 - 1, 0, kHeight - 1), lowerM);
+                if (!inside) continue;
+                ++checked;
+                holes += isClearColour(withCulling, x, y) ? 1 : 0;
+            }
+        }
+        std::cout << p.name << ": " << culled.drawn << " patches (" << culled.drawnBare
+                  << " bare), " << culled.horizonCulled << " behind the horizon; " << checked
+                  << " pixels must be ground\n";
+        EXPECT_EQ(differing, 0) << "horizon culling changed pixels";
+        EXPECT_EQ(holes, 0) << "of " << checked << " pixels that must show the ground";
+    }
+}
+
+}  // namespace
+}  // namespace terrain::runtime
