@@ -34,11 +34,13 @@ layout(location = 3) out float o_edgeErrorM[];
 layout(location = 4) patch out float o_skirtDropM;  // 0 for blocks
 layout(location = 5) patch out int o_debugFactor;
 
-// Λ(d) = λ(d) + Err(P), d = 1..4 (Yusov §5); a bare patch's λ comes with its instance.
+// Λ(d) = λ(d) + Err(P), d = 1..4 (Yusov §5); a patch without a tile of its own (bare or
+// virtual) has its λ in its instance.
 vec4 blockErrorM(GlobeInstance patch_, ivec2 block) {
     int layer = patch_.layerLevelFace.x;
-    precise vec4 lambda = layer >= 0 ? texelFetch(u_blockErrors, ivec3(block, layer), 0)
-                                     : patch_.bareBlockErrors;
+    bool ownTile = layer >= 0 && patch_.texelMap.w == 0.0;
+    precise vec4 lambda = ownTile ? texelFetch(u_blockErrors, ivec3(block, layer), 0)
+                                  : patch_.bareBlockErrors;
     precise vec4 total = lambda + patch_.errors.x;
     return total;
 }
@@ -82,9 +84,14 @@ void edgeLod(GlobeInstance patch_, ivec2 block, int edge, out int d, out float e
         vec4 sphere = blocksSphereM(patch_, first, last, patch_.errors.x);
         float distanceM = max(length(sphere.xyz) - sphere.w - patch_.errors.x, u_nearM);
         float pxPerM = u_pxPerMAtUnitDistance / distanceM;
+        // Where Err(P) alone already shows more than ε (a virtual patch drawing a coarse
+        // source near the camera, or the finest data seen closer than it was made for), no
+        // tessellation can meet ε: the factors then hold only what the simplification adds,
+        // λ(d), to ε, instead of tessellating everything to no avail.
+        bool unreachable = patch_.errors.x * pxPerM >= u_errorPx;
         d = 0;
         for (int k = 1; k <= 4; ++k) {
-            float errorK = edgeErrorM[k - 1];
+            float errorK = unreachable ? edgeErrorM[k - 1] - patch_.errors.x : edgeErrorM[k - 1];
             if (errorK <= 0.0 || errorK * pxPerM < u_errorPx) d = k;
         }
     }

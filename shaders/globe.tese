@@ -1,7 +1,7 @@
 // Globe draw, tessellation evaluation: each generated vertex is a patch sample (the factors
 // are powers of two dividing the block's quads), placed on the ellipsoid at its height along
 // its normal, camera-relative in float (globePositionM). A bare patch (layer < 0) is the
-// ellipsoid itself, height 0. Skirt vertices hang their top sample down the normal by the
+// ellipsoid itself, height 0; a virtual patch interpolates its ancestor's tile. Skirt vertices hang their top sample down the normal by the
 // control stage's drop times v. The shading normal tilts the ellipsoid normal by the height
 // differences across the apron, over the patch's sample spacing.
 #include "Bindings.h"
@@ -27,14 +27,27 @@ float heightAt(ivec2 texel, int layer) {
     return layer >= 0 ? texelFetch(u_heights, ivec3(texel, layer), 0).r : 0.0;
 }
 
+// The tile's height at a fractional tile sample (apron included): bilinear, as a virtual
+// patch draws its ancestor's tile between its samples.
+float heightBetween(vec2 texel, int layer) {
+    vec2 base = floor(texel);
+    vec2 f = texel - base;
+    ivec2 t = ivec2(base);
+    float top = mix(heightAt(t, layer), heightAt(t + ivec2(1, 0), layer), f.x);
+    float bottom = mix(heightAt(t + ivec2(0, 1), layer), heightAt(t + ivec2(1, 1), layer), f.x);
+    return mix(top, bottom, f.y);
+}
+
 void main() {
     GlobeInstance patch_ = u_globe[i_instance[0]];
     int layer = patch_.layerLevelFace.x;
     vec2 u = gl_TessCoord.xy;
     vec2 s = mix(mix(i_sample[0], i_sample[1], u.x), mix(i_sample[2], i_sample[3], u.x), u.y);
     ivec2 sampleXY = ivec2(floor(s + 0.5));
-    ivec2 texel = sampleXY + 1;  // the apron
-    float h = heightAt(texel, layer);
+    // The tile sample under this patch sample, the apron included: itself for a data patch.
+    vec2 texel = patch_.texelMap.xy + vec2(sampleXY) * patch_.texelMap.z + 1.0;
+    bool between = patch_.texelMap.w != 0.0;
+    float h = between ? heightBetween(texel, layer) : heightAt(ivec2(texel), layer);
     vec3 direction;
     precise vec3 position = globePositionM(patch_, vec2(sampleXY), h, direction);
     precise float drop = i_skirtDropM * u.y;
@@ -43,8 +56,10 @@ void main() {
     int face = patch_.layerLevelFace.z;
     vec3 east = normalize(kFaceRight[face] - dot(kFaceRight[face], direction) * direction);
     vec3 south = normalize(kFaceDown[face] - dot(kFaceDown[face], direction) * direction);
-    float dx = heightAt(texel + ivec2(1, 0), layer) - heightAt(texel - ivec2(1, 0), layer);
-    float dy = heightAt(texel + ivec2(0, 1), layer) - heightAt(texel - ivec2(0, 1), layer);
+    float dx = between ? heightBetween(texel + vec2(1, 0), layer) - heightBetween(texel - vec2(1, 0), layer)
+                       : heightAt(ivec2(texel) + ivec2(1, 0), layer) - heightAt(ivec2(texel) - ivec2(1, 0), layer);
+    float dy = between ? heightBetween(texel + vec2(0, 1), layer) - heightBetween(texel - vec2(0, 1), layer)
+                       : heightAt(ivec2(texel) + ivec2(0, 1), layer) - heightAt(ivec2(texel) - ivec2(0, 1), layer);
     o_normal = normalize(direction - dx / (2.0 * patch_.spacing.x) * east -
                          dy / (2.0 * patch_.spacing.y) * south);
     o_heightM = h;

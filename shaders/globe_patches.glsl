@@ -15,7 +15,10 @@ struct GlobeInstance {
     // x: Err(P), metres; y: skirt depth, metres (SkirtDepth.h); z, w: min and max height.
     vec4 errors;
     vec4 bareBlockErrors;  // λ(1..4) of a bare patch (layer < 0); data patches read theirs
-    vec4 spacing;          // x, y: metres per patch sample along s and t near O
+    vec4 spacing;          // x, y: metres per tile sample along s and t near O
+    // A virtual patch (w = 1) draws its ancestor's tile: patch sample s lies on tile sample
+    // xy + s · z. A data patch: (0, 0, 1, 0).
+    vec4 texelMap;
     ivec4 layerLevelFace;  // x: texture-array layer (−1: the bare ellipsoid), y: level, z: face
 };
 

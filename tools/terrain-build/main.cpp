@@ -106,9 +106,11 @@ int main(int argc, char** argv) {
     app.add_option("--threads", options.threads, "Worker threads (0: one per core)")
         ->capture_default_str();
     demFlags.addTo(app);
-    app.add_flag("--globe", globe,
-                 "Build a globe pyramid: the geographic (longitude/latitude) source resampled onto "
-                 "the WGS84 cube-sphere, instead of a planar sheet around its centre");
+    app.add_flag(
+        "--globe", globe,
+        "Build a globe pyramid: the geographic (longitude/latitude) sources resampled onto "
+        "the WGS84 cube-sphere, instead of a planar sheet around the centre; several "
+        "inputs composite there, the finest valid sample winning");
     app.add_flag("--overwrite", options.overwrite, "Replace an existing pyramid");
     app.add_flag("--json", json, "Print a JSON summary on stdout");
     app.add_flag("-q,--quiet", quiet, "No progress bar");
@@ -121,8 +123,18 @@ int main(int argc, char** argv) {
     const auto budget = parseBytes(memory);
     if (!budget) return fail("--memory '" + memory + "': expected a size such as 1GiB or 512MiB");
     options.memoryBudgetBytes = *budget;
-    auto reader = io::openDem(inputs, demFlags.options());
-    if (!reader) return fail(reader.error().message);
+    // Several inputs are a mosaic on a plane; a globe composites them (finest valid sample
+    // wins), so there each is a source of its own.
+    std::vector<std::unique_ptr<io::DemReader>> sources;
+    std::vector<io::DemReader*> sourcePointers;
+    const bool composite = globe && inputs.size() > 1;
+    for (std::size_t i = 0; i < (composite ? inputs.size() : 1); ++i) {
+        auto opened = composite ? io::openDem({inputs[i]}, demFlags.options())
+                                : io::openDem(inputs, demFlags.options());
+        if (!opened) return fail(opened.error().message);
+        sourcePointers.push_back(opened.value().get());
+        sources.push_back(std::move(opened).value());
+    }
 
     std::signal(SIGINT, onInterrupt);
     std::signal(SIGTERM, onInterrupt);
@@ -132,14 +144,14 @@ int main(int argc, char** argv) {
         bar.emplace();
         options.progress = [&](const io::PyramidBuildProgress& p) { bar->update(p); };
     }
-    auto built = globe ? io::buildGlobePyramid(*reader.value(), output, options)
-                       : io::buildPyramid(*reader.value(), output, options);
+    auto built = globe ? io::buildGlobePyramid(sourcePointers, output, options)
+                       : io::buildPyramid(*sources.front(), output, options);
     if (bar) bar->finish();
     if (!built)
         return g_interrupted ? (fail(built.error().message), 130) : fail(built.error().message);
 
     const io::PyramidBuildSummary& s = built.value();
-    const io::DemInfo& dem = reader.value()->info();
+    const io::DemInfo& dem = sources.front()->info();
     if (json) {
         nlohmann::json levels = nlohmann::json::array();
         for (const auto& level : s.manifest.levels)

@@ -184,12 +184,21 @@ int main(int argc, char** argv) {
     if (shownPercent >= 0) std::fprintf(stderr, "\n");
     std::optional<io::SourceCheckReport> sourceCheck;
     if (!sources.empty()) {
-        auto source = io::openDem(sources, demFlags.options());
-        if (!source) {
-            std::fprintf(stderr, "terrain-inspect: %s\n", source.error().message.c_str());
-            return 1;
+        const bool globe = reader.value().manifest().globe.has_value();
+        // A globe's sources were composited, each one on its own; a plane's form a mosaic.
+        std::vector<std::unique_ptr<io::DemReader>> opened;
+        std::vector<io::DemReader*> openedPointers;
+        for (std::size_t i = 0; i < (globe ? sources.size() : 1); ++i) {
+            auto one = globe ? io::openDem({sources[i]}, demFlags.options())
+                             : io::openDem(sources, demFlags.options());
+            if (!one) {
+                std::fprintf(stderr, "terrain-inspect: %s\n", one.error().message.c_str());
+                return 1;
+            }
+            openedPointers.push_back(one.value().get());
+            opened.push_back(std::move(one).value());
         }
-        auto checked = io::checkErrorBoundsAgainstSource(folder, *source.value());
+        auto checked = io::checkErrorBoundsAgainstSources(folder, openedPointers);
         if (!checked) {
             inspection.problems.push_back(
                 inspect::Problem{sources.front(), std::nullopt, checked.error().message});

@@ -47,6 +47,10 @@ Result<std::unique_ptr<Viewer>> Viewer::create(const ViewerOptions& options) {
     // name gives a message rather than a window that flashes and closes.
     auto manifest = io::readManifest(options.pyramid);
     if (!manifest) return manifest.error();
+    if (manifest.value().globe)
+        return Error{options.pyramid +
+                     ": a globe pyramid; the viewer's globe controls are not built yet: fly it "
+                     "with terrain-render (--lat, --lon, --altitude, --heading, --pitch)"};
     std::unique_ptr<Viewer> viewer(new Viewer(options, std::move(manifest).value()));
 
     if (!options.pathFile.empty()) {

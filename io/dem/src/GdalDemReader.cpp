@@ -11,10 +11,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <string_view>
 
 namespace terrain::io::detail {
@@ -93,6 +95,23 @@ void describeCrs(GDALDataset& dataset, Georeference& geo) {
 
 }  // namespace
 
+std::optional<double> metresPerHeightUnit(std::string_view unit) {
+    std::string lower;
+    for (const char c : unit)
+        lower.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+    while (!lower.empty() && std::isspace(static_cast<unsigned char>(lower.back())))
+        lower.pop_back();
+    for (const char* name : {"", "m", "metre", "metres", "meter", "meters", "m above sea level"})
+        if (lower == name) return 1.0;
+    for (const char* name : {"km", "kilometre", "kilometres", "kilometer", "kilometers"})
+        if (lower == name) return 1000.0;
+    for (const char* name : {"ft", "foot", "feet", "international foot", "ft (international)"})
+        if (lower == name) return 0.3048;
+    for (const char* name : {"us survey foot", "us_survey_foot", "ftus", "us-ft", "survey foot"})
+        if (lower == name) return 1200.0 / 3937.0;
+    return std::nullopt;
+}
+
 bool gdalRowsRunNorth(GDALDataset& dataset) {
     std::array<double, 6> gt{};
     return dataset.GetGeoTransform(gt.data()) == CE_None && gt[5] > 0.0;
@@ -126,6 +145,16 @@ Result<DemInfo> describeGdalDataset(GDALDataset& dataset, const std::string& pat
     if (has != 0 && scale != 0.0) info.vertical.scale = scale;
     const double offset = band->GetOffset(&has);
     if (has != 0) info.vertical.offset = offset;
+    // Heights in the band's unit (netCDF/CF `units`, GeoTIFF's vertical unit), after the
+    // scale and offset: metres from there on.
+    const std::optional<double> metres = metresPerHeightUnit(band->GetUnitType());
+    if (!metres)
+        return fail(
+            fmt::format("height unit \"{}\" is not a length this reader knows (m, km, ft, "
+                        "US survey ft); give the heights' scale with --vertical-scale",
+                        band->GetUnitType()));
+    info.vertical.scale *= *metres;
+    info.vertical.offset *= *metres;
 
     info.georeference.crsKind = CrsKind::Unknown;
     std::array<double, 6> gt{};

@@ -3,6 +3,9 @@
 // cache keeps decoded blocks between the builder's bands).
 #pragma once
 
+#include <optional>
+#include <string_view>
+
 #include "DemReaderFactories.h"
 #include "GdalSession.h"
 
@@ -19,6 +22,11 @@ struct PixelRect {
 /// georeference with the CRS. Errors name `path`: complex samples, a rotated or sheared
 /// geotransform, no raster band.
 Result<DemInfo> describeGdalDataset(GDALDataset& dataset, const std::string& path);
+
+/// Metres per unit of a band's height unit (GDAL's unit type: netCDF/CF `units`): 1 for
+/// metres or no unit, 1000 for km, 0.3048 for ft, 1200/3937 for US survey ft; nothing for
+/// anything else (degrees, a temperature, ...), which a DEM reader must refuse.
+std::optional<double> metresPerHeightUnit(std::string_view unit);
 
 class GdalDemReader final : public DemReader {
 public:

@@ -138,6 +138,7 @@ GeographicGrid::Resampled GeographicGrid::at(double latitudeDeg, double longitud
     Resampled out;
     out.inside = inside;
     out.valid = inside;
+    out.covered = true;
     double sum = 0.0;
     const std::int64_t rowIndex[2] = {rows.first, rows.second};
     const double rowWeight[2] = {1.0 - rows.weight, rows.weight};

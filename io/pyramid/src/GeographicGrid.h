@@ -19,9 +19,10 @@ public:
     static Result<GeographicGrid> read(DemReader& reader, std::uint64_t memoryBudgetBytes);
 
     struct Resampled {
-        float height = 0.0f;  ///< metres; 0 more than a pixel beyond the source
-        bool inside = false;  ///< within the source's extent (pixel areas)
-        bool valid = false;   ///< inside, and every sample it interpolates is valid
+        float height = 0.0f;   ///< metres; 0 more than a pixel beyond the source
+        bool inside = false;   ///< within the source's extent (pixel areas)
+        bool valid = false;    ///< inside, and every sample it interpolates is valid
+        bool covered = false;  ///< inside, or within the one pixel its edge pixels extend to
     };
     /// Bilinear between the four pixel centres around the point, clamped to the edge pixels
     /// up to one pixel beyond the extent; across the antimeridian when the grid spans 360°.

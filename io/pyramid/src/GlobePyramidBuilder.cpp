@@ -2,6 +2,7 @@
 
 #include "BuildOutput.h"
 #include "GeographicGrid.h"
+#include "GlobeSources.h"
 #include "ParallelFor.h"
 #include "terrain/globe/CubeSphere.h"
 #include "terrain/globe/GlobePatch.h"
@@ -93,9 +94,9 @@ struct LevelPatch {
 
 class GlobeBuilder {
 public:
-    GlobeBuilder(const GeographicGrid& grid, const PyramidLayout& layout, int faceLevels,
+    GlobeBuilder(const GlobeSources& sources, const PyramidLayout& layout, int faceLevels,
                  const PyramidBuildOptions& options, const fs::path& folder)
-        : m_grid(grid),
+        : m_sources(sources),
           m_layout(layout),
           m_finestFaceLevel(faceLevels),
           m_options(options),
@@ -110,7 +111,8 @@ public:
 
     Status run() {
         auto start = Clock::now();
-        m_places = placeSamples(m_grid, m_threads);
+        for (const GlobeSources::Source& source : m_sources.sources())
+            m_places.push_back(placeSamples(source.grid, m_threads));
         m_phases.readSeconds += secondsSince(start);
         std::unordered_map<PatchKey, float> finerErrors;
         std::unordered_set<PatchKey> finerKeys;
@@ -119,7 +121,7 @@ public:
                 return Error{"the build was cancelled"};
             std::map<PatchKey, LevelPatch> patches;
             start = Clock::now();
-            collectPatches(level, patches);
+            collectPatches(level, finerKeys, patches);
             m_phases.readSeconds += secondsSince(start);
             start = Clock::now();
             measureErrors(level, patches);
@@ -152,12 +154,17 @@ private:
     // The level's patches: every patch holding a source sample, and those of their
     // neighbours with a sample inside the source's extent (a patch can overlap the extent's
     // outer half pixel without holding a sample centre); at level 0 the six faces always.
-    void collectPatches(int level, std::map<PatchKey, LevelPatch>& patches) {
+    void collectPatches(int level, const std::unordered_set<PatchKey>& finerKeys,
+                        std::map<PatchKey, LevelPatch>& patches) {
         const std::int64_t n = globe::patchesPerFaceSide(level);
         std::unordered_set<PatchKey> holding;
-        for (std::size_t i = 0; i < m_places.face.size(); ++i)
-            holding.insert(keyOf(m_places.face[i], patchIndex(m_places.s[i], n),
-                                 patchIndex(m_places.t[i], n)));
+        for (std::size_t k = 0; k < m_places.size(); ++k) {
+            if (m_sources.sources()[k].finestFaceLevel < level) continue;  // too coarse here
+            const SamplePlaces& places = m_places[k];
+            for (std::size_t i = 0; i < places.face.size(); ++i)
+                holding.insert(
+                    keyOf(places.face[i], patchIndex(places.s[i], n), patchIndex(places.t[i], n)));
+        }
         // Edge neighbours, and theirs (which covers the diagonal ones, across cube corners too).
         std::unordered_set<PatchKey> candidates = holding;
         constexpr globe::PatchSide kSides[] = {globe::PatchSide::Left, globe::PatchSide::Right,
@@ -175,22 +182,29 @@ private:
         if (level == 0)
             for (int face = 0; face < globe::kCubeFaces; ++face)
                 candidates.insert(keyOf(face, 0, 0));
+        // Every present patch's parent exists, so the LOD can reach it from its face.
+        std::unordered_set<PatchKey> parents;
+        for (const PatchKey child : finerKeys) {
+            const GlobePatchId id = idOf(child, level + 1);
+            parents.insert(keyOf(id.face, id.x / 2, id.y / 2));
+        }
+        candidates.insert(parents.begin(), parents.end());
 
         std::vector<PatchKey> keys(candidates.begin(), candidates.end());
         std::vector<LevelPatch> built(keys.size());
         std::vector<std::uint8_t> keep(keys.size(), 0);
         parallelFor(std::ssize(keys), m_threads, [&](std::int64_t k) {
             const auto i = static_cast<std::size_t>(k);
-            const bool insideAny = resample(idOf(keys[i], level), built[i].record);
+            const bool insideAny = resample(idOf(keys[i], level), built[i].record, level);
             built[i].holdsSource = holding.contains(keys[i]);
-            keep[i] = built[i].holdsSource || insideAny || level == 0;
+            keep[i] = built[i].holdsSource || insideAny || level == 0 || parents.contains(keys[i]);
         });
         for (std::size_t i = 0; i < keys.size(); ++i)
             if (keep[i]) patches.emplace(keys[i], std::move(built[i]));
     }
 
     // The patch's tile from the source; true when some drawn sample lies inside its extent.
-    bool resample(const GlobePatchId& id, PatchRecord& record) const {
+    bool resample(const GlobePatchId& id, PatchRecord& record, int level) const {
         const int quads = m_layout.patchQuads();
         const int tile = m_layout.tileSamples();
         record.id = layoutPatchOf(id);
@@ -202,7 +216,7 @@ private:
                 const globe::Geodetic where =
                     globe::Wgs84::geodeticOfNormal(globe::patchSampleDirection(id, quads, i, j));
                 const GeographicGrid::Resampled value =
-                    m_grid.at(where.latitudeDeg, where.longitudeDeg);
+                    m_sources.at(where.latitudeDeg, where.longitudeDeg, level);
                 const auto at = static_cast<std::size_t>((j + 1) * tile + i + 1);
                 record.heights[at] = value.height;
                 record.valid[at] = value.valid ? 1 : 0;
@@ -213,36 +227,45 @@ private:
         return insideAny;
     }
 
-    // Err(P) measured at every valid source sample: the distance along its normal to the
-    // patch's triangles, whichever diagonal the tessellator draws.
+    // Err(P) measured at every source sample the composite shows (GlobeSources::wins): the
+    // distance along its normal to the patch's triangles, whichever diagonal the tessellator
+    // draws. A sample whose patch of this level does not exist (a coarse source, finer than
+    // its own finest level) is drawn by an ancestor there, whose bound already holds it.
     void measureErrors(int level, std::map<PatchKey, LevelPatch>& patches) const {
+        for (std::size_t k = 0; k < m_places.size(); ++k) measureErrors(level, k, patches);
+    }
+
+    void measureErrors(int level, std::size_t k, std::map<PatchKey, LevelPatch>& patches) const {
+        const GeographicGrid& grid = m_sources.sources()[k].grid;
+        const SamplePlaces& places = m_places[k];
         const std::int64_t n = globe::patchesPerFaceSide(level);
         const int quads = m_layout.patchQuads();
         const std::int64_t rowsPerTask = 16;
-        const std::int64_t tasks = (m_grid.height() + rowsPerTask - 1) / rowsPerTask;
+        const std::int64_t tasks = (grid.height() + rowsPerTask - 1) / rowsPerTask;
         std::mutex merge;
         parallelFor(tasks, m_threads, [&](std::int64_t task) {
             std::unordered_map<PatchKey, std::unique_ptr<GlobePatchSurface>> surfaces;
             std::unordered_map<PatchKey, double> worst;
             const std::int64_t firstRow = task * rowsPerTask;
-            for (std::int64_t row = firstRow;
-                 row < std::min(firstRow + rowsPerTask, m_grid.height()); ++row) {
-                const double latitude = m_grid.latitudeOf(row);
-                for (std::int64_t col = 0; col < m_grid.width(); ++col) {
-                    if (!m_grid.validAt(col, row)) continue;
-                    const auto i = static_cast<std::size_t>(row * m_grid.width() + col);
-                    const PatchKey key = keyOf(m_places.face[i], patchIndex(m_places.s[i], n),
-                                               patchIndex(m_places.t[i], n));
+            for (std::int64_t row = firstRow; row < std::min(firstRow + rowsPerTask, grid.height());
+                 ++row) {
+                const double latitude = grid.latitudeOf(row);
+                for (std::int64_t col = 0; col < grid.width(); ++col) {
+                    if (!m_sources.wins(k, col, row)) continue;
+                    const auto i = static_cast<std::size_t>(row * grid.width() + col);
+                    const PatchKey key = keyOf(places.face[i], patchIndex(places.s[i], n),
+                                               patchIndex(places.t[i], n));
                     auto& surface = surfaces[key];
                     if (!surface) {
-                        const LevelPatch& patch = patches.at(key);
+                        const auto patch = patches.find(key);
+                        if (patch == patches.end()) continue;
                         surface = std::make_unique<GlobePatchSurface>(idOf(key, level), quads,
-                                                                      patch.record.heights);
+                                                                      patch->second.record.heights);
                     }
                     const glm::dvec3 normal =
-                        globe::Wgs84::normalAt(latitude, m_grid.longitudeOf(col));
+                        globe::Wgs84::normalAt(latitude, grid.longitudeOf(col));
                     const auto [alongAD, alongBC] = surface->drawnHeights(normal);
-                    const double h = m_grid.heightAt(col, row);
+                    const double h = grid.heightAt(col, row);
                     double& patchWorst = worst[key];
                     patchWorst =
                         std::max({patchWorst, std::abs(h - alongAD), std::abs(h - alongBC)});
@@ -321,14 +344,14 @@ private:
         return {};
     }
 
-    const GeographicGrid& m_grid;
+    const GlobeSources& m_sources;
     const PyramidLayout& m_layout;
     int m_finestFaceLevel;
     const PyramidBuildOptions& m_options;
     fs::path m_folder;
     unsigned m_threads;
     ShardWriterOptions m_shardOptions;
-    SamplePlaces m_places;
+    std::vector<SamplePlaces> m_places;  // one per source, in GlobeSources' order
     PyramidBuildPhases m_phases;
     std::int64_t m_patches = 0;
     std::vector<double> m_levelMaxError;
@@ -358,45 +381,64 @@ int globeFinestLevelFor(double spacingMetres, double latitudeDeg, double longitu
 
 Result<PyramidBuildSummary> buildGlobePyramid(DemReader& reader, const fs::path& output,
                                               const PyramidBuildOptions& options) {
+    DemReader* const readers[] = {&reader};
+    return buildGlobePyramid(std::span<DemReader* const>(readers), output, options);
+}
+
+Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> readers,
+                                              const fs::path& output,
+                                              const PyramidBuildOptions& options) {
     const auto start = Clock::now();
-    const DemInfo& dem = reader.info();
-    Result<GeographicGrid> grid = GeographicGrid::read(reader, options.memoryBudgetBytes / 2);
-    if (!grid) return grid.error();
-    const GeographicGrid& g = grid.value();
-    const int quads = options.patchSamples - 1;
-    const double centreLat = 0.5 * (g.northDeg() + g.southDeg());
-    const double centreLon = g.wrapsLongitude() ? 0.0 : 0.5 * (g.westDeg() + g.eastDeg());
-    const int faceLevel = globeFinestLevelFor(g.finestSpacingMetres(), centreLat, centreLon, quads);
+    if (readers.empty())
+        return Error{output.string() + ": no source to build a globe pyramid from"};
+    Result<GlobeSources> read =
+        GlobeSources::read(readers, options.memoryBudgetBytes / 2, options.patchSamples - 1);
+    if (!read) return read.error();
+    const GlobeSources& composite = read.value();
+    const int faceLevel = composite.finestFaceLevel();
+    const DemInfo& first = readers.front()->info();
     Result<PyramidLayout> layout =
         globeLayout(faceLevel, options.patchSamples, options.blockQuads, options.shardPatches);
-    if (!layout) return Error{dem.path + ": " + layout.error().message};
+    if (!layout) return Error{first.path + ": " + layout.error().message};
     const PyramidLayout& l = layout.value();
 
     Result<PartialBuildFolder> created = PartialBuildFolder::create(output, options.overwrite);
     if (!created) return created.error();
     PartialBuildFolder& partial = created.value();
-    GlobeBuilder builder(g, l, faceLevel, options, partial.path());
-    if (Status built = builder.run(); !built) return Error{dem.path + ": " + built.error().message};
+    GlobeBuilder builder(composite, l, faceLevel, options, partial.path());
+    if (Status built = builder.run(); !built)
+        return Error{first.path + ": " + built.error().message};
 
     PyramidBuildSummary summary;
     PyramidManifest& m = summary.manifest;
     m = PyramidManifest::forLayout(l);
     m.formatVersion = PyramidManifest::kGlobeFormatVersion;
-    const double east = g.eastDeg() > 180.0 ? g.eastDeg() - 360.0 : g.eastDeg();
+    // "Go to the data" goes to the finest source.
+    const GeographicGrid& finest = composite.sources().front().grid;
+    const double east = finest.eastDeg() > 180.0 ? finest.eastDeg() - 360.0 : finest.eastDeg();
     m.globe = ManifestGlobe{.faceFinestLevel = faceLevel,
-                            .west = g.wrapsLongitude() ? -180.0 : g.westDeg(),
-                            .south = g.southDeg(),
-                            .east = g.wrapsLongitude() ? 180.0 : east,
-                            .north = g.northDeg()};
-    m.georeference = dem.georeference;
-    m.vertical = dem.vertical;
-    // The mask always: samples beyond the source are not data on a globe.
+                            .west = finest.wrapsLongitude() ? -180.0 : finest.westDeg(),
+                            .south = finest.southDeg(),
+                            .east = finest.wrapsLongitude() ? 180.0 : east,
+                            .north = finest.northDeg()};
+    m.georeference = first.georeference;
+    m.vertical = first.vertical;
+    // The mask always: samples beyond the sources are not data on a globe.
     m.noData.present = true;
-    m.noData.sourceValue = dem.noDataValue;
-    m.noData.samples = g.width() * g.height() - g.validSamples();
-    m.statistics.minHeight = g.minHeight();
-    m.statistics.maxHeight = g.maxHeight();
-    m.statistics.validSamples = g.validSamples();
+    m.noData.sourceValue = first.noDataValue;
+    double minHeight = 0.0, maxHeight = 0.0;
+    bool any = false;
+    for (std::size_t k = 0; k < composite.sources().size(); ++k) {
+        const GeographicGrid& g = composite.sources()[k].grid;
+        m.noData.samples += g.width() * g.height() - g.validSamples();
+        m.statistics.validSamples += g.validSamples();
+        if (g.validSamples() == 0) continue;
+        minHeight = any ? std::min(minHeight, g.minHeight()) : g.minHeight();
+        maxHeight = any ? std::max(maxHeight, g.maxHeight()) : g.maxHeight();
+        any = true;
+    }
+    m.statistics.minHeight = minHeight;
+    m.statistics.maxHeight = maxHeight;
     m.statistics.rootError = builder.rootError();
     for (ManifestLevel& level : m.levels) {
         const auto i = static_cast<std::size_t>(level.level);
@@ -408,9 +450,10 @@ Result<PyramidBuildSummary> buildGlobePyramid(DemReader& reader, const fs::path&
                       return std::pair(a.y, a.x) < std::pair(b.y, b.x);
                   });
     }
-    m.source.inputs = dem.inputs;
-    m.source.reader = dem.readerName;
-    m.source.sampleType = dem.sampleType;
+    for (DemReader* reader : readers)
+        for (const std::string& input : reader->info().inputs) m.source.inputs.push_back(input);
+    m.source.reader = first.readerName;
+    m.source.sampleType = first.sampleType;
     m.build.tool = "terrain-build";
     m.build.version = TERRAIN_VERSION;
     summary.patches = builder.patches();

@@ -1,9 +1,12 @@
-// terrain-inspect --verify --source on a globe pyramid: every valid source sample, at every
-// face level, against the drawn triangles of the patch that holds its normal
-// (GlobePatchSurface, both diagonals). Independent of the builder's bookkeeping: it streams
-// the source file again and reads every patch back from the shards.
+// terrain-inspect --verify --source on a globe pyramid: every source sample the composite
+// shows (GlobeSources::wins), at every face level whose patch holding it exists, against that
+// patch's drawn triangles along the sample's normal (GlobePatchSurface, both diagonals).
+// Independent of the builder's bookkeeping: it reads the source files again and every patch
+// back from the shards. A sample whose patch of some level does not exist (a coarse source
+// past its finest level) is drawn there by the ancestor, whose level checks it.
 #include "GlobeSourceCheck.h"
 
+#include "GlobeSources.h"
 #include "terrain/globe/CubeSphere.h"
 #include "terrain/globe/Wgs84.h"
 #include "terrain/io/GlobeLayout.h"
@@ -22,43 +25,44 @@ namespace terrain::io {
 namespace {
 
 struct LoadedPatch {
+    bool present = false;
     PatchRecord record;
     std::unique_ptr<GlobePatchSurface> surface;
 };
 
 }  // namespace
 
-Result<SourceCheckReport> checkGlobeErrorBoundsAgainstSource(
-    PyramidReader& reader, DemReader& source,
+Result<SourceCheckReport> checkGlobeErrorBoundsAgainstSources(
+    PyramidReader& reader, std::span<DemReader* const> sources,
     const std::function<void(double fraction)>& progress) {
     const PyramidManifest& manifest = reader.manifest();
     const PyramidLayout& layout = reader.layout();
-    const DemInfo& dem = source.info();
-    const Georeference& g = dem.georeference;
-    if (g.crsKind != CrsKind::Geographic || dem.width <= 0 || dem.height <= 0)
-        return Error{
-            fmt::format("{}: not a geographic source; the globe pyramid {} was built "
-                        "from one",
-                        dem.path, reader.folder().string())};
+    for (DemReader* source : sources)
+        if (source->info().georeference.crsKind != CrsKind::Geographic)
+            return Error{
+                fmt::format("{}: not a geographic source; the globe pyramid {} was built "
+                            "from geographic ones",
+                            source->info().path, reader.folder().string())};
+    Result<GlobeSources> read =
+        GlobeSources::read(sources, std::uint64_t{8} << 30, layout.patchQuads());
+    if (!read) return read.error();
+    const GlobeSources& composite = read.value();
     const int faceLevels = manifest.globe->faceFinestLevel + 1;
     SourceCheckReport report;
     report.tightestRatio.assign(static_cast<std::size_t>(layout.levelCount()), 0.0);
     std::map<std::tuple<int, std::int64_t, std::int64_t, int>, LoadedPatch> loaded;
     constexpr std::size_t kMaxLoaded = 256;
-    constexpr std::int64_t kRowsPerRead = 16;
-    std::vector<float> samples;
-    for (std::int64_t y = 0; y < dem.height; y += kRowsPerRead) {
-        const std::int64_t rows = std::min(kRowsPerRead, dem.height - y);
-        samples.resize(static_cast<std::size_t>(rows * dem.width));
-        if (Status read = source.readWindow(0, y, dem.width, rows, samples); !read)
-            return read.error();
-        for (std::int64_t r = 0; r < rows; ++r) {
-            const double latitude = g.originY - (double(y + r) + 0.5) * g.pixelSizeY;
-            for (std::int64_t x = 0; x < dem.width; ++x) {
-                const float h = samples[static_cast<std::size_t>(r * dem.width + x)];
-                if (std::isnan(h)) continue;
-                const double longitude = g.originX + (double(x) + 0.5) * g.pixelSizeX;
-                const glm::dvec3 normal = globe::Wgs84::normalAt(latitude, longitude);
+    std::int64_t rowsDone = 0, rowsTotal = 0;
+    for (const GlobeSources::Source& source : composite.sources())
+        rowsTotal += source.grid.height();
+    for (std::size_t k = 0; k < composite.sources().size(); ++k) {
+        const GeographicGrid& grid = composite.sources()[k].grid;
+        for (std::int64_t row = 0; row < grid.height(); ++row) {
+            const double latitude = grid.latitudeOf(row);
+            for (std::int64_t col = 0; col < grid.width(); ++col) {
+                if (!composite.wins(k, col, row)) continue;
+                const double h = grid.heightAt(col, row);
+                const glm::dvec3 normal = globe::Wgs84::normalAt(latitude, grid.longitudeOf(col));
                 const globe::FacePoint p = globe::facePointOf(normal);
                 for (int level = 0; level < faceLevels; ++level) {
                     const std::int64_t n = globe::patchesPerFaceSide(level);
@@ -73,14 +77,24 @@ Result<SourceCheckReport> checkGlobeErrorBoundsAgainstSource(
                     if (it == loaded.end()) {
                         if (loaded.size() >= kMaxLoaded) loaded.clear();
                         LoadedPatch patch;
-                        if (Status read = reader.readPatch(layoutPatchOf(id), patch.record); !read)
-                            return Error{
-                                fmt::format("source sample ({}, {}) lies in a patch that "
-                                            "cannot be read: {}",
-                                            x, y + r, read.error().message)};
-                        patch.surface = std::make_unique<GlobePatchSurface>(id, layout.patchQuads(),
-                                                                            patch.record.heights);
+                        auto info = reader.patchInfo(layoutPatchOf(id));
+                        if (!info) return info.error();
+                        patch.present = info.value().present;
+                        if (patch.present) {
+                            if (Status readPatch =
+                                    reader.readPatch(layoutPatchOf(id), patch.record);
+                                !readPatch)
+                                return readPatch.error();
+                            patch.surface = std::make_unique<GlobePatchSurface>(
+                                id, layout.patchQuads(), patch.record.heights);
+                        }
                         it = loaded.emplace(key, std::move(patch)).first;
+                    }
+                    if (!it->second.present) {
+                        if (level == 0)
+                            return Error{fmt::format("{}: face {} is missing",
+                                                     reader.folder().string(), id.face)};
+                        break;  // no finer patch holds it either: the ancestor draws it
                     }
                     const auto [alongAD, alongBC] = it->second.surface->drawnHeights(normal);
                     const double distance = std::max(std::abs(alongAD - h), std::abs(alongBC - h));
@@ -93,12 +107,12 @@ Result<SourceCheckReport> checkGlobeErrorBoundsAgainstSource(
                         ++report.violationCount;
                         if (report.violations.size() < SourceCheckReport::kMaxListed)
                             report.violations.push_back(
-                                {layoutPatchOf(id), x, y + r, distance, bound});
+                                {layoutPatchOf(id), col, row, distance, bound});
                     }
                 }
             }
+            if (progress && ++rowsDone % 64 == 0) progress(double(rowsDone) / double(rowsTotal));
         }
-        if (progress) progress(double(y + rows) / double(dem.height));
     }
     return report;
 }

@@ -1,12 +1,12 @@
-// The globe pyramid's half of checkErrorBoundsAgainstSource (PyramidSourceCheck.h), which
-// calls it for a version-3 manifest.
+// The globe pyramid's half of the source check (PyramidSourceCheck.h).
 #pragma once
 
 #include "terrain/io/PyramidSourceCheck.h"
 
 namespace terrain::io {
 
-Result<SourceCheckReport> checkGlobeErrorBoundsAgainstSource(
-    PyramidReader& reader, DemReader& source, const std::function<void(double fraction)>& progress);
+Result<SourceCheckReport> checkGlobeErrorBoundsAgainstSources(
+    PyramidReader& reader, std::span<DemReader* const> sources,
+    const std::function<void(double fraction)>& progress);
 
 }  // namespace terrain::io

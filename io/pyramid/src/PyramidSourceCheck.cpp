@@ -87,8 +87,10 @@ Result<SourceCheckReport> checkErrorBoundsAgainstSource(
     const std::function<void(double fraction)>& progress) {
     auto first = PyramidReader::open(pyramidDir);
     if (!first) return first.error();
-    if (first.value().manifest().globe)
-        return checkGlobeErrorBoundsAgainstSource(first.value(), source, progress);
+    if (first.value().manifest().globe) {
+        DemReader* const sources[] = {&source};
+        return checkGlobeErrorBoundsAgainstSources(first.value(), sources, progress);
+    }
     const PyramidLayout layout = first.value().layout();
     const DemInfo& dem = source.info();
     if (dem.width != layout.rasterWidth() || dem.height != layout.rasterHeight())
@@ -122,6 +124,20 @@ Result<SourceCheckReport> checkErrorBoundsAgainstSource(
     }
     for (const LevelChecker& level : levels) report.tightestRatio.push_back(level.tightest());
     return report;
+}
+
+Result<SourceCheckReport> checkErrorBoundsAgainstSources(
+    const std::filesystem::path& pyramidDir, std::span<DemReader* const> sources,
+    const std::function<void(double fraction)>& progress) {
+    auto reader = PyramidReader::open(pyramidDir);
+    if (!reader) return reader.error();
+    if (!reader.value().manifest().globe) {
+        if (sources.size() != 1)
+            return Error{pyramidDir.string() +
+                         ": a planar pyramid has one source (a mosaic is one)"};
+        return checkErrorBoundsAgainstSource(pyramidDir, *sources.front(), progress);
+    }
+    return checkGlobeErrorBoundsAgainstSources(reader.value(), sources, progress);
 }
 
 }  // namespace terrain::io

@@ -10,16 +10,20 @@
 namespace terrain::runtime {
 namespace {
 
-// Metres per patch sample along s and t at patch coordinates (u, v): for the shading normal.
-std::array<float, 4> sampleSpacing(const globe::GlobePatchId& id, int quads, double u, double v) {
+// Metres per tile sample along s and t at patch coordinates (u, v), for the shading normal:
+// a patch sample's spacing over `texelStep` (tile samples per patch sample).
+std::array<float, 4> sampleSpacing(const globe::GlobePatchId& id, int quads, double u, double v,
+                                   double texelStep) {
     constexpr double kStep = 1e-3;
     const auto at = [&](double pu, double pv) {
         const globe::FacePoint p =
             globe::patchPoint(id, std::clamp(pu, 0.0, 1.0), std::clamp(pv, 0.0, 1.0));
         return globe::Wgs84::pointAlongNormal(globe::directionOf(p.face, p.s, p.t), 0.0);
     };
-    const double du = glm::distance(at(u - kStep, v), at(u + kStep, v)) / (2.0 * kStep) / quads;
-    const double dv = glm::distance(at(u, v - kStep), at(u, v + kStep)) / (2.0 * kStep) / quads;
+    const double du =
+        glm::distance(at(u - kStep, v), at(u + kStep, v)) / (2.0 * kStep) / quads / texelStep;
+    const double dv =
+        glm::distance(at(u, v - kStep), at(u, v + kStep)) / (2.0 * kStep) / quads / texelStep;
     return {static_cast<float>(du), static_cast<float>(dv), 0.0f, 0.0f};
 }
 
@@ -35,7 +39,8 @@ GlobeInstance makeGlobeInstance(const GlobePatchDraw& p, const glm::dvec3& camer
             {f.originFromCamera.x, f.originFromCamera.y, f.originFromCamera.z, f.primeVertical0},
             {p.errorM, p.skirtDepthM, p.minHeight, p.maxHeight},
             p.bareBlockErrorsM,
-            sampleSpacing(p.id, patchQuads, uv0.x, uv0.y),
+            sampleSpacing(p.id, patchQuads, uv0.x, uv0.y, p.texelStep),
+            {p.texelOffset[0], p.texelOffset[1], p.texelStep, p.isVirtual ? 1.0f : 0.0f},
             {p.layer, p.id.level, p.id.face, 0}};
 }
 

@@ -109,7 +109,7 @@ TerrainDrawStats GlobeRenderer::draw(const Camera& camera, const cache::GpuTileP
     const glm::dvec3 cameraUp = globe::Wgs84::upAt(camera.position);
     m_staging.clear();
     for (const GlobePatchDraw& p : patches) {
-        TERRAIN_ASSERT(p.layer < 0 || pool.layerOf(io::layoutPatchOf(p.id)) == p.layer,
+        TERRAIN_ASSERT(p.layer < 0 || pool.layerOf(io::layoutPatchOf(p.tileId)) == p.layer,
                        "GlobeRenderer: drawing a data patch that is not resident on its layer");
         m_staging.push_back(makeGlobeInstance(p, camera.position, cameraUp, m_patchQuads));
     }

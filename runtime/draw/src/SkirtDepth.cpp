@@ -24,7 +24,7 @@ void assignSkirtDepths(std::span<GlobePatchDraw> draws, const cache::GpuTilePool
     for (const GlobePatchDraw& draw : draws) {
         float blockErrorM =
             *std::max_element(draw.bareBlockErrorsM.begin(), draw.bareBlockErrorsM.end());
-        if (draw.layer >= 0) {
+        if (draw.layer >= 0 && !draw.isVirtual) {
             const std::optional<float> resident = pool.maxBlockErrorM(io::layoutPatchOf(draw.id));
             TERRAIN_ASSERT(resident.has_value(), "assignSkirtDepths: a draw is not resident");
             blockErrorM = *resident;

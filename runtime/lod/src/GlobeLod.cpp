@@ -36,7 +36,6 @@ GlobeLod::GlobeLod(const io::PyramidManifest& manifest, TileResidency& residency
     : m_residency(residency),
       m_options(options),
       m_quads(manifest.layout.patchQuads()),
-      m_finestDataLevel(manifest.globe ? manifest.globe->faceFinestLevel : 0),
       // The occluder lies inside the ground everywhere: below the deepest terrain.
       m_occluderShrink(std::max(0.0, -manifest.statistics.minHeight) + 1.0),
       m_occluder(m_occluderShrink) {
@@ -61,17 +60,27 @@ const globe::OrientedBox& GlobeLod::boundsOf(const globe::GlobePatchId& id, floa
 GlobePatchDraw GlobeLod::drawOf(const Node& node) const {
     GlobePatchDraw draw;
     draw.id = node.id;
-    if (node.info != nullptr) {
-        draw.layer = m_residency.layerOf(io::layoutPatchOf(node.id));
-        draw.errorM = node.info->error;
-        draw.minHeight = node.info->minHeight;
-        draw.maxHeight = node.info->maxHeight;
-    } else {
-        draw.errorM = static_cast<float>(bareError(node.id.level));
-        const double spacing = globe::maxSampleSpacing(node.id.level, m_quads);
+    const double spacing = globe::maxSampleSpacing(node.id.level, m_quads);
+    if (node.info == nullptr || node.isVirtual) {
         for (int d = 0; d < 4; ++d)
             draw.bareBlockErrorsM[static_cast<std::size_t>(d)] =
                 static_cast<float>(globe::flatTriangleErrorBound(spacing * double(2 << d)));
+    }
+    if (node.info == nullptr) {
+        draw.errorM = static_cast<float>(bareError(node.id.level));
+        return draw;
+    }
+    draw.tileId = node.isVirtual ? node.tileId : node.id;
+    draw.layer = m_residency.layerOf(io::layoutPatchOf(draw.tileId));
+    draw.minHeight = node.info->minHeight;
+    draw.maxHeight = node.info->maxHeight;
+    draw.errorM = node.info->error;
+    if (node.isVirtual) {
+        draw.isVirtual = true;
+        draw.errorM += static_cast<float>(bareError(node.id.level));
+        draw.texelOffset = {static_cast<float>(node.texelOffsetX),
+                            static_cast<float>(node.texelOffsetY)};
+        draw.texelStep = static_cast<float>(node.texelStep);
     }
     return draw;
 }
@@ -88,17 +97,23 @@ GlobeLodStats GlobeLod::select(const Camera& camera, std::vector<GlobePatchDraw>
         const globe::GlobePatchId root{face, 0, 0, 0};
         const io::PatchInfo* info =
             m_residency.acquire(io::layoutPatchOf(root), std::numeric_limits<float>::max());
-        visit({root, info}, stats, out);
+        Node node;
+        node.id = root;
+        node.info = info;
+        visit(node, stats, out);
     }
     return stats;
 }
 
 void GlobeLod::visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePatchDraw>& out) {
     ++stats.visited;
-    const bool data = node.info != nullptr;
-    const float minHeight = data ? node.info->minHeight : 0.0f;
-    const float maxHeight = data ? node.info->maxHeight : 0.0f;
-    const double errorM = data ? double(node.info->error) : bareError(node.id.level);
+    const bool data = node.info != nullptr && !node.isVirtual;
+    const float minHeight = node.info != nullptr ? node.info->minHeight : 0.0f;
+    const float maxHeight = node.info != nullptr ? node.info->maxHeight : 0.0f;
+    // What a split can reduce: the whole Err(P) of a data patch with finer data under it;
+    // elsewhere (no finer data, or none at all) the curvature alone.
+    const double errorM = data && node.info->presentChildren != 0 ? double(node.info->error)
+                                                                  : bareError(node.id.level);
     const globe::OrientedBox& box = boundsOf(node.id, minHeight, maxHeight);
     if (m_options.frustumCulling && outsideFrustum(m_frustum, box)) {
         ++stats.frustumCulled;
@@ -111,15 +126,25 @@ void GlobeLod::visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePa
     const double rho = globe::distanceToBox(m_camera, box);
     const double screenError =
         rho > 0.0 ? m_gamma * errorM / rho : std::numeric_limits<double>::infinity();
-    const int finest = data ? m_finestDataLevel : m_options.maxBareLevel;
-    if (screenError > m_options.errorPx && node.id.level < finest) {
+    if (screenError > m_options.errorPx && node.id.level < m_options.maxBareLevel) {
         std::array<Node, 4> children;
         bool ready = true;
         for (int c = 0; c < 4; ++c) {
             Node& child = children[static_cast<std::size_t>(c)];
             child.id = {node.id.face, node.id.level + 1, 2 * node.id.x + (c & 1),
                         2 * node.id.y + (c >> 1)};
-            if (!data || ((node.info->presentChildren >> c) & 1) == 0) continue;  // bare
+            if (node.info == nullptr) continue;  // bare
+            if (!data || ((node.info->presentChildren >> c) & 1) == 0) {
+                // Virtual: this quadrant of the tile this patch draws.
+                const double half = 0.5 * double(m_quads) * node.texelStep;
+                child.info = node.info;
+                child.isVirtual = true;
+                child.tileId = node.isVirtual ? node.tileId : node.id;
+                child.texelStep = 0.5 * node.texelStep;
+                child.texelOffsetX = node.texelOffsetX + double(c & 1) * half;
+                child.texelOffsetY = node.texelOffsetY + double(c >> 1) * half;
+                continue;
+            }
             const io::PatchId layoutId = io::layoutPatchOf(child.id);
             // A child that failed to load is never split into: this patch keeps drawing its
             // area (streaming counts the failure), as in the planar LOD.
@@ -136,7 +161,8 @@ void GlobeLod::visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePa
     }
     out.push_back(drawOf(node));
     ++stats.drawn;
-    stats.drawnBare += data ? 0 : 1;
+    stats.drawnBare += node.info == nullptr ? 1 : 0;
+    stats.drawnVirtual += node.isVirtual ? 1 : 0;
     stats.deepestLevel = std::max(stats.deepestLevel, node.id.level);
 }
 

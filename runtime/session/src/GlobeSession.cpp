@@ -1,7 +1,9 @@
 #include "terrain/runtime/GlobeSession.h"
 
+#include "terrain/io/GlobeLayout.h"
 #include "terrain/runtime/SkirtDepth.h"
 
+#include <optional>
 #include <utility>
 
 namespace terrain::runtime {
@@ -35,6 +37,16 @@ const GlobeLodStats& GlobeSession::beginFrame(const Camera& camera) {
     m_lastDraw = {};
     const auto start = Clock::now();
     m_lodStats = m_lod.select(camera, m_draws);
+    // A virtual patch interpolates its ancestor's tile between the tile's samples: its bound
+    // takes the tile's largest λ on top of the tile's Err(P), however it is tessellated.
+    for (GlobePatchDraw& draw : m_draws) {
+        if (!draw.isVirtual) continue;
+        const std::optional<float> tileLambda =
+            m_streamer->pool().maxBlockErrorM(io::layoutPatchOf(draw.tileId));
+        const float lambda = tileLambda.value_or(0.0f);
+        draw.errorM += lambda;
+        for (float& d : draw.bareBlockErrorsM) d += lambda;
+    }
     assignSkirtDepths(m_draws, m_streamer->pool());
     m_lodUpdateUs = std::chrono::duration<double, std::micro>(Clock::now() - start).count();
     return m_lodStats;

@@ -17,6 +17,10 @@ Result<std::unique_ptr<TerrainSession>> TerrainSession::open(const std::filesyst
                                                              const TerrainSessionOptions& options) {
     auto streamer = TileStreamer::open(pyramid, options.streaming);
     if (!streamer) return streamer.error();
+    if (streamer.value()->manifest().globe)
+        return Error{pyramid.string() +
+                     ": a globe pyramid; this program draws planar pyramids only (terrain-render "
+                     "flies globes: GlobeSession)"};
     // The tree draws only resident patches, so the pool's capacity bounds one draw.
     auto renderer = TerrainRenderer::create(streamer.value()->layout(),
                                             streamer.value()->pool().capacity(), options.renderer);

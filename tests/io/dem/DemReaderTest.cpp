@@ -610,5 +610,58 @@ TEST(DemReaderProcedural, BadSpecsAreErrors) {
     }
 }
 
+// Height units from the file (netCDF/CF `units`, after scale_factor and add_offset): a grid
+// stored in km, or in feet, reads as metres; a unit that is no length is refused by name.
+TEST_F(DemReaderWritten, NetCdfHeightUnitsAreHonoured) {
+    GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
+    GDALDriver* netcdf = GetGDALDriverManager()->GetDriverByName("netCDF");
+    ASSERT_NE(mem, nullptr);
+    ASSERT_NE(netcdf, nullptr) << "GDAL without its netCDF driver";
+    const auto write = [&](const std::string& name, const char* unit, double scale, double offset) {
+        GDALDataset* ds = mem->Create("", 4, 3, 1, GDT_Float32, nullptr);
+        std::array<double, 6> gt = {10.0, 0.5, 0.0, 50.0, 0.0, -0.5};
+        ds->SetGeoTransform(gt.data());
+        OGRSpatialReference srs;
+        srs.importFromEPSG(4326);
+        ds->SetSpatialRef(&srs);
+        GDALRasterBand* band = ds->GetRasterBand(1);
+        band->SetUnitType(unit);
+        band->SetMetadataItem("units", unit);  // what the netCDF driver writes as CF `units`
+        band->SetScale(scale);
+        band->SetOffset(offset);
+        std::vector<float> raw(12);
+        std::iota(raw.begin(), raw.end(), 1.0f);  // 1 … 12 raw units
+        EXPECT_EQ(
+            band->RasterIO(GF_Write, 0, 0, 4, 3, raw.data(), 4, 3, GDT_Float32, 0, 0, nullptr),
+            CE_None);
+        const std::string path = m_dir.file(name);
+        GDALDataset* copy = netcdf->CreateCopy(path.c_str(), ds, FALSE, nullptr, nullptr, nullptr);
+        EXPECT_NE(copy, nullptr);
+        if (copy != nullptr) GDALClose(copy);
+        GDALClose(ds);
+        return path;
+    };
+    const auto firstHeight = [&](const std::string& path) -> std::optional<float> {
+        auto reader = openDem({path});
+        if (!reader) {
+            ADD_FAILURE() << reader.error().message;
+            return std::nullopt;
+        }
+        std::vector<float> out(12);
+        EXPECT_TRUE(reader.value()->readWindow(0, 0, 4, 3, out));
+        return out[0];
+    };
+    // raw 1 · 0.5 + 0.25 = 0.75 km = 750 m
+    EXPECT_FLOAT_EQ(firstHeight(write("km.nc", "km", 0.5, 0.25)).value_or(0.0f), 750.0f);
+    EXPECT_FLOAT_EQ(firstHeight(write("ft.nc", "ft", 1.0, 0.0)).value_or(0.0f), 0.3048f);
+    EXPECT_FLOAT_EQ(firstHeight(write("m.nc", "m", 1.0, 0.0)).value_or(0.0f), 1.0f);
+    const std::string celsius = write("celsius.nc", "degC", 1.0, 0.0);
+    auto refused = openDem({celsius});
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find(celsius), std::string::npos) << refused.error().message;
+    EXPECT_NE(refused.error().message.find("height unit \"degC\""), std::string::npos)
+        << refused.error().message;
+}
+
 }  // namespace
 }  // namespace terrain::io

@@ -253,6 +253,66 @@ TEST(GlobePyramid, WholeEarthWithRepeatedSeamColumnAcrossCubeEdges) {
     expectConsistentPatches(built);
 }
 
+// A fine regional source over a coarse global one (osgEarth's rule: the finer valid sample
+// wins, no-data falls through): deep levels exist only under the fine source, the bound holds
+// for every sample the composite shows, the coarse source fills the fine one's voids, and
+// every shared edge still matches.
+TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
+    TempFolder temp;
+    GeographicFunctionDem coarse(-180.0, 90.0, 180, 90, 2.0, 2.0, hills);
+    // 1° × 0.5° at 0.01°, 50 m above the coarse surface, with a void the coarse one fills.
+    GeographicFunctionDem fine(20.0, 40.5, 100, 50, 0.01, 0.01, [](double lat, double lon) {
+        if (std::abs(lat - 40.25) < 0.03 && std::abs(lon - 20.5) < 0.03) return std::nanf("");
+        return hills(lat, lon) + 50.0f;
+    });
+    DemReader* const sources[] = {&coarse, &fine};
+    const std::filesystem::path out = temp.path() / "composite.pyramid";
+    auto built = buildGlobePyramid(sources, out, smallPatches());
+    ASSERT_TRUE(built) << built.error().message;
+    const PyramidManifest& m = built.value().manifest;
+    const Built composite{out, built.value()};
+    // The finest level holds the fine source's neighbourhood only.
+    EXPECT_GT(m.globe->faceFinestLevel, 6);
+    EXPECT_LT(m.levels.back().presentPatches, 200);
+    EXPECT_NEAR(m.globe->west, 20.0, 1e-9);  // "go to the data" goes to the finest source
+    EXPECT_EQ(m.statistics.validSamples, 180 * 90 + 100 * 50 - 6 * 6);
+    auto report = checkErrorBoundsAgainstSources(out, sources);
+    ASSERT_TRUE(report) << report.error().message;
+    EXPECT_EQ(report.value().violationCount, 0);
+    EXPECT_GT(report.value().samplesChecked, 100 * 50 * m.globe->faceFinestLevel);
+    expectConsistentPatches(composite);
+
+    // What a patch stores: the fine source inside it (50 m above the coarse surface), the
+    // coarse source in its void and beyond it.
+    auto reader = PyramidReader::open(out);
+    ASSERT_TRUE(reader);
+    const auto storedAt = [&](double lat, double lon, int level) {
+        const glm::dvec3 normal = globe::Wgs84::normalAt(lat, lon);
+        const globe::FacePoint p = globe::facePointOf(normal);
+        const std::int64_t n = globe::patchesPerFaceSide(level);
+        const GlobePatchId id{p.face, level, static_cast<std::int64_t>(p.s * double(n)),
+                              static_cast<std::int64_t>(p.t * double(n))};
+        auto record = reader.value().readPatch(layoutPatchOf(id));
+        EXPECT_TRUE(record) << record.error().message;
+        const GlobePatchSurface surface(id, reader.value().layout().patchQuads(),
+                                        record.value().heights);
+        return surface.drawnHeights(normal).first;
+    };
+    const int finest = m.globe->faceFinestLevel;
+    EXPECT_NEAR(storedAt(40.11, 20.73, finest), hills(40.11, 20.73) + 50.0, 3.0);
+    // In the void, the coarse grid's bilinear value (pixel centres at odd degrees).
+    const auto coarseAt = [](double lat, double lon) {
+        const double y = (89.0 - lat) / 2.0, x = (lon + 179.0) / 2.0;
+        const double y0 = std::floor(y), x0 = std::floor(x), fy = y - y0, fx = x - x0;
+        const auto h = [](double row, double col) {
+            return double(hills(89.0 - 2.0 * row, -179.0 + 2.0 * col));
+        };
+        return (1 - fy) * ((1 - fx) * h(y0, x0) + fx * h(y0, x0 + 1)) +
+               fy * ((1 - fx) * h(y0 + 1, x0) + fx * h(y0 + 1, x0 + 1));
+    };
+    EXPECT_NEAR(storedAt(40.25, 20.5, finest), coarseAt(40.25, 20.5), 3.0);
+}
+
 TEST(GlobePyramid, RefusesSourcesThatAreNotGeographic) {
     TempFolder temp;
     GeographicFunctionDem source(0.0, 0.0, 10, 10, 1.0, 1.0, hills);

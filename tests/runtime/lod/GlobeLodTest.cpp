@@ -132,7 +132,7 @@ TEST(GlobeLod, BarePatchesRefineTowardsTheCamera) {
     }
 }
 
-TEST(GlobeLod, DataPatchesSplitIntoResidentChildrenAndAbsentOnesAreBare) {
+TEST(GlobeLod, DataPatchesSplitIntoResidentChildrenAndAbsentOnesAreVirtual) {
     const io::PyramidManifest m = globeManifest();
     // Face 0's quadtree holds data along its x = 0 column only (child bit 0 and 2); the
     // error is large, so every data patch wants to split.
@@ -164,6 +164,17 @@ TEST(GlobeLod, DataPatchesSplitIntoResidentChildrenAndAbsentOnesAreBare) {
     EXPECT_EQ(stats.waitingSplits, 0u);
     int dataDrawn = 0, deepestData = 0;
     for (const GlobePatchDraw& d : draws) {
+        if (d.isVirtual) {
+            // It draws a quadrant of an ancestor's tile, which holds its area.
+            EXPECT_GE(d.layer, 0);
+            EXPECT_LT(d.tileId.level, d.id.level);
+            EXPECT_EQ(d.texelStep, 1.0f / float(1 << (d.id.level - d.tileId.level)));
+            const double tileSize = 1.0 / double(globe::patchesPerFaceSide(d.tileId.level));
+            const double patchSize = 1.0 / double(globe::patchesPerFaceSide(d.id.level));
+            const double offsetS = double(d.texelOffset[0]) / 128.0 * tileSize;
+            EXPECT_NEAR(double(d.tileId.x) * tileSize + offsetS, double(d.id.x) * patchSize, 1e-12);
+            continue;
+        }
         if (d.layer < 0) continue;
         ++dataDrawn;
         deepestData = std::max(deepestData, d.id.level);
@@ -171,7 +182,8 @@ TEST(GlobeLod, DataPatchesSplitIntoResidentChildrenAndAbsentOnesAreBare) {
     }
     EXPECT_GT(dataDrawn, 0);
     EXPECT_EQ(deepestData, kFaceLevels);  // data patches stop at the pyramid's finest level
-    EXPECT_GT(stats.drawnBare, 0u);
+    EXPECT_GT(stats.drawnVirtual, 0u);
+    EXPECT_EQ(stats.drawnBare, 0u);
 }
 
 TEST(GlobeLod, HorizonCullingRemovesMostOfTheGlobeFromAnObliqueLowOrbitView) {

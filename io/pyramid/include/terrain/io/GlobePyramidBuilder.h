@@ -7,8 +7,13 @@
 // along its ellipsoid normal to the patch's drawn triangles, both diagonals
 // (GlobePatchSurface), maxed with the children's so it never grows with depth.
 //
-// Not yet: several sources composited into one pyramid, and sources bigger than memory (the
-// source is read whole; the build refuses what exceeds the memory budget).
+// Several sources composite into one pyramid by osgEarth's rule: where they overlap the
+// finest valid sample wins and no-data falls through to coarser sources; each source makes
+// patches exist down to its own finest level, so a 90 m tile over a 37 km global grid adds
+// deep levels only where it lies. Err(P) then holds every sample the composite shows.
+//
+// Not yet: sources bigger than memory (each is read whole; the build refuses what exceeds
+// the memory budget).
 #pragma once
 
 #include "terrain/base/Result.h"
@@ -16,6 +21,7 @@
 #include "terrain/io/PyramidBuilder.h"
 
 #include <filesystem>
+#include <span>
 
 namespace terrain::io {
 
@@ -27,6 +33,12 @@ int globeFinestLevelFor(double spacingMetres, double latitudeDeg, double longitu
 /// folder renamed into place when complete (like buildPyramid). Errors name the file and the
 /// problem: a source that is not geographic, or too big for the memory budget.
 Result<PyramidBuildSummary> buildGlobePyramid(DemReader& reader,
+                                              const std::filesystem::path& output,
+                                              const PyramidBuildOptions& options = {});
+
+/// The same for several geographic sources composited (finest valid sample wins). The
+/// manifest's sourceExtent is the finest source's; its statistics span every source.
+Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> readers,
                                               const std::filesystem::path& output,
                                               const PyramidBuildOptions& options = {});
 

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <vector>
 
 namespace terrain::io {
@@ -39,6 +40,12 @@ struct SourceCheckReport {
 /// the source sample, and levels above the faces report a ratio of 0.
 Result<SourceCheckReport> checkErrorBoundsAgainstSource(
     const std::filesystem::path& pyramidDir, DemReader& source,
+    const std::function<void(double fraction)>& progress = {});
+
+/// The same for a pyramid built from several sources: a globe pyramid's composited sources
+/// (each checked where it wins, GlobePyramidBuilder.h), or a planar pyramid's one source.
+Result<SourceCheckReport> checkErrorBoundsAgainstSources(
+    const std::filesystem::path& pyramidDir, std::span<DemReader* const> sources,
     const std::function<void(double fraction)>& progress = {});
 
 }  // namespace terrain::io

@@ -22,10 +22,11 @@ struct alignas(16) GlobeInstance {
     std::array<float, 4> origin;           ///< O − camera, N0
     std::array<float, 4> errors;           ///< Err(P), skirt depth, min and max height
     std::array<float, 4> bareBlockErrors;  ///< λ(1..4) of a bare patch
-    std::array<float, 4> spacing;          ///< metres per patch sample along s and t near O
+    std::array<float, 4> spacing;          ///< metres per tile sample along s and t near O
+    std::array<float, 4> texelMap;         ///< tile sample offset (xy), step, virtual (1) or not
     std::array<std::int32_t, 4> layerLevelFace;
 };
-static_assert(sizeof(GlobeInstance) == 128);
+static_assert(sizeof(GlobeInstance) == 144);
 
 /// The record of `patch` for a camera at ECEF `camera` whose ellipsoid normal is `cameraUp`
 /// (Wgs84::upAt), with its reference point at the camera's nadir clamped to the patch.

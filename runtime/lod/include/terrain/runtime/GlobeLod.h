@@ -10,7 +10,10 @@
 // (height 0): a bare patch's Err(P) is how far its flat triangles fall under the ellipsoid
 // (globe::flatTriangleErrorBound), so bare patches refine with distance too, from no data at
 // all. A data patch splits only when every present child (its presentChildren mask) is
-// resident; absent children are bare. A face root that has not arrived yet is drawn bare.
+// resident. An absent child is virtual: it draws its parent's tile over its quadrant
+// (interpolated), as do its own children; a virtual patch splits only for the ellipsoid's
+// curvature (the data's error cannot shrink without finer data). A face root that has not
+// arrived yet is drawn bare.
 //
 // Stateless (no frame coherence yet): it visits every patch it keeps or splits each frame.
 #pragma once
@@ -36,8 +39,16 @@ struct GlobePatchDraw {
     float skirtDepthM = 0.0f;
     float minHeight = 0.0f;
     float maxHeight = 0.0f;
-    /// A bare patch's λ(1..4): how far the ellipsoid bulges over its blocks simplified by 2^d.
+    /// λ(1..4) of a patch without a tile of its own (bare or virtual): how far the ellipsoid
+    /// bulges over its blocks simplified by 2^d (plus, for a virtual one, its tile's λ).
     std::array<float, 4> bareBlockErrorsM{};
+    /// A virtual patch has no tile of its own (an absent child of a data patch, or a child of
+    /// one): it draws `layer`, the tile of its ancestor `tileId`, whose sample
+    /// texelOffset + s · texelStep lies under its sample s. A data patch: its own tile, 0, 1.
+    bool isVirtual = false;
+    globe::GlobePatchId tileId;
+    std::array<float, 2> texelOffset{0.0f, 0.0f};
+    float texelStep = 1.0f;
 };
 
 struct GlobeLodOptions {
@@ -51,6 +62,7 @@ struct GlobeLodOptions {
 struct GlobeLodStats {
     std::uint64_t drawn = 0;
     std::uint64_t drawnBare = 0;
+    std::uint64_t drawnVirtual = 0;
     std::uint64_t frustumCulled = 0;
     std::uint64_t horizonCulled = 0;
     std::uint64_t visited = 0;
@@ -78,7 +90,11 @@ public:
 private:
     struct Node {
         globe::GlobePatchId id;
-        const io::PatchInfo* info = nullptr;  // null: bare
+        const io::PatchInfo* info = nullptr;  // the tile's summary: null for a bare patch
+        // A virtual patch draws its ancestor's tile (`info` is the ancestor's).
+        bool isVirtual = false;
+        globe::GlobePatchId tileId;
+        double texelOffsetX = 0.0, texelOffsetY = 0.0, texelStep = 1.0;
     };
     void visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePatchDraw>& out);
     const globe::OrientedBox& boundsOf(const globe::GlobePatchId& id, float minHeight,
@@ -88,7 +104,6 @@ private:
     TileResidency& m_residency;
     GlobeLodOptions m_options;
     int m_quads = 0;
-    int m_finestDataLevel = 0;
     double m_occluderShrink = 0.0;
     EllipsoidalOccluder m_occluder;
     // Per-frame state of select().

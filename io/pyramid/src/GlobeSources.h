@@ -1,0 +1,51 @@
+// GlobeSources: the geographic sources of one globe pyramid, composited by osgEarth's rule:
+// at every point the finest source with a valid sample there wins, and no-data falls through
+// to coarser sources. Sources are held finest first (by their finest sample spacing); each
+// knows its own finest face level, the level down to which it makes patches exist.
+#pragma once
+
+#include "GeographicGrid.h"
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace terrain::io {
+
+class GlobeSources {
+public:
+    struct Source {
+        GeographicGrid grid;
+        int finestFaceLevel = 0;
+        std::string path;
+    };
+
+    /// `sources` in any order; kept finest first.
+    explicit GlobeSources(std::vector<Source> sources);
+
+    /// Reads every reader whole (each within memoryBudgetBytes / count) and gives each its
+    /// finest face level for patches of `quads` quads (globeFinestLevelFor at its centre):
+    /// what the builder does, and what the source check must do the same way.
+    static Result<GlobeSources> read(std::span<DemReader* const> readers,
+                                     std::uint64_t memoryBudgetBytes, int quads);
+
+    const std::vector<Source>& sources() const { return m_sources; }
+    int finestFaceLevel() const;  ///< over every source
+
+    /// The composited value at a point: the finest valid sample; where none is valid, the
+    /// finest source that holds the point (its filled value), then one whose edge pixels
+    /// extend to it (GeographicGrid::at); 0 m beyond them all. `inside`: within some
+    /// source's extent among those with finestFaceLevel ≥ `level` (what makes patches of that
+    /// level exist).
+    GeographicGrid::Resampled at(double latitudeDeg, double longitudeDeg, int level) const;
+
+    /// Whether sample (col, row) of source `k` is the one the composite shows at its place:
+    /// valid, and no finer source is valid there.
+    bool wins(std::size_t k, std::int64_t col, std::int64_t row) const;
+
+private:
+    std::vector<Source> m_sources;
+};
+
+}  // namespace terrain::io
