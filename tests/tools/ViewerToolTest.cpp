@@ -3,13 +3,16 @@
 // terrain and the overlay can both be found; its telemetry log and JSON summary are right;
 // and a missing or broken pyramid, a missing path file, an unwritable output folder, no
 // display and no OpenGL 4.5 each give a message and exit status 1, never a crash.
+#include "terrain/io/GlobePyramidBuilder.h"
 #include "terrain/io/PyramidManifest.h"
 #include "terrain/runtime/CameraPath.h"
 #include "terrain/runtime/TerrainGeometry.h"
 
+#include "GeographicFunctionDem.h"
 #include "TempFolder.h"
 
 #include <OpenImageIO/imageio.h>
+
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
@@ -245,6 +248,39 @@ TEST_F(ViewerTool, ScreenshotShowsTerrainAndTheOverlay) {
     EXPECT_GT(insideDifference / inside, 60.0);
     // ... and nothing else: outside it the two settled renders agree.
     EXPECT_GT(outsideSame / outside, 0.98) << outsideSame << " of " << outside;
+}
+
+// A globe pyramid opens the globe viewer: "go to the data" at start, settled frames, the
+// screenshot shows the terrain (not the black of space) around the overlay.
+TEST_F(ViewerTool, GlobePyramidOpensTheGlobeViewerOverTheData) {
+    test::GeographicFunctionDem source(
+        10.0, 50.0, 200, 120, 0.01, 0.01, [](double lat, double lon) {
+            return static_cast<float>(400.0 + 300.0 * std::sin(lat * 40.0) * std::cos(lon * 30.0));
+        });
+    const std::string pyramid = m_folder.file("globe.pyramid");
+    io::PyramidBuildOptions options;
+    options.patchSamples = 65;
+    options.blockQuads = 8;
+    auto built = io::buildGlobePyramid(source, pyramid, options);
+    ASSERT_TRUE(built) << built.error().message;
+    const std::string screenshot = m_folder.file("globe.png");
+    const ToolRun viewed = runViewer(pyramid +
+                                         " --frames 8 --settle --width 480 --height 320 "
+                                         "--no-overlay --json --screenshot " +
+                                         screenshot,
+                                     m_folder);
+    ASSERT_EQ(viewed.status, 0) << describe(viewed);
+    const nlohmann::json summary = summaryOf(viewed);
+    EXPECT_EQ(summary["tiling"], "globe");
+    EXPECT_NEAR(summary["camera"]["latitude"].get<double>(), 49.4, 1e-9);
+    EXPECT_NEAR(summary["camera"]["longitude"].get<double>(), 11.0, 1e-9);
+    const Image image = readPng(screenshot);
+    ASSERT_EQ(image.width, 480);
+    int ground = 0;
+    for (int y = 0; y < image.height; ++y)
+        for (int x = 0; x < image.width; ++x)
+            ground += image.at(x, y)[0] > 40 ? 1 : 0;  // not space
+    EXPECT_GT(ground, image.width * image.height * 9 / 10);
 }
 
 TEST_F(ViewerTool, MissingPyramidIsAClearError) {

@@ -48,9 +48,7 @@ Result<std::unique_ptr<Viewer>> Viewer::create(const ViewerOptions& options) {
     auto manifest = io::readManifest(options.pyramid);
     if (!manifest) return manifest.error();
     if (manifest.value().globe)
-        return Error{options.pyramid +
-                     ": a globe pyramid; the viewer's globe controls are not built yet: fly it "
-                     "with terrain-render (--lat, --lon, --altitude, --heading, --pitch)"};
+        return Error{options.pyramid + ": a globe pyramid: GlobeViewer draws those"};
     std::unique_ptr<Viewer> viewer(new Viewer(options, std::move(manifest).value()));
 
     if (!options.pathFile.empty()) {

@@ -2,9 +2,11 @@
 // streaming, LOD quadtree and tessellated draw — the same frame as terrain-render — under a
 // Dear ImGui overlay of live telemetry and controls. docs/viewer.md is its manual.
 #include "FrameSizeFlags.h"
+#include "GlobeViewer.h"
 #include "KeyBindings.h"
 #include "Viewer.h"
 #include "ViewerOptions.h"
+#include "terrain/io/PyramidManifest.h"
 
 #include <fmt/core.h>
 #include <CLI/CLI.hpp>
@@ -75,12 +77,21 @@ int main(int argc, char** argv) {
     app.add_flag("--orbit", o.orbit, "Start orbiting the point at the centre of the view");
     app.add_option("--goto", o.jumpTo,
                    "Start over world X,Y[,HEIGHT above ground] (a projected pyramid's easting, "
-                   "northing)")
+                   "northing; a globe's LATITUDE,LONGITUDE[,ALTITUDE above WGS84])")
         ->delimiter(',')
         ->expected(2, 3);
     app.add_flag("--json", o.json, "Print a JSON summary on stdout at exit");
     CLI11_PARSE(app, argc, argv);
 
+    // A globe pyramid gets the globe's viewer (its controls and overlay are its own).
+    if (auto manifest = terrain::io::readManifest(o.pyramid); manifest && manifest.value().globe) {
+        auto globe = terrain::view::GlobeViewer::create(o);
+        if (!globe) {
+            fmt::print(stderr, "terrain-view: {}\n", globe.error().message);
+            return 1;
+        }
+        return globe.value()->run();
+    }
     auto viewer = terrain::view::Viewer::create(o);
     if (!viewer) {
         fmt::print(stderr, "terrain-view: {}\n", viewer.error().message);
