@@ -186,12 +186,23 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
             return fail("OpenGL reported an error:\n" + context.debugLog().formatErrors());
     }
     if (auto closed = csv.value().close(); !closed) return fail(closed.error().message);
+    // The last frame's draw list by face level: data, virtual and bare patches, largest Err(P).
+    nlohmann::json byLevel = nlohmann::json::object();
+    for (const runtime::GlobePatchDraw& d : session.draws()) {
+        nlohmann::json& level = byLevel[std::to_string(d.id.level)];
+        if (level.is_null())
+            level = {{"data", 0}, {"virtual", 0}, {"bare", 0}, {"max_error_m", 0.0}};
+        const char* kind = d.layer < 0 ? "bare" : d.isVirtual ? "virtual" : "data";
+        level[kind] = level.value(kind, 0) + 1;
+        level["max_error_m"] = std::max(level.value("max_error_m", 0.0), double(d.errorM));
+    }
     session.streamer().drain(std::chrono::seconds(10));
     if (o.json) {
         const nlohmann::json out{
             {"tool", "terrain-render"},
             {"pyramid", o.pyramid},
             {"tiling", "globe"},
+            {"last_frame_patches_by_level", byLevel},
             {"frames", frames},
             {"frames_written", framesWritten},
             {"output_dir", o.outputDir},

@@ -34,32 +34,46 @@ int GlobeSources::finestFaceLevel() const {
     return level;
 }
 
-GeographicGrid::Resampled GlobeSources::at(double latitudeDeg, double longitudeDeg,
-                                           int level) const {
-    // Sources are finest first, so among equals the finer one is kept.
-    GeographicGrid::Resampled best;
-    int bestRank = 3;  // 0 valid, 1 inside (a filled void), 2 an extended edge pixel, 3 none
+GlobeSources::Shown GlobeSources::shownAt(double latitudeDeg, double longitudeDeg,
+                                          int level) const {
+    Shown shown;
+    int rank = 3;  // of shown.value: 0 valid, 1 a filled void, 2 an extended edge pixel, 3 none
+    double voidSpacing = 0.0;  // the source whose void is being filled, its spacing
     bool inside = false;
-    for (const Source& source : m_sources) {
+    for (std::size_t k = 0; k < m_sources.size(); ++k) {
+        const Source& source = m_sources[k];
         const GeographicGrid::Resampled value = source.grid.at(latitudeDeg, longitudeDeg);
         inside = inside || (value.inside && source.finestFaceLevel >= level);
-        const int rank = value.valid ? 0 : value.inside ? 1 : value.covered ? 2 : 3;
-        if (rank < bestRank) {
-            best = value;
-            bestRank = rank;
+        if (value.valid) {
+            // A void falls through to this source only if it is of comparable resolution.
+            const bool fills =
+                rank != 1 || source.grid.finestSpacingMetres() <= kVoidFillRatio * voidSpacing;
+            if (rank > 0 && fills) {
+                shown = {static_cast<int>(k), value};
+                rank = 0;
+            }
+            continue;
+        }
+        const int candidate = value.inside ? 1 : value.covered ? 2 : 3;
+        if (candidate < rank) {
+            shown = {static_cast<int>(k), value};
+            rank = candidate;
+            if (candidate == 1) voidSpacing = source.grid.finestSpacingMetres();
         }
     }
-    best.inside = inside;
-    return best;
+    shown.value.inside = inside;
+    return shown;
+}
+
+GeographicGrid::Resampled GlobeSources::at(double latitudeDeg, double longitudeDeg,
+                                           int level) const {
+    return shownAt(latitudeDeg, longitudeDeg, level).value;
 }
 
 bool GlobeSources::wins(std::size_t k, std::int64_t col, std::int64_t row) const {
     const GeographicGrid& grid = m_sources[k].grid;
     if (!grid.validAt(col, row)) return false;
-    for (std::size_t finer = 0; finer < k; ++finer)
-        if (m_sources[finer].grid.at(grid.latitudeOf(row), grid.longitudeOf(col)).valid)
-            return false;
-    return true;
+    return shownAt(grid.latitudeOf(row), grid.longitudeOf(col), 0).source == static_cast<int>(k);
 }
 
 }  // namespace terrain::io

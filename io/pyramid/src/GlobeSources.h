@@ -1,7 +1,12 @@
 // GlobeSources: the geographic sources of one globe pyramid, composited by osgEarth's rule:
 // at every point the finest source with a valid sample there wins, and no-data falls through
-// to coarser sources. Sources are held finest first (by their finest sample spacing); each
-// knows its own finest face level, the level down to which it makes patches exist.
+// to coarser sources, of comparable resolution (at most kVoidFillRatio coarser). A much
+// coarser filler would put steps of hundreds of metres into a fine DEM's voids (ETOPO's 37 km
+// grid lies 2 km under SRTM's summit voids on Mount Rainier); there the fine source's own
+// row-linear fill holds, which is what a delta-surface fill (Grohman et al. 2006) comes to
+// when the filler is that much coarser than the void. Sources are held finest first (by their
+// finest sample spacing); each knows its finest face level, the level down to which it makes
+// patches exist.
 #pragma once
 
 #include "GeographicGrid.h"
@@ -40,11 +45,19 @@ public:
     /// level exist).
     GeographicGrid::Resampled at(double latitudeDeg, double longitudeDeg, int level) const;
 
-    /// Whether sample (col, row) of source `k` is the one the composite shows at its place:
-    /// valid, and no finer source is valid there.
+    /// Whether sample (col, row) of source `k` is the one the composite shows at its place.
     bool wins(std::size_t k, std::int64_t col, std::int64_t row) const;
 
+    /// A void falls through to a source at most this many times coarser.
+    static constexpr double kVoidFillRatio = 4.0;
+
 private:
+    struct Shown {
+        int source = -1;  ///< the source whose value shows, or −1
+        GeographicGrid::Resampled value;
+    };
+    Shown shownAt(double latitudeDeg, double longitudeDeg, int level) const;
+
     std::vector<Source> m_sources;
 };
 

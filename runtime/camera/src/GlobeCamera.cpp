@@ -29,7 +29,7 @@ void placeOnGlobe(Camera& camera, const GlobePose& pose) {
     camera.frame = eastNorthUp(pose.where.latitudeDeg, pose.where.longitudeDeg);
     camera.yaw = pose.headingDeg * kDegree;
     camera.pitch = std::clamp(pose.pitchDeg * kDegree, -Camera::kMaxPitch, Camera::kMaxPitch);
-    camera.nearPlane = std::clamp(0.1 * std::abs(pose.where.height), 0.05, 1000.0);
+    camera.nearPlane = kGlobeNearPlaneM;
 }
 
 GlobePose globePoseOf(const Camera& camera) {

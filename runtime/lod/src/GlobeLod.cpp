@@ -114,6 +114,7 @@ void GlobeLod::visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePa
     // elsewhere (no finer data, or none at all) the curvature alone.
     const double errorM = data && node.info->presentChildren != 0 ? double(node.info->error)
                                                                   : bareError(node.id.level);
+
     const globe::OrientedBox& box = boundsOf(node.id, minHeight, maxHeight);
     if (m_options.frustumCulling && outsideFrustum(m_frustum, box)) {
         ++stats.frustumCulled;
@@ -123,7 +124,12 @@ void GlobeLod::visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePa
         ++stats.horizonCulled;
         return;
     }
-    const double rho = globe::distanceToBox(m_camera, box);
+    // A camera inside the box of a patch with finer data splits it (ρ = 0); the curvature
+    // alone is never worth splitting for closer than a metre, or a camera standing on a
+    // virtual patch would split it down to maxBareLevel.
+    const bool finerData = data && node.info->presentChildren != 0;
+    const double rho = finerData ? globe::distanceToBox(m_camera, box)
+                                 : std::max(globe::distanceToBox(m_camera, box), 1.0);
     const double screenError =
         rho > 0.0 ? m_gamma * errorM / rho : std::numeric_limits<double>::infinity();
     if (screenError > m_options.errorPx && node.id.level < m_options.maxBareLevel) {

@@ -254,9 +254,10 @@ TEST(GlobePyramid, WholeEarthWithRepeatedSeamColumnAcrossCubeEdges) {
 }
 
 // A fine regional source over a coarse global one (osgEarth's rule: the finer valid sample
-// wins, no-data falls through): deep levels exist only under the fine source, the bound holds
-// for every sample the composite shows, the coarse source fills the fine one's voids, and
-// every shared edge still matches.
+// wins, no-data falls through to a source of comparable resolution): deep levels exist only
+// under the fine source, the bound holds for every sample the composite shows, a source twice
+// as coarse fills the fine one's void where the 2° global grid would not, and every shared
+// edge still matches.
 TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
     TempFolder temp;
     GeographicFunctionDem coarse(-180.0, 90.0, 180, 90, 2.0, 2.0, hills);
@@ -265,7 +266,10 @@ TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
         if (std::abs(lat - 40.25) < 0.03 && std::abs(lon - 20.5) < 0.03) return std::nanf("");
         return hills(lat, lon) + 50.0f;
     });
-    DemReader* const sources[] = {&coarse, &fine};
+    // 0.02° over the void, 20 m above the coarse surface: comparable, so it fills the void.
+    GeographicFunctionDem medium(20.2, 40.4, 20, 15, 0.02, 0.02,
+                                 [](double lat, double lon) { return hills(lat, lon) + 20.0f; });
+    DemReader* const sources[] = {&coarse, &fine, &medium};
     const std::filesystem::path out = temp.path() / "composite.pyramid";
     auto built = buildGlobePyramid(sources, out, smallPatches());
     ASSERT_TRUE(built) << built.error().message;
@@ -275,7 +279,7 @@ TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
     EXPECT_GT(m.globe->faceFinestLevel, 6);
     EXPECT_LT(m.levels.back().presentPatches, 200);
     EXPECT_NEAR(m.globe->west, 20.0, 1e-9);  // "go to the data" goes to the finest source
-    EXPECT_EQ(m.statistics.validSamples, 180 * 90 + 100 * 50 - 6 * 6);
+    EXPECT_EQ(m.statistics.validSamples, 180 * 90 + 100 * 50 - 6 * 6 + 20 * 15);
     auto report = checkErrorBoundsAgainstSources(out, sources);
     ASSERT_TRUE(report) << report.error().message;
     EXPECT_EQ(report.value().violationCount, 0);
@@ -300,17 +304,9 @@ TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
     };
     const int finest = m.globe->faceFinestLevel;
     EXPECT_NEAR(storedAt(40.11, 20.73, finest), hills(40.11, 20.73) + 50.0, 3.0);
-    // In the void, the coarse grid's bilinear value (pixel centres at odd degrees).
-    const auto coarseAt = [](double lat, double lon) {
-        const double y = (89.0 - lat) / 2.0, x = (lon + 179.0) / 2.0;
-        const double y0 = std::floor(y), x0 = std::floor(x), fy = y - y0, fx = x - x0;
-        const auto h = [](double row, double col) {
-            return double(hills(89.0 - 2.0 * row, -179.0 + 2.0 * col));
-        };
-        return (1 - fy) * ((1 - fx) * h(y0, x0) + fx * h(y0, x0 + 1)) +
-               fy * ((1 - fx) * h(y0 + 1, x0) + fx * h(y0 + 1, x0 + 1));
-    };
-    EXPECT_NEAR(storedAt(40.25, 20.5, finest), coarseAt(40.25, 20.5), 3.0);
+    // In the void, the medium source (the 2° grid is 200 times too coarse to fill it).
+    EXPECT_NEAR(storedAt(40.25, 20.5, finest), hills(40.25, 20.5) + 20.0, 25.0);
+    EXPECT_GT(std::abs(storedAt(40.25, 20.5, finest) - (hills(40.25, 20.5) + 50.0)), 5.0);
 }
 
 TEST(GlobePyramid, RefusesSourcesThatAreNotGeographic) {

@@ -20,9 +20,13 @@ struct GlobePose {
 /// East, north and up at a latitude and longitude, as the columns of a matrix.
 glm::dmat3 eastNorthUp(double latitudeDeg, double longitudeDeg);
 
-/// Sets the camera's position, frame, yaw and pitch from `pose`, and a near plane that keeps
-/// reversed-Z depth useful from 1 m to orbit: a tenth of the height above the ellipsoid,
-/// clamped to [0.05 m, 1 km].
+/// The near plane on a globe, fixed: reversed-Z float depth resolves the same relative
+/// distance (about 1e-7) at every range whatever the near plane, so one small enough for a
+/// camera 1 m above the ground serves orbit too. (A near plane from the height above the
+/// ellipsoid would clip the ground in front of a camera on a 4 km peak.)
+inline constexpr double kGlobeNearPlaneM = 0.1;
+
+/// Sets the camera's position, frame, yaw and pitch from `pose`, and the near plane.
 void placeOnGlobe(Camera& camera, const GlobePose& pose);
 
 /// The pose a camera has (its frame need not be the one at its position).
