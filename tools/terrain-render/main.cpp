@@ -186,6 +186,30 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
             return fail("OpenGL reported an error:\n" + context.debugLog().formatErrors());
     }
     if (auto closed = csv.value().close(); !closed) return fail(closed.error().message);
+    // Time to full detail after arriving: the last pose held, frames drawn as a user would see
+    // them, until no split waits for a tile and nothing is loading (not with --settle, whose
+    // frames are all settled).
+    nlohmann::json arrival = nullptr;
+    if (!o.settle) {
+        const auto arrived = Clock::now();
+        std::uint64_t arrivalFrames = 0;
+        bool settled = false;
+        while (!settled && std::chrono::duration<double>(Clock::now() - arrived).count() < 60.0) {
+            const runtime::GlobeLodStats& lod = session.beginFrame(camera);
+            framebuffer.value().clear(sky, 0.0f);
+            glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.value().id());
+            glViewport(0, 0, o.widthPx, o.heightPx);
+            session.draw(camera, style);
+            glBindFramebuffer(GL_FRAMEBUFFER, 0);
+            runtime::FrameTelemetry t;
+            session.endFrame(t);
+            ++arrivalFrames;
+            settled = lod.waitingSplits == 0 && session.streamer().loadsOutstanding() == 0;
+        }
+        if (settled)
+            arrival = {{"frames", arrivalFrames},
+                       {"seconds", std::chrono::duration<double>(Clock::now() - arrived).count()}};
+    }
     // The last frame's draw list by face level: data, virtual and bare patches, largest Err(P).
     nlohmann::json byLevel = nlohmann::json::object();
     for (const runtime::GlobePatchDraw& d : session.draws()) {
@@ -203,6 +227,7 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
             {"pyramid", o.pyramid},
             {"tiling", "globe"},
             {"last_frame_patches_by_level", byLevel},
+            {"full_detail_after_arrival", arrival},
             {"frames", frames},
             {"frames_written", framesWritten},
             {"output_dir", o.outputDir},
