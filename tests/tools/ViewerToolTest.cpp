@@ -61,10 +61,22 @@ ToolRun run(const std::string& command, const test::TempFolder& folder) {
     return result;
 }
 
-// The viewer in its own virtual X server (xvfb-run -a picks a free display number).
+// The viewer in its own virtual X server (xvfb-run -a picks a free display number). The
+// status is the viewer's own, echoed by the shell xvfb-run starts: xvfb-run's exit status can
+// be 5 after a viewer that exited cleanly ("problem while cleaning up temporary directory"),
+// which is xvfb-run's business, not the viewer's.
 ToolRun runViewer(const std::string& arguments, const test::TempFolder& folder,
                   const std::string& environment = "") {
-    return run(environment + " " + kXvfbRun + " -a " + kViewer + " " + arguments, folder);
+    static const std::string kMarker = "terrain-view-test-status=";
+    ToolRun r = run(kXvfbRun + " -a sh -c '" + environment + " " + kViewer + " " + arguments +
+                        "; echo " + kMarker + "$? >&2'",
+                    folder);
+    const std::size_t at = r.err.rfind(kMarker);
+    if (at != std::string::npos) {
+        r.status = std::atoi(r.err.c_str() + at + kMarker.size());
+        r.err.erase(at);
+    }
+    return r;
 }
 
 std::string describe(const ToolRun& r) {

@@ -7,14 +7,17 @@
 // bench.json; --report DIR also runs the chart tool for PNG charts and report.md.
 #include "BenchRecords.h"
 #include "ChartScript.h"
+#include "DemOpenFlags.h"
 #include "FrameSizeFlags.h"
 #include "GlImagePng.h"
 #include "GlInfoJson.h"
+#include "GlobeBench.h"
 #include "StreamingBudgetFlags.h"
 
 #include "terrain/base/AtomicFile.h"
 #include "terrain/cache/GpuTilePool.h"
 #include "terrain/gl/HeadlessGlContext.h"
+#include "terrain/io/PyramidManifest.h"
 #include "terrain/runtime/AccuracyProbe.h"
 #include "terrain/runtime/CameraPath.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
@@ -64,6 +67,8 @@ struct BenchOptions {
     int sampleFrame = -1;  // -1: the middle frame
     bool json = false;
     std::string commandLine;
+    std::vector<std::string> sources;  ///< globe pyramids: the DEMs it was built from
+    tools::DemOpenFlags sourceFlags;
 };
 
 int fail(const std::string& message) {
@@ -414,8 +419,30 @@ int main(int argc, char** argv) {
     app.add_option("--fog", o.fogDensity, "Fog density per metre (0: none)")->capture_default_str();
     app.add_option("--sample-frame", o.sampleFrame,
                    "Frame written as sample PNGs (default: the middle one)");
+    app.add_option("--source", o.sources,
+                   "Globe pyramids: the DEMs it was built from, the truth it is measured against "
+                   "(docs/globe.md)");
+    o.sourceFlags.addTo(app);
     app.add_flag("--json", o.json, "Print the JSON summary on stdout");
     CLI11_PARSE(app, argc, argv);
     for (int i = 0; i < argc; ++i) o.commandLine += (i == 0 ? "" : " ") + std::string(argv[i]);
+    if (auto manifest = io::readManifest(o.pyramid); manifest && manifest.value().globe) {
+        tools::GlobeBenchOptions globe;
+        globe.pyramid = o.pyramid;
+        globe.sources = o.sources;
+        globe.sourceOptions = o.sourceFlags.options();
+        globe.thresholdsPx = o.thresholdsPx;
+        globe.frames = o.frames;
+        globe.widthPx = o.widthPx;
+        globe.heightPx = o.heightPx;
+        globe.outputDir = !o.outputDir.empty()   ? o.outputDir
+                          : !o.reportDir.empty() ? o.reportDir
+                                                 : "out/bench";
+        globe.tolerancePx = o.tolerancePx;
+        globe.budgets = o.budgets;
+        globe.json = o.json;
+        globe.commandLine = o.commandLine;
+        return tools::runGlobeBench(globe);
+    }
     return run(o, argv[0]);
 }

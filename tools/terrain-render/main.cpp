@@ -14,6 +14,7 @@
 #include "terrain/io/PyramidManifest.h"
 #include "terrain/runtime/CameraPath.h"
 #include "terrain/runtime/GlobeCamera.h"
+#include "terrain/runtime/GlobeController.h"
 #include "terrain/runtime/GlobeSession.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
@@ -83,30 +84,20 @@ nlohmann::json statsJson(const runtime::LatencyHistogram& h, double scale = 1.0)
             {"mean", value(h.mean())}};
 }
 
-// The centre of a globe pyramid's source, across the antimeridian too.
-std::pair<double, double> dataCentre(const io::ManifestGlobe& g) {
-    const double span = g.east >= g.west ? g.east - g.west : g.east + 360.0 - g.west;
-    double longitude = g.west + 0.5 * span;
-    if (longitude > 180.0) longitude -= 360.0;
-    return {0.5 * (g.south + g.north), longitude};
-}
-
-// The default globe flight: straight down from 20,000 km over the data's centre, the height
-// falling exponentially to 1.5 km above its highest point, tilting to the horizon at the end.
+// A fixed pose where --lat, --lon or --altitude is given (the data's centre for the others),
+// else the default flight from orbit down to 1.5 km above the data's highest point.
 runtime::GlobePose globePoseAt(const RenderOptions& o, const io::PyramidManifest& m,
                                double fraction) {
-    const auto [latitude, longitude] = dataCentre(*m.globe);
-    runtime::GlobePose pose;
-    pose.where = {o.latitudeDeg.value_or(latitude), o.longitudeDeg.value_or(longitude), 0.0};
+    const io::ManifestGlobe& g = *m.globe;
+    const double end = std::max(m.statistics.maxHeight, 0.0) + 1500.0;
+    runtime::GlobePose pose =
+        runtime::GlobeController::flightFromOrbit(g.west, g.south, g.east, g.north, end, fraction);
     if (o.latitudeDeg || o.longitudeDeg || o.heightM) {
-        pose.where.height = o.heightM.value_or(20e6);
+        pose.where = {o.latitudeDeg.value_or(pose.where.latitudeDeg),
+                      o.longitudeDeg.value_or(pose.where.longitudeDeg), o.heightM.value_or(20e6)};
         pose.headingDeg = o.headingDeg;
         pose.pitchDeg = o.pitchDeg;
-        return pose;
     }
-    const double end = std::max(m.statistics.maxHeight, 0.0) + 1500.0;
-    pose.where.height = std::exp(std::log(20e6) * (1.0 - fraction) + std::log(end) * fraction);
-    pose.pitchDeg = fraction < 0.6 ? -90.0 : -90.0 + (fraction - 0.6) / 0.4 * 70.0;
     return pose;
 }
 

@@ -157,6 +157,45 @@ GeographicGrid::Resampled GeographicGrid::at(double latitudeDeg, double longitud
     return out;
 }
 
+std::optional<GeographicGrid::Cell> GeographicGrid::cellAt(double latitudeDeg,
+                                                           double longitudeDeg) const {
+    const double y = m_north - latitudeDeg;
+    if (y < -m_pixelLat || y > double(m_height) * m_pixelLat + m_pixelLat) return std::nullopt;
+    double x = std::fmod(longitudeDeg - m_west, 360.0);
+    if (x < 0.0) x += 360.0;
+    const double width = double(m_width) * m_pixelLon;
+    if (!m_wraps && x > width + m_pixelLon) {
+        if (x < 360.0 - m_pixelLon) return std::nullopt;
+        x -= 360.0;
+    }
+    const double row = std::clamp(y / m_pixelLat - 0.5, 0.0, double(m_height - 1));
+    const auto row0 =
+        std::min(static_cast<std::int64_t>(row), std::max<std::int64_t>(m_height - 2, 0));
+    const std::int64_t row1 = std::min(row0 + 1, m_height - 1);
+    std::int64_t col0 = 0, col1 = 0;
+    double u = 0.0;
+    if (m_wraps) {
+        const double centre = x / m_pixelLon - 0.5;
+        const double first = std::floor(centre);
+        u = centre - first;
+        col0 = (static_cast<std::int64_t>(first) % m_wrapColumns + m_wrapColumns) % m_wrapColumns;
+        col1 = (col0 + 1) % m_wrapColumns;
+    } else {
+        const double col = std::clamp(x / m_pixelLon - 0.5, 0.0, double(m_width - 1));
+        col0 = std::min(static_cast<std::int64_t>(col), std::max<std::int64_t>(m_width - 2, 0));
+        col1 = std::min(col0 + 1, m_width - 1);
+        u = col1 > col0 ? col - double(col0) : 0.0;
+    }
+    Cell cell;
+    cell.a = m_heights[index(col0, row0)];
+    cell.b = m_heights[index(col1, row0)];
+    cell.c = m_heights[index(col0, row1)];
+    cell.d = m_heights[index(col1, row1)];
+    cell.u = std::clamp(u, 0.0, 1.0);
+    cell.v = row1 > row0 ? std::clamp(row - double(row0), 0.0, 1.0) : 0.0;
+    return cell;
+}
+
 double GeographicGrid::finestSpacingMetres() const {
     const double south = southDeg();
     const double closestToEquator =

@@ -9,6 +9,7 @@
 #include "terrain/io/DemReader.h"
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace terrain::io {
@@ -27,6 +28,15 @@ public:
     /// Bilinear between the four pixel centres around the point, clamped to the edge pixels
     /// up to one pixel beyond the extent; across the antimeridian when the grid spans 360°.
     Resampled at(double latitudeDeg, double longitudeDeg) const;
+
+    /// The cell of pixel centres around a point inside (or within a pixel of) the extent:
+    /// its corner heights (filled values) a north-west, b north-east, c south-west, d
+    /// south-east, and the point's position (u east, v south) in it; nothing further out.
+    struct Cell {
+        double a = 0.0, b = 0.0, c = 0.0, d = 0.0;
+        double u = 0.0, v = 0.0;
+    };
+    std::optional<Cell> cellAt(double latitudeDeg, double longitudeDeg) const;
 
     std::int64_t width() const { return m_width; }
     std::int64_t height() const { return m_height; }

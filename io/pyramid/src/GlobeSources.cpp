@@ -1,6 +1,7 @@
 #include "GlobeSources.h"
 
 #include "terrain/io/GlobePyramidBuilder.h"
+#include "terrain/io/PatchErrors.h"
 
 #include <algorithm>
 
@@ -68,6 +69,16 @@ GlobeSources::Shown GlobeSources::shownAt(double latitudeDeg, double longitudeDe
 GeographicGrid::Resampled GlobeSources::at(double latitudeDeg, double longitudeDeg,
                                            int level) const {
     return shownAt(latitudeDeg, longitudeDeg, level).value;
+}
+
+std::optional<std::pair<double, double>> GlobeSources::surfaceHeightsAt(double latitudeDeg,
+                                                                        double longitudeDeg) const {
+    const Shown shown = shownAt(latitudeDeg, longitudeDeg, 0);
+    if (shown.source < 0) return std::nullopt;
+    const auto cell =
+        m_sources[static_cast<std::size_t>(shown.source)].grid.cellAt(latitudeDeg, longitudeDeg);
+    if (!cell) return std::nullopt;
+    return cellSurfaceHeights(cell->a, cell->b, cell->c, cell->d, cell->u, cell->v);
 }
 
 bool GlobeSources::wins(std::size_t k, std::int64_t col, std::int64_t row) const {

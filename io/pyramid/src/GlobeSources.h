@@ -12,8 +12,10 @@
 #include "GeographicGrid.h"
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace terrain::io {
@@ -44,6 +46,12 @@ public:
     /// source's extent among those with finestFaceLevel ≥ `level` (what makes patches of that
     /// level exist).
     GeographicGrid::Resampled at(double latitudeDeg, double longitudeDeg, int level) const;
+
+    /// The full-resolution surface at a point: the triangles between the pixel centres of the
+    /// source the composite shows there, for both diagonals of the cell; nothing where no
+    /// source covers the point (the bare ellipsoid).
+    std::optional<std::pair<double, double>> surfaceHeightsAt(double latitudeDeg,
+                                                              double longitudeDeg) const;
 
     /// Whether sample (col, row) of source `k` is the one the composite shows at its place.
     bool wins(std::size_t k, std::int64_t col, std::int64_t row) const;

@@ -83,6 +83,18 @@ GlobePose GlobeController::overExtent(double west, double south, double east, do
     return pose;
 }
 
+GlobePose GlobeController::flightFromOrbit(double west, double south, double east, double north,
+                                           double endHeightM, double fraction) {
+    const double span = east >= west ? east - west : east + 360.0 - west;
+    double longitude = west + 0.5 * span;
+    if (longitude > 180.0) longitude -= 360.0;
+    GlobePose pose;
+    pose.where = {0.5 * (south + north), longitude,
+                  std::exp(std::log(20e6) * (1.0 - fraction) + std::log(endHeightM) * fraction)};
+    pose.pitchDeg = fraction < 0.6 ? -90.0 : -90.0 + (fraction - 0.6) / 0.4 * 70.0;
+    return pose;
+}
+
 GlobePose GlobeController::wholeEarth(double latitudeDeg, double longitudeDeg) {
     return {{latitudeDeg, longitudeDeg, 20e6}, 0.0, -90.0};
 }

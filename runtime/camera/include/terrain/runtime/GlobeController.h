@@ -48,6 +48,12 @@ public:
     /// The whole Earth from 20,000 km, over a latitude and longitude.
     static GlobePose wholeEarth(double latitudeDeg, double longitudeDeg);
 
+    /// The default flight from orbit to the data at `fraction` of it (0 … 1): straight down on
+    /// the centre of [west, south, east, north] from 20,000 km, the height falling
+    /// exponentially to `endHeightM`, tilting from −90° to −20° over the last 40 %.
+    static GlobePose flightFromOrbit(double west, double south, double east, double north,
+                                     double endHeightM, double fraction);
+
     const GlobeControllerOptions& options() const { return m_options; }
 
 private:

@@ -1,0 +1,274 @@
+#include "GlobeBench.h"
+
+#include "GlInfoJson.h"
+#include "terrain/base/AtomicFile.h"
+#include "terrain/gl/Framebuffer.h"
+#include "terrain/gl/HeadlessGlContext.h"
+#include "terrain/io/DemReader.h"
+#include "terrain/io/GlobeSourceSurface.h"
+#include "terrain/runtime/GlobeController.h"
+#include "terrain/runtime/GlobeScreenSpaceError.h"
+#include "terrain/runtime/GlobeSession.h"
+#include "terrain/runtime/LatencyHistogram.h"
+
+#include <epoxy/gl.h>
+#include <fmt/core.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <numbers>
+
+namespace terrain::tools {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+namespace fs = std::filesystem;
+constexpr double kDegree = std::numbers::pi / 180.0;
+
+int fail(const std::string& message) {
+    fmt::print(stderr, "terrain-bench: {}\n", message);
+    return 1;
+}
+
+struct Frame {
+    runtime::TerrainDrawStats drawn;
+    runtime::GlobeLodStats lod;
+    double lodUs = 0.0;
+};
+
+// One settled frame of `session` for `camera`, drawn with or without skirts; its depth.
+Frame drawFrame(runtime::GlobeSession& session, gl::Framebuffer& framebuffer,
+                const runtime::Camera& camera, double errorPx, bool skirts,
+                std::vector<float>& depth) {
+    Frame frame;
+    session.settle(camera, std::chrono::seconds(60));
+    frame.lod = session.beginFrame(camera);
+    frame.lodUs = session.lodUpdateUs();
+    framebuffer.clear({0.02f, 0.03f, 0.08f, 1.0f}, 0.0f);
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
+    glViewport(0, 0, camera.viewportWidth, camera.viewportHeight);
+    runtime::TerrainStyle style;
+    style.errorPx = errorPx;
+    style.skirts = skirts;
+    style.measure = skirts;
+    frame.drawn = session.draw(camera, style);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    runtime::FrameTelemetry ignored;
+    session.endFrame(ignored);
+    depth = framebuffer.readDepth();
+    return frame;
+}
+
+struct FlightResult {
+    nlohmann::json json;
+};
+
+}  // namespace
+
+int runGlobeBench(const GlobeBenchOptions& o) {
+    const auto start = Clock::now();
+    if (o.sources.empty())
+        return fail(o.pyramid +
+                    ": a globe pyramid is measured against the DEMs it was built from: "
+                    "give them with --source");
+    std::vector<std::unique_ptr<io::DemReader>> readers;
+    std::vector<io::DemReader*> pointers;
+    for (const std::string& source : o.sources) {
+        auto opened = io::openDem({source}, o.sourceOptions);
+        if (!opened) return fail(opened.error().message);
+        pointers.push_back(opened.value().get());
+        readers.push_back(std::move(opened).value());
+    }
+    auto manifest = io::readManifest(o.pyramid);
+    if (!manifest) return fail(manifest.error().message);
+    auto surface = io::GlobeSourceSurface::read(pointers, std::uint64_t{8} << 30,
+                                                manifest.value().layout.patchQuads());
+    if (!surface) return fail(surface.error().message);
+    auto context = gl::HeadlessGlContext::create();
+    if (!context) return fail(context.error().message);
+    auto framebuffer = gl::Framebuffer::create(o.widthPx, o.heightPx, "globe bench");
+    if (!framebuffer) return fail(framebuffer.error().message);
+    const io::ManifestGlobe& g = *manifest.value().globe;
+    const double endHeight = std::max(manifest.value().statistics.maxHeight, 0.0) + 1500.0;
+    runtime::Camera camera;
+    camera.viewportWidth = o.widthPx;
+    camera.viewportHeight = o.heightPx;
+    camera.fovY = 50.0 * kDegree;
+
+    nlohmann::json runs = nlohmann::json::array();
+    const double comparisonPx =
+        std::find(o.thresholdsPx.begin(), o.thresholdsPx.end(), 2.0) != o.thresholdsPx.end()
+            ? 2.0
+            : o.thresholdsPx.front();
+    std::vector<std::pair<double, bool>> plan;
+    for (const double t : o.thresholdsPx) plan.push_back({t, true});
+    plan.push_back({comparisonPx, false});
+    for (const auto& [errorPx, horizonCulling] : plan) {
+        runtime::GlobeSessionOptions options;
+        o.budgets.applyTo(options.streaming);
+        options.lod.errorPx = errorPx;
+        options.lod.horizonCulling = horizonCulling;
+        auto opened = runtime::GlobeSession::open(o.pyramid, options);
+        if (!opened) return fail(opened.error().message);
+        runtime::GlobeSession& session = *opened.value();
+        runtime::LatencyHistogram lodUs;
+        double errorMax = 0.0, errorP99Max = 0.0, trianglesSum = 0.0, patchesSum = 0.0;
+        std::uint64_t trianglesMax = 0, patchesMax = 0, framesOver = 0, culled = 0, visited = 0;
+        nlohmann::json frames = nlohmann::json::array();
+        std::vector<float> depth, depthNoSkirts;
+        for (int f = 0; f < o.frames; ++f) {
+            const double fraction = o.frames > 1 ? double(f) / double(o.frames - 1) : 1.0;
+            runtime::placeOnGlobe(
+                camera, runtime::GlobeController::flightFromOrbit(g.west, g.south, g.east, g.north,
+                                                                  endHeight, fraction));
+            const Frame frame =
+                drawFrame(session, framebuffer.value(), camera, errorPx, true, depth);
+            drawFrame(session, framebuffer.value(), camera, errorPx, false, depthNoSkirts);
+            const runtime::ScreenSpaceErrorStats error = runtime::measureGlobeScreenSpaceError(
+                camera, depth, depthNoSkirts, surface.value(), errorPx);
+            errorMax = std::max(errorMax, error.maxPx);
+            errorP99Max = std::max(errorP99Max, error.p99Px);
+            framesOver += error.maxPx > errorPx + o.tolerancePx ? 1 : 0;
+            trianglesSum += double(frame.drawn.triangles);
+            trianglesMax = std::max(trianglesMax, frame.drawn.triangles);
+            patchesSum += double(frame.lod.drawn);
+            patchesMax = std::max<std::uint64_t>(patchesMax, frame.lod.drawn);
+            culled += frame.lod.horizonCulled;
+            visited += frame.lod.visited;
+            lodUs.add(frame.lodUs / 1000.0);
+            frames.push_back({{"frame", f},
+                              {"altitude_m", runtime::globePoseOf(camera).where.height},
+                              {"triangles", frame.drawn.triangles},
+                              {"patches", frame.lod.drawn},
+                              {"horizon_culled", frame.lod.horizonCulled},
+                              {"lod_us", frame.lodUs},
+                              {"error_max_px", error.maxPx},
+                              {"error_p99_px", error.p99Px},
+                              {"pixels_measured", error.pixels}});
+        }
+        // Time to full detail after arriving: the last pose, a fresh session, no settling.
+        auto fresh = runtime::GlobeSession::open(o.pyramid, options);
+        if (!fresh) return fail(fresh.error().message);
+        const auto arrived = Clock::now();
+        std::uint64_t arrivalFrames = 0;
+        bool settled = false;
+        while (!settled && std::chrono::duration<double>(Clock::now() - arrived).count() < 120.0) {
+            const runtime::GlobeLodStats& lod = fresh.value()->beginFrame(camera);
+            framebuffer.value().clear({0.0f, 0.0f, 0.0f, 1.0f}, 0.0f);
+            glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.value().id());
+            runtime::TerrainStyle style;
+            style.errorPx = errorPx;
+            fresh.value()->draw(camera, style);
+            glBindFramebuffer(GL_FRAMEBUFFER, 0);
+            runtime::FrameTelemetry ignored;
+            fresh.value()->endFrame(ignored);
+            ++arrivalFrames;
+            settled = lod.waitingSplits == 0 && fresh.value()->streamer().loadsOutstanding() == 0;
+        }
+        const double arrivalS = std::chrono::duration<double>(Clock::now() - arrived).count();
+        const auto n = static_cast<double>(std::max(o.frames, 1));
+        runs.push_back({{"threshold_px", errorPx},
+                        {"horizon_culling", horizonCulling},
+                        {"frames", o.frames},
+                        {"error_max_px", errorMax},
+                        {"error_p99_max_px", errorP99Max},
+                        {"frames_over_threshold", framesOver},
+                        {"triangles_mean", trianglesSum / n},
+                        {"triangles_max", trianglesMax},
+                        {"patches_mean", patchesSum / n},
+                        {"patches_max", patchesMax},
+                        {"horizon_culled_fraction_of_visited",
+                         visited > 0 ? double(culled) / double(visited) : 0.0},
+                        {"lod_us_p50", lodUs.percentile(50.0) * 1000.0},
+                        {"lod_us_max", lodUs.max() * 1000.0},
+                        {"full_detail_after_arrival",
+                         settled ? nlohmann::json{{"frames", arrivalFrames}, {"seconds", arrivalS}}
+                                 : nlohmann::json()},
+                        {"per_frame", frames}});
+        fmt::print(
+            stderr,
+            "terrain-bench: globe, ε = {} px, horizon culling {}: measured error max {:.3f} px, "
+            "{} of {} frames over ε + {} px, triangles mean {:.0f}, patches max {}, "
+            "horizon-culled {:.1f} % of visited, full detail {} frames after arriving\n",
+            errorPx, horizonCulling ? "on" : "off", errorMax, framesOver, o.frames, o.tolerancePx,
+            trianglesSum / n, patchesMax,
+            100.0 * (visited > 0 ? double(culled) / double(visited) : 0.0), arrivalFrames);
+    }
+
+    // The same view straight down from 10 km at a pole, on the equator, over a cube edge and
+    // over a cube corner (where the data reaches: a regional pyramid draws bare ellipsoid
+    // elsewhere).
+    nlohmann::json sameView = nlohmann::json::array();
+    {
+        runtime::GlobeSessionOptions options;
+        o.budgets.applyTo(options.streaming);
+        options.lod.errorPx = comparisonPx;
+        auto opened = runtime::GlobeSession::open(o.pyramid, options);
+        if (!opened) return fail(opened.error().message);
+        for (const auto& [name, lat, lon] :
+             {std::tuple{"north pole", 90.0, 0.0}, std::tuple{"south pole", -90.0, 0.0},
+              std::tuple{"equator", 0.0, 0.0}, std::tuple{"cube edge", 0.0, 45.0},
+              std::tuple{"cube corner", 35.26439, 45.0}}) {
+            runtime::placeOnGlobe(camera, {{lat, lon, 10e3}, 0.0, -90.0});
+            std::vector<float> ignored;
+            const Frame frame = drawFrame(*opened.value(), framebuffer.value(), camera,
+                                          comparisonPx, true, ignored);
+            sameView.push_back(
+                {{"place", name},
+                 {"patches", frame.lod.drawn},
+                 {"data_patches", frame.lod.drawn - frame.lod.drawnBare - frame.lod.drawnVirtual}});
+        }
+    }
+
+    // Samples stored against a longitude/latitude grid of the same equatorial spacing: the
+    // finest face grid's spacing along the equator at a face centre is π/2 / (2^L·(N−1))
+    // radians, where a lon/lat grid needs 2π/that × π/that samples (8 faces' worth, not 6).
+    std::uint64_t storedSamples = 0;
+    const auto tile = static_cast<std::uint64_t>(manifest.value().layout.patchSamples());
+    for (const io::ManifestLevel& level : manifest.value().levels)
+        storedSamples += static_cast<std::uint64_t>(level.presentPatches) * tile * tile;
+    const double faceSamples =
+        std::ldexp(double(manifest.value().layout.patchQuads()), g.faceFinestLevel);
+    const nlohmann::json storage{
+        {"stored_samples_all_levels", storedSamples},
+        {"finest_level_samples_whole_globe", 6.0 * faceSamples * faceSamples},
+        {"lon_lat_grid_same_equatorial_spacing", 8.0 * faceSamples * faceSamples},
+        {"whole_globe_ratio", 6.0 / 8.0}};
+
+    const nlohmann::json out{
+        {"tool", "terrain-bench"},
+        {"pyramid", o.pyramid},
+        {"tiling", "globe"},
+        {"sources", o.sources},
+        {"width_px", o.widthPx},
+        {"height_px", o.heightPx},
+        {"flight", "20,000 km straight down to 1.5 km above the data's highest point"},
+        {"runs", runs},
+        {"same_view_straight_down_10km", sameView},
+        {"storage", storage},
+        {"command", o.commandLine},
+        {"total_seconds", std::chrono::duration<double>(Clock::now() - start).count()},
+        {"gl", glInfoJson(*context.value())}};
+    std::error_code ec;
+    fs::create_directories(o.outputDir, ec);
+    const fs::path file = fs::path(o.outputDir) / "globe-bench.json";
+    if (Status written = writeAtomically(
+            file,
+            [&](const fs::path& temporary) -> Status {
+                std::ofstream stream(temporary);
+                stream << out.dump(2) << "\n";
+                return stream ? Status{} : Status{Error{file.string() + ": cannot write"}};
+            });
+        !written)
+        return fail(written.error().message);
+    if (o.json) std::puts(out.dump(2).c_str());
+    return 0;
+}
+
+}  // namespace terrain::tools

@@ -1,0 +1,36 @@
+// GlobeBench: terrain-bench on a globe pyramid (docs/globe.md, "Figures"): the flight from
+// orbit (20,000 km) down to the data at each threshold, every settled frame measured against
+// the sources' full-resolution surface (GlobeScreenSpaceError), triangles, patches, LOD time
+// and the horizon-culled share per frame; the same flight without horizon culling for
+// comparison; the time to full detail after arriving; the patches the same view needs at a
+// pole, on the equator and over a cube corner; and the samples the pyramid stores against a
+// longitude/latitude grid of the same equatorial spacing. Writes globe-bench.json.
+#pragma once
+
+#include "StreamingBudgetFlags.h"
+#include "terrain/io/DemReader.h"
+
+#include <string>
+#include <vector>
+
+namespace terrain::tools {
+
+struct GlobeBenchOptions {
+    std::string pyramid;
+    std::vector<std::string> sources;  ///< the DEMs it was built from (the truth)
+    io::DemOpenOptions sourceOptions;  ///< how to read them (terrain-build's flags)
+    std::vector<double> thresholdsPx;
+    int frames = 48;
+    int widthPx = 640;
+    int heightPx = 360;
+    std::string outputDir;
+    double tolerancePx = 0.05;
+    StreamingBudgets budgets;
+    bool json = false;
+    std::string commandLine;
+};
+
+/// Runs the globe benchmark; the exit status.
+int runGlobeBench(const GlobeBenchOptions& options);
+
+}  // namespace terrain::tools
