@@ -65,9 +65,15 @@ Frame drawFrame(runtime::GlobeSession& session, gl::Framebuffer& framebuffer,
     return frame;
 }
 
-struct FlightResult {
-    nlohmann::json json;
-};
+// Where a frame's worst measured error is: latitude, longitude, drawn and reference heights.
+nlohmann::json worstJson(const runtime::ScreenSpaceErrorStats& error) {
+    if (error.worstX < 0) return nullptr;
+    const globe::Geodetic at = globe::Wgs84::toGeodetic(error.worstWorld);
+    return {{"latitude", at.latitudeDeg},
+            {"longitude", at.longitudeDeg},
+            {"drawn_m", at.height},
+            {"reference_m", error.worstReferenceM}};
+}
 
 }  // namespace
 
@@ -150,7 +156,8 @@ int runGlobeBench(const GlobeBenchOptions& o) {
                               {"lod_us", frame.lodUs},
                               {"error_max_px", error.maxPx},
                               {"error_p99_px", error.p99Px},
-                              {"pixels_measured", error.pixels}});
+                              {"pixels_measured", error.pixels},
+                              {"worst", worstJson(error)}});
         }
         // Time to full detail after arriving: the last pose, a fresh session, no settling.
         auto fresh = runtime::GlobeSession::open(o.pyramid, options);

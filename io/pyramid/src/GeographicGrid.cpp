@@ -2,6 +2,7 @@
 
 #include "terrain/globe/Wgs84.h"
 #include "terrain/io/NoDataFill.h"
+#include "terrain/io/PatchErrors.h"
 
 #include <fmt/format.h>
 
@@ -139,21 +140,25 @@ GeographicGrid::Resampled GeographicGrid::at(double latitudeDeg, double longitud
     out.inside = inside;
     out.valid = inside;
     out.covered = true;
-    double sum = 0.0;
+    // On the source's own triangles (each cell split along its north-west – south-east
+    // diagonal), not bilinear: between its pixel centres the DEM is the mesh the reference
+    // measures against, and a bilinear patch departs from it by a quarter of the cell's twist
+    // (hundreds of metres in a 37 km cell of a global grid).
     const std::int64_t rowIndex[2] = {rows.first, rows.second};
-    const double rowWeight[2] = {1.0 - rows.weight, rows.weight};
     const std::int64_t columnIndex[2] = {columns.first, columns.second};
-    const double columnWeight[2] = {1.0 - columns.weight, columns.weight};
+    double corner[2][2] = {};
     for (int r = 0; r < 2; ++r) {
         for (int c = 0; c < 2; ++c) {
-            const double w = rowWeight[r] * columnWeight[c];
-            if (w == 0.0) continue;
             const std::size_t i = index(columnIndex[c], rowIndex[r]);
-            sum += w * double(m_heights[i]);
-            out.valid = out.valid && m_valid[i] != 0;
+            corner[r][c] = double(m_heights[i]);
+            const double w = (r == 0 ? 1.0 - rows.weight : rows.weight) *
+                             (c == 0 ? 1.0 - columns.weight : columns.weight);
+            if (w > 0.0) out.valid = out.valid && m_valid[i] != 0;
         }
     }
-    out.height = static_cast<float>(sum);
+    out.height = static_cast<float>(cellSurfaceHeights(corner[0][0], corner[0][1], corner[1][0],
+                                                       corner[1][1], columns.weight, rows.weight)
+                                        .first);
     return out;
 }
 
@@ -187,6 +192,10 @@ std::optional<GeographicGrid::Cell> GeographicGrid::cellAt(double latitudeDeg,
         u = col1 > col0 ? col - double(col0) : 0.0;
     }
     Cell cell;
+    cell.latitude[0] = latitudeOf(row0);
+    cell.latitude[1] = latitudeOf(row1);
+    cell.longitude[0] = longitudeOf(col0);
+    cell.longitude[1] = longitudeOf(col1);
     cell.a = m_heights[index(col0, row0)];
     cell.b = m_heights[index(col1, row0)];
     cell.c = m_heights[index(col0, row1)];
@@ -194,6 +203,23 @@ std::optional<GeographicGrid::Cell> GeographicGrid::cellAt(double latitudeDeg,
     cell.u = std::clamp(u, 0.0, 1.0);
     cell.v = row1 > row0 ? std::clamp(row - double(row0), 0.0, 1.0) : 0.0;
     return cell;
+}
+
+double GeographicGrid::featherAt(double latitudeDeg, double longitudeDeg) const {
+    // Distance inside the extent, in pixels, to the nearest edge that is an edge: a pole is a
+    // point of a grid reaching it, and a grid wrapping the globe has no east or west edge.
+    const double y = m_north - latitudeDeg;
+    double inside = std::numeric_limits<double>::infinity();
+    if (m_north < 90.0 - 1e-6) inside = std::min(inside, y / m_pixelLat);
+    if (southDeg() > -90.0 + 1e-6)
+        inside = std::min(inside, (double(m_height) * m_pixelLat - y) / m_pixelLat);
+    if (!m_wraps) {
+        double x = std::fmod(longitudeDeg - m_west, 360.0);
+        if (x < 0.0) x += 360.0;
+        inside = std::min(inside, std::min(x, double(m_width) * m_pixelLon - x) / m_pixelLon);
+    }
+    const double t = std::clamp(inside / kFeatherPixels, 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
 }
 
 double GeographicGrid::finestSpacingMetres() const {

@@ -35,7 +35,15 @@ public:
     struct Cell {
         double a = 0.0, b = 0.0, c = 0.0, d = 0.0;
         double u = 0.0, v = 0.0;
+        double latitude[2] = {0.0, 0.0};   ///< of the cell's rows (north, south)
+        double longitude[2] = {0.0, 0.0};  ///< of its columns (west, east)
     };
+    /// Pixels over which a source is feathered into a coarser one at its extent's edge.
+    static constexpr double kFeatherPixels = 24.0;
+    /// The weight of this source at a point against a coarser one under it: 0 at the edge of
+    /// its extent, rising by smoothstep to 1 kFeatherPixels pixels inside (a grid that wraps
+    /// the globe has no east or west edge).
+    double featherAt(double latitudeDeg, double longitudeDeg) const;
     std::optional<Cell> cellAt(double latitudeDeg, double longitudeDeg) const;
 
     std::int64_t width() const { return m_width; }

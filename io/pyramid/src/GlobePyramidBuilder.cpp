@@ -265,7 +265,7 @@ private:
                     const glm::dvec3 normal =
                         globe::Wgs84::normalAt(latitude, grid.longitudeOf(col));
                     const auto [alongAD, alongBC] = surface->drawnHeights(normal);
-                    const double h = grid.heightAt(col, row);
+                    const double h = m_sources.shownHeightOfSample(k, col, row);
                     double& patchWorst = worst[key];
                     patchWorst =
                         std::max({patchWorst, std::abs(h - alongAD), std::abs(h - alongBC)});

@@ -61,7 +61,7 @@ Result<SourceCheckReport> checkGlobeErrorBoundsAgainstSources(
             const double latitude = grid.latitudeOf(row);
             for (std::int64_t col = 0; col < grid.width(); ++col) {
                 if (!composite.wins(k, col, row)) continue;
-                const double h = grid.heightAt(col, row);
+                const double h = composite.shownHeightOfSample(k, col, row);
                 const glm::dvec3 normal = globe::Wgs84::normalAt(latitude, grid.longitudeOf(col));
                 const globe::FacePoint p = globe::facePointOf(normal);
                 for (int level = 0; level < faceLevels; ++level) {

@@ -47,17 +47,26 @@ GlobeSources::Shown GlobeSources::shownAt(double latitudeDeg, double longitudeDe
         inside = inside || (value.inside && source.finestFaceLevel >= level);
         if (value.valid) {
             // A void falls through to this source only if it is of comparable resolution.
-            const bool fills =
-                rank != 1 || source.grid.finestSpacingMetres() <= kVoidFillRatio * voidSpacing;
-            if (rank > 0 && fills) {
-                shown = {static_cast<int>(k), value};
+            const bool fills = rank > 1 || (rank == 1 && source.grid.finestSpacingMetres() <=
+                                                             kVoidFillRatio * voidSpacing);
+            if (fills) {
+                shown = {static_cast<int>(k), value,
+                         source.grid.featherAt(latitudeDeg, longitudeDeg)};
                 rank = 0;
+            } else if (rank <= 1 && !shown.blended && shown.feather < 1.0) {
+                // The next coarser valid source under the shown one (valid or a filled void of
+                // it): the feather at the shown one's edge.
+                shown.value.height = static_cast<float>(
+                    double(value.height) +
+                    shown.feather * (double(shown.value.height) - double(value.height)));
+                shown.blended = true;
             }
             continue;
         }
         const int candidate = value.inside ? 1 : value.covered ? 2 : 3;
         if (candidate < rank) {
-            shown = {static_cast<int>(k), value};
+            shown = {static_cast<int>(k), value,
+                     candidate == 1 ? source.grid.featherAt(latitudeDeg, longitudeDeg) : 1.0};
             rank = candidate;
             if (candidate == 1) voidSpacing = source.grid.finestSpacingMetres();
         }
@@ -75,10 +84,22 @@ std::optional<std::pair<double, double>> GlobeSources::surfaceHeightsAt(double l
                                                                         double longitudeDeg) const {
     const Shown shown = shownAt(latitudeDeg, longitudeDeg, 0);
     if (shown.source < 0) return std::nullopt;
-    const auto cell =
-        m_sources[static_cast<std::size_t>(shown.source)].grid.cellAt(latitudeDeg, longitudeDeg);
+    const GeographicGrid& grid = m_sources[static_cast<std::size_t>(shown.source)].grid;
+    const auto cell = grid.cellAt(latitudeDeg, longitudeDeg);
     if (!cell) return std::nullopt;
-    return cellSurfaceHeights(cell->a, cell->b, cell->c, cell->d, cell->u, cell->v);
+    if (!shown.blended)
+        return cellSurfaceHeights(cell->a, cell->b, cell->c, cell->d, cell->u, cell->v);
+    // In a feathered border the mesh's corners are the composite's values there.
+    const auto composite = [&](int dx, int dy) {
+        return double(shownAt(cell->latitude[dy], cell->longitude[dx], 0).value.height);
+    };
+    return cellSurfaceHeights(composite(0, 0), composite(1, 0), composite(0, 1), composite(1, 1),
+                              cell->u, cell->v);
+}
+
+double GlobeSources::shownHeightOfSample(std::size_t k, std::int64_t col, std::int64_t row) const {
+    const GeographicGrid& grid = m_sources[k].grid;
+    return shownAt(grid.latitudeOf(row), grid.longitudeOf(col), 0).value.height;
 }
 
 bool GlobeSources::wins(std::size_t k, std::int64_t col, std::int64_t row) const {

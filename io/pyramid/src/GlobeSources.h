@@ -5,6 +5,10 @@
 // grid lies 2 km under SRTM's summit voids on Mount Rainier); there the fine source's own
 // row-linear fill holds, which is what a delta-surface fill (Grohman et al. 2006) comes to
 // when the filler is that much coarser than the void. Sources are held finest first (by their
+// Where a finer source ends over a coarser one it is feathered into it over its last
+// GeographicGrid::kFeatherPixels pixels (smoothstep), so the two meet without a step (a 90 m
+// tile and a 37 km grid disagree by hundreds of metres at the tile's edge); the builder, the
+// source check and the truth all use this composite.
 // finest sample spacing); each knows its finest face level, the level down to which it makes
 // patches exist.
 #pragma once
@@ -53,6 +57,10 @@ public:
     std::optional<std::pair<double, double>> surfaceHeightsAt(double latitudeDeg,
                                                               double longitudeDeg) const;
 
+    /// The composite's height at sample (col, row) of source `k`: the sample itself, or within
+    /// the feather at its source's edge, blended with the next coarser source.
+    double shownHeightOfSample(std::size_t k, std::int64_t col, std::int64_t row) const;
+
     /// Whether sample (col, row) of source `k` is the one the composite shows at its place.
     bool wins(std::size_t k, std::int64_t col, std::int64_t row) const;
 
@@ -63,6 +71,8 @@ private:
     struct Shown {
         int source = -1;  ///< the source whose value shows, or −1
         GeographicGrid::Resampled value;
+        double feather = 1.0;  ///< the shown source's weight against the next coarser valid one
+        bool blended = false;  ///< value is feathered into a coarser source's
     };
     Shown shownAt(double latitudeDeg, double longitudeDeg, int level) const;
 

@@ -261,13 +261,13 @@ TEST(GlobePyramid, WholeEarthWithRepeatedSeamColumnAcrossCubeEdges) {
 TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
     TempFolder temp;
     GeographicFunctionDem coarse(-180.0, 90.0, 180, 90, 2.0, 2.0, hills);
-    // 1° × 0.5° at 0.01°, 50 m above the coarse surface, with a void the coarse one fills.
-    GeographicFunctionDem fine(20.0, 40.5, 100, 50, 0.01, 0.01, [](double lat, double lon) {
-        if (std::abs(lat - 40.25) < 0.03 && std::abs(lon - 20.5) < 0.03) return std::nanf("");
+    // 2° × 1° at 0.01°, 50 m above the coarse surface, with a void at (40.0, 21.0).
+    GeographicFunctionDem fine(20.0, 40.5, 200, 100, 0.01, 0.01, [](double lat, double lon) {
+        if (std::abs(lat - 40.0) < 0.03 && std::abs(lon - 21.0) < 0.03) return std::nanf("");
         return hills(lat, lon) + 50.0f;
     });
-    // 0.02° over the void, 20 m above the coarse surface: comparable, so it fills the void.
-    GeographicFunctionDem medium(20.2, 40.4, 20, 15, 0.02, 0.02,
+    // 0.02° around the void, 20 m above the coarse surface: comparable, so it fills the void.
+    GeographicFunctionDem medium(20.2, 40.6, 80, 60, 0.02, 0.02,
                                  [](double lat, double lon) { return hills(lat, lon) + 20.0f; });
     DemReader* const sources[] = {&coarse, &fine, &medium};
     const std::filesystem::path out = temp.path() / "composite.pyramid";
@@ -277,17 +277,17 @@ TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
     const Built composite{out, built.value()};
     // The finest level holds the fine source's neighbourhood only.
     EXPECT_GT(m.globe->faceFinestLevel, 6);
-    EXPECT_LT(m.levels.back().presentPatches, 200);
+    EXPECT_LT(m.levels.back().presentPatches, 600);
     EXPECT_NEAR(m.globe->west, 20.0, 1e-9);  // "go to the data" goes to the finest source
-    EXPECT_EQ(m.statistics.validSamples, 180 * 90 + 100 * 50 - 6 * 6 + 20 * 15);
+    EXPECT_EQ(m.statistics.validSamples, 180 * 90 + 200 * 100 - 6 * 6 + 80 * 60);
     auto report = checkErrorBoundsAgainstSources(out, sources);
     ASSERT_TRUE(report) << report.error().message;
     EXPECT_EQ(report.value().violationCount, 0);
     EXPECT_GT(report.value().samplesChecked, 100 * 50 * m.globe->faceFinestLevel);
     expectConsistentPatches(composite);
 
-    // What a patch stores: the fine source inside it (50 m above the coarse surface), the
-    // coarse source in its void and beyond it.
+    // What a patch stores: the fine source inside it, the medium one in its void, and at its
+    // edge the coarse one: feathered in, no step.
     auto reader = PyramidReader::open(out);
     ASSERT_TRUE(reader);
     const auto storedAt = [&](double lat, double lon, int level) {
@@ -302,11 +302,23 @@ TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
                                         record.value().heights);
         return surface.drawnHeights(normal).first;
     };
+    // The 2° grid between its pixel centres (odd degrees), on its cells' NW–SE diagonal.
+    const auto coarseAt = [](double lat, double lon) {
+        const double y = (89.0 - lat) / 2.0, x = (lon + 179.0) / 2.0;
+        const double y0 = std::floor(y), x0 = std::floor(x), v = y - y0, u = x - x0;
+        const auto h = [](double row, double col) {
+            return double(hills(89.0 - 2.0 * row, -179.0 + 2.0 * col));
+        };
+        const double a = h(y0, x0), b = h(y0, x0 + 1), c = h(y0 + 1, x0), d = h(y0 + 1, x0 + 1);
+        return u >= v ? a + u * (b - a) + v * (d - b) : a + v * (c - a) + u * (d - c);
+    };
     const int finest = m.globe->faceFinestLevel;
-    EXPECT_NEAR(storedAt(40.11, 20.73, finest), hills(40.11, 20.73) + 50.0, 3.0);
+    EXPECT_NEAR(storedAt(40.2, 20.8, finest), hills(40.2, 20.8) + 50.0, 3.0);
     // In the void, the medium source (the 2° grid is 200 times too coarse to fill it).
-    EXPECT_NEAR(storedAt(40.25, 20.5, finest), hills(40.25, 20.5) + 20.0, 25.0);
-    EXPECT_GT(std::abs(storedAt(40.25, 20.5, finest) - (hills(40.25, 20.5) + 50.0)), 5.0);
+    EXPECT_NEAR(storedAt(40.0, 21.0, finest), hills(40.0, 21.0) + 20.0, 25.0);
+    // At the fine source's north edge, beyond the medium one, the coarse surface: no step.
+    EXPECT_NEAR(storedAt(40.4999, 21.9, finest), coarseAt(40.4999, 21.9), 3.0);
+    EXPECT_NEAR(storedAt(40.5001, 21.9, finest), coarseAt(40.5001, 21.9), 3.0);
 }
 
 TEST(GlobePyramid, RefusesSourcesThatAreNotGeographic) {
