@@ -25,8 +25,9 @@ public:
         bool valid = false;    ///< inside, and every sample it interpolates is valid
         bool covered = false;  ///< inside, or within the one pixel its edge pixels extend to
     };
-    /// Bilinear between the four pixel centres around the point, clamped to the edge pixels
-    /// up to one pixel beyond the extent; across the antimeridian when the grid spans 360°.
+    /// On the triangles between the pixel centres around the point (each cell split along its
+    /// north-west – south-east diagonal), clamped to the edge pixels up to one pixel beyond the
+    /// extent; across the antimeridian when the grid spans 360°.
     Resampled at(double latitudeDeg, double longitudeDeg) const;
 
     /// The cell of pixel centres around a point inside (or within a pixel of) the extent:

@@ -3,14 +3,16 @@
 // face grids (terrain::globe) at every level, down to the finest level whose grid is as fine
 // as the source where it lies. Only patches that touch the source exist (plus the six face
 // roots, so the LOD always has somewhere to start); elsewhere the runtime draws the bare
-// ellipsoid. Err(P) is measured, not modelled: for every valid source sample, the distance
-// along its ellipsoid normal to the patch's drawn triangles, both diagonals
-// (GlobePatchSurface), maxed with the children's so it never grows with depth.
+// ellipsoid. Err(P) is measured, not modelled: for every source sample the composite shows,
+// the distance along its ellipsoid normal from its composite height to the patch's drawn
+// triangles, both diagonals (GlobePatchSurface), maxed with the children's so it never grows
+// with depth.
 //
-// Several sources composite into one pyramid by osgEarth's rule: where they overlap the
-// finest valid sample wins and no-data falls through to coarser sources; each source makes
-// patches exist down to its own finest level, so a 90 m tile over a 37 km global grid adds
-// deep levels only where it lies. Err(P) then holds every sample the composite shows.
+// Several sources composite into one pyramid (GlobeSources.h): where they overlap the finest
+// valid sample wins, no-data falls through to coarser sources of comparable resolution, and a
+// source is feathered into the one under it at its edge; each source makes patches exist down
+// to its own finest level, so a 90 m tile over a 37 km global grid adds deep levels only
+// where it lies.
 //
 // Not yet: sources bigger than memory (each is read whole; the build refuses what exceeds
 // the memory budget).
