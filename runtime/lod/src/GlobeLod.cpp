@@ -134,7 +134,7 @@ void GlobeLod::visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePa
         rho > 0.0 ? m_gamma * errorM / rho : std::numeric_limits<double>::infinity();
     if (screenError > m_options.errorPx && node.id.level < m_options.maxBareLevel) {
         std::array<Node, 4> children;
-        bool ready = true;
+        bool ready = true, failed = false;
         for (int c = 0; c < 4; ++c) {
             Node& child = children[static_cast<std::size_t>(c)];
             child.id = {node.id.face, node.id.level + 1, 2 * node.id.x + (c & 1),
@@ -153,17 +153,19 @@ void GlobeLod::visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePa
             }
             const io::PatchId layoutId = io::layoutPatchOf(child.id);
             // A child that failed to load is never split into: this patch keeps drawing its
-            // area (streaming counts the failure), as in the planar LOD.
-            child.info = m_residency.hasFailed(layoutId)
-                             ? nullptr
-                             : m_residency.acquire(layoutId, static_cast<float>(screenError));
+            // area (streaming counts the failure), as in the planar LOD, and nothing waits.
+            if (m_residency.hasFailed(layoutId)) {
+                failed = true;
+                continue;
+            }
+            child.info = m_residency.acquire(layoutId, static_cast<float>(screenError));
             ready = ready && child.info != nullptr;
         }
-        if (ready) {
+        if (ready && !failed) {
             for (const Node& child : children) visit(child, stats, out);
             return;
         }
-        ++stats.waitingSplits;
+        if (!failed) ++stats.waitingSplits;
     }
     out.push_back(drawOf(node));
     ++stats.drawn;

@@ -213,5 +213,37 @@ TEST(GlobeLod, HorizonCullingRemovesMostOfTheGlobeFromAnObliqueLowOrbitView) {
     EXPECT_LT(culled.drawn, all.drawn);
 }
 
+// A child whose tile failed to load is never split into: its parent keeps drawing the area,
+// and the LOD does not count it as waiting (so a settle does not wait for it forever).
+TEST(GlobeLod, AFailedChildKeepsItsParentDrawingAndNothingWaits) {
+    const io::PyramidManifest m = globeManifest();
+    const auto infoOf = [](const io::PatchId& layoutId) {
+        io::PatchInfo info;
+        info.present = true;
+        info.error = 500.0f;
+        info.approxError = 500.0f;
+        info.maxHeight = 500.0f;
+        info.presentChildren = io::globePatchOf(layoutId).level < kFaceLevels ? 0b1111 : 0;
+        return info;
+    };
+    FakeTileResidencyOptions options;
+    options.framesToArrive = 0;
+    options.capacity = 1 << 16;
+    // Every level-3 patch fails.
+    options.fails = [](const io::PatchId& id) { return io::globePatchOf(id).level == 3; };
+    FakeTileResidency residency(m.layout, infoOf, options);
+    GlobeLod lod(m, residency);
+    std::vector<GlobePatchDraw> draws;
+    GlobeLodStats stats;
+    for (int frame = 0; frame < 8; ++frame) {
+        residency.beginFrame();
+        stats = lod.select(cameraAt(10.0, 20.0, 2000.0, -30.0), draws);
+        residency.endFrame();
+    }
+    EXPECT_EQ(stats.waitingSplits, 0u);
+    EXPECT_GT(stats.drawn, 0u);
+    for (const GlobePatchDraw& d : draws) EXPECT_LE(d.id.level, 2) << "drawn under a failed tile";
+}
+
 }  // namespace
 }  // namespace terrain::runtime
