@@ -15,17 +15,6 @@
 #include <cmath>
 
 namespace terrain::runtime {
-namespace {
-
-int fixedSimplification(int factor, int blockQuads) {
-    if (factor <= 0) return -1;
-    const auto clamped = static_cast<unsigned>(std::clamp(factor, 1, blockQuads));
-    return std::min(std::countr_zero(static_cast<unsigned>(blockQuads)) -
-                        std::countr_zero(std::bit_floor(clamped)),
-                    4);
-}
-
-}  // namespace
 
 Result<GlobeRenderer> GlobeRenderer::create(const io::PyramidManifest& manifest, int maxInstances) {
     TERRAIN_ASSERT(maxInstances >= 1);
@@ -74,17 +63,7 @@ void GlobeRenderer::setUniforms(const Camera& camera, const TerrainStyle& style)
     m_program.setUniform("u_fixedSimplification",
                          fixedSimplification(style.fixedTessFactor, m_blockQuads));
     m_program.setUniform("u_cullBlocks", style.cullBlocks ? 1 : 0);
-    const Frustum frustum = camera.frustum();
-    std::array<float, 4 * 5> planes{};
-    for (std::size_t i = 0; i < frustum.planes.size(); ++i) {
-        const glm::dvec4& p = frustum.planes[i];
-        const double w = p.w + glm::dot(glm::dvec3(p), camera.position);  // relative, in double
-        planes[4 * i + 0] = static_cast<float>(p.x);
-        planes[4 * i + 1] = static_cast<float>(p.y);
-        planes[4 * i + 2] = static_cast<float>(p.z);
-        planes[4 * i + 3] = static_cast<float>(w);
-    }
-    m_program.setUniformVec4Array("u_frustumPlanes", planes);
+    setRelativeFrustumUniform(m_program, camera);
     // The sun high over the camera's shoulder, so the place flown over is lit wherever it is.
     const glm::dvec3 up = globe::Wgs84::upAt(camera.position);
     const glm::dvec3 sun = glm::normalize(2.0 * up + camera.right() - 0.5 * camera.forward());

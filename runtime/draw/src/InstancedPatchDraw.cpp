@@ -4,9 +4,38 @@
 #include "terrain/gl/PolygonModeScope.h"
 #include "terrain/gl/ReversedZScope.h"
 
+#include "terrain/io/PatchErrors.h"
+
 #include <epoxy/gl.h>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <array>
+#include <bit>
 
 namespace terrain::runtime {
+
+int fixedSimplification(int factor, int blockQuads) {
+    if (factor <= 0) return -1;
+    const auto clamped = static_cast<unsigned>(std::clamp(factor, 1, blockQuads));
+    const int d = std::countr_zero(static_cast<unsigned>(blockQuads)) -
+                  std::countr_zero(std::bit_floor(clamped));
+    return std::min(d, io::kMaxSimplification);
+}
+
+void setRelativeFrustumUniform(gl::Program& program, const Camera& camera) {
+    const Frustum frustum = camera.frustum();
+    std::array<float, 4 * 5> planes{};
+    for (std::size_t i = 0; i < frustum.planes.size(); ++i) {
+        const glm::dvec4& p = frustum.planes[i];
+        const double w = p.w + glm::dot(glm::dvec3(p), camera.position);
+        planes[4 * i + 0] = static_cast<float>(p.x);
+        planes[4 * i + 1] = static_cast<float>(p.y);
+        planes[4 * i + 2] = static_cast<float>(p.z);
+        planes[4 * i + 3] = static_cast<float>(w);
+    }
+    program.setUniformVec4Array("u_frustumPlanes", planes);
+}
 
 TerrainDrawStats issueInstancedPatchDraw(const cache::GpuTilePool& pool,
                                          const InstancedPatchDraw& draw) {

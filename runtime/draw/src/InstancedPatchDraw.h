@@ -9,6 +9,7 @@
 #include "terrain/gl/Program.h"
 #include "terrain/gl/Query.h"
 #include "terrain/gl/VertexArray.h"
+#include "terrain/runtime/Camera.h"
 #include "terrain/runtime/TerrainRenderer.h"
 
 namespace terrain::runtime {
@@ -25,6 +26,15 @@ struct InstancedPatchDraw {
     gl::Query* primitivesQuery = nullptr;
     gl::Query* timeQuery = nullptr;
 };
+
+/// The simplification d of a fixed factor: the factor rounded down to a power of two in
+/// [max(1, blockQuads >> 4), blockQuads] is blockQuads >> d, with d ≤ 4 so the block
+/// errors λ(d) still bound the skirts' drop. −1 (error-driven) for factor ≤ 0.
+int fixedSimplification(int factor, int blockQuads);
+
+/// Sets u_frustumPlanes: the camera's frustum relative to the camera, in double before the
+/// cast (the world planes' offsets are planet-sized, the relative ones are not).
+void setRelativeFrustumUniform(gl::Program& program, const Camera& camera);
 
 TerrainDrawStats issueInstancedPatchDraw(const cache::GpuTilePool& pool,
                                          const InstancedPatchDraw& draw);

@@ -17,20 +17,6 @@
 #include <cmath>
 
 namespace terrain::runtime {
-namespace {
-
-/// The simplification d of a fixed factor: the factor rounded down to a power of two in
-/// [max(1, blockQuads >> 4), blockQuads] is blockQuads >> d, with d ≤ 4 so the block
-/// errors λ(d) still bound the skirts' drop. −1 (error-driven) for factor ≤ 0.
-int fixedSimplification(int factor, int blockQuads) {
-    if (factor <= 0) return -1;
-    const auto clamped = static_cast<unsigned>(std::clamp(factor, 1, blockQuads));
-    const int d = std::countr_zero(static_cast<unsigned>(blockQuads)) -
-                  std::countr_zero(std::bit_floor(clamped));
-    return std::min(d, io::kMaxSimplification);
-}
-
-}  // namespace
 
 Result<TerrainRenderer> TerrainRenderer::create(const io::PyramidLayout& layout, int maxInstances,
                                                 const TerrainRendererOptions& options) {
@@ -117,19 +103,7 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
     m_program.setUniform("u_fixedSimplification",
                          fixedSimplification(style.fixedTessFactor, m_blockQuads));
     m_program.setUniform("u_cullBlocks", style.cullBlocks ? 1 : 0);
-    // The frustum relative to the camera, in double before the cast: the world planes'
-    // offsets are planet-sized, the relative ones are not.
-    const Frustum frustum = camera.frustum();
-    std::array<float, 4 * 5> planes{};
-    for (std::size_t i = 0; i < frustum.planes.size(); ++i) {
-        const glm::dvec4& p = frustum.planes[i];
-        const double w = p.w + glm::dot(glm::dvec3(p), camera.position);
-        planes[4 * i + 0] = static_cast<float>(p.x);
-        planes[4 * i + 1] = static_cast<float>(p.y);
-        planes[4 * i + 2] = static_cast<float>(p.z);
-        planes[4 * i + 3] = static_cast<float>(w);
-    }
-    m_program.setUniformVec4Array("u_frustumPlanes", planes);
+    setRelativeFrustumUniform(m_program, camera);
     setShadingUniforms(m_program, geometry, style.skyColor, style.fogDensityPerM);
     m_program.setUniform("u_debugView", static_cast<int>(style.debugView));
 }
