@@ -9,14 +9,13 @@ namespace terrain::io {
 
 namespace {
 constexpr int kOffset = ManifestGlobe::kLevelOffset;
-constexpr int kMaxFaceLevel = 30;  // 6 · 2^30 · 128 samples stays under kMaxRasterSamples
 }  // namespace
 
 Result<PyramidLayout> globeLayout(int faceFinestLevel, int patchSamples, int blockQuads,
                                   int shardPatches) {
-    if (faceFinestLevel < 0 || faceFinestLevel > kMaxFaceLevel)
-        return Error{
-            fmt::format("globe face level {} is outside 0 … {}", faceFinestLevel, kMaxFaceLevel)};
+    if (faceFinestLevel < 0 || faceFinestLevel > kMaxGlobeFaceLevel)
+        return Error{fmt::format("globe face level {} is outside 0 … {}", faceFinestLevel,
+                                 kMaxGlobeFaceLevel)};
     const std::int64_t faceSamples =
         (std::int64_t{1} << faceFinestLevel) * std::int64_t{patchSamples - 1};
     Result<PyramidLayout> layout =

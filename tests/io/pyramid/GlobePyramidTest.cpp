@@ -5,6 +5,7 @@
 // level (checked again from the files), shared edges are bit-identical across patches and
 // cube edges, children masks match the patches on disk, and only patches near data exist.
 #include "terrain/globe/Wgs84.h"
+#include "terrain/io/GlobeGroundHeight.h"
 #include "terrain/io/GlobeLayout.h"
 #include "terrain/io/GlobePatchSurface.h"
 #include "terrain/io/GlobePyramidBuilder.h"
@@ -319,6 +320,56 @@ TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
     // At the fine source's north edge, beyond the medium one, the coarse surface: no step.
     EXPECT_NEAR(storedAt(40.4999, 21.9, finest), coarseAt(40.4999, 21.9), 3.0);
     EXPECT_NEAR(storedAt(40.5001, 21.9, finest), coarseAt(40.5001, 21.9), 3.0);
+
+    // The ground a camera is placed over: the finest patch there, the higher diagonal.
+    auto query = GlobeGroundQuery::open(out);
+    ASSERT_TRUE(query) << query.error().message;
+    const auto ground = [&](double lat, double lon) {
+        auto g = query.value().at(lat, lon);
+        EXPECT_TRUE(g) << g.error().message;
+        return g ? g.value() : GlobeGround{};
+    };
+    const GlobeGround inFine = ground(40.2, 20.8);
+    EXPECT_EQ(inFine.faceLevel, finest);
+    EXPECT_NEAR(inFine.heightM, storedAt(40.2, 20.8, finest), 0.5);  // the finest sag is small
+    EXPECT_NEAR(inFine.heightM, hills(40.2, 20.8) + 50.0, 3.0);
+    // Far from the fine source: the coarse grid's own level, its surface.
+    const GlobeGround inCoarse = ground(-30.0, 100.0);
+    EXPECT_GE(inCoarse.faceLevel, 0);
+    EXPECT_LT(inCoarse.faceLevel, finest - 3);
+    {
+        // Within that patch's Err(P) of the coarse grid's own surface (the face grid resamples
+        // it), and in the tile's height range.
+        const globe::FacePoint p = globe::facePointOf(globe::Wgs84::normalAt(-30.0, 100.0));
+        const std::int64_t n = globe::patchesPerFaceSide(inCoarse.faceLevel);
+        const GlobePatchId id{p.face, inCoarse.faceLevel,
+                              static_cast<std::int64_t>(p.s * double(n)),
+                              static_cast<std::int64_t>(p.t * double(n))};
+        auto info = reader.value().patchInfo(layoutPatchOf(id));
+        ASSERT_TRUE(info) << info.error().message;
+        EXPECT_LE(std::abs(inCoarse.heightM - coarseAt(-30.0, 100.0)), info.value().error + 0.01);
+        EXPECT_GE(inCoarse.heightM, info.value().minHeight);
+        EXPECT_LE(inCoarse.heightM, info.value().maxHeight);
+    }
+}
+
+TEST(GlobeGroundHeight, BareEllipsoidWhereThereIsNoData) {
+    TempFolder temp;
+    GeographicFunctionDem source(10.0, 60.25, 100, 50, 0.005, 0.005, hills);
+    const Built built = build(source, temp, "regional");
+    auto query = GlobeGroundQuery::open(built.folder);
+    ASSERT_TRUE(query) << query.error().message;
+    auto far = query.value().at(-45.0, -120.0);
+    ASSERT_TRUE(far) << far.error().message;
+    EXPECT_EQ(far.value().faceLevel, -1);
+    EXPECT_EQ(far.value().heightM, 0.0);  // not the coarse face root's sag (km here)
+    auto inside = query.value().at(60.1, 10.3);
+    ASSERT_TRUE(inside) << inside.error().message;
+    EXPECT_EQ(inside.value().faceLevel, built.summary.manifest.globe->faceFinestLevel);
+    EXPECT_NEAR(inside.value().heightM, hills(60.1, 10.3), 5.0);
+    // The same patch again comes from the one it kept; a neighbouring place too.
+    EXPECT_EQ(query.value().at(60.1, 10.3).value().heightM, inside.value().heightM);
+    EXPECT_NEAR(query.value().at(60.1001, 10.3).value().heightM, hills(60.1001, 10.3), 5.0);
 }
 
 TEST(GlobePyramid, RefusesSourcesThatAreNotGeographic) {

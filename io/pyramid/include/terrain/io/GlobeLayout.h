@@ -11,6 +11,10 @@
 
 namespace terrain::io {
 
+/// The finest face level a globe pyramid may have: a level-28 patch of 128 quads has samples
+/// 0.3 mm apart, and the runtime's patch keys hold 28 levels.
+inline constexpr int kMaxGlobeFaceLevel = 28;
+
 /// The layout of a globe pyramid with face levels 0 … faceFinestLevel.
 Result<PyramidLayout> globeLayout(int faceFinestLevel,
                                   int patchSamples = PyramidLayout::kDefaultPatchSamples,
