@@ -2,8 +2,9 @@
 
 #include "KeyBindings.h"
 #include "Screenshot.h"
-#include "terrain/globe/CubeSphere.h"
+#include "terrain/globe/Wgs84.h"
 #include "terrain/io/PyramidManifest.h"
+#include "terrain/runtime/GlobeDrawnGround.h"
 #include "terrain/runtime/ScreenProjection.h"
 
 #include <GLFW/glfw3.h>
@@ -98,17 +99,7 @@ std::optional<globe::Geodetic> GlobeViewer::groundUnderPixel(double xPx, double 
 }
 
 double GlobeViewer::floorUnderCamera() const {
-    // The highest sample of the drawn patch under the camera: at or above the ground there.
-    const globe::FacePoint nadir = globe::facePointOf(globe::Wgs84::upAt(m_camera.position));
-    double floor = 0.0;
-    for (const runtime::GlobePatchDraw& draw : m_session->draws()) {
-        if (draw.id.face != nadir.face) continue;
-        const double n = static_cast<double>(globe::patchesPerFaceSide(draw.id.level));
-        const double u = nadir.s * n - double(draw.id.x), v = nadir.t * n - double(draw.id.y);
-        if (u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0)
-            floor = std::max(floor, double(draw.maxHeight));
-    }
-    return floor;
+    return runtime::drawnGroundCeiling(m_session->draws(), m_camera.position);
 }
 
 void GlobeViewer::drawOverlay(const runtime::FrameTelemetry& t) {

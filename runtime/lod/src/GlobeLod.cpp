@@ -18,6 +18,11 @@ std::uint64_t boundsKey(const globe::GlobePatchId& id) {
            (std::uint64_t(id.y) << 28) | std::uint64_t(id.x);
 }
 
+// A patch's share of GlobeLodStats::coverage (levels ≤ io::kMaxGlobeFaceLevel).
+std::uint64_t coverageOf(int level) {
+    return std::uint64_t{1} << (2 * (GlobeLodStats::kCoverageLevels - level));
+}
+
 bool outsideFrustum(const Frustum& frustum, const globe::OrientedBox& box) {
     for (const glm::dvec4& plane : frustum.planes) {
         const glm::dvec3 n(plane);
@@ -40,6 +45,8 @@ GlobeLod::GlobeLod(const io::PyramidManifest& manifest, TileResidency& residency
       m_occluderShrink(std::max(0.0, -manifest.statistics.minHeight) + 1.0),
       m_occluder(m_occluderShrink) {
     TERRAIN_ASSERT(manifest.globe.has_value(), "GlobeLod needs a globe pyramid");
+    TERRAIN_ASSERT(manifest.globe->faceFinestLevel <= io::kMaxGlobeFaceLevel,
+                   "readManifest refuses deeper globe pyramids");
 }
 
 double GlobeLod::bareError(int level) const {
@@ -118,10 +125,12 @@ void GlobeLod::visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePa
     const globe::OrientedBox& box = boundsOf(node.id, minHeight, maxHeight);
     if (m_options.frustumCulling && outsideFrustum(m_frustum, box)) {
         ++stats.frustumCulled;
+        stats.coverage += coverageOf(node.id.level);
         return;
     }
     if (m_options.horizonCulling && m_occluder.isHidden(box)) {
         ++stats.horizonCulled;
+        stats.coverage += coverageOf(node.id.level);
         return;
     }
     // A camera inside the box of a patch with finer data splits it (ρ = 0); the curvature
@@ -132,7 +141,8 @@ void GlobeLod::visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePa
                                  : std::max(globe::distanceToBox(m_camera, box), 1.0);
     const double screenError =
         rho > 0.0 ? m_gamma * errorM / rho : std::numeric_limits<double>::infinity();
-    if (screenError > m_options.errorPx && node.id.level < m_options.maxBareLevel) {
+    if (screenError > m_options.errorPx &&
+        node.id.level < std::min(m_options.maxBareLevel, io::kMaxGlobeFaceLevel)) {
         std::array<Node, 4> children;
         bool ready = true, failed = false;
         for (int c = 0; c < 4; ++c) {
@@ -169,6 +179,7 @@ void GlobeLod::visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePa
     }
     out.push_back(drawOf(node));
     ++stats.drawn;
+    stats.coverage += coverageOf(node.id.level);
     stats.drawnBare += node.info == nullptr ? 1 : 0;
     stats.drawnVirtual += node.isVirtual ? 1 : 0;
     stats.deepestLevel = std::max(stats.deepestLevel, node.id.level);

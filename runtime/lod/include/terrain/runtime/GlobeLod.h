@@ -68,6 +68,11 @@ struct GlobeLodStats {
     std::uint64_t visited = 0;
     std::uint64_t waitingSplits = 0;  ///< drawn although too coarse: children not resident
     int deepestLevel = 0;
+    /// The area the drawn and culled patches cover, a patch of level l counting 4^(30 − l):
+    /// kWholeGlobeCoverage exactly when they tile the six faces with no hole and no overlap.
+    std::uint64_t coverage = 0;
+    static constexpr int kCoverageLevels = 30;
+    static constexpr std::uint64_t kWholeGlobeCoverage = std::uint64_t{6} << (2 * kCoverageLevels);
 };
 
 /// Render thread only.
