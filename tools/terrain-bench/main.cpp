@@ -430,6 +430,7 @@ int main(int argc, char** argv) {
         tools::GlobeBenchOptions globe;
         globe.pyramid = o.pyramid;
         globe.sources = o.sources;
+        globe.pathFile = o.pathFile;
         globe.sourceOptions = o.sourceFlags.options();
         globe.thresholdsPx = o.thresholdsPx;
         globe.frames = o.frames;

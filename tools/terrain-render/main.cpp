@@ -7,6 +7,7 @@
 #include "FrameSizeFlags.h"
 #include "GlImagePng.h"
 #include "GlInfoJson.h"
+#include "GlobeFlight.h"
 #include "StreamingBudgetFlags.h"
 
 #include "terrain/gl/Framebuffer.h"
@@ -14,7 +15,7 @@
 #include "terrain/io/PyramidManifest.h"
 #include "terrain/runtime/CameraPath.h"
 #include "terrain/runtime/GlobeCamera.h"
-#include "terrain/runtime/GlobeController.h"
+#include "terrain/runtime/GlobeCameraPath.h"
 #include "terrain/runtime/GlobeSession.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
@@ -84,21 +85,21 @@ nlohmann::json statsJson(const runtime::LatencyHistogram& h, double scale = 1.0)
             {"mean", value(h.mean())}};
 }
 
-// A fixed pose where --lat, --lon or --altitude is given (the data's centre for the others),
-// else the default flight from orbit down to 1.5 km above the data's highest point.
-runtime::GlobePose globePoseAt(const RenderOptions& o, const io::PyramidManifest& m,
-                               double fraction) {
-    const io::ManifestGlobe& g = *m.globe;
-    const double end = std::max(m.statistics.maxHeight, 0.0) + 1500.0;
-    runtime::GlobePose pose =
-        runtime::GlobeController::flightFromOrbit(g.west, g.south, g.east, g.north, end, fraction);
-    if (o.latitudeDeg || o.longitudeDeg || o.heightM) {
-        pose.where = {o.latitudeDeg.value_or(pose.where.latitudeDeg),
-                      o.longitudeDeg.value_or(pose.where.longitudeDeg), o.heightM.value_or(20e6)};
-        pose.headingDeg = o.headingDeg;
-        pose.pitchDeg = o.pitchDeg;
-    }
-    return pose;
+// The globe flight: a fixed pose where --lat, --lon or --altitude is given (the data's centre
+// for the others), else --path or the default flight from orbit to 1 m above the ground.
+Result<runtime::GlobeCameraPath> globePath(const RenderOptions& o) {
+    const double durationS = o.durationS > 0.0 ? o.durationS : 20.0;
+    if (!(o.latitudeDeg || o.longitudeDeg || o.heightM))
+        return tools::globeFlight(o.pyramid, o.pathFile, durationS);
+    auto target = tools::globeFlightTarget(o.pyramid);
+    if (!target) return target.error();
+    return runtime::GlobeCameraPath::fromKeyframes(
+        {{0.0,
+          {{o.latitudeDeg.value_or(target.value().latitudeDeg),
+            o.longitudeDeg.value_or(target.value().longitudeDeg), o.heightM.value_or(20e6)},
+           o.headingDeg,
+           o.pitchDeg},
+          runtime::GlobeCameraPath::kDefaultFovYDegrees}});
 }
 
 int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time_point start) {
@@ -109,7 +110,6 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
     auto opened = runtime::GlobeSession::open(o.pyramid, sessionOptions);
     if (!opened) return fail(opened.error().message);
     runtime::GlobeSession& session = *opened.value();
-    const io::PyramidManifest& manifest = session.manifest();
     std::error_code ec;
     std::filesystem::create_directories(o.outputDir, ec);
     if (ec) return fail(fmt::format("{}: cannot create the folder: {}", o.outputDir, ec.message()));
@@ -126,10 +126,15 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
     style.debugView = o.look.debugViewValue();
     style.skyColor = {0.02f, 0.03f, 0.08f};  // space
     const std::array<float, 4> sky{style.skyColor[0], style.skyColor[1], style.skyColor[2], 1.0f};
+    auto path = globePath(o);
+    if (!path) return fail(path.error().message);
+    if (!o.savePath.empty()) {
+        if (auto saved = path.value().save(o.savePath); !saved) return fail(saved.error().message);
+    }
     runtime::Camera camera;
     camera.viewportWidth = o.widthPx;
     camera.viewportHeight = o.heightPx;
-    const double durationS = o.durationS > 0.0 ? o.durationS : 20.0;
+    const double durationS = path.value().durationS();
     const std::uint64_t frames =
         o.frames > 0 ? o.frames : static_cast<std::uint64_t>(std::floor(durationS * o.fps)) + 1;
     const std::set<std::uint64_t> chosen(o.frameList.begin(), o.frameList.end());
@@ -141,7 +146,7 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
     auto previous = loopStart;
     for (std::uint64_t frame = 0; frame < frames; ++frame) {
         const double fraction = frames > 1 ? double(frame) / double(frames - 1) : 0.0;
-        runtime::placeOnGlobe(camera, globePoseAt(o, manifest, fraction));
+        path.value().apply(path.value().startS() + fraction * durationS, camera);
         if (o.settle && !session.settle(camera, std::chrono::seconds(60)))
             return fail(fmt::format("frame {}: streaming did not settle within 60 s", frame));
         const runtime::GlobeLodStats& lod = session.beginFrame(camera);
@@ -213,10 +218,16 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
     }
     session.streamer().drain(std::chrono::seconds(10));
     if (o.json) {
+        const runtime::GlobePose endPose = runtime::globePoseOf(camera);
         const nlohmann::json out{
             {"tool", "terrain-render"},
             {"pyramid", o.pyramid},
             {"tiling", "globe"},
+            {"path_duration_s", durationS},
+            {"end_pose",
+             {{"latitude_deg", endPose.where.latitudeDeg},
+              {"longitude_deg", endPose.where.longitudeDeg},
+              {"height_m", endPose.where.height}}},
             {"last_frame_patches_by_level", byLevel},
             {"full_detail_after_arrival", arrival},
             {"frames", frames},
@@ -407,8 +418,11 @@ int main(int argc, char** argv) {
         "(docs/telemetry.md) and, with --json, a summary."};
     RenderOptions o;
     app.add_option("pyramid", o.pyramid, "Pyramid folder (terrain-build's output)")->required();
-    app.add_option("--path", o.pathFile,
-                   "Camera path JSON (docs/camera-path.md); default: a path made for the pyramid");
+    app.add_option(
+        "--path", o.pathFile,
+        "Camera path JSON (docs/camera-path.md; a globe camera path for a globe pyramid); "
+        "default: a path made for the pyramid (on a globe, from orbit to 1 m above "
+        "the ground at the data)");
     app.add_option("--save-path", o.savePath, "Write the camera path used to this file");
     app.add_option("--duration-s", o.durationS, "Length of the default path, seconds (20)");
     app.add_option("-o,--output", o.outputDir, "Folder for frames and telemetry.csv")

@@ -2,7 +2,8 @@
 // docs/camera-path.md and the default flight over a pyramid.
 #include "terrain/runtime/CameraPath.h"
 
-#include "terrain/base/AtomicFile.h"
+#include "PathJson.h"
+#include "PathSpline.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
@@ -10,23 +11,23 @@
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <limits>
 #include <numbers>
 #include <span>
-#include <sstream>
 #include <string>
 #include <string_view>
-#include <system_error>
 #include <utility>
 
 namespace terrain::runtime {
 namespace {
 
-using Json = nlohmann::ordered_json;
+using path_json::FileProblem;
+using path_json::Json;
+using path_json::numberAt;
+using path_json::rejectUnknownKeys;
+using path_spline::catmullRomTangent;
+using path_spline::hermite;
 
 constexpr std::string_view kFormatName = "terrain-camera-path";
 constexpr int kFormatVersion = 1;
@@ -100,71 +101,7 @@ std::optional<std::string> problemWith(const std::vector<CameraKeyframe>& keyfra
     return std::nullopt;
 }
 
-double magnitude(double v) { return std::abs(v); }
-double magnitude(const glm::dvec3& v) { return glm::length(v); }
-
-// Catmull–Rom tangent at keyframe i of a run of keyframes; hasPrevious and hasNext say
-// whether i − 1 and i + 1 belong to the run. The run's end points are duplicated one
-// segment beyond the end, as a uniform Catmull–Rom spline duplicates them: the end
-// tangent is half the end chord's slope.
-//
-// The tangent is then shortened, where needed, to 3× the slower of the two neighbouring
-// chord speeds. That keeps each segment inside Fritsch & Carlson's (1980) monotonicity
-// region along its own chord: after a short step the camera never swings back before a
-// long one, and two keyframes at the same place are a true hold. Tangents stay one per
-// keyframe, so the spline stays C1.
-template <typename T>
-T catmullRomTangent(std::span<const T> values, std::span<const double> times, std::size_t i,
-                    bool hasPrevious, bool hasNext) {
-    if (!hasPrevious && !hasNext) return T(0.0);
-    if (!hasPrevious) return (values[i + 1] - values[i]) / (2.0 * (times[i + 1] - times[i]));
-    if (!hasNext) return (values[i] - values[i - 1]) / (2.0 * (times[i] - times[i - 1]));
-    const T tangent = (values[i + 1] - values[i - 1]) / (times[i + 1] - times[i - 1]);
-    const double limit =
-        3.0 * std::min(magnitude(values[i] - values[i - 1]) / (times[i] - times[i - 1]),
-                       magnitude(values[i + 1] - values[i]) / (times[i + 1] - times[i]));
-    const double length = magnitude(tangent);
-    return length > limit ? tangent * (limit / length) : tangent;
-}
-
-// Cubic Hermite basis on a segment of length dt at s ∈ [0, 1]. Exact at s = 0 and s = 1,
-// so the path passes through its keyframes bit for bit.
-template <typename T>
-T hermite(const T& p0, const T& m0, const T& p1, const T& m1, double dt, double s) {
-    const double s2 = s * s;
-    const double s3 = s2 * s;
-    const double h00 = 2.0 * s3 - 3.0 * s2 + 1.0;
-    const double h10 = s3 - 2.0 * s2 + s;
-    const double h01 = -2.0 * s3 + 3.0 * s2;
-    const double h11 = s3 - s2;
-    return h00 * p0 + (h10 * dt) * m0 + h01 * p1 + (h11 * dt) * m1;
-}
-
 // ---- JSON reading: a problem is thrown as text and prefixed with the path at the top. --
-
-struct FileProblem {
-    std::string message;
-};
-
-template <std::size_t N>
-void rejectUnknownKeys(const Json& object, const std::array<std::string_view, N>& known,
-                       const std::string& where) {
-    for (const auto& [key, value] : object.items()) {
-        if (std::find(known.begin(), known.end(), key) != known.end()) continue;
-        std::string list;
-        for (std::string_view k : known) list += fmt::format("{}{}", list.empty() ? "" : ", ", k);
-        throw FileProblem{fmt::format("{}unknown key \"{}\" (known keys: {})", where, key, list)};
-    }
-}
-
-double numberAt(const Json& object, std::string_view key, const std::string& where) {
-    const auto it = object.find(key);
-    if (it == object.end())
-        throw FileProblem{fmt::format("{}missing \"{}\" (a number)", where, key)};
-    if (!it->is_number())
-        throw FileProblem{fmt::format("{}\"{}\" must be a number, not {}", where, key, it->dump())};
-    return it->get<double>();
-}
 
 glm::dvec3 vectorAt(const Json& object, std::string_view key, const std::string& where) {
     const auto it = object.find(key);
@@ -207,36 +144,11 @@ CameraKeyframe keyframeFromJson(const Json& j, std::size_t index) {
 }
 
 std::vector<CameraKeyframe> keyframesFromJson(const Json& root) {
-    if (!root.is_object()) throw FileProblem{"not a camera path: the JSON is not an object"};
-    const auto format = root.find("format");
-    if (format == root.end() || !format->is_string() || format->get<std::string>() != kFormatName)
-        throw FileProblem{
-            fmt::format("not a camera path: \"format\" must be \"{}\"{}", kFormatName,
-                        format == root.end() ? " (it is missing)" : ", not " + format->dump())};
-    const auto version = root.find("version");
-    if (version == root.end() || !version->is_number_integer() ||
-        version->get<std::int64_t>() != kFormatVersion)
-        throw FileProblem{fmt::format(
-            "unsupported \"version\" {} (this program reads version {})",
-            version == root.end() ? std::string("(missing)") : version->dump(), kFormatVersion)};
-    rejectUnknownKeys(root, kTopKeys, "");
-    if (const auto description = root.find("description");
-        description != root.end() && !description->is_string())
-        throw FileProblem{"\"description\" must be a string"};
-    if (const auto units = root.find("units"); units != root.end()) {
-        if (!units->is_object()) throw FileProblem{"\"units\" must be an object"};
-        rejectUnknownKeys(*units, kUnitKeys, "units: ");
-        for (const auto& [key, value] : units->items())
-            if (!value.is_string())
-                throw FileProblem{fmt::format("units: \"{}\" must be a string", key)};
-    }
-    const auto list = root.find("keyframes");
-    if (list == root.end()) throw FileProblem{"missing \"keyframes\" (an array of keyframes)"};
-    if (!list->is_array()) throw FileProblem{"\"keyframes\" must be an array"};
+    const Json& list =
+        path_json::checkedKeyframes(root, kFormatName, kFormatVersion, kTopKeys, kUnitKeys);
     std::vector<CameraKeyframe> keyframes;
-    keyframes.reserve(list->size());
-    for (std::size_t i = 0; i < list->size(); ++i)
-        keyframes.push_back(keyframeFromJson((*list)[i], i));
+    keyframes.reserve(list.size());
+    for (std::size_t i = 0; i < list.size(); ++i) keyframes.push_back(keyframeFromJson(list[i], i));
     return keyframes;
 }
 
@@ -337,55 +249,31 @@ Result<CameraPath> CameraPath::fromKeyframes(std::vector<CameraKeyframe> keyfram
 }
 
 Result<CameraPath> CameraPath::load(const std::filesystem::path& path) {
-    const std::string name = path.string();
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) return Error{name + ": no such file"};
-    if (std::filesystem::is_directory(path, ec))
-        return Error{name + ": is a folder, not a camera path file"};
-    std::ifstream in(path, std::ios::binary);
-    if (!in.is_open()) return Error{fmt::format("{}: cannot open: {}", name, std::strerror(errno))};
-    std::ostringstream text;
-    text << in.rdbuf();  // an empty file leaves text empty: a JSON parse error below
-    if (in.bad()) return Error{name + ": cannot read the file"};
-
-    Json root;
-    try {
-        root = Json::parse(text.str());
-    } catch (const Json::exception& e) {
-        return Error{fmt::format("{}: not valid JSON: {}", name, e.what())};
-    }
+    Result<Json> root = path_json::readFile(path);
+    if (!root) return root.error();
     std::vector<CameraKeyframe> keyframes;
     try {
-        keyframes = keyframesFromJson(root);
+        if (root.value().is_object() &&
+            root.value().value("format", "") == "terrain-globe-camera-path")
+            throw FileProblem{
+                "a globe camera path (\"terrain-globe-camera-path\", latitude, longitude and "
+                "height); a planar pyramid flies a \"terrain-camera-path\" in its own metres "
+                "(docs/camera-path.md)"};
+        keyframes = keyframesFromJson(root.value());
     } catch (const FileProblem& problem) {
-        return Error{fmt::format("{}: {}", name, problem.message)};
+        return Error{fmt::format("{}: {}", path.string(), problem.message)};
     }
-    return checked(std::move(keyframes), name);
+    return checked(std::move(keyframes), path.string());
 }
 
 Status CameraPath::save(const std::filesystem::path& path) const {
-    // Written by hand around one compact line per keyframe: a file people edit should
-    // show one keyframe per line, not one number per line as dump(2) would.
     Json units;
     units["position"] = kPositionUnits;
     units["angles"] = kAngleUnits;
     units["time"] = kTimeUnits;
-    std::string text = fmt::format(
-        "{{\n  \"format\": \"{}\",\n  \"version\": {},\n  \"units\": {},\n  \"keyframes\": [\n",
-        kFormatName, kFormatVersion, units.dump());
-    for (std::size_t i = 0; i < m_keyframes.size(); ++i) {
-        text += "    " + keyframeToJson(m_keyframes[i]).dump();
-        text += i + 1 < m_keyframes.size() ? ",\n" : "\n";
-    }
-    text += "  ]\n}\n";
-    const std::string name = path.string();
-    return writeAtomically(path, [&](const std::filesystem::path& temporary) -> Status {
-        std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-        out.write(text.data(), static_cast<std::streamsize>(text.size()));
-        out.close();
-        if (!out) return Error{fmt::format("{}: cannot write: {}", name, std::strerror(errno))};
-        return {};
-    });
+    std::vector<Json> keyframes;
+    for (const CameraKeyframe& k : m_keyframes) keyframes.push_back(keyframeToJson(k));
+    return path_json::writeFile(path, kFormatName, kFormatVersion, units, keyframes);
 }
 
 void CameraPath::apply(double timeS, Camera& camera) const {

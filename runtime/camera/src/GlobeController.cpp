@@ -10,20 +10,6 @@ namespace {
 constexpr double kDegree = std::numbers::pi / 180.0;
 constexpr double kPoleLimitDeg = 89.9999;
 
-// Moves a place `forwardM` along `headingDeg` and `rightM` to its right over the ground
-// (locally flat steps: a frame's motion is small against the planet).
-void moveOverGround(GlobePose& pose, double forwardM, double rightM) {
-    const double heading = pose.headingDeg * kDegree;
-    const double northM = forwardM * std::cos(heading) - rightM * std::sin(heading);
-    const double eastM = forwardM * std::sin(heading) + rightM * std::cos(heading);
-    const double radius = globe::Wgs84::kEquatorialRadius;
-    globe::Geodetic& where = pose.where;
-    where.latitudeDeg =
-        std::clamp(where.latitudeDeg + northM / radius / kDegree, -kPoleLimitDeg, kPoleLimitDeg);
-    where.longitudeDeg += eastM / (radius * std::cos(where.latitudeDeg * kDegree)) / kDegree;
-    where.longitudeDeg = std::remainder(where.longitudeDeg, 360.0);
-}
-
 }  // namespace
 
 void GlobeController::update(GlobePose& pose, const GlobeControlInput& input, double dtS,
@@ -83,16 +69,17 @@ GlobePose GlobeController::overExtent(double west, double south, double east, do
     return pose;
 }
 
-GlobePose GlobeController::flightFromOrbit(double west, double south, double east, double north,
-                                           double endHeightM, double fraction) {
-    const double span = east >= west ? east - west : east + 360.0 - west;
-    double longitude = west + 0.5 * span;
-    if (longitude > 180.0) longitude -= 360.0;
-    GlobePose pose;
-    pose.where = {0.5 * (south + north), longitude,
-                  std::exp(std::log(20e6) * (1.0 - fraction) + std::log(endHeightM) * fraction)};
-    pose.pitchDeg = fraction < 0.6 ? -90.0 : -90.0 + (fraction - 0.6) / 0.4 * 70.0;
-    return pose;
+// Locally flat steps: a frame's motion is small against the planet.
+void GlobeController::moveOverGround(GlobePose& pose, double forwardM, double rightM) {
+    const double heading = pose.headingDeg * kDegree;
+    const double northM = forwardM * std::cos(heading) - rightM * std::sin(heading);
+    const double eastM = forwardM * std::sin(heading) + rightM * std::cos(heading);
+    const double radius = globe::Wgs84::kEquatorialRadius;
+    globe::Geodetic& where = pose.where;
+    where.latitudeDeg =
+        std::clamp(where.latitudeDeg + northM / radius / kDegree, -kPoleLimitDeg, kPoleLimitDeg);
+    where.longitudeDeg += eastM / (radius * std::cos(where.latitudeDeg * kDegree)) / kDegree;
+    where.longitudeDeg = std::remainder(where.longitudeDeg, 360.0);
 }
 
 GlobePose GlobeController::wholeEarth(double latitudeDeg, double longitudeDeg) {

@@ -18,7 +18,7 @@ namespace terrain::runtime {
 ScreenSpaceErrorStats measureGlobeScreenSpaceError(const Camera& camera,
                                                    std::span<const float> lodDepth,
                                                    std::span<const float> lodDepthNoSkirts,
-                                                   const io::GlobeSourceSurface& surface,
+                                                   const GlobeReferenceHeights& referenceHeights,
                                                    double thresholdPx) {
     const int w = camera.viewportWidth, h = camera.viewportHeight;
     const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
@@ -49,8 +49,7 @@ ScreenSpaceErrorStats measureGlobeScreenSpaceError(const Camera& camera,
                 continue;
             }
             const globe::Geodetic drawn = globe::Wgs84::toGeodetic(world);
-            const auto [alongAD, alongBC] =
-                surface.heightsAt(drawn.latitudeDeg, drawn.longitudeDeg);
+            const auto [alongAD, alongBC] = referenceHeights(drawn.latitudeDeg, drawn.longitudeDeg);
             const double nearest =
                 std::clamp(drawn.height, std::min(alongAD, alongBC), std::max(alongAD, alongBC));
             const glm::dvec3 normal = globe::Wgs84::normalAt(drawn.latitudeDeg, drawn.longitudeDeg);

@@ -48,11 +48,9 @@ public:
     /// The whole Earth from 20,000 km, over a latitude and longitude.
     static GlobePose wholeEarth(double latitudeDeg, double longitudeDeg);
 
-    /// The default flight from orbit to the data at `fraction` of it (0 … 1): straight down on
-    /// the centre of [west, south, east, north] from 20,000 km, the height falling
-    /// exponentially to `endHeightM`, tilting from −90° to −20° over the last 40 %.
-    static GlobePose flightFromOrbit(double west, double south, double east, double north,
-                                     double endHeightM, double fraction);
+    /// Moves a pose `forwardM` along its heading and `rightM` to its right over the ground,
+    /// the height kept (a pole is clamped 1e-4° short, so the heading stays defined).
+    static void moveOverGround(GlobePose& pose, double forwardM, double rightM);
 
     const GlobeControllerOptions& options() const { return m_options; }
 

@@ -5,22 +5,47 @@
 // sources (io::GlobeSourceSurface) gives the height of the reference point W_ref on the same
 // normal; both are projected, and their distance in pixels is the pixel's error (the nearer
 // of the source cell's two diagonals, 0 between them).
+//
+// The reference may also be the pyramid's own finest level (io::GlobeGroundQuery): then the
+// figure is the LOD's error alone, what it chose against what the pyramid holds, without the
+// finest level's resampling of the sources (its Err(P), which no LOD can go below and which
+// shows on screen once the camera is close enough to the ground).
 #pragma once
 
 #include "terrain/io/GlobeSourceSurface.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/ScreenSpaceError.h"
 
+#include <functional>
 #include <span>
+#include <utility>
 
 namespace terrain::runtime {
+
+/// A reference surface's heights at a latitude and longitude (degrees) on the two
+/// triangulations of its cell there, metres along the ellipsoid normal.
+using GlobeReferenceHeights = std::function<std::pair<double, double>(double, double)>;
 
 /// `lodDepth`: the frame's depth (reversed Z, rows bottom-up, the camera's viewport);
 /// `lodDepthNoSkirts`: the same frame without skirts (empty: every drawn pixel is surface).
 ScreenSpaceErrorStats measureGlobeScreenSpaceError(const Camera& camera,
                                                    std::span<const float> lodDepth,
                                                    std::span<const float> lodDepthNoSkirts,
-                                                   const io::GlobeSourceSurface& surface,
+                                                   const GlobeReferenceHeights& reference,
                                                    double thresholdPx);
+
+/// Against the sources: the ground truth.
+inline ScreenSpaceErrorStats measureGlobeScreenSpaceError(const Camera& camera,
+                                                          std::span<const float> lodDepth,
+                                                          std::span<const float> lodDepthNoSkirts,
+                                                          const io::GlobeSourceSurface& surface,
+                                                          double thresholdPx) {
+    return measureGlobeScreenSpaceError(
+        camera, lodDepth, lodDepthNoSkirts,
+        [&surface](double latitudeDeg, double longitudeDeg) {
+            return surface.heightsAt(latitudeDeg, longitudeDeg);
+        },
+        thresholdPx);
+}
 
 }  // namespace terrain::runtime

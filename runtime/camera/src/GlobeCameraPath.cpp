@@ -1,0 +1,243 @@
+// GlobeCameraPath: checking, playback on the geodetic channels, the JSON file and the
+// default flight from orbit.
+#include "terrain/runtime/GlobeCameraPath.h"
+
+#include "PathJson.h"
+#include "PathSpline.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <optional>
+#include <string_view>
+#include <utility>
+
+namespace terrain::runtime {
+namespace {
+
+using path_json::FileProblem;
+using path_json::Json;
+
+constexpr std::string_view kFormatName = "terrain-globe-camera-path";
+constexpr int kFormatVersion = 1;
+constexpr double kMaxAbsHeightM = 1e9;
+
+constexpr std::array<std::string_view, 5> kTopKeys = {"format", "version", "description", "units",
+                                                      "keyframes"};
+constexpr std::array<std::string_view, 4> kUnitKeys = {"position", "height", "angles", "time"};
+constexpr std::array<std::string_view, 7> kKeyframeKeys = {
+    "time_s", "latitude_deg", "longitude_deg", "height_m", "heading_deg", "pitch_deg", "fov_y_deg"};
+
+double wrap180(double degrees) { return std::remainder(degrees, 360.0); }
+
+std::optional<std::string> problemWith(const std::vector<GlobeKeyframe>& keyframes) {
+    if (keyframes.empty()) return "\"keyframes\" is empty; a path needs at least one keyframe";
+    for (std::size_t i = 0; i < keyframes.size(); ++i) {
+        const GlobeKeyframe& k = keyframes[i];
+        const GlobePose& p = k.pose;
+        const auto bad = [&](std::string_view key, double value, std::string_view rule) {
+            return fmt::format("keyframes[{}].{} is {}; {}", i, key, value, rule);
+        };
+        if (!std::isfinite(k.timeS)) return bad("time_s", k.timeS, "it must be finite");
+        if (i > 0 && !(k.timeS > keyframes[i - 1].timeS))
+            return fmt::format(
+                "keyframes[{}].time_s is {}, not after keyframes[{}].time_s {}; times must "
+                "increase strictly",
+                i, k.timeS, i - 1, keyframes[i - 1].timeS);
+        if (!(std::abs(p.where.latitudeDeg) <= 90.0))
+            return bad("latitude_deg", p.where.latitudeDeg, "it must lie within -90 … 90");
+        if (!std::isfinite(p.where.longitudeDeg))
+            return bad("longitude_deg", p.where.longitudeDeg, "it must be finite");
+        if (!(std::abs(p.where.height) <= kMaxAbsHeightM))
+            return bad("height_m", p.where.height,
+                       "it must lie within ±1e9 m of the ellipsoid (the Moon is 3.8e8 m away)");
+        if (!std::isfinite(p.headingDeg))
+            return bad("heading_deg", p.headingDeg, "it must be finite");
+        if (!(std::abs(p.pitchDeg) <= 90.0))
+            return bad("pitch_deg", p.pitchDeg, "it must lie within -90 … 90");
+        if (!(k.fovYDegrees > 0.0 && k.fovYDegrees < 180.0))
+            return bad("fov_y_deg", k.fovYDegrees,
+                       "a field of view lies strictly between 0 and 180 degrees");
+    }
+    return std::nullopt;
+}
+
+GlobeKeyframe keyframeFromJson(const Json& j, std::size_t index) {
+    const std::string where = fmt::format("keyframes[{}]: ", index);
+    if (!j.is_object())
+        throw FileProblem{fmt::format("{}a keyframe must be an object, not {}", where, j.dump())};
+    if (j.contains("position_m"))
+        throw FileProblem{
+            fmt::format("{}\"position_m\" is a planar camera path's key; a globe camera path gives "
+                        "\"latitude_deg\", \"longitude_deg\" and \"height_m\"",
+                        where)};
+    path_json::rejectUnknownKeys(j, kKeyframeKeys, where);
+    GlobeKeyframe k;
+    k.timeS = path_json::numberAt(j, "time_s", where);
+    k.pose.where.latitudeDeg = path_json::numberAt(j, "latitude_deg", where);
+    k.pose.where.longitudeDeg = path_json::numberAt(j, "longitude_deg", where);
+    k.pose.where.height = path_json::numberAt(j, "height_m", where);
+    k.pose.headingDeg = path_json::numberAt(j, "heading_deg", where);
+    k.pose.pitchDeg = path_json::numberAt(j, "pitch_deg", where);
+    k.fovYDegrees = path_json::numberAt(j, "fov_y_deg", where);
+    return k;
+}
+
+Json keyframeToJson(const GlobeKeyframe& k) {
+    Json j;
+    j["time_s"] = k.timeS;
+    j["latitude_deg"] = k.pose.where.latitudeDeg;
+    j["longitude_deg"] = k.pose.where.longitudeDeg;
+    j["height_m"] = k.pose.where.height;
+    j["heading_deg"] = k.pose.headingDeg;
+    j["pitch_deg"] = k.pose.pitchDeg;
+    j["fov_y_deg"] = k.fovYDegrees;
+    return j;
+}
+
+}  // namespace
+
+GlobeCameraPath::GlobeCameraPath(std::vector<GlobeKeyframe> keyframes)
+    : m_keyframes(std::move(keyframes)) {
+    const std::size_t n = m_keyframes.size();
+    m_times.resize(n);
+    for (auto& channel : m_values) channel.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const GlobePose& p = m_keyframes[i].pose;
+        m_times[i] = m_keyframes[i].timeS;
+        m_values[kLatitude][i] = p.where.latitudeDeg;
+        m_values[kHeight][i] = std::asinh(p.where.height);
+        m_values[kPitch][i] = p.pitchDeg;
+        // Unwrapped: each within 180° of the one before, so the path goes the short way round
+        // (across the antimeridian) and turns the short way.
+        for (const auto& [channel, value] :
+             {std::pair{kLongitude, p.where.longitudeDeg}, std::pair{kHeading, p.headingDeg}}) {
+            std::vector<double>& v = m_values[channel];
+            v[i] = i == 0 ? wrap180(value) : v[i - 1] + wrap180(value - v[i - 1]);
+        }
+    }
+    for (int c = 0; c < kChannels; ++c) {
+        m_tangents[c].resize(n);
+        for (std::size_t i = 0; i < n; ++i)
+            m_tangents[c][i] =
+                path_spline::catmullRomTangent<double>(m_values[c], m_times, i, i > 0, i + 1 < n);
+    }
+}
+
+Result<GlobeCameraPath> GlobeCameraPath::checked(std::vector<GlobeKeyframe> keyframes,
+                                                 const std::string& sourceName) {
+    if (std::optional<std::string> problem = problemWith(keyframes))
+        return Error{fmt::format("{}: {}", sourceName, *problem)};
+    GlobeCameraPath path(std::move(keyframes));
+    for (int c = 0; c < kChannels; ++c)
+        for (std::size_t i = 0; i < path.m_tangents[c].size(); ++i)
+            if (!std::isfinite(path.m_tangents[c][i]))
+                return Error{fmt::format(
+                    "{}: keyframes[{}]: the speed toward a neighbouring keyframe overflows; the "
+                    "keyframes are too far apart for their times",
+                    sourceName, i)};
+    return path;
+}
+
+Result<GlobeCameraPath> GlobeCameraPath::fromKeyframes(std::vector<GlobeKeyframe> keyframes) {
+    return checked(std::move(keyframes), "globe camera path");
+}
+
+Result<GlobeCameraPath> GlobeCameraPath::load(const std::filesystem::path& path) {
+    Result<Json> root = path_json::readFile(path);
+    if (!root) return root.error();
+    std::vector<GlobeKeyframe> keyframes;
+    try {
+        if (root.value().is_object() && root.value().value("format", "") == "terrain-camera-path")
+            throw FileProblem{
+                "a planar camera path (\"terrain-camera-path\", positions in metres); a globe "
+                "pyramid flies a \"terrain-globe-camera-path\" in latitude, longitude and "
+                "height (docs/camera-path.md, \"Globe camera paths\")"};
+        const Json& list = path_json::checkedKeyframes(root.value(), kFormatName, kFormatVersion,
+                                                       kTopKeys, kUnitKeys);
+        for (std::size_t i = 0; i < list.size(); ++i)
+            keyframes.push_back(keyframeFromJson(list[i], i));
+    } catch (const FileProblem& problem) {
+        return Error{fmt::format("{}: {}", path.string(), problem.message)};
+    }
+    return checked(std::move(keyframes), path.string());
+}
+
+Status GlobeCameraPath::save(const std::filesystem::path& path) const {
+    Json units;
+    units["position"] = "latitude and longitude in degrees on WGS84";
+    units["height"] = "metres above the WGS84 ellipsoid";
+    units["angles"] = "degrees; heading 0 looks north, 90 east; pitch 0 at the horizon, -90 down";
+    units["time"] = "seconds";
+    std::vector<Json> keyframes;
+    for (const GlobeKeyframe& k : m_keyframes) keyframes.push_back(keyframeToJson(k));
+    return path_json::writeFile(path, kFormatName, kFormatVersion, units, keyframes);
+}
+
+GlobeCameraPath GlobeCameraPath::fromOrbit(double latitudeDeg, double longitudeDeg,
+                                           double endHeightM, double durationS) {
+    TERRAIN_ASSERT(std::isfinite(durationS) && durationS > 0.0,
+                   "GlobeCameraPath::fromOrbit needs a positive duration");
+    // Straight down until 60 %, the height linear in asinh (exponential above a few metres)
+    // throughout, then tilting toward the horizon.
+    const double from = std::asinh(kOrbitHeightM), to = std::asinh(endHeightM);
+    const auto keyframe = [&](double fraction, double pitchDeg) {
+        return GlobeKeyframe{
+            .timeS = fraction * durationS,
+            .pose = {{latitudeDeg, longitudeDeg, std::sinh(from + (to - from) * fraction)},
+                     0.0,
+                     pitchDeg},
+            .fovYDegrees = kDefaultFovYDegrees};
+    };
+    auto path = fromKeyframes({keyframe(0.0, -90.0), keyframe(0.6, -90.0), keyframe(1.0, -5.0)});
+    TERRAIN_ASSERT(path.ok(), "GlobeCameraPath::fromOrbit built an invalid path");
+    return std::move(path).value();
+}
+
+GlobeCameraPath::Segment GlobeCameraPath::segmentAt(double timeS) const {
+    const std::size_t n = m_keyframes.size();
+    double t = timeS;
+    if (!(t > startS())) t = startS();  // also catches NaN
+    if (t > endS()) t = endS();
+    Segment segment;
+    if (n > 1) {
+        const auto after = std::upper_bound(m_times.begin(), m_times.end(), t);
+        segment.i = std::min(static_cast<std::size_t>(after - m_times.begin()) - 1, n - 2);
+    }
+    segment.j = std::min(segment.i + 1, n - 1);
+    segment.dt = m_times[segment.j] - m_times[segment.i];
+    segment.s = segment.dt > 0.0 ? (t - m_times[segment.i]) / segment.dt : 0.0;
+    return segment;
+}
+
+GlobePose GlobeCameraPath::poseAt(double timeS) const {
+    const Segment g = segmentAt(timeS);
+    const auto value = [&](int c) {
+        return path_spline::hermite(m_values[c][g.i], m_tangents[c][g.i], m_values[c][g.j],
+                                    m_tangents[c][g.j], g.dt, g.s);
+    };
+    GlobePose pose;
+    pose.where.latitudeDeg = std::clamp(value(kLatitude), -90.0, 90.0);
+    pose.where.longitudeDeg = wrap180(value(kLongitude));
+    pose.where.height = std::sinh(value(kHeight));
+    pose.headingDeg = wrap180(value(kHeading));
+    pose.pitchDeg = std::clamp(value(kPitch), -90.0, 90.0);
+    return pose;
+}
+
+double GlobeCameraPath::fovYDegreesAt(double timeS) const {
+    const Segment g = segmentAt(timeS);
+    const double a = m_keyframes[g.i].fovYDegrees, b = m_keyframes[g.j].fovYDegrees;
+    // Smoothstep: C1 at the keyframes and never outside [a, b].
+    return a + (b - a) * g.s * g.s * (3.0 - 2.0 * g.s);
+}
+
+void GlobeCameraPath::apply(double timeS, Camera& camera) const {
+    placeOnGlobe(camera, poseAt(timeS));
+    camera.fovY = fovYDegreesAt(timeS) * (std::numbers::pi / 180.0);
+}
+
+}  // namespace terrain::runtime
