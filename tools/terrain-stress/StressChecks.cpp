@@ -1,6 +1,8 @@
 // StressChecks: layer and coverage checks over the frame's draw list.
 #include "StressChecks.h"
 
+#include "terrain/io/GlobeLayout.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -12,6 +14,10 @@ namespace {
 
 std::string name(const io::PatchId& id) {
     return fmt::format("L{} ({}, {})", id.level, id.x, id.y);
+}
+
+std::string globeName(const globe::GlobePatchId& id) {
+    return fmt::format("face {} L{} ({}, {})", id.face, id.level, id.x, id.y);
 }
 
 }  // namespace
@@ -40,6 +46,64 @@ std::optional<std::string> StressChecks::afterFrame(const runtime::TileStreamer&
         }
         m_drawnSorted.push_back(d.id);
     }
+    if (auto broken = drawnOnceWithoutOverlap(0)) return broken;
+    const std::uint64_t domain = runtime::finestPatchesCovered(layout, {0, 0, 0});
+    const bool haveRoot = lod.drawn + lod.culled > 0;
+    if (haveRoot && lod.coveredFinestPatches != domain) {
+        return fmt::format("drawn and culled patches cover {} of the {} finest-level patches: {}",
+                           lod.coveredFinestPatches, domain,
+                           lod.coveredFinestPatches < domain ? "a hole" : "an overlap");
+    }
+    if (auto broken = tree.checkInvariants()) return "LOD tree: " + *broken;
+    return streamerChecks(streamer);
+}
+
+std::optional<std::string> StressChecks::afterGlobeFrame(
+    const runtime::TileStreamer& streamer, std::span<const runtime::GlobePatchDraw> drawn,
+    const runtime::GlobeLodStats& lod) {
+    if (auto broken = streamer.checkInvariants()) return broken;
+    const cache::GpuTilePool& pool = streamer.pool();
+    m_drawnSorted.clear();
+    for (const runtime::GlobePatchDraw& d : drawn) {
+        const io::PatchId id = io::layoutPatchOf(d.id);
+        m_drawnSorted.push_back(id);
+        if (d.layer < 0) continue;  // the bare ellipsoid: no tile
+        const io::PatchId tile = io::layoutPatchOf(d.tileId);
+        if (d.layer >= pool.capacity())
+            return fmt::format("patch {} drawn from layer {}, outside the pool", globeName(d.id),
+                               d.layer);
+        const std::optional<io::PatchId> holder = pool.patchOnLayer(d.layer);
+        if (!holder)
+            return fmt::format("patch {} drawn from layer {}, which is free", globeName(d.id),
+                               d.layer);
+        if (!(*holder == tile) || !pool.isResident(tile))
+            return fmt::format("patch {} drawn from layer {} for the tile of {}, which holds {}",
+                               globeName(d.id), d.layer, globeName(d.tileId), name(*holder));
+    }
+    if (auto broken = drawnOnceWithoutOverlap(io::ManifestGlobe::kLevelOffset)) return broken;
+    if (lod.drawn + lod.frustumCulled + lod.horizonCulled > 0 &&
+        lod.coverage != runtime::GlobeLodStats::kWholeGlobeCoverage)
+        return fmt::format(
+            "drawn and culled patches cover {:.12f} of the globe's six faces: {}",
+            double(lod.coverage) / double(runtime::GlobeLodStats::kWholeGlobeCoverage) * 6.0,
+            lod.coverage < runtime::GlobeLodStats::kWholeGlobeCoverage ? "a hole" : "an overlap");
+    return streamerChecks(streamer);
+}
+
+std::optional<std::string> StressChecks::streamerChecks(const runtime::TileStreamer& streamer) {
+    const cache::GpuTilePool& pool = streamer.pool();
+    if (pool.layersUsed() > pool.capacity()) {
+        return fmt::format("{} GPU layers used of {}", pool.layersUsed(), pool.capacity());
+    }
+    const io::IoThreadStats io = streamer.ioStats();
+    if (io.queueDepth > streamer.loadsOutstanding()) {
+        return fmt::format("{} requests queued but the LOD wants only {} loads", io.queueDepth,
+                           streamer.loadsOutstanding());
+    }
+    return std::nullopt;
+}
+
+std::optional<std::string> StressChecks::drawnOnceWithoutOverlap(int topLevel) {
     const auto order = [](const io::PatchId& a, const io::PatchId& b) {
         return std::tie(a.level, a.y, a.x) < std::tie(b.level, b.y, b.x);
     };
@@ -49,30 +113,14 @@ std::optional<std::string> StressChecks::afterFrame(const runtime::TileStreamer&
         return "patch " + name(*twice) + " drawn twice";
     }
     // No drawn patch may lie inside another drawn patch.
-    for (const runtime::PatchDraw& d : drawn) {
-        io::PatchId up = d.id;
-        while (up.level > 0) {
+    for (const io::PatchId& id : m_drawnSorted) {
+        io::PatchId up = id;
+        while (up.level > topLevel) {
             up = {up.level - 1, up.x / 2, up.y / 2};
             if (std::binary_search(m_drawnSorted.begin(), m_drawnSorted.end(), up, order)) {
-                return fmt::format("patches {} and {} overlap: both drawn", name(d.id), name(up));
+                return fmt::format("patches {} and {} overlap: both drawn", name(id), name(up));
             }
         }
-    }
-    const std::uint64_t domain = runtime::finestPatchesCovered(layout, {0, 0, 0});
-    const bool haveRoot = lod.drawn + lod.culled > 0;
-    if (haveRoot && lod.coveredFinestPatches != domain) {
-        return fmt::format("drawn and culled patches cover {} of the {} finest-level patches: {}",
-                           lod.coveredFinestPatches, domain,
-                           lod.coveredFinestPatches < domain ? "a hole" : "an overlap");
-    }
-    if (auto broken = tree.checkInvariants()) return "LOD tree: " + *broken;
-    if (pool.layersUsed() > pool.capacity()) {
-        return fmt::format("{} GPU layers used of {}", pool.layersUsed(), pool.capacity());
-    }
-    const io::IoThreadStats io = streamer.ioStats();
-    if (io.queueDepth > streamer.loadsOutstanding()) {
-        return fmt::format("{} requests queued but the LOD wants only {} loads", io.queueDepth,
-                           streamer.loadsOutstanding());
     }
     return std::nullopt;
 }

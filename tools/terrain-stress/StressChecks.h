@@ -3,6 +3,7 @@
 #pragma once
 
 #include "terrain/io/PatchIdHash.h"
+#include "terrain/runtime/GlobeLod.h"
 #include "terrain/runtime/LodQuadtree.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TileStreamer.h"
@@ -31,12 +32,26 @@ public:
                                           std::span<const runtime::PatchDraw> drawn,
                                           const runtime::LodUpdateStats& lod);
 
+    /// The same after a globe frame (GlobeLod): the streamer's invariants and bounds; every
+    /// patch drawn from a tile drawn from the resident layer of that tile (its own, or its
+    /// ancestor's for a virtual patch); no patch drawn twice or inside another; drawn and
+    /// culled patches tile the six cube faces exactly once.
+    std::optional<std::string> afterGlobeFrame(const runtime::TileStreamer& streamer,
+                                               std::span<const runtime::GlobePatchDraw> drawn,
+                                               const runtime::GlobeLodStats& lod);
+
     /// After TileStreamer::drain(): every request ended exactly once (completed, cancelled
     /// or failed), in the streamer's ledger and the I/O thread's counters, and every
     /// failed patch was reported exactly once.
     static std::optional<std::string> afterDrain(const runtime::TileStreamer& streamer);
 
 private:
+    /// The streamer's own invariants and the budgets' bounds (layers, queue depth).
+    static std::optional<std::string> streamerChecks(const runtime::TileStreamer& streamer);
+    /// No id twice in m_drawnSorted (sorted here) and none inside another, looking up to
+    /// `topLevel`.
+    std::optional<std::string> drawnOnceWithoutOverlap(int topLevel);
+
     std::vector<io::PatchId> m_drawnSorted;  // reused every frame: no allocation once grown
 };
 

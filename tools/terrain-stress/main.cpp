@@ -2,22 +2,20 @@
 // a seeded camera through random teleports, fast low-altitude flight and zoom bursts
 // against small caches, renders every frame headless (EGL) so the GPU tile pool is real,
 // checks the streaming invariants every frame, and prints throughput, latency percentiles
-// and a --json summary. Any violation makes the exit status 1.
+// and a --json summary. Any violation makes the exit status 1. A globe pyramid is flown over
+// the whole planet and checked with the globe LOD's invariants (StressTarget).
 #include "FrameSizeFlags.h"
 #include "GlImagePng.h"
 #include "GlInfoJson.h"
 #include "StreamingBudgetFlags.h"
 #include "StressChecks.h"
-#include "StressFlight.h"
+#include "StressTarget.h"
 
 #include "terrain/base/PeakMemory.h"
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/gl/HeadlessGlContext.h"
-#include "terrain/runtime/GroundHeight.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
-#include "terrain/runtime/TerrainGeometry.h"
-#include "terrain/runtime/TerrainSession.h"
 
 #include <epoxy/gl.h>
 #include <fmt/core.h>
@@ -126,18 +124,21 @@ int run(const StressOptions& o) {
     auto context = gl::HeadlessGlContext::create();
     if (!context) return fail(context.error().message);
 
-    // The runtime's own frame: streaming, the LOD quadtree (which pins what it holds in the
-    // small pool and splits only into resident children), one draw.
-    runtime::TerrainSessionOptions sessionOptions;
-    o.budgets.applyTo(sessionOptions.streaming);
-    sessionOptions.streaming.io.faults = {
+    // The runtime's own frame: streaming, the LOD (which pins what it holds in the small
+    // pool and splits only into resident children), one draw; and the flight over it.
+    tools::StressTargetOptions targetOptions;
+    targetOptions.pyramid = o.pyramid;
+    o.budgets.applyTo(targetOptions.streaming);
+    targetOptions.streaming.io.faults = {
         .errorRate = o.faultRate, .addedLatencyMs = o.latencyMs, .seed = o.seed};
-    sessionOptions.lod.errorPx = o.errorPx;
-    auto opened = runtime::TerrainSession::open(o.pyramid, sessionOptions);
+    targetOptions.errorPx = o.errorPx;
+    targetOptions.seed = o.seed;
+    if (o.flight == "cruise")
+        targetOptions.cruiseSpeedAndAltitude = {o.cruiseSpeedMps, o.cruiseAltitudeM};
+    auto opened = tools::StressTarget::open(targetOptions);
     if (!opened) return fail(opened.error().message);
-    runtime::TerrainSession& session = *opened.value();
-    runtime::TileStreamer& streamer = session.streamer();
-    const runtime::TerrainGeometry& geometry = session.geometry();
+    tools::StressTarget& target = *opened.value();
+    runtime::TileStreamer& streamer = target.streamer();
 
     auto framebuffer = gl::Framebuffer::create(o.widthPx, o.heightPx, "stress frame");
     if (!framebuffer) return fail(framebuffer.error().message);
@@ -152,10 +153,6 @@ int run(const StressOptions& o) {
     camera.viewportWidth = o.widthPx;
     camera.viewportHeight = o.heightPx;
     camera.fovY = o.fovDegrees * std::numbers::pi / 180.0;
-    tools::StressFlight flight(geometry, o.seed, [&](double x, double y) {
-        return runtime::conservativeGroundHeight(streamer, geometry, x, y);
-    });
-    if (o.flight == "cruise") flight.cruise(o.cruiseSpeedMps, o.cruiseAltitudeM);
     runtime::TerrainStyle style;
     style.fixedTessFactor = o.tessFactor;
     style.fogDensityPerM = 0.0f;
@@ -206,15 +203,13 @@ int run(const StressOptions& o) {
         const double elapsedS = std::chrono::duration<double>(Clock::now() - loopStart).count();
         if (o.frames > 0 ? frame >= o.frames : elapsedS >= o.durationS) break;
 
-        // Motion by the last frame's duration (capped), as a real-time viewer moves; the
-        // flight reads the ground from what is resident, so it moves before the frame.
-        flight.step(std::min(0.1, lastFrameS), camera);
-        const runtime::LodUpdateStats lod = session.beginFrame(camera);
+        // Motion by the last frame's duration (capped), as a real-time viewer moves.
+        target.beginFrame(std::min(0.1, lastFrameS), camera);
 
         framebuffer.value().clear(sky, 0.0f);  // reversed Z: far is 0
         glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.value().id());
         glViewport(0, 0, o.widthPx, o.heightPx);
-        session.draw(camera, style);
+        target.draw(camera, style);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         if (!o.framesDir.empty() && frame % o.frameEvery == 0) {
             const std::filesystem::path file =
@@ -225,11 +220,9 @@ int run(const StressOptions& o) {
         }
 
         runtime::FrameTelemetry t;
-        session.endFrame(t);
+        target.endFrame(t);
         glFinish();  // a frame ends when it is drawn, as a swap would make it
-        if (auto broken = checks.afterFrame(streamer, session.tree(), session.draws(), lod)) {
-            violation(frame, *broken);
-        }
+        if (auto broken = target.check(checks)) violation(frame, *broken);
 
         const auto now = Clock::now();
         t.frame = frame;
@@ -273,6 +266,7 @@ int run(const StressOptions& o) {
                                      growthPercent, *o.maxRssGrowthPercent));
     }
 
+    const std::uint64_t teleports = target.teleports();
     const runtime::TileRequestLedger& ledger = streamer.ledger();
     const io::IoThreadStats io = streamer.ioStats();
     const runtime::LatencyHistogram& latency = streamer.loadLatencies();
@@ -300,8 +294,9 @@ int run(const StressOptions& o) {
               {"error_px", o.errorPx}}},
             {"frames", frame},
             {"duration_s", loopS},
+            {"tiling", target.tiling()},
             {"flight", o.flight},
-            {"teleports", flight.teleports()},
+            {"teleports", teleports},
             {"throughput_tiles_per_s", tilesPerS},
             {"load_latency_ms", percentilesJson(latency)},
             {"after_warmup",
@@ -339,8 +334,8 @@ int run(const StressOptions& o) {
         "{} cancelled, {} failed; load latency p50 {:.1f} ms, p95 {:.1f} ms, p99 {:.1f} ms "
         "(after warm-up p99 {:.1f} ms, {:.0f} frames); "
         "resident memory {:+.2f}% after warm-up; {} invariant violations\n",
-        frame, loopS, flight.teleports(), ledger.completed, tilesPerS, ledger.cancelled,
-        ledger.failed, latency.percentile(50.0), latency.percentile(95.0), latency.percentile(99.0),
+        frame, loopS, teleports, ledger.completed, tilesPerS, ledger.cancelled, ledger.failed,
+        latency.percentile(50.0), latency.percentile(95.0), latency.percentile(99.0),
         steadyLatencyMs.percentile(99.0), steadyLatencyFrames.percentile(99.0), growthPercent,
         violationCount);
     if (streamer.faults().size() > faultsPrinted) {
