@@ -314,6 +314,20 @@ TEST_F(ViewerTool, InvalidPyramidIsAClearError) {
     EXPECT_NE(r.err.find("manifest.json"), std::string::npos) << r.err;
 }
 
+// A root patch that cannot be read leaves nothing to draw: the viewer says so on stderr and
+// on screen, with the shard's name, and exits 1 instead of showing an empty picture (with
+// --settle it does not wait the whole settle timeout for a root that will never come).
+TEST_F(ViewerTool, UnreadableRootIsAClearError) {
+    const fs::path damaged = m_folder.path() / "damaged-root.pyramid";
+    fs::copy(kPyramid, damaged, fs::copy_options::recursive);
+    std::ofstream(damaged / "L0" / "0" / "0.exr", std::ios::trunc) << "not an OpenEXR shard\n";
+    const ToolRun r =
+        runViewer(damaged.string() + " --frames 3 --settle --width 160 --height 120", m_folder);
+    EXPECT_EQ(r.status, 1) << describe(r);
+    EXPECT_NE(r.err.find("0.exr"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("nothing to draw"), std::string::npos) << r.err;
+}
+
 TEST_F(ViewerTool, MissingPathFileIsAClearError) {
     const ToolRun r =
         run(kViewer + " " + kPyramid + " --path " + m_folder.file("nope.camera.json"), m_folder);

@@ -4,6 +4,7 @@
 // time and GPU time) and a --json summary. Without --settle it shows what a real-time user
 // would see: tiles that have not arrived yet are drawn by their coarser ancestors.
 #include "DrawStyleFlags.h"
+#include "FaultPrinter.h"
 #include "FrameSizeFlags.h"
 #include "GlImagePng.h"
 #include "GlInfoJson.h"
@@ -142,13 +143,24 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
     runtime::LatencyHistogram lodUs, triangles;
     std::uint64_t framesWritten = 0, maxDrawCalls = 0, maxTriangles = 0, maxPatches = 0;
     std::uint64_t horizonCulled = 0, visited = 0;
+    // Faults on stderr as they happen; a cube face's root that cannot be read ends the run
+    // (that face would show the bare ellipsoid instead of its data).
+    tools::FaultPrinter faults("terrain-render");
+    const auto fatal = [&]() -> std::optional<std::string> {
+        faults.printNew(session.streamer());
+        if (const runtime::TileFault* fault = session.fatalFault())
+            return "a cube face's data cannot be drawn, its root patch failed: " + fault->message;
+        return std::nullopt;
+    };
     const auto loopStart = Clock::now();
     auto previous = loopStart;
     for (std::uint64_t frame = 0; frame < frames; ++frame) {
         const double fraction = frames > 1 ? double(frame) / double(frames - 1) : 0.0;
         path.value().apply(path.value().startS() + fraction * durationS, camera);
-        if (o.settle && !session.settle(camera, std::chrono::seconds(60)))
+        if (o.settle && !session.settle(camera, std::chrono::seconds(60))) {
+            if (auto broken = fatal()) return fail(*broken);
             return fail(fmt::format("frame {}: streaming did not settle within 60 s", frame));
+        }
         const runtime::GlobeLodStats& lod = session.beginFrame(camera);
         horizonCulled += lod.horizonCulled;
         visited += lod.visited;
@@ -159,6 +171,7 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         runtime::FrameTelemetry t;
         session.endFrame(t);
+        if (auto broken = fatal()) return fail(*broken);
         if ((o.every > 0 && frame % o.every == 0) || chosen.contains(frame) ||
             frame + 1 == frames) {
             const auto file = outputDir / fmt::format("frame-{:05}.png", frame);
@@ -199,6 +212,7 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
             runtime::FrameTelemetry t;
             session.endFrame(t);
+            if (auto broken = fatal()) return fail(*broken);
             ++arrivalFrames;
             settled = lod.waitingSplits == 0 && session.streamer().loadsOutstanding() == 0;
         }
@@ -217,6 +231,7 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
         level["max_error_m"] = std::max(level.value("max_error_m", 0.0), double(d.errorM));
     }
     session.streamer().drain(std::chrono::seconds(10));
+    faults.printRest(session.streamer());
     if (o.json) {
         const runtime::GlobePose endPose = runtime::globePoseOf(camera);
         const nlohmann::json out{
@@ -323,9 +338,19 @@ int run(const RenderOptions& o) {
     std::uint64_t framesWritten = 0, maxDrawCalls = 0, maxTriangles = 0, maxPatches = 0;
     const auto loopStart = Clock::now();
     auto previous = loopStart;
+    // Faults on stderr as they happen; a root that cannot be read ends the run (every
+    // frame would be empty: nothing is left to draw in its place).
+    tools::FaultPrinter faults("terrain-render");
+    const auto fatal = [&]() -> std::optional<std::string> {
+        faults.printNew(session.streamer());
+        if (const runtime::TileFault* fault = session.fatalFault())
+            return "nothing to draw, the root patch failed: " + fault->message;
+        return std::nullopt;
+    };
     for (std::uint64_t frame = 0; frame < frames; ++frame) {
         path->apply(path->startS() + static_cast<double>(frame) / o.fps, camera);
         if (o.settle && !session.settle(camera, std::chrono::seconds(60))) {
+            if (auto broken = fatal()) return fail(*broken);
             return fail(fmt::format("frame {}: streaming did not settle within 60 s", frame));
         }
         session.beginFrame(camera);
@@ -337,6 +362,7 @@ int run(const RenderOptions& o) {
 
         runtime::FrameTelemetry t;
         session.endFrame(t);
+        if (auto broken = fatal()) return fail(*broken);
         if ((o.every > 0 && frame % o.every == 0) || chosen.contains(frame) ||
             frame + 1 == frames) {
             const auto file = outputDir / fmt::format("frame-{:05}.png", frame);
@@ -363,8 +389,15 @@ int run(const RenderOptions& o) {
         }
     }
     if (auto closed = csv.value().close(); !closed) return fail(closed.error().message);
+    // A last frame with nothing drawn: wait for what streaming still owes it, so a root that
+    // cannot be read is this error rather than an empty picture and exit status 0.
+    if (session.draws().empty()) {
+        session.settle(camera, std::chrono::seconds(60));
+        if (auto broken = fatal()) return fail(*broken);
+    }
     summary.mergeLoadLatencies(session.streamer().loadLatencies());
     session.streamer().drain(std::chrono::seconds(10));
+    faults.printRest(session.streamer());
     const bool llvmpipe = context.value()->info().renderer.find("llvmpipe") != std::string::npos;
 
     if (o.json) {

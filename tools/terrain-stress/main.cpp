@@ -4,6 +4,7 @@
 // checks the streaming invariants every frame, and prints throughput, latency percentiles
 // and a --json summary. Any violation makes the exit status 1. A globe pyramid is flown over
 // the whole planet and checked with the globe LOD's invariants (StressTarget).
+#include "FaultPrinter.h"
 #include "FrameSizeFlags.h"
 #include "GlImagePng.h"
 #include "GlInfoJson.h"
@@ -185,8 +186,8 @@ int run(const StressOptions& o) {
             fmt::print(stderr, "terrain-stress: VIOLATION at frame {}: {}\n", frame, what);
         }
     };
-    std::size_t faultsPrinted = 0;
-    constexpr std::size_t kFaultsToPrint = 10;
+    tools::FaultPrinter faultPrinter("terrain-stress");
+    constexpr std::size_t kFaultsInJson = 10;
 
     // Resident memory once a second after warm-up (reading /proc allocates, so not every
     // frame); the growth compares the medians of the first and the last quarter of the
@@ -233,11 +234,7 @@ int run(const StressOptions& o) {
         summary.add(t);
         if (csv) csv->write(t);
 
-        for (; faultsPrinted < streamer.faults().size() && faultsPrinted < kFaultsToPrint;
-             ++faultsPrinted) {
-            fmt::print(stderr, "terrain-stress: fault: {}\n",
-                       streamer.faults()[faultsPrinted].message);
-        }
+        faultPrinter.printNew(streamer);
         warm = t.timeS >= o.warmupS;
         if (t.timeS >= nextRssSampleS) {
             // Sampled once a second after warm-up: reading /proc allocates.
@@ -273,7 +270,7 @@ int run(const StressOptions& o) {
     const double tilesPerS = loopS > 0.0 ? static_cast<double>(ledger.completed) / loopS : 0.0;
     if (o.json) {
         nlohmann::json faults = nlohmann::json::array();
-        for (std::size_t i = 0; i < streamer.faults().size() && i < kFaultsToPrint; ++i) {
+        for (std::size_t i = 0; i < streamer.faults().size() && i < kFaultsInJson; ++i) {
             const runtime::TileFault& f = streamer.faults()[i];
             faults.push_back(
                 {{"level", f.id.level}, {"x", f.id.x}, {"y", f.id.y}, {"message", f.message}});
@@ -338,10 +335,7 @@ int run(const StressOptions& o) {
         latency.percentile(50.0), latency.percentile(95.0), latency.percentile(99.0),
         steadyLatencyMs.percentile(99.0), steadyLatencyFrames.percentile(99.0), growthPercent,
         violationCount);
-    if (streamer.faults().size() > faultsPrinted) {
-        fmt::print(stderr, "terrain-stress: {} more faults not printed\n",
-                   streamer.faults().size() - faultsPrinted);
-    }
+    faultPrinter.printRest(streamer);
     return violationCount == 0 ? 0 : 1;
 }
 

@@ -150,6 +150,7 @@ int GlobeViewer::run() {
     auto previous = start;
     std::uint64_t frame = 0;
     int status = 0;
+    bool fatalShown = false;
     while (true) {
         glfwPollEvents();
         const auto now = Clock::now();
@@ -238,6 +239,17 @@ int GlobeViewer::run() {
         m_scene.presentToWindow();
         runtime::FrameTelemetry t;
         m_session->endFrame(t);
+        m_faultPrinter.printNew(m_session->streamer());
+        if (const runtime::TileFault* fatal = m_session->fatalFault(); fatal && !fatalShown) {
+            // A face without its data: said on screen (the overlay shown), on stderr and in
+            // the exit status.
+            m_status =
+                "a cube face's data cannot be drawn, its root patch failed: " + fatal->message;
+            std::fprintf(stderr, "terrain-view: %s\n", m_status.c_str());
+            m_overlayVisible = true;
+            fatalShown = true;
+            status = 1;
+        }
         m_imgui->newFrame();
         drawOverlay(t);
         glViewport(0, 0, size.width, size.height);
@@ -260,6 +272,7 @@ int GlobeViewer::run() {
         if (last) break;
     }
     m_session->streamer().drain(std::chrono::seconds(10));
+    m_faultPrinter.printRest(m_session->streamer());
     if (m_options.json) {
         const nlohmann::json summary{
             {"tool", "terrain-view"},

@@ -5,6 +5,7 @@
 // latitude and longitude), under a small overlay of where the camera is and what is drawn.
 #pragma once
 
+#include "FaultPrinter.h"
 #include "ImGuiLayer.h"
 #include "SceneTarget.h"
 #include "ViewerOptions.h"
@@ -55,6 +56,7 @@ private:
     bool m_quit = false;
     std::array<double, 3> m_flyTo{0.0, 0.0, 10000.0};  // the overlay's fields
     std::string m_status;
+    tools::FaultPrinter m_faultPrinter{"terrain-view"};
 };
 
 }  // namespace terrain::view

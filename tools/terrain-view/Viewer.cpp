@@ -213,6 +213,16 @@ void Viewer::initialCamera() {
     }
 }
 
+void Viewer::reportFaults() {
+    m_faultPrinter.printNew(m_session->streamer());
+    const runtime::TileFault* fatal = m_session->fatalFault();
+    if (fatal == nullptr || m_fatalFaultShown) return;
+    // Nothing can be drawn: said on screen (the overlay shown) and in the exit status.
+    m_fatalFaultShown = true;
+    m_settings.overlayVisible = true;
+    setStatus("nothing to draw, the root patch failed: " + fatal->message, true);
+}
+
 void Viewer::setStatus(std::string message, bool error) {
     if (error) std::fprintf(stderr, "terrain-view: %s\n", message.c_str());
     m_status = std::move(message);
@@ -571,6 +581,7 @@ int Viewer::run() {
         m_scene.presentToWindow();
         runtime::FrameTelemetry t;
         m_session->endFrame(t);
+        reportFaults();
 
         // The overlay on top, in the window's framebuffer.
         m_imgui->newFrame();
@@ -661,7 +672,8 @@ int Viewer::run() {
                      m_window->debugLog().formatErrors().c_str());
         return 1;
     }
-    return filesOk && !m_exitFilesFailed ? 0 : 1;
+    m_faultPrinter.printRest(m_session->streamer());
+    return filesOk && !m_exitFilesFailed && !m_fatalFaultShown ? 0 : 1;
 }
 
 bool Viewer::finishExitFiles() {

@@ -4,6 +4,7 @@
 // asked for (screenshot, telemetry row, path keyframe), present.
 #pragma once
 
+#include "FaultPrinter.h"
 #include "ImGuiLayer.h"
 #include "OutputNames.h"
 #include "PathRecorder.h"
@@ -71,6 +72,8 @@ private:
     void takeScreenshot(const std::filesystem::path& path);
     void checkGlErrors();
     void setStatus(std::string message, bool error = false);
+    /// New streaming faults to stderr; a root that cannot be read on screen, once.
+    void reportFaults();
     double groundAt(double x, double y) const;
     OverlayModel overlayModel(const runtime::FrameTelemetry& frame) const;
     bool finishExitFiles();
@@ -130,6 +133,8 @@ private:
     std::string m_status;
     bool m_statusIsError = false;
     bool m_exitFilesFailed = false;
+    tools::FaultPrinter m_faultPrinter{"terrain-view"};
+    bool m_fatalFaultShown = false;  // the root failed: said once, exit status 1
 
     std::vector<std::string> m_screenshotsWritten;
     std::vector<std::string> m_telemetryWritten;

@@ -1,5 +1,6 @@
 #include "terrain/runtime/GlobeSession.h"
 
+#include "terrain/globe/CubeSphere.h"
 #include "terrain/io/GlobeLayout.h"
 #include "terrain/runtime/SkirtDepth.h"
 
@@ -69,10 +70,19 @@ void GlobeSession::endFrame(FrameTelemetry& t) {
                                                                  : FrameTelemetry::kNoValue;
 }
 
+const TileFault* GlobeSession::fatalFault() const {
+    for (int face = 0; face < globe::kCubeFaces; ++face)
+        if (const TileFault* fault =
+                m_streamer->faultOf(io::layoutPatchOf(globe::GlobePatchId{face, 0, 0, 0})))
+            return fault;
+    return nullptr;
+}
+
 bool GlobeSession::settle(const Camera& camera, std::chrono::milliseconds timeout) {
     const auto deadline = Clock::now() + timeout;
     while (true) {
         const GlobeLodStats& lod = beginFrame(camera);
+        if (fatalFault() != nullptr) return false;  // it would draw a wrong picture
         const bool settled = lod.waitingSplits == 0 && m_streamer->loadsOutstanding() == 0;
         FrameTelemetry ignored;
         m_streamer->endFrame(ignored);

@@ -75,11 +75,16 @@ void TerrainSession::endFrame(FrameTelemetry& t) {
                                                                  : FrameTelemetry::kNoValue;
 }
 
+const TileFault* TerrainSession::fatalFault() const {
+    return m_streamer->faultOf(io::PatchId{0, 0, 0});
+}
+
 bool TerrainSession::settle(const Camera& camera, std::chrono::milliseconds timeout) {
     if (m_lodFrozen) return true;  // nothing would change: the cut is held as it is
     const auto deadline = Clock::now() + timeout;
     while (true) {
         const LodUpdateStats& lod = beginFrame(camera);
+        if (fatalFault() != nullptr) return false;  // it would wait for nothing
         const bool settled = !m_draws.empty() && lod.waitingSplits == 0 && lod.splits == 0 &&
                              lod.merges == 0 && m_streamer->loadsOutstanding() == 0;
         FrameTelemetry ignored;

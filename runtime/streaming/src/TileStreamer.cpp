@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <iterator>
 #include <utility>
 
@@ -223,6 +224,13 @@ void TileStreamer::endFrame(FrameTelemetry& t) {
     t.diskReadBytes = io.bytesRead - m_bytesReadBefore;
     m_bytesReadBefore = io.bytesRead;
     t.faultsTotal = m_faults.size();
+}
+
+const TileFault* TileStreamer::faultOf(const io::PatchId& id) const {
+    if (!m_failed.contains(id)) return nullptr;
+    const auto fault = std::find_if(m_faults.begin(), m_faults.end(),
+                                    [&](const TileFault& f) { return f.id == id; });
+    return fault != m_faults.end() ? &*fault : nullptr;
 }
 
 bool TileStreamer::drain(std::chrono::milliseconds timeout) {

@@ -42,8 +42,14 @@ public:
     TerrainDrawStats draw(const Camera& camera, const TerrainStyle& style);
     void endFrame(FrameTelemetry& t);
     /// Runs frames (without drawing) until no split waits for tiles and nothing is loading;
-    /// false on timeout.
+    /// false on timeout, or at once when fatalFault() is set.
     bool settle(const Camera& camera, std::chrono::milliseconds timeout);
+
+    /// The fault no frame can draw around: a cube face's root patch failed to read, so that
+    /// face has no ancestor to draw its data and would show the bare ellipsoid in its place.
+    /// Programs stop with its message (it names the shard and the patch); nullptr while
+    /// there is none. Any other failed patch is drawn by its ancestor.
+    const TileFault* fatalFault() const;
 
     std::span<const GlobePatchDraw> draws() const { return m_draws; }
     const GlobeLodStats& lodStats() const { return m_lodStats; }

@@ -57,9 +57,16 @@ public:
     void endFrame(FrameTelemetry& t);
 
     /// Runs frames (without drawing) for `camera` until no split waits for tiles and
-    /// nothing is loading, so the next frame shows the settled view; false on timeout.
-    /// Between endFrame and the next beginFrame. A frozen LOD is settled as it is.
+    /// nothing is loading, so the next frame shows the settled view; false on timeout, or
+    /// at once when fatalFault() says nothing can be drawn. Between endFrame and the next
+    /// beginFrame. A frozen LOD is settled as it is.
     bool settle(const Camera& camera, std::chrono::milliseconds timeout);
+
+    /// The fault no frame can draw around: the root patch failed to read, so there is no
+    /// ancestor to draw in place of anything and every frame would be empty. Programs stop
+    /// with its message (it names the shard and the patch); nullptr while there is none.
+    /// Any other failed patch is drawn by its ancestor.
+    const TileFault* fatalFault() const;
 
     /// A frozen LOD keeps its draw list (and the tree) as they are: beginFrame streams but
     /// decides nothing, so the cut can be inspected from another camera.

@@ -113,6 +113,8 @@ public:
     bool drain(std::chrono::milliseconds timeout);
 
     const std::vector<TileFault>& faults() const { return m_faults; }
+    /// The fault of `id` if it failed to read; nullptr otherwise.
+    const TileFault* faultOf(const io::PatchId& id) const;
     const TileRequestLedger& ledger() const { return m_ledger; }
     /// Request → resident latency of every load so far.
     const LatencyHistogram& loadLatencies() const { return m_loadLatencies; }
