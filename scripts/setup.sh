@@ -35,6 +35,7 @@ packages=(
   libcli11-dev nlohmann-json3-dev libfmt-dev libimgui-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   xvfb xauth python3-matplotlib
+  clang libclang-rt-14-dev
 )
 
 missing=()

@@ -244,11 +244,12 @@ void GdalDemReader::maskUncovered(std::int64_t x0, std::int64_t y0, std::int64_t
 Result<GdalDataset> openGdalDataset(const std::string& path) {
     const Result<std::uint64_t> size = checkDemInputFile(path);
     if (!size) return size.error();
-    if (const std::optional<std::uint64_t> end = netCdfClassicDataEnd(path);
-        end && *end > size.value())
+    const Result<std::optional<std::uint64_t>> end = netCdfClassicDataEnd(path);
+    if (!end) return end.error();
+    if (end.value() && *end.value() > size.value())
         return Error{fmt::format(
             "{}: truncated: the netCDF variables' data ends at byte {}, the file has {} bytes",
-            path, *end, size.value())};
+            path, *end.value(), size.value())};
     ensureGdalRegistered();
     GdalErrorCapture errors;
     GdalDataset dataset(

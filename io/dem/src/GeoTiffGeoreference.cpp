@@ -12,6 +12,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 namespace terrain::io {
 
@@ -22,12 +23,24 @@ constexpr std::uint16_t kRasterPixelIsPoint = 2;
 constexpr std::uint16_t kGeographicTypeGeoKey = 2048;  // §7.4.3 GeodeticCRSGeoKey
 constexpr std::uint16_t kModelTypeGeographic = 2;
 
+// The TIFF type a tag's values must have to be read as T.
+template <typename T>
+constexpr TIFFDataType tiffTypeOf() {
+    if constexpr (std::is_same_v<T, double>) return TIFF_DOUBLE;
+    if constexpr (std::is_same_v<T, std::uint16_t>) return TIFF_SHORT;
+    if constexpr (std::is_same_v<T, char>) return TIFF_ASCII;
+}
+
 // libtiff reads tags it does not know as "anonymous" fields whose count is a uint32
-// (TIFF_VARIABLE2); a reader that registered them may have a uint16 count instead.
+// (TIFF_VARIABLE2); a reader that registered them may have a uint16 count instead. An
+// anonymous field keeps the type the file declares, so a tag of another type than T (a
+// ModelPixelScale stored as LONG) reads as absent: read as T it would run past its values
+// (found by fuzz-dem-tiff, tests/fuzz/dem-tiff/pixel-scale-of-type-long.tif).
 template <typename T>
 std::span<const T> arrayTag(TIFF* tiff, ttag_t tag) {
     const TIFFField* field = TIFFFindField(tiff, tag, TIFF_ANY);
     if (field == nullptr || TIFFFieldPassCount(field) == 0) return {};
+    if (TIFFFieldDataType(field) != tiffTypeOf<T>()) return {};
     void* data = nullptr;
     std::size_t count = 0;
     if (TIFFFieldReadCount(field) == TIFF_VARIABLE2) {
@@ -117,7 +130,7 @@ Result<std::optional<Georeference>> readGeoreferenceTags(TIFF* t) {
 
 std::optional<std::string> readAsciiTag(TIFF* tiff, ttag_t tag) {
     const TIFFField* field = TIFFFindField(tiff, tag, TIFF_ANY);
-    if (field == nullptr) return std::nullopt;
+    if (field == nullptr || TIFFFieldDataType(field) != TIFF_ASCII) return std::nullopt;
     if (TIFFFieldPassCount(field) != 0) {
         const std::span<const char> chars = arrayTag<char>(tiff, tag);
         if (chars.empty()) return std::nullopt;

@@ -3,6 +3,8 @@
 // the end of the data: dimensions, attributes skipped, variables' shapes and offsets.
 #include "NetCdfClassicExtent.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <fstream>
 #include <vector>
@@ -101,19 +103,26 @@ void skipAttributes(HeaderCursor& c) {
 
 }  // namespace
 
-std::optional<std::uint64_t> netCdfClassicDataEnd(const std::string& path) {
+Result<std::optional<std::uint64_t>> netCdfClassicDataEnd(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     unsigned char magic[4] = {};
     in.read(reinterpret_cast<char*>(magic), 4);
     if (in.gcount() != 4 || magic[0] != 'C' || magic[1] != 'D' || magic[2] != 'F')
-        return std::nullopt;
+        return std::optional<std::uint64_t>{};
     const unsigned version = magic[3];
-    if (version != 1 && version != 2 && version != 5) return std::nullopt;
+    if (version != 1 && version != 2 && version != 5) return std::optional<std::uint64_t>{};
     // The header is at the front; read a generous prefix (large headers are rare).
     std::vector<unsigned char> header(kMaxHeaderBytes);
     in.read(reinterpret_cast<char*>(header.data()), static_cast<std::streamsize>(header.size()));
     header.resize(static_cast<std::size_t>(in.gcount()));
 
+    // Everything below that stops the walk is corruption when the whole file was read; a
+    // header larger than the prefix read is only unknown.
+    const bool wholeFile = header.size() < kMaxHeaderBytes;
+    const auto corrupt = [&](const char* what) -> Result<std::optional<std::uint64_t>> {
+        if (!wholeFile) return std::optional<std::uint64_t>{};
+        return Error{fmt::format("{}: corrupt netCDF header: {}", path, what)};
+    };
     HeaderCursor c(header, version == 5);
     const std::uint64_t numrecs = version == 5 ? c.read(8) : c.u32();
     std::vector<std::uint64_t> dimensions;
@@ -121,7 +130,7 @@ std::optional<std::uint64_t> netCdfClassicDataEnd(const std::string& path) {
         const std::uint64_t tag = c.u32();
         const std::uint64_t n = c.count();
         if (!(tag == 0 && n == 0)) {
-            if (tag != kTagDimension) return std::nullopt;
+            if (tag != kTagDimension) return corrupt("the dimension list has a wrong tag");
             for (std::uint64_t i = 0; i < n && c.ok(); ++i) {
                 c.skipName();
                 dimensions.push_back(c.count());
@@ -139,7 +148,7 @@ std::optional<std::uint64_t> netCdfClassicDataEnd(const std::string& path) {
     const std::uint64_t tag = c.u32();
     const std::uint64_t n = c.count();
     if (!(tag == 0 && n == 0)) {
-        if (tag != kTagVariable) return std::nullopt;
+        if (tag != kTagVariable) return corrupt("the variable list has a wrong tag");
         for (std::uint64_t i = 0; i < n && c.ok(); ++i) {
             c.skipName();
             const std::uint64_t rank = c.count();
@@ -147,7 +156,8 @@ std::optional<std::uint64_t> netCdfClassicDataEnd(const std::string& path) {
             std::uint64_t elements = 1;
             for (std::uint64_t d = 0; d < rank && c.ok(); ++d) {
                 const std::uint64_t id = c.count();
-                if (id >= dimensions.size()) return std::nullopt;
+                if (id >= dimensions.size())
+                    return corrupt("a variable names a dimension that does not exist");
                 if (dimensions[id] == 0 && d == 0) {
                     v.record = true;  // the unlimited dimension, which comes first
                 } else {
@@ -158,12 +168,12 @@ std::optional<std::uint64_t> netCdfClassicDataEnd(const std::string& path) {
             const std::uint64_t type = typeBytes(c.u32());
             c.count();  // vsize: capped for huge variables, so computed from the shape
             v.begin = version == 1 ? c.u32() : c.read(8);
-            if (type == 0) return std::nullopt;
+            if (type == 0) return corrupt("a variable has an unknown type");
             v.bytes = elements * type;
             variables.push_back(v);
         }
     }
-    if (!c.ok()) return std::nullopt;
+    if (!c.ok()) return corrupt("it declares more than the file holds (or a wrong attribute tag)");
 
     std::uint64_t recordBytes = 0;
     std::size_t recordVariables = 0;
@@ -182,7 +192,7 @@ std::optional<std::uint64_t> netCdfClassicDataEnd(const std::string& path) {
             end = std::max(end, v.begin + (numrecs - 1) * stride + v.bytes);
         }
     }
-    return end;
+    return std::optional<std::uint64_t>{end};
 }
 
 }  // namespace terrain::io::detail

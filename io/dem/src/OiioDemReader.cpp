@@ -5,6 +5,8 @@
 // are first checked with libtiff (TiffDemInspection.h), which also gives the GeoTIFF
 // georeference, GDAL no-data value and scale/offset that OpenImageIO 2.4 does not read;
 // PNG and JPEG files are checked for truncation (ImageFileTruncation.h).
+#include "terrain/io/ExrHeaderCheck.h"
+
 #include "DemBlockCache.h"
 #include "DemReaderFactories.h"
 #include "DemSampleConversion.h"
@@ -252,6 +254,9 @@ DemReaderResult openOiioDem(const std::string& path, const DemOpenOptions& optio
     if (ext == ".png") truncated = findPngTruncation(path, size.value());
     if (jpeg) truncated = findJpegTruncation(path, size.value());
     if (truncated) return fail(*truncated);
+    if (ext == ".exr") {
+        if (Status header = checkExrHeaderSizes(path); !header) return fail(header.error().message);
+    }
 
     GdalErrorCapture libtiffErrors;  // see decodeRun
     std::unique_ptr<OIIO::ImageInput> input = OIIO::ImageInput::open(path);

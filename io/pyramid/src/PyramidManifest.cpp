@@ -430,7 +430,7 @@ Result<PyramidManifest> fromJson(std::string_view json, const std::string& sourc
     Json root;
     try {
         root = Json::parse(json.begin(), json.end());
-    } catch (const Json::parse_error& e) {
+    } catch (const Json::exception& e) {  // parse_error, and out_of_range for 1E7777777777
         return Error{fmt::format("{}: not valid JSON: {}", sourceName, e.what())};
     }
     if (!root.is_object())

@@ -4,6 +4,8 @@
 // shard file and the patch, and the shard is closed so a damaged file is not reused.
 #include "terrain/io/PyramidReader.h"
 
+#include "terrain/io/ExrHeaderCheck.h"
+
 #include "PatchChecksum.h"
 #include "ShardFormat.h"
 
@@ -123,6 +125,8 @@ struct PyramidReader::Impl {
         shard->path = path;
         shard->countX = layout.shardCountX(s);
         shard->countY = layout.shardCountY(s);
+        // OpenEXR allocates what a damaged header declares before it reads it.
+        if (Status header = checkExrHeaderSizes(path); !header) return header.error();
         try {
             // 0 threads: a reader decodes on its own thread (one reader per thread).
             shard->file = std::make_unique<Imf::MultiPartInputFile>(path.c_str(), 0);

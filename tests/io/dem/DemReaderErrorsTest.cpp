@@ -100,6 +100,12 @@ TEST_F(DemReaderErrorsTest, GarbageWithADemExtension) {
         test::writeBytes(path, garbage);
         expectErrorStartingWithPath(path);
     }
+    // A netCDF classic header that declares an attribute longer than the file: refused
+    // before libnetcdf allocates what it declares (3.6 GB; found by fuzz-dem-netcdf).
+    const std::string netCdf = m_dir.file("attribute-longer-than-the-file.nc");
+    test::writeBytes(netCdf, test::readBytes(fs::path(TERRAIN_SOURCE_DIR) / "tests" / "fuzz" /
+                                             "dem-netcdf" / "attribute-longer-than-the-file.nc"));
+    expectErrorStartingWithPath(netCdf, "corrupt netCDF header");
     // A TIFF header and nothing else.
     const std::string header = m_dir.file("header_only.tif");
     test::writeBytes(header, {'I', 'I', 42, 0, 8, 0, 0, 0});

@@ -229,6 +229,10 @@ TEST_F(PyramidFormat, ManifestErrors) {
 
     std::string e = errorFor("{ \"format\": ");
     EXPECT_TRUE(contains(e, file.string() + ": not valid JSON")) << e;
+    // A number JSON cannot hold (nlohmann throws out_of_range, not parse_error: found by
+    // fuzz-manifest, tests/fuzz/manifest/json-number-overflow).
+    e = errorFor("1E7777777777");
+    EXPECT_TRUE(contains(e, file.string() + ": not valid JSON")) << e;
     e = errorFor("");
     EXPECT_TRUE(contains(e, "not valid JSON")) << e;
     e = errorFor(edited([](auto& j) { j["format"] = "gltf"; }));
