@@ -1,4 +1,4 @@
-// terrain-view as a user runs it, in a virtual X display (xvfb-run, Mesa's llvmpipe): it
+// terrain-view as a user runs it, in a virtual X display (Xvfb, Mesa's llvmpipe): it
 // records a path while playing one, plays the recording, and writes a screenshot in which
 // terrain and the overlay can both be found; its telemetry log and JSON summary are right;
 // and a missing or broken pyramid, a missing path file, an unwritable output folder, no
@@ -10,6 +10,7 @@
 
 #include "GeographicFunctionDem.h"
 #include "TempFolder.h"
+#include "XvfbServer.h"
 
 #include <OpenImageIO/imageio.h>
 
@@ -37,7 +38,7 @@ namespace fs = std::filesystem;
 
 const std::string kViewer = TERRAIN_VIEW;
 const std::string kPyramid = std::string(TERRAIN_TOOLS_OUT) + "/procedural.pyramid";
-const std::string kXvfbRun = TERRAIN_XVFB_RUN;  // empty when CMake did not find it
+const std::string kXvfb = TERRAIN_XVFB;  // empty when CMake did not find it
 
 struct ToolRun {
     int status = -1;  ///< exit status; -1 when killed by a signal (a crash)
@@ -61,22 +62,24 @@ ToolRun run(const std::string& command, const test::TempFolder& folder) {
     return result;
 }
 
-// The viewer in its own virtual X server (xvfb-run -a picks a free display number). The
-// status is the viewer's own, echoed by the shell xvfb-run starts: xvfb-run's exit status can
-// be 5 after a viewer that exited cleanly ("problem while cleaning up temporary directory"),
-// which is xvfb-run's business, not the viewer's.
+// This test process's virtual X server, started on first use (XvfbServer.h: Xvfb picks a
+// free display itself, and the status below is the viewer's own, not a wrapper's).
+const test::XvfbServer& xServer() {
+    static const test::XvfbServer server(kXvfb);
+    return server;
+}
+
+// The viewer on that display.
 ToolRun runViewer(const std::string& arguments, const test::TempFolder& folder,
                   const std::string& environment = "") {
-    static const std::string kMarker = "terrain-view-test-status=";
-    ToolRun r = run(kXvfbRun + " -a sh -c '" + environment + " " + kViewer + " " + arguments +
-                        "; echo " + kMarker + "$? >&2'",
-                    folder);
-    const std::size_t at = r.err.rfind(kMarker);
-    if (at != std::string::npos) {
-        r.status = std::atoi(r.err.c_str() + at + kMarker.size());
-        r.err.erase(at);
+    if (xServer().display().empty()) {
+        ToolRun failed;
+        failed.err = "no X server: " + xServer().error();
+        return failed;
     }
-    return r;
+    return run(
+        "env DISPLAY=" + xServer().display() + " " + environment + " " + kViewer + " " + arguments,
+        folder);
 }
 
 std::string describe(const ToolRun& r) {
@@ -132,8 +135,8 @@ int difference(const std::uint8_t* a, const std::uint8_t* b) {
 class ViewerTool : public ::testing::Test {
 protected:
     void SetUp() override {
-        ASSERT_FALSE(kXvfbRun.empty())
-            << "xvfb-run was not found when CMake ran: install the Debian package xvfb "
+        ASSERT_FALSE(kXvfb.empty())
+            << "Xvfb was not found when CMake ran: install the Debian package xvfb "
                "(scripts/setup.sh does) and re-run CMake";
         ASSERT_TRUE(fs::exists(fs::path(kPyramid) / "manifest.json"))
             << kPyramid
