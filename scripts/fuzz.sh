@@ -69,11 +69,13 @@ fuzz_one() {
   fi
   local regressions=()
   [ -d "$repo_root/tests/fuzz/$target" ] && regressions=("$repo_root/tests/fuzz/$target")
-  local rc=0
+  local rc=0 started
+  started=$(date +%s%N)
   "$bin" "$corpus" "${regressions[@]}" "${dict[@]}" "${seed[@]}" -max_total_time="$seconds" -timeout=10 \
-    -rss_limit_mb=2560 -malloc_limit_mb=2560 -print_final_stats=1 \
+    -rss_limit_mb=4096 -malloc_limit_mb=2560 -print_final_stats=1 \
     -artifact_prefix="$findings/" > "$logs/$target.log" 2>&1 || rc=$?
   echo "$rc" > "$logs/$target.rc"
+  echo "$(( $(date +%s%N) - started ))" > "$logs/$target.ns"  # wall time of the run
   echo "fuzz.sh: $target: exit $rc, $(grep -E '^#[0-9]+' "$logs/$target.log" | tail -1 | cut -c1-100)"
 }
 

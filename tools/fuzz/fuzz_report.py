@@ -25,8 +25,11 @@ def read_target(name, logs, findings):
     found = sorted(f for f in os.listdir(folder) if f.startswith(FINDING_PREFIXES)) \
         if os.path.isdir(folder) else []
     executions = int(stats.get("number_of_executed_units", last[0]))
+    with open(os.path.join(logs, name + ".ns")) as f:
+        seconds = int(f.read().strip()) / 1e9
     return {
         "target": "fuzz-" + name,
+        "seconds": round(seconds, 1),
         "executions": executions,
         "executions_per_s": int(stats.get("average_exec_per_sec", 0)),
         "coverage_edges": int(last[1]),
@@ -54,7 +57,7 @@ def main():
     report = {
         "seconds_per_target": args.seconds,
         "targets_at_once": args.parallel,
-        "fuzzing_seconds": args.seconds * len(targets),
+        "fuzzing_seconds": round(sum(t["seconds"] for t in targets), 1),
         "executions": sum(t["executions"] for t in targets),
         "findings": sum(len(t["findings"]) for t in targets),
         "targets": targets,
@@ -65,14 +68,14 @@ def main():
         f.write("\n")
     os.replace(tmp, args.output)
 
-    print(f"{'target':22} {'executions':>12} {'exec/s':>8} {'cov':>6} {'ft':>7} "
+    print(f"{'target':22} {'seconds':>7} {'executions':>12} {'exec/s':>8} {'cov':>6} {'ft':>7} "
           f"{'corpus':>7} {'findings':>8}")
     for t in targets:
-        print(f"{t['target']:22} {t['executions']:12d} {t['executions_per_s']:8d} "
+        print(f"{t['target']:22} {t['seconds']:7.0f} {t['executions']:12d} {t['executions_per_s']:8d} "
               f"{t['coverage_edges']:6d} {t['coverage_features']:7d} {t['corpus_inputs']:7d} "
               f"{len(t['findings']):8d}")
-    print(f"{'all':22} {report['executions']:12d}   in {report['fuzzing_seconds']} s of "
-          f"fuzzing; report: {args.output}")
+    print(f"{'all':22} {report['fuzzing_seconds']:7.0f} {report['executions']:12d}   "
+          f"report: {args.output}")
     failed = [t for t in targets if t["findings"] or t["exit_code"] != 0]
     for t in failed:
         print(f"fuzz.sh: {t['target']}: exit {t['exit_code']}, findings: "

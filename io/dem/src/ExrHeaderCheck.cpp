@@ -1,13 +1,22 @@
 // OpenEXR file layout ("OpenEXR File Layout", openexr.com): magic 20000630 (76 2f 31 01),
 // a 4-byte version field (version 2 in the low byte; flags: 0x200 single-part tiled,
-// 0x400 long names, 0x800 deep data, 0x1000 multi-part), then the header(s).
+// 0x400 long names, 0x800 deep data, 0x1000 multi-part), then the header(s), then the
+// chunk offset tables (8 bytes per chunk) and the chunks.
+//
+// OpenEXR reads the value of a type it knows in that type's own layout, whatever the size
+// field says (a chlist runs to its empty name, a box2i is 16 bytes), so a walk that skipped
+// by size alone would lose step with it: the walk reads those values as OpenEXR does and
+// requires them to fill their size exactly.
 #include "terrain/io/ExrHeaderCheck.h"
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cstdint>
 #include <fstream>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <system_error>
 
 namespace terrain::io {
@@ -17,23 +26,105 @@ namespace {
 constexpr std::uint32_t kMagic = 20000630;
 constexpr std::uint32_t kMultiPartFlag = 0x1000;
 constexpr std::uint32_t kLongNamesFlag = 0x400;
+constexpr std::uint64_t kChunkOffsetBytes = 8;
+
+struct FixedSize {
+    std::string_view type;
+    std::int32_t bytes;
+};
+// Every fixed-size attribute type of OpenEXR 3.1.
+constexpr std::array<FixedSize, 24> kFixedSizes{{
+    {"box2i", 16},      {"box2f", 16},
+    {"compression", 1}, {"lineOrder", 1},
+    {"envmap", 1},      {"deepImageState", 1},
+    {"float", 4},       {"int", 4},
+    {"double", 8},      {"v2i", 8},
+    {"v2f", 8},         {"v2d", 16},
+    {"v3i", 12},        {"v3f", 12},
+    {"v3d", 24},        {"m33f", 36},
+    {"m33d", 72},       {"m44f", 64},
+    {"m44d", 128},      {"chromaticities", 32},
+    {"tiledesc", 9},    {"rational", 8},
+    {"keycode", 28},    {"timecode", 8},
+}};
+
+std::optional<std::int32_t> fixedSizeOf(std::string_view type) {
+    for (const FixedSize& f : kFixedSizes)
+        if (f.type == type) return f.bytes;
+    return std::nullopt;
+}
+
+// Scan lines per chunk of a scan-line part, by compression (ImfCompression.h order).
+std::int64_t linesPerChunk(int compression) {
+    constexpr std::array<std::int64_t, 10> kLines{1, 1, 1, 16, 32, 16, 32, 32, 32, 256};
+    return compression >= 0 && compression < 10 ? kLines[static_cast<std::size_t>(compression)] : 1;
+}
 
 std::uint32_t littleEndian32(const unsigned char* b) {
     return std::uint32_t{b[0]} | std::uint32_t{b[1]} << 8U | std::uint32_t{b[2]} << 16U |
            std::uint32_t{b[3]} << 24U;
 }
 
-// A null-terminated name of at most maxLength characters; false when the file ends first
-// or the name is longer.
-bool readName(std::ifstream& in, std::size_t maxLength, std::string& name) {
-    name.clear();
-    for (char c = 0; in.get(c);) {
-        if (c == '\0') return true;
-        if (name.size() == maxLength) return false;
-        name.push_back(c);
+// What one header says about the size of its chunk offset table.
+struct PartFacts {
+    bool hasDataWindow = false;
+    std::int32_t window[4] = {0, 0, 0, 0};  // xMin, yMin, xMax, yMax
+    bool tiled = false;
+    std::uint32_t tileX = 0, tileY = 0;
+    int compression = 0;
+    std::optional<std::int32_t> chunkCount;
+};
+
+class HeaderWalk {
+public:
+    HeaderWalk(std::ifstream& in, std::uintmax_t fileSize, std::size_t maxName)
+        : m_in(in), m_fileSize(fileSize), m_maxName(maxName) {}
+
+    std::uintmax_t left() const {
+        const auto at = static_cast<std::uintmax_t>(m_in.tellg());
+        return at <= m_fileSize ? m_fileSize - at : 0;
     }
-    return false;
-}
+    bool bytes(void* out, std::size_t n) {
+        return static_cast<bool>(
+            m_in.read(static_cast<char*>(out), static_cast<std::streamsize>(n)));
+    }
+    bool i32(std::int32_t& v) {
+        unsigned char b[4];
+        if (!bytes(b, 4)) return false;
+        v = static_cast<std::int32_t>(littleEndian32(b));
+        return true;
+    }
+    // A null-terminated name of at most m_maxName characters.
+    bool name(std::string& out) {
+        out.clear();
+        for (char c = 0; m_in.get(c);) {
+            if (c == '\0') return true;
+            if (out.size() == m_maxName) return false;
+            out.push_back(c);
+        }
+        return false;
+    }
+    void skip(std::int64_t n) { m_in.seekg(n, std::ios::cur); }
+
+    // A chlist as OpenEXR reads it: entries (name, 16 bytes) until an empty name.
+    std::optional<std::int64_t> channelListBytes() {
+        std::int64_t consumed = 0;
+        std::string channel;
+        while (true) {
+            if (!name(channel)) return std::nullopt;
+            consumed += static_cast<std::int64_t>(channel.size()) + 1;
+            if (channel.empty()) return consumed;
+            unsigned char entry[16];
+            if (!bytes(entry, sizeof entry)) return std::nullopt;
+            consumed += 16;
+        }
+    }
+
+private:
+    std::ifstream& m_in;
+    std::uintmax_t m_fileSize;
+    std::size_t m_maxName;
+};
 
 }  // namespace
 
@@ -48,34 +139,110 @@ Status checkExrHeaderSizes(const std::filesystem::path& path) {
     if (littleEndian32(start) != kMagic) return Error{"not an OpenEXR file: no magic number"};
     const std::uint32_t version = littleEndian32(start + 4);
     const bool multiPart = (version & kMultiPartFlag) != 0;
-    const std::size_t maxName = (version & kLongNamesFlag) != 0 ? 255 : 31;
+    HeaderWalk walk(in, fileSize, (version & kLongNamesFlag) != 0 ? 255 : 31);
 
     std::string name, type;
     for (int part = 0;; ++part) {
-        if (multiPart && in.peek() == 0) break;  // the empty header after the last one
-        // One header: attributes until an empty name.
-        while (true) {
-            if (!readName(in, maxName, name))
-                return Error{
-                    fmt::format("corrupt OpenEXR header {}: an attribute name runs "
-                                "past the end of the file or its length limit",
-                                part)};
+        if (multiPart && part > 0 && in.peek() == 0) break;  // the empty header after the last
+        const auto corrupt = [&](const std::string& what) {
+            return Error{fmt::format("corrupt OpenEXR header {}: {}", part, what)};
+        };
+        PartFacts facts;
+        while (true) {  // one header: attributes until an empty name
+            if (!walk.name(name))
+                return corrupt(
+                    "an attribute name runs past the end of the file or its length "
+                    "limit");
             if (name.empty()) break;
-            if (!readName(in, maxName, type))
-                return Error{fmt::format("corrupt OpenEXR header {}: attribute '{}' has no type",
-                                         part, name)};
-            unsigned char sizeBytes[4] = {};
-            if (!in.read(reinterpret_cast<char*>(sizeBytes), sizeof sizeBytes))
-                return Error{fmt::format("corrupt OpenEXR header {}: attribute '{}' has no size",
-                                         part, name)};
-            const auto size = static_cast<std::int32_t>(littleEndian32(sizeBytes));
-            const auto at = static_cast<std::uintmax_t>(in.tellg());
-            if (size < 0 || static_cast<std::uintmax_t>(size) > fileSize - at)
-                return Error{
-                    fmt::format("corrupt OpenEXR header {}: attribute '{}' ({}) says "
-                                "it has {} bytes, the file has {} left",
-                                part, name, type, size, fileSize - at)};
-            in.seekg(size, std::ios::cur);
+            if (!walk.name(type)) return corrupt(fmt::format("attribute '{}' has no type", name));
+            std::int32_t size = 0;
+            if (!walk.i32(size)) return corrupt(fmt::format("attribute '{}' has no size", name));
+            if (size < 0 || static_cast<std::uintmax_t>(size) > walk.left())
+                return corrupt(
+                    fmt::format("attribute '{}' ({}) says it has {} bytes, the file "
+                                "has {} left",
+                                name, type, size, walk.left()));
+            const auto wrongSize = [&](std::int64_t actual) {
+                return corrupt(
+                    fmt::format("attribute '{}' ({}) says it has {} bytes, its value "
+                                "has {}",
+                                name, type, size, actual));
+            };
+            if (const std::optional<std::int32_t> fixed = fixedSizeOf(type)) {
+                if (size != *fixed) return wrongSize(*fixed);
+                if (name == "dataWindow" && type == "box2i") {
+                    for (std::int32_t& v : facts.window)
+                        if (!walk.i32(v)) return corrupt("dataWindow is cut short");
+                    facts.hasDataWindow = true;
+                } else if (name == "tiles" && type == "tiledesc") {
+                    unsigned char tiles[9];
+                    if (!walk.bytes(tiles, sizeof tiles)) return corrupt("tiles is cut short");
+                    facts.tiled = true;
+                    facts.tileX = littleEndian32(tiles);
+                    facts.tileY = littleEndian32(tiles + 4);
+                } else if (name == "compression" && type == "compression") {
+                    unsigned char c = 0;
+                    if (!walk.bytes(&c, 1)) return corrupt("compression is cut short");
+                    facts.compression = c;
+                } else if (name == "chunkCount" && type == "int") {
+                    std::int32_t count = 0;
+                    if (!walk.i32(count)) return corrupt("chunkCount is cut short");
+                    facts.chunkCount = count;
+                } else {
+                    walk.skip(size);
+                }
+            } else if (type == "chlist") {
+                const std::optional<std::int64_t> consumed = walk.channelListBytes();
+                if (!consumed) return corrupt("the channel list runs past the end of the file");
+                if (*consumed != size) return wrongSize(*consumed);
+            } else if (type == "preview") {
+                std::int32_t w = 0, h = 0;
+                if (size < 8 || !walk.i32(w) || !walk.i32(h)) return wrongSize(8);
+                const std::int64_t pixels = 8 + 4 * std::int64_t{static_cast<std::uint32_t>(w)} *
+                                                    std::int64_t{static_cast<std::uint32_t>(h)};
+                if (pixels != size) return wrongSize(pixels);
+                walk.skip(size - 8);
+            } else if (type == "stringvector") {
+                // Length-prefixed strings, each allocated at its stated length.
+                for (std::int64_t read = 0; read < size;) {
+                    std::int32_t length = 0;
+                    if (size - read < 4 || !walk.i32(length) || length < 0 ||
+                        length > size - read - 4)
+                        return corrupt(
+                            fmt::format("a string of attribute '{}' runs past the "
+                                        "attribute",
+                                        name));
+                    walk.skip(length);
+                    read += 4 + length;
+                }
+            } else {
+                walk.skip(size);  // string, vectors and opaque types: read at their size
+            }
+        }
+        // The chunk offset table OpenEXR allocates from this header must fit in the file.
+        const std::uint64_t room = fileSize / kChunkOffsetBytes;
+        if (facts.chunkCount &&
+            (*facts.chunkCount < 0 || static_cast<std::uint64_t>(*facts.chunkCount) > room))
+            return corrupt(fmt::format("chunkCount {} does not fit in a file of {} bytes",
+                                       *facts.chunkCount, fileSize));
+        if (facts.hasDataWindow) {
+            const std::int64_t w = std::int64_t{facts.window[2]} - facts.window[0] + 1;
+            const std::int64_t h = std::int64_t{facts.window[3]} - facts.window[1] + 1;
+            if (w < 1 || h < 1) return corrupt(fmt::format("the data window is {} × {}", w, h));
+            std::uint64_t chunks = 0;
+            if (facts.tiled) {
+                if (facts.tileX == 0 || facts.tileY == 0) return corrupt("a tile size is 0");
+                chunks = static_cast<std::uint64_t>((w + facts.tileX - 1) / facts.tileX) *
+                         static_cast<std::uint64_t>((h + facts.tileY - 1) / facts.tileY);
+            } else {
+                const std::int64_t lines = linesPerChunk(facts.compression);
+                chunks = static_cast<std::uint64_t>((h + lines - 1) / lines);
+            }
+            if (chunks > room)
+                return corrupt(
+                    fmt::format("a {} × {} data window needs {} chunks, more than a "
+                                "file of {} bytes can hold",
+                                w, h, chunks, fileSize));
         }
         if (!multiPart) break;
     }

@@ -18,6 +18,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <vector>
 
 namespace terrain::io::detail {
@@ -30,6 +31,20 @@ constexpr std::int64_t kScanlineBlockRows = 64;
 constexpr std::int64_t kMaxScanlineBlockRows = 256;
 constexpr std::size_t kMinCacheBytes = std::size_t{64} << 20U;
 constexpr std::size_t kCachedBlockRows = 3;  // block rows of the whole width that fit
+// The most one block of rows may decode to (every channel, at least 4 bytes a sample).
+// OpenImageIO decodes scan-line files in chunks of up to 256 rows of the whole width, and
+// a tiled file a row of tiles at a time, allocating that before it reads: a header that
+// claims more would make it allocate it (8 GB for a 232-byte EXR claiming 8.4M columns,
+// found by fuzz-dem-exr). A 1.3M-sample-wide float32 planet needs 1.3 GB.
+constexpr std::uint64_t kMaxDecodeBytes = std::uint64_t{2} << 30U;
+constexpr std::uint64_t kDecoderChunkRows = 256;
+
+// Bytes one row of `spec` decodes to, all channels.
+std::uint64_t decodedRowBytes(const OIIO::ImageSpec& spec) {
+    const std::uint64_t sampleBytes =
+        std::max<std::uint64_t>(4, spec.channelformat(0).size()) * std::uint64_t(spec.nchannels);
+    return std::uint64_t(spec.width) * sampleBytes;
+}
 
 // Our names for the source sample types, nullptr for ones that are not heights.
 const char* sampleTypeName(OIIO::TypeDesc::BASETYPE type) {
@@ -281,6 +296,16 @@ DemReaderResult openOiioDem(const std::string& path, const DemOpenOptions& optio
     if (bits != 0 && static_cast<std::size_t>(bits) != native.size() * 8)
         return fail(
             fmt::format("unsupported sample type: {}-bit samples (widened to {})", bits, typeName));
+
+    const std::uint64_t rowBytes = decodedRowBytes(spec);
+    const bool tiled = spec.tile_width > 0 && spec.tile_height > 0;
+    const std::uint64_t blockRows = tiled ? std::uint64_t(spec.tile_height) : kDecoderChunkRows;
+    if (rowBytes * blockRows > kMaxDecodeBytes)
+        return fail(fmt::format(
+            "{} × {} samples of {} channels: a {} decodes to {} MiB, more "
+            "than the {} MiB a read may take (a damaged header?)",
+            spec.width, spec.height, spec.nchannels, tiled ? "row of tiles" : "block of 256 rows",
+            (rowBytes * blockRows) >> 20U, kMaxDecodeBytes >> 20U));
 
     DemInfo info;
     info.path = path;

@@ -253,8 +253,7 @@ Result<CameraPath> CameraPath::load(const std::filesystem::path& path) {
     if (!root) return root.error();
     std::vector<CameraKeyframe> keyframes;
     try {
-        if (root.value().is_object() &&
-            root.value().value("format", "") == "terrain-globe-camera-path")
+        if (path_json::formatIs(root.value(), "terrain-globe-camera-path"))
             throw FileProblem{
                 "a globe camera path (\"terrain-globe-camera-path\", latitude, longitude and "
                 "height); a planar pyramid flies a \"terrain-camera-path\" in its own metres "

@@ -151,7 +151,7 @@ Result<GlobeCameraPath> GlobeCameraPath::load(const std::filesystem::path& path)
     if (!root) return root.error();
     std::vector<GlobeKeyframe> keyframes;
     try {
-        if (root.value().is_object() && root.value().value("format", "") == "terrain-camera-path")
+        if (path_json::formatIs(root.value(), "terrain-camera-path"))
             throw FileProblem{
                 "a planar camera path (\"terrain-camera-path\", positions in metres); a globe "
                 "pyramid flies a \"terrain-globe-camera-path\" in latitude, longitude and "

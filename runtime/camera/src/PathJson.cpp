@@ -33,6 +33,12 @@ Result<Json> readFile(const std::filesystem::path& path) {
     }
 }
 
+bool formatIs(const Json& root, std::string_view format) {
+    if (!root.is_object()) return false;
+    const auto found = root.find("format");
+    return found != root.end() && found->is_string() && found->get<std::string>() == format;
+}
+
 Status writeFile(const std::filesystem::path& path, std::string_view format, int version,
                  const Json& units, std::span<const Json> keyframes) {
     std::string text = fmt::format(

@@ -37,6 +37,10 @@ const Json& checkedKeyframes(const Json& root, std::string_view format, int vers
                              std::span<const std::string_view> known,
                              std::span<const std::string_view> unitKeys);
 
+/// Whether `root` is an object whose "format" is the string `format` (anything else, a
+/// number included, is not: a fuzzed file put 999999999 there).
+bool formatIs(const Json& root, std::string_view format);
+
 /// Throws FileProblem naming the first key of `object` outside `known`.
 void rejectUnknownKeys(const Json& object, std::span<const std::string_view> known,
                        const std::string& where);

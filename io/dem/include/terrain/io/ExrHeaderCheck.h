@@ -1,10 +1,13 @@
 // ExrHeaderCheck: the walk over an OpenEXR file's headers that must come before the OpenEXR
-// library opens an untrusted file. OpenEXR 3.1 allocates (and fills) whatever an attribute's
-// size field says before reading it: one flipped byte in a 20 KB shard makes it build a
-// 2 GB string, 10 s and 2 GB of memory before it fails (found by fuzz-shard). The walk reads
-// only the attributes' names, types and sizes (OpenEXR file layout: magic, version, then
-// per part name\0 type\0 size value, a \0 after each header, one more after the last
-// header of a multi-part file) and refuses a size the file cannot hold.
+// library opens an untrusted file. OpenEXR 3.1 allocates (and fills) whatever a header says
+// before it reads it: one changed byte in a 20 KB shard makes it build a 1.2 GB string, or
+// a chunk offset table for a data window of 2^31 rows, taking over 10 s and gigabytes
+// before it fails (found by fuzz-shard). The walk reads the headers as OpenEXR does
+// (magic, version, then per part name\0 type\0 size value, a \0 after each header, one
+// more after the last header of a multi-part file; values of the types OpenEXR knows in
+// their own layout) and refuses an attribute the file cannot hold, a value that does not
+// fill its stated size, and a chunk offset table (chunkCount, or the chunks of the data
+// window) larger than the file.
 #pragma once
 
 #include "terrain/base/Result.h"
