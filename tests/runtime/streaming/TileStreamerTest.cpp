@@ -19,6 +19,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <unordered_set>
 #include <vector>
@@ -204,6 +205,70 @@ TEST_F(TileStreamerTest, MissingShardIsReportedOncePerPatchAndAncestorsDraw) {
     EXPECT_GT(f.draws.size(), 0u);
     EXPECT_TRUE(s.drain(std::chrono::seconds(10)));
     EXPECT_GE(s.ledger().failed, s.faults().size());
+}
+
+// Shards that change under a running streamer, as a sync tool or a user's cleanup does it:
+// after the whole DEM was drawn from afar, every finest-level shard is deleted or replaced
+// (by rename, as a sync does) with bytes that are not a shard. Flying low over every part
+// of the DEM then fails those reads: each is a fault naming its shard, reported once, the
+// area is drawn by ancestors, and the streamer's invariants hold every frame.
+TEST_F(TileStreamerTest, ShardsDeletedOrReplacedWhileStreamingAreFaults) {
+    TempFolder folder;
+    const std::filesystem::path copy = folder.path() / "changing.pyramid";
+    std::filesystem::copy(streamingTestPyramid(), copy, std::filesystem::copy_options::recursive);
+    auto opened = TileStreamer::open(copy, {});
+    ASSERT_TRUE(opened) << opened.error().message;
+    TileStreamer& s = *opened.value();
+    const runtime::TerrainGeometry g(s.manifest());
+    const io::PyramidLayout& layout = s.layout();
+    const auto settle = [&](const Camera& c) {
+        Frame f;
+        for (int i = 0; i < 400; ++i) {
+            frame(s, g, c, 1.0, f);
+            if (f.stats.visited > 0) {
+                ASSERT_NO_FATAL_FAILURE(expectCoverage(s, f));
+            }
+            // Settled: nothing more will arrive (a split waiting on a failed child waits
+            // for good; its patch stays drawn).
+            if (s.loadsOutstanding() == 0 && i > 0) return;
+            s.waitForReads(std::chrono::milliseconds(100));
+        }
+        ADD_FAILURE() << "did not settle: " << f.stats.waitingSplits << " splits waiting, "
+                      << s.loadsOutstanding() << " loads outstanding, " << f.draws.size()
+                      << " drawn, " << s.faults().size() << " faults";
+    };
+    settle(cameraOverDem(g, 0.5, 0.5, 4.0 * g.demSize().x, 0.5, 0.55));
+    ASSERT_TRUE(s.faults().empty());
+
+    const int finest = layout.finestLevel();
+    int changed = 0;
+    for (std::int64_t y = 0; y < layout.shardsY(finest); ++y) {
+        for (std::int64_t x = 0; x < layout.shardsX(finest); ++x) {
+            const std::filesystem::path shard = copy / layout.shardPath({finest, x, y});
+            if (!std::filesystem::exists(shard)) continue;
+            if ((x + y) % 2 == 0) {
+                std::filesystem::remove(shard);
+            } else {
+                const std::filesystem::path fresh = shard.string() + ".sync-tmp";
+                std::ofstream(fresh, std::ios::binary) << "a half-synced file, not a shard";
+                std::filesystem::rename(fresh, shard);
+            }
+            ++changed;
+        }
+    }
+    ASSERT_GT(changed, 0);
+    for (const double fx : {0.1, 0.5, 0.9})
+        for (const double fy : {0.1, 0.5, 0.9})
+            ASSERT_NO_FATAL_FAILURE(settle(cameraOverDem(g, fx, fy, 30.0, fx + 0.05, fy + 0.05)));
+
+    ASSERT_FALSE(s.faults().empty()) << "the low views need finest patches";
+    std::unordered_set<io::PatchId, io::PatchIdHash> reported;
+    for (const runtime::TileFault& fault : s.faults()) {
+        EXPECT_TRUE(reported.insert(fault.id).second) << "reported twice";
+        EXPECT_EQ(fault.id.level, finest) << fault.message;
+        EXPECT_NE(fault.message.find(".exr"), std::string::npos) << fault.message;
+    }
+    EXPECT_TRUE(s.drain(std::chrono::seconds(10)));
 }
 
 // A CPU cache too small for one tile would never let a tile reach the GPU, and the terrain
