@@ -29,6 +29,7 @@ public:
     }
 
     runtime::TileStreamer& streamer() override { return m_session->streamer(); }
+    void releaseLod() override { m_session->restartLod(); }
     std::string_view tiling() const override { return "planar"; }
     std::uint64_t teleports() const override { return m_flight.teleports(); }
     void beginFrame(double dtS, runtime::Camera& camera) override {
@@ -70,6 +71,7 @@ public:
     }
 
     runtime::TileStreamer& streamer() override { return m_session->streamer(); }
+    void releaseLod() override {}  // the globe LOD selects from the roots and pins nothing
     std::string_view tiling() const override { return "globe"; }
     std::uint64_t teleports() const override { return m_flight.teleports(); }
     void beginFrame(double dtS, runtime::Camera& camera) override {

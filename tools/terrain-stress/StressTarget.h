@@ -51,6 +51,8 @@ public:
     /// The frame's invariants (StressChecks::afterFrame or afterGlobeFrame): the first
     /// violation, or nullopt.
     virtual std::optional<std::string> check(StressChecks& checks) = 0;
+    /// The end of the run: the LOD lets go of every layer it holds (pins included).
+    virtual void releaseLod() = 0;
 };
 
 }  // namespace terrain::tools

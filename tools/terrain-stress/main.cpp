@@ -13,8 +13,10 @@
 #include "StressTarget.h"
 
 #include "terrain/base/PeakMemory.h"
+#include "terrain/base/ProcessResources.h"
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/gl/HeadlessGlContext.h"
+#include "terrain/io/PyramidReader.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
 
@@ -188,12 +190,19 @@ int run(const StressOptions& o) {
     };
     tools::FaultPrinter faultPrinter("terrain-stress");
     constexpr std::size_t kFaultsInJson = 10;
+    // The shard LRU of each reader (the I/O thread's, the ground lookups'), plus slack.
+    constexpr std::uint64_t kFdGrowthAllowed = 2 * io::PyramidReader::kDefaultOpenShards + 4;
 
     // Resident memory once a second after warm-up (reading /proc allocates, so not every
     // frame); the growth compares the medians of the first and the last quarter of the
     // samples (at most a minute each), so one noisy sample cannot pass or fail a run.
     std::vector<double> rssSamples;
     rssSamples.reserve(static_cast<std::size_t>(std::min(o.durationS, 1e6)) + 16);
+    // Descriptors and threads, sampled with the memory: at the first sample after warm-up
+    // and their most since. Shards open lazily up to each reader's LRU, so descriptors may
+    // grow by that much after warm-up and no more; threads not at all.
+    std::optional<std::uint64_t> fdsAtWarmup, threadsAtWarmup;
+    std::uint64_t fdsMost = 0, threadsMost = 0;
     double nextRssSampleS = o.warmupS;
     const std::array<float, 4> sky{style.skyColor[0], style.skyColor[1], style.skyColor[2], 1.0f};
     const auto loopStart = Clock::now();
@@ -239,6 +248,10 @@ int run(const StressOptions& o) {
         if (t.timeS >= nextRssSampleS) {
             // Sampled once a second after warm-up: reading /proc allocates.
             rssSamples.push_back(static_cast<double>(currentResidentBytes()));
+            const std::uint64_t fds = openFileDescriptors(), threads = threadCount();
+            if (!fdsAtWarmup) fdsAtWarmup = fds, threadsAtWarmup = threads;
+            fdsMost = std::max(fdsMost, fds);
+            threadsMost = std::max(threadsMost, threads);
             nextRssSampleS = t.timeS + 1.0;
         }
         if (context.value()->debugLog().errorCount() > 0) {
@@ -251,6 +264,31 @@ int run(const StressOptions& o) {
     if (!streamer.drain(std::chrono::seconds(30)))
         violation(frame, "requests did not end within 30 s of cancelling them all");
     if (auto broken = tools::StressChecks::afterDrain(streamer)) violation(frame, *broken);
+    if (fdsAtWarmup && fdsMost > *fdsAtWarmup + kFdGrowthAllowed)
+        violation(frame, fmt::format("open file descriptors grew from {} at warm-up to {} (at "
+                                     "most {} more: the shard readers' LRU)",
+                                     *fdsAtWarmup, fdsMost, kFdGrowthAllowed));
+    if (threadsAtWarmup && threadsMost > *threadsAtWarmup)
+        violation(frame, fmt::format("threads grew from {} at warm-up to {}", *threadsAtWarmup,
+                                     threadsMost));
+    // Every GPU layer comes back: once the LOD lets go nothing stays pinned, and releasing
+    // what is resident returns the whole pool to the free list.
+    target.releaseLod();
+    int pinned = 0;
+    for (int layer = 0; layer < streamer.pool().capacity(); ++layer)
+        if (const auto id = streamer.pool().patchOnLayer(layer);
+            id && streamer.pool().isPinned(*id))
+            ++pinned;
+    if (pinned > 0)
+        violation(frame, fmt::format("{} GPU layers still pinned after the LOD let go", pinned));
+    const int released = streamer.releaseAllLayers();
+    if (streamer.pool().layersUsed() != 0 ||
+        streamer.pool().layersFree() != streamer.pool().capacity())
+        violation(frame, fmt::format("after releasing {} layers the pool has {} used and {} of {} "
+                                     "free",
+                                     released, streamer.pool().layersUsed(),
+                                     streamer.pool().layersFree(), streamer.pool().capacity()));
+    if (auto broken = streamer.checkInvariants()) violation(frame, *broken);
     if (csv) {
         if (auto closed = csv->close(); !closed) return fail(closed.error().message);
     }
@@ -317,6 +355,13 @@ int run(const StressOptions& o) {
               {"growth_after_warmup_percent", growthPercent},
               {"slope_bytes_per_minute", rss.slopeBytesPerMinute},
               {"peak_bytes", peakResidentBytes()}}},
+            {"resources",
+             {{"fds_at_warmup", fdsAtWarmup.value_or(0)},
+              {"fds_most", fdsMost},
+              {"threads_at_warmup", threadsAtWarmup.value_or(0)},
+              {"threads_most", threadsMost},
+              {"gpu_layers_released_at_exit", released},
+              {"gpu_layers_free_at_exit", streamer.pool().layersFree()}}},
             {"telemetry", summary.toJson()},
             {"telemetry_csv",
              o.telemetryCsv.empty() ? nlohmann::json() : nlohmann::json(o.telemetryCsv)},

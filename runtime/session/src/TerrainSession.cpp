@@ -42,6 +42,13 @@ TerrainSession::~TerrainSession() {
     m_tree.reset();  // unpins its patches while the pool exists
 }
 
+void TerrainSession::restartLod() {
+    const LodOptions options = m_tree->options();
+    m_tree.reset();  // unpins before the new tree exists
+    m_tree = std::make_unique<LodQuadtree>(*m_streamer, m_geometry, options);
+    m_draws.clear();
+}
+
 const LodUpdateStats& TerrainSession::beginFrame(const Camera& camera) {
     m_streamer->beginFrame();
     m_lastDraw = {};

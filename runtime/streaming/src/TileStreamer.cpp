@@ -233,6 +233,18 @@ const TileFault* TileStreamer::faultOf(const io::PatchId& id) const {
     return fault != m_faults.end() ? &*fault : nullptr;
 }
 
+int TileStreamer::releaseAllLayers() {
+    int released = 0;
+    for (int layer = 0; layer < m_pool.capacity(); ++layer) {
+        const std::optional<io::PatchId> id = m_pool.patchOnLayer(layer);
+        if (!id) continue;
+        if (m_pool.isPinned(*id)) m_pool.unpin(*id);
+        m_pool.release(*id);
+        ++released;
+    }
+    return released;
+}
+
 bool TileStreamer::drain(std::chrono::milliseconds timeout) {
     for (auto& [id, load] : m_loads) {
         if (load.liveRequests > 0 && !load.cancelRequested) {

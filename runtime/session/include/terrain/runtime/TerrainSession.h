@@ -73,6 +73,9 @@ public:
     void setLodFrozen(bool frozen) { m_lodFrozen = frozen; }
     bool lodFrozen() const { return m_lodFrozen; }
     void setLodOptions(const LodOptions& options) { m_tree->setOptions(options); }
+    /// Drops the LOD tree and the layers it pins; the next frame selects from the root
+    /// again. The stress test calls it at the end to check that no layer stays pinned.
+    void restartLod();
     const LodOptions& lodOptions() const { return m_tree->options(); }
 
     /// This frame's draw list (every patch resident, skirt depths assigned).

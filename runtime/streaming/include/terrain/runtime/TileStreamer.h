@@ -125,6 +125,10 @@ public:
         m_loadObserver = std::move(observer);
     }
     const cache::GpuTilePool& pool() const { return m_pool; }
+    /// Gives back every GPU layer (pinned ones too): the end of a session, after drain(), so
+    /// a program can check the pool got every layer back. Nothing may be drawn from the
+    /// streamer's tiles afterwards without selecting again. Returns the layers released.
+    int releaseAllLayers();
     io::IoThreadStats ioStats() const { return m_io->stats(); }
     /// Patches requested or waiting for upload (bounded by what the LOD wants).
     std::size_t loadsOutstanding() const { return m_loads.size(); }
