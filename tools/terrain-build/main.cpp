@@ -5,6 +5,7 @@
 
 #include "terrain/base/PeakMemory.h"
 #include "terrain/io/DemReader.h"
+#include "terrain/io/DemSlope.h"
 #include "terrain/io/GlobePyramidBuilder.h"
 #include "terrain/io/PyramidBuilder.h"
 
@@ -135,6 +136,18 @@ int main(int argc, char** argv) {
         sourcePointers.push_back(opened.value().get());
         sources.push_back(std::move(opened).value());
     }
+    // What the readers assumed, and relief no real terrain has: printed whatever --quiet
+    // says (a wrong spacing or unit is the most common reason a pyramid looks broken).
+    std::vector<std::string> warnings;
+    for (const auto& source : sources) {
+        for (const std::string& warning : source->info().warnings) warnings.push_back(warning);
+        auto slopes = io::sampleSlopes(*source);
+        if (!slopes) return fail(slopes.error().message);
+        if (auto absurd = io::absurdReliefWarning(source->info(), slopes.value()))
+            warnings.push_back(*absurd);
+    }
+    for (const std::string& warning : warnings)
+        fmt::print(stderr, "terrain-build: warning: {}\n", warning);
 
     std::signal(SIGINT, onInterrupt);
     std::signal(SIGTERM, onInterrupt);
@@ -184,6 +197,7 @@ int main(int argc, char** argv) {
             {"zipLevel", options.zipLevel},
             {"rootErrorM", s.manifest.statistics.rootError},
             {"noDataSamples", s.manifest.noData.samples},
+            {"warnings", warnings},
             {"gl", nullptr},
         };
         std::puts(summary.dump(2).c_str());

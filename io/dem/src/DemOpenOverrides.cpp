@@ -26,6 +26,37 @@ Status describeEpsg(const std::string& path, int epsg, Georeference& geo) {
     return {};
 }
 
+// What a user of GDAL or Cesium expects of a file that does not say everything: a grid
+// spacing (geotransform, coordinate variables, ModelPixelScale) without a CRS is that
+// spacing in metres, as gdalinfo shows it; only a file with no spacing at all is 1 m per
+// sample. Either way the user is told, with the flags that say otherwise.
+void assumeMissingGeoreference(DemInfo& info) {
+    Georeference& geo = info.georeference;
+    if (!info.hasGeoreference) {
+        info.warnings.push_back(fmt::format(
+            "{}: the file gives no sample spacing and no CRS; built at 1 m per sample with "
+            "heights in metres. Give --spacing METRES (and --epsg CODE, --origin X,Y) if "
+            "that is wrong",
+            info.path));
+        return;
+    }
+    if (geo.crsKind != CrsKind::Unknown) return;
+    geo.crsKind = CrsKind::Projected;
+    geo.epsg = Georeference::kUnknownProjectedCrs;
+    // Degrees look like this: a spacing well under a unit, the grid inside ±180 × ±90.
+    const double east = geo.originX + geo.pixelSizeX * static_cast<double>(info.width);
+    const double south = geo.originY - geo.pixelSizeY * static_cast<double>(info.height);
+    const bool looksLikeDegrees = geo.pixelSizeX < 0.1 && geo.pixelSizeY < 0.1 &&
+                                  geo.originX >= -180.0 && east <= 360.0 && geo.originY <= 90.0 &&
+                                  south >= -90.0;
+    info.warnings.push_back(fmt::format(
+        "{}: the CRS is unknown; the file's grid spacing {:g} × {:g} is taken as metres (an "
+        "unnamed projected CRS). {}",
+        info.path, geo.pixelSizeX, geo.pixelSizeY,
+        looksLikeDegrees ? "That spacing looks like degrees: give --epsg 4326 if it is"
+                         : "Give --epsg CODE if the map units are not metres"));
+}
+
 }  // namespace
 
 Status applyDemOpenOptions(DemInfo& info, const DemOpenOptions& options) {
@@ -44,7 +75,10 @@ Status applyDemOpenOptions(DemInfo& info, const DemOpenOptions& options) {
     if (options.noDataValue) info.noDataValue = *options.noDataValue;
 
     const bool placed = options.pixelSize || options.originX || options.originY || options.epsg;
-    if (!placed) return {};
+    if (!placed) {
+        assumeMissingGeoreference(info);
+        return {};
+    }
     Georeference& geo = info.georeference;
     if (options.pixelSize) {
         if (!(*options.pixelSize > 0.0) || !std::isfinite(*options.pixelSize))

@@ -106,11 +106,16 @@ Result<std::optional<Georeference>> readGeoreferenceTags(TIFF* t) {
     geo.originY = tiepoint[4] + tiepoint[1] * scale[1];
 
     const CrsKeys crs = readCrsKeys(t);
-    // Without a model type, a geographic code alone says geographic; anything else keeps
-    // the writer's convention: projected, metres, maybe unnamed.
+    // Without a model type, a geographic code alone says geographic; a projected code or
+    // the model type alone keeps the writer's convention: projected, metres, maybe unnamed.
+    // No CRS key at all is an unknown CRS (the reader's caller takes the spacing as metres
+    // and says so).
     const bool geographic = crs.modelType == kModelTypeGeographic ||
                             (crs.modelType == 0 && crs.projected == 0 && crs.geographic != 0);
-    if (geographic) {
+    const bool noCrs = crs.modelType == 0 && crs.projected == 0 && crs.geographic == 0;
+    if (noCrs) {
+        geo.crsKind = CrsKind::Unknown;
+    } else if (geographic) {
         geo.crsKind = CrsKind::Geographic;
         if (crs.geographic != 0 && crs.geographic != kUserDefined) geo.epsg = crs.geographic;
     } else if (crs.modelType == 0 || crs.modelType == kModelTypeProjected) {

@@ -15,6 +15,7 @@
 #include <array>
 #include <cstdint>
 #include <numeric>
+#include <tuple>
 
 namespace terrain::io {
 namespace {
@@ -81,6 +82,11 @@ TEST(DemReaderRealData, PugetSoundPngWithVerticalScale) {
     EXPECT_EQ(info.georeference.pixelSizeX, 1.0);
     EXPECT_EQ(info.georeference.originX, 0.0);
     EXPECT_EQ(info.vertical.scale, 0.1);
+    // No spacing in the file: 1 m per sample, and the user is told with the flags to give.
+    ASSERT_EQ(info.warnings.size(), 1U);
+    EXPECT_TRUE(info.warnings[0].starts_with(path.string())) << info.warnings[0];
+    EXPECT_NE(info.warnings[0].find("1 m per sample"), std::string::npos) << info.warnings[0];
+    EXPECT_NE(info.warnings[0].find("--spacing"), std::string::npos) << info.warnings[0];
     EXPECT_FALSE(info.noDataValue.has_value());
 
     const std::vector<float> all = readAll(*reader);
@@ -242,6 +248,10 @@ protected:
 
     // A GDAL-written GeoTIFF of the heights in `type` (rounded for integers), with
     // creation options such as TILED=YES.
+    // The grid the writer places the heights on; without a CRS only the spacing is said.
+    double m_spacing = 10.0;
+    bool m_writeCrs = true;
+
     std::string writeWithGdal(const std::string& name, GDALDataType type,
                               std::vector<std::string> creationOptions,
                               std::optional<double> noData = std::nullopt,
@@ -257,11 +267,11 @@ protected:
                                          static_cast<int>(m_height), 1, type, options.data());
         EXPECT_NE(ds, nullptr);
         if (ds == nullptr) return path;
-        std::array<double, 6> gt = {500000.0, 10.0, 0.0, 5200000.0, 0.0, -10.0};
+        std::array<double, 6> gt = {500000.0, m_spacing, 0.0, 5200000.0, 0.0, -m_spacing};
         ds->SetGeoTransform(gt.data());
         OGRSpatialReference srs;
         srs.importFromEPSG(32610);
-        ds->SetSpatialRef(&srs);
+        if (m_writeCrs) ds->SetSpatialRef(&srs);
         if (noData) ds->GetRasterBand(1)->SetNoDataValue(*noData);
         std::vector<double> values(m_heights.begin(), m_heights.end());
         if (type != GDT_Float32 && type != GDT_Float64)
@@ -505,6 +515,48 @@ TEST_F(DemReaderWritten, HgtTileFromItsName) {
     ASSERT_TRUE(plain);
     EXPECT_FALSE(plain->info().hasGeoreference);
     EXPECT_EQ(plain->info().georeference.crsKind, CrsKind::Unknown);
+}
+
+// A grid spacing without a CRS (a GeoTIFF with ModelPixelScale and no GeoKeys, an ESRI
+// .bil/.hdr without .prj) is built at that spacing in metres, as GDAL shows it, and says
+// so; before, the builder took it as 1 m and drew a needle forest. The spacing below is
+// the held-out polar grid's: 5,000 m.
+TEST_F(DemReaderWritten, SpacingWithoutCrsIsMetresWithAWarning) {
+    m_writeCrs = false;
+    m_spacing = 5000.0;
+    for (const auto& [name, driver, readerName] :
+         {std::tuple{"no-crs.tif", "GTiff", "oiio"}, std::tuple{"no-crs.bil", "EHdr", "gdal"}}) {
+        SCOPED_TRACE(name);
+        const std::string path = writeWithGdal(name, GDT_Float32, {}, std::nullopt, driver);
+        auto reader = mustOpen(path);
+        ASSERT_TRUE(reader);
+        const DemInfo& info = reader->info();
+        EXPECT_EQ(info.readerName, readerName);
+        EXPECT_TRUE(info.hasGeoreference);
+        EXPECT_EQ(info.georeference.crsKind, CrsKind::Projected);
+        EXPECT_EQ(info.georeference.epsg, Georeference::kUnknownProjectedCrs);
+        EXPECT_EQ(info.georeference.pixelSizeX, 5000.0);
+        EXPECT_EQ(info.georeference.pixelSizeY, 5000.0);
+        EXPECT_EQ(info.georeference.originX, 500000.0);
+        ASSERT_EQ(info.warnings.size(), 1U);
+        EXPECT_TRUE(info.warnings[0].starts_with(path)) << info.warnings[0];
+        EXPECT_NE(info.warnings[0].find("CRS is unknown"), std::string::npos) << info.warnings[0];
+        EXPECT_NE(info.warnings[0].find("5000 × 5000"), std::string::npos) << info.warnings[0];
+        EXPECT_NE(info.warnings[0].find("--epsg"), std::string::npos) << info.warnings[0];
+
+        // Saying the CRS silences it; a file with its CRS never had one.
+        DemOpenOptions named;
+        named.epsg = 3413;
+        auto placed = mustOpen(path, named);
+        ASSERT_TRUE(placed);
+        EXPECT_EQ(placed->info().georeference.crsKind, CrsKind::Projected);
+        EXPECT_EQ(placed->info().georeference.epsg, 3413);
+        EXPECT_TRUE(placed->info().warnings.empty());
+    }
+    m_writeCrs = true;
+    auto withCrs = mustOpen(writeWithGdal("crs.tif", GDT_Float32, {}));
+    ASSERT_TRUE(withCrs);
+    EXPECT_TRUE(withCrs->info().warnings.empty());
 }
 
 // ---------------------------------------------------------------------------------------

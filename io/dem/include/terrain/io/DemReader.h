@@ -38,6 +38,10 @@ struct DemInfo {
     /// Raw value the source declares as no-data (GeoTIFF GDAL_NODATA, netCDF _FillValue,
     /// SRTM voids −32768), compared before the vertical transform.
     std::optional<double> noDataValue;  ///< raw value; samples equal to it read as NaN
+    /// What the reader had to assume, for the user to see (a spacing without a CRS taken
+    /// as metres, no spacing at all taken as 1 m), each naming the file and the flags that
+    /// say otherwise.
+    std::vector<std::string> warnings;
 };
 
 class DemReader {
