@@ -3,6 +3,7 @@
 # project needs (idempotent, non-interactive, one `apt-get update`), then configures and
 # builds. Usage: scripts/setup.sh [--deps-only] [--build-dir DIR] [--build-type TYPE]
 #                                 [--sanitizer "address;undefined"|thread] [--no-werror]
+#                                 [--targets "NAME ..."]
 # Warnings are errors by default: Debian 12's g++ 12 is the one supported compiler.
 set -euo pipefail
 
@@ -12,6 +13,7 @@ build_type=RelWithDebInfo
 sanitizer=""
 werror=ON
 deps_only=0
+targets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --deps-only) deps_only=1 ;;
@@ -19,7 +21,8 @@ while [ $# -gt 0 ]; do
     --build-type) build_type=$2; shift ;;
     --sanitizer) sanitizer=$2; shift ;;
     --no-werror) werror=OFF ;;
-    -h|--help) sed -n '2,6p' "$0"; exit 0 ;;
+    --targets) read -r -a targets <<< "$2"; shift ;;  # build only these (default: all)
+    -h|--help) sed -n '2,7p' "$0"; exit 0 ;;
     *) echo "setup.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -57,4 +60,4 @@ cmake -S "$repo_root" -B "$build_dir" -G Ninja \
   -DCMAKE_BUILD_TYPE="$build_type" \
   -DTERRAIN_SANITIZER="$sanitizer" \
   -DTERRAIN_WARNINGS_AS_ERRORS="$werror"
-cmake --build "$build_dir" --parallel "$(nproc)"
+cmake --build "$build_dir" --parallel "$(nproc)" ${targets[@]:+--target "${targets[@]}"}
