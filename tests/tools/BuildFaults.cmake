@@ -77,8 +77,10 @@ elseif(CASE STREQUAL "killed")
         message(FATAL_ERROR "a finished build left no manifest")
       endif()
     elseif(_status EQUAL 137 OR _status STREQUAL "Subprocess killed")
-      if(EXISTS "${_pyramid}/manifest.json" OR EXISTS "${_pyramid}")
-        message(FATAL_ERROR "killed after ${_after} s, the build left ${_pyramid}")
+      # Killed after the final rename (while exiting) leaves the whole pyramid: fine. What
+      # must never be there is a pyramid path without its manifest.
+      if(EXISTS "${_pyramid}" AND NOT EXISTS "${_pyramid}/manifest.json")
+        message(FATAL_ERROR "killed after ${_after} s, the build left ${_pyramid} without a manifest")
       endif()
       file(GLOB _partials "${OUT}/faulted.pyramid.partial-*")
       if(_partials)  # what kill -9 leaves: named partial, never a pyramid
