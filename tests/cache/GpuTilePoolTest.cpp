@@ -305,5 +305,28 @@ TEST_F(GpuTilePoolTest, EvictsTheLeastRecentlyUsedLayerNotUsedThisFrame) {
     pool.endFrame();
 }
 
+TEST_F(GpuTilePoolTest, PinnedCountFollowsPinAndUnpin) {
+    // What terrain-stress checks at the end of a run: once the LOD lets go, nothing is pinned.
+    cache::GpuTilePool pool = makePool(4, 4 * cache::GpuTilePool::bytesPerLayer(layout()));
+    pool.beginFrame();
+    const io::PatchId a{.level = 1, .x = 0, .y = 0}, b{.level = 1, .x = 1, .y = 0};
+    ASSERT_TRUE(pool.allocate(a));
+    ASSERT_TRUE(pool.allocate(b));
+    EXPECT_EQ(pool.pinnedCount(), 0);
+    pool.pin(a);
+    pool.pin(b);
+    EXPECT_EQ(pool.pinnedCount(), 2);
+    pool.unpin(a);
+    EXPECT_EQ(pool.pinnedCount(), 1);
+    EXPECT_FALSE(pool.isPinned(a));
+    pool.unpin(b);
+    EXPECT_EQ(pool.pinnedCount(), 0);
+    pool.release(a);
+    pool.release(b);
+    EXPECT_EQ(pool.layersFree(), pool.capacity());
+    EXPECT_EQ(pool.checkInvariants(), std::nullopt);
+    pool.endFrame();
+}
+
 }  // namespace
 }  // namespace terrain::test

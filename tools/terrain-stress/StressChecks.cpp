@@ -162,4 +162,20 @@ std::optional<std::string> StressChecks::afterDrain(const runtime::TileStreamer&
     return std::nullopt;
 }
 
+std::optional<std::string> StressChecks::afterLodReleased(const runtime::TileStreamer& streamer) {
+    if (const int pinned = streamer.pool().pinnedCount(); pinned > 0)
+        return fmt::format("{} GPU layers still pinned after the LOD let go", pinned);
+    return std::nullopt;
+}
+
+std::optional<std::string> StressChecks::afterLayersReleased(const runtime::TileStreamer& streamer,
+                                                             int released) {
+    const cache::GpuTilePool& pool = streamer.pool();
+    if (pool.layersUsed() != 0 || pool.layersFree() != pool.capacity()) {
+        return fmt::format("after releasing {} layers the pool has {} used and {} of {} free",
+                           released, pool.layersUsed(), pool.layersFree(), pool.capacity());
+    }
+    return std::nullopt;
+}
+
 }  // namespace terrain::tools

@@ -45,6 +45,13 @@ public:
     /// failed patch was reported exactly once.
     static std::optional<std::string> afterDrain(const runtime::TileStreamer& streamer);
 
+    /// Once the LOD let go of every patch it held: no GPU layer is pinned.
+    static std::optional<std::string> afterLodReleased(const runtime::TileStreamer& streamer);
+
+    /// After TileStreamer::releaseAllLayers() returned `released`: the whole pool is free.
+    static std::optional<std::string> afterLayersReleased(const runtime::TileStreamer& streamer,
+                                                          int released);
+
 private:
     /// The streamer's own invariants and the budgets' bounds (layers, queue depth).
     static std::optional<std::string> streamerChecks(const runtime::TileStreamer& streamer);

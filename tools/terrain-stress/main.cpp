@@ -274,20 +274,10 @@ int run(const StressOptions& o) {
     // Every GPU layer comes back: once the LOD lets go nothing stays pinned, and releasing
     // what is resident returns the whole pool to the free list.
     target.releaseLod();
-    int pinned = 0;
-    for (int layer = 0; layer < streamer.pool().capacity(); ++layer)
-        if (const auto id = streamer.pool().patchOnLayer(layer);
-            id && streamer.pool().isPinned(*id))
-            ++pinned;
-    if (pinned > 0)
-        violation(frame, fmt::format("{} GPU layers still pinned after the LOD let go", pinned));
+    if (auto broken = tools::StressChecks::afterLodReleased(streamer)) violation(frame, *broken);
     const int released = streamer.releaseAllLayers();
-    if (streamer.pool().layersUsed() != 0 ||
-        streamer.pool().layersFree() != streamer.pool().capacity())
-        violation(frame, fmt::format("after releasing {} layers the pool has {} used and {} of {} "
-                                     "free",
-                                     released, streamer.pool().layersUsed(),
-                                     streamer.pool().layersFree(), streamer.pool().capacity()));
+    if (auto broken = tools::StressChecks::afterLayersReleased(streamer, released))
+        violation(frame, *broken);
     if (auto broken = streamer.checkInvariants()) violation(frame, *broken);
     if (csv) {
         if (auto closed = csv->close(); !closed) return fail(closed.error().message);

@@ -90,6 +90,8 @@ public:
     /// Makes a pinned layer evictable again, as the most recently used. Render thread only.
     void unpin(const io::PatchId& id);
     bool isPinned(const io::PatchId& id) const;
+    /// Layers pinned now. Render thread only.
+    int pinnedCount() const { return m_pinnedCount; }
     /// Render thread only.
     std::optional<int> layerOf(const io::PatchId& id) const;
     /// Allocated and its upload issued (GL orders later draws after it). Render thread only.
