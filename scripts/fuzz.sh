@@ -39,6 +39,8 @@ json=${json:-$build_dir/fuzz-report.json}
 "$repo_root/scripts/setup.sh" --deps-only
 CC=clang CXX=clang++ cmake -S "$repo_root" -B "$build_dir" -G Ninja \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTERRAIN_FUZZ=ON \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
+  -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
   -DTERRAIN_SANITIZER="address;undefined" -DTERRAIN_BUILD_TESTS=OFF \
   -DTERRAIN_WARNINGS_AS_ERRORS=ON > /dev/null
 cmake --build "$build_dir" --target terrain-fuzzers --parallel "$(nproc)"

@@ -2,15 +2,17 @@
 # README command 2: install every Debian package, build (warnings are errors) and run
 # the whole test suite. Extra options go to setup.sh (e.g. --sanitizer "address;undefined"
 # --build-dir build-asan), except --tests REGEX, which runs only the tests whose names
-# match (ctest -R).
+# match (ctest -R), and --labels REGEX, only the tests whose labels match (ctest -L).
 set -euo pipefail
 repo_root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build_dir="$repo_root/build"
 tests_regex=""
+labels_regex=""
 setup_args=()
 while [ $# -gt 0 ]; do
   case $1 in
     --tests) tests_regex=$2; shift ;;
+    --labels) labels_regex=$2; shift ;;
     --build-dir) build_dir=$2; setup_args+=("$1" "$2"); shift ;;
     *) setup_args+=("$1") ;;
   esac
@@ -27,4 +29,5 @@ export ASAN_OPTIONS="intercept_tls_get_addr=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
 export TSAN_OPTIONS="halt_on_error=1:suppressions=$repo_root/tests/tsan.supp${TSAN_OPTIONS:+:$TSAN_OPTIONS}"
 cd "$build_dir"
-ctest --output-on-failure --parallel 2 --timeout 600 ${tests_regex:+-R "$tests_regex"}
+ctest --output-on-failure --no-tests=error --parallel 2 --timeout 600 ${tests_regex:+-R "$tests_regex"} \
+  ${labels_regex:+-L "$labels_regex"}
