@@ -27,6 +27,12 @@ function(terrain_configure_target target)
   if(TERRAIN_WARNINGS_AS_ERRORS)
     target_compile_options(${target} PRIVATE $<$<COMPILE_LANGUAGE:CXX>:-Werror>)
   endif()
+  # A unity build #includes each .cpp into a batch file, and GCC then takes a class whose
+  # member has a type from the .cpp's anonymous namespace (a pimpl's Impl) for one defined in
+  # a header: -Wsubobject-linkage, a false alarm there.
+  if(CMAKE_UNITY_BUILD AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(${target} PRIVATE $<$<COMPILE_LANGUAGE:CXX>:-Wno-subobject-linkage>)
+  endif()
   if(TERRAIN_SANITIZER)
     string(REPLACE ";" "," _list "${TERRAIN_SANITIZER}")
     target_compile_options(${target} PRIVATE -fsanitize=${_list} -fno-omit-frame-pointer

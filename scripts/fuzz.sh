@@ -49,6 +49,7 @@ CC=clang CXX=clang++ cmake -S "$repo_root" -B "$build_dir" -G Ninja \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
   -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
   -DTERRAIN_SANITIZER="address;undefined" -DTERRAIN_BUILD_TESTS=OFF \
+  -DTERRAIN_UNITY_BUILD=OFF -DTERRAIN_USE_MOLD=OFF \
   -DTERRAIN_WARNINGS_AS_ERRORS=ON > /dev/null
 cmake --build "$build_dir" --target terrain-fuzzers --parallel "$(nproc)"
 

@@ -31,7 +31,7 @@ done
 
 # Every Debian package the project uses, one concern per line.
 packages=(
-  build-essential cmake ninja-build pkg-config git
+  build-essential cmake ninja-build pkg-config git mold
   libglfw3-dev libglm-dev libepoxy-dev libegl-dev libgl-dev
   libegl-mesa0 libgl1-mesa-dri libglx-mesa0
   libopenimageio-dev openimageio-tools libopenexr-dev libtiff-dev zlib1g-dev

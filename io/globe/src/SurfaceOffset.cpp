@@ -13,7 +13,8 @@ namespace terrain::globe {
 
 namespace {
 
-constexpr double kQuarterPi = std::numbers::pi / 4.0;
+// π/4: the angle between a cube face's centre and its edge, seen from the centre.
+constexpr double kFaceHalfAngle = std::numbers::pi / 4.0;
 
 }  // namespace
 
@@ -25,8 +26,8 @@ PatchSurfaceFrame makePatchSurfaceFrame(const GlobePatchId& id, double requested
     const double v0 = static_cast<float>(requestedV0);
     const FaceFrame& face = faceFrame(id.face);
     const FacePoint reference = patchPoint(id, u0, v0);
-    const double alpha0 = kQuarterPi * (2.0 * reference.s - 1.0);
-    const double beta0 = kQuarterPi * (2.0 * reference.t - 1.0);
+    const double alpha0 = kFaceHalfAngle * (2.0 * reference.s - 1.0);
+    const double beta0 = kFaceHalfAngle * (2.0 * reference.t - 1.0);
     const double cubeS0 = cubeCoordinate(reference.s);
     const double cubeT0 = cubeCoordinate(reference.t);
     const glm::dvec3 q0 =

@@ -7,7 +7,7 @@
 namespace terrain::runtime {
 namespace {
 
-constexpr double kDegree = std::numbers::pi / 180.0;
+constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;
 constexpr double kPoleLimitDeg = 89.9999;
 
 }  // namespace
@@ -18,10 +18,10 @@ void GlobeController::update(GlobePose& pose, const GlobeControlInput& input, do
     const double heightAbove = std::max(pose.where.height - floorM, o.minClearanceM);
     const CameraInput& held = input.held;
     if (input.lookAround) {
-        pose.headingDeg =
-            std::remainder(pose.headingDeg + held.lookDxPx * o.lookRadiansPerPx / kDegree, 360.0);
-        pose.pitchDeg =
-            std::clamp(pose.pitchDeg - held.lookDyPx * o.lookRadiansPerPx / kDegree, -90.0, 89.0);
+        pose.headingDeg = std::remainder(
+            pose.headingDeg + held.lookDxPx * o.lookRadiansPerPx / kRadiansPerDegree, 360.0);
+        pose.pitchDeg = std::clamp(
+            pose.pitchDeg - held.lookDyPx * o.lookRadiansPerPx / kRadiansPerDegree, -90.0, 89.0);
     } else if (held.lookDxPx != 0.0 || held.lookDyPx != 0.0) {
         // The ground under the cursor follows it: a pixel covers height / focal metres there.
         const double metresPerPx = heightAbove / std::max(input.focalPx, 1.0);
@@ -59,8 +59,8 @@ GlobePose GlobeController::overExtent(double west, double south, double east, do
     double longitude = west + 0.5 * span;
     if (longitude > 180.0) longitude -= 360.0;
     const double latitude = 0.5 * (south + north);
-    const double widthM = std::max(span * std::cos(latitude * kDegree), north - south) * kDegree *
-                          globe::Wgs84::kEquatorialRadius;
+    const double widthM = std::max(span * std::cos(latitude * kRadiansPerDegree), north - south) *
+                          kRadiansPerDegree * globe::Wgs84::kEquatorialRadius;
     GlobePose pose;
     pose.where = {latitude, longitude,
                   std::clamp(0.6 * widthM / std::tan(0.5 * fovY), 2000.0, 20e6)};
@@ -71,14 +71,15 @@ GlobePose GlobeController::overExtent(double west, double south, double east, do
 
 // Locally flat steps: a frame's motion is small against the planet.
 void GlobeController::moveOverGround(GlobePose& pose, double forwardM, double rightM) {
-    const double heading = pose.headingDeg * kDegree;
+    const double heading = pose.headingDeg * kRadiansPerDegree;
     const double northM = forwardM * std::cos(heading) - rightM * std::sin(heading);
     const double eastM = forwardM * std::sin(heading) + rightM * std::cos(heading);
     const double radius = globe::Wgs84::kEquatorialRadius;
     globe::Geodetic& where = pose.where;
-    where.latitudeDeg =
-        std::clamp(where.latitudeDeg + northM / radius / kDegree, -kPoleLimitDeg, kPoleLimitDeg);
-    where.longitudeDeg += eastM / (radius * std::cos(where.latitudeDeg * kDegree)) / kDegree;
+    where.latitudeDeg = std::clamp(where.latitudeDeg + northM / radius / kRadiansPerDegree,
+                                   -kPoleLimitDeg, kPoleLimitDeg);
+    where.longitudeDeg +=
+        eastM / (radius * std::cos(where.latitudeDeg * kRadiansPerDegree)) / kRadiansPerDegree;
     where.longitudeDeg = std::remainder(where.longitudeDeg, 360.0);
 }
 
