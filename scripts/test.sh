@@ -29,5 +29,5 @@ export ASAN_OPTIONS="intercept_tls_get_addr=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1${UBSAN_OPTIONS:+:$UBSAN_OPTIONS}"
 export TSAN_OPTIONS="halt_on_error=1:suppressions=$repo_root/tests/tsan.supp${TSAN_OPTIONS:+:$TSAN_OPTIONS}"
 cd "$build_dir"
-ctest --output-on-failure --no-tests=error --parallel 2 --timeout 600 ${tests_regex:+-R "$tests_regex"} \
+ctest --output-on-failure --no-tests=error --parallel 2 --timeout 1800 ${tests_regex:+-R "$tests_regex"} \
   ${labels_regex:+-L "$labels_regex"}
