@@ -7,10 +7,17 @@
 // field says (a chlist runs to its empty name, a box2i is 16 bytes), so a walk that skipped
 // by size alone would lose step with it: the walk reads those values as OpenEXR does and
 // requires them to fill their size exactly.
+//
+// A header can also declare far more pixels than its file could decode to: a 232-byte file
+// with an 8.4M × 9 data window makes OpenEXR and OpenImageIO allocate and fill 300 MB (40 s
+// under ASan) before the chunks turn out to be missing. No codec expands its input more
+// than a known ratio, so the pixels of a data window must fit in the file size times the
+// ratio of its compression (kMaxExpansion below).
 #include "terrain/io/ExrHeaderCheck.h"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <fstream>
@@ -18,6 +25,7 @@
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <vector>
 
 namespace terrain::io {
 
@@ -26,6 +34,7 @@ namespace {
 constexpr std::uint32_t kMagic = 20000630;
 constexpr std::uint32_t kMultiPartFlag = 0x1000;
 constexpr std::uint32_t kLongNamesFlag = 0x400;
+constexpr std::uint32_t kDeepFlag = 0x800;
 constexpr std::uint64_t kChunkOffsetBytes = 8;
 
 struct FixedSize {
@@ -54,10 +63,42 @@ std::optional<std::int32_t> fixedSizeOf(std::string_view type) {
     return std::nullopt;
 }
 
+// OpenEXR's Header() defaults to ZIP_COMPRESSION, and a header without a compression
+// attribute keeps that default (ImfHeader.h).
+constexpr int kDefaultCompression = 3;
+
 // Scan lines per chunk of a scan-line part, by compression (ImfCompression.h order).
 std::int64_t linesPerChunk(int compression) {
     constexpr std::array<std::int64_t, 10> kLines{1, 1, 1, 16, 32, 16, 32, 32, 32, 256};
     return compression >= 0 && compression < 10 ? kLines[static_cast<std::size_t>(compression)] : 1;
+}
+
+// The most bytes of pixels one byte of a chunk can decode to, by compression (ImfCompression.h
+// order), rounded up; a compression OpenEXR does not know gets the largest.
+//   NONE   1      chunks hold the pixels as they are.
+//   RLE    64     a count byte and one value byte stand for at most 128 bytes.
+//   ZIPS   1032   deflate's limit (zlib FAQ: "the limit is 1032:1"); OpenEXR's predictor
+//   ZIP    1032   and byte reordering keep the size.
+//   PIZ    512    OpenEXR's Huffman coder codes a run of up to 256 16-bit values as the
+//                 value's code, the run code and an 8-bit count: 4096 bits in ≥ 10 bits.
+//   PXR24  1376   floats cut to 24 bits (4/3), then deflate.
+//   B44    11     a 4×4 block of halves (32 bytes) in 14 bytes, or 3 bytes when flat (B44A);
+//   B44A   11     other channel types are stored as they are.
+//   DWAA   66048  lossless channels: deflate; DCT channels: an 8×8 block of halves (128
+//   DWAB   66048  bytes) as at least a 2-byte DC and a 2-byte end of block, then deflate: at
+//                 most 32 × 1032, doubled for the RLE class.
+constexpr std::array<std::uint64_t, 10> kMaxExpansion{1,    64, 1032, 1032,  512,
+                                                      1376, 11, 11,   66048, 66048};
+std::string_view compressionName(int compression) {
+    constexpr std::array<std::string_view, 10> kNames{"none",  "RLE", "ZIPS", "ZIP",  "PIZ",
+                                                      "PXR24", "B44", "B44A", "DWAA", "DWAB"};
+    return compression >= 0 && compression < 10 ? kNames[static_cast<std::size_t>(compression)]
+                                                : "unknown";
+}
+std::uint64_t maxExpansion(int compression) {
+    return compression >= 0 && compression < 10
+               ? kMaxExpansion[static_cast<std::size_t>(compression)]
+               : kMaxExpansion[8];
 }
 
 std::uint32_t littleEndian32(const unsigned char* b) {
@@ -71,8 +112,25 @@ struct PartFacts {
     std::int32_t window[4] = {0, 0, 0, 0};  // xMin, yMin, xMax, yMax
     bool tiled = false;
     std::uint32_t tileX = 0, tileY = 0;
-    int compression = 0;
+    int compression = kDefaultCompression;
     std::optional<std::int32_t> chunkCount;
+    bool deep = false;  // deep parts hold a variable number of samples per pixel
+    struct Channel {
+        std::int64_t bytes;  // per sample: UINT and FLOAT 4, HALF 2
+        std::int64_t xSampling, ySampling;
+    };
+    std::vector<Channel> channels;
+
+    // The fewest bytes the data window's pixels decode to: every channel's samples (each
+    // sampling rounded down, so the count is never over). In double: 2^32 columns times
+    // 2^32 rows would overflow 64 bits.
+    double decodedBytes(std::int64_t w, std::int64_t h) const {
+        double sum = 0;
+        for (const Channel& c : channels)
+            sum += static_cast<double>(c.bytes) * static_cast<double>(w / c.xSampling) *
+                   static_cast<double>(h / c.ySampling);
+        return sum;
+    }
 };
 
 class HeaderWalk {
@@ -106,8 +164,9 @@ public:
     }
     void skip(std::int64_t n) { m_in.seekg(n, std::ios::cur); }
 
-    // A chlist as OpenEXR reads it: entries (name, 16 bytes) until an empty name.
-    std::optional<std::int64_t> channelListBytes() {
+    // A chlist as OpenEXR reads it: entries (name, 16 bytes: pixel type, pLinear, 3
+    // reserved, x sampling, y sampling) until an empty name.
+    std::optional<std::int64_t> channelList(std::vector<PartFacts::Channel>& channels) {
         std::int64_t consumed = 0;
         std::string channel;
         while (true) {
@@ -117,6 +176,13 @@ public:
             unsigned char entry[16];
             if (!bytes(entry, sizeof entry)) return std::nullopt;
             consumed += 16;
+            // Sampling below 1 is refused by OpenEXR; counting it as 1 keeps the count low
+            // enough never to refuse a file OpenEXR reads. An unknown type counts as 2 bytes.
+            const auto sampling = [](std::int32_t s) { return std::max<std::int64_t>(s, 1); };
+            const std::uint32_t type = littleEndian32(entry);
+            channels.push_back({type == 1 ? 2 : (type <= 2 ? 4 : 2),
+                                sampling(static_cast<std::int32_t>(littleEndian32(entry + 8))),
+                                sampling(static_cast<std::int32_t>(littleEndian32(entry + 12)))});
         }
     }
 
@@ -148,7 +214,8 @@ Status checkExrHeaderSizes(const std::filesystem::path& path) {
             return Error{fmt::format("corrupt OpenEXR header {}: {}", part, what)};
         };
         PartFacts facts;
-        while (true) {  // one header: attributes until an empty name
+        facts.deep = (version & kDeepFlag) != 0;  // a single-part deep file
+        while (true) {                            // one header: attributes until an empty name
             if (!walk.name(name))
                 return corrupt(
                     "an attribute name runs past the end of the file or its length "
@@ -192,7 +259,8 @@ Status checkExrHeaderSizes(const std::filesystem::path& path) {
                     walk.skip(size);
                 }
             } else if (type == "chlist") {
-                const std::optional<std::int64_t> consumed = walk.channelListBytes();
+                facts.channels.clear();
+                const std::optional<std::int64_t> consumed = walk.channelList(facts.channels);
                 if (!consumed) return corrupt("the channel list runs past the end of the file");
                 if (*consumed != size) return wrongSize(*consumed);
             } else if (type == "preview") {
@@ -216,7 +284,14 @@ Status checkExrHeaderSizes(const std::filesystem::path& path) {
                     read += 4 + length;
                 }
             } else {
-                walk.skip(size);  // string, vectors and opaque types: read at their size
+                if (name == "type" && type == "string") {
+                    std::string partType(static_cast<std::size_t>(size), '\0');
+                    if (!walk.bytes(partType.data(), partType.size()))
+                        return corrupt("type is cut short");
+                    facts.deep = partType.rfind("deep", 0) == 0;
+                } else {
+                    walk.skip(size);  // strings, vectors and opaque types: read at their size
+                }
             }
         }
         // The chunk offset table OpenEXR allocates from this header must fit in the file.
@@ -243,6 +318,15 @@ Status checkExrHeaderSizes(const std::filesystem::path& path) {
                     fmt::format("a {} × {} data window needs {} chunks, more than a "
                                 "file of {} bytes can hold",
                                 w, h, chunks, fileSize));
+            // A deep part holds a varying number of samples per pixel: no fixed size.
+            const double limit = static_cast<double>(fileSize) *
+                                 static_cast<double>(maxExpansion(facts.compression));
+            if (const double decoded = facts.decodedBytes(w, h); !facts.deep && decoded > limit)
+                return corrupt(fmt::format(
+                    "its {} × {} data window ({} channels) decodes to {:.0f} bytes; {} bytes "
+                    "compressed with {} decode to at most {:.0f}",
+                    w, h, facts.channels.size(), decoded, fileSize,
+                    compressionName(facts.compression), limit));
         }
         if (!multiPart) break;
     }
