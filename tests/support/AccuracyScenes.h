@@ -343,11 +343,14 @@ inline std::string describe(const runtime::FrameAccuracy& a) {
            std::to_string(e.meanPx) + ", p99 " + std::to_string(e.p99Px) + ", over ε " +
            std::to_string(e.pixelsOverThreshold) + " of " + std::to_string(e.pixels) +
            " px; fixed-diagonal max " + std::to_string(e.maxFixedDiagonalPx) + "; skirt px " +
-           std::to_string(e.skirtPixels) + " (max " + std::to_string(e.skirtMaxPx) + "); outside " +
-           std::to_string(e.outsidePixels) + "; single-pixel max " +
-           std::to_string(e.maxSinglePixelPx) + "; PSNR " + std::to_string(a.image.psnrDb) +
-           " dB; cracks " + std::to_string(a.crackPixels) + " (uncovered " +
-           std::to_string(a.uncoveredPixels) + ")";
+           std::to_string(e.skirtPixels) + " (max " + std::to_string(e.skirtMaxPx) +
+           ", unbounded " + std::to_string(e.skirtUnboundedPixels) + "); outside " +
+           std::to_string(e.outsidePixels) + "; non-finite " + std::to_string(e.nonFinitePixels) +
+           "; unbounded comparison " + std::to_string(e.unboundedComparisonPixels) +
+           "; single-pixel max " + std::to_string(e.maxSinglePixelPx) + "; PSNR " +
+           std::to_string(a.image.psnrDb) + " dB; cracks " + std::to_string(a.crackPixels) +
+           " (uncovered " + std::to_string(a.uncoveredPixels) + ", diagonal " +
+           std::to_string(a.diagonalUncoveredPixels) + ")";
 }
 
 struct Pose {

@@ -100,7 +100,7 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
         s.method = method;
         s.thresholdPx = threshold;
         std::vector<double> triangles, patches, lodUs, gpuMs, drawMs, frameMs, errorMax, errorMean,
-            errorP99, fixedMax, rawMax, rmse, psnr, popping;
+            errorP99, fixedMax, rawMax, exactMax, rmse, psnr, popping;
         for (const FrameRecord& r : records) {
             if (r.method != method || r.thresholdPx != threshold) continue;
             ++s.frames;
@@ -118,6 +118,7 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
             errorP99.push_back(r.errorP99Px);
             fixedMax.push_back(r.errorFixedDiagonalMaxPx);
             rawMax.push_back(r.errorMaxSinglePixelPx);
+            exactMax.push_back(r.errorMaxExactPositionPx);
             rmse.push_back(r.rmse);
             psnr.push_back(r.psnrDb);
             popping.push_back(r.poppingLevels);
@@ -139,6 +140,7 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
         s.errorP99MeanPx = mean(errorP99);
         s.errorFixedDiagonalMaxPx = maxOf(fixedMax);
         s.errorMaxSinglePixelPx = maxOf(rawMax);
+        s.errorMaxExactPositionPx = maxOf(exactMax);
         s.rmseMean = mean(rmse);
         s.psnrDbMean = mean(psnr);
         s.psnrDbMin = minOf(psnr);
@@ -181,6 +183,8 @@ Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRe
         {"error_fixed_diagonal_max_px",
          [](const R& r) { return number(r.errorFixedDiagonalMaxPx); }},
         {"error_max_single_pixel_px", [](const R& r) { return number(r.errorMaxSinglePixelPx); }},
+        {"error_max_exact_position_px",
+         [](const R& r) { return number(r.errorMaxExactPositionPx); }},
         {"error_worst_pixel_x", [](const R& r) { return fmt::format("{}", r.errorWorstX); }},
         {"error_worst_pixel_y", [](const R& r) { return fmt::format("{}", r.errorWorstY); }},
         {"error_worst_world_x", [](const R& r) { return number(r.errorWorstWorld.x); }},
@@ -188,10 +192,12 @@ Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRe
         {"error_worst_world_z", [](const R& r) { return number(r.errorWorstWorld.z); }},
         {"skirt_pixels", [](const R& r) { return number(r.skirtPixels); }},
         {"skirt_error_max_px", [](const R& r) { return number(r.skirtErrorMaxPx); }},
+        {"skirt_unbounded_pixels", [](const R& r) { return number(r.skirtUnboundedPixels); }},
         {"rmse", [](const R& r) { return number(r.rmse); }},
         {"psnr_db", [](const R& r) { return number(r.psnrDb); }},
         {"crack_pixels", [](const R& r) { return number(r.crackPixels); }},
         {"uncovered_pixels", [](const R& r) { return number(r.uncoveredPixels); }},
+        {"diagonal_uncovered_pixels", [](const R& r) { return number(r.diagonalUncoveredPixels); }},
         {"popping_levels", [](const R& r) { return number(r.poppingLevels); }},
         {"lod_change_levels", [](const R& r) { return number(r.lodChangeLevels); }},
         {"reference_change_levels", [](const R& r) { return number(r.referenceChangeLevels); }},
@@ -229,6 +235,8 @@ Status writeSummaryCsv(const std::filesystem::path& path,
         {"error_fixed_diagonal_max_px",
          [](const S& s) { return number(s.errorFixedDiagonalMaxPx); }},
         {"error_max_single_pixel_px", [](const S& s) { return number(s.errorMaxSinglePixelPx); }},
+        {"error_max_exact_position_px",
+         [](const S& s) { return number(s.errorMaxExactPositionPx); }},
         {"rmse_mean", [](const S& s) { return number(s.rmseMean); }},
         {"psnr_db_mean", [](const S& s) { return number(s.psnrDbMean); }},
         {"psnr_db_min", [](const S& s) { return number(s.psnrDbMin); }},

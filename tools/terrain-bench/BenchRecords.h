@@ -49,6 +49,9 @@ struct FrameRecord {
     /// The largest error of any one pixel (errorMaxPx needs two adjacent pixels to agree;
     /// ScreenSpaceError.h).
     double errorMaxSinglePixelPx = kNoValue;
+    /// The largest error of any one pixel measured at exactly its drawn x, y, without the
+    /// horizontal tolerance (ScreenSpaceError.h): larger only on very steep slopes.
+    double errorMaxExactPositionPx = kNoValue;
     /// Where errorMaxPx was found: pixel (x right, y down from the top row) and the drawn
     /// surface point there, world metres.
     int errorWorstX = -1;
@@ -56,10 +59,14 @@ struct FrameRecord {
     glm::dvec3 errorWorstWorld{0.0};
     std::uint64_t skirtPixels = 0;
     double skirtErrorMaxPx = kNoValue;
+    /// Skirt pixels whose distance to the truth is unbounded (ScreenSpaceError.h).
+    std::uint64_t skirtUnboundedPixels = 0;
     double rmse = kNoValue;
     double psnrDb = kNoValue;
     std::uint64_t crackPixels = 0;
     std::uint64_t uncoveredPixels = 0;
+    /// Enclosed uncovered pixels where the reference is thinner than a pixel: not cracks.
+    std::uint64_t diagonalUncoveredPixels = 0;
     double poppingLevels = kNoValue;
     double lodChangeLevels = kNoValue;
     double referenceChangeLevels = kNoValue;
@@ -89,6 +96,7 @@ struct ThresholdSummary {
     std::uint64_t framesOverThreshold = 0;  ///< frames whose error max > ε + tolerance
     double errorFixedDiagonalMaxPx = kNoValue;
     double errorMaxSinglePixelPx = kNoValue;
+    double errorMaxExactPositionPx = kNoValue;
     double rmseMean = kNoValue;
     double psnrDbMean = kNoValue;
     double psnrDbMin = kNoValue;

@@ -40,7 +40,8 @@ void summariseErrorImage(int w, int h, std::span<const float> errorImage,
     if (stats.pixels > 0) {
         const auto n = static_cast<double>(stats.pixels);
         stats.meanPx = sum / n;
-        stats.meanFixedDiagonalPx = sumFixed / n;
+        const auto bounded = static_cast<double>(stats.pixels - stats.unboundedComparisonPixels);
+        stats.meanFixedDiagonalPx = bounded > 0.0 ? sumFixed / bounded : 0.0;
         const auto rank = static_cast<std::size_t>(std::ceil(0.99 * n)) - 1;
         std::nth_element(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(rank),
                          errors.end());

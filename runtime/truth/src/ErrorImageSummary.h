@@ -1,13 +1,15 @@
 // ErrorImageSummary: what ScreenSpaceErrorStats says about an image of per-pixel errors, the
 // half the planar and the globe measurements share: the largest error two adjacent pixels both
 // show (a lone pixel's error is the rasteriser's, docs/accuracy.md), the mean, the 99th
-// percentile and where the worst pixel was.
+// percentile and where the worst pixel was; and how a skirt pixel is counted.
 #pragma once
 
 #include "terrain/runtime/ScreenSpaceError.h"
 
 #include <glm/vec4.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <span>
 #include <vector>
 
@@ -21,5 +23,16 @@ namespace terrain::runtime {
 void summariseErrorImage(int width, int height, std::span<const float> errorImage,
                          std::span<const glm::dvec4> measuredAt, std::vector<double>& errors,
                          double sum, double sumFixed, ScreenSpaceErrorStats& stats);
+
+/// Counts a skirt pixel of error `errorPx` (+∞ when its segment to the truth passes behind
+/// the camera) in `stats`.
+inline void countSkirtPixel(ScreenSpaceErrorStats& stats, double errorPx) {
+    ++stats.skirtPixels;
+    if (std::isfinite(errorPx)) {
+        stats.skirtMaxPx = std::max(stats.skirtMaxPx, errorPx);
+    } else {
+        ++stats.skirtUnboundedPixels;
+    }
+}
 
 }  // namespace terrain::runtime

@@ -2,8 +2,11 @@
 // evaluated in double from their float samples.
 #include "terrain/runtime/FullResolutionSurface.h"
 
+#include <glm/common.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace terrain::runtime {
@@ -89,7 +92,6 @@ glm::dvec2 FullResolutionSurface::clampToDem(double x, double y) const {
 
 Result<SurfaceHeight> FullResolutionSurface::heightAt(double x, double y) {
     const io::PyramidLayout& l = layout();
-    const int finest = finestLevel();
     const glm::dvec2 s = m_geometry->sampleOfWorld(x, y);
     // The DEM's extent; the padded raster beyond it holds clamped copies, not data.
     const auto lastX = static_cast<double>(l.rasterWidth() - 1);
@@ -100,6 +102,14 @@ Result<SurfaceHeight> FullResolutionSurface::heightAt(double x, double y) {
           s.y >= -kEdgeSlackSamples && s.y <= lastY + kEdgeSlackSamples)) {
         return SurfaceHeight{};
     }
+    return heightAtSample(s);
+}
+
+Result<SurfaceHeight> FullResolutionSurface::heightAtSample(const glm::dvec2& s) {
+    const io::PyramidLayout& l = layout();
+    const int finest = finestLevel();
+    const auto lastX = static_cast<double>(l.rasterWidth() - 1);
+    const auto lastY = static_cast<double>(l.rasterHeight() - 1);
     const double cx = std::clamp(std::floor(s.x), 0.0, lastX - 1.0);
     const double cy = std::clamp(std::floor(s.y), 0.0, lastY - 1.0);
     const double fx = std::clamp(s.x - cx, 0.0, 1.0);
@@ -125,6 +135,62 @@ Result<SurfaceHeight> FullResolutionSurface::heightAt(double x, double y) {
     const double b = cellHeightNeSw(h00, h10, h01, h11, fx, fy);
     return SurfaceHeight{
         .inside = true, .referenceM = a, .lowM = std::min(a, b), .highM = std::max(a, b)};
+}
+
+Result<HeightRange> FullResolutionSurface::heightRange(double x, double y, double radiusM) {
+    const io::PyramidLayout& l = layout();
+    const glm::dvec2 s = m_geometry->sampleOfWorld(x, y);
+    const glm::dvec2 r = glm::abs(m_geometry->sampleOfWorld(x + radiusM, y + radiusM) - s);
+    const double rx = std::min(r.x, kMaxRangeRadiusSamples);
+    const double ry = std::min(r.y, kMaxRangeRadiusSamples);
+    const auto lastX = static_cast<double>(l.rasterWidth() - 1);
+    const auto lastY = static_cast<double>(l.rasterHeight() - 1);
+    const double x0 = std::max(s.x - rx, 0.0), x1 = std::min(s.x + rx, lastX);
+    const double y0 = std::max(s.y - ry, 0.0), y1 = std::min(s.y + ry, lastY);
+    if (!(x0 <= x1 && y0 <= y1)) return HeightRange{};
+    HeightRange range{.inside = true,
+                      .lowM = std::numeric_limits<double>::infinity(),
+                      .highM = -std::numeric_limits<double>::infinity()};
+    const auto add = [&](double sx, double sy) -> Status {
+        auto h = heightAtSample({sx, sy});
+        if (!h) return h.error();
+        range.lowM = std::min(range.lowM, h.value().lowM);
+        range.highM = std::max(range.highM, h.value().highM);
+        return {};
+    };
+    // Either triangulation is linear between the lines x = i, y = j, x − y = k (the
+    // north-west–south-east diagonals) and x + y = k (the others), integer in samples. The
+    // extremes of a piecewise-linear surface over a rectangle lie on the vertices of that
+    // arrangement within it: the samples inside, the corners, and where the lines cross the
+    // rectangle's sides.
+    for (const double sx : {x0, x1}) {
+        for (const double sy : {y0, y1}) {
+            if (Status st = add(sx, sy); !st) return st.error();
+        }
+    }
+    for (double j = std::ceil(y0); j <= y1; ++j) {
+        for (double i = std::ceil(x0); i <= x1; ++i) {
+            if (Status st = add(i, j); !st) return st.error();
+        }
+    }
+    // Along a side where one coordinate is `fixed`, the other crosses a line of the
+    // arrangement at k, k + fixed and k − fixed for integer k.
+    const auto side = [&](double fixed, double from, double to, bool fixedIsY) -> Status {
+        for (const double shift : {0.0, fixed, -fixed}) {
+            for (double k = std::ceil(from - shift); k + shift <= to; ++k) {
+                const double along = std::clamp(k + shift, from, to);
+                if (Status st = fixedIsY ? add(along, fixed) : add(fixed, along); !st) return st;
+            }
+        }
+        return {};
+    };
+    for (const double sy : {y0, y1}) {
+        if (Status st = side(sy, x0, x1, true); !st) return st.error();
+    }
+    for (const double sx : {x0, x1}) {
+        if (Status st = side(sx, y0, y1, false); !st) return st.error();
+    }
+    return range;
 }
 
 }  // namespace terrain::runtime

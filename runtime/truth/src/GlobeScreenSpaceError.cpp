@@ -63,23 +63,26 @@ ScreenSpaceErrorStats measureGlobeScreenSpaceError(const Camera& camera,
                 return glm::length(q - centre);
             };
             const double errorPx = distancePx(nearest);
-            if (!std::isfinite(errorPx) || std::isnan(centre.x)) {
-                ++stats.nonFinitePixels;
+            if (skirt && !std::isnan(centre.x)) {
+                countSkirtPixel(stats, errorPx);
                 continue;
             }
-            if (skirt) {
-                ++stats.skirtPixels;
-                stats.skirtMaxPx = std::max(stats.skirtMaxPx, errorPx);
+            if (!std::isfinite(errorPx) || std::isnan(centre.x)) {
+                ++stats.nonFinitePixels;
                 continue;
             }
             const double fixedPx = distancePx(alongAD);
             ++stats.pixels;
             sum += errorPx;
-            sumFixed += std::isfinite(fixedPx) ? fixedPx : 0.0;
             errors.push_back(errorPx);
             errorImage[i] = static_cast<float>(errorPx);
             measuredAt[i] = glm::dvec4(world, nearest);
-            stats.maxFixedDiagonalPx = std::max(stats.maxFixedDiagonalPx, fixedPx);
+            if (std::isfinite(fixedPx)) {
+                sumFixed += fixedPx;
+                stats.maxFixedDiagonalPx = std::max(stats.maxFixedDiagonalPx, fixedPx);
+            } else {
+                ++stats.unboundedComparisonPixels;
+            }
             stats.maxSinglePixelPx = std::max(stats.maxSinglePixelPx, errorPx);
             if (errorPx > thresholdPx) {
                 ++stats.pixelsOverThreshold;

@@ -77,7 +77,7 @@ UncoveredPixels countUncoveredPixels(const FrameImages& lod, const FrameImages& 
     for (std::size_t i = 0; i < pixels; ++i) {
         if (state[i] == 0 || !reference.drawn(i)) continue;
         ++counts.uncovered;
-        counts.cracks += state[i] == 1 ? 1 : 0;
+        if (state[i] == 1) counts.cracks.push_back(i);
     }
     return counts;
 }

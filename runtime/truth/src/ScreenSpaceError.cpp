@@ -15,7 +15,8 @@ namespace terrain::runtime {
 
 Result<ScreenSpaceErrorStats> measureScreenSpaceError(
     const Camera& camera, std::span<const float> lodDepth, std::span<const float> lodDepthNoSkirts,
-    std::span<const float> referenceDepth, FullResolutionSurface& surface, double thresholdPx) {
+    std::span<const float> referenceDepth, FullResolutionSurface& surface, double thresholdPx,
+    double horizontalTolerancePx) {
     const int w = camera.viewportWidth, h = camera.viewportHeight;
     const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
     TERRAIN_ASSERT(lodDepth.size() == pixels, "measureScreenSpaceError: depth size");
@@ -85,26 +86,49 @@ Result<ScreenSpaceErrorStats> measureScreenSpaceError(
             // The projection of W_lod: the pixel's centre, up to rounding; projecting it too
             // keeps both ends of the segment under the same arithmetic.
             const glm::dvec2 centre = projectToPixels(viewProjection, w, h, relative);
-            const double nearest = std::clamp(world.z, s.lowM, s.highM);
-            const double errorPx = verticalPx(relative, centre, nearest - world.z);
-            if (!std::isfinite(errorPx) || std::isnan(centre.x)) {
-                ++stats.nonFinitePixels;
+            double nearest = std::clamp(world.z, s.lowM, s.highM);
+            const double exactPositionPx = verticalPx(relative, centre, nearest - world.z);
+            double errorPx = exactPositionPx;
+            if (errorPx > 0.0 && horizontalTolerancePx > 0.0) {
+                // The drawn point is where the rasteriser put it, which may be
+                // `horizontalTolerancePx` off the exact triangle sideways (vertex snapping,
+                // float positions); on a slope S that is S times as far vertically (a cliff
+                // of slope 1,000 seen from 1 km: 1/256 px of snapping is 7 m, 4 px). So W_lod
+                // is measured against the surface over the square of that half-side around its
+                // x, y: the truth's lowest and highest heights within that radius.
+                const glm::dvec3 besideRelative = unprojectPixel(inverse, w, h, x + 1, y, depth);
+                const double radiusM =
+                    horizontalTolerancePx * glm::length(besideRelative - relative);
+                auto range = surface.heightRange(world.x, world.y, radiusM);
+                if (!range) return range.error();
+                const HeightRange& r = range.value();
+                const double low = r.inside ? std::min(s.lowM, r.lowM) : s.lowM;
+                const double high = r.inside ? std::max(s.highM, r.highM) : s.highM;
+                nearest = std::clamp(world.z, low, high);
+                errorPx = verticalPx(relative, centre, nearest - world.z);
+            }
+            if (skirt && !std::isnan(centre.x)) {
+                countSkirtPixel(stats, errorPx);
                 continue;
             }
-            if (skirt) {
-                ++stats.skirtPixels;
-                stats.skirtMaxPx = std::max(stats.skirtMaxPx, errorPx);
+            if (!std::isfinite(errorPx) || std::isnan(centre.x)) {
+                ++stats.nonFinitePixels;
                 continue;
             }
             const double fixedPx = verticalPx(relative, centre, s.referenceM - world.z);
             ++stats.pixels;
             sum += errorPx;
-            sumFixed += std::isfinite(fixedPx) ? fixedPx : 0.0;
             errors.push_back(errorPx);
             errorImage[i] = static_cast<float>(errorPx);
             measuredAt[i] = glm::dvec4(world, nearest);
-            stats.maxFixedDiagonalPx = std::max(stats.maxFixedDiagonalPx, fixedPx);
             stats.maxSinglePixelPx = std::max(stats.maxSinglePixelPx, errorPx);
+            if (std::isfinite(fixedPx) && std::isfinite(exactPositionPx)) {
+                sumFixed += fixedPx;
+                stats.maxFixedDiagonalPx = std::max(stats.maxFixedDiagonalPx, fixedPx);
+                stats.maxExactPositionPx = std::max(stats.maxExactPositionPx, exactPositionPx);
+            } else {
+                ++stats.unboundedComparisonPixels;
+            }
             if (errorPx > thresholdPx) {
                 ++stats.pixelsOverThreshold;
                 if (stats.overThreshold.size() < ScreenSpaceErrorStats::kMaxKeptPixels) {

@@ -162,6 +162,47 @@ TEST_F(AccuracyStabilityTest, NoDataHoles) {
     sweep(pyramid, poses, "no-data", kWidth, kHeight, kErrorsPx);
 }
 
+/// Heights of a coarse grid read at the wrong spacing (issue 16: a 5 km polar grid built at
+/// 1 m): 1 m apart on the ground, up to thousands of metres apart in height, everywhere.
+float needles(std::int64_t x, std::int64_t y) {
+    std::uint64_t h = static_cast<std::uint64_t>(x) * 0xD1B54A32D192ED03ULL ^
+                      static_cast<std::uint64_t>(y) * 0x8CB92BA72F3D8DD7ULL;
+    h ^= h >> 29U;
+    h *= 0xBF58476D1CE4E5B9ULL;
+    h ^= h >> 32U;
+    const auto fx = static_cast<double>(x), fy = static_cast<double>(y);
+    return static_cast<float>(1500.0 + 1200.0 * std::sin(fx * 0.05) * std::cos(fy * 0.04) +
+                              static_cast<double>(h % 3001));
+}
+
+TEST_F(AccuracyStabilityTest, NeedleForestOfExtremeRelief) {
+    // Slopes of up to 4,000 between adjacent samples (89.99°): the LOD's bound holds as
+    // on any terrain, but a drawn point the rasteriser puts a fraction of a pixel sideways
+    // is pixels off vertically, which the measure's horizontal tolerance accounts for
+    // (docs/accuracy.md, "Steep slopes"); and no crack opens between the needles.
+    constexpr std::int64_t kSize = 257;
+    FunctionDem dem(kSize, kSize, 1.0, needles, false);
+    const TempFolder folder;
+    const std::filesystem::path pyramid = buildScenePyramid(dem, folder, "needles");
+    auto surfaceOpened = runtime::FullResolutionSurface::open(pyramid);
+    ASSERT_TRUE(surfaceOpened) << surfaceOpened.error().message;
+    runtime::FullResolutionSurface& surface = surfaceOpened.value();
+    const runtime::TerrainGeometry& g = surface.geometry();
+    const glm::dvec2 centre = g.worldAtFraction(0.5, 0.5);
+    std::vector<Pose> poses;
+    poses.push_back({"whole forest", wholeTerrainPose(g, kWidth, kHeight)});
+    poses.push_back(
+        {"above the needles, looking down at 45°",
+         lookingAt(kWidth, kHeight, {centre.x - 60.0, centre.y - 60.0, 7000.0}, {centre, 3000.0})});
+    // 5 m above the highest sample around it, lower than most needles further on.
+    const glm::dvec2 among{centre.x - 100.0, centre.y - 20.0};
+    poses.push_back(
+        {"among the needles, looking along them",
+         lookingAt(kWidth, kHeight, {among, groundHeightNear(surface, among.x, among.y) + 5.0},
+                   {centre.x + 100.0, centre.y + 20.0, 2000.0})});
+    sweep(pyramid, poses, "needles", kWidth, kHeight, kErrorsPx);
+}
+
 TEST_F(AccuracyStabilityTest, TenThousandKilometresFromTheOrigin) {
     // The same procedural terrain placed at its usual origin and 10,000 km away (a DEM far
     // out on a planet-sized projected grid, as terrain-build --origin does): cameras at the

@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 namespace terrain::test {
@@ -197,7 +198,8 @@ TEST(ScreenSpaceError, MeasuresAPlaneAboveTheMesh) {
         }
     }
     ASSERT_GT(expectedPixels, 200u);
-    auto measured = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 1.0);
+    // Measured at exactly each point's x, y, as the expectation is computed.
+    auto measured = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 1.0, 0.0);
     ASSERT_TRUE(measured) << measured.error().message;
     const runtime::ScreenSpaceErrorStats& e = measured.value();
     // Float depth moves each point along its ray by a relative 1e-7: a tiny difference.
@@ -216,15 +218,60 @@ TEST(ScreenSpaceError, MeasuresAPlaneAboveTheMesh) {
     // A skirtless depth that differs marks skirt pixels, left out of the figures.
     std::vector<float> noSkirts = depth;
     noSkirts[static_cast<std::size_t>(e.worstY * 40 + e.worstX)] = 0.0f;
-    auto skirted = runtime::measureScreenSpaceError(c, depth, noSkirts, {}, s, 1.0);
+    auto skirted = runtime::measureScreenSpaceError(c, depth, noSkirts, {}, s, 1.0, 0.0);
     ASSERT_TRUE(skirted);
     EXPECT_EQ(skirted.value().skirtPixels, 1u);
     EXPECT_EQ(skirted.value().pixels, expectedPixels - 1);
     // NaN depth is counted, never measured.
     depth[0] = std::numeric_limits<float>::quiet_NaN();
-    auto withNan = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 1.0);
+    auto withNan = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 1.0, 0.0);
     ASSERT_TRUE(withNan);
     EXPECT_EQ(withNan.value().nonFinitePixels, 1u);
+    // The horizontal tolerance only ever lowers a pixel's error, by no more than the
+    // surface's slope times a twentieth of a pixel: the plane's error mostly remains.
+    depth[0] = 0.0f;
+    auto tolerant = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 1.0);
+    ASSERT_TRUE(tolerant);
+    EXPECT_EQ(tolerant.value().pixels, expectedPixels);
+    EXPECT_LE(tolerant.value().maxSinglePixelPx, e.maxSinglePixelPx);
+    EXPECT_GT(tolerant.value().maxSinglePixelPx, 0.5 * e.maxSinglePixelPx);
+    EXPECT_NEAR(tolerant.value().maxExactPositionPx, e.maxSinglePixelPx, 1e-9);
+}
+
+/// Reversed-Z depth of the full-resolution mesh moved `shiftXM` metres east, ray-marched
+/// through every pixel's centre (0 where the ray misses it): an LOD drawn exactly, or
+/// exactly but a little sideways.
+std::vector<float> rayMarchedDepth(const runtime::Camera& c, runtime::FullResolutionSurface& s,
+                                   double shiftXM = 0.0) {
+    const int w = c.viewportWidth, h = c.viewportHeight;
+    const glm::dmat4 inverse = glm::inverse(c.relativeViewProjection());
+    std::vector<float> depth(static_cast<std::size_t>(w * h), 0.0f);
+    const auto below = [&](const glm::dvec3& p) {
+        auto height = s.heightAt(p.x - shiftXM, p.y);
+        return height && height.value().inside && p.z < height.value().referenceM;
+    };
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const glm::dvec3 dir =
+                glm::normalize(runtime::unprojectPixel(inverse, w, h, x, y, 1e-3));
+            double lo = 0.0, hi = 0.0;
+            for (double t = 0.0; t < 800.0; t += 0.25) {
+                if (below(c.position + t * dir)) {
+                    hi = t;
+                    break;
+                }
+                lo = t;
+            }
+            if (hi == 0.0) continue;
+            for (int i = 0; i < 60; ++i) {
+                const double mid = 0.5 * (lo + hi);
+                (below(c.position + mid * dir) ? hi : lo) = mid;
+            }
+            depth[static_cast<std::size_t>(y * w + x)] =
+                static_cast<float>(c.nearPlane / glm::dot(hi * dir, c.forward()));
+        }
+    }
+    return depth;
 }
 
 TEST(ScreenSpaceError, ALonePixelDoesNotSetTheMaximum) {
@@ -242,45 +289,55 @@ TEST(ScreenSpaceError, ALonePixelDoesNotSetTheMaximum) {
     c.fovY = 0.5;
     c.position = {g.worldAtFraction(0.5, 0.5), 140.0};  // above the highest sample
     c.lookAt({g.worldAtFraction(0.5, 0.1), 0.0});
-    const glm::dmat4 inverse = glm::inverse(c.relativeViewProjection());
-    std::vector<float> depth(20 * 16, 0.0f);
-    const auto below = [&](const glm::dvec3& p) {
-        auto h = s.heightAt(p.x, p.y);
-        return h && h.value().inside && p.z < h.value().referenceM;
-    };
-    for (int y = 0; y < 16; ++y) {
-        for (int x = 0; x < 20; ++x) {
-            const glm::dvec3 dir =
-                glm::normalize(runtime::unprojectPixel(inverse, 20, 16, x, y, 1e-3));
-            double lo = 0.0, hi = 0.0;
-            for (double t = 0.0; t < 800.0; t += 0.25) {
-                if (below(c.position + t * dir)) {
-                    hi = t;
-                    break;
-                }
-                lo = t;
-            }
-            if (hi == 0.0) continue;
-            for (int i = 0; i < 60; ++i) {
-                const double mid = 0.5 * (lo + hi);
-                (below(c.position + mid * dir) ? hi : lo) = mid;
-            }
-            depth[static_cast<std::size_t>(y * 20 + x)] =
-                static_cast<float>(c.nearPlane / glm::dot(hi * dir, c.forward()));
-        }
-    }
+    std::vector<float> depth = rayMarchedDepth(c, s);
     const std::size_t lone = 4 * 20 + 10;
     ASSERT_GT(depth[lone], 0.0f);
-    auto exact = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 0.1);
+    auto exact = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 0.1, 0.0);
     ASSERT_TRUE(exact);
     EXPECT_GT(exact.value().pixels, 80u);
     EXPECT_LT(exact.value().maxSinglePixelPx, 0.01);
     depth[lone] *= 0.8f;  // 25 % further along its ray: well under the surface
-    auto spiked = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 0.1);
+    auto spiked = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 0.1, 0.0);
     ASSERT_TRUE(spiked);
     EXPECT_GT(spiked.value().maxSinglePixelPx, 0.2);
     EXPECT_LT(spiked.value().maxPx, 0.01);
     EXPECT_EQ(spiked.value().pixelsOverThreshold, 1u);
+}
+
+TEST(ScreenSpaceError, ASidewaysSlipOnASteepSlopeIsWithinTheHorizontalTolerance) {
+    // The tiny DEM climbs up to 130 m between adjacent samples 1 m apart: a slope of 130.
+    // Its mesh drawn exactly but 0.045 px east (what vertex snapping does, an order of
+    // magnitude larger) is tenths of a pixel off vertically; measured against the
+    // surface within 0.05 px sideways it is exact (docs/accuracy.md, "Steep slopes").
+    const auto tiny = writeTiny();
+    auto opened = runtime::FullResolutionSurface::open(tiny->path);
+    ASSERT_TRUE(opened);
+    runtime::FullResolutionSurface& s = opened.value();
+    const runtime::TerrainGeometry& g = s.geometry();
+    runtime::Camera c;
+    c.viewportWidth = 20;
+    c.viewportHeight = 16;
+    c.fovY = 0.5;
+    c.position = {g.worldAtFraction(0.5, 0.5), 140.0};  // above the highest sample
+    c.lookAt({g.worldAtFraction(0.5, 0.1), 0.0});
+    // One pixel at the nearest ground the camera sees (depth = near / distance).
+    const std::vector<float> unshifted = rayMarchedDepth(c, s);
+    const double nearestM =
+        c.nearPlane / static_cast<double>(*std::max_element(unshifted.begin(), unshifted.end()));
+    const double nearestPixelM = nearestM * 2.0 * std::tan(0.5 * c.fovY) / c.viewportHeight;
+    const std::vector<float> depth = rayMarchedDepth(c, s, 0.045 * nearestPixelM);
+
+    auto exact = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 0.1, 0.0);
+    ASSERT_TRUE(exact);
+    EXPECT_GT(exact.value().pixels, 80u);
+    EXPECT_GT(exact.value().maxSinglePixelPx, 0.08)
+        << "the slip shows at exactly each point's x, y";
+    auto tolerant = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 0.1);
+    ASSERT_TRUE(tolerant);
+    EXPECT_EQ(tolerant.value().pixels, exact.value().pixels);
+    EXPECT_LT(tolerant.value().maxSinglePixelPx, 0.01);
+    EXPECT_EQ(tolerant.value().pixelsOverThreshold, 0u);
+    EXPECT_DOUBLE_EQ(tolerant.value().maxExactPositionPx, exact.value().maxSinglePixelPx);
 }
 
 }  // namespace

@@ -55,8 +55,12 @@ struct FrameAccuracy {
     ScreenSpaceErrorStats error;
     ImageDifference image;
     /// Clear colour in the LOD where the reference drew terrain, enclosed by terrain
-    /// (countUncoveredPixels): cracks and holes.
+    /// (countUncoveredPixels), and covered by the full-resolution surface whichever
+    /// diagonal splits each cell (everyTriangulationCovers): cracks and holes.
     std::uint64_t crackPixels = 0;
+    /// The other enclosed clear pixels: some choice of diagonals leaves them clear too, so
+    /// they are no evidence of a hole (cells so steep that the diagonals are pixels apart).
+    std::uint64_t diagonalUncoveredPixels = 0;
     /// All clear-colour LOD pixels where the reference drew terrain, silhouettes included.
     std::uint64_t uncoveredPixels = 0;
     std::uint64_t referencePixels = 0;  ///< pixels where the reference drew terrain

@@ -36,6 +36,14 @@ struct SurfaceHeight {
     double highM = 0.0;  ///< the higher (equal to lowM on a cell's edges and samples)
 };
 
+/// The lowest and highest heights of the full-resolution surface (either diagonal) over a
+/// small area around a point.
+struct HeightRange {
+    bool inside = false;  ///< the area meets the DEM's extent (else nothing below)
+    double lowM = 0.0;
+    double highM = 0.0;
+};
+
 /// One thread (the render thread in the tools); move-only.
 class FullResolutionSurface {
 public:
@@ -62,6 +70,16 @@ public:
     /// copies of the edge beyond it and the LOD may draw them.
     Result<SurfaceHeight> heightAt(double x, double y);
 
+    /// Half the side of the largest square heightRange() looks at, in samples: no
+    /// rasteriser puts a point further than a fraction of a pixel off, and a wider square
+    /// would hide errors of that size.
+    static constexpr double kMaxRangeRadiusSamples = 1.0;
+
+    /// The surface's range over the square of half-side `radiusM` (at most
+    /// kMaxRangeRadiusSamples samples) around world x, y, clipped to the DEM's extent:
+    /// exact (every vertex of the mesh's arrangement inside the square is visited).
+    Result<HeightRange> heightRange(double x, double y, double radiusM);
+
     /// World x, y clamped into the DEM's extent (what heightAt calls inside).
     glm::dvec2 clampToDem(double x, double y) const;
 
@@ -80,6 +98,9 @@ private:
     using Lru = std::list<Entry>;  // most recently used first
 
     FullResolutionSurface(io::PyramidReader reader, std::size_t budgetBytes);
+
+    /// heightAt() at sample coordinates inside the DEM's extent.
+    Result<SurfaceHeight> heightAtSample(const glm::dvec2& sample);
 
     io::PyramidReader m_reader;
     std::unique_ptr<TerrainGeometry> m_geometry;  // stable address across moves

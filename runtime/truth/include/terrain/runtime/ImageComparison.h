@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 namespace terrain::runtime {
 
@@ -31,8 +32,9 @@ struct UncoveredPixels {
     /// The uncovered pixels enclosed by terrain: not 4-connected, through pixels of the
     /// clear colour in the LOD image, to a pixel where neither image shows terrain (the
     /// sky, seen past a silhouette). Cracks between patches and holes; a silhouette that
-    /// is drawn too low is connected to the sky above it and is not counted here.
-    std::uint64_t cracks = 0;
+    /// is drawn too low is connected to the sky above it and is not counted here. Pixel
+    /// indices, rows bottom-up.
+    std::vector<std::size_t> cracks;
 };
 
 /// Compares what `lod` covers (its pixels of `clearRgb` are uncovered) with what

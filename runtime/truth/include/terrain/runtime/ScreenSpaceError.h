@@ -54,8 +54,12 @@ struct ScreenSpaceErrorStats {
     /// on any drawn triangle (docs/accuracy.md, "Rasterisation tolerance").
     double maxPx = 0.0;
     double maxSinglePixelPx = 0.0;  ///< the largest error of any one pixel, artefacts included
-    double meanPx = 0.0;            ///< mean over pixels (0 when none)
-    double p99Px = 0.0;             ///< 99th percentile over pixels
+    /// The largest error of any one pixel without the horizontal tolerance: W_lod measured
+    /// against the truth at exactly its own x, y. Above maxSinglePixelPx only where the
+    /// surface is steep enough that a fraction of a pixel sideways is pixels vertically.
+    double maxExactPositionPx = 0.0;
+    double meanPx = 0.0;                    ///< mean over pixels (0 when none)
+    double p99Px = 0.0;                     ///< 99th percentile over pixels
     std::uint64_t pixelsOverThreshold = 0;  ///< pixels whose error exceeds the given threshold
     std::vector<PixelError> overThreshold;  ///< the first kMaxKeptPixels of them
     double maxFixedDiagonalPx = 0.0;        ///< against the reference mesh's diagonal only
@@ -65,11 +69,21 @@ struct ScreenSpaceErrorStats {
     /// so not in the figures above; their own largest error is here.
     std::uint64_t skirtPixels = 0;
     double skirtMaxPx = 0.0;
+    /// Skirt pixels whose segment to the truth passes behind the camera (a skirt hanging
+    /// far below terrain that rises above a camera close by): their distance is unbounded,
+    /// so they are left out of skirtMaxPx.
+    std::uint64_t skirtUnboundedPixels = 0;
     /// Surface pixels whose x, y lies beyond the DEM's extent, more than a pixel from its
     /// edge: terrain the LOD draws where the DEM has none (patches overhanging its edge).
     std::uint64_t outsidePixels = 0;
     /// Pixels whose unprojection or error was NaN, or whose W_ref lies behind the camera.
     std::uint64_t nonFinitePixels = 0;
+    /// Measured pixels whose comparison figure (the fixed diagonal's height, or the exact
+    /// position's) lies behind the camera, so its projected distance is unbounded: a needle
+    /// seen from beside its tip, whose fixed-diagonal height is far below. Left out of
+    /// maxFixedDiagonalPx, meanFixedDiagonalPx and maxExactPositionPx; the error itself
+    /// (maxPx) was measured.
+    std::uint64_t unboundedComparisonPixels = 0;
 
     /// Where maxPx was found (a pixel of that pair): pixel (rows
     /// bottom-up), W_lod in world metres, and the full-resolution height it was measured
@@ -80,13 +94,21 @@ struct ScreenSpaceErrorStats {
     double worstReferenceM = 0.0;
 };
 
+/// How far sideways (in pixels, at the drawn point's distance) a drawn point may lie from
+/// the exact triangle it belongs to: the same 0.05 px the vertical measure allows
+/// (docs/accuracy.md, "Rasterisation tolerance").
+inline constexpr double kHorizontalTolerancePx = 0.05;
+
 /// Measures the error of an LOD frame (depth images rows bottom-up, camera.viewportWidth ×
 /// camera.viewportHeight). `lodDepth`: the LOD as drawn (with skirts); `lodDepthNoSkirts`:
 /// the same frame drawn without skirts, to tell skirt pixels apart (empty: every drawn pixel
 /// counts as surface); `referenceDepth`: the reference renderer's depth (empty: every drawn
-/// pixel is measured). Errors: a finest patch that cannot be read.
+/// pixel is measured). Each drawn point is measured against the truth's lowest and highest
+/// heights within `horizontalTolerancePx` of its x, y (0: at exactly its x, y). Errors: a
+/// finest patch that cannot be read.
 Result<ScreenSpaceErrorStats> measureScreenSpaceError(
     const Camera& camera, std::span<const float> lodDepth, std::span<const float> lodDepthNoSkirts,
-    std::span<const float> referenceDepth, FullResolutionSurface& surface, double thresholdPx);
+    std::span<const float> referenceDepth, FullResolutionSurface& surface, double thresholdPx,
+    double horizontalTolerancePx = kHorizontalTolerancePx);
 
 }  // namespace terrain::runtime
