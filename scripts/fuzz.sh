@@ -24,10 +24,11 @@ seed=()
 targets="manifest shard camera-path dem-tiff dem-png dem-exr dem-hgt dem-netcdf"
 while [ $# -gt 0 ]; do
   case "$1" in
-    # The same mutations each CI run, and a longer limit an input: under ASan the regression
-    # input dem-exr/data-window-8M-columns.exr took 40 s on a slow shared machine (OpenEXR
-    # allocates line buffers for 8.4M columns before the reader refuses the file), and a
-    # smoke run there must not call that a hang. A fuzzing run keeps 10 s: there it is one.
+    # The same mutations each CI run, and a longer limit an input: CI machines are shared
+    # and slow (a hello-world compile took 13 s on one), and under ASan an ordinary input
+    # can take seconds there; a smoke run must not call that a hang. A fuzzing run keeps
+    # 10 s: there it is one. (The input that once took 40 s, dem-exr/data-window-8M-columns.exr,
+    # is now refused by the OpenEXR header walk before anything is allocated.)
     --smoke) seconds=15; timeout=60; seed=(-seed=1) ;;
     --timeout) timeout=$2; shift ;;
     --seconds) seconds=$2; shift ;;
