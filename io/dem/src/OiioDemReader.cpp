@@ -38,12 +38,17 @@ constexpr std::size_t kCachedBlockRows = 3;  // block rows of the whole width th
 // found by fuzz-dem-exr). A 1.3M-sample-wide float32 planet needs 1.3 GB.
 constexpr std::uint64_t kMaxDecodeBytes = std::uint64_t{2} << 30U;
 constexpr std::uint64_t kDecoderChunkRows = 256;
+// The largest tile side we read beyond the image's own size (rounded up to the 16 samples
+// TIFF tiles are multiples of): writers use 256 or 512; OpenImageIO allocates and clears a
+// whole tile before decoding it, so a 1.4 KB TIFF whose header claims 8448 × 46336 tiles for
+// a 46 × 12 image made it fill 1.5 GB (16 s under ASan, found by fuzz-dem-tiff).
+constexpr std::int64_t kMaxTileSide = 4096;
 
-// Bytes one row of `spec` decodes to, all channels.
-std::uint64_t decodedRowBytes(const OIIO::ImageSpec& spec) {
+// Bytes one row of `columns` samples of `spec` decodes to, all channels.
+std::uint64_t decodedRowBytes(const OIIO::ImageSpec& spec, std::int64_t columns) {
     const std::uint64_t sampleBytes =
         std::max<std::uint64_t>(4, spec.channelformat(0).size()) * std::uint64_t(spec.nchannels);
-    return std::uint64_t(spec.width) * sampleBytes;
+    return std::uint64_t(columns) * sampleBytes;
 }
 
 // Our names for the source sample types, nullptr for ones that are not heights.
@@ -297,8 +302,19 @@ DemReaderResult openOiioDem(const std::string& path, const DemOpenOptions& optio
         return fail(
             fmt::format("unsupported sample type: {}-bit samples (widened to {})", bits, typeName));
 
-    const std::uint64_t rowBytes = decodedRowBytes(spec);
     const bool tiled = spec.tile_width > 0 && spec.tile_height > 0;
+    const auto roundUp16 = [](std::int64_t v) { return (v + 15) / 16 * 16; };
+    if (tiled && (spec.tile_width > std::max(kMaxTileSide, roundUp16(spec.width)) ||
+                  spec.tile_height > std::max(kMaxTileSide, roundUp16(spec.height))))
+        return fail(
+            fmt::format("tiles of {} × {} for a {} × {} image: a tile may be larger than the image "
+                        "(rounded up to 16) only up to {} on a side (a damaged header?)",
+                        spec.tile_width, spec.tile_height, spec.width, spec.height, kMaxTileSide));
+    // A row of tiles decodes whole tiles, past the image's right edge too.
+    const std::int64_t rowColumns =
+        tiled ? (std::int64_t{spec.width} + spec.tile_width - 1) / spec.tile_width * spec.tile_width
+              : spec.width;
+    const std::uint64_t rowBytes = decodedRowBytes(spec, rowColumns);
     const std::uint64_t blockRows = tiled ? std::uint64_t(spec.tile_height) : kDecoderChunkRows;
     if (rowBytes * blockRows > kMaxDecodeBytes)
         return fail(fmt::format(

@@ -106,6 +106,12 @@ TEST_F(DemReaderErrorsTest, GarbageWithADemExtension) {
     test::writeBytes(netCdf, test::readBytes(fs::path(TERRAIN_SOURCE_DIR) / "tests" / "fuzz" /
                                              "dem-netcdf" / "attribute-longer-than-the-file.nc"));
     expectErrorStartingWithPath(netCdf, "corrupt netCDF header");
+    // A 46 × 12 TIFF whose tiles claim 8448 × 46336 samples: refused before OpenImageIO
+    // allocates and clears one (1.5 GB; found by fuzz-dem-tiff).
+    const std::string bigTiles = m_dir.file("tiles-8448x46336-for-46x12.tif");
+    test::writeBytes(bigTiles, test::readBytes(fs::path(TERRAIN_SOURCE_DIR) / "tests" / "fuzz" /
+                                               "dem-tiff" / "tiles-8448x46336-for-46x12.tif"));
+    expectErrorStartingWithPath(bigTiles, "tiles of 8448 × 46336 for a 46 × 12 image");
     // A TIFF header and nothing else.
     const std::string header = m_dir.file("header_only.tif");
     test::writeBytes(header, {'I', 'I', 42, 0, 8, 0, 0, 0});
