@@ -274,6 +274,17 @@ std::vector<float> rayMarchedDepth(const runtime::Camera& c, runtime::FullResolu
     return depth;
 }
 
+/// A 20 × 16 px camera above the tiny DEM's highest sample, looking north over it.
+runtime::Camera cameraAboveTiny(const runtime::TerrainGeometry& g) {
+    runtime::Camera c;
+    c.viewportWidth = 20;
+    c.viewportHeight = 16;
+    c.fovY = 0.5;
+    c.position = {g.worldAtFraction(0.5, 0.5), 140.0};
+    c.lookAt({g.worldAtFraction(0.5, 0.1), 0.0});
+    return c;
+}
+
 TEST(ScreenSpaceError, ALonePixelDoesNotSetTheMaximum) {
     // The full-resolution mesh itself, ray-marched (an exact "LOD": no error anywhere), with
     // one pixel's depth pushed along its ray (what an edge-on triangle's depth can be): the
@@ -282,13 +293,7 @@ TEST(ScreenSpaceError, ALonePixelDoesNotSetTheMaximum) {
     auto opened = runtime::FullResolutionSurface::open(tiny->path);
     ASSERT_TRUE(opened);
     runtime::FullResolutionSurface& s = opened.value();
-    const runtime::TerrainGeometry& g = s.geometry();
-    runtime::Camera c;
-    c.viewportWidth = 20;
-    c.viewportHeight = 16;
-    c.fovY = 0.5;
-    c.position = {g.worldAtFraction(0.5, 0.5), 140.0};  // above the highest sample
-    c.lookAt({g.worldAtFraction(0.5, 0.1), 0.0});
+    const runtime::Camera c = cameraAboveTiny(s.geometry());
     std::vector<float> depth = rayMarchedDepth(c, s);
     const std::size_t lone = 4 * 20 + 10;
     ASSERT_GT(depth[lone], 0.0f);
@@ -313,13 +318,7 @@ TEST(ScreenSpaceError, ASidewaysSlipOnASteepSlopeIsWithinTheHorizontalTolerance)
     auto opened = runtime::FullResolutionSurface::open(tiny->path);
     ASSERT_TRUE(opened);
     runtime::FullResolutionSurface& s = opened.value();
-    const runtime::TerrainGeometry& g = s.geometry();
-    runtime::Camera c;
-    c.viewportWidth = 20;
-    c.viewportHeight = 16;
-    c.fovY = 0.5;
-    c.position = {g.worldAtFraction(0.5, 0.5), 140.0};  // above the highest sample
-    c.lookAt({g.worldAtFraction(0.5, 0.1), 0.0});
+    const runtime::Camera c = cameraAboveTiny(s.geometry());
     // One pixel at the nearest ground the camera sees (depth = near / distance).
     const std::vector<float> unshifted = rayMarchedDepth(c, s);
     const double nearestM =
