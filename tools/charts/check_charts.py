@@ -143,9 +143,12 @@ def check_bench(folder):
         fail(f"frames.csv has {len(frames)} rows, expected {bench['frames']} × {len(thresholds)}")
     for row in frames:
         for key in ("triangles", "error_max_px", "psnr_db", "crack_pixels", "resident_bytes",
-                    "gpu_ms_source", "lod_update_us"):
+                    "gpu_ms_source", "lod_update_us", "non_finite_pixels"):
             if row.get(key, "") == "":
                 fail(f"frames.csv: empty {key} in frame {row.get('frame')}")
+        if int(row["non_finite_pixels"]) != 0:
+            fail(f"frames.csv: frame {row['frame']}: {row['non_finite_pixels']} pixels whose "
+                 "error could not be measured on ordinary terrain")
         if int(row["triangles"]) <= 0 or int(row["draw_calls"]) != 1:
             fail(f"frames.csv: frame {row['frame']}: {row['triangles']} triangles, "
                  f"{row['draw_calls']} draw calls")

@@ -122,7 +122,9 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
             rmse.push_back(r.rmse);
             psnr.push_back(r.psnrDb);
             popping.push_back(r.poppingLevels);
-            s.framesOverThreshold += r.errorMaxPx > threshold + tolerancePx ? 1 : 0;
+            const bool over = r.errorMaxPx > threshold + tolerancePx || r.nonFinitePixels > 0;
+            s.framesOverThreshold += over ? 1 : 0;
+            s.nonFinitePixelsTotal += r.nonFinitePixels;
             s.crackPixelsTotal += r.crackPixels;
             s.framesWaited += r.waitedForStreaming ? 1 : 0;
         }
@@ -193,6 +195,7 @@ Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRe
         {"skirt_pixels", [](const R& r) { return number(r.skirtPixels); }},
         {"skirt_error_max_px", [](const R& r) { return number(r.skirtErrorMaxPx); }},
         {"skirt_unbounded_pixels", [](const R& r) { return number(r.skirtUnboundedPixels); }},
+        {"non_finite_pixels", [](const R& r) { return number(r.nonFinitePixels); }},
         {"rmse", [](const R& r) { return number(r.rmse); }},
         {"psnr_db", [](const R& r) { return number(r.psnrDb); }},
         {"crack_pixels", [](const R& r) { return number(r.crackPixels); }},
@@ -232,6 +235,7 @@ Status writeSummaryCsv(const std::filesystem::path& path,
         {"error_mean_px", [](const S& s) { return number(s.errorMeanPx); }},
         {"error_p99_mean_px", [](const S& s) { return number(s.errorP99MeanPx); }},
         {"frames_over_threshold", [](const S& s) { return number(s.framesOverThreshold); }},
+        {"non_finite_pixels_total", [](const S& s) { return number(s.nonFinitePixelsTotal); }},
         {"error_fixed_diagonal_max_px",
          [](const S& s) { return number(s.errorFixedDiagonalMaxPx); }},
         {"error_max_single_pixel_px", [](const S& s) { return number(s.errorMaxSinglePixelPx); }},

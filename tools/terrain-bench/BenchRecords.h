@@ -61,6 +61,9 @@ struct FrameRecord {
     double skirtErrorMaxPx = kNoValue;
     /// Skirt pixels whose distance to the truth is unbounded (ScreenSpaceError.h).
     std::uint64_t skirtUnboundedPixels = 0;
+    /// Surface pixels whose error could not be measured (ScreenSpaceError.h): the frame
+    /// counts as over ε, since nothing shows it is within.
+    std::uint64_t nonFinitePixels = 0;
     double rmse = kNoValue;
     double psnrDb = kNoValue;
     std::uint64_t crackPixels = 0;
@@ -89,11 +92,13 @@ struct ThresholdSummary {
     double frameMsMean = kNoValue;
     double frameMsP95 = kNoValue;
     std::uint64_t residentBytesMax = 0;
-    double errorMaxPx = kNoValue;           ///< largest over every frame
-    double errorMaxMedianPx = kNoValue;     ///< median over frames of each frame's largest
-    double errorMeanPx = kNoValue;          ///< mean over frames of each frame's mean
-    double errorP99MeanPx = kNoValue;       ///< mean over frames of each frame's p99
-    std::uint64_t framesOverThreshold = 0;  ///< frames whose error max > ε + tolerance
+    double errorMaxPx = kNoValue;        ///< largest over every frame
+    double errorMaxMedianPx = kNoValue;  ///< median over frames of each frame's largest
+    double errorMeanPx = kNoValue;       ///< mean over frames of each frame's mean
+    double errorP99MeanPx = kNoValue;    ///< mean over frames of each frame's p99
+    /// Frames whose error max > ε + tolerance, or with a pixel that could not be measured.
+    std::uint64_t framesOverThreshold = 0;
+    std::uint64_t nonFinitePixelsTotal = 0;
     double errorFixedDiagonalMaxPx = kNoValue;
     double errorMaxSinglePixelPx = kNoValue;
     double errorMaxExactPositionPx = kNoValue;

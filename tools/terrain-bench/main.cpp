@@ -99,6 +99,7 @@ nlohmann::json summaryJson(const tools::ThresholdSummary& s) {
             {"error_max_median_px", v(s.errorMaxMedianPx)},
             {"error_mean_px", v(s.errorMeanPx)},
             {"frames_over_threshold", s.framesOverThreshold},
+            {"non_finite_pixels_total", s.nonFinitePixelsTotal},
             {"psnr_db_mean", v(s.psnrDbMean)},
             {"psnr_db_min", v(s.psnrDbMin)},
             {"rmse_mean", v(s.rmseMean)},
@@ -271,6 +272,7 @@ int run(const BenchOptions& o, const char* argv0) {
             rec.skirtPixels = a.error.skirtPixels;
             rec.skirtErrorMaxPx = a.error.skirtMaxPx;
             rec.skirtUnboundedPixels = a.error.skirtUnboundedPixels;
+            rec.nonFinitePixels = a.error.nonFinitePixels;
             rec.rmse = a.image.rmse;
             rec.psnrDb = a.image.psnrDb;
             rec.crackPixels = a.crackPixels;
@@ -373,10 +375,10 @@ int run(const BenchOptions& o, const char* argv0) {
                    "terrain-bench: ε = {:>5} px: triangles {:>9.0f}, measured error max {:.3f} px "
                    "(median of frame maxima {:.3f}, mean {:.3f}), PSNR {:.2f} dB, {} of {} frames "
                    "over ε + {} px, "
-                   "{} crack pixels\n",
+                   "{} crack pixels, {} unmeasurable (non-finite) pixels\n",
                    s.thresholdPx, s.trianglesMean, s.errorMaxPx, s.errorMaxMedianPx, s.errorMeanPx,
-                   s.psnrDbMean, s.framesOverThreshold, s.frames, o.tolerancePx,
-                   s.crackPixelsTotal);
+                   s.psnrDbMean, s.framesOverThreshold, s.frames, o.tolerancePx, s.crackPixelsTotal,
+                   s.nonFinitePixelsTotal);
     }
     return 0;
 }

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace terrain::test {
 namespace {
@@ -107,6 +108,44 @@ TEST(FullResolutionSurface, SamplesAndMeshOfTheFinestLevel) {
     auto corner = s.heightAt(lastSample.x, lastSample.y);
     ASSERT_TRUE(corner && corner.value().inside);
     EXPECT_NEAR(corner.value().referenceM, demHeight(tiny->options, demLastX, demLastY), 1e-9);
+}
+
+TEST(FullResolutionSurface, HeightRangeSpansTheWholeSquareItIsAskedFor) {
+    // A square of half-side 3 samples centred on a sample: its corners and sides lie on
+    // sample lines, so the mesh's range over it is the range of the 7 × 7 samples. The
+    // measure asks for squares of several samples when a pixel spans a hundred (a DEM seen
+    // from far); this once stopped at 1 sample and reported 8 px errors that a twentieth
+    // of a pixel sideways explained.
+    const auto tiny = writeTiny();
+    auto opened = runtime::FullResolutionSurface::open(tiny->path);
+    ASSERT_TRUE(opened) << opened.error().message;
+    runtime::FullResolutionSurface& s = opened.value();
+    const runtime::TerrainGeometry& g = s.geometry();
+    const std::int64_t ci = 18, cj = 14, r = 3;
+    const glm::dvec2 centre = g.worldOfSample(static_cast<double>(ci), static_cast<double>(cj));
+    const glm::dvec2 east = g.worldOfSample(static_cast<double>(ci + r), static_cast<double>(cj));
+    const glm::dvec2 north = g.worldOfSample(static_cast<double>(ci), static_cast<double>(cj + r));
+    const double radiusM = std::abs(east.x - centre.x);
+    ASSERT_NEAR(std::abs(north.y - centre.y), radiusM, 1e-9) << "square samples";
+
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    for (std::int64_t j = cj - r; j <= cj + r; ++j) {
+        for (std::int64_t i = ci - r; i <= ci + r; ++i) {
+            low = std::min(low, demHeight(tiny->options, i, j));
+            high = std::max(high, demHeight(tiny->options, i, j));
+        }
+    }
+    auto range = s.heightRange(centre.x, centre.y, radiusM);
+    ASSERT_TRUE(range) << range.error().message;
+    ASSERT_TRUE(range.value().inside);
+    EXPECT_DOUBLE_EQ(range.value().lowM, low);
+    EXPECT_DOUBLE_EQ(range.value().highM, high);
+
+    // The data tells the two apart: one sample around the centre is a narrower range.
+    auto oneSample = s.heightRange(centre.x, centre.y, radiusM / static_cast<double>(r));
+    ASSERT_TRUE(oneSample);
+    EXPECT_GT(oneSample.value().highM - oneSample.value().lowM, 0.0);
+    EXPECT_LT(oneSample.value().highM - oneSample.value().lowM, high - low);
 }
 
 TEST(FullResolutionSurface, KeepsItsPatchesWithinTheBudget) {

@@ -70,10 +70,15 @@ public:
     /// copies of the edge beyond it and the LOD may draw them.
     Result<SurfaceHeight> heightAt(double x, double y);
 
-    /// Half the side of the largest square heightRange() looks at, in samples: no
-    /// rasteriser puts a point further than a fraction of a pixel off, and a wider square
-    /// would hide errors of that size.
-    static constexpr double kMaxRangeRadiusSamples = 1.0;
+    /// Half the side of the largest square heightRange() looks at, in samples: a bound on
+    /// its cost (about (2r + 1)² evaluations), not on the tolerance. The measure asks for a
+    /// square of a fraction of a pixel, so a pixel needs r samples only when it spans about
+    /// 20 r; the pixels that see the DEM then shrink as r², and a frame's evaluations stay
+    /// near its visible samples. Clipping the square only narrows the tolerance: the measure
+    /// is then stricter, never looser. (It was 1 sample until Puget Sound read at 1 m
+    /// spacing, seen from 44 km, needed 6: 4 pixels 8.1 px over at both ε, 0 px when the
+    /// whole twentieth of a pixel was looked at.)
+    static constexpr double kMaxRangeRadiusSamples = 256.0;
 
     /// The surface's range over the square of half-side `radiusM` (at most
     /// kMaxRangeRadiusSamples samples) around world x, y, clipped to the DEM's extent:
