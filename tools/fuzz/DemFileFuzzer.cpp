@@ -3,7 +3,9 @@
 // the file the input is written to, and its extension picks the reader as openDem does
 // (.tif: OpenImageIO plus our GeoTIFF georeference and no-data tag reading; .png and
 // .exr: OpenImageIO; .hgt: our SRTM reader, which also reads the tile's corner from the
-// name; .nc: GDAL plus our netCDF classic extent check). A file openDem accepts must read:
+// name; .nc: GDAL plus our netCDF classic extent check; .asc: GDAL's ASCII grid driver, a
+// fast text format through the same GDAL boundary of ours: georeference, no-data, sizes,
+// windows). A file openDem accepts must read:
 // every window is either its samples or an Error, never a crash or a hang.
 #include "FuzzScratch.h"
 #include "terrain/io/DemReader.h"
@@ -181,12 +183,37 @@ std::vector<std::uint8_t> netCdfSeed(std::string_view units, float scale) {
     return {};
 }
 
+// An ASCII grid (Esri / GDAL AAIGrid), 8 × 6, in its two header spellings: corner origin
+// with one cell size and no-data, and centre origin with separate dx, dy.
+std::string asciiGridSeed(bool centreOrigin) {
+    constexpr int kColumns = 8, kRows = 6;
+    std::string text = centreOrigin ? "ncols 8\nnrows 6\nxllcenter 500015\nyllcenter "
+                                      "5100015\ndx 30\ndy 20\n"
+                                    : "ncols 8\nnrows 6\nxllcorner -122.5\nyllcorner "
+                                      "46.25\ncellsize 0.001\nNODATA_value -9999\n";
+    for (int y = 0; y < kRows; ++y) {
+        for (int x = 0; x < kColumns; ++x) {
+            const bool noData = !centreOrigin && x == 0 && y == 0;
+            text += noData ? "-9999" : std::to_string(100 + 3 * x + 7 * y) + ".5";
+            text += x + 1 < kColumns ? " " : "\n";
+        }
+    }
+    return text;
+}
+
 void writeSeeds(const fs::path& seeds, const std::string& extension) {
     if (extension == ".hgt") {
         writeHgtSeed(seeds);
     } else if (extension == ".nc") {
         terrain::fuzz::writeFile(seeds / "km.nc", netCdfSeed("km", 1.0F));
         terrain::fuzz::writeFile(seeds / "scaled-m.nc", netCdfSeed("m", 0.5F));
+    } else if (extension == ".asc") {
+        for (const bool centre : {false, true}) {
+            const std::string text = asciiGridSeed(centre);
+            const std::vector<std::uint8_t> bytes(text.begin(), text.end());
+            terrain::fuzz::writeFile(seeds / (centre ? "centre-dx-dy.asc" : "corner-nodata.asc"),
+                                     bytes);
+        }
     } else {
         writeImageSeeds(seeds, extension);
     }
