@@ -241,6 +241,36 @@ void GdalDemReader::maskUncovered(std::int64_t x0, std::int64_t y0, std::int64_t
     }
 }
 
+namespace {
+
+// GDAL's ASCII grid drivers (AAIGrid, GRASSASCIIGrid and ISG, all in frmts/aaigrid) find a
+// line by first reading every unknown line before it, recursively, and learn where a line
+// starts only when the line before it parsed. In a file that breaks off early, reading line
+// n therefore costs 2^n reads: a 210-byte grid whose header promises 61 rows spun for
+// minutes (fuzz-dem-asc; tests/fuzz/dem-asc/). Reading the rows in order once at open costs
+// one parse of the file, turns such a file into an error naming the row, and leaves every
+// later read, in any order and through any handle of the file, the linear case.
+Status checkTextGridRows(GDALDataset& dataset, const std::string& path) {
+    const GDALDriver* driver = dataset.GetDriver();
+    const std::string_view name = driver != nullptr ? driver->GetDescription() : "";
+    if (name != "AAIGrid" && name != "GRASSASCIIGrid" && name != "ISG") return {};
+    GDALRasterBand* band = dataset.GetRasterBand(1);
+    if (band == nullptr) return {};  // describeGdalDataset names it
+    const int rows = dataset.GetRasterYSize();
+    GdalErrorCapture errors;
+    double sample = 0.0;
+    for (int y = 0; y < rows; ++y) {
+        if (band->RasterIO(GF_Read, 0, y, 1, 1, &sample, 1, 1, GDT_Float64, 0, 0, nullptr) !=
+            CE_None)
+            return Error{fmt::format("{}: row {} of the {} its header promises cannot be read: {}",
+                                     path, y, rows,
+                                     libraryMessage(errors.message("GDAL cannot read it"), path))};
+    }
+    return {};
+}
+
+}  // namespace
+
 Result<GdalDataset> openGdalDataset(const std::string& path) {
     const Result<std::uint64_t> size = checkDemInputFile(path);
     if (!size) return size.error();
@@ -258,6 +288,7 @@ Result<GdalDataset> openGdalDataset(const std::string& path) {
         return Error{
             fmt::format("{}: {}", path,
                         libraryMessage(errors.message("GDAL cannot open it as a raster"), path))};
+    if (Status rows = checkTextGridRows(*dataset, path); !rows) return rows.error();
     return dataset;
 }
 
