@@ -112,6 +112,13 @@ TEST_F(DemReaderErrorsTest, GarbageWithADemExtension) {
     test::writeBytes(bigTiles, test::readBytes(fs::path(TERRAIN_SOURCE_DIR) / "tests" / "fuzz" /
                                                "dem-tiff" / "tiles-8448x46336-for-46x12.tif"));
     expectErrorStartingWithPath(bigTiles, "tiles of 8448 × 46336 for a 46 × 12 image");
+    // A 300-byte file GDAL takes for an NGS geoid grid of 1,283,027,553 × 1,819,044,195
+    // samples: refused before GDAL allocates one 5.1 GB line (found by fuzz-dem-asc).
+    const std::string geoid = m_dir.file("ngs-geoid-header-claiming-1283027553-columns.asc");
+    test::writeBytes(geoid,
+                     test::readBytes(fs::path(TERRAIN_SOURCE_DIR) / "tests" / "fuzz" / "dem-asc" /
+                                     "ngs-geoid-header-claiming-1283027553-columns.asc"));
+    expectErrorStartingWithPath(geoid, "a block decodes to 4894 MiB");
     // A TIFF header and nothing else.
     const std::string header = m_dir.file("header_only.tif");
     test::writeBytes(header, {'I', 'I', 42, 0, 8, 0, 0, 0});
