@@ -187,10 +187,11 @@ std::vector<std::uint8_t> netCdfSeed(std::string_view units, float scale) {
 // with one cell size and no-data, and centre origin with separate dx, dy.
 std::string asciiGridSeed(bool centreOrigin) {
     constexpr int kColumns = 8, kRows = 6;
-    std::string text = centreOrigin ? "ncols 8\nnrows 6\nxllcenter 500015\nyllcenter "
-                                      "5100015\ndx 30\ndy 20\n"
-                                    : "ncols 8\nnrows 6\nxllcorner -122.5\nyllcorner "
-                                      "46.25\ncellsize 0.001\nNODATA_value -9999\n";
+    std::string text =
+        "ncols " + std::to_string(kColumns) + "\nnrows " + std::to_string(kRows) + "\n";
+    text += centreOrigin
+                ? "xllcenter 500015\nyllcenter 5100015\ndx 30\ndy 20\n"
+                : "xllcorner -122.5\nyllcorner 46.25\ncellsize 0.001\nNODATA_value -9999\n";
     for (int y = 0; y < kRows; ++y) {
         for (int x = 0; x < kColumns; ++x) {
             const bool noData = !centreOrigin && x == 0 && y == 0;

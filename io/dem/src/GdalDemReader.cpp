@@ -24,10 +24,6 @@ namespace terrain::io::detail {
 
 namespace {
 
-/// The most one decoded block may take (as OiioDemReader's kMaxDecodeBytes: a 1.3M-wide
-/// float32 planet's row is 5 MB, a 256-row block of it 1.3 GB).
-constexpr std::uint64_t kMaxBlockBytes = std::uint64_t{2} << 30U;
-
 const char* sampleTypeName(GDALDataType type) {
     switch (type) {
         case GDT_Byte:
@@ -266,12 +262,12 @@ Status checkBlockBytes(GDALDataset& dataset, const std::string& path) {
     const std::uint64_t blockBytes =
         std::uint64_t(std::max(blockColumns, 0)) * std::uint64_t(std::max(blockRows, 0)) *
         std::uint64_t(GDALGetDataTypeSizeBytes(band->GetRasterDataType()));
-    if (blockBytes <= kMaxBlockBytes) return {};
+    if (blockBytes <= kMaxDecodeBytes) return {};
     return Error{fmt::format(
         "{}: {} × {} samples in blocks of {} × {}: a block decodes to {} MiB, more than the {} "
         "MiB a read may take (a damaged header?)",
         path, dataset.GetRasterXSize(), dataset.GetRasterYSize(), blockColumns, blockRows,
-        blockBytes >> 20U, kMaxBlockBytes >> 20U)};
+        blockBytes >> 20U, kMaxDecodeBytes >> 20U)};
 }
 
 Status checkTextGridRows(GDALDataset& dataset, const std::string& path) {

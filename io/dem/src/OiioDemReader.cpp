@@ -31,12 +31,9 @@ constexpr std::int64_t kScanlineBlockRows = 64;
 constexpr std::int64_t kMaxScanlineBlockRows = 256;
 constexpr std::size_t kMinCacheBytes = std::size_t{64} << 20U;
 constexpr std::size_t kCachedBlockRows = 3;  // block rows of the whole width that fit
-// The most one block of rows may decode to (every channel, at least 4 bytes a sample).
-// OpenImageIO decodes scan-line files in chunks of up to 256 rows of the whole width, and
-// a tiled file a row of tiles at a time, allocating that before it reads: a header that
-// claims more would make it allocate it (8 GB for a 232-byte EXR claiming 8.4M columns,
-// found by fuzz-dem-exr). A 1.3M-sample-wide float32 planet needs 1.3 GB.
-constexpr std::uint64_t kMaxDecodeBytes = std::uint64_t{2} << 30U;
+// OpenImageIO decodes scan-line files in chunks of up to 256 rows of the whole width (every
+// channel, at least 4 bytes a sample), and a tiled file a row of tiles at a time; either
+// must fit kMaxDecodeBytes.
 constexpr std::uint64_t kDecoderChunkRows = 256;
 // The largest tile side we read beyond the image's own size (rounded up to the 16 samples
 // TIFF tiles are multiples of): writers use 256 or 512; OpenImageIO allocates and clears a
