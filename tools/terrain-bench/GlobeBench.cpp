@@ -171,6 +171,7 @@ int runGlobeBench(const GlobeBenchOptions& o) {
                               {"triangles", frame.drawn.triangles},
                               {"patches", frame.lod.drawn},
                               {"horizon_culled", frame.lod.horizonCulled},
+                              {"held_splits", frame.lod.heldSplits},
                               {"lod_us", frame.lodUs},
                               {"error_max_px", error.maxPx},
                               {"error_p99_px", error.p99Px},

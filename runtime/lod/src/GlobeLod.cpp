@@ -12,7 +12,7 @@
 namespace terrain::runtime {
 namespace {
 
-std::uint64_t boundsKey(const globe::GlobePatchId& id) {
+std::uint64_t patchKey(const globe::GlobePatchId& id) {
     // face (3 bits) · level (5 bits) · x, y (28 bits each): every patch up to level 28.
     return (std::uint64_t(id.face) << 61) | (std::uint64_t(id.level) << 56) |
            (std::uint64_t(id.y) << 28) | std::uint64_t(id.x);
@@ -47,6 +47,12 @@ GlobeLod::GlobeLod(const io::PyramidManifest& manifest, TileResidency& residency
     TERRAIN_ASSERT(manifest.globe.has_value(), "GlobeLod needs a globe pyramid");
     TERRAIN_ASSERT(manifest.globe->faceFinestLevel <= io::kMaxGlobeFaceLevel,
                    "readManifest refuses deeper globe pyramids");
+    TERRAIN_ASSERT(options.hysteresis >= 1.0, "GlobeLod: hysteresis below 1");
+}
+
+void GlobeLod::setOptions(const GlobeLodOptions& options) {
+    TERRAIN_ASSERT(options.hysteresis >= 1.0, "GlobeLod: hysteresis below 1");
+    m_options = options;
 }
 
 double GlobeLod::bareError(int level) const {
@@ -57,7 +63,7 @@ const globe::OrientedBox& GlobeLod::boundsOf(const globe::GlobePatchId& id, floa
                                              float maxHeight) {
     // A patch drawn bare until its tile arrives has other heights later: the cache keeps the
     // heights its box was made for.
-    auto [it, inserted] = m_bounds.try_emplace(boundsKey(id));
+    auto [it, inserted] = m_bounds.try_emplace(patchKey(id));
     CachedBounds& cached = it->second;
     if (inserted || cached.minHeight != minHeight || cached.maxHeight != maxHeight)
         cached = {globe::patchBounds(id, minHeight, maxHeight), minHeight, maxHeight};
@@ -109,6 +115,9 @@ GlobeLodStats GlobeLod::select(const Camera& camera, std::vector<GlobePatchDraw>
         node.info = info;
         visit(node, stats, out);
     }
+    // What this frame split is what the next one holds; patches culled or merged drop out.
+    std::swap(m_splitLastFrame, m_splitThisFrame);
+    m_splitThisFrame.clear();
     return stats;
 }
 
@@ -141,7 +150,11 @@ void GlobeLod::visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePa
                                  : std::max(globe::distanceToBox(m_camera, box), 1.0);
     const double screenError =
         rho > 0.0 ? m_gamma * errorM / rho : std::numeric_limits<double>::infinity();
-    if (screenError > m_options.errorPx &&
+    const std::uint64_t key = patchKey(node.id);
+    const bool wasSplit = m_splitLastFrame.contains(key);
+    const double threshold =
+        wasSplit ? m_options.errorPx / m_options.hysteresis : m_options.errorPx;
+    if (screenError > threshold &&
         node.id.level < std::min(m_options.maxBareLevel, io::kMaxGlobeFaceLevel)) {
         std::array<Node, 4> children;
         bool ready = true, failed = false;
@@ -172,6 +185,8 @@ void GlobeLod::visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePa
             ready = ready && child.info != nullptr;
         }
         if (ready && !failed) {
+            m_splitThisFrame.insert(key);
+            stats.heldSplits += screenError <= m_options.errorPx ? 1 : 0;
             for (const Node& child : children) visit(child, stats, out);
             return;
         }

@@ -2,7 +2,8 @@
 // the same patches at a pole, on the equator, over a cube edge and over a cube corner (the
 // point of the cube-sphere); bare patches refine with distance; a data patch splits only
 // into resident children, absent ones drawn bare; horizon culling removes most of the globe
-// from an oblique view in low orbit and never what the frustum sees.
+// from an oblique view in low orbit and never what the frustum sees; hysteresis holds a split
+// while the camera moves back and forth across its threshold.
 #include "terrain/runtime/GlobeLod.h"
 
 #include "FakeTileResidency.h"
@@ -211,6 +212,60 @@ TEST(GlobeLod, HorizonCullingRemovesMostOfTheGlobeFromAnObliqueLowOrbitView) {
     EXPECT_EQ(culled.waitingSplits, 0u);
     EXPECT_GT(culled.horizonCulled, 0u);
     EXPECT_LT(culled.drawn, all.drawn);
+}
+
+// A camera moving back and forth across a split threshold: without hysteresis a patch
+// splits and merges every frame; with it the patches stay as they are. What the LOD holds is
+// only what it drew last frame: after a look at the other side of the globe, the first view
+// gets the patches a fresh LOD gives it.
+TEST(GlobeLod, ACameraRestingNearAThresholdChangesNothingFromFrameToFrame) {
+    const io::PyramidManifest m = globeManifest();
+    auto rough = roughEverywhere(m);
+    FakeTileResidency& residency = *rough;
+    const auto drawnAt = [&](GlobeLod& lod, double height, GlobeLodStats* stats = nullptr,
+                             double latitude = 10.0, double longitude = 20.0) {
+        std::vector<GlobePatchDraw> draws;
+        residency.beginFrame();
+        const GlobeLodStats s = lod.select(cameraAt(latitude, longitude, height, -30.0), draws);
+        residency.endFrame();
+        EXPECT_EQ(s.waitingSplits, 0u);
+        if (stats != nullptr) *stats = s;
+        return s.drawn;
+    };
+    GlobeLodOptions stateless;
+    stateless.hysteresis = 1.0;
+    // Two heights 1 % apart with different patches: a patch splits between them.
+    double near = 0.0;
+    for (double h = 3000.0; h < 30000.0 && near == 0.0; h *= 1.01) {
+        GlobeLod a(m, residency, stateless), b(m, residency, stateless);
+        if (drawnAt(a, h) != drawnAt(b, h * 1.01)) near = h;
+    }
+    ASSERT_GT(near, 0.0) << "no split threshold between 3 and 30 km";
+    const double far = near * 1.01;
+
+    for (const double hysteresis : {1.0, 1.25}) {
+        GlobeLodOptions options;
+        options.hysteresis = hysteresis;
+        GlobeLod lod(m, residency, options);
+        std::vector<std::uint64_t> counts;
+        std::uint64_t held = 0;
+        for (int frame = 0; frame < 8; ++frame) {
+            GlobeLodStats stats;
+            counts.push_back(drawnAt(lod, frame % 2 == 0 ? far : near, &stats));
+            if (frame > 0 && frame % 2 == 0) held += stats.heldSplits;
+        }
+        EXPECT_LT(counts[0], counts[1]);
+        for (std::size_t k = 2; k < counts.size(); ++k) {
+            if (hysteresis == 1.0) {
+                EXPECT_EQ(counts[k], counts[k % 2]) << "frame " << k;
+            } else {
+                EXPECT_EQ(counts[k], counts[1]) << "frame " << k << ": a split did not hold";
+            }
+        }
+        EXPECT_EQ(held > 0, hysteresis > 1.0);
+        drawnAt(lod, far, nullptr, -10.0, -160.0);
+        EXPECT_EQ(drawnAt(lod, far), counts[0]) << "a split outlived its view";
+    }
 }
 
 // A child whose tile failed to load is never split into: its parent keeps drawing the area,

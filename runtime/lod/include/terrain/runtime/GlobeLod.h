@@ -15,7 +15,12 @@
 // curvature (the data's error cannot shrink without finer data). A face root that has not
 // arrived yet is drawn bare.
 //
-// Stateless (no frame coherence yet): it visits every patch it keeps or splits each frame.
+// Hysteresis, as in LodQuadtree: a patch split last frame stays split until its screen-space
+// error drops below ε / hysteresis, so a camera resting near a threshold changes nothing from
+// frame to frame (splitting more only lowers the error). That set of split patches is the
+// only state kept between frames: the LOD still visits every patch it keeps or splits each
+// frame (tens of patches, 12 µs median on the Rainier flight, docs/globe.md), so LodQuadtree's
+// scheduling of evaluations by camera travel would save nothing measurable here.
 #pragma once
 
 #include "terrain/globe/GlobePatch.h"
@@ -28,6 +33,7 @@
 #include <array>
 #include <cstdint>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 namespace terrain::runtime {
@@ -57,6 +63,9 @@ struct GlobeLodOptions {
     bool horizonCulling = true;
     /// The finest level bare patches refine to (a 129-sample patch there is ~15 cm wide).
     int maxBareLevel = 24;
+    /// A patch split last frame is merged when its screen-space error < ε / hysteresis
+    /// (≥ 1; 1: no hysteresis, every frame decided afresh).
+    double hysteresis = 1.25;
 };
 
 struct GlobeLodStats {
@@ -67,6 +76,8 @@ struct GlobeLodStats {
     std::uint64_t horizonCulled = 0;
     std::uint64_t visited = 0;
     std::uint64_t waitingSplits = 0;  ///< drawn although too coarse: children not resident
+    /// Split although within ε: split last frame and still above ε / hysteresis.
+    std::uint64_t heldSplits = 0;
     int deepestLevel = 0;
     /// The area the drawn and culled patches cover, a patch of level l counting 4^(30 − l):
     /// kWholeGlobeCoverage exactly when they tile the six faces with no hole and no overlap.
@@ -87,7 +98,7 @@ public:
     GlobeLodStats select(const Camera& camera, std::vector<GlobePatchDraw>& out);
 
     const GlobeLodOptions& options() const { return m_options; }
-    void setOptions(const GlobeLodOptions& options) { m_options = options; }
+    void setOptions(const GlobeLodOptions& options);
 
     /// Err(P) of a bare patch of `level`: the sag of its flat triangles under the ellipsoid.
     double bareError(int level) const;
@@ -121,6 +132,9 @@ private:
         float maxHeight = 0.0f;
     };
     std::unordered_map<std::uint64_t, CachedBounds> m_bounds;  // by patch
+    // The patches split last frame and those split so far this frame (patchKey).
+    std::unordered_set<std::uint64_t> m_splitLastFrame;
+    std::unordered_set<std::uint64_t> m_splitThisFrame;
 };
 
 }  // namespace terrain::runtime
