@@ -103,6 +103,20 @@ TEST(TileCache, ContainsDoesNotChangeLruOrderOrCounters) {
     EXPECT_FALSE(cache.contains(patch(0))) << "contains() must not protect an entry";
 }
 
+TEST(TileCache, PeekReturnsTheRecordButDoesNotChangeLruOrderOrCounters) {
+    TileCache cache(3 * chargedBytes(kHeights));
+    for (int x = 0; x < 3; ++x) {
+        cache.insert(makeRecord(patch(x), kHeights));
+    }
+    const io::PatchRecord* peeked = cache.peek(patch(0));
+    ASSERT_NE(peeked, nullptr);
+    EXPECT_EQ(peeked->id, patch(0));
+    EXPECT_EQ(cache.peek(patch(9)), nullptr);
+    EXPECT_EQ(cache.counters(), (TileCacheCounters{0, 0, 0, 3}));
+    cache.insert(makeRecord(patch(3), kHeights));
+    EXPECT_EQ(cache.peek(patch(0)), nullptr) << "peek() must not protect an entry";
+}
+
 TEST(TileCache, LargerRecordEvictsSeveral) {
     TileCache cache(4 * chargedBytes(kHeights));
     for (int x = 0; x < 4; ++x) {

@@ -265,19 +265,27 @@ TEST_F(ViewerTool, ScreenshotShowsTerrainAndTheOverlay) {
     EXPECT_GT(outsideSame / outside, 0.98) << outsideSame << " of " << outside;
 }
 
-// A globe pyramid opens the globe viewer: "go to the data" at start, settled frames, the
-// screenshot shows the terrain (not the black of space) around the overlay.
-TEST_F(ViewerTool, GlobePyramidOpensTheGlobeViewerOverTheData) {
-    test::GeographicFunctionDem source(
-        10.0, 50.0, 200, 120, 0.01, 0.01, [](double lat, double lon) {
-            return static_cast<float>(400.0 + 300.0 * std::sin(lat * 40.0) * std::cos(lon * 30.0));
-        });
-    const std::string pyramid = m_folder.file("globe.pyramid");
+// A small globe pyramid: 100 to 700 m hills, 17 km apart, 1.1 km samples (lat 48.8–50° N,
+// lon 10–12° E).
+float globeHills(double lat, double lon) {
+    return static_cast<float>(400.0 + 300.0 * std::sin(lat * 40.0) * std::cos(lon * 30.0));
+}
+
+std::string buildGlobeHills(const test::TempFolder& folder) {
+    test::GeographicFunctionDem source(10.0, 50.0, 200, 120, 0.01, 0.01, globeHills);
+    const std::string pyramid = folder.file("globe.pyramid");
     io::PyramidBuildOptions options;
     options.patchSamples = 65;
     options.blockQuads = 8;
     auto built = io::buildGlobePyramid(source, pyramid, options);
-    ASSERT_TRUE(built) << built.error().message;
+    EXPECT_TRUE(built) << built.error().message;
+    return pyramid;
+}
+
+// A globe pyramid opens the globe viewer: "go to the data" at start, settled frames, the
+// screenshot shows the terrain (not the black of space) around the overlay.
+TEST_F(ViewerTool, GlobePyramidOpensTheGlobeViewerOverTheData) {
+    const std::string pyramid = buildGlobeHills(m_folder);
     const std::string screenshot = m_folder.file("globe.png");
     const ToolRun viewed = runViewer(pyramid +
                                          " --frames 8 --settle --width 480 --height 320 "
@@ -296,6 +304,34 @@ TEST_F(ViewerTool, GlobePyramidOpensTheGlobeViewerOverTheData) {
         for (int x = 0; x < image.width; ++x)
             ground += image.at(x, y)[0] > 40 ? 1 : 0;  // not space
     EXPECT_GT(ground, image.width * image.height * 9 / 10);
+}
+
+// The globe viewer keeps the camera 1 m above the ground under it, not above the highest
+// point of the patch there: over the bottom of a valley (about 100 m) a jump to 1 m above
+// the ellipsoid, under the ground, comes up to it, and one to 300 m stays there (the hills
+// of the patch reach 700 m).
+TEST_F(ViewerTool, GlobeViewerKeepsTheCameraJustAboveTheGround) {
+    const std::string pyramid = buildGlobeHills(m_folder);
+    const double lat = 49.755, lon = 10.472;  // sin(lat · 40) ≈ −1, cos(lon · 30) ≈ 1
+    const double ground = globeHills(lat, lon);
+    ASSERT_LT(ground, 101.0);
+    for (const double altitude : {1.0, 300.0}) {
+        SCOPED_TRACE(altitude);
+        const ToolRun viewed = runViewer(pyramid + " --goto " + std::to_string(lat) + "," +
+                                             std::to_string(lon) + "," + std::to_string(altitude) +
+                                             " --frames 12 --settle --width 320 --height 200 "
+                                             "--no-overlay --json",
+                                         m_folder);
+        ASSERT_EQ(viewed.status, 0) << describe(viewed);
+        const double camera = summaryOf(viewed)["camera"]["altitude_m"].get<double>();
+        if (altitude == 1.0) {
+            // Above the ground, by at most the rise across one 1.1 km sample (120 m here).
+            EXPECT_GE(camera, ground + 1.0 - 5.0);
+            EXPECT_LE(camera, ground + 1.0 + 130.0);
+        } else {
+            EXPECT_DOUBLE_EQ(camera, altitude);
+        }
+    }
 }
 
 TEST_F(ViewerTool, MissingPyramidIsAClearError) {

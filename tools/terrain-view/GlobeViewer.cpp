@@ -3,6 +3,7 @@
 #include "KeyBindings.h"
 #include "Screenshot.h"
 #include "terrain/globe/Wgs84.h"
+#include "terrain/io/GlobeLayout.h"
 #include "terrain/io/PyramidManifest.h"
 #include "terrain/runtime/GlobeDrawnGround.h"
 #include "terrain/runtime/ScreenProjection.h"
@@ -99,7 +100,19 @@ std::optional<globe::Geodetic> GlobeViewer::groundUnderPixel(double xPx, double 
 }
 
 double GlobeViewer::floorUnderCamera() const {
-    return runtime::drawnGroundCeiling(m_session->draws(), m_camera.position);
+    // The ground the finest resident data draws under the camera, its tile looked up in the
+    // CPU cache (no read); a patch whose tile has left that cache counts its highest point.
+    const runtime::TileStreamer& streamer = m_session->streamer();
+    const runtime::GlobeGroundLookup lookup{
+        .residentInfo =
+            [&streamer](const globe::GlobePatchId& id) {
+                return streamer.residentInfo(io::layoutPatchOf(id));
+            },
+        .cachedTile =
+            [&streamer](const globe::GlobePatchId& id) {
+                return streamer.cpuCache().peek(io::layoutPatchOf(id));
+            }};
+    return runtime::residentGroundHeight(m_camera.position, streamer.layout(), lookup);
 }
 
 void GlobeViewer::drawOverlay(const runtime::FrameTelemetry& t) {

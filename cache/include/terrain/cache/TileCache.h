@@ -78,6 +78,14 @@ public:
     /// Whether `id` is cached; touches neither the LRU order nor the counters.
     bool contains(const io::PatchId& id) const { return m_entries.contains(id); }
 
+    /// The cached record, or null, touching neither the LRU order nor the counters (a look
+    /// that must not keep a record alive, e.g. the viewer's ground under the camera). The
+    /// pointer is valid until the next non-const call. Render thread only.
+    const io::PatchRecord* peek(const io::PatchId& id) const {
+        const auto found = m_entries.find(id);
+        return found == m_entries.end() ? nullptr : &found->second->record;
+    }
+
     /// Drops `id`'s entry (not counted as an eviction); false when it was not cached.
     /// Render thread only.
     bool erase(const io::PatchId& id);

@@ -1,12 +1,16 @@
-// GlobeDrawnGround: a height at or above the ground a frame drew under a point, from the
-// frame's own draw list (no read, no GPU): the highest sample of the drawn patch that holds
-// the point's nadir. The viewer keeps the camera above it and the stress flight flies over it.
+// GlobeDrawnGround: a height at or above the ground under a point, from what is at hand
+// without a read: the frame's draw list, or the resident patches and the CPU cache's tiles.
+// The viewer keeps the camera above it and the stress flight flies over it.
 #pragma once
 
+#include "terrain/globe/GlobePatch.h"
+#include "terrain/io/PatchRecord.h"
+#include "terrain/io/PyramidLayout.h"
 #include "terrain/runtime/GlobeLod.h"
 
 #include <glm/vec3.hpp>
 
+#include <functional>
 #include <span>
 
 namespace terrain::runtime {
@@ -15,5 +19,23 @@ namespace terrain::runtime {
 /// (a patch edge belongs to both sides); 0 (the ellipsoid) where none does, e.g. when the
 /// nadir was culled.
 double drawnGroundCeiling(std::span<const GlobePatchDraw> draws, const glm::dvec3& ecef);
+
+/// What is at hand for a patch without a read: its summary when its tile is resident on the
+/// GPU (TileResidency::residentInfo), its tile when the CPU cache holds it; else null.
+struct GlobeGroundLookup {
+    std::function<const io::PatchInfo*(const globe::GlobePatchId&)> residentInfo;
+    std::function<const io::PatchRecord*(const globe::GlobePatchId&)> cachedTile;
+};
+
+/// The ground under the nadir of `ecef` as the finest resident data there draws it, to
+/// within one sample: down the resident patches holding the nadir to the deepest, then the
+/// highest of the four samples of its tile around the nadir (the surface drawn between them
+/// lies at or below it, whatever its triangles, and close to the camera the LOD draws every
+/// sample), or that patch's maxHeight when its tile is not in the CPU cache (or the four are
+/// not finite). 0, the bare ellipsoid, where not even the face's root is resident. Unlike a
+/// draw list it does not depend on what the frame culled, so a camera below the ground (a
+/// jump to an altitude under a mountain) still finds it.
+double residentGroundHeight(const glm::dvec3& ecef, const io::PyramidLayout& layout,
+                            const GlobeGroundLookup& lookup);
 
 }  // namespace terrain::runtime

@@ -125,6 +125,7 @@ public:
         m_loadObserver = std::move(observer);
     }
     const cache::GpuTilePool& pool() const { return m_pool; }
+    const cache::TileCache& cpuCache() const { return m_cache; }
     /// Gives back every GPU layer (pinned ones too): the end of a session, after drain(), so
     /// a program can check the pool got every layer back. Nothing may be drawn from the
     /// streamer's tiles afterwards without selecting again. Returns the layers released.

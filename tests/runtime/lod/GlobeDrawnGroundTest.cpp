@@ -1,0 +1,130 @@
+// The ground under the globe viewer's camera, from the resident patches and the tiles in the
+// CPU cache: the highest of the four samples around the nadir in the deepest resident patch
+// (the drawn surface between them lies at or below it), not that patch's highest point;
+// its highest point when its tile is not at hand or not finite; 0 (the bare ellipsoid)
+// with nothing resident; below sea level where the ground is; found from under the ground.
+#include "terrain/runtime/GlobeDrawnGround.h"
+
+#include "terrain/globe/CubeSphere.h"
+#include "terrain/globe/Wgs84.h"
+#include "terrain/io/GlobeLayout.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <map>
+#include <tuple>
+
+namespace terrain::runtime {
+namespace {
+
+constexpr float kSpike = 3000.0f;
+const globe::GlobePatchId kPatch{2, 5, 7, 12};
+
+io::PyramidLayout layout() {
+    auto made = io::globeLayout(10);
+    EXPECT_TRUE(made);
+    return made.value();
+}
+
+// Heights rise gently along both tile axes, with one spike, the patch's highest point.
+io::PatchRecord tile(const io::PyramidLayout& l) {
+    io::PatchRecord record;
+    const int side = l.tileSamples();
+    record.heights.resize(static_cast<std::size_t>(side * side));
+    for (int row = 0; row < side; ++row)
+        for (int column = 0; column < side; ++column)
+            record.heights[static_cast<std::size_t>(row * side + column)] =
+                100.0f + 0.5f * float(column) + 0.25f * float(row);
+    record.heights[static_cast<std::size_t>(20 * side + 100)] = kSpike;
+    return record;
+}
+
+double heightAt(int column, int row) { return 100.0 + 0.5 * column + 0.25 * row; }
+
+// Resident: kPatch and its ancestors down to `deepestLevel`, each with maxHeight `top` and
+// kPatch's level with `tile` in the CPU cache (when not null).
+struct Streaming {
+    std::map<std::tuple<int, int, std::int64_t, std::int64_t>, io::PatchInfo> resident;
+    const io::PatchRecord* tile = nullptr;
+
+    Streaming(int deepestLevel, float top) {
+        for (int level = 0; level <= deepestLevel; ++level) {
+            io::PatchInfo info;
+            info.present = true;
+            info.maxHeight = top;
+            const int shift = kPatch.level - level;
+            resident[{kPatch.face, level, kPatch.x >> shift, kPatch.y >> shift}] = info;
+        }
+    }
+    GlobeGroundLookup lookup() const {
+        return {.residentInfo = [this](const globe::GlobePatchId& id) -> const io::PatchInfo* {
+                    const auto found = resident.find({id.face, id.level, id.x, id.y});
+                    return found == resident.end() ? nullptr : &found->second;
+                },
+                .cachedTile = [this](const globe::GlobePatchId& id) -> const io::PatchRecord* {
+                    return id.level == kPatch.level && id.x == kPatch.x && id.y == kPatch.y
+                               ? tile
+                               : nullptr;
+                }};
+    }
+};
+
+// `heightM` above patch coordinates (u, v) of `id`.
+glm::dvec3 at(const globe::GlobePatchId& id, double u, double v, double heightM) {
+    const globe::FacePoint p = globe::patchPoint(id, u, v);
+    return globe::Wgs84::pointAlongNormal(globe::directionOf(p.face, p.s, p.t), heightM);
+}
+
+TEST(GlobeDrawnGround, IsTheHighestOfTheFourSamplesAroundTheNadirNotThePatchsTop) {
+    const io::PyramidLayout l = layout();
+    const io::PatchRecord record = tile(l);
+    Streaming streaming(kPatch.level, kSpike);
+    streaming.tile = &record;
+    const double quads = l.patchQuads();
+    // Patch sample (38.4, 76.8) is tile sample (39.4, 77.8): columns 39, 40, rows 77, 78.
+    const double u = 38.4 / quads, v = 76.8 / quads;
+    EXPECT_NEAR(residentGroundHeight(at(kPatch, u, v, 500.0), l, streaming.lookup()),
+                heightAt(40, 78), 1e-3);
+    // From under the ground (a jump to 1 m above the ellipsoid under a mountain): the same.
+    EXPECT_NEAR(residentGroundHeight(at(kPatch, u, v, 1.0), l, streaming.lookup()),
+                heightAt(40, 78), 1e-3);
+    // Next to the spike the spike is the ground.
+    EXPECT_DOUBLE_EQ(
+        residentGroundHeight(at(kPatch, 99.5 / quads, 19.5 / quads, 5000.0), l, streaming.lookup()),
+        kSpike);
+    // Its tile no longer in the CPU cache: the patch's highest point.
+    streaming.tile = nullptr;
+    EXPECT_DOUBLE_EQ(residentGroundHeight(at(kPatch, u, v, 500.0), l, streaming.lookup()), kSpike);
+}
+
+TEST(GlobeDrawnGround, IsWhatTheDeepestResidentPatchHoldsAndTheEllipsoidWithoutOne) {
+    const io::PyramidLayout l = layout();
+    const io::PatchRecord record = tile(l);
+    // Resident down to level 3 only: kPatch's tile in the cache is not what is drawn.
+    Streaming coarse(3, 4500.0f);
+    coarse.tile = &record;
+    EXPECT_DOUBLE_EQ(residentGroundHeight(at(kPatch, 0.5, 0.5, 10.0), l, coarse.lookup()), 4500.0);
+    // A nadir on another face, where nothing is resident: the bare ellipsoid.
+    EXPECT_DOUBLE_EQ(residentGroundHeight(at({0, 5, 7, 12}, 0.5, 0.5, 10.0), l, coarse.lookup()),
+                     0.0);
+}
+
+TEST(GlobeDrawnGround, BelowSeaLevelIsBelowTheEllipsoidAndNaNIsNotGround) {
+    const io::PyramidLayout l = layout();
+    io::PatchRecord deep = tile(l);
+    for (float& h : deep.heights) h = -400.0f;
+    Streaming streaming(kPatch.level, -400.0f);
+    streaming.tile = &deep;
+    const glm::dvec3 camera = at(kPatch, 0.5, 0.5, -390.0);
+    EXPECT_DOUBLE_EQ(residentGroundHeight(camera, l, streaming.lookup()), -400.0);
+    // A sample that is not finite: the patch's highest point, never NaN.
+    for (float& h : deep.heights) h = std::numeric_limits<float>::quiet_NaN();
+    Streaming damaged(kPatch.level, 250.0f);
+    damaged.tile = &deep;
+    EXPECT_DOUBLE_EQ(residentGroundHeight(camera, l, damaged.lookup()), 250.0);
+}
+
+}  // namespace
+}  // namespace terrain::runtime
