@@ -6,10 +6,10 @@
 // differences across the apron, over the patch's sample spacing.
 #include "Bindings.h"
 #include "globe_patches.glsl"
+#include "globe_heights.glsl"
 
 layout(quads, equal_spacing, ccw) in;
 
-layout(binding = TERRAIN_BINDING_HEIGHTS) uniform sampler2DArray u_heights;
 uniform mat4 u_viewProjection;  // camera-relative metres to clip space
 
 layout(location = 0) in vec2 i_sample[];
@@ -22,21 +22,6 @@ layout(location = 2) out float o_heightM;
 layout(location = 3) flat out int o_level;
 layout(location = 4) flat out int o_tessFactor;
 layout(location = 5) out vec2 o_demSample;  // terrain.frag's clip: nothing to clip on a globe
-
-float heightAt(ivec2 texel, int layer) {
-    return layer >= 0 ? texelFetch(u_heights, ivec3(texel, layer), 0).r : 0.0;
-}
-
-// The tile's height at a fractional tile sample (apron included): bilinear, as a virtual
-// patch draws its ancestor's tile between its samples.
-float heightBetween(vec2 texel, int layer) {
-    vec2 base = floor(texel);
-    vec2 f = texel - base;
-    ivec2 t = ivec2(base);
-    float top = mix(heightAt(t, layer), heightAt(t + ivec2(1, 0), layer), f.x);
-    float bottom = mix(heightAt(t + ivec2(0, 1), layer), heightAt(t + ivec2(1, 1), layer), f.x);
-    return mix(top, bottom, f.y);
-}
 
 void main() {
     GlobeInstance patch_ = u_globe[i_instance[0]];
@@ -53,15 +38,7 @@ void main() {
     precise float drop = i_skirtDropM * u.y;
     position = position - drop * direction;
 
-    int face = patch_.layerLevelFace.z;
-    vec3 east = normalize(kFaceRight[face] - dot(kFaceRight[face], direction) * direction);
-    vec3 south = normalize(kFaceDown[face] - dot(kFaceDown[face], direction) * direction);
-    float dx = between ? heightBetween(texel + vec2(1, 0), layer) - heightBetween(texel - vec2(1, 0), layer)
-                       : heightAt(ivec2(texel) + ivec2(1, 0), layer) - heightAt(ivec2(texel) - ivec2(1, 0), layer);
-    float dy = between ? heightBetween(texel + vec2(0, 1), layer) - heightBetween(texel - vec2(0, 1), layer)
-                       : heightAt(ivec2(texel) + ivec2(0, 1), layer) - heightAt(ivec2(texel) - ivec2(0, 1), layer);
-    o_normal = normalize(direction - dx / (2.0 * patch_.spacing.x) * east -
-                         dy / (2.0 * patch_.spacing.y) * south);
+    o_normal = globeShadingNormal(patch_, texel, between, direction);
     o_heightM = h;
     o_level = patch_.layerLevelFace.y;
     o_tessFactor = i_debugFactor;

@@ -8,9 +8,13 @@
 #include "terrain/io/DemReader.h"
 #include "terrain/io/GlobeGroundHeight.h"
 #include "terrain/io/GlobeSourceSurface.h"
+#include "terrain/io/PyramidReader.h"
+#include "terrain/runtime/FrameImages.h"
 #include "terrain/runtime/GlobeCameraPath.h"
+#include "terrain/runtime/GlobeReferenceRenderer.h"
 #include "terrain/runtime/GlobeScreenSpaceError.h"
 #include "terrain/runtime/GlobeSession.h"
+#include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/LatencyHistogram.h"
 
 #include <epoxy/gl.h>
@@ -34,6 +38,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 namespace fs = std::filesystem;
 constexpr double kDegree = std::numbers::pi / 180.0;
+// The background of every frame, LOD and reference alike (space), and its 8-bit value: a
+// pixel of it in the LOD image where the reference drew ground is uncovered.
+constexpr std::array<float, 4> kSpace{0.02f, 0.03f, 0.08f, 1.0f};
+constexpr std::array<std::uint8_t, 3> kSpaceRgb{5, 8, 20};
 
 int fail(const std::string& message) {
     fmt::print(stderr, "terrain-bench: {}\n", message);
@@ -54,7 +62,7 @@ Frame drawFrame(runtime::GlobeSession& session, gl::Framebuffer& framebuffer,
     session.settle(camera, std::chrono::seconds(60));
     frame.lod = session.beginFrame(camera);
     frame.lodUs = session.lodUpdateUs();
-    framebuffer.clear({0.02f, 0.03f, 0.08f, 1.0f}, 0.0f);
+    framebuffer.clear(kSpace, 0.0f);
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
     glViewport(0, 0, camera.viewportWidth, camera.viewportHeight);
     runtime::TerrainStyle style;
@@ -77,6 +85,23 @@ nlohmann::json worstJson(const runtime::ScreenSpaceErrorStats& error) {
             {"longitude", at.longitudeDeg},
             {"drawn_m", at.height},
             {"reference_m", error.worstReferenceM}};
+}
+
+// The reference image of `camera` (GlobeReferenceRenderer): colour and depth.
+Result<runtime::FrameImages> drawReference(runtime::GlobeReferenceRenderer& reference,
+                                           io::PyramidReader& pyramid, gl::Framebuffer& framebuffer,
+                                           const runtime::Camera& camera) {
+    framebuffer.clear(kSpace, 0.0f);
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
+    glViewport(0, 0, camera.viewportWidth, camera.viewportHeight);
+    runtime::ReferenceStyle style;
+    style.skyColor = {kSpace[0], kSpace[1], kSpace[2]};
+    auto drawn = reference.draw(camera, pyramid, style);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (!drawn) return drawn.error();
+    runtime::FrameImages images = runtime::readFrameImages(framebuffer);
+    images.heightM.clear();  // not compared; keeps the flight's images small
+    return images;
 }
 
 }  // namespace
@@ -113,6 +138,16 @@ int runGlobeBench(const GlobeBenchOptions& o) {
     if (!context) return fail(context.error().message);
     auto framebuffer = gl::Framebuffer::create(o.widthPx, o.heightPx, "globe bench");
     if (!framebuffer) return fail(framebuffer.error().message);
+    auto referenceTarget =
+        gl::Framebuffer::createWithFloatAttachment(o.widthPx, o.heightPx, "globe bench reference");
+    if (!referenceTarget) return fail(referenceTarget.error().message);
+    auto pyramid = io::PyramidReader::open(o.pyramid);
+    if (!pyramid) return fail(pyramid.error().message);
+    auto reference = runtime::GlobeReferenceRenderer::create(pyramid.value().manifest());
+    if (!reference) return fail(reference.error().message);
+    // The reference images of the flight's frames, drawn once: every run flies the same
+    // cameras (colour and depth, 8 bytes a pixel a frame).
+    std::vector<runtime::FrameImages> references;
     const io::ManifestGlobe& g = *manifest.value().globe;
     auto path = globeFlight(o.pyramid, o.pathFile, 20.0);
     if (!path) return fail(path.error().message);
@@ -140,15 +175,44 @@ int runGlobeBench(const GlobeBenchOptions& o) {
         double errorMax = 0.0, errorP99Max = 0.0, lodErrorMax = 0.0;
         double trianglesSum = 0.0, patchesSum = 0.0;
         std::uint64_t trianglesMax = 0, patchesMax = 0, framesOver = 0, lodFramesOver = 0;
-        std::uint64_t culled = 0, visited = 0;
+        std::uint64_t culled = 0, visited = 0, crackPixels = 0;
+        double psnrMin = runtime::kIdenticalPsnrDb, psnrSum = 0.0, poppingSum = 0.0,
+               poppingMax = 0.0;
         nlohmann::json frames = nlohmann::json::array();
         std::vector<float> depth, depthNoSkirts;
+        std::vector<std::uint8_t> lodPrevious;
         for (int f = 0; f < o.frames; ++f) {
             const double fraction = o.frames > 1 ? double(f) / double(o.frames - 1) : 1.0;
             path.value().apply(path.value().startS() + fraction * path.value().durationS(), camera);
             const Frame frame =
                 drawFrame(session, framebuffer.value(), camera, errorPx, true, depth);
+            runtime::FrameImages lod;
+            lod.width = o.widthPx;
+            lod.height = o.heightPx;
+            lod.rgba = framebuffer.value().readColorRgba8();
+            lod.depth = depth;
             drawFrame(session, framebuffer.value(), camera, errorPx, false, depthNoSkirts);
+            if (references.size() <= static_cast<std::size_t>(f)) {
+                auto drawn = drawReference(reference.value(), pyramid.value(),
+                                           referenceTarget.value(), camera);
+                if (!drawn) return fail(drawn.error().message);
+                references.push_back(std::move(drawn).value());
+            }
+            const runtime::FrameImages& truth = references[static_cast<std::size_t>(f)];
+            const double psnr = runtime::compareImages(lod.rgba, truth.rgba).psnrDb;
+            const std::size_t cracks =
+                runtime::countUncoveredPixels(lod, truth, kSpaceRgb).cracks.size();
+            const double popping =
+                f > 0 ? runtime::poppingLevels(lodPrevious, lod.rgba,
+                                               references[static_cast<std::size_t>(f - 1)].rgba,
+                                               truth.rgba)
+                      : 0.0;
+            lodPrevious = std::move(lod.rgba);
+            psnrMin = std::min(psnrMin, psnr);
+            psnrSum += psnr;
+            crackPixels += cracks;
+            poppingSum += popping;
+            poppingMax = std::max(poppingMax, popping);
             const runtime::ScreenSpaceErrorStats error = runtime::measureGlobeScreenSpaceError(
                 camera, depth, depthNoSkirts, surface.value(), errorPx);
             const runtime::ScreenSpaceErrorStats lodError = runtime::measureGlobeScreenSpaceError(
@@ -178,7 +242,10 @@ int runGlobeBench(const GlobeBenchOptions& o) {
                               {"pixels_measured", error.pixels},
                               {"worst", worstJson(error)},
                               {"lod_error_max_px", lodError.maxPx},
-                              {"lod_worst", worstJson(lodError)}});
+                              {"lod_worst", worstJson(lodError)},
+                              {"psnr_db", psnr},
+                              {"crack_pixels", cracks},
+                              {"popping_levels", popping}});
         }
         // Time to full detail after arriving: the last pose, a fresh session, no settling.
         auto fresh = runtime::GlobeSession::open(o.pyramid, options);
@@ -209,6 +276,11 @@ int runGlobeBench(const GlobeBenchOptions& o) {
                         {"frames_over_threshold", framesOver},
                         {"lod_error_max_px", lodErrorMax},
                         {"lod_frames_over_threshold", lodFramesOver},
+                        {"psnr_min_db", psnrMin},
+                        {"psnr_mean_db", psnrSum / n},
+                        {"crack_pixels_total", crackPixels},
+                        {"popping_mean_levels", o.frames > 1 ? poppingSum / (n - 1.0) : 0.0},
+                        {"popping_max_levels", poppingMax},
                         {"triangles_mean", trianglesSum / n},
                         {"triangles_max", trianglesMax},
                         {"patches_mean", patchesSum / n},
@@ -225,10 +297,13 @@ int runGlobeBench(const GlobeBenchOptions& o) {
             stderr,
             "terrain-bench: globe, ε = {} px, horizon culling {}: measured error against the "
             "sources max {:.3f} px, {} of {} frames over ε + {} px; the LOD's own (against the "
-            "finest level) max {:.3f} px, {} frames over; triangles mean {:.0f}, patches max {}, "
-            "horizon-culled {:.1f} % of visited, full detail {} frames after arriving\n",
+            "finest level) max {:.3f} px, {} frames over; against the reference image PSNR min "
+            "{:.1f} dB, {} crack pixels, popping mean {:.2f} levels; triangles mean {:.0f}, "
+            "patches max {}, horizon-culled {:.1f} % of visited, full detail {} frames after "
+            "arriving\n",
             errorPx, horizonCulling ? "on" : "off", errorMax, framesOver, o.frames, o.tolerancePx,
-            lodErrorMax, lodFramesOver, trianglesSum / n, patchesMax,
+            lodErrorMax, lodFramesOver, psnrMin, crackPixels,
+            o.frames > 1 ? poppingSum / (n - 1.0) : 0.0, trianglesSum / n, patchesMax,
             100.0 * (visited > 0 ? double(culled) / double(visited) : 0.0), arrivalFrames);
     }
 

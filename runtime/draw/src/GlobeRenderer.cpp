@@ -16,6 +16,16 @@
 
 namespace terrain::runtime {
 
+glm::dvec3 globeSunDirection(const Camera& camera) {
+    const glm::dvec3 up = globe::Wgs84::upAt(camera.position);
+    return glm::normalize(2.0 * up + camera.right() - 0.5 * camera.forward());
+}
+
+std::array<float, 2> globeHeightRange(const io::PyramidManifest& manifest) {
+    return {static_cast<float>(std::min(manifest.statistics.minHeight, 0.0)),
+            static_cast<float>(std::max(manifest.statistics.maxHeight, 1.0))};
+}
+
 Result<GlobeRenderer> GlobeRenderer::create(const io::PyramidManifest& manifest, int maxInstances) {
     TERRAIN_ASSERT(maxInstances >= 1);
     TERRAIN_ASSERT(manifest.globe.has_value(), "GlobeRenderer draws globe pyramids");
@@ -36,9 +46,7 @@ Result<GlobeRenderer> GlobeRenderer::create(const io::PyramidManifest& manifest,
     r.m_blocksPerSide = manifest.layout.blocksPerSide();
     r.m_blockQuads = manifest.layout.blockQuads();
     r.m_patchQuads = manifest.layout.patchQuads();
-    // The tint spans the data's heights, sea level included (bare patches are at 0).
-    r.m_heightRange = {static_cast<float>(std::min(manifest.statistics.minHeight, 0.0)),
-                       static_cast<float>(std::max(manifest.statistics.maxHeight, 1.0))};
+    r.m_heightRange = globeHeightRange(manifest);
     r.m_instances =
         gl::Buffer::create(sizeof(GlobeInstance) * static_cast<std::size_t>(maxInstances),
                            GL_DYNAMIC_STORAGE_BIT, "globe patch instances");
@@ -64,9 +72,7 @@ void GlobeRenderer::setUniforms(const Camera& camera, const TerrainStyle& style)
                          fixedSimplification(style.fixedTessFactor, m_blockQuads));
     m_program.setUniform("u_cullBlocks", style.cullBlocks ? 1 : 0);
     setRelativeFrustumUniform(m_program, camera);
-    // The sun high over the camera's shoulder, so the place flown over is lit wherever it is.
-    const glm::dvec3 up = globe::Wgs84::upAt(camera.position);
-    const glm::dvec3 sun = glm::normalize(2.0 * up + camera.right() - 0.5 * camera.forward());
+    const glm::dvec3 sun = globeSunDirection(camera);
     m_program.setUniform("u_sunDirection",
                          std::array<float, 3>{static_cast<float>(sun.x), static_cast<float>(sun.y),
                                               static_cast<float>(sun.z)});

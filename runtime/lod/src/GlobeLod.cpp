@@ -2,6 +2,7 @@
 
 #include "terrain/base/Assert.h"
 #include "terrain/io/GlobeLayout.h"
+#include "terrain/runtime/GlobeFrustum.h"
 
 #include <glm/geometric.hpp>
 
@@ -21,17 +22,6 @@ std::uint64_t patchKey(const globe::GlobePatchId& id) {
 // A patch's share of GlobeLodStats::coverage (levels ≤ io::kMaxGlobeFaceLevel).
 std::uint64_t coverageOf(int level) {
     return std::uint64_t{1} << (2 * (GlobeLodStats::kCoverageLevels - level));
-}
-
-bool outsideFrustum(const Frustum& frustum, const globe::OrientedBox& box) {
-    for (const glm::dvec4& plane : frustum.planes) {
-        const glm::dvec3 n(plane);
-        double reach = 0.0;
-        for (int axis = 0; axis < 3; ++axis)
-            reach += std::abs(glm::dot(n, box.axes[axis])) * box.halfExtents[axis];
-        if (glm::dot(n, box.centre) + plane.w + reach < 0.0) return true;
-    }
-    return false;
 }
 
 }  // namespace
@@ -132,7 +122,7 @@ void GlobeLod::visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePa
                                                                   : bareError(node.id.level);
 
     const globe::OrientedBox& box = boundsOf(node.id, minHeight, maxHeight);
-    if (m_options.frustumCulling && outsideFrustum(m_frustum, box)) {
+    if (m_options.frustumCulling && !frustumMeetsBox(m_frustum, box)) {
         ++stats.frustumCulled;
         stats.coverage += coverageOf(node.id.level);
         return;

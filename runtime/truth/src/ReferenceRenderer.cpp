@@ -2,7 +2,6 @@
 // time into a texture array and drawn as instances of one grid of indexed triangles.
 #include "terrain/runtime/ReferenceRenderer.h"
 
-#include "Bindings.h"
 #include "terrain/base/Assert.h"
 #include "terrain/gl/ReversedZScope.h"
 #include "terrain/runtime/ProgramBuilder.h"
@@ -27,25 +26,7 @@ Result<ReferenceRenderer> ReferenceRenderer::create(const io::PyramidLayout& lay
     r.m_program = std::move(program).value();
     r.m_tileQuads = std::min(layout.patchQuads(), kMaxTileQuads);
     const int quads = r.m_tileQuads;
-    const int samples = quads + 1;
-    // One grid of quads² cells, vertex id = row · samples + column; every cell split along
-    // its north-west (i, j) – south-east (i + 1, j + 1) diagonal.
-    std::vector<std::uint32_t> indices;
-    indices.reserve(static_cast<std::size_t>(quads) * static_cast<std::size_t>(quads) * 6);
-    for (int j = 0; j < quads; ++j) {
-        for (int i = 0; i < quads; ++i) {
-            const auto nw = static_cast<std::uint32_t>(j * samples + i);
-            const std::uint32_t ne = nw + 1;
-            const auto sw = static_cast<std::uint32_t>(nw + static_cast<std::uint32_t>(samples));
-            const std::uint32_t se = sw + 1;
-            indices.insert(indices.end(), {nw, ne, se, nw, se, sw});
-        }
-    }
-    r.m_indexCount = static_cast<int>(indices.size());
-    r.m_indices = gl::Buffer::createFrom(std::span<const std::uint32_t>(indices), 0,
-                                         "reference grid indices");
-    r.m_vertexArray = gl::VertexArray::create("reference grid");
-    r.m_vertexArray.setIndexBuffer(r.m_indices);
+    r.m_grid = ReferenceGrid::create(quads, "reference grid");
     r.m_instances = gl::Buffer::create(sizeof(TileInstance) * kBatchTiles, GL_DYNAMIC_STORAGE_BIT,
                                        "reference tiles");
     auto heights = gl::Texture::create2DArray(
@@ -165,15 +146,7 @@ Result<ReferenceDrawStats> ReferenceRenderer::draw(const Camera& camera,
 void ReferenceRenderer::submitBatch(int tiles) {
     m_instances.upload(0,
                        std::as_bytes(std::span(m_staging).first(static_cast<std::size_t>(tiles))));
-    glUseProgram(m_program.id());
-    glBindVertexArray(m_vertexArray.id());
-    glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, m_heights.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_PATCH_INSTANCES, m_instances.id());
-    glDrawElementsInstanced(GL_TRIANGLES, m_indexCount, GL_UNSIGNED_INT, nullptr, tiles);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_PATCH_INSTANCES, 0);
-    glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, 0);
-    glBindVertexArray(0);
-    glUseProgram(0);
+    m_grid.draw(m_program, m_heights, m_instances, tiles);
 }
 
 }  // namespace terrain::runtime

@@ -5,15 +5,21 @@
 //  - no hole: every pixel whose view ray meets the ellipsoid lowered below the deepest drawn
 //    point shows terrain, not the clear colour (the terrain lies above that ellipsoid);
 //  - horizon culling never removes a visible pixel: the images with it on and off are equal;
-//  - one draw call, data patches drawn where the data is.
+//  - one draw call, data patches drawn where the data is;
+//  - against the globe reference image (GlobeReferenceRenderer): no crack, PSNR at ε = 1 px
+//    and below it at ε = 8 px, and no hole in the reference itself.
 #include "GeographicFunctionDem.h"
 #include "GlTestFixture.h"
 #include "TempFolder.h"
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/io/GlobePyramidBuilder.h"
+#include "terrain/io/PyramidReader.h"
+#include "terrain/runtime/FrameImages.h"
 #include "terrain/runtime/GlobeCamera.h"
+#include "terrain/runtime/GlobeReferenceRenderer.h"
 #include "terrain/runtime/GlobeScreenSpaceError.h"
 #include "terrain/runtime/GlobeSession.h"
+#include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/ScreenProjection.h"
 
 #include <epoxy/gl.h>
@@ -111,6 +117,19 @@ protected:
         return framebuffer.readColorRgba8();
     }
 
+    // A session with room for every patch of the planet.
+    static GlobeSessionOptions sessionOptions() {
+        GlobeSessionOptions options;
+        options.streaming.gpuLayers = 1024;
+        options.streaming.cpuCacheBytes = std::size_t{256} << 20;
+        return options;
+    }
+    // Below the deepest point the terrain can be drawn at: its lowest sample, minus the sag
+    // of the coarsest flat triangles (a level-0 face of 33 samples, 5 km).
+    static double lowerEllipsoidM() {
+        return -s_minHeight + globe::flatTriangleErrorBound(globe::maxSampleSpacing(0, 32)) + 100.0;
+    }
+
     static inline std::unique_ptr<test::TempFolder> s_folder;
     static inline std::filesystem::path s_pyramid;
     static inline double s_maxHeight = 0.0;
@@ -142,24 +161,28 @@ bool rayMeetsLoweredEllipsoid(const Camera& camera, int x, int y, double lowerM)
     return (-b + std::sqrt(discriminant)) / a > 0.0 && (c > 0.0 ? -b > 0.0 : true);
 }
 
+// Whether pixel (x, y) must show the ground: its ray and its neighbours' meet the ellipsoid
+// lowered by `lowerM` (the limb's own pixel is the rasteriser's to decide).
+bool groundMustShow(const Camera& camera, int x, int y, double lowerM) {
+    for (int k = 0; k < 9; ++k)
+        if (!rayMeetsLoweredEllipsoid(camera, std::clamp(x + k % 3 - 1, 0, kWidth - 1),
+                                      std::clamp(y + k / 3 - 1, 0, kHeight - 1), lowerM))
+            return false;
+    return true;
+}
+
 bool isClearColour(const std::vector<std::uint8_t>& image, int x, int y) {
     const std::uint8_t* p = &image[static_cast<std::size_t>(4 * (y * kWidth + x))];
     return p[0] == 255 && p[1] == 0 && p[2] == 255;
 }
 
 TEST_F(GlobeSessionTest, EveryStabilityCaseHasNoHoleAndHorizonCullingChangesNoPixel) {
-    GlobeSessionOptions options;
-    options.streaming.gpuLayers = 1024;
-    options.streaming.cpuCacheBytes = std::size_t{256} << 20;
-    auto opened = GlobeSession::open(s_pyramid, options);
+    auto opened = GlobeSession::open(s_pyramid, sessionOptions());
     ASSERT_TRUE(opened) << opened.error().message;
     GlobeSession& session = *opened.value();
     auto framebuffer = gl::Framebuffer::create(kWidth, kHeight, "globe test");
     ASSERT_TRUE(framebuffer) << framebuffer.error().message;
-    // Below the deepest point the terrain can be drawn at: its lowest sample, minus the sag
-    // of the coarsest flat triangles (a level-0 face of 33 samples, 5 km).
-    const double lowerM =
-        -s_minHeight + globe::flatTriangleErrorBound(globe::maxSampleSpacing(0, 32)) + 100.0;
+    const double lowerM = lowerEllipsoidM();
     for (const Pose& p : poses()) {
         SCOPED_TRACE(p.name);
         const Camera camera = cameraFor(p.pose);
@@ -183,14 +206,7 @@ TEST_F(GlobeSessionTest, EveryStabilityCaseHasNoHoleAndHorizonCullingChangesNoPi
             for (int x = 0; x < kWidth; ++x) {
                 const std::size_t i = static_cast<std::size_t>(4 * (y * kWidth + x));
                 differing += std::equal(&withCulling[i], &withCulling[i] + 4, &without[i]) ? 0 : 1;
-                // Pixels whose neighbours' rays all meet it too: the limb's own pixel is the
-                // rasteriser's to decide.
-                bool inside = true;
-                for (int k = 0; k < 9 && inside; ++k)
-                    inside =
-                        rayMeetsLoweredEllipsoid(camera, std::clamp(x + k % 3 - 1, 0, kWidth - 1),
-                                                 std::clamp(y + k / 3 - 1, 0, kHeight - 1), lowerM);
-                if (!inside) continue;
+                if (!groundMustShow(camera, x, y, lowerM)) continue;
                 ++checked;
                 holes += isClearColour(withCulling, x, y) ? 1 : 0;
             }
@@ -211,10 +227,7 @@ TEST_F(GlobeSessionTest, MeasuredErrorStaysWithinEpsilonOnEveryStabilityCase) {
     io::DemReader* const sources[] = {&source};
     auto surface = io::GlobeSourceSurface::read(sources, std::uint64_t{1} << 30, 32);
     ASSERT_TRUE(surface) << surface.error().message;
-    GlobeSessionOptions options;
-    options.streaming.gpuLayers = 1024;
-    options.streaming.cpuCacheBytes = std::size_t{256} << 20;
-    auto opened = GlobeSession::open(s_pyramid, options);
+    auto opened = GlobeSession::open(s_pyramid, sessionOptions());
     ASSERT_TRUE(opened) << opened.error().message;
     GlobeSession& session = *opened.value();
     auto framebuffer = gl::Framebuffer::create(kWidth, kHeight, "globe accuracy");
@@ -241,6 +254,74 @@ TEST_F(GlobeSessionTest, MeasuredErrorStaysWithinEpsilonOnEveryStabilityCase) {
             EXPECT_LE(stats.maxPx, errorPx + kRasterTolerancePx);
         }
     }
+}
+
+// The globe reference renderer (every finest sample a vertex, no LOD) against the LOD on every
+// stability case: the LOD leaves no pixel uncovered that the reference draws (no crack, no
+// hole), its image is close to the reference at ε = 1 px and further from it at ε = 8 px, and
+// the reference itself has no hole where the ground must be.
+TEST_F(GlobeSessionTest, EveryStabilityCaseMatchesTheGlobeReference) {
+    auto opened = GlobeSession::open(s_pyramid, sessionOptions());
+    ASSERT_TRUE(opened) << opened.error().message;
+    GlobeSession& session = *opened.value();
+    auto pyramid = io::PyramidReader::open(s_pyramid);
+    ASSERT_TRUE(pyramid) << pyramid.error().message;
+    auto reference = GlobeReferenceRenderer::create(pyramid.value().manifest());
+    ASSERT_TRUE(reference) << reference.error().message;
+    auto lodTarget = gl::Framebuffer::create(kWidth, kHeight, "globe LOD");
+    auto referenceTarget =
+        gl::Framebuffer::createWithFloatAttachment(kWidth, kHeight, "globe reference");
+    ASSERT_TRUE(lodTarget && referenceTarget);
+    const double lowerM = lowerEllipsoidM();
+    const std::array<std::uint8_t, 3> clear{255, 0, 255};
+    double psnrFine = 0.0, psnrCoarse = 0.0;
+    for (const Pose& p : poses()) {
+        SCOPED_TRACE(p.name);
+        const Camera camera = cameraFor(p.pose);
+        referenceTarget.value().clear({1.0f, 0.0f, 1.0f, 1.0f}, 0.0f);
+        glBindFramebuffer(GL_FRAMEBUFFER, referenceTarget.value().id());
+        glViewport(0, 0, kWidth, kHeight);
+        ReferenceStyle style;
+        style.skyColor = {1.0f, 0.0f, 1.0f};
+        auto drawn = reference.value().draw(camera, pyramid.value(), style);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        ASSERT_TRUE(drawn) << drawn.error().message;
+        const FrameImages truth = readFrameImages(referenceTarget.value());
+
+        int holes = 0, checked = 0;
+        for (int y = 0; y < kHeight; ++y) {
+            for (int x = 0; x < kWidth; ++x) {
+                if (!groundMustShow(camera, x, y, lowerM)) continue;
+                ++checked;
+                holes += truth.drawn(static_cast<std::size_t>(y * kWidth + x)) ? 0 : 1;
+            }
+        }
+        EXPECT_EQ(holes, 0) << "the reference leaves " << holes << " of " << checked
+                            << " ground pixels empty";
+
+        double psnr[2] = {0.0, 0.0};
+        for (int i = 0; i < 2; ++i) {
+            const double errorPx = i == 0 ? 1.0 : 8.0;
+            GlobeLodOptions lodOptions;
+            lodOptions.errorPx = errorPx;
+            session.lod().setOptions(lodOptions);
+            FrameImages lod;
+            lod.width = kWidth;
+            lod.height = kHeight;
+            lod.rgba = render(session, lodTarget.value(), camera, nullptr, nullptr, errorPx, true,
+                              &lod.depth);
+            const UncoveredPixels uncovered = countUncoveredPixels(lod, truth, clear);
+            EXPECT_EQ(uncovered.cracks.size(), 0u) << "at ε = " << errorPx;
+            psnr[i] = compareImages(lod.rgba, truth.rgba).psnrDb;
+        }
+        std::cout << p.name << ": reference " << drawn.value().tiles << " regions, "
+                  << drawn.value().triangles << " triangles; PSNR " << psnr[0] << " dB at ε = 1, "
+                  << psnr[1] << " dB at ε = 8\n";
+        EXPECT_GE(psnr[0], 30.0);
+        psnrFine += psnr[0];
+        psnrCoarse += psnr[1];
+    }
+    EXPECT_GT(psnrFine, psnrCoarse) << "the reference does not tell ε = 1 from ε = 8";
 }
 
 }  // namespace

@@ -25,6 +25,14 @@
 
 namespace terrain::runtime {
 
+/// The sun of a globe frame: high over the camera's shoulder, so the place flown over is lit
+/// wherever it is (unit length, ECEF axes).
+glm::dvec3 globeSunDirection(const Camera& camera);
+
+/// The heights the hypsometric tint spans: the data's, sea level included (bare patches are
+/// at 0).
+std::array<float, 2> globeHeightRange(const io::PyramidManifest& manifest);
+
 /// Render thread only; draws into the framebuffer bound by the caller and puts back the GL
 /// state it sets, as TerrainRenderer.
 class GlobeRenderer {

@@ -17,9 +17,9 @@
 #include "terrain/gl/Buffer.h"
 #include "terrain/gl/Program.h"
 #include "terrain/gl/Texture.h"
-#include "terrain/gl/VertexArray.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/FullResolutionSurface.h"
+#include "terrain/runtime/ReferenceGrid.h"
 
 #include <array>
 #include <cstdint>
@@ -68,14 +68,12 @@ private:
     void submitBatch(int tiles);
 
     gl::Program m_program;
-    gl::VertexArray m_vertexArray;
-    gl::Buffer m_indices;
+    ReferenceGrid m_grid;
     gl::Buffer m_instances;
     gl::Texture m_heights;  // kBatchTiles layers of (tileQuads + 3)² samples
     std::vector<TileInstance> m_staging;
     std::vector<float> m_tileScratch;
     int m_tileQuads = 0;
-    int m_indexCount = 0;
 };
 
 }  // namespace terrain::runtime
