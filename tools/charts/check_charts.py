@@ -8,6 +8,9 @@
   check_charts.py --check-bench DIR
       checks a terrain-bench --report folder: the CSVs' columns and rows, bench.json, the
       PNGs and report.md.
+  check_charts.py --check-globe-bench DIR
+      the same for a globe pyramid's folder: globe-bench.json's per-frame figures (PSNR,
+      cracks and popping against the globe reference image; no crack), the PNGs, report.md.
 Exit status 0 when every check passes; the first failure is printed.
 """
 
@@ -24,6 +27,8 @@ matplotlib.use("Agg")
 import matplotlib.image  # noqa: E402
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+GLOBE_CHARTS = ["globe_error_vs_height.png", "globe_psnr_vs_height.png",
+                "globe_triangles_vs_height.png"]
 CHARTS = ["triangles_vs_error.png", "frame_time_vs_error.png", "psnr_vs_triangles.png",
           "error_timeline.png", "telemetry_timeline.png"]
 
@@ -160,14 +165,42 @@ def check_bench(folder):
         fail("report.md lacks the command or the table")
 
 
+def check_globe_bench(folder):
+    with open(os.path.join(folder, "globe-bench.json")) as f:
+        bench = json.load(f)
+    runs = bench.get("runs", [])
+    if not runs:
+        fail("globe-bench.json has no runs")
+    for run in runs:
+        frames = run.get("per_frame", [])
+        if len(frames) != run["frames"]:
+            fail(f"ε = {run['threshold_px']}: {len(frames)} frames, expected {run['frames']}")
+        for frame in frames:
+            for key in ("psnr_db", "crack_pixels", "popping_levels", "lod_error_max_px"):
+                if not isinstance(frame.get(key), (int, float)):
+                    fail(f"ε = {run['threshold_px']}, frame {frame.get('frame')}: no {key}")
+            if frame["crack_pixels"] != 0:
+                fail(f"ε = {run['threshold_px']}, frame {frame['frame']}: "
+                     f"{frame['crack_pixels']} crack pixels against the reference image")
+    for name in GLOBE_CHARTS:
+        check_png(os.path.join(folder, name))
+    with open(os.path.join(folder, "report.md")) as f:
+        report = f.read()
+    if bench["command"] not in report or "| horizon culling |" not in report:
+        fail("report.md lacks the command or the table")
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--script")
     parser.add_argument("--work")
     parser.add_argument("--check-bench")
+    parser.add_argument("--check-globe-bench")
     args = parser.parse_args()
     if args.check_bench:
         check_bench(args.check_bench)
+    elif args.check_globe_bench:
+        check_globe_bench(args.check_globe_bench)
     else:
         if not args.script or not args.work:
             fail("give --script and --work, or --check-bench")

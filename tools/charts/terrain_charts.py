@@ -9,12 +9,19 @@ be given, so comparison methods drop in as more curves):
   error_timeline.png       each frame's largest measured error along the flight (frames.csv)
   telemetry_timeline.png   frame time, resident tiles, queue depth and load latency over a
                            flight, from any telemetry CSV (docs/telemetry.md)
+A globe pyramid's bench (globe-bench.json, docs/globe.md) has its own charts, one curve per ε,
+along the flight from orbit to the ground:
+  globe_error_vs_height.png     each frame's largest error against the sources and against
+                                the pyramid's finest level (the LOD's own), by height
+  globe_psnr_vs_height.png      PSNR against the globe reference image, by height
+  globe_triangles_vs_height.png triangles per frame, by height
 
 Usage:
   terrain_charts.py --bench-dir DIR --out DIR [--report]
   terrain_charts.py --summary S.csv [--summary T.csv ...] [--frames F.csv]
                     [--telemetry TELEMETRY.csv] --out DIR
   terrain_charts.py --telemetry TELEMETRY.csv --out DIR   (the timeline of any flight)
+  terrain_charts.py --globe-bench DIR --out DIR [--report] (globe-bench.json in DIR)
   terrain_charts.py --check                               (matplotlib loads?)
 Run it with Debian's /usr/bin/python3, which sees python3-matplotlib. Definitions of every
 figure: docs/accuracy.md.
@@ -278,12 +285,124 @@ def write_report(out_dir, bench, summary_rows, charts, summary_path):
     return path
 
 
+# --- Globe pyramids: globe-bench.json (tools/terrain-bench/GlobeBench.cpp) ---------------
+
+def read_globe_bench(folder):
+    path = os.path.join(folder, "globe-bench.json")
+    try:
+        with open(path) as f:
+            bench = json.load(f)
+    except OSError as error:
+        fail(f"{path}: cannot read: {error.strerror}")
+    except ValueError as error:
+        fail(f"{path}: not valid JSON: {error}")
+    runs = bench.get("runs")
+    if not runs or not all("per_frame" in r for r in runs):
+        fail(f"{path}: no runs with per-frame figures")
+    return bench, path
+
+
+def globe_runs_with_culling(bench):
+    """The flight at each ε with horizon culling on (the run without it is the comparison)."""
+    return [r for r in bench["runs"] if r.get("horizon_culling", True)]
+
+
+def chart_globe_by_height(bench, out_dir, name, title, ylabel, series, log_y):
+    """One curve per ε (and per series) of a per-frame figure against the camera's height."""
+    fig, ax = plt.subplots(figsize=(7.2, 4.4))
+    for run in globe_runs_with_culling(bench):
+        frames = run["per_frame"]
+        heights = [max(f["height_m"], 1e-3) for f in frames]
+        for key, style, label in series:
+            values = [f.get(key) for f in frames]
+            x, y = finite(heights, [math.nan if v is None else float(v) for v in values])
+            line, = ax.plot(x, y, style, lw=1.2, label=f"ε={run['threshold_px']:g}{label}")
+            if key.endswith("error_max_px") and style == "-":
+                ax.axhline(run["threshold_px"], color=line.get_color(), lw=0.7, ls=":")
+    ax.set_xscale("log")
+    ax.invert_xaxis()  # from orbit down to the ground, left to right
+    if log_y:
+        ax.set_yscale("log")
+    ax.set_xlabel("camera height above the ellipsoid (m)")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    return save(fig, out_dir, name)
+
+
+def globe_charts(bench, out_dir):
+    return [
+        ("Measured error from orbit to the ground",
+         chart_globe_by_height(bench, out_dir, "globe_error_vs_height.png",
+                               "Measured error from orbit to the ground",
+                               "largest error (px); dotted: ε",
+                               [("lod_error_max_px", "-", ": LOD (against the finest level)"),
+                                ("error_max_px", "--", ": against the sources")], True)),
+        ("PSNR against the reference image",
+         chart_globe_by_height(bench, out_dir, "globe_psnr_vs_height.png",
+                               "PSNR against the globe reference image", "PSNR (dB)",
+                               [("psnr_db", "-", "")], False)),
+        ("Triangles per frame",
+         chart_globe_by_height(bench, out_dir, "globe_triangles_vs_height.png",
+                               "Triangles per frame from orbit to the ground", "triangles",
+                               [("triangles", "-", "")], True)),
+    ]
+
+
+def write_globe_report(out_dir, bench, bench_path, charts):
+    lines = ["# A globe from orbit to the ground", "",
+             f"Pyramid `{bench.get('pyramid')}` against its sources "
+             f"{', '.join('`' + s + '`' for s in bench.get('sources', []))}; "
+             f"{bench['width_px']} × {bench['height_px']} px, flight: {bench.get('flight')}; "
+             f"renderer {bench['gl']['renderer']} ({bench['gl']['version']}).", "",
+             "Made by:", "", "```sh", bench.get("command", ""), "```", "",
+             "## Per threshold", "",
+             "| ε px | horizon culling | triangles (mean / max) | patches max | LOD µs p50 | "
+             "LOD error max px | frames > ε+tol (LOD) | error vs sources max px | frames > ε+tol "
+             "(sources) | PSNR dB min (mean) | cracks | popping | horizon-culled | full detail "
+             "after arriving |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in bench["runs"]:
+        arrival = r.get("full_detail_after_arrival")
+        arrival_text = f"{arrival['frames']} frames" if arrival else "not reached"
+        lines.append(
+            f"| {r['threshold_px']:g} | {'on' if r['horizon_culling'] else 'off'} | "
+            f"{fmt(r['triangles_mean'], 0)} / {fmt(r['triangles_max'], 0)} | {r['patches_max']} | "
+            f"{fmt(r['lod_us_p50'], 1)} | {fmt(r['lod_error_max_px'])} | "
+            f"{r['lod_frames_over_threshold']} / {r['frames']} | {fmt(r['error_max_px'])} | "
+            f"{r['frames_over_threshold']} / {r['frames']} | "
+            f"{fmt(r.get('psnr_min_db', math.nan), 1)} ({fmt(r.get('psnr_mean_db', math.nan), 1)}) | "
+            f"{r.get('crack_pixels_total', '–')} | {fmt(r.get('popping_mean_levels', math.nan), 3)} | "
+            f"{fmt(100.0 * r['horizon_culled_fraction_of_visited'], 1)} % | {arrival_text} |")
+    lines += ["", "*LOD error*: against the pyramid's finest level, what the LOD chose; *error vs "
+              "sources*: against the DEMs themselves, which adds the finest level's resampling "
+              "of them (it shows close to the ground, docs/globe.md); *PSNR*, *cracks*, "
+              "*popping*: against the globe reference image (every finest sample a vertex). "
+              "Definitions: docs/accuracy.md.", ""]
+    same = bench.get("same_view_straight_down_10km")
+    if same:
+        lines += ["## The same view at a pole, on the equator and over the cube", "",
+                  "| place | patches | data patches |", "|---|---|---|"]
+        lines += [f"| {v['place']} | {v['patches']} | {v['data_patches']} |" for v in same]
+        lines.append("")
+    lines += ["## Charts", ""]
+    for title, path in charts:
+        lines += [f"### {title}", "", f"![{title}]({os.path.basename(path)})", ""]
+    path = os.path.join(out_dir, "report.md")
+    with open(path + ".tmp", "w") as f:
+        f.write("\n".join(lines))
+    os.replace(path + ".tmp", path)
+    return path
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--bench-dir", help="terrain-bench's output folder (summary.csv, frames.csv, telemetry, bench.json)")
     parser.add_argument("--summary", action="append", default=[], help="summary CSV (repeatable: one or more methods each)")
     parser.add_argument("--frames", help="per-frame CSV, for the error timeline")
     parser.add_argument("--telemetry", help="telemetry CSV (docs/telemetry.md), for the timeline")
+    parser.add_argument("--globe-bench", help="terrain-bench's output folder for a globe pyramid (globe-bench.json)")
     parser.add_argument("--out", required=True, help="folder for the PNGs (and report.md)")
     parser.add_argument("--report", action="store_true", help="also write report.md")
     parser.add_argument("--check", action="store_true",
@@ -291,6 +410,16 @@ def main():
     if "--check" in sys.argv[1:]:
         return  # the imports above succeeded
     args = parser.parse_args()
+
+    if args.globe_bench:
+        bench, bench_path = read_globe_bench(args.globe_bench)
+        os.makedirs(args.out, exist_ok=True)
+        charts = globe_charts(bench, args.out)
+        if args.report:
+            write_globe_report(args.out, bench, bench_path, charts)
+        for _, path in charts:
+            print(path)
+        return
 
     bench = None
     summaries = list(args.summary)

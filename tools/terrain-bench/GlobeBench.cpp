@@ -377,6 +377,14 @@ int runGlobeBench(const GlobeBenchOptions& o) {
             });
         !written)
         return fail(written.error().message);
+    if (o.chart) {
+        fs::create_directories(o.reportDir, ec);
+        if (ec)
+            return fail(fmt::format("{}: cannot create the folder: {}", o.reportDir, ec.message()));
+        auto ran = runChartScript(*o.chart, {"--globe-bench", fs::path(o.outputDir).string(),
+                                             "--out", o.reportDir, "--report"});
+        if (!ran) return fail(ran.error().message);
+    }
     if (o.json) std::puts(out.dump(2).c_str());
     return 0;
 }

@@ -6,12 +6,15 @@
 // patches, LOD time and the horizon-culled share per frame; the same flight without horizon culling
 // for comparison; the time to full detail after arriving; the patches the same view needs at a
 // pole, on the equator and over a cube corner; and the samples the pyramid stores against a
-// longitude/latitude grid of the same equatorial spacing. Writes globe-bench.json.
+// longitude/latitude grid of the same equatorial spacing. Writes globe-bench.json, and with
+// --report the charts by height and report.md (tools/charts/terrain_charts.py --globe-bench).
 #pragma once
 
+#include "ChartScript.h"
 #include "StreamingBudgetFlags.h"
 #include "terrain/io/DemReader.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +34,9 @@ struct GlobeBenchOptions {
     StreamingBudgets budgets;
     bool json = false;
     std::string commandLine;
+    /// --report: the chart tool run on globe-bench.json, writing its charts and report.md here.
+    std::string reportDir;
+    std::optional<ChartScript> chart;
 };
 
 /// Runs the globe benchmark; the exit status.

@@ -448,6 +448,15 @@ int main(int argc, char** argv) {
         globe.budgets = o.budgets;
         globe.json = o.json;
         globe.commandLine = o.commandLine;
+        if (!o.reportDir.empty()) {
+            auto found = tools::findChartScript(argv[0]);
+            if (!found) return fail(found.error().message);
+            // Before the flight, not after it: a missing matplotlib fails at once.
+            if (auto usable = tools::runChartScript(found.value(), {"--check"}); !usable)
+                return fail(usable.error().message);
+            globe.reportDir = o.reportDir;
+            globe.chart = found.value();
+        }
         return tools::runGlobeBench(globe);
     }
     return run(o, argv[0]);
