@@ -145,8 +145,13 @@ int runGlobeBench(const GlobeBenchOptions& o) {
     if (!pyramid) return fail(pyramid.error().message);
     auto reference = runtime::GlobeReferenceRenderer::create(pyramid.value().manifest());
     if (!reference) return fail(reference.error().message);
-    // The reference images of the flight's frames, drawn once: every run flies the same
-    // cameras (colour and depth, 8 bytes a pixel a frame).
+    // The reference images of the flight's frames (colour and depth, 8 bytes a pixel), drawn
+    // once and kept for the other runs, which fly the same cameras, when they fit in
+    // kMaxKeptReferenceBytes; else drawn again in every run.
+    constexpr std::uint64_t kMaxKeptReferenceBytes = std::uint64_t{2} << 30;
+    const bool keepReferences = std::uint64_t(std::max(o.frames, 0)) * std::uint64_t(o.widthPx) *
+                                    std::uint64_t(o.heightPx) * 8 <=
+                                kMaxKeptReferenceBytes;
     std::vector<runtime::FrameImages> references;
     const io::ManifestGlobe& g = *manifest.value().globe;
     auto path = globeFlight(o.pyramid, o.pathFile, 20.0);
@@ -180,7 +185,7 @@ int runGlobeBench(const GlobeBenchOptions& o) {
                poppingMax = 0.0;
         nlohmann::json frames = nlohmann::json::array();
         std::vector<float> depth, depthNoSkirts;
-        std::vector<std::uint8_t> lodPrevious;
+        std::vector<std::uint8_t> lodPrevious, referencePrevious;
         for (int f = 0; f < o.frames; ++f) {
             const double fraction = o.frames > 1 ? double(f) / double(o.frames - 1) : 1.0;
             path.value().apply(path.value().startS() + fraction * path.value().durationS(), camera);
@@ -192,22 +197,23 @@ int runGlobeBench(const GlobeBenchOptions& o) {
             lod.rgba = framebuffer.value().readColorRgba8();
             lod.depth = depth;
             drawFrame(session, framebuffer.value(), camera, errorPx, false, depthNoSkirts);
-            if (references.size() <= static_cast<std::size_t>(f)) {
+            const std::size_t slot = keepReferences ? static_cast<std::size_t>(f) : 0;
+            if (!keepReferences) references.clear();
+            if (references.size() <= slot) {
                 auto drawn = drawReference(reference.value(), pyramid.value(),
                                            referenceTarget.value(), camera);
                 if (!drawn) return fail(drawn.error().message);
                 references.push_back(std::move(drawn).value());
             }
-            const runtime::FrameImages& truth = references[static_cast<std::size_t>(f)];
+            const runtime::FrameImages& truth = references[slot];
             const double psnr = runtime::compareImages(lod.rgba, truth.rgba).psnrDb;
             const std::size_t cracks =
                 runtime::countUncoveredPixels(lod, truth, kSpaceRgb).cracks.size();
             const double popping =
-                f > 0 ? runtime::poppingLevels(lodPrevious, lod.rgba,
-                                               references[static_cast<std::size_t>(f - 1)].rgba,
-                                               truth.rgba)
+                f > 0 ? runtime::poppingLevels(lodPrevious, lod.rgba, referencePrevious, truth.rgba)
                       : 0.0;
             lodPrevious = std::move(lod.rgba);
+            referencePrevious = truth.rgba;
             psnrMin = std::min(psnrMin, psnr);
             psnrSum += psnr;
             crackPixels += cracks;

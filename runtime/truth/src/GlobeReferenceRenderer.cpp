@@ -13,10 +13,10 @@
 #include "terrain/runtime/ProgramBuilder.h"
 
 #include <epoxy/gl.h>
+#include <fmt/format.h>
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
-#include <cstring>
 
 namespace terrain::runtime {
 namespace {
@@ -122,9 +122,14 @@ Status GlobeReferenceRenderer::visitPatch(const globe::GlobePatchId& id,
         if (((info.presentChildren >> c) & 1) != 0) {
             auto childInfo = m_pyramid->patchInfo(io::layoutPatchOf(child));
             if (!childInfo) return childInfo.error();
-            if (!childInfo.value().present)
-                return Error{m_pyramid->shardFile(io::layoutPatchOf(child)).string() +
-                             ": a patch its parent lists as present is absent"};
+            if (!childInfo.value().present) {
+                const io::PatchId layoutId = io::layoutPatchOf(child);
+                return Error{
+                    fmt::format("{}: patch (level {}, x {}, y {}) is absent, but its parent lists "
+                                "it as present",
+                                m_pyramid->shardFile(layoutId).string(), layoutId.level, layoutId.x,
+                                layoutId.y)};
+            }
             if (Status s = visitPatch(child, childInfo.value()); !s) return s;
             continue;
         }
