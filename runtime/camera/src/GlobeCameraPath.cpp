@@ -21,14 +21,14 @@ namespace {
 using path_json::FileProblem;
 using path_json::Json;
 
-constexpr std::string_view kFormatName = "terrain-globe-camera-path";
-constexpr int kFormatVersion = 1;
+constexpr std::string_view kGlobeFormatName = "terrain-globe-camera-path";
+constexpr int kGlobeFormatVersion = 1;
 constexpr double kMaxAbsHeightM = 1e9;
 
-constexpr std::array<std::string_view, 5> kTopKeys = {"format", "version", "description", "units",
-                                                      "keyframes"};
-constexpr std::array<std::string_view, 4> kUnitKeys = {"position", "height", "angles", "time"};
-constexpr std::array<std::string_view, 7> kKeyframeKeys = {
+constexpr std::array<std::string_view, 5> kGlobeTopKeys = {"format", "version", "description",
+                                                           "units", "keyframes"};
+constexpr std::array<std::string_view, 4> kGlobeUnitKeys = {"position", "height", "angles", "time"};
+constexpr std::array<std::string_view, 7> kGlobeKeyframeKeys = {
     "time_s", "latitude_deg", "longitude_deg", "height_m", "heading_deg", "pitch_deg", "fov_y_deg"};
 
 double wrap180(double degrees) { return std::remainder(degrees, 360.0); }
@@ -65,7 +65,7 @@ std::optional<std::string> problemWith(const std::vector<GlobeKeyframe>& keyfram
     return std::nullopt;
 }
 
-GlobeKeyframe keyframeFromJson(const Json& j, std::size_t index) {
+GlobeKeyframe globeKeyframeFromJson(const Json& j, std::size_t index) {
     const std::string where = fmt::format("keyframes[{}]: ", index);
     if (!j.is_object())
         throw FileProblem{fmt::format("{}a keyframe must be an object, not {}", where, j.dump())};
@@ -74,7 +74,7 @@ GlobeKeyframe keyframeFromJson(const Json& j, std::size_t index) {
             fmt::format("{}\"position_m\" is a planar camera path's key; a globe camera path gives "
                         "\"latitude_deg\", \"longitude_deg\" and \"height_m\"",
                         where)};
-    path_json::rejectUnknownKeys(j, kKeyframeKeys, where);
+    path_json::rejectUnknownKeys(j, kGlobeKeyframeKeys, where);
     GlobeKeyframe k;
     k.timeS = path_json::numberAt(j, "time_s", where);
     k.pose.where.latitudeDeg = path_json::numberAt(j, "latitude_deg", where);
@@ -86,7 +86,7 @@ GlobeKeyframe keyframeFromJson(const Json& j, std::size_t index) {
     return k;
 }
 
-Json keyframeToJson(const GlobeKeyframe& k) {
+Json globeKeyframeToJson(const GlobeKeyframe& k) {
     Json j;
     j["time_s"] = k.timeS;
     j["latitude_deg"] = k.pose.where.latitudeDeg;
@@ -156,10 +156,10 @@ Result<GlobeCameraPath> GlobeCameraPath::load(const std::filesystem::path& path)
                 "a planar camera path (\"terrain-camera-path\", positions in metres); a globe "
                 "pyramid flies a \"terrain-globe-camera-path\" in latitude, longitude and "
                 "height (docs/camera-path.md, \"Globe camera paths\")"};
-        const Json& list = path_json::checkedKeyframes(root.value(), kFormatName, kFormatVersion,
-                                                       kTopKeys, kUnitKeys);
+        const Json& list = path_json::checkedKeyframes(
+            root.value(), kGlobeFormatName, kGlobeFormatVersion, kGlobeTopKeys, kGlobeUnitKeys);
         for (std::size_t i = 0; i < list.size(); ++i)
-            keyframes.push_back(keyframeFromJson(list[i], i));
+            keyframes.push_back(globeKeyframeFromJson(list[i], i));
     } catch (const FileProblem& problem) {
         return Error{fmt::format("{}: {}", path.string(), problem.message)};
     }
@@ -173,8 +173,8 @@ Status GlobeCameraPath::save(const std::filesystem::path& path) const {
     units["angles"] = "degrees; heading 0 looks north, 90 east; pitch 0 at the horizon, -90 down";
     units["time"] = "seconds";
     std::vector<Json> keyframes;
-    for (const GlobeKeyframe& k : m_keyframes) keyframes.push_back(keyframeToJson(k));
-    return path_json::writeFile(path, kFormatName, kFormatVersion, units, keyframes);
+    for (const GlobeKeyframe& k : m_keyframes) keyframes.push_back(globeKeyframeToJson(k));
+    return path_json::writeFile(path, kGlobeFormatName, kGlobeFormatVersion, units, keyframes);
 }
 
 GlobeCameraPath GlobeCameraPath::fromOrbit(double latitudeDeg, double longitudeDeg,
