@@ -363,6 +363,10 @@ def write_globe_report(out_dir, bench, bench_path, charts):
              "(sources) | PSNR dB min (mean) | cracks | popping | horizon-culled | full detail "
              "after arriving |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    def value(r, key):  # null (no frame compared with the reference) or missing: NaN
+        v = r.get(key)
+        return math.nan if v is None else v
+
     for r in bench["runs"]:
         arrival = r.get("full_detail_after_arrival")
         arrival_text = f"{arrival['frames']} frames" if arrival else "not reached"
@@ -372,8 +376,8 @@ def write_globe_report(out_dir, bench, bench_path, charts):
             f"{fmt(r['lod_us_p50'], 1)} | {fmt(r['lod_error_max_px'])} | "
             f"{r['lod_frames_over_threshold']} / {r['frames']} | {fmt(r['error_max_px'])} | "
             f"{r['frames_over_threshold']} / {r['frames']} | "
-            f"{fmt(r.get('psnr_min_db', math.nan), 1)} ({fmt(r.get('psnr_mean_db', math.nan), 1)}) | "
-            f"{r.get('crack_pixels_total', '–')} | {fmt(r.get('popping_mean_levels', math.nan), 3)} | "
+            f"{fmt(value(r, 'psnr_min_db'), 1)} ({fmt(value(r, 'psnr_mean_db'), 1)}) | "
+            f"{r.get('crack_pixels_total', '–')} | {fmt(value(r, 'popping_mean_levels'), 3)} | "
             f"{fmt(100.0 * r['horizon_culled_fraction_of_visited'], 1)} % | {arrival_text} |")
     lines += ["", "*LOD error*: against the pyramid's finest level, what the LOD chose; *error vs "
               "sources*: against the DEMs themselves, which adds the finest level's resampling "

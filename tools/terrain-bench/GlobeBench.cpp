@@ -87,10 +87,11 @@ nlohmann::json worstJson(const runtime::ScreenSpaceErrorStats& error) {
             {"reference_m", error.worstReferenceM}};
 }
 
-// The reference image of `camera` (GlobeReferenceRenderer): colour and depth.
-Result<runtime::FrameImages> drawReference(runtime::GlobeReferenceRenderer& reference,
-                                           io::PyramidReader& pyramid, gl::Framebuffer& framebuffer,
-                                           const runtime::Camera& camera) {
+// The reference image of `camera` (GlobeReferenceRenderer): colour and depth; nothing when
+// the view holds more finest data than the reference draws (kDefaultMaxRegions).
+Result<std::optional<runtime::FrameImages>> drawReference(
+    runtime::GlobeReferenceRenderer& reference, io::PyramidReader& pyramid,
+    gl::Framebuffer& framebuffer, const runtime::Camera& camera) {
     framebuffer.clear(kSpace, 0.0f);
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
     glViewport(0, 0, camera.viewportWidth, camera.viewportHeight);
@@ -99,9 +100,10 @@ Result<runtime::FrameImages> drawReference(runtime::GlobeReferenceRenderer& refe
     auto drawn = reference.draw(camera, pyramid, style);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (!drawn) return drawn.error();
+    if (!drawn.value().complete) return std::optional<runtime::FrameImages>();
     runtime::FrameImages images = runtime::readFrameImages(framebuffer);
     images.heightM.clear();  // not compared; keeps the flight's images small
-    return images;
+    return std::optional<runtime::FrameImages>(std::move(images));
 }
 
 }  // namespace
@@ -152,7 +154,7 @@ int runGlobeBench(const GlobeBenchOptions& o) {
     const bool keepReferences = std::uint64_t(std::max(o.frames, 0)) * std::uint64_t(o.widthPx) *
                                     std::uint64_t(o.heightPx) * 8 <=
                                 kMaxKeptReferenceBytes;
-    std::vector<runtime::FrameImages> references;
+    std::vector<std::optional<runtime::FrameImages>> references;
     const io::ManifestGlobe& g = *manifest.value().globe;
     auto path = globeFlight(o.pyramid, o.pathFile, 20.0);
     if (!path) return fail(path.error().message);
@@ -183,6 +185,7 @@ int runGlobeBench(const GlobeBenchOptions& o) {
         std::uint64_t culled = 0, visited = 0, crackPixels = 0;
         double psnrMin = runtime::kIdenticalPsnrDb, psnrSum = 0.0, poppingSum = 0.0,
                poppingMax = 0.0;
+        std::uint64_t compared = 0, poppingFrames = 0;
         nlohmann::json frames = nlohmann::json::array();
         std::vector<float> depth, depthNoSkirts;
         std::vector<std::uint8_t> lodPrevious, referencePrevious;
@@ -205,20 +208,31 @@ int runGlobeBench(const GlobeBenchOptions& o) {
                 if (!drawn) return fail(drawn.error().message);
                 references.push_back(std::move(drawn).value());
             }
-            const runtime::FrameImages& truth = references[slot];
-            const double psnr = runtime::compareImages(lod.rgba, truth.rgba).psnrDb;
-            const std::size_t cracks =
-                runtime::countUncoveredPixels(lod, truth, kSpaceRgb).cracks.size();
-            const double popping =
-                f > 0 ? runtime::poppingLevels(lodPrevious, lod.rgba, referencePrevious, truth.rgba)
-                      : 0.0;
+            // Frames whose reference was too big to draw are not compared (null in the JSON).
+            nlohmann::json psnrJson, cracksJson, poppingJson;
+            if (const std::optional<runtime::FrameImages>& truth = references[slot]) {
+                const double psnr = runtime::compareImages(lod.rgba, truth->rgba).psnrDb;
+                const std::size_t cracks =
+                    runtime::countUncoveredPixels(lod, *truth, kSpaceRgb).cracks.size();
+                ++compared;
+                psnrMin = std::min(psnrMin, psnr);
+                psnrSum += psnr;
+                crackPixels += cracks;
+                psnrJson = psnr;
+                cracksJson = cracks;
+                if (!lodPrevious.empty() && !referencePrevious.empty()) {
+                    const double popping = runtime::poppingLevels(lodPrevious, lod.rgba,
+                                                                  referencePrevious, truth->rgba);
+                    ++poppingFrames;
+                    poppingSum += popping;
+                    poppingMax = std::max(poppingMax, popping);
+                    poppingJson = popping;
+                }
+                referencePrevious = truth->rgba;
+            } else {
+                referencePrevious.clear();
+            }
             lodPrevious = std::move(lod.rgba);
-            referencePrevious = truth.rgba;
-            psnrMin = std::min(psnrMin, psnr);
-            psnrSum += psnr;
-            crackPixels += cracks;
-            poppingSum += popping;
-            poppingMax = std::max(poppingMax, popping);
             const runtime::ScreenSpaceErrorStats error = runtime::measureGlobeScreenSpaceError(
                 camera, depth, depthNoSkirts, surface.value(), errorPx);
             const runtime::ScreenSpaceErrorStats lodError = runtime::measureGlobeScreenSpaceError(
@@ -249,9 +263,9 @@ int runGlobeBench(const GlobeBenchOptions& o) {
                               {"worst", worstJson(error)},
                               {"lod_error_max_px", lodError.maxPx},
                               {"lod_worst", worstJson(lodError)},
-                              {"psnr_db", psnr},
-                              {"crack_pixels", cracks},
-                              {"popping_levels", popping}});
+                              {"psnr_db", psnrJson},
+                              {"crack_pixels", cracksJson},
+                              {"popping_levels", poppingJson}});
         }
         // Time to full detail after arriving: the last pose, a fresh session, no settling.
         auto fresh = runtime::GlobeSession::open(o.pyramid, options);
@@ -274,42 +288,47 @@ int runGlobeBench(const GlobeBenchOptions& o) {
         }
         const double arrivalS = std::chrono::duration<double>(Clock::now() - arrived).count();
         const auto n = static_cast<double>(std::max(o.frames, 1));
-        runs.push_back({{"threshold_px", errorPx},
-                        {"horizon_culling", horizonCulling},
-                        {"frames", o.frames},
-                        {"error_max_px", errorMax},
-                        {"error_p99_max_px", errorP99Max},
-                        {"frames_over_threshold", framesOver},
-                        {"lod_error_max_px", lodErrorMax},
-                        {"lod_frames_over_threshold", lodFramesOver},
-                        {"psnr_min_db", psnrMin},
-                        {"psnr_mean_db", psnrSum / n},
-                        {"crack_pixels_total", crackPixels},
-                        {"popping_mean_levels", o.frames > 1 ? poppingSum / (n - 1.0) : 0.0},
-                        {"popping_max_levels", poppingMax},
-                        {"triangles_mean", trianglesSum / n},
-                        {"triangles_max", trianglesMax},
-                        {"patches_mean", patchesSum / n},
-                        {"patches_max", patchesMax},
-                        {"horizon_culled_fraction_of_visited",
-                         visited > 0 ? double(culled) / double(visited) : 0.0},
-                        {"lod_us_p50", lodUs.percentile(50.0) * 1000.0},
-                        {"lod_us_max", lodUs.max() * 1000.0},
-                        {"full_detail_after_arrival",
-                         settled ? nlohmann::json{{"frames", arrivalFrames}, {"seconds", arrivalS}}
-                                 : nlohmann::json()},
-                        {"per_frame", frames}});
+        runs.push_back(
+            {{"threshold_px", errorPx},
+             {"horizon_culling", horizonCulling},
+             {"frames", o.frames},
+             {"error_max_px", errorMax},
+             {"error_p99_max_px", errorP99Max},
+             {"frames_over_threshold", framesOver},
+             {"lod_error_max_px", lodErrorMax},
+             {"lod_frames_over_threshold", lodFramesOver},
+             {"frames_compared_with_reference", compared},
+             {"psnr_min_db", compared > 0 ? nlohmann::json(psnrMin) : nlohmann::json()},
+             {"psnr_mean_db",
+              compared > 0 ? nlohmann::json(psnrSum / double(compared)) : nlohmann::json()},
+             {"crack_pixels_total", crackPixels},
+             {"popping_mean_levels", poppingFrames > 0 ? poppingSum / double(poppingFrames) : 0.0},
+             {"popping_max_levels", poppingMax},
+             {"triangles_mean", trianglesSum / n},
+             {"triangles_max", trianglesMax},
+             {"patches_mean", patchesSum / n},
+             {"patches_max", patchesMax},
+             {"horizon_culled_fraction_of_visited",
+              visited > 0 ? double(culled) / double(visited) : 0.0},
+             {"lod_us_p50", lodUs.percentile(50.0) * 1000.0},
+             {"lod_us_max", lodUs.max() * 1000.0},
+             {"full_detail_after_arrival",
+              settled ? nlohmann::json{{"frames", arrivalFrames}, {"seconds", arrivalS}}
+                      : nlohmann::json()},
+             {"per_frame", frames}});
         fmt::print(
             stderr,
             "terrain-bench: globe, ε = {} px, horizon culling {}: measured error against the "
             "sources max {:.3f} px, {} of {} frames over ε + {} px; the LOD's own (against the "
             "finest level) max {:.3f} px, {} frames over; against the reference image PSNR min "
-            "{:.1f} dB, {} crack pixels, popping mean {:.2f} levels; triangles mean {:.0f}, "
+            "{:.1f} dB, {} crack pixels, popping mean {:.2f} levels ({} of {} frames compared); "
+            "triangles mean {:.0f}, "
             "patches max {}, horizon-culled {:.1f} % of visited, full detail {} frames after "
             "arriving\n",
             errorPx, horizonCulling ? "on" : "off", errorMax, framesOver, o.frames, o.tolerancePx,
             lodErrorMax, lodFramesOver, psnrMin, crackPixels,
-            o.frames > 1 ? poppingSum / (n - 1.0) : 0.0, trianglesSum / n, patchesMax,
+            poppingFrames > 0 ? poppingSum / double(poppingFrames) : 0.0, compared, o.frames,
+            trianglesSum / n, patchesMax,
             100.0 * (visited > 0 ? double(culled) / double(visited) : 0.0), arrivalFrames);
     }
 

@@ -58,7 +58,8 @@ Result<GlobeReferenceRenderer> GlobeReferenceRenderer::create(const io::PyramidM
 
 Result<ReferenceDrawStats> GlobeReferenceRenderer::draw(const Camera& camera,
                                                         io::PyramidReader& pyramid,
-                                                        const ReferenceStyle& style) {
+                                                        const ReferenceStyle& style,
+                                                        std::uint64_t maxRegions) {
     TERRAIN_ASSERT(pyramid.layout().patchQuads() == m_layout.patchQuads(),
                    "GlobeReferenceRenderer: created for another patch size");
     m_pyramid = &pyramid;
@@ -67,6 +68,8 @@ Result<ReferenceDrawStats> GlobeReferenceRenderer::draw(const Camera& camera,
     m_gamma = camera.errorScale();
     m_cameraUp = globe::Wgs84::upAt(camera.position);
     m_stats = {};
+    m_maxRegions = maxRegions;
+    m_visited = 0;
     m_staging.clear();
     m_tiles.clear();
 
@@ -85,7 +88,7 @@ Result<ReferenceDrawStats> GlobeReferenceRenderer::draw(const Camera& camera,
 
     const gl::ReversedZScope reversedZ;
     Status status;
-    for (int face = 0; face < globe::kCubeFaces && status; ++face) {
+    for (int face = 0; face < globe::kCubeFaces && status && m_stats.complete; ++face) {
         const globe::GlobePatchId root{face, 0, 0, 0};
         auto info = pyramid.patchInfo(io::layoutPatchOf(root));
         if (!info) {
@@ -110,6 +113,7 @@ Result<ReferenceDrawStats> GlobeReferenceRenderer::draw(const Camera& camera,
 
 Status GlobeReferenceRenderer::visitPatch(const globe::GlobePatchId& id,
                                           const io::PatchInfo& info) {
+    if (!withinLimit()) return {};
     const Region whole{
         .id = id, .tileId = id, .minHeight = info.minHeight, .maxHeight = info.maxHeight};
     if (info.presentChildren == 0) return visitRegion(whole);
@@ -143,7 +147,14 @@ Status GlobeReferenceRenderer::visitPatch(const globe::GlobePatchId& id,
     return {};
 }
 
+bool GlobeReferenceRenderer::withinLimit() {
+    if (++m_visited <= m_maxRegions) return true;
+    m_stats.complete = false;
+    return false;
+}
+
 Status GlobeReferenceRenderer::visitRegion(const Region& region) {
+    if (!withinLimit()) return {};
     const globe::OrientedBox box =
         globe::patchBounds(region.id, region.minHeight, region.maxHeight);
     if (!frustumMeetsBox(m_frustum, box)) return {};

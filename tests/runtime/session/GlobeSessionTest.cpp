@@ -322,6 +322,15 @@ TEST_F(GlobeSessionTest, EveryStabilityCaseMatchesTheGlobeReference) {
         psnrCoarse += psnr[1];
     }
     EXPECT_GT(psnrFine, psnrCoarse) << "the reference does not tell ε = 1 from ε = 8";
+
+    // Past its limit the reference stops and says its image is partial.
+    const Camera whole = cameraFor(poses().front().pose);
+    glBindFramebuffer(GL_FRAMEBUFFER, referenceTarget.value().id());
+    auto limited = reference.value().draw(whole, pyramid.value(), ReferenceStyle{}, 10);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    ASSERT_TRUE(limited) << limited.error().message;
+    EXPECT_FALSE(limited.value().complete);
+    EXPECT_LE(limited.value().tiles, 10u);
 }
 
 }  // namespace

@@ -45,6 +45,9 @@ public:
     static constexpr double kCurvatureTolerancePx = 0.05;
     /// The finest level a region is split to for curvature (a patch there is ~15 cm wide).
     static constexpr int kMaxRegionLevel = 24;
+    /// The most regions one draw takes (655 million triangles of 129-sample patches): a planet
+    /// of fine data seen whole from orbit would take hours on a CPU rasteriser.
+    static constexpr std::uint64_t kDefaultMaxRegions = 20000;
 
     /// For globe pyramids of `manifest` (manifest.globe set).
     static Result<GlobeReferenceRenderer> create(const io::PyramidManifest& manifest);
@@ -52,9 +55,11 @@ public:
     /// Draws the finest data in `camera`'s frustum: colour at location 0, world height
     /// (metres) at location 1. Depth must be cleared to 0 (reversed Z). ReferenceDrawStats'
     /// tiles are the regions drawn. Errors (a patch that cannot be read) name the shard file
-    /// and the patch.
+    /// and the patch. Past `maxRegions` regions (drawn or walked through) it stops, and
+    /// ReferenceDrawStats::complete is false.
     Result<ReferenceDrawStats> draw(const Camera& camera, io::PyramidReader& pyramid,
-                                    const ReferenceStyle& style);
+                                    const ReferenceStyle& style,
+                                    std::uint64_t maxRegions = kDefaultMaxRegions);
 
 private:
     // A patch-sized grid drawn from the tile of `tileId`: patch sample s lies on tile
@@ -69,6 +74,7 @@ private:
 
     Status visitPatch(const globe::GlobePatchId& id, const io::PatchInfo& info);
     Status visitRegion(const Region& region);
+    bool withinLimit();  // counts one more patch or region; false past m_maxRegions
     Status addRegion(const Region& region);
     Result<const io::PatchRecord*> tileOf(const globe::GlobePatchId& id);
     void submitBatch();
@@ -84,6 +90,8 @@ private:
     io::PyramidReader* m_pyramid = nullptr;
     const Camera* m_camera = nullptr;
     Frustum m_frustum;
+    std::uint64_t m_maxRegions = kDefaultMaxRegions;
+    std::uint64_t m_visited = 0;  // patches and regions walked this draw
     double m_gamma = 1.0;
     glm::dvec3 m_cameraUp{0.0};
     std::vector<GlobeInstance> m_staging;

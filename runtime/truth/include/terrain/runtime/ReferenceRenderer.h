@@ -37,6 +37,9 @@ struct ReferenceDrawStats {
     std::uint64_t tiles = 0;      ///< tiles in the frustum, drawn
     std::uint64_t triangles = 0;  ///< 2 per cell of every drawn tile
     int batches = 0;              ///< instanced draws
+    /// False when the draw stopped at its limit (GlobeReferenceRenderer's maxRegions): the
+    /// image is partial and must not be compared.
+    bool complete = true;
 };
 
 /// Render thread only; draws into the framebuffer bound by the caller. Holds its own GL
