@@ -132,6 +132,16 @@ def test_small_csv(script, work):
              f"stderr {result.stderr!r})")
 
 
+def check_report(folder, charts, command, table_marker):
+    """Every chart a valid PNG; report.md holds the command that made it and its table."""
+    for name in charts:
+        check_png(os.path.join(folder, name))
+    with open(os.path.join(folder, "report.md")) as f:
+        report = f.read()
+    if command not in report or table_marker not in report:
+        fail("report.md lacks the command or the table")
+
+
 def check_bench(folder):
     with open(os.path.join(folder, "bench.json")) as f:
         bench = json.load(f)
@@ -157,12 +167,7 @@ def check_bench(folder):
         if int(row["triangles"]) <= 0 or int(row["draw_calls"]) != 1:
             fail(f"frames.csv: frame {row['frame']}: {row['triangles']} triangles, "
                  f"{row['draw_calls']} draw calls")
-    for name in CHARTS:
-        check_png(os.path.join(folder, name))
-    with open(os.path.join(folder, "report.md")) as f:
-        report = f.read()
-    if bench["command"] not in report or "| yusov2011 |" not in report:
-        fail("report.md lacks the command or the table")
+    check_report(folder, CHARTS, bench["command"], "| yusov2011 |")
 
 
 def check_globe_bench(folder):
@@ -185,12 +190,7 @@ def check_globe_bench(folder):
             if frame["crack_pixels"] != 0:
                 fail(f"ε = {run['threshold_px']}, frame {frame['frame']}: "
                      f"{frame['crack_pixels']} crack pixels against the reference image")
-    for name in GLOBE_CHARTS:
-        check_png(os.path.join(folder, name))
-    with open(os.path.join(folder, "report.md")) as f:
-        report = f.read()
-    if bench["command"] not in report or "| horizon culling |" not in report:
-        fail("report.md lacks the command or the table")
+    check_report(folder, GLOBE_CHARTS, bench["command"], "| horizon culling |")
 
 
 def main():
