@@ -49,15 +49,18 @@ double GlobeLod::bareError(int level) const {
     return globe::flatTriangleErrorBound(globe::maxSampleSpacing(level, m_quads));
 }
 
-const globe::OrientedBox& GlobeLod::boundsOf(const globe::GlobePatchId& id, float minHeight,
-                                             float maxHeight) {
-    // A patch drawn bare until its tile arrives has other heights later: the cache keeps the
+GlobeLod::PatchState& GlobeLod::stateOf(const globe::GlobePatchId& id, float minHeight,
+                                        float maxHeight) {
+    // A patch drawn bare until its tile arrives has other heights later: the state keeps the
     // heights its box was made for.
-    auto [it, inserted] = m_bounds.try_emplace(patchKey(id));
-    CachedBounds& cached = it->second;
-    if (inserted || cached.minHeight != minHeight || cached.maxHeight != maxHeight)
-        cached = {globe::patchBounds(id, minHeight, maxHeight), minHeight, maxHeight};
-    return cached.box;
+    auto [it, inserted] = m_patches.try_emplace(patchKey(id));
+    PatchState& state = it->second;
+    if (inserted || state.minHeight != minHeight || state.maxHeight != maxHeight) {
+        state.box = globe::patchBounds(id, minHeight, maxHeight);
+        state.minHeight = minHeight;
+        state.maxHeight = maxHeight;
+    }
+    return state;
 }
 
 GlobePatchDraw GlobeLod::drawOf(const Node& node) const {
@@ -95,7 +98,9 @@ GlobeLodStats GlobeLod::select(const Camera& camera, std::vector<GlobePatchDraw>
     m_gamma = camera.errorScale();
     m_frustum = camera.frustum();
     m_occluder.setCamera(camera.position);
-    if (m_bounds.size() > 200000) m_bounds.clear();  // a long flight: start the cache again
+    // A long flight: start again (one frame decided without hysteresis).
+    if (m_patches.size() > 200000) m_patches.clear();
+    ++m_frame;
     for (int face = 0; face < globe::kCubeFaces; ++face) {
         const globe::GlobePatchId root{face, 0, 0, 0};
         const io::PatchInfo* info =
@@ -105,9 +110,6 @@ GlobeLodStats GlobeLod::select(const Camera& camera, std::vector<GlobePatchDraw>
         node.info = info;
         visit(node, stats, out);
     }
-    // What this frame split is what the next one holds; patches culled or merged drop out.
-    std::swap(m_splitLastFrame, m_splitThisFrame);
-    m_splitThisFrame.clear();
     return stats;
 }
 
@@ -121,7 +123,8 @@ void GlobeLod::visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePa
     const double errorM = data && node.info->presentChildren != 0 ? double(node.info->error)
                                                                   : bareError(node.id.level);
 
-    const globe::OrientedBox& box = boundsOf(node.id, minHeight, maxHeight);
+    PatchState& state = stateOf(node.id, minHeight, maxHeight);
+    const globe::OrientedBox& box = state.box;
     if (m_options.frustumCulling && !frustumMeetsBox(m_frustum, box)) {
         ++stats.frustumCulled;
         stats.coverage += coverageOf(node.id.level);
@@ -140,8 +143,8 @@ void GlobeLod::visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePa
                                  : std::max(globe::distanceToBox(m_camera, box), 1.0);
     const double screenError =
         rho > 0.0 ? m_gamma * errorM / rho : std::numeric_limits<double>::infinity();
-    const std::uint64_t key = patchKey(node.id);
-    const bool wasSplit = m_splitLastFrame.contains(key);
+    // Split last frame (not culled nor merged since): held down to ε / hysteresis.
+    const bool wasSplit = state.splitInFrame != 0 && state.splitInFrame + 1 == m_frame;
     const double threshold =
         wasSplit ? m_options.errorPx / m_options.hysteresis : m_options.errorPx;
     if (screenError > threshold &&
@@ -175,7 +178,7 @@ void GlobeLod::visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePa
             ready = ready && child.info != nullptr;
         }
         if (ready && !failed) {
-            m_splitThisFrame.insert(key);
+            state.splitInFrame = m_frame;
             stats.heldSplits += screenError <= m_options.errorPx ? 1 : 0;
             for (const Node& child : children) visit(child, stats, out);
             return;

@@ -17,10 +17,11 @@
 //
 // Hysteresis, as in LodQuadtree: a patch split last frame stays split until its screen-space
 // error drops below ε / hysteresis, so a camera resting near a threshold changes nothing from
-// frame to frame (splitting more only lowers the error). That set of split patches is the
-// only state kept between frames: the LOD still visits every patch it keeps or splits each
-// frame (tens of patches, 12 µs median on the Rainier flight, docs/globe.md), so LodQuadtree's
-// scheduling of evaluations by camera travel would save nothing measurable here.
+// frame to frame (splitting more only lowers the error). Between frames the LOD keeps, per
+// patch it visited, only its box and the last frame that split it: it still visits every
+// patch it keeps or splits each frame (tens of patches, 12 µs median on the Rainier flight,
+// docs/globe.md), so LodQuadtree's scheduling of evaluations by camera travel would save
+// nothing measurable here.
 #pragma once
 
 #include "terrain/globe/GlobePatch.h"
@@ -33,7 +34,6 @@
 #include <array>
 #include <cstdint>
 #include <unordered_map>
-#include <unordered_set>
 #include <vector>
 
 namespace terrain::runtime {
@@ -113,8 +113,8 @@ private:
         double texelOffsetX = 0.0, texelOffsetY = 0.0, texelStep = 1.0;
     };
     void visit(const Node& node, GlobeLodStats& stats, std::vector<GlobePatchDraw>& out);
-    const globe::OrientedBox& boundsOf(const globe::GlobePatchId& id, float minHeight,
-                                       float maxHeight);
+    struct PatchState;
+    PatchState& stateOf(const globe::GlobePatchId& id, float minHeight, float maxHeight);
     GlobePatchDraw drawOf(const Node& node) const;
 
     TileResidency& m_residency;
@@ -126,15 +126,16 @@ private:
     glm::dvec3 m_camera{0.0};
     double m_gamma = 1.0;
     Frustum m_frustum;
-    struct CachedBounds {
+    // What the LOD keeps of a patch it visited: its box, for the heights it was made for,
+    // and the last frame that split it (the hysteresis).
+    struct PatchState {
         globe::OrientedBox box;
         float minHeight = 0.0f;
         float maxHeight = 0.0f;
+        std::uint64_t splitInFrame = 0;  // 0: never
     };
-    std::unordered_map<std::uint64_t, CachedBounds> m_bounds;  // by patch
-    // The patches split last frame and those split so far this frame (patchKey).
-    std::unordered_set<std::uint64_t> m_splitLastFrame;
-    std::unordered_set<std::uint64_t> m_splitThisFrame;
+    std::unordered_map<std::uint64_t, PatchState> m_patches;  // by patchKey
+    std::uint64_t m_frame = 0;                                // select() calls so far
 };
 
 }  // namespace terrain::runtime
