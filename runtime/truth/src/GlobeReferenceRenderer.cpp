@@ -53,6 +53,7 @@ Result<GlobeReferenceRenderer> GlobeReferenceRenderer::create(const io::PyramidM
     r.m_heights = std::move(heights).value();
     r.m_heights.setSampling(GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
     r.m_staging.reserve(kBatchRegions);
+    r.m_layerTiles.reserve(kBatchRegions);
     return r;
 }
 
@@ -71,6 +72,7 @@ Result<ReferenceDrawStats> GlobeReferenceRenderer::draw(const Camera& camera,
     m_maxRegions = maxRegions;
     m_visited = 0;
     m_staging.clear();
+    m_layerTiles.clear();
     m_tiles.clear();
 
     // Placed and shaded as the globe draw, so both draws are equally exact and alike.
@@ -104,6 +106,7 @@ Result<ReferenceDrawStats> GlobeReferenceRenderer::draw(const Camera& camera,
     }
     if (status && !m_staging.empty()) submitBatch();
     m_staging.clear();
+    m_layerTiles.clear();
     m_tiles.clear();
     if (!status) return status.error();
     m_stats.triangles = m_stats.tiles * 2 * static_cast<std::uint64_t>(m_layout.patchQuads()) *
@@ -189,19 +192,24 @@ Result<const io::PatchRecord*> GlobeReferenceRenderer::tileOf(const globe::Globe
 }
 
 Status GlobeReferenceRenderer::addRegion(const Region& region) {
-    const int layer = static_cast<int>(m_staging.size());
     GlobePatchDraw draw;
     draw.id = region.id;
     draw.minHeight = region.minHeight;
     draw.maxHeight = region.maxHeight;
-    // The bare ellipsoid has no tile: layer −1 draws height 0.
+    // The bare ellipsoid has no tile: layer −1 draws height 0. A tile is uploaded once a
+    // batch, however many regions (quadrants, parts split for the curvature) draw from it.
     if (!region.bare) {
-        auto tile = tileOf(region.tileId);
-        if (!tile) return tile.error();
-        const int side = m_layout.tileSamples();
-        m_heights.upload({.x = 0, .y = 0, .layer = layer, .width = side, .height = side}, GL_RED,
-                         GL_FLOAT, std::as_bytes(std::span(tile.value()->heights)));
-        draw.layer = layer;
+        const std::uint64_t key = tileKey(io::layoutPatchOf(region.tileId));
+        const auto uploaded = std::find(m_layerTiles.begin(), m_layerTiles.end(), key);
+        draw.layer = static_cast<int>(uploaded - m_layerTiles.begin());
+        if (uploaded == m_layerTiles.end()) {
+            auto tile = tileOf(region.tileId);
+            if (!tile) return tile.error();
+            const int side = m_layout.tileSamples();
+            m_heights.upload({.x = 0, .y = 0, .layer = draw.layer, .width = side, .height = side},
+                             GL_RED, GL_FLOAT, std::as_bytes(std::span(tile.value()->heights)));
+            m_layerTiles.push_back(key);
+        }
     }
     draw.tileId = region.tileId;
     draw.isVirtual = region.texelStep != 1.0;
@@ -211,10 +219,8 @@ Status GlobeReferenceRenderer::addRegion(const Region& region) {
     m_staging.push_back(
         makeGlobeInstance(draw, m_camera->position, m_cameraUp, m_layout.patchQuads()));
     ++m_stats.tiles;
-    if (static_cast<int>(m_staging.size()) == kBatchRegions) {
-        submitBatch();
-        m_staging.clear();
-    }
+    // A batch holds at most as many tiles as regions: full regions, full layers.
+    if (static_cast<int>(m_staging.size()) == kBatchRegions) submitBatch();
     return {};
 }
 
@@ -222,6 +228,8 @@ void GlobeReferenceRenderer::submitBatch() {
     m_instances.upload(0, std::as_bytes(std::span(m_staging)));
     m_grid.draw(m_program, m_heights, m_instances, static_cast<int>(m_staging.size()));
     ++m_stats.batches;
+    m_staging.clear();
+    m_layerTiles.clear();
 }
 
 }  // namespace terrain::runtime

@@ -95,6 +95,7 @@ private:
     double m_gamma = 1.0;
     glm::dvec3 m_cameraUp{0.0};
     std::vector<GlobeInstance> m_staging;
+    std::vector<std::uint64_t> m_layerTiles;           // the tile in each layer of this batch
     std::map<std::uint64_t, io::PatchRecord> m_tiles;  // read this draw, by layout patch
     ReferenceDrawStats m_stats;
 };
