@@ -149,7 +149,8 @@ int runGlobeBench(const GlobeBenchOptions& o) {
     if (!reference) return fail(reference.error().message);
     // The reference images of the flight's frames (colour and depth, 8 bytes a pixel), drawn
     // once and kept for the other runs, which fly the same cameras, when they fit in
-    // kMaxKeptReferenceBytes; else drawn again in every run.
+    // kMaxKeptReferenceBytes; else drawn again in every run into two slots, this frame's and
+    // the last one's (popping compares the two).
     constexpr std::uint64_t kMaxKeptReferenceBytes = std::uint64_t{2} << 30;
     const bool keepReferences = std::uint64_t(std::max(o.frames, 0)) * std::uint64_t(o.widthPx) *
                                     std::uint64_t(o.heightPx) * 8 <=
@@ -188,7 +189,7 @@ int runGlobeBench(const GlobeBenchOptions& o) {
         std::uint64_t compared = 0, poppingFrames = 0;
         nlohmann::json frames = nlohmann::json::array();
         std::vector<float> depth, depthNoSkirts;
-        std::vector<std::uint8_t> lodPrevious, referencePrevious;
+        std::vector<std::uint8_t> lodPrevious;
         for (int f = 0; f < o.frames; ++f) {
             const double fraction = o.frames > 1 ? double(f) / double(o.frames - 1) : 1.0;
             path.value().apply(path.value().startS() + fraction * path.value().durationS(), camera);
@@ -198,16 +199,21 @@ int runGlobeBench(const GlobeBenchOptions& o) {
             lod.width = o.widthPx;
             lod.height = o.heightPx;
             lod.rgba = framebuffer.value().readColorRgba8();
-            lod.depth = depth;
+            lod.depth = std::move(depth);
             drawFrame(session, framebuffer.value(), camera, errorPx, false, depthNoSkirts);
-            const std::size_t slot = keepReferences ? static_cast<std::size_t>(f) : 0;
-            if (!keepReferences) references.clear();
-            if (references.size() <= slot) {
+            const auto slotOf = [&](int frameIndex) {
+                return static_cast<std::size_t>(keepReferences ? frameIndex : frameIndex % 2);
+            };
+            const std::size_t slot = slotOf(f);
+            if (references.size() <= slot) references.resize(slot + 1);
+            if (!keepReferences || !references[slot]) {
                 auto drawn = drawReference(reference.value(), pyramid.value(),
                                            referenceTarget.value(), camera);
                 if (!drawn) return fail(drawn.error().message);
-                references.push_back(std::move(drawn).value());
+                references[slot] = std::move(drawn).value();
             }
+            const std::optional<runtime::FrameImages>* referencePrevious =
+                f > 0 ? &references[slotOf(f - 1)] : nullptr;
             // Frames whose reference was too big to draw are not compared (null in the JSON).
             nlohmann::json psnrJson, cracksJson, poppingJson;
             if (const std::optional<runtime::FrameImages>& truth = references[slot]) {
@@ -220,23 +226,20 @@ int runGlobeBench(const GlobeBenchOptions& o) {
                 crackPixels += cracks;
                 psnrJson = psnr;
                 cracksJson = cracks;
-                if (!lodPrevious.empty() && !referencePrevious.empty()) {
-                    const double popping = runtime::poppingLevels(lodPrevious, lod.rgba,
-                                                                  referencePrevious, truth->rgba);
+                if (referencePrevious != nullptr && referencePrevious->has_value()) {
+                    const double popping = runtime::poppingLevels(
+                        lodPrevious, lod.rgba, (*referencePrevious)->rgba, truth->rgba);
                     ++poppingFrames;
                     poppingSum += popping;
                     poppingMax = std::max(poppingMax, popping);
                     poppingJson = popping;
                 }
-                referencePrevious = truth->rgba;
-            } else {
-                referencePrevious.clear();
             }
             lodPrevious = std::move(lod.rgba);
             const runtime::ScreenSpaceErrorStats error = runtime::measureGlobeScreenSpaceError(
-                camera, depth, depthNoSkirts, surface.value(), errorPx);
+                camera, lod.depth, depthNoSkirts, surface.value(), errorPx);
             const runtime::ScreenSpaceErrorStats lodError = runtime::measureGlobeScreenSpaceError(
-                camera, depth, depthNoSkirts, finestHeights, errorPx);
+                camera, lod.depth, depthNoSkirts, finestHeights, errorPx);
             if (finestProblem) return fail(finestProblem->message);
             errorMax = std::max(errorMax, error.maxPx);
             errorP99Max = std::max(errorP99Max, error.p99Px);
