@@ -334,6 +334,23 @@ TEST_F(ViewerTool, GlobeViewerKeepsTheCameraJustAboveTheGround) {
     }
 }
 
+TEST_F(ViewerTool, FliesTheOtherStreamingLodMethodsAndRefusesTheRtin) {
+    for (const std::string method : {"chunked-lod", "uniform"}) {
+        const ToolRun r = runViewer(kPyramid + " --method " + method +
+                                        " --frames 6 --settle --width 240 --height 160 --json",
+                                    m_folder);
+        ASSERT_EQ(r.status, 0) << method << ": " << describe(r);
+        const nlohmann::json summary = summaryOf(r);
+        EXPECT_EQ(summary["method"], method);
+        EXPECT_EQ(summary["gl_errors"], 0);
+        EXPECT_GT(summary["patches_drawn_last"].get<int>(), 0) << method;
+    }
+    const ToolRun rtin =
+        run("env -u DISPLAY " + kViewer + " " + kPyramid + " --method rtin", m_folder);
+    EXPECT_EQ(rtin.status, 1) << describe(rtin);
+    EXPECT_NE(rtin.err.find("rtin streams nothing"), std::string::npos) << rtin.err;
+}
+
 TEST_F(ViewerTool, MissingPyramidIsAClearError) {
     // No display either: the pyramid is checked before any window opens.
     const ToolRun r =

@@ -168,6 +168,22 @@ def check_bench(folder):
             fail(f"frames.csv: frame {row['frame']}: {row['triangles']} triangles, "
                  f"{row['draw_calls']} draw calls")
     check_report(folder, CHARTS, bench["command"], "| yusov2011 |")
+    # One curve, one table row set and one failure line per method flown.
+    methods = bench.get("methods", [])
+    if not methods or sorted(set(r["method"] for r in summary)) != sorted(methods):
+        fail(f"summary.csv's methods {sorted(set(r['method'] for r in summary))} are not "
+             f"bench.json's {methods}")
+    if len(methods) > 1:
+        with open(os.path.join(folder, "report.md")) as f:
+            report = f.read()
+        failures = report.partition("## Where each method fails")[2]
+        if not failures:
+            fail("report.md has no \"Where each method fails\" section")
+        for method in methods:
+            if f"**{method}**" not in failures:
+                fail(f"report.md: no line for {method} under \"Where each method fails\"")
+            if f"| {method} |" not in report:
+                fail(f"report.md: no table row for {method}")
 
 
 def check_globe_bench(folder):

@@ -232,6 +232,78 @@ def fmt(value, digits=2):
     return f"{value:.{digits}f}"
 
 
+YARDSTICK = "rtin"
+
+
+def method_sections(bench, summary_rows, summary_path, tol):
+    """The methods compared, their triangles against the RTIN yardstick's, and in plain words
+    where each one fails: error over ε (for the methods that promise a bound), cracks,
+    unmeasurable pixels, and the most popping."""
+    methods = by_method(summary_rows)
+    if len(methods) < 2:
+        return []
+    info = (bench or {}).get("method_info", {})
+    lines = ["## Methods", ""]
+    for method in methods:
+        described = info.get(method.replace("-coarse-only", ""), {})
+        promise = ("bounds the measured error by ε" if described.get("bounds_error")
+                   else "promises no error bound" if described else "")
+        lines.append(f"- **{method}**: {described.get('summary', 'no description')}"
+                     + (f"; {promise}." if promise else "."))
+    lines.append("")
+    yardstick = {number(r, "threshold_px", summary_path): number(r, "triangles_mean", summary_path)
+                 for r in methods.get(YARDSTICK, [])}
+    if yardstick:
+        lines += [f"### Triangles against the {YARDSTICK} yardstick", "",
+                  f"Mean triangles a frame divided by {YARDSTICK}'s at the same ε (the fewest a "
+                  "conforming mesh of the full-resolution samples needs for the same bound):", "",
+                  "| method | " + " | ".join(f"ε = {t:g}" for t in sorted(yardstick)) + " |",
+                  "|---|" + "---|" * len(yardstick)]
+        for method, rows in methods.items():
+            by_eps = {number(r, "threshold_px", summary_path): number(r, "triangles_mean", summary_path)
+                      for r in rows}
+            cells = [fmt(by_eps[t] / yardstick[t], 2) + "×" if t in by_eps and yardstick[t] > 0
+                     else "–" for t in sorted(yardstick)]
+            lines.append(f"| {method} | " + " | ".join(cells) + " |")
+        lines.append("")
+    lines += ["## Where each method fails", ""]
+    popping = {m: max((number(r, "popping_levels_mean", summary_path) for r in rows
+                       if not math.isnan(number(r, "popping_levels_mean", summary_path))), default=math.nan)
+               for m, rows in methods.items()}
+    calmest_method = min((m for m, v in popping.items() if not math.isnan(v)),
+                         key=lambda m: popping[m], default=None)
+    calmest = popping[calmest_method] if calmest_method else math.nan
+    for method, rows in methods.items():
+        described = info.get(method.replace("-coarse-only", ""), {})
+        bounds = described.get("bounds_error", True)
+        failures = []
+        for r in rows:
+            n = lambda key: number(r, key, summary_path)
+            eps = n("threshold_px")
+            over = int(n("frames_over_threshold"))
+            if over > 0:
+                what = (f"over ε + {tol:g} px in {over} of {int(n('frames'))} frames at ε = {eps:g} "
+                        f"(largest {fmt(n('error_max_px'))} px)")
+                failures.append(what if bounds else what + " — it promises no bound")
+            if n("crack_pixels_total") > 0:
+                failures.append(f"{int(n('crack_pixels_total'))} crack pixels at ε = {eps:g}")
+            unmeasurable = n("non_finite_pixels_total") if "non_finite_pixels_total" in r else 0
+            if unmeasurable > 0:
+                failures.append(f"{int(unmeasurable)} unmeasurable pixels at ε = {eps:g}")
+        p = popping.get(method, math.nan)
+        if not math.isnan(p) and not math.isnan(calmest) and calmest > 0 and p > 2.0 * calmest:
+            failures.append(f"pops: up to {fmt(p, 3)} levels a frame beyond the reference's change, "
+                            f"{p / calmest:.1f}× the calmest method's ({calmest_method})")
+        if failures:
+            lines.append(f"- **{method}** fails: " + "; ".join(failures) + ".")
+        else:
+            lines.append(f"- **{method}**: no failure on this flight (within ε + {tol:g} px, no crack, "
+                         "nothing unmeasurable).")
+    lines += ["", "Measured on this flight only; the stability suite (AccuracyStabilityTest) "
+              "flies every method through the cases where LOD methods break.", ""]
+    return lines
+
+
 def write_report(out_dir, bench, summary_rows, charts, summary_path):
     lines = ["# Speed against accuracy", ""]
     if bench:
@@ -270,6 +342,7 @@ def write_report(out_dir, bench, summary_rows, charts, summary_path):
               f"pixels); *frames > ε+tol*: frames whose largest error exceeds ε + {tol:g} px "
               f"(the rasterisation tolerance); *popping*: LOD image change beyond the "
               f"reference's, in 8-bit levels. Definitions: docs/accuracy.md.", ""]
+    lines += method_sections(bench, summary_rows, summary_path, tol)
     lines += ["## Charts", ""]
     for title, path in charts:
         lines += [f"### {title}", "", f"![{title}]({os.path.basename(path)})", ""]
@@ -390,6 +463,7 @@ def write_globe_report(out_dir, bench, bench_path, charts):
                   "| place | patches | data patches |", "|---|---|---|"]
         lines += [f"| {v['place']} | {v['patches']} | {v['data_patches']} |" for v in same]
         lines.append("")
+    lines += method_sections(bench, summary_rows, summary_path, tol)
     lines += ["## Charts", ""]
     for title, path in charts:
         lines += [f"### {title}", "", f"![{title}]({os.path.basename(path)})", ""]

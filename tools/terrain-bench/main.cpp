@@ -1,6 +1,7 @@
 // terrain-bench: speed against accuracy (issue 6; docs/accuracy.md). Flies a camera path
-// through a pyramid once per error threshold ε — one TerrainSession per threshold, so no
-// threshold inherits another's LOD tree — and measures every frame: triangles, patches,
+// through a pyramid once per LOD method (--methods; docs/lod-methods.md) and error threshold
+// ε — one strategy per (method, threshold), so no flight inherits another's LOD — and
+// measures every frame: triangles, patches,
 // draw calls, LOD µs, GPU ms, resident bytes, and against the reference renderer (drawn
 // once per frame, shared by every threshold) the measured screen-space error, RMSE/PSNR,
 // cracks and popping. Writes frames.csv, summary.csv, one telemetry CSV per threshold and
@@ -20,6 +21,7 @@
 #include "terrain/io/PyramidManifest.h"
 #include "terrain/runtime/AccuracyProbe.h"
 #include "terrain/runtime/CameraPath.h"
+#include "terrain/runtime/LodStrategyFactory.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TerrainSession.h"
 
@@ -46,10 +48,9 @@ using Clock = std::chrono::steady_clock;
 using namespace terrain;
 namespace fs = std::filesystem;
 
-constexpr const char* kMethod = "yusov2011";
-
 struct BenchOptions {
     std::string pyramid;
+    std::string methods = "yusov2011";
     std::vector<double> thresholdsPx{0.5, 1.0, 2.0, 4.0, 8.0, 16.0};
     std::string pathFile;
     double durationS = 20.0;
@@ -82,6 +83,13 @@ Status writePng(const runtime::FrameImages& images, const fs::path& path) {
 
 std::string thresholdName(double px) { return fmt::format("{}", px); }
 
+/// The method's part of a per-run file name: none for the default method (the names the
+/// single-method bench has always written), else "METHOD-".
+std::string fileTag(const std::string& methodName) {
+    return methodName == "yusov2011" || methodName == "yusov2011-coarse-only" ? ""
+                                                                              : methodName + "-";
+}
+
 nlohmann::json summaryJson(const tools::ThresholdSummary& s) {
     const auto v = [](double x) { return std::isnan(x) ? nlohmann::json() : nlohmann::json(x); };
     return {{"method", s.method},
@@ -108,17 +116,43 @@ nlohmann::json summaryJson(const tools::ThresholdSummary& s) {
             {"frames_waited", s.framesWaited}};
 }
 
-/// One threshold's flight: its own session, its telemetry log and its previous frame.
+/// One (method, threshold) flight: its own strategy, its telemetry log and its previous
+/// frame.
 struct ThresholdRun {
+    runtime::LodMethod method = runtime::LodMethod::Yusov2011;
+    std::string methodName;  ///< as recorded: the method, "-coarse-only" when asked
     double thresholdPx = 0.0;
-    std::unique_ptr<runtime::TerrainSession> session;
+    std::unique_ptr<runtime::LodStrategy> session;
     std::optional<runtime::TelemetryCsvWriter> telemetry;
     std::optional<runtime::LodCapture> previous;
 };
 
+nlohmann::json methodNames(const std::vector<ThresholdRun>& runs) {
+    nlohmann::json names = nlohmann::json::array();
+    for (const ThresholdRun& r : runs) {
+        if (std::find(names.begin(), names.end(), r.methodName) == names.end())
+            names.push_back(r.methodName);
+    }
+    return names;
+}
+
+/// Each flown method's one-line description and whether it bounds the measured error, for
+/// the report's "Where each method fails".
+nlohmann::json methodInfo(const std::vector<ThresholdRun>& runs) {
+    nlohmann::json info = nlohmann::json::object();
+    for (const ThresholdRun& r : runs) {
+        const runtime::LodMethodInfo& m = runtime::lodMethodInfo(r.method);
+        info[std::string(m.name)] = {{"summary", std::string(m.summary)},
+                                     {"bounds_error", m.boundsError}};
+    }
+    return info;
+}
+
 int run(const BenchOptions& o, const char* argv0) {
     const auto start = Clock::now();
     if (o.thresholdsPx.empty()) return fail("--thresholds: give at least one threshold");
+    auto methods = runtime::parseLodMethods(o.methods);
+    if (!methods) return fail("--methods: " + methods.error().message);
     for (const double t : o.thresholdsPx) {
         if (!(t > 0.0) || !std::isfinite(t))
             return fail(fmt::format("--thresholds: {} is not a positive number of pixels", t));
@@ -150,21 +184,28 @@ int run(const BenchOptions& o, const char* argv0) {
     runtime::TerrainSessionOptions sessionOptions;
     o.budgets.applyTo(sessionOptions.streaming);
     std::vector<ThresholdRun> runs;
-    for (const double threshold : o.thresholdsPx) {
-        sessionOptions.lod.errorPx = threshold;
-        auto opened = runtime::TerrainSession::open(o.pyramid, sessionOptions);
-        if (!opened) return fail(opened.error().message);
-        ThresholdRun r;
-        r.thresholdPx = threshold;
-        r.session = std::move(opened).value();
-        auto csv = runtime::TelemetryCsvWriter::create(
-            outputDir / fmt::format("telemetry-eps-{}.csv", thresholdName(threshold)));
-        if (!csv) return fail(csv.error().message);
-        r.telemetry.emplace(std::move(csv).value());
-        runs.push_back(std::move(r));
+    for (const runtime::LodMethod method : methods.value()) {
+        for (const double threshold : o.thresholdsPx) {
+            sessionOptions.method = method;
+            sessionOptions.lod.errorPx = threshold;
+            auto opened = runtime::openLodStrategy(o.pyramid, sessionOptions);
+            if (!opened) return fail(opened.error().message);
+            ThresholdRun r;
+            r.method = method;
+            r.methodName = std::string(runtime::lodMethodName(method));
+            if (o.coarseOnly && method == runtime::LodMethod::Yusov2011)
+                r.methodName += "-coarse-only";
+            r.thresholdPx = threshold;
+            r.session = std::move(opened).value();
+            auto csv = runtime::TelemetryCsvWriter::create(
+                outputDir / fmt::format("telemetry-{}eps-{}.csv", fileTag(r.methodName),
+                                        thresholdName(threshold)));
+            if (!csv) return fail(csv.error().message);
+            r.telemetry.emplace(std::move(csv).value());
+            runs.push_back(std::move(r));
+        }
     }
     const runtime::TerrainGeometry& geometry = runs.front().session->geometry();
-    const std::size_t bytesPerLayer = cache::GpuTilePool::bytesPerLayer(geometry.layout());
 
     std::optional<runtime::CameraPath> path;
     if (o.pathFile.empty()) {
@@ -186,8 +227,6 @@ int run(const BenchOptions& o, const char* argv0) {
     camera.viewportHeight = o.heightPx;
     camera.nearPlane = 0.5;
     const int sampleFrame = o.sampleFrame >= 0 ? o.sampleFrame : o.frames / 2;
-    const std::string method =
-        o.coarseOnly ? std::string(kMethod) + "-coarse-only" : std::string(kMethod);
 
     std::vector<tools::FrameRecord> records;
     std::optional<runtime::ReferenceCapture> previousReference;
@@ -204,14 +243,14 @@ int run(const BenchOptions& o, const char* argv0) {
                 return fail(w.error().message);
         }
         for (ThresholdRun& r : runs) {
-            runtime::TerrainSession& session = *r.session;
+            runtime::LodStrategy& session = *r.session;
             runtime::TerrainStyle style;
             style.errorPx = r.thresholdPx;
             style.measure = true;
             style.fogDensityPerM = static_cast<float>(o.fogDensity);
             if (o.coarseOnly) style.fixedTessFactor = geometry.layout().blockQuads();
             tools::FrameRecord rec;
-            rec.method = method;
+            rec.method = r.methodName;
             rec.thresholdPx = r.thresholdPx;
             rec.frame = static_cast<std::uint64_t>(frame);
             rec.pathTimeS = t;
@@ -222,16 +261,16 @@ int run(const BenchOptions& o, const char* argv0) {
             auto frameStart = Clock::now();
             const runtime::LodUpdateStats first = session.beginFrame(camera);
             rec.lodUpdateUs = session.lodUpdateUs();
-            if (!o.noSettle &&
-                (first.waitingSplits > 0 || session.streamer().loadsOutstanding() > 0)) {
+            if (!o.noSettle && (first.waitingSplits > 0 || session.loadsOutstanding() > 0)) {
                 // Let streaming catch up so the figures are the LOD method's, not the
                 // disk's; LOD µs stays the first update's.
                 runtime::FrameTelemetry discarded;
                 session.endFrame(discarded);
                 if (!session.settle(camera, std::chrono::seconds(120))) {
                     return fail(
-                        fmt::format("frame {} at ε = {} px: streaming did not settle within 120 s",
-                                    frame, r.thresholdPx));
+                        fmt::format("frame {} at ε = {} px ({}): streaming did not settle within "
+                                    "120 s",
+                                    frame, r.thresholdPx, r.methodName));
                 }
                 rec.waitedForStreaming = true;
                 frameStart = Clock::now();
@@ -247,7 +286,7 @@ int run(const BenchOptions& o, const char* argv0) {
             rec.gpuMs = lod.draw.gpuMs;
             rec.patches = telemetry.patchesDrawn;
             rec.drawCalls = telemetry.drawCalls;
-            rec.residentBytes = telemetry.gpuLayersUsed * bytesPerLayer + telemetry.cpuCacheBytes;
+            rec.residentBytes = session.memoryBytes();
             telemetry.frame = static_cast<std::uint64_t>(frame);
             telemetry.timeS = std::chrono::duration<double>(Clock::now() - start).count();
             telemetry.frameMs = rec.frameMs;
@@ -284,12 +323,13 @@ int run(const BenchOptions& o, const char* argv0) {
             rec.referenceTriangles = reference.value().draw.triangles;
             rec.referenceMs = reference.value().drawMs;
             if (a.error.pixels == 0 && a.referencePixels > 0) {
-                fmt::print(stderr, "terrain-bench: frame {} at ε = {} px: no pixel measured\n",
-                           frame, r.thresholdPx);
+                fmt::print(stderr, "terrain-bench: frame {} at ε = {} px ({}): no pixel measured\n",
+                           frame, r.thresholdPx, r.methodName);
             }
             if (frame == sampleFrame) {
                 const auto file =
-                    outputDir / fmt::format("sample-eps-{}.png", thresholdName(r.thresholdPx));
+                    outputDir / fmt::format("sample-{}eps-{}.png", fileTag(r.methodName),
+                                            thresholdName(r.thresholdPx));
                 if (auto w = writePng(lod.images, file); !w) return fail(w.error().message);
             }
             records.push_back(rec);
@@ -305,7 +345,7 @@ int run(const BenchOptions& o, const char* argv0) {
     if (progress) fmt::print(stderr, "\n");
     for (ThresholdRun& r : runs) {
         if (auto closed = r.telemetry->close(); !closed) return fail(closed.error().message);
-        r.session->streamer().drain(std::chrono::seconds(10));
+        r.session->drain(std::chrono::seconds(10));
     }
 
     const std::vector<tools::ThresholdSummary> summaries = tools::summarise(records, o.tolerancePx);
@@ -335,7 +375,8 @@ int run(const BenchOptions& o, const char* argv0) {
         {"height_px", o.heightPx},
         {"settle", !o.noSettle},
         {"tolerance_px", o.tolerancePx},
-        {"method", method},
+        {"methods", methodNames(runs)},
+        {"method_info", methodInfo(runs)},
         {"output_dir", outputDir.string()},
         {"gpu_ms_source", gpuMsSource},
         {"gpu_ms_note", llvmpipe ? "llvmpipe rasterises on the CPU: gpu_ms is the CPU time of "
@@ -371,14 +412,15 @@ int run(const BenchOptions& o, const char* argv0) {
     }
     if (o.json) std::puts(out.dump(2).c_str());
     for (const tools::ThresholdSummary& s : summaries) {
-        fmt::print(stderr,
-                   "terrain-bench: ε = {:>5} px: triangles {:>9.0f}, measured error max {:.3f} px "
-                   "(median of frame maxima {:.3f}, mean {:.3f}), PSNR {:.2f} dB, {} of {} frames "
-                   "over ε + {} px, "
-                   "{} crack pixels, {} unmeasurable (non-finite) pixels\n",
-                   s.thresholdPx, s.trianglesMean, s.errorMaxPx, s.errorMaxMedianPx, s.errorMeanPx,
-                   s.psnrDbMean, s.framesOverThreshold, s.frames, o.tolerancePx, s.crackPixelsTotal,
-                   s.nonFinitePixelsTotal);
+        fmt::print(
+            stderr,
+            "terrain-bench: {} ε = {:>5} px: triangles {:>9.0f}, measured error max {:.3f} px "
+            "(median of frame maxima {:.3f}, mean {:.3f}), PSNR {:.2f} dB, {} of {} frames "
+            "over ε + {} px, "
+            "{} crack pixels, {} unmeasurable (non-finite) pixels\n",
+            s.method, s.thresholdPx, s.trianglesMean, s.errorMaxPx, s.errorMaxMedianPx,
+            s.errorMeanPx, s.psnrDbMean, s.framesOverThreshold, s.frames, o.tolerancePx,
+            s.crackPixelsTotal, s.nonFinitePixelsTotal);
     }
     return 0;
 }
@@ -414,6 +456,10 @@ int main(int argc, char** argv) {
         "Write PNG charts and report.md into this folder (needs /usr/bin/python3 with matplotlib)");
     app.add_flag("--no-settle", o.noSettle,
                  "Draw each frame as streaming has it (default: let streaming settle first)");
+    app.add_option("--methods,--method", o.methods,
+                   "LOD methods to fly, comma-separated, or 'all' (docs/lod-methods.md): " +
+                       runtime::lodMethodNames())
+        ->capture_default_str();
     app.add_flag("--coarse-only", o.coarseOnly,
                  "Draw every block at its patch's full resolution (no fine LOD): the coarse LOD's "
                  "own error; method yusov2011-coarse-only");
@@ -432,6 +478,10 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
     for (int i = 0; i < argc; ++i) o.commandLine += (i == 0 ? "" : " ") + std::string(argv[i]);
     if (auto manifest = io::readManifest(o.pyramid); manifest && manifest.value().globe) {
+        if (o.methods != "yusov2011")
+            return fail(o.pyramid +
+                        ": a globe pyramid; only yusov2011 draws globes (the other methods "
+                        "compare on planar pyramids)");
         tools::GlobeBenchOptions globe;
         globe.pyramid = o.pyramid;
         globe.sources = o.sources;

@@ -18,6 +18,7 @@
 #include "terrain/runtime/GlobeCamera.h"
 #include "terrain/runtime/GlobeCameraPath.h"
 #include "terrain/runtime/GlobeSession.h"
+#include "terrain/runtime/LodStrategyFactory.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
 #include "terrain/runtime/TerrainGeometry.h"
@@ -54,6 +55,7 @@ struct RenderOptions {
     int widthPx = 960;
     int heightPx = 540;
     double errorPx = 2.0;
+    std::string method = "yusov2011";
     double fps = 30.0;
     double durationS = 0.0;  // of the default path; 0: 20 s
     std::uint64_t frames = 0;
@@ -251,6 +253,7 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
             {"telemetry_csv", (outputDir / "telemetry.csv").string()},
             {"width_px", o.widthPx},
             {"height_px", o.heightPx},
+            {"method", o.method},
             {"error_px", o.errorPx},
             {"settle", o.settle},
             {"horizon_culling", !o.noHorizonCulling},
@@ -283,14 +286,24 @@ int run(const RenderOptions& o) {
     if (!context) return fail(context.error().message);
     auto manifest = io::readManifest(o.pyramid);
     if (!manifest) return fail(manifest.error().message);
-    if (manifest.value().globe) return runGlobe(o, *context.value(), start);
+    if (manifest.value().globe) {
+        if (o.method != "yusov2011")
+            return fail(o.pyramid + ": a globe pyramid; only yusov2011 draws globes (--method " +
+                        o.method + " compares on planar pyramids)");
+        return runGlobe(o, *context.value(), start);
+    }
 
     runtime::TerrainSessionOptions sessionOptions;
     o.budgets.applyTo(sessionOptions.streaming);
     sessionOptions.lod.errorPx = o.errorPx;
-    auto opened = runtime::TerrainSession::open(o.pyramid, sessionOptions);
+    auto method = runtime::parseLodMethod(o.method);
+    if (!method) return fail("--method: " + method.error().message);
+    sessionOptions.method = method.value();
+    auto opened = runtime::openLodStrategy(o.pyramid, sessionOptions);
     if (!opened) return fail(opened.error().message);
-    runtime::TerrainSession& session = *opened.value();
+    runtime::LodStrategy& session = *opened.value();
+    // The streaming methods' streamer: faults, load latencies (null for the RTIN).
+    auto* const streaming = dynamic_cast<runtime::TerrainSession*>(opened.value().get());
     const runtime::TerrainGeometry& geometry = session.geometry();
 
     std::optional<runtime::CameraPath> path;
@@ -342,7 +355,7 @@ int run(const RenderOptions& o) {
     // frame would be empty: nothing is left to draw in its place).
     tools::FaultPrinter faults("terrain-render");
     const auto fatal = [&]() -> std::optional<std::string> {
-        faults.printNew(session.streamer());
+        if (streaming != nullptr) faults.printNew(streaming->streamer());
         if (const runtime::TileFault* fault = session.fatalFault())
             return "nothing to draw, the root patch failed: " + fault->message;
         return std::nullopt;
@@ -391,13 +404,15 @@ int run(const RenderOptions& o) {
     if (auto closed = csv.value().close(); !closed) return fail(closed.error().message);
     // A last frame with nothing drawn: wait for what streaming still owes it, so a root that
     // cannot be read is this error rather than an empty picture and exit status 0.
-    if (session.draws().empty()) {
+    if (streaming != nullptr && streaming->draws().empty()) {
         session.settle(camera, std::chrono::seconds(60));
         if (auto broken = fatal()) return fail(*broken);
     }
-    summary.mergeLoadLatencies(session.streamer().loadLatencies());
-    session.streamer().drain(std::chrono::seconds(10));
-    faults.printRest(session.streamer());
+    if (streaming != nullptr) {
+        summary.mergeLoadLatencies(streaming->streamer().loadLatencies());
+        streaming->streamer().drain(std::chrono::seconds(10));
+        faults.printRest(streaming->streamer());
+    }
     const bool llvmpipe = context.value()->info().renderer.find("llvmpipe") != std::string::npos;
 
     if (o.json) {
@@ -413,6 +428,7 @@ int run(const RenderOptions& o) {
             {"telemetry_csv", (outputDir / "telemetry.csv").string()},
             {"width_px", o.widthPx},
             {"height_px", o.heightPx},
+            {"method", o.method},
             {"error_px", o.errorPx},
             {"settle", o.settle},
             {"triangles",
@@ -464,6 +480,9 @@ int main(int argc, char** argv) {
     app.add_option("--error-px", o.errorPx, "Screen-space error threshold ε, pixels")
         ->capture_default_str()
         ->check(CLI::Range(0.05, 1e4));
+    app.add_option("--method", o.method,
+                   "LOD method (docs/lod-methods.md): " + runtime::lodMethodNames())
+        ->capture_default_str();
     app.add_option("--fps", o.fps, "Path seconds per frame = 1 / fps")
         ->capture_default_str()
         ->check(CLI::Range(0.01, 1e4));

@@ -98,8 +98,17 @@ private:
 Result<std::unique_ptr<StressTarget>> StressTarget::open(const StressTargetOptions& o) {
     auto manifest = io::readManifest(o.pyramid);
     if (!manifest) return manifest.error();
+    if (o.method == runtime::LodMethod::Rtin)
+        return Error{o.pyramid +
+                     ": --method rtin streams nothing (it reads the finest level once): the "
+                     "stress test flies the streaming methods (yusov2011, chunked-lod, uniform)"};
+    if (manifest.value().globe && o.method != runtime::LodMethod::Yusov2011)
+        return Error{o.pyramid + ": a globe pyramid; only yusov2011 draws globes (--method " +
+                     std::string(runtime::lodMethodName(o.method)) +
+                     " compares on planar pyramids)"};
     if (!manifest.value().globe) {
         runtime::TerrainSessionOptions options;
+        options.method = o.method;
         options.streaming = o.streaming;
         options.lod.errorPx = o.errorPx;
         auto session = runtime::TerrainSession::open(o.pyramid, options);

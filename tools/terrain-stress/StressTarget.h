@@ -9,6 +9,7 @@
 #include "terrain/base/Result.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/FrameTelemetry.h"
+#include "terrain/runtime/LodMethod.h"
 #include "terrain/runtime/TerrainRenderer.h"
 #include "terrain/runtime/TileStreamer.h"
 
@@ -25,6 +26,8 @@ struct StressTargetOptions {
     std::string pyramid;
     runtime::TileStreamerOptions streaming;
     double errorPx = 1.0;
+    /// A LOD method that streams (LodMethod.h); the RTIN, which streams nothing, is refused.
+    runtime::LodMethod method = runtime::LodMethod::Yusov2011;
     std::uint64_t seed = 1;
     /// A steady cruise at this speed and height above the ground instead of the random
     /// flight; nullopt: the random flight.

@@ -51,6 +51,7 @@ struct StressOptions {
     int widthPx = 320;
     int heightPx = 240;
     double errorPx = 2.0;
+    std::string method = "yusov2011";
     double fovDegrees = 60.0;
     int tessFactor = 2;
     double warmupS = 5.0;
@@ -135,6 +136,9 @@ int run(const StressOptions& o) {
     targetOptions.streaming.io.faults = {
         .errorRate = o.faultRate, .addedLatencyMs = o.latencyMs, .seed = o.seed};
     targetOptions.errorPx = o.errorPx;
+    auto method = runtime::parseLodMethod(o.method);
+    if (!method) return fail("--method: " + method.error().message);
+    targetOptions.method = method.value();
     targetOptions.seed = o.seed;
     if (o.flight == "cruise")
         targetOptions.cruiseSpeedAndAltitude = {o.cruiseSpeedMps, o.cruiseAltitudeM};
@@ -316,7 +320,8 @@ int run(const StressOptions& o) {
               {"seed", o.seed},
               {"width_px", o.widthPx},
               {"height_px", o.heightPx},
-              {"error_px", o.errorPx}}},
+              {"error_px", o.errorPx},
+              {"method", o.method}}},
             {"frames", frame},
             {"duration_s", loopS},
             {"tiling", target.tiling()},
@@ -403,6 +408,10 @@ int main(int argc, char** argv) {
     app.add_option("--error-px", o.errorPx, "Screen-space error threshold ε, pixels")
         ->capture_default_str()
         ->check(CLI::Range(0.05, 1e4));
+    app.add_option("--method", o.method,
+                   "LOD method (docs/lod-methods.md): yusov2011, chunked-lod or uniform (the "
+                   "methods that stream)")
+        ->capture_default_str();
     app.add_option("--fov", o.fovDegrees, "Vertical field of view, degrees")
         ->capture_default_str()
         ->check(CLI::Range(5.0, 150.0));

@@ -5,6 +5,7 @@
 #include "Screenshot.h"
 
 #include "terrain/runtime/GroundHeight.h"
+#include "terrain/runtime/LodMethod.h"
 #include "terrain/runtime/TerrainGeometry.h"
 
 #include <epoxy/gl.h>
@@ -131,6 +132,7 @@ Status Viewer::openSession(double cpuCacheMiB, int gpuLayers) {
     budgets.gpuLayers = gpuLayers;
     budgets.applyTo(options.streaming);
     options.lod.errorPx = m_settings.errorPx;
+    if (auto method = runtime::parseLodMethod(m_options.method)) options.method = method.value();
     auto opened = runtime::TerrainSession::open(m_options.pyramid, options);
     if (!opened) return opened.error();
     m_session = std::move(opened).value();
@@ -639,6 +641,7 @@ int Viewer::run() {
             {"width_px", size.width},
             {"height_px", size.height},
             {"error_px", m_settings.errorPx},
+            {"method", m_options.method},
             {"vsync", m_settings.vsync},
             {"fixed_fps",
              m_options.fixedFps > 0.0 ? nlohmann::json(m_options.fixedFps) : nlohmann::json()},

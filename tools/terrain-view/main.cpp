@@ -7,6 +7,7 @@
 #include "Viewer.h"
 #include "ViewerOptions.h"
 #include "terrain/io/PyramidManifest.h"
+#include "terrain/runtime/LodMethod.h"
 
 #include <fmt/core.h>
 #include <CLI/CLI.hpp>
@@ -66,6 +67,10 @@ int main(int argc, char** argv) {
                    "Screen-space error threshold ε, pixels ([ and ] change it)")
         ->capture_default_str()
         ->check(CLI::Range(0.1, 64.0));
+    app.add_option("--method", o.method,
+                   "LOD method (docs/lod-methods.md): yusov2011, chunked-lod or uniform (the "
+                   "methods that stream)")
+        ->capture_default_str();
     terrain::tools::addStreamingBudgetFlags(app, o.budgets);
     app.add_option("--measure-every", o.measureEvery,
                    "Measure triangles and GPU time every N frames (1: every frame; measuring "
@@ -83,8 +88,23 @@ int main(int argc, char** argv) {
     app.add_flag("--json", o.json, "Print a JSON summary on stdout at exit");
     CLI11_PARSE(app, argc, argv);
 
+    // The viewer streams: the RTIN yardstick (which reads the finest level once) is for the
+    // benchmark and terrain-render.
+    auto method = terrain::runtime::parseLodMethod(o.method);
+    if (!method || method.value() == terrain::runtime::LodMethod::Rtin) {
+        fmt::print(stderr, "terrain-view: --method: {}\n",
+                   method ? "rtin streams nothing; the viewer flies yusov2011, chunked-lod or "
+                            "uniform (terrain-render and terrain-bench draw rtin)"
+                          : method.error().message);
+        return 1;
+    }
     // A globe pyramid gets the globe's viewer (its controls and overlay are its own).
     if (auto manifest = terrain::io::readManifest(o.pyramid); manifest && manifest.value().globe) {
+        if (method.value() != terrain::runtime::LodMethod::Yusov2011) {
+            fmt::print(stderr, "terrain-view: {}: a globe pyramid; only yusov2011 draws globes\n",
+                       o.pyramid);
+            return 1;
+        }
         auto globe = terrain::view::GlobeViewer::create(o);
         if (!globe) {
             fmt::print(stderr, "terrain-view: {}\n", globe.error().message);

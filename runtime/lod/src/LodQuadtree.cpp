@@ -98,7 +98,7 @@ void LodQuadtree::scheduleLeaf(int index) {
 // A node whose children are all leaves may merge once ρ grows to ρ_merge = γ·Err·h/ε_c.
 void LodQuadtree::scheduleMergeIfCandidate(int index) {
     const Node& node = m_nodes[static_cast<std::size_t>(index)];
-    if (node.leaf()) return;
+    if (node.leaf() || m_options.splitToFinest) return;
     for (int i = 0; i < node.childCount; ++i) {
         if (!m_nodes[static_cast<std::size_t>(node.firstChild + i)].leaf()) return;
     }
@@ -156,7 +156,7 @@ void LodQuadtree::evaluateLeaf(int index) {
     ++m_stats.evaluations;
     if (!node.visible) return;  // the culling walk re-evaluates it when it comes into view
     const double error = screenError(node);
-    const bool wantsSplit = error > m_options.coarseErrorPx() &&
+    const bool wantsSplit = (m_options.splitToFinest || error > m_options.coarseErrorPx()) &&
                             node.id.level < m_geometry.layout().finestLevel() && !node.splitBlocked;
     if (wantsSplit && trySplit(index, error)) return;
     Node& again = m_nodes[static_cast<std::size_t>(index)];
@@ -173,6 +173,7 @@ void LodQuadtree::evaluateLeaf(int index) {
 }
 
 void LodQuadtree::evaluateMerge(int index) {
+    if (m_options.splitToFinest) return;  // the uniform grid merges only what leaves the view
     Node& node = m_nodes[static_cast<std::size_t>(index)];
     for (int i = 0; i < node.childCount; ++i) {
         if (!m_nodes[static_cast<std::size_t>(node.firstChild + i)].leaf())

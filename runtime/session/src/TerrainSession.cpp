@@ -11,10 +11,33 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+/// The quadtree rules of `method` over the caller's options.
+LodOptions lodOptionsFor(LodMethod method, LodOptions options) {
+    options.splitToFinest = method == LodMethod::Uniform;
+    if (method == LodMethod::ChunkedLod) {
+        // Ulrich 2002, "Rendering massive terrains using chunked level of detail control":
+        // a chunk is split while its geometric error δ — here Err(P), the largest vertical
+        // distance of its full mesh to the DEM's samples — projects to more than τ,
+        // ρ = δ · K / D with D the distance to the chunk's box. K · δ / D is Err_Scr(P) with
+        // γ = K, so the quadtree's test is Ulrich's at the whole τ (no share of it left to
+        // a fine stage), re-decided without hysteresis.
+        options.coarseShare = 1.0;
+        options.hysteresis = 1.0;
+    }
+    return options;
+}
+
+/// Chunked LOD and the uniform grid draw each patch as its full mesh.
+bool drawsFullPatches(LodMethod method) { return method != LodMethod::Yusov2011; }
+
 }  // namespace
 
 Result<std::unique_ptr<TerrainSession>> TerrainSession::open(const std::filesystem::path& pyramid,
                                                              const TerrainSessionOptions& options) {
+    if (options.method != LodMethod::Yusov2011 && options.method != LodMethod::ChunkedLod &&
+        options.method != LodMethod::Uniform)
+        return Error{std::string(lodMethodName(options.method)) +
+                     ": not a quadtree method (openLodStrategy opens it)"};
     auto streamer = TileStreamer::open(pyramid, options.streaming);
     if (!streamer) return streamer.error();
     if (streamer.value()->manifest().globe)
@@ -25,22 +48,37 @@ Result<std::unique_ptr<TerrainSession>> TerrainSession::open(const std::filesyst
     auto renderer = TerrainRenderer::create(streamer.value()->layout(),
                                             streamer.value()->pool().capacity(), options.renderer);
     if (!renderer) return Error{pyramid.string() + ": " + renderer.error().message};
-    return std::unique_ptr<TerrainSession>(
-        new TerrainSession(std::move(streamer).value(), std::move(renderer).value(), options.lod));
+    return std::unique_ptr<TerrainSession>(new TerrainSession(
+        std::move(streamer).value(), std::move(renderer).value(), options.method, options.lod));
 }
 
 TerrainSession::TerrainSession(std::unique_ptr<TileStreamer> streamer, TerrainRenderer renderer,
-                               const LodOptions& lod)
+                               LodMethod method, const LodOptions& lod)
     : m_streamer(std::move(streamer)),
       m_geometry(m_streamer->manifest()),
       m_renderer(std::move(renderer)),
-      m_tree(std::make_unique<LodQuadtree>(*m_streamer, m_geometry, lod)) {
+      m_tree(std::make_unique<LodQuadtree>(*m_streamer, m_geometry, lodOptionsFor(method, lod))),
+      m_method(method) {
     m_draws.reserve(static_cast<std::size_t>(m_streamer->pool().capacity()));
 }
 
 TerrainSession::~TerrainSession() {
     m_tree.reset();  // unpins its patches while the pool exists
 }
+
+void TerrainSession::setLodOptions(const LodOptions& options) {
+    m_tree->setOptions(lodOptionsFor(m_method, options));
+}
+
+void TerrainSession::setErrorPx(double errorPx) {
+    LodOptions options = m_tree->options();
+    options.errorPx = errorPx;
+    m_tree->setOptions(options);
+}
+
+std::uint64_t TerrainSession::loadsOutstanding() const { return m_streamer->loadsOutstanding(); }
+
+void TerrainSession::drain(std::chrono::milliseconds timeout) { m_streamer->drain(timeout); }
 
 void TerrainSession::restartLod() {
     const LodOptions options = m_tree->options();
@@ -65,6 +103,12 @@ const LodUpdateStats& TerrainSession::beginFrame(const Camera& camera) {
 }
 
 TerrainDrawStats TerrainSession::draw(const Camera& camera, const TerrainStyle& style) {
+    if (drawsFullPatches(m_method)) {
+        TerrainStyle full = style;
+        full.fixedTessFactor = m_geometry.layout().blockQuads();
+        m_lastDraw = m_renderer.draw(camera, m_geometry, m_streamer->pool(), m_draws, full);
+        return m_lastDraw;
+    }
     m_lastDraw = m_renderer.draw(camera, m_geometry, m_streamer->pool(), m_draws, style);
     return m_lastDraw;
 }
@@ -80,6 +124,8 @@ void TerrainSession::endFrame(FrameTelemetry& t) {
     t.triangles = m_lastDraw.triangles;
     t.gpuMs = m_lastDraw.drawCalls > 0 && m_lastDraw.gpuMs > 0.0 ? m_lastDraw.gpuMs
                                                                  : FrameTelemetry::kNoValue;
+    m_memoryBytes =
+        t.gpuLayersUsed * cache::GpuTilePool::bytesPerLayer(m_geometry.layout()) + t.cpuCacheBytes;
 }
 
 const TileFault* TerrainSession::fatalFault() const {

@@ -107,7 +107,7 @@ Result<ReferenceCapture> AccuracyProbe::renderReference(const Camera& camera,
     return capture;
 }
 
-LodCapture AccuracyProbe::captureLod(TerrainSession& session, const Camera& camera,
+LodCapture AccuracyProbe::captureLod(LodStrategy& session, const Camera& camera,
                                      const TerrainStyle& style) {
     TERRAIN_ASSERT(
         camera.viewportWidth == m_options.widthPx && camera.viewportHeight == m_options.heightPx,
@@ -176,7 +176,7 @@ Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapt
     return a;
 }
 
-Result<FrameAccuracy> AccuracyProbe::measure(TerrainSession& session, const Camera& camera,
+Result<FrameAccuracy> AccuracyProbe::measure(LodStrategy& session, const Camera& camera,
                                              const TerrainStyle& style) {
     const LodCapture lod = captureLod(session, camera, style);
     auto reference = renderReference(camera, referenceStyleOf(style));

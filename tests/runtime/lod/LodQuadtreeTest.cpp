@@ -119,6 +119,30 @@ TEST_F(LodQuadtreeTest, SettlesOnTheCutOfASelectionFromTheRoot) {
     EXPECT_EQ(ids(m_draws), ids(fromRoot));
 }
 
+TEST_F(LodQuadtreeTest, SplitToFinestDrawsTheUniformGridOfWhatIsInView) {
+    // The uniform grid (LodMethod::Uniform): every leaf in view at the finest level, from
+    // high above (where the error rule would draw the root alone) and after moving away.
+    // It holds every finest patch in view and their ancestors (the tree pins them): room
+    // for the whole DEM.
+    open({.capacity = 512});
+    const runtime::LodOptions options{.errorPx = 1000.0, .splitToFinest = true};
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry, options);
+    const int finest = m_residency->layout().finestLevel();
+    for (const Camera& c :
+         {camera(0.5, 0.5, 50000.0, 0.5, 0.6), camera(0.1, 0.1, 200.0, 0.9, 0.9)}) {
+        const LodUpdateStats settled = settle(c);
+        EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
+        EXPECT_EQ(settled.coveredFinestPatches, domain());
+        ASSERT_FALSE(m_draws.empty());
+        for (const PatchDraw& d : m_draws)
+            EXPECT_EQ(d.id.level, finest) << "patch " << d.id.x << "," << d.id.y;
+        // Nothing merges back while the camera rests.
+        const LodUpdateStats again = frame(c);
+        EXPECT_EQ(again.merges, 0u);
+        EXPECT_EQ(again.splits, 0u);
+    }
+}
+
 TEST_F(LodQuadtreeTest, StaticCameraChangesNothingAndCostsNothing) {
     m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry);
     const Camera c = camera(0.5, 0.5, 150.0, 0.5, 0.9);

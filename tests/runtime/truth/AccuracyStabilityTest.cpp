@@ -4,9 +4,11 @@
 // the measured screen-space error within ε + kRasterTolerancePx, for the full LOD and for
 // the coarse LOD alone (AccuracyScenes.h). Flat plains and triangle counts:
 // LodTriangleBudgetTest; holes while streaming with full views: NoHolesWhileStreamingTest
-// (teleports here add the reference's footprint, so views with sky count too).
+// (teleports here add the reference's footprint, so views with sky count too). The other LOD
+// methods fly the same poses, each held to what it promises (MethodSweep.h).
 #include "AccuracyScenes.h"
 #include "GlTestFixture.h"
+#include "MethodSweep.h"
 #include "TempFolder.h"
 #include "TerrainViewChecks.h"
 #include "terrain/io/DemReader.h"
@@ -96,6 +98,7 @@ TEST_F(AccuracyStabilityTest, ProceduralCliffSpikesLakeAndGrazingViews) {
     poses.push_back({"random full view", randomFullView(g, kWidth, kHeight, random)});
 
     sweep(pyramid, poses, "procedural", kWidth, kHeight, kErrorsPx);
+    sweepOtherMethods(pyramid, poses, "procedural", kWidth, kHeight, kErrorsPx);
 }
 
 /// Smooth hills with hashed noise of ±3 m, 30 m apart: terrain for the scenes the
@@ -160,6 +163,7 @@ TEST_F(AccuracyStabilityTest, NoDataHoles) {
                      groundPose(surface, kWidth, kHeight, 0.4, 0.45, 180.0, 0.0, 1.0)});
     poses.push_back({"whole terrain", wholeTerrainPose(g, kWidth, kHeight)});
     sweep(pyramid, poses, "no-data", kWidth, kHeight, kErrorsPx);
+    sweepOtherMethods(pyramid, poses, "no-data", kWidth, kHeight, kErrorsPx);
 }
 
 /// Heights of a coarse grid read at the wrong spacing (issue 16: a 5 km polar grid built at
@@ -201,6 +205,7 @@ TEST_F(AccuracyStabilityTest, NeedleForestOfExtremeRelief) {
          lookingAt(kWidth, kHeight, {among, groundHeightNear(surface, among.x, among.y) + 5.0},
                    {centre.x + 100.0, centre.y + 20.0, 2000.0})});
     sweep(pyramid, poses, "needles", kWidth, kHeight, kErrorsPx);
+    sweepOtherMethods(pyramid, poses, "needles", kWidth, kHeight, kErrorsPx);
 }
 
 TEST_F(AccuracyStabilityTest, TenThousandKilometresFromTheOrigin) {

@@ -47,6 +47,9 @@ struct LodOptions {
     /// Merge when Err_Scr of the parent < coarse ε / hysteresis (> 1): the band between the
     /// split and the merge thresholds keeps decisions stable.
     double hysteresis = 1.25;
+    /// Every leaf in view is split down to the finest level and nothing merges while in
+    /// view, whatever its error: the uniform full-resolution grid (LodMethod::Uniform).
+    bool splitToFinest = false;
 
     /// The coarse stage's threshold, pixels.
     double coarseErrorPx() const { return errorPx * coarseShare; }

@@ -11,12 +11,19 @@
 //
 // The caller owns the GL context (current on this thread), the framebuffer, the clock
 // and the frame/time columns of the telemetry (frame, time_s, frame_ms).
+//
+// It is the LodStrategy of the methods that stream patches through the quadtree and draw
+// them in the one tessellated draw: Yusov & Shevtsov 2011 (the default), chunked LOD
+// (Ulrich 2002: the same quadtree split at the whole τ, chunks drawn at full resolution)
+// and the uniform grid (every leaf split to the finest level, drawn at full resolution).
 #pragma once
 
 #include "terrain/base/Result.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/FrameTelemetry.h"
+#include "terrain/runtime/LodMethod.h"
 #include "terrain/runtime/LodQuadtree.h"
+#include "terrain/runtime/LodStrategy.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TerrainRenderer.h"
@@ -31,48 +38,62 @@
 namespace terrain::runtime {
 
 struct TerrainSessionOptions {
+    /// Yusov2011, ChunkedLod or Uniform (others are refused: openLodStrategy opens them).
+    LodMethod method = LodMethod::Yusov2011;
     TileStreamerOptions streaming;
     LodOptions lod;
     TerrainRendererOptions renderer;
 };
 
 /// Render thread only; destroy it before its GL context.
-class TerrainSession {
+class TerrainSession final : public LodStrategy {
 public:
     /// Opens the pyramid (errors name it), starts streaming, builds the renderer.
     static Result<std::unique_ptr<TerrainSession>> open(const std::filesystem::path& pyramid,
                                                         const TerrainSessionOptions& options);
-    ~TerrainSession();
+    ~TerrainSession() override;
     TerrainSession(const TerrainSession&) = delete;
     TerrainSession& operator=(const TerrainSession&) = delete;
 
     /// Starts a frame: takes finished reads, then (unless the LOD is frozen) updates the
     /// tree for `camera` and rebuilds the draw list. Allocates nothing once warm.
-    const LodUpdateStats& beginFrame(const Camera& camera);
+    const LodUpdateStats& beginFrame(const Camera& camera) override;
     /// Draws this frame's patches seen from `camera` into the bound framebuffer, whose
     /// depth must be cleared to 0 (reversed Z). Between beginFrame and endFrame.
-    TerrainDrawStats draw(const Camera& camera, const TerrainStyle& style);
+    /// Chunked LOD and the uniform grid draw every block at its patch's full resolution,
+    /// whatever `style` asks.
+    TerrainDrawStats draw(const Camera& camera, const TerrainStyle& style) override;
     /// Ends the frame and fills every column of `t` but frame, time_s and frame_ms (LOD
     /// and draw columns from this frame's beginFrame and its last draw).
-    void endFrame(FrameTelemetry& t);
+    void endFrame(FrameTelemetry& t) override;
 
     /// Runs frames (without drawing) for `camera` until no split waits for tiles and
     /// nothing is loading, so the next frame shows the settled view; false on timeout, or
     /// at once when fatalFault() says nothing can be drawn. Between endFrame and the next
     /// beginFrame. A frozen LOD is settled as it is.
-    bool settle(const Camera& camera, std::chrono::milliseconds timeout);
+    bool settle(const Camera& camera, std::chrono::milliseconds timeout) override;
 
     /// The fault no frame can draw around: the root patch failed to read, so there is no
     /// ancestor to draw in place of anything and every frame would be empty. Programs stop
     /// with its message (it names the shard and the patch); nullptr while there is none.
     /// Any other failed patch is drawn by its ancestor.
-    const TileFault* fatalFault() const;
+    const TileFault* fatalFault() const override;
+
+    LodMethod method() const override { return m_method; }
+    /// ε (Yusov), τ (chunked LOD); the uniform grid has no threshold.
+    void setErrorPx(double errorPx) override;
+    std::uint64_t loadsOutstanding() const override;
+    void drain(std::chrono::milliseconds timeout) override;
+    /// GPU layers in use and the CPU cache's bytes, as of the last endFrame.
+    std::uint64_t memoryBytes() const override { return m_memoryBytes; }
 
     /// A frozen LOD keeps its draw list (and the tree) as they are: beginFrame streams but
     /// decides nothing, so the cut can be inspected from another camera.
     void setLodFrozen(bool frozen) { m_lodFrozen = frozen; }
     bool lodFrozen() const { return m_lodFrozen; }
-    void setLodOptions(const LodOptions& options) { m_tree->setOptions(options); }
+    /// The method's own rules (chunked LOD's coarse share, the uniform grid's splits) are
+    /// applied over `options`.
+    void setLodOptions(const LodOptions& options);
     /// Drops the LOD tree and the layers it pins; the next frame selects from the root
     /// again. The stress test calls it at the end to check that no layer stays pinned.
     void restartLod();
@@ -81,17 +102,17 @@ public:
     /// This frame's draw list (every patch resident, skirt depths assigned).
     std::span<const PatchDraw> draws() const { return m_draws; }
     const LodUpdateStats& lodStats() const { return m_lodStats; }
-    double lodUpdateUs() const { return m_lodUpdateUs; }
+    double lodUpdateUs() const override { return m_lodUpdateUs; }
 
     TileStreamer& streamer() { return *m_streamer; }
     const TileStreamer& streamer() const { return *m_streamer; }
     const LodQuadtree& tree() const { return *m_tree; }
-    const TerrainGeometry& geometry() const { return m_geometry; }
+    const TerrainGeometry& geometry() const override { return m_geometry; }
     TerrainRenderer& renderer() { return m_renderer; }
 
 private:
     TerrainSession(std::unique_ptr<TileStreamer> streamer, TerrainRenderer renderer,
-                   const LodOptions& lod);
+                   LodMethod method, const LodOptions& lod);
 
     // Declared in destruction order's reverse: the tree holds pins in the streamer's pool.
     std::unique_ptr<TileStreamer> m_streamer;
@@ -103,6 +124,8 @@ private:
     LodUpdateStats m_lodStats;
     double m_lodUpdateUs = 0.0;
     TerrainDrawStats m_lastDraw;
+    LodMethod m_method = LodMethod::Yusov2011;
+    std::uint64_t m_memoryBytes = 0;
     bool m_lodFrozen = false;
 };
 

@@ -12,6 +12,7 @@
 #include "terrain/runtime/FrameImages.h"
 #include "terrain/runtime/FullResolutionSurface.h"
 #include "terrain/runtime/ImageComparison.h"
+#include "terrain/runtime/LodStrategy.h"
 #include "terrain/runtime/ReferenceRenderer.h"
 #include "terrain/runtime/ScreenSpaceError.h"
 #include "terrain/runtime/TerrainRenderer.h"
@@ -88,9 +89,9 @@ public:
     /// Draws and reads back the ground truth for `camera` (viewport = the options' size).
     Result<ReferenceCapture> renderReference(const Camera& camera, const ReferenceStyle& style);
 
-    /// Draws the session's frame for `camera` (between session.beginFrame and endFrame)
-    /// with `style`, then without skirts, and reads both back.
-    LodCapture captureLod(TerrainSession& session, const Camera& camera, const TerrainStyle& style);
+    /// Draws the strategy's frame for `camera` (between its beginFrame and endFrame) with
+    /// `style`, then without skirts, and reads both back. Any LOD method (LodStrategy.h).
+    LodCapture captureLod(LodStrategy& session, const Camera& camera, const TerrainStyle& style);
 
     /// The measures of `lod` against `reference` (same camera); with the previous frame's
     /// captures (same sequence of cameras) also popping. `thresholdPx` (ε) counts the
@@ -102,7 +103,7 @@ public:
 
     /// captureLod, renderReference and compare for one frame (no popping), thresholdPx =
     /// style.errorPx.
-    Result<FrameAccuracy> measure(TerrainSession& session, const Camera& camera,
+    Result<FrameAccuracy> measure(LodStrategy& session, const Camera& camera,
                                   const TerrainStyle& style);
 
     FullResolutionSurface& surface() { return m_surface; }

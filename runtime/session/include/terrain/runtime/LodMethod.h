@@ -1,0 +1,58 @@
+// LodMethod: the LOD strategies a frame can be drawn with (DESIGN.md, "LOD strategies and
+// comparison methods"), by the names the programs' --method and --methods flags take. Every
+// method selects with its own published metric and is measured with the same harness
+// (docs/lod-methods.md).
+#pragma once
+
+#include "terrain/base/Result.h"
+
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace terrain::runtime {
+
+enum class LodMethod {
+    /// Yusov & Shevtsov 2011: patch quadtree (coarse) + per-edge tessellation from block
+    /// errors (fine); ε split between the two stages. The default.
+    Yusov2011,
+    /// Ulrich 2002, "Rendering massive terrains using chunked level of detail control": the
+    /// same quadtree of chunks, a chunk split while its geometric error projects to more than
+    /// τ; each chunk drawn as its full mesh with skirts, no fine stage.
+    ChunkedLod,
+    /// The uniform full-resolution grid: every finest-level patch in view, fully tessellated.
+    Uniform,
+    /// A view-dependent right-triangulated irregular network built on the CPU from the
+    /// full-resolution samples with exact per-vertex errors, kept conforming by nested
+    /// errors and bounding spheres (Lindstrom & Pascucci 2002): the fewest-triangles
+    /// yardstick.
+    Rtin,
+};
+
+struct LodMethodInfo {
+    LodMethod method;
+    std::string_view name;     ///< as --method takes it
+    std::string_view summary;  ///< one line for --help and reports
+    /// What the method promises about the measured error at threshold ε ("bounded": ≤ ε
+    /// plus the rasterisation tolerance; "none": the threshold steers, it does not bound).
+    bool boundsError;
+    /// Draws skirts under its patch edges (Ulrich's, Yusov §5), which also cover the
+    /// sub-pixel gaps a frame can show where triangles are seen edge-on or cut by the near
+    /// plane. A method without them may show such pixels although its mesh is conforming.
+    bool skirts;
+};
+
+/// Every method, the default first.
+std::span<const LodMethodInfo> lodMethods();
+const LodMethodInfo& lodMethodInfo(LodMethod method);
+inline std::string_view lodMethodName(LodMethod method) { return lodMethodInfo(method).name; }
+
+/// A method by name; the error lists the names there are.
+Result<LodMethod> parseLodMethod(std::string_view name);
+/// A comma-separated list of names, or "all"; no repeats, at least one.
+Result<std::vector<LodMethod>> parseLodMethods(std::string_view list);
+/// "yusov2011, chunked-lod, …": for help texts.
+std::string lodMethodNames();
+
+}  // namespace terrain::runtime

@@ -1,0 +1,61 @@
+// LodStrategy: what chooses and draws a frame's geometry, behind one interface, so the
+// programs (terrain-bench, terrain-render, the tests) fly, draw and measure every LOD method
+// the same way (DESIGN.md, "LOD strategies and comparison methods"). The frame protocol is
+// TerrainSession's:
+//
+//   beginFrame(camera)   the method decides the frame's geometry for `camera`;
+//   draw(camera, style)  draws it into the bound framebuffer (depth cleared to 0, reversed
+//                        Z), any number of times;
+//   endFrame(t)          fills the streaming, cache, LOD and draw columns of `t`.
+//
+// The pyramid, the camera, the telemetry and the accuracy harness (AccuracyProbe) are
+// shared; each method keeps its own selection and drawing. Render thread only.
+#pragma once
+
+#include "terrain/runtime/Camera.h"
+#include "terrain/runtime/FrameTelemetry.h"
+#include "terrain/runtime/LodMethod.h"
+#include "terrain/runtime/LodQuadtree.h"
+#include "terrain/runtime/TerrainGeometry.h"
+#include "terrain/runtime/TerrainRenderer.h"
+
+#include <chrono>
+#include <cstdint>
+
+namespace terrain::runtime {
+
+struct TileFault;
+
+class LodStrategy {
+public:
+    virtual ~LodStrategy() = default;
+
+    virtual LodMethod method() const = 0;
+    virtual const TerrainGeometry& geometry() const = 0;
+
+    /// The method's own threshold, pixels: ε for Yusov, τ for chunked LOD and the RTIN.
+    /// Methods without one (the uniform grid) ignore it.
+    virtual void setErrorPx(double errorPx) = 0;
+
+    virtual const LodUpdateStats& beginFrame(const Camera& camera) = 0;
+    virtual TerrainDrawStats draw(const Camera& camera, const TerrainStyle& style) = 0;
+    virtual void endFrame(FrameTelemetry& t) = 0;
+    /// Microseconds the last beginFrame spent deciding the geometry.
+    virtual double lodUpdateUs() const = 0;
+
+    /// Runs frames without drawing until the view's data is in (TerrainSession::settle);
+    /// between endFrame and the next beginFrame. Methods that stream nothing return true.
+    virtual bool settle(const Camera& camera, std::chrono::milliseconds timeout) = 0;
+    /// Reads requested and not yet finished (0 for methods that stream nothing).
+    virtual std::uint64_t loadsOutstanding() const = 0;
+    /// The fault no frame can draw around (TerrainSession::fatalFault), or nullptr.
+    virtual const TileFault* fatalFault() const = 0;
+    /// Waits up to `timeout` for reads in flight, before the strategy is destroyed.
+    virtual void drain(std::chrono::milliseconds timeout) = 0;
+
+    /// Bytes the method holds to draw: GPU tile layers in use and the CPU tile cache for the
+    /// streaming methods; meshes, buffers and CPU arrays for the others. After endFrame.
+    virtual std::uint64_t memoryBytes() const = 0;
+};
+
+}  // namespace terrain::runtime

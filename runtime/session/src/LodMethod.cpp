@@ -1,0 +1,86 @@
+// LodMethod: the table of methods and the parsing of their names.
+#include "terrain/runtime/LodMethod.h"
+
+#include "terrain/base/Assert.h"
+
+#include <algorithm>
+#include <array>
+
+namespace terrain::runtime {
+namespace {
+
+constexpr std::array kMethods{
+    LodMethodInfo{LodMethod::Yusov2011, "yusov2011",
+                  "Yusov & Shevtsov 2011: patch quadtree + per-edge hardware tessellation from "
+                  "block errors",
+                  true, true},
+    LodMethodInfo{LodMethod::ChunkedLod, "chunked-lod",
+                  "Ulrich 2002: chunk quadtree split on projected geometric error, full-resolution "
+                  "chunks with skirts",
+                  true, true},
+    LodMethodInfo{LodMethod::Uniform, "uniform",
+                  "the uniform full-resolution grid: every finest patch in view, fully tessellated",
+                  true, true},
+    LodMethodInfo{LodMethod::Rtin, "rtin",
+                  "view-dependent RTIN from the full-resolution samples, exact per-vertex errors "
+                  "(the fewest-triangles yardstick)",
+                  true, false},
+};
+
+std::string_view trimmed(std::string_view s) {
+    while (!s.empty() && s.front() == ' ') s.remove_prefix(1);
+    while (!s.empty() && s.back() == ' ') s.remove_suffix(1);
+    return s;
+}
+
+}  // namespace
+
+std::span<const LodMethodInfo> lodMethods() { return kMethods; }
+
+const LodMethodInfo& lodMethodInfo(LodMethod method) {
+    for (const LodMethodInfo& info : kMethods) {
+        if (info.method == method) return info;
+    }
+    TERRAIN_ASSERT(false, "LodMethod: a method missing from the table");
+    return kMethods.front();
+}
+
+std::string lodMethodNames() {
+    std::string names;
+    for (const LodMethodInfo& info : kMethods) {
+        if (!names.empty()) names += ", ";
+        names += info.name;
+    }
+    return names;
+}
+
+Result<LodMethod> parseLodMethod(std::string_view name) {
+    const std::string_view wanted = trimmed(name);
+    for (const LodMethodInfo& info : kMethods) {
+        if (info.name == wanted) return info.method;
+    }
+    return Error{"unknown LOD method '" + std::string(wanted) + "' (methods: " + lodMethodNames() +
+                 ")"};
+}
+
+Result<std::vector<LodMethod>> parseLodMethods(std::string_view list) {
+    std::vector<LodMethod> methods;
+    if (trimmed(list) == "all") {
+        for (const LodMethodInfo& info : kMethods) methods.push_back(info.method);
+        return methods;
+    }
+    while (true) {
+        const std::size_t comma = list.find(',');
+        auto method = parseLodMethod(list.substr(0, comma));
+        if (!method) return method.error();
+        if (std::find(methods.begin(), methods.end(), method.value()) != methods.end())
+            return Error{"LOD method '" + std::string(lodMethodName(method.value())) +
+                         "' given twice"};
+        methods.push_back(method.value());
+        if (comma == std::string_view::npos) break;
+        list.remove_prefix(comma + 1);
+    }
+    return methods;
+}
+
+}  // namespace terrain::runtime

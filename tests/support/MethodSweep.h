@@ -1,0 +1,101 @@
+// sweepOtherMethods: the stability suite's poses flown by every LOD method besides the
+// default (LodMethod.h), each held only to what it promises: every method settles, draws
+// no crack or hole and no NaN; a method that bounds its error (LodMethodInfo::boundsError)
+// stays within ε + kRasterTolerancePx. What a method does not promise is printed, not
+// asserted, so a failing case shows in the log as it shows in terrain-bench's report.
+#pragma once
+
+#include "AccuracyScenes.h"
+#include "terrain/runtime/LodStrategyFactory.h"
+
+#include <gtest/gtest.h>
+
+#include <iostream>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace terrain::test {
+
+/// One settled frame of `strategy` at `errorPx`, measured by `probe`.
+inline SettledMeasure measureSettledStrategy(runtime::LodStrategy& strategy,
+                                             runtime::AccuracyProbe& probe,
+                                             const runtime::Camera& camera, double errorPx) {
+    SettledMeasure m;
+    strategy.setErrorPx(errorPx);
+    m.settled = strategy.settle(camera, std::chrono::seconds(60));
+    EXPECT_TRUE(m.settled) << "the view never settled";
+    m.lod = strategy.beginFrame(camera);
+    runtime::TerrainStyle style;
+    style.errorPx = errorPx;
+    style.fogDensityPerM = 0.0f;
+    style.measure = true;
+    const runtime::LodCapture capture = probe.captureLod(strategy, camera, style);
+    m.triangles = capture.draw.triangles;
+    m.patches = static_cast<std::uint64_t>(capture.draw.instances);
+    runtime::FrameTelemetry t;
+    strategy.endFrame(t);
+    auto reference = probe.renderReference(camera, runtime::referenceStyleOf(style));
+    EXPECT_TRUE(reference) << reference.error().message;
+    if (!reference) return m;
+    auto accuracy = probe.compare(camera, capture, reference.value(), errorPx);
+    EXPECT_TRUE(accuracy) << accuracy.error().message;
+    if (accuracy) m.accuracy = accuracy.value();
+    return m;
+}
+
+inline void sweepOtherMethods(const std::filesystem::path& pyramid, const std::vector<Pose>& poses,
+                              const std::string& scene, int widthPx, int heightPx,
+                              std::span<const double> errorsPx) {
+    auto probe =
+        runtime::AccuracyProbe::create(pyramid, {.widthPx = widthPx, .heightPx = heightPx});
+    ASSERT_TRUE(probe) << probe.error().message;
+    for (const runtime::LodMethodInfo& method : runtime::lodMethods()) {
+        if (method.method == runtime::LodMethod::Yusov2011) continue;  // sweep() flies it
+        runtime::TerrainSessionOptions options = roomySessionOptions(errorsPx.front());
+        options.method = method.method;
+        auto opened = runtime::openLodStrategy(pyramid, options);
+        ASSERT_TRUE(opened) << opened.error().message;
+        runtime::LodStrategy& strategy = *opened.value();
+        int frames = 0, over = 0;
+        std::uint64_t cracks = 0;
+        double worstRatio = 0.0;
+        for (const Pose& pose : poses) {
+            for (const double errorPx : errorsPx) {
+                const std::string what = scene + " / " + std::string(method.name) + " / " +
+                                         pose.name + " at ε = " + std::to_string(errorPx);
+                const SettledMeasure m =
+                    measureSettledStrategy(strategy, *probe.value(), pose.camera, errorPx);
+                std::cout << "[          ] " << what << ": " << m.triangles << " triangles; "
+                          << describe(m.accuracy) << "\n";
+                if (method.skirts) {
+                    expectStable(what, pose.camera, m);
+                } else {
+                    EXPECT_TRUE(m.settled) << what;
+                    EXPECT_TRUE(m.accuracy.finite()) << what;
+                    EXPECT_GT(m.accuracy.error.pixels, 0u) << what << ": nothing measured";
+                    EXPECT_EQ(m.accuracy.error.outsidePixels, 0u) << what;
+                    EXPECT_GT(m.triangles, 0u) << what;
+                    cracks += m.accuracy.crackPixels;
+                }
+                ++frames;
+                over += m.accuracy.error.maxPx > errorPx + kRasterTolerancePx ? 1 : 0;
+                worstRatio = std::max(worstRatio, m.accuracy.error.maxPx / errorPx);
+                if (method.boundsError) {
+                    EXPECT_LE(m.accuracy.error.maxPx, errorPx + kRasterTolerancePx)
+                        << what << ", " << describe(pose.camera) << ": " << describe(m.accuracy);
+                }
+            }
+        }
+        strategy.drain(std::chrono::seconds(10));
+        std::cout << "[          ] " << scene << " / " << method.name << ": " << over << " of "
+                  << frames << " frames over ε + " << kRasterTolerancePx
+                  << " px; largest error / ε " << worstRatio;
+        if (!method.skirts) std::cout << "; " << cracks << " crack pixels (no skirts)";
+        std::cout << "\n";
+        ::testing::Test::RecordProperty(
+            scene + "_" + std::string(method.name) + "_frames_over_threshold", over);
+    }
+}
+
+}  // namespace terrain::test
