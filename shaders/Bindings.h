@@ -16,6 +16,8 @@
 // Texture units of the terrain draw (the GPU tile pool's texture arrays).
 #define TERRAIN_BINDING_HEIGHTS 0
 #define TERRAIN_BINDING_BLOCK_ERRORS 1
+// Valdetaro et al. 2011 (LodMethod::Valdetaro2011): per tile HAM_max, h_max and its texel.
+#define TERRAIN_BINDING_VALDETARO_TILES 2
 
 // Shader storage blocks.
 #define TERRAIN_BINDING_PATCH_INSTANCES 0

@@ -61,6 +61,7 @@ struct BenchOptions {
     std::string reportDir;
     bool noSettle = false;
     bool coarseOnly = false;
+    runtime::ValdetaroParameters valdetaro;
     double tolerancePx = 0.05;
     tools::StreamingBudgets budgets{
         .cpuCacheMiB = 256.0, .gpuLayers = 1024, .uploadMiBPerFrame = 64.0};
@@ -188,6 +189,7 @@ int run(const BenchOptions& o, const char* argv0) {
         for (const double threshold : o.thresholdsPx) {
             sessionOptions.method = method;
             sessionOptions.lod.errorPx = threshold;
+            sessionOptions.valdetaro = o.valdetaro;
             auto opened = runtime::openLodStrategy(o.pyramid, sessionOptions);
             if (!opened) return fail(opened.error().message);
             ThresholdRun r;
@@ -377,6 +379,9 @@ int run(const BenchOptions& o, const char* argv0) {
         {"tolerance_px", o.tolerancePx},
         {"methods", methodNames(runs)},
         {"method_info", methodInfo(runs)},
+        {"valdetaro",
+         {{"ham_gain", o.valdetaro.hamGain},
+          {"pixels_per_sample_at_d_max", o.valdetaro.pixelsPerSampleAtDMax}}},
         {"output_dir", outputDir.string()},
         {"gpu_ms_source", gpuMsSource},
         {"gpu_ms_note", llvmpipe ? "llvmpipe rasterises on the CPU: gpu_ms is the CPU time of "
@@ -460,6 +465,14 @@ int main(int argc, char** argv) {
                    "LOD methods to fly, comma-separated, or 'all' (docs/lod-methods.md): " +
                        runtime::lodMethodNames())
         ->capture_default_str();
+    app.add_option("--valdetaro-gain", o.valdetaro.hamGain,
+                   "valdetaro2011: g(HAM) = gain · √HAM_max, its T_max (§5.1)")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    app.add_option("--valdetaro-dmax-px", o.valdetaro.pixelsPerSampleAtDMax,
+                   "valdetaro2011: d_max (§5.3) where a DEM sample spans this many pixels")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
     app.add_flag("--coarse-only", o.coarseOnly,
                  "Draw every block at its patch's full resolution (no fine LOD): the coarse LOD's "
                  "own error; method yusov2011-coarse-only");

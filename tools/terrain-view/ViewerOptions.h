@@ -26,7 +26,7 @@ struct ViewerOptions {
     bool vsync = true;
     bool hideOverlay = false;
     double errorPx = 2.0;
-    /// A streaming LOD method (LodMethod.h): yusov2011, chunked-lod or uniform.
+    /// A streaming LOD method (LodMethod.h): every method but the RTIN.
     std::string method = "yusov2011";
     tools::StreamingBudgets budgets{
         .cpuCacheMiB = 256.0, .gpuLayers = 1024, .uploadMiBPerFrame = 16.0};

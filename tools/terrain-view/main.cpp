@@ -68,7 +68,8 @@ int main(int argc, char** argv) {
         ->capture_default_str()
         ->check(CLI::Range(0.1, 64.0));
     app.add_option("--method", o.method,
-                   "LOD method (docs/lod-methods.md): yusov2011, chunked-lod or uniform (the "
+                   "LOD method (docs/lod-methods.md): yusov2011, chunked-lod, uniform or "
+                   "valdetaro2011 (the "
                    "methods that stream)")
         ->capture_default_str();
     terrain::tools::addStreamingBudgetFlags(app, o.budgets);
@@ -93,8 +94,8 @@ int main(int argc, char** argv) {
     auto method = terrain::runtime::parseLodMethod(o.method);
     if (!method || method.value() == terrain::runtime::LodMethod::Rtin) {
         fmt::print(stderr, "terrain-view: --method: {}\n",
-                   method ? "rtin streams nothing; the viewer flies yusov2011, chunked-lod or "
-                            "uniform (terrain-render and terrain-bench draw rtin)"
+                   method ? "rtin streams nothing; the viewer flies the streaming methods "
+                            "(terrain-render and terrain-bench draw rtin)"
                           : method.error().message);
         return 1;
     }

@@ -21,6 +21,10 @@ constexpr std::array kMethods{
     LodMethodInfo{LodMethod::Uniform, "uniform",
                   "the uniform full-resolution grid: every finest patch in view, fully tessellated",
                   true, true},
+    LodMethodInfo{LodMethod::Valdetaro2011, "valdetaro2011",
+                  "Valdetaro et al. 2011: flat grid of tiles, per-tile hardware tessellation from "
+                  "its height-acceleration map, screen error and distance",
+                  false, false},
     LodMethodInfo{LodMethod::Rtin, "rtin",
                   "view-dependent RTIN from the full-resolution samples, exact per-vertex errors "
                   "(the fewest-triangles yardstick)",

@@ -2,7 +2,9 @@
 #include "terrain/runtime/TerrainSession.h"
 
 #include "terrain/base/Assert.h"
+#include "terrain/io/PyramidReader.h"
 #include "terrain/runtime/SkirtDepth.h"
+#include "terrain/runtime/ValdetaroTiles.h"
 
 #include <utility>
 
@@ -13,7 +15,8 @@ using Clock = std::chrono::steady_clock;
 
 /// The quadtree rules of `method` over the caller's options.
 LodOptions lodOptionsFor(LodMethod method, LodOptions options) {
-    options.splitToFinest = method == LodMethod::Uniform;
+    // The uniform grid and Valdetaro's flat grid of tiles: the finest level in view.
+    options.splitToFinest = method == LodMethod::Uniform || method == LodMethod::Valdetaro2011;
     if (method == LodMethod::ChunkedLod) {
         // Ulrich 2002, "Rendering massive terrains using chunked level of detail control":
         // a chunk is split while its geometric error δ — here Err(P), the largest vertical
@@ -28,14 +31,16 @@ LodOptions lodOptionsFor(LodMethod method, LodOptions options) {
 }
 
 /// Chunked LOD and the uniform grid draw each patch as its full mesh.
-bool drawsFullPatches(LodMethod method) { return method != LodMethod::Yusov2011; }
+bool drawsFullPatches(LodMethod method) {
+    return method == LodMethod::ChunkedLod || method == LodMethod::Uniform;
+}
 
 }  // namespace
 
 Result<std::unique_ptr<TerrainSession>> TerrainSession::open(const std::filesystem::path& pyramid,
                                                              const TerrainSessionOptions& options) {
     if (options.method != LodMethod::Yusov2011 && options.method != LodMethod::ChunkedLod &&
-        options.method != LodMethod::Uniform)
+        options.method != LodMethod::Uniform && options.method != LodMethod::Valdetaro2011)
         return Error{std::string(lodMethodName(options.method)) +
                      ": not a quadtree method (openLodStrategy opens it)"};
     auto streamer = TileStreamer::open(pyramid, options.streaming);
@@ -48,15 +53,31 @@ Result<std::unique_ptr<TerrainSession>> TerrainSession::open(const std::filesyst
     auto renderer = TerrainRenderer::create(streamer.value()->layout(),
                                             streamer.value()->pool().capacity(), options.renderer);
     if (!renderer) return Error{pyramid.string() + ": " + renderer.error().message};
+    std::optional<ValdetaroRenderer> valdetaro;
+    if (options.method == LodMethod::Valdetaro2011) {
+        // The paper's preprocessing (§6.1–6.2), once, from the finest level.
+        auto reader = io::PyramidReader::open(pyramid);
+        if (!reader) return reader.error();
+        auto tiles = analyseValdetaroTiles(reader.value());
+        if (!tiles) return tiles.error();
+        auto drawn = ValdetaroRenderer::create(streamer.value()->layout(),
+                                               streamer.value()->pool().capacity(),
+                                               tiles.value(), options.valdetaro);
+        if (!drawn) return Error{pyramid.string() + ": " + drawn.error().message};
+        valdetaro.emplace(std::move(drawn).value());
+    }
     return std::unique_ptr<TerrainSession>(new TerrainSession(
-        std::move(streamer).value(), std::move(renderer).value(), options.method, options.lod));
+        std::move(streamer).value(), std::move(renderer).value(), std::move(valdetaro),
+        options.method, options.lod));
 }
 
 TerrainSession::TerrainSession(std::unique_ptr<TileStreamer> streamer, TerrainRenderer renderer,
-                               LodMethod method, const LodOptions& lod)
+                               std::optional<ValdetaroRenderer> valdetaro, LodMethod method,
+                               const LodOptions& lod)
     : m_streamer(std::move(streamer)),
       m_geometry(m_streamer->manifest()),
       m_renderer(std::move(renderer)),
+      m_valdetaro(std::move(valdetaro)),
       m_tree(std::make_unique<LodQuadtree>(*m_streamer, m_geometry, lodOptionsFor(method, lod))),
       m_method(method) {
     m_draws.reserve(static_cast<std::size_t>(m_streamer->pool().capacity()));
@@ -103,6 +124,10 @@ const LodUpdateStats& TerrainSession::beginFrame(const Camera& camera) {
 }
 
 TerrainDrawStats TerrainSession::draw(const Camera& camera, const TerrainStyle& style) {
+    if (m_valdetaro) {
+        m_lastDraw = m_valdetaro->draw(camera, m_geometry, m_streamer->pool(), m_draws, style);
+        return m_lastDraw;
+    }
     if (drawsFullPatches(m_method)) {
         TerrainStyle full = style;
         full.fixedTessFactor = m_geometry.layout().blockQuads();

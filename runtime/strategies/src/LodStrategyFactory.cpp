@@ -13,7 +13,8 @@ Result<std::unique_ptr<LodStrategy>> openLodStrategy(const std::filesystem::path
     switch (options.method) {
         case LodMethod::Yusov2011:
         case LodMethod::ChunkedLod:
-        case LodMethod::Uniform: {
+        case LodMethod::Uniform:
+        case LodMethod::Valdetaro2011: {
             auto session = TerrainSession::open(pyramid, options);
             if (!session) return named(session.error());
             return std::unique_ptr<LodStrategy>(std::move(session).value());

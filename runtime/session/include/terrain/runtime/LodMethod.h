@@ -23,6 +23,10 @@ enum class LodMethod {
     ChunkedLod,
     /// The uniform full-resolution grid: every finest-level patch in view, fully tessellated.
     Uniform,
+    /// Valdetaro et al. 2011, local parallel tessellation: a flat grid of tiles (the finest
+    /// patches, cut in tiles of 64 quads) with no hierarchy, each tile's factors from its
+    /// height-acceleration map (Sobel of Sobel), its screen error and its distance (§4–5).
+    Valdetaro2011,
     /// A view-dependent right-triangulated irregular network built on the CPU from the
     /// full-resolution samples with exact per-vertex errors, kept conforming by nested
     /// errors and bounding spheres (Lindstrom & Pascucci 2002): the fewest-triangles

@@ -15,7 +15,9 @@
 // It is the LodStrategy of the methods that stream patches through the quadtree and draw
 // them in the one tessellated draw: Yusov & Shevtsov 2011 (the default), chunked LOD
 // (Ulrich 2002: the same quadtree split at the whole τ, chunks drawn at full resolution)
-// and the uniform grid (every leaf split to the finest level, drawn at full resolution).
+// the uniform grid (every leaf split to the finest level, drawn at full resolution) and
+// Valdetaro et al. 2011 (the same finest-level grid, each patch cut into the paper's tiles
+// and drawn by ValdetaroRenderer).
 #pragma once
 
 #include "terrain/base/Result.h"
@@ -28,18 +30,22 @@
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TerrainRenderer.h"
 #include "terrain/runtime/TileStreamer.h"
+#include "terrain/runtime/ValdetaroRenderer.h"
 
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
 namespace terrain::runtime {
 
 struct TerrainSessionOptions {
-    /// Yusov2011, ChunkedLod or Uniform (others are refused: openLodStrategy opens them).
+    /// Yusov2011, ChunkedLod, Uniform or Valdetaro2011 (others are refused:
+    /// openLodStrategy opens them).
     LodMethod method = LodMethod::Yusov2011;
+    ValdetaroParameters valdetaro;  ///< Valdetaro2011 only
     TileStreamerOptions streaming;
     LodOptions lod;
     TerrainRendererOptions renderer;
@@ -112,12 +118,14 @@ public:
 
 private:
     TerrainSession(std::unique_ptr<TileStreamer> streamer, TerrainRenderer renderer,
-                   LodMethod method, const LodOptions& lod);
+                   std::optional<ValdetaroRenderer> valdetaro, LodMethod method,
+                   const LodOptions& lod);
 
     // Declared in destruction order's reverse: the tree holds pins in the streamer's pool.
     std::unique_ptr<TileStreamer> m_streamer;
     TerrainGeometry m_geometry;
     TerrainRenderer m_renderer;
+    std::optional<ValdetaroRenderer> m_valdetaro;  // Valdetaro2011 draws with it
     std::unique_ptr<LodQuadtree> m_tree;
 
     std::vector<PatchDraw> m_draws;
