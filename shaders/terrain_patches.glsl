@@ -11,7 +11,7 @@ struct PatchInstance {
     // x: Err(P), metres (Yusov §4); y: skirt depth, metres: the CPU's bound on the Λ of
     // any neighbouring patch (SkirtDepth.h); z, w: the patch's min and max height, metres.
     vec4 errors;
-    ivec4 layerLevel;  // x: texture-array layer, y: level
+    ivec4 layerLevel;  // x: texture-array layer, y: level, z, w: the patch's x, y at its level
 };
 
 layout(std430, binding = TERRAIN_BINDING_PATCH_INSTANCES) readonly buffer PatchInstances {

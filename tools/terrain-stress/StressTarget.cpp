@@ -101,8 +101,7 @@ Result<std::unique_ptr<StressTarget>> StressTarget::open(const StressTargetOptio
     if (o.method == runtime::LodMethod::Rtin)
         return Error{o.pyramid +
                      ": --method rtin streams nothing (it reads the finest level once): the "
-                     "stress test flies the streaming methods (yusov2011, chunked-lod, uniform, "
-                     "valdetaro2011)"};
+                     "stress test flies the streaming methods (every method but rtin)"};
     if (manifest.value().globe && o.method != runtime::LodMethod::Yusov2011)
         return Error{o.pyramid + ": a globe pyramid; only yusov2011 draws globes (--method " +
                      std::string(runtime::lodMethodName(o.method)) +

@@ -68,9 +68,7 @@ int main(int argc, char** argv) {
         ->capture_default_str()
         ->check(CLI::Range(0.1, 64.0));
     app.add_option("--method", o.method,
-                   "LOD method (docs/lod-methods.md): yusov2011, chunked-lod, uniform or "
-                   "valdetaro2011 (the "
-                   "methods that stream)")
+                   "LOD method (docs/lod-methods.md): any but rtin, which streams nothing")
         ->capture_default_str();
     terrain::tools::addStreamingBudgetFlags(app, o.budgets);
     app.add_option("--measure-every", o.measureEvery,

@@ -40,7 +40,7 @@ Result<TerrainRenderer> TerrainRenderer::create(const io::PyramidLayout& layout,
     r.m_blocksPerSide = layout.blocksPerSide();
     r.m_blockQuads = layout.blockQuads();
     r.m_instances =
-        gl::Buffer::create(sizeof(PatchInstance) * static_cast<std::size_t>(maxInstances),
+        gl::Buffer::create(sizeof(PatchInstanceRecord) * static_cast<std::size_t>(maxInstances),
                            GL_DYNAMIC_STORAGE_BIT, "terrain patch instances");
     if (options.recordTessFactors) {
         r.m_tessFactors = gl::Buffer::create(
@@ -79,19 +79,7 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
     // (terrainPositionM).
     const io::PyramidLayout& layout = geometry.layout();
     const glm::dvec2 anchor = setCameraFrameUniforms(m_program, camera, geometry);
-    m_staging.clear();
-    for (const PatchDraw& p : patches) {
-        TERRAIN_ASSERT(pool.isResident(p.id) && pool.layerOf(p.id) == p.layer,
-                       "TerrainRenderer: drawing a patch that is not resident on its layer");
-        const io::PatchInfo& info = *pool.info(p.id);
-        const std::int64_t step = layout.levelStep(p.id.level);
-        const double originX = static_cast<double>(layout.patchOriginX(p.id) * step) - anchor.x;
-        const double originY = static_cast<double>(layout.patchOriginY(p.id) * step) - anchor.y;
-        m_staging.push_back({{static_cast<float>(originX), static_cast<float>(originY),
-                              static_cast<float>(step), 0.0f},
-                             {p.errorM, p.skirtDepthM, info.minHeight, info.maxHeight},
-                             {p.layer, p.id.level, 0, 0}});
-    }
+    writePatchInstanceRecords(layout, pool, patches, anchor, m_staging);
     m_instances.upload(0, std::as_bytes(std::span(m_staging)));
 
     m_program.setUniform("u_blocksPerSide", m_blocksPerSide);

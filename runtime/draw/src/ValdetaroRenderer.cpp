@@ -54,7 +54,7 @@ Result<ValdetaroRenderer> ValdetaroRenderer::create(const io::PyramidLayout& lay
     r.m_tiles = std::move(texture).value();
     r.m_vertexArray = gl::VertexArray::create("valdetaro tiles (attribute-less)");
     r.m_instances =
-        gl::Buffer::create(sizeof(PatchInstance) * static_cast<std::size_t>(maxInstances),
+        gl::Buffer::create(sizeof(PatchInstanceRecord) * static_cast<std::size_t>(maxInstances),
                            GL_DYNAMIC_STORAGE_BIT, "valdetaro patch instances");
     r.m_staging.reserve(static_cast<std::size_t>(maxInstances));
     r.m_parameters = parameters;
@@ -73,20 +73,7 @@ TerrainDrawStats ValdetaroRenderer::draw(const Camera& camera, const TerrainGeom
     if (patches.empty()) return {};
     const io::PyramidLayout& layout = geometry.layout();
     const glm::dvec2 anchor = setCameraFrameUniforms(m_program, camera, geometry);
-    m_staging.clear();
-    for (const PatchDraw& p : patches) {
-        TERRAIN_ASSERT(pool.isResident(p.id) && pool.layerOf(p.id) == p.layer,
-                       "ValdetaroRenderer: drawing a patch that is not resident on its layer");
-        const io::PatchInfo& info = *pool.info(p.id);
-        const std::int64_t step = layout.levelStep(p.id.level);
-        const double originX = static_cast<double>(layout.patchOriginX(p.id) * step) - anchor.x;
-        const double originY = static_cast<double>(layout.patchOriginY(p.id) * step) - anchor.y;
-        m_staging.push_back({{static_cast<float>(originX), static_cast<float>(originY),
-                              static_cast<float>(step), 0.0f},
-                             {p.errorM, 0.0f, info.minHeight, info.maxHeight},
-                             {p.layer, p.id.level, static_cast<std::int32_t>(p.id.x),
-                              static_cast<std::int32_t>(p.id.y)}});
-    }
+    writePatchInstanceRecords(layout, pool, patches, anchor, m_staging);
     m_instances.upload(0, std::as_bytes(std::span(m_staging)));
 
     const glm::dvec2 spacing = geometry.sampleSpacing();

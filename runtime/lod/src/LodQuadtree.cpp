@@ -66,10 +66,25 @@ void LodQuadtree::freeBlock(int first) { m_freeBlocks.push_back(first); }
 // Err_Scr(P) = γ · Err(P) / ρ(c, V) (Yusov & Shevtsov 2011, §5); infinite inside V unless
 // the patch is exact.
 double LodQuadtree::screenError(const Node& node) const {
-    if (node.errorM <= 0.0f) return 0.0;
-    const double rho = distanceToBox(m_camera.position, node.box);
+    const double metric = metricM(node);
+    if (metric <= 0.0) return 0.0;
+    const double rho = decisionDistance(node);
     if (rho <= 0.0) return std::numeric_limits<double>::infinity();
-    return m_gamma * static_cast<double>(node.errorM) / rho;
+    return m_gamma * metric / rho;
+}
+
+double LodQuadtree::metricM(const Node& node) const {
+    if (m_options.splitRule == SplitRule::ProjectedError) return static_cast<double>(node.errorM);
+    const glm::dvec2 spacing = m_geometry.sampleSpacing() *
+                               static_cast<double>(m_geometry.layout().levelStep(node.id.level));
+    return std::max(spacing.x, spacing.y);
+}
+
+double LodQuadtree::decisionDistance(const Node& node) const {
+    if (m_options.splitRule == SplitRule::ProjectedError)
+        return distanceToBox(m_camera.position, node.box);
+    return livnyEdgeDistance(m_camera.position, node.box, m_geometry.minHeight(),
+                             m_geometry.maxHeight());
 }
 
 void LodQuadtree::schedule(int node, CheckKind kind, double travel) {
@@ -90,8 +105,8 @@ void LodQuadtree::pushCheck(int node, CheckKind kind, double atOdometer) {
 void LodQuadtree::scheduleLeaf(int index) {
     const Node& node = m_nodes[static_cast<std::size_t>(index)];
     if (node.splitBlocked || node.id.level >= m_geometry.layout().finestLevel()) return;
-    const double rho = distanceToBox(m_camera.position, node.box);
-    const double rhoSplit = m_gamma * static_cast<double>(node.errorM) / m_options.coarseErrorPx();
+    const double rho = decisionDistance(node);
+    const double rhoSplit = m_gamma * metricM(node) / m_options.coarseErrorPx();
     schedule(index, CheckKind::Split, rho - rhoSplit);
 }
 
@@ -102,9 +117,9 @@ void LodQuadtree::scheduleMergeIfCandidate(int index) {
     for (int i = 0; i < node.childCount; ++i) {
         if (!m_nodes[static_cast<std::size_t>(node.firstChild + i)].leaf()) return;
     }
-    const double rho = distanceToBox(m_camera.position, node.box);
-    const double rhoMerge = m_gamma * static_cast<double>(node.errorM) * m_options.hysteresis /
-                            m_options.coarseErrorPx();
+    const double rho = decisionDistance(node);
+    const double rhoMerge =
+        m_gamma * metricM(node) * m_options.hysteresis / m_options.coarseErrorPx();
     schedule(index, CheckKind::Merge, rhoMerge - rho);
 }
 

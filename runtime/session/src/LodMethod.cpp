@@ -21,6 +21,10 @@ constexpr std::array kMethods{
     LodMethodInfo{LodMethod::Uniform, "uniform",
                   "the uniform full-resolution grid: every finest patch in view, fully tessellated",
                   true, true},
+    LodMethodInfo{LodMethod::Livny2007, "livny2007",
+                  "Livny et al. 2007: patch quadtree by edge distance (Eq. 1), four triangular "
+                  "tiles a patch at their edges' resolutions",
+                  false, false},
     LodMethodInfo{LodMethod::Valdetaro2011, "valdetaro2011",
                   "Valdetaro et al. 2011: flat grid of tiles, per-tile hardware tessellation from "
                   "its height-acceleration map, screen error and distance",

@@ -27,6 +27,13 @@ LodOptions lodOptionsFor(LodMethod method, LodOptions options) {
         options.coarseShare = 1.0;
         options.hysteresis = 1.0;
     }
+    if (method == LodMethod::Livny2007) {
+        // Livny 2007, §3 "Runtime Rendering": a top-down traversal each frame, a patch split
+        // when an edge's ε = ρ · l / d exceeds 1 — the whole threshold, no hysteresis.
+        options.splitRule = SplitRule::LivnyEdges;
+        options.coarseShare = 1.0;
+        options.hysteresis = 1.0;
+    }
     return options;
 }
 
@@ -40,7 +47,8 @@ bool drawsFullPatches(LodMethod method) {
 Result<std::unique_ptr<TerrainSession>> TerrainSession::open(const std::filesystem::path& pyramid,
                                                              const TerrainSessionOptions& options) {
     if (options.method != LodMethod::Yusov2011 && options.method != LodMethod::ChunkedLod &&
-        options.method != LodMethod::Uniform && options.method != LodMethod::Valdetaro2011)
+        options.method != LodMethod::Uniform && options.method != LodMethod::Valdetaro2011 &&
+        options.method != LodMethod::Livny2007)
         return Error{std::string(lodMethodName(options.method)) +
                      ": not a quadtree method (openLodStrategy opens it)"};
     auto streamer = TileStreamer::open(pyramid, options.streaming);
@@ -61,23 +69,32 @@ Result<std::unique_ptr<TerrainSession>> TerrainSession::open(const std::filesyst
         auto tiles = analyseValdetaroTiles(reader.value());
         if (!tiles) return tiles.error();
         auto drawn = ValdetaroRenderer::create(streamer.value()->layout(),
-                                               streamer.value()->pool().capacity(),
-                                               tiles.value(), options.valdetaro);
+                                               streamer.value()->pool().capacity(), tiles.value(),
+                                               options.valdetaro);
         if (!drawn) return Error{pyramid.string() + ": " + drawn.error().message};
         valdetaro.emplace(std::move(drawn).value());
     }
-    return std::unique_ptr<TerrainSession>(new TerrainSession(
-        std::move(streamer).value(), std::move(renderer).value(), std::move(valdetaro),
-        options.method, options.lod));
+    std::optional<LivnyRenderer> livny;
+    if (options.method == LodMethod::Livny2007) {
+        auto drawn =
+            LivnyRenderer::create(streamer.value()->layout(), streamer.value()->pool().capacity());
+        if (!drawn) return Error{pyramid.string() + ": " + drawn.error().message};
+        livny.emplace(std::move(drawn).value());
+    }
+    return std::unique_ptr<TerrainSession>(
+        new TerrainSession(std::move(streamer).value(), std::move(renderer).value(),
+                           std::move(valdetaro), std::move(livny), options.method, options.lod));
 }
 
 TerrainSession::TerrainSession(std::unique_ptr<TileStreamer> streamer, TerrainRenderer renderer,
-                               std::optional<ValdetaroRenderer> valdetaro, LodMethod method,
+                               std::optional<ValdetaroRenderer> valdetaro,
+                               std::optional<LivnyRenderer> livny, LodMethod method,
                                const LodOptions& lod)
     : m_streamer(std::move(streamer)),
       m_geometry(m_streamer->manifest()),
       m_renderer(std::move(renderer)),
       m_valdetaro(std::move(valdetaro)),
+      m_livny(std::move(livny)),
       m_tree(std::make_unique<LodQuadtree>(*m_streamer, m_geometry, lodOptionsFor(method, lod))),
       m_method(method) {
     m_draws.reserve(static_cast<std::size_t>(m_streamer->pool().capacity()));
@@ -126,6 +143,10 @@ const LodUpdateStats& TerrainSession::beginFrame(const Camera& camera) {
 TerrainDrawStats TerrainSession::draw(const Camera& camera, const TerrainStyle& style) {
     if (m_valdetaro) {
         m_lastDraw = m_valdetaro->draw(camera, m_geometry, m_streamer->pool(), m_draws, style);
+        return m_lastDraw;
+    }
+    if (m_livny) {
+        m_lastDraw = m_livny->draw(camera, m_geometry, m_streamer->pool(), m_draws, style);
         return m_lastDraw;
     }
     if (drawsFullPatches(m_method)) {

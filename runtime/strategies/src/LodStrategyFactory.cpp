@@ -14,6 +14,7 @@ Result<std::unique_ptr<LodStrategy>> openLodStrategy(const std::filesystem::path
         case LodMethod::Yusov2011:
         case LodMethod::ChunkedLod:
         case LodMethod::Uniform:
+        case LodMethod::Livny2007:
         case LodMethod::Valdetaro2011: {
             auto session = TerrainSession::open(pyramid, options);
             if (!session) return named(session.error());

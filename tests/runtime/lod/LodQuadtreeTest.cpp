@@ -7,6 +7,7 @@
 #include "FakeTileResidency.h"
 #include "StreamingTestPyramid.h"
 #include "TestCameras.h"
+#include "terrain/io/PyramidReader.h"
 #include "terrain/runtime/LodQuadtree.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TerrainGeometry.h"
@@ -17,6 +18,7 @@
 #include <memory>
 #include <optional>
 #include <random>
+#include <set>
 #include <tuple>
 #include <vector>
 
@@ -62,7 +64,9 @@ protected:
                 return stats;
             }
         }
-        ADD_FAILURE() << "the tree did not settle in 100 frames";
+        ADD_FAILURE() << "the tree did not settle in 100 frames: " << stats.splits << " splits, "
+                      << stats.merges << " merges, " << stats.waitingSplits << " waiting, "
+                      << m_residency->pending() << " pending, " << stats.drawn << " drawn";
         return stats;
     }
 
@@ -140,6 +144,53 @@ TEST_F(LodQuadtreeTest, SplitToFinestDrawsTheUniformGridOfWhatIsInView) {
         const LodUpdateStats again = frame(c);
         EXPECT_EQ(again.merges, 0u);
         EXPECT_EQ(again.splits, 0u);
+    }
+}
+
+TEST_F(LodQuadtreeTest, LivnyEdgeRuleSettlesOnTheCutOfItsTopDownTraversal) {
+    // Livny 2007's rule (SplitRule::LivnyEdges) in the persistent tree gives what the paper's
+    // traversal from the root gives (§3, "Runtime Rendering"): a visible patch is split
+    // while γ · s / d > τ for its nearest edge (d: livnyEdgeDistance), s its level's spacing.
+    const runtime::LodOptions options{.errorPx = 12.0,
+                                      .coarseShare = 1.0,
+                                      .hysteresis = 1.0,
+                                      .splitRule = runtime::SplitRule::LivnyEdges};
+    auto reader = io::PyramidReader::open(streamingTestPyramid());
+    ASSERT_TRUE(reader) << reader.error().message;
+    const io::PyramidLayout& layout = m_residency->layout();
+    for (const Camera& c : {camera(0.2, 0.3, 300.0, 0.6, 0.5), camera(0.5, 0.5, 40.0, 0.9, 0.1),
+                            camera(0.9, 0.1, 1500.0, 0.2, 0.8)}) {
+        // A tree of its own for each view (the fake keeps requests the last view left).
+        open({.capacity = 1024});
+        m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry, options);
+        settle(c);
+        EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
+        std::vector<PatchDraw> expected;
+        const runtime::Frustum frustum = c.frustum();
+        const auto visit = [&](const auto& self, const io::PatchId& id) -> void {
+            auto info = reader.value().patchInfo(id);
+            ASSERT_TRUE(info) << info.error().message;
+            const runtime::Aabb box = m_geometry->patchBounds(id, info.value());
+            if (!frustum.intersects(box)) return;
+            const glm::dvec2 spacing =
+                m_geometry->sampleSpacing() * static_cast<double>(layout.levelStep(id.level));
+            const double d = runtime::livnyEdgeDistance(c.position, box, m_geometry->minHeight(),
+                                                        m_geometry->maxHeight());
+            const double epsilon =
+                d > 0.0 ? c.errorScale() * std::max(spacing.x, spacing.y) / d : 1e300;
+            if (id.level < layout.finestLevel() && epsilon > options.errorPx) {
+                io::PatchId children[4];
+                const int count = runtime::containedChildren(layout, id, children);
+                for (int i = 0; i < count; ++i) self(self, children[i]);
+                return;
+            }
+            expected.push_back({.id = id});
+        };
+        visit(visit, io::PatchId{0, 0, 0});
+        EXPECT_EQ(ids(m_draws), ids(expected));
+        std::set<int> levels;
+        for (const PatchDraw& d : m_draws) levels.insert(d.id.level);
+        EXPECT_GT(levels.size(), 1u) << "the view should mix levels";
     }
 }
 

@@ -15,6 +15,7 @@
 #include "terrain/gl/VertexArray.h"
 #include "terrain/io/PyramidLayout.h"
 #include "terrain/runtime/Camera.h"
+#include "terrain/runtime/PatchInstanceRecord.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TerrainGeometry.h"
 
@@ -117,21 +118,13 @@ private:
     /// skirts when the style has them.
     int primitivesPerInstance(bool skirts) const;
 
-    // The std430 layout of PatchInstance in terrain_patches.glsl.
-    struct alignas(16) PatchInstance {
-        std::array<float, 4> originAndStep;  ///< north-west − anchor (DEM samples), step
-        std::array<float, 4> errors;         ///< Err(P), skirt depth, min and max height, metres
-        std::array<std::int32_t, 4> layerLevel;
-    };
-    static_assert(sizeof(PatchInstance) == 48);
-
     gl::Program m_program;
     gl::VertexArray m_vertexArray;
     gl::Buffer m_instances;
     gl::Buffer m_tessFactors;  // recordTessFactors only
     gl::Query m_primitivesQuery;
     gl::Query m_timeQuery;
-    std::vector<PatchInstance> m_staging;  // capacity maxInstances
+    std::vector<PatchInstanceRecord> m_staging;  // capacity maxInstances
     int m_maxInstances = 0;
     int m_preparedInstances = 0;
     int m_blocksPerSide = 0;

@@ -15,6 +15,7 @@
 #include "terrain/gl/Texture.h"
 #include "terrain/gl/VertexArray.h"
 #include "terrain/runtime/Camera.h"
+#include "terrain/runtime/PatchInstanceRecord.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TerrainRenderer.h"
@@ -54,22 +55,13 @@ public:
     const ValdetaroParameters& parameters() const { return m_parameters; }
 
 private:
-    // The std430 layout of PatchInstance in terrain_patches.glsl; layerLevel.zw carry the
-    // patch's x, y (the tile grid's coordinates are the patch's times tiles a side).
-    struct alignas(16) PatchInstance {
-        std::array<float, 4> originAndStep;
-        std::array<float, 4> errors;
-        std::array<std::int32_t, 4> layerLevel;
-    };
-    static_assert(sizeof(PatchInstance) == 48);
-
     gl::Program m_program;
     gl::VertexArray m_vertexArray;
     gl::Buffer m_instances;
     gl::Texture m_tiles;
     gl::Query m_primitivesQuery;
     gl::Query m_timeQuery;
-    std::vector<PatchInstance> m_staging;
+    std::vector<PatchInstanceRecord> m_staging;  // layerLevel.zw: the tile grid / tiles a side
     ValdetaroParameters m_parameters;
     int m_maxInstances = 0;
     int m_tilesPerPatch = 0;

@@ -36,6 +36,20 @@
 
 namespace terrain::runtime {
 
+/// How a patch's need to split is measured (its "screen error" against the threshold).
+enum class SplitRule {
+    /// Yusov & Shevtsov 2011, §5: Err_Scr(P) = γ · Err(P) / ρ(c, box).
+    ProjectedError,
+    /// Livny et al. 2007, Eq. 1: ε = ρ_L · l / d per edge, l the patch's side and d the
+    /// camera's distance to the edge, split when some ε > 1. With ρ_L = γ / (R_max · τ)
+    /// (R_max = the patch's quads, τ the threshold) that is γ · s / d > τ, s the level's
+    /// sample spacing: a full-resolution segment of the nearest edge spans more than τ
+    /// pixels. d is measured to the edge extruded over the DEM's height range (the same
+    /// for every patch that shares the edge, and no more than the distance to a part of
+    /// it, which Livny's Claim 1 needs).
+    LivnyEdges,
+};
+
 struct LodOptions {
     double errorPx = 2.0;  ///< ε, pixels: what the drawn surface (both stages) is held to
     /// The coarse stage selects patches with Err_Scr(P) ≤ coarseShare · ε, leaving the fine
@@ -50,6 +64,7 @@ struct LodOptions {
     /// Every leaf in view is split down to the finest level and nothing merges while in
     /// view, whatever its error: the uniform full-resolution grid (LodMethod::Uniform).
     bool splitToFinest = false;
+    SplitRule splitRule = SplitRule::ProjectedError;
 
     /// The coarse stage's threshold, pixels.
     double coarseErrorPx() const { return errorPx * coarseShare; }
@@ -112,6 +127,10 @@ private:
     };
 
     double screenError(const Node& node) const;
+    /// The metres the split rule projects: Err(P), or the level's sample spacing (Livny).
+    double metricM(const Node& node) const;
+    /// The distance the split rule divides by: to the box, or to the nearest edge (Livny).
+    double decisionDistance(const Node& node) const;
     void schedule(int node, CheckKind kind, double travel);
     void pushCheck(int node, CheckKind kind, double atOdometer);
     void scheduleLeaf(int node);

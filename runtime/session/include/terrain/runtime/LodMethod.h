@@ -23,6 +23,10 @@ enum class LodMethod {
     ChunkedLod,
     /// The uniform full-resolution grid: every finest-level patch in view, fully tessellated.
     Uniform,
+    /// Livny et al. 2007, seamless patches: the patch quadtree chosen on the CPU by Eq. 1
+    /// (ε = ρ · l / d per edge), each patch four triangular tiles at their edges'
+    /// resolutions (two: R_max and R_max / 2), heights fetched from the patch's texture.
+    Livny2007,
     /// Valdetaro et al. 2011, local parallel tessellation: a flat grid of tiles (the finest
     /// patches, cut in tiles of 64 quads) with no hierarchy, each tile's factors from its
     /// height-acceleration map (Sobel of Sobel), its screen error and its distance (§4–5).

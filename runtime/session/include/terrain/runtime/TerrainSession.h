@@ -17,12 +17,14 @@
 // (Ulrich 2002: the same quadtree split at the whole τ, chunks drawn at full resolution)
 // the uniform grid (every leaf split to the finest level, drawn at full resolution) and
 // Valdetaro et al. 2011 (the same finest-level grid, each patch cut into the paper's tiles
-// and drawn by ValdetaroRenderer).
+// and drawn by ValdetaroRenderer) and Livny et al. 2007 (the quadtree split by Eq. 1,
+// drawn by LivnyRenderer).
 #pragma once
 
 #include "terrain/base/Result.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/FrameTelemetry.h"
+#include "terrain/runtime/LivnyRenderer.h"
 #include "terrain/runtime/LodMethod.h"
 #include "terrain/runtime/LodQuadtree.h"
 #include "terrain/runtime/LodStrategy.h"
@@ -42,7 +44,7 @@
 namespace terrain::runtime {
 
 struct TerrainSessionOptions {
-    /// Yusov2011, ChunkedLod, Uniform or Valdetaro2011 (others are refused:
+    /// Yusov2011, ChunkedLod, Uniform, Livny2007 or Valdetaro2011 (others are refused:
     /// openLodStrategy opens them).
     LodMethod method = LodMethod::Yusov2011;
     ValdetaroParameters valdetaro;  ///< Valdetaro2011 only
@@ -118,14 +120,15 @@ public:
 
 private:
     TerrainSession(std::unique_ptr<TileStreamer> streamer, TerrainRenderer renderer,
-                   std::optional<ValdetaroRenderer> valdetaro, LodMethod method,
-                   const LodOptions& lod);
+                   std::optional<ValdetaroRenderer> valdetaro, std::optional<LivnyRenderer> livny,
+                   LodMethod method, const LodOptions& lod);
 
     // Declared in destruction order's reverse: the tree holds pins in the streamer's pool.
     std::unique_ptr<TileStreamer> m_streamer;
     TerrainGeometry m_geometry;
     TerrainRenderer m_renderer;
     std::optional<ValdetaroRenderer> m_valdetaro;  // Valdetaro2011 draws with it
+    std::optional<LivnyRenderer> m_livny;          // Livny2007 draws with it
     std::unique_ptr<LodQuadtree> m_tree;
 
     std::vector<PatchDraw> m_draws;
