@@ -20,7 +20,8 @@ layout(vertices = 3) out;
 uniform float u_errorPx;     // τ
 uniform float u_errorScale;  // γ (Camera::errorScale), pixels per radian
 uniform vec2 u_heightRangeM;  // the DEM's min and max height (terrain_shading.glsl's)
-uniform float u_innerScale;   // the tile's inner level: its resolution times this
+uniform float u_innerScale;   // the tile's inner level: its resolution times this (1/√3:
+                              // LivnyRenderer.cpp says why)
 
 layout(location = 0) in vec2 i_sample[];
 layout(location = 1) flat in int i_instance[];

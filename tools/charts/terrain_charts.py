@@ -256,7 +256,9 @@ def method_sections(bench, summary_rows, summary_path, tol):
     if yardstick:
         lines += [f"### Triangles against the {YARDSTICK} yardstick", "",
                   f"Mean triangles a frame divided by {YARDSTICK}'s at the same ε (the fewest a "
-                  "conforming mesh of the full-resolution samples needs for the same bound):", "",
+                  "conforming mesh of the full-resolution samples needs for the same bound). For a "
+                  "method that does not bound its error the same ε is not the same accuracy: the "
+                  "chart of triangles against measured error compares those.", "",
                   "| method | " + " | ".join(f"ε = {t:g}" for t in sorted(yardstick)) + " |",
                   "|---|" + "---|" * len(yardstick)]
         for method, rows in methods.items():
@@ -267,12 +269,6 @@ def method_sections(bench, summary_rows, summary_path, tol):
             lines.append(f"| {method} | " + " | ".join(cells) + " |")
         lines.append("")
     lines += ["## Where each method fails", ""]
-    popping = {m: max((number(r, "popping_levels_mean", summary_path) for r in rows
-                       if not math.isnan(number(r, "popping_levels_mean", summary_path))), default=math.nan)
-               for m, rows in methods.items()}
-    calmest_method = min((m for m, v in popping.items() if not math.isnan(v)),
-                         key=lambda m: popping[m], default=None)
-    calmest = popping[calmest_method] if calmest_method else math.nan
     for method, rows in methods.items():
         described = info.get(method.replace("-coarse-only", ""), {})
         bounds = described.get("bounds_error", True)
@@ -287,18 +283,28 @@ def method_sections(bench, summary_rows, summary_path, tol):
                 failures.append(what if bounds else what + " — it promises no bound")
             if n("crack_pixels_total") > 0:
                 failures.append(f"{int(n('crack_pixels_total'))} crack pixels at ε = {eps:g}")
+            unsettled = n("frames_unsettled") if "frames_unsettled" in r else 0
+            if unsettled > 0:
+                failures.append(f"streaming never settled in {int(unsettled)} of {int(n('frames'))} "
+                                f"frames at ε = {eps:g} (its view needs more than the GPU pool "
+                                "holds): measured as drawn")
             unmeasurable = n("non_finite_pixels_total") if "non_finite_pixels_total" in r else 0
             if unmeasurable > 0:
                 failures.append(f"{int(unmeasurable)} unmeasurable pixels at ε = {eps:g}")
-        p = popping.get(method, math.nan)
-        if not math.isnan(p) and not math.isnan(calmest) and calmest > 0 and p > 2.0 * calmest:
-            failures.append(f"pops: up to {fmt(p, 3)} levels a frame beyond the reference's change, "
-                            f"{p / calmest:.1f}× the calmest method's ({calmest_method})")
         if failures:
             lines.append(f"- **{method}** fails: " + "; ".join(failures) + ".")
         else:
             lines.append(f"- **{method}**: no failure on this flight (within ε + {tol:g} px, no crack, "
                          "nothing unmeasurable).")
+    # Popping is a degree, not a failure: every method that changes its mesh pops some.
+    popping = {m: max((number(r, "popping_levels_mean", summary_path) for r in rows
+                       if not math.isnan(number(r, "popping_levels_mean", summary_path))), default=math.nan)
+               for m, rows in methods.items()}
+    ranked = sorted((m for m, v in popping.items() if not math.isnan(v)), key=lambda m: -popping[m])
+    if ranked:
+        lines += ["", "Popping (the LOD image's change beyond the reference's, 8-bit levels a frame, "
+                  "the largest over ε), most first: "
+                  + ", ".join(f"{m} {fmt(popping[m], 3)}" for m in ranked) + "."]
     lines += ["", "Measured on this flight only; the stability suite (AccuracyStabilityTest) "
               "flies every method through the cases where LOD methods break.", ""]
     return lines
@@ -463,7 +469,6 @@ def write_globe_report(out_dir, bench, bench_path, charts):
                   "| place | patches | data patches |", "|---|---|---|"]
         lines += [f"| {v['place']} | {v['patches']} | {v['data_patches']} |" for v in same]
         lines.append("")
-    lines += method_sections(bench, summary_rows, summary_path, tol)
     lines += ["## Charts", ""]
     for title, path in charts:
         lines += [f"### {title}", "", f"![{title}]({os.path.basename(path)})", ""]

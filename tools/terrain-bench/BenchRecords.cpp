@@ -127,6 +127,7 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
             s.nonFinitePixelsTotal += r.nonFinitePixels;
             s.crackPixelsTotal += r.crackPixels;
             s.framesWaited += r.waitedForStreaming ? 1 : 0;
+            s.framesUnsettled += r.settled ? 0 : 1;
         }
         s.trianglesMean = mean(triangles);
         s.patchesMean = mean(patches);
@@ -167,6 +168,8 @@ Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRe
         {"camera_pitch_deg", [](const R& r) { return number(r.cameraPitchDeg); }},
         {"triangles", [](const R& r) { return number(r.triangles); }},
         {"patches", [](const R& r) { return number(r.patches); }},
+        {"patches_culled", [](const R& r) { return number(r.patchesCulled); }},
+        {"lod_nodes", [](const R& r) { return number(r.lodNodes); }},
         {"draw_calls", [](const R& r) { return number(r.drawCalls); }},
         {"lod_update_us", [](const R& r) { return number(r.lodUpdateUs); }},
         {"gpu_ms", [](const R& r) { return number(r.gpuMs); }},
@@ -176,6 +179,7 @@ Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRe
         {"resident_bytes", [](const R& r) { return number(r.residentBytes); }},
         {"waited_for_streaming",
          [](const R& r) { return std::string(r.waitedForStreaming ? "1" : "0"); }},
+        {"settled", [](const R& r) { return std::string(r.settled ? "1" : "0"); }},
         {"error_max_px", [](const R& r) { return number(r.errorMaxPx); }},
         {"error_mean_px", [](const R& r) { return number(r.errorMeanPx); }},
         {"error_p99_px", [](const R& r) { return number(r.errorP99Px); }},
@@ -247,6 +251,7 @@ Status writeSummaryCsv(const std::filesystem::path& path,
         {"crack_pixels_total", [](const S& s) { return number(s.crackPixelsTotal); }},
         {"popping_levels_mean", [](const S& s) { return number(s.poppingLevelsMean); }},
         {"frames_waited", [](const S& s) { return number(s.framesWaited); }},
+        {"frames_unsettled", [](const S& s) { return number(s.framesUnsettled); }},
     };
     return writeCsv<S>(path, columns, summaries);
 }

@@ -31,6 +31,11 @@ struct FrameRecord {
     // Speed.
     std::uint64_t triangles = 0;  ///< GL_PRIMITIVES_GENERATED of the LOD draw (skirts included)
     std::uint64_t patches = 0;
+    /// Patches the LOD culled and nodes in its tree this frame: the "culled" and
+    /// "traversed" columns of Livny 2007's Table 1 (for the RTIN: subtrees culled, bintree
+    /// nodes visited).
+    std::uint64_t patchesCulled = 0;
+    std::uint64_t lodNodes = 0;
     std::uint64_t drawCalls = 0;
     double lodUpdateUs = kNoValue;    ///< the frame's first LOD update for this camera
     double gpuMs = kNoValue;          ///< GL_TIME_ELAPSED of the draw (CPU time on llvmpipe)
@@ -38,6 +43,7 @@ struct FrameRecord {
     double frameMs = kNoValue;        ///< beginFrame + draw up to glFinish + endFrame, wall
     std::uint64_t residentBytes = 0;  ///< GPU layers used × bytes per layer + CPU cache bytes
     bool waitedForStreaming = false;  ///< splits waited for tiles; the view was settled first
+    bool settled = true;              ///< false: streaming did not settle; measured as drawn
 
     // Accuracy against the reference.
     double errorMaxPx = kNoValue;
@@ -108,6 +114,7 @@ struct ThresholdSummary {
     std::uint64_t crackPixelsTotal = 0;
     double poppingLevelsMean = kNoValue;
     std::uint64_t framesWaited = 0;
+    std::uint64_t framesUnsettled = 0;  ///< measured although streaming had not settled
 };
 
 /// Per (method, threshold) in the order they first appear in `records`.

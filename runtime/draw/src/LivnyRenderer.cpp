@@ -9,6 +9,15 @@
 #include <epoxy/gl.h>
 
 namespace terrain::runtime {
+namespace {
+
+// A tile at resolution r is, in the paper, the part of an r × r grid between the patch edge
+// and the centre: r² / 2 triangles and about r² / 4 vertices. The tessellator's triangle
+// domain at inner level m has 3 m² / 2 triangles and about 3 m² / 4 vertices, so m = r / √3
+// gives the tile the paper's counts of both.
+constexpr float kInnerScale = 0.57735027f;
+
+}  // namespace
 
 Result<LivnyRenderer> LivnyRenderer::create(const io::PyramidLayout& layout, int maxInstances) {
     TERRAIN_ASSERT(maxInstances >= 1);
@@ -51,7 +60,7 @@ TerrainDrawStats LivnyRenderer::draw(const Camera& camera, const TerrainGeometry
     m_program.setUniform("u_blockQuads", m_patchQuads / 2);
     m_program.setUniform("u_errorPx", static_cast<float>(style.errorPx));
     m_program.setUniform("u_errorScale", static_cast<float>(camera.errorScale()));
-    m_program.setUniform("u_innerScale", 1.0f);
+    m_program.setUniform("u_innerScale", kInnerScale);
     setShadingUniforms(m_program, geometry, style.skyColor, style.fogDensityPerM);
     m_program.setUniform("u_debugView", static_cast<int>(style.debugView));
     return issueInstancedPatchDraw(pool,

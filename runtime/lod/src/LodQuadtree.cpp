@@ -81,7 +81,7 @@ double LodQuadtree::metricM(const Node& node) const {
 }
 
 double LodQuadtree::decisionDistance(const Node& node) const {
-    if (m_options.splitRule == SplitRule::ProjectedError)
+    if (m_options.splitRule != SplitRule::LivnyEdges)
         return distanceToBox(m_camera.position, node.box);
     return livnyEdgeDistance(m_camera.position, node.box, m_geometry.minHeight(),
                              m_geometry.maxHeight());

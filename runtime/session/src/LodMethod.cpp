@@ -29,6 +29,10 @@ constexpr std::array kMethods{
                   "Valdetaro et al. 2011: flat grid of tiles, per-tile hardware tessellation from "
                   "its height-acceleration map, screen error and distance",
                   false, false},
+    LodMethodInfo{LodMethod::Cdlod, "cdlod",
+                  "Strugar 2009: patch quadtree by distance ranges, regular grids morphed towards "
+                  "the coarser level",
+                  false, false},
     LodMethodInfo{LodMethod::Rtin, "rtin",
                   "view-dependent RTIN from the full-resolution samples, exact per-vertex errors "
                   "(the fewest-triangles yardstick)",

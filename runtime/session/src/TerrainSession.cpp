@@ -3,6 +3,8 @@
 
 #include "terrain/base/Assert.h"
 #include "terrain/io/PyramidReader.h"
+#include "terrain/runtime/CdlodRenderer.h"
+#include "terrain/runtime/LivnyRenderer.h"
 #include "terrain/runtime/SkirtDepth.h"
 #include "terrain/runtime/ValdetaroTiles.h"
 
@@ -27,6 +29,13 @@ LodOptions lodOptionsFor(LodMethod method, LodOptions options) {
         options.coarseShare = 1.0;
         options.hysteresis = 1.0;
     }
+    if (method == LodMethod::Cdlod) {
+        // Strugar 2009: a node is subdivided while the camera is within its children's
+        // range; ranges double level by level (LodQuadtree's SplitRule::ProjectedSpacing).
+        options.splitRule = SplitRule::ProjectedSpacing;
+        options.coarseShare = 1.0;
+        options.hysteresis = 1.0;
+    }
     if (method == LodMethod::Livny2007) {
         // Livny 2007, §3 "Runtime Rendering": a top-down traversal each frame, a patch split
         // when an edge's ε = ρ · l / d exceeds 1 — the whole threshold, no hysteresis.
@@ -35,6 +44,39 @@ LodOptions lodOptionsFor(LodMethod method, LodOptions options) {
         options.hysteresis = 1.0;
     }
     return options;
+}
+
+/// The comparison methods' own draws; null for those TerrainRenderer draws.
+Result<std::unique_ptr<PatchRenderer>> createMethodRenderer(const std::filesystem::path& pyramid,
+                                                            const TileStreamer& streamer,
+                                                            const TerrainSessionOptions& options) {
+    const int instances = streamer.pool().capacity();
+    const auto owned = [&](auto drawn) -> Result<std::unique_ptr<PatchRenderer>> {
+        if (!drawn) return Error{pyramid.string() + ": " + drawn.error().message};
+        using Drawn = std::decay_t<decltype(drawn.value())>;
+        return std::unique_ptr<PatchRenderer>(std::make_unique<Drawn>(std::move(drawn).value()));
+    };
+    switch (options.method) {
+        case LodMethod::Valdetaro2011: {
+            // The paper's preprocessing (§6.1–6.2), once, from the finest level.
+            auto reader = io::PyramidReader::open(pyramid);
+            if (!reader) return reader.error();
+            auto tiles = analyseValdetaroTiles(reader.value());
+            if (!tiles) return tiles.error();
+            return owned(ValdetaroRenderer::create(streamer.layout(), instances, tiles.value(),
+                                                   options.valdetaro));
+        }
+        case LodMethod::Livny2007:
+            return owned(LivnyRenderer::create(streamer.layout(), instances));
+        case LodMethod::Cdlod:
+            return owned(CdlodRenderer::create(streamer.layout(), instances));
+        case LodMethod::Yusov2011:
+        case LodMethod::ChunkedLod:
+        case LodMethod::Uniform:
+        case LodMethod::Rtin:
+            break;
+    }
+    return std::unique_ptr<PatchRenderer>();
 }
 
 /// Chunked LOD and the uniform grid draw each patch as its full mesh.
@@ -46,11 +88,8 @@ bool drawsFullPatches(LodMethod method) {
 
 Result<std::unique_ptr<TerrainSession>> TerrainSession::open(const std::filesystem::path& pyramid,
                                                              const TerrainSessionOptions& options) {
-    if (options.method != LodMethod::Yusov2011 && options.method != LodMethod::ChunkedLod &&
-        options.method != LodMethod::Uniform && options.method != LodMethod::Valdetaro2011 &&
-        options.method != LodMethod::Livny2007)
-        return Error{std::string(lodMethodName(options.method)) +
-                     ": not a quadtree method (openLodStrategy opens it)"};
+    if (options.method == LodMethod::Rtin)
+        return Error{"rtin: not a quadtree method (openLodStrategy opens it)"};
     auto streamer = TileStreamer::open(pyramid, options.streaming);
     if (!streamer) return streamer.error();
     if (streamer.value()->manifest().globe)
@@ -61,40 +100,20 @@ Result<std::unique_ptr<TerrainSession>> TerrainSession::open(const std::filesyst
     auto renderer = TerrainRenderer::create(streamer.value()->layout(),
                                             streamer.value()->pool().capacity(), options.renderer);
     if (!renderer) return Error{pyramid.string() + ": " + renderer.error().message};
-    std::optional<ValdetaroRenderer> valdetaro;
-    if (options.method == LodMethod::Valdetaro2011) {
-        // The paper's preprocessing (§6.1–6.2), once, from the finest level.
-        auto reader = io::PyramidReader::open(pyramid);
-        if (!reader) return reader.error();
-        auto tiles = analyseValdetaroTiles(reader.value());
-        if (!tiles) return tiles.error();
-        auto drawn = ValdetaroRenderer::create(streamer.value()->layout(),
-                                               streamer.value()->pool().capacity(), tiles.value(),
-                                               options.valdetaro);
-        if (!drawn) return Error{pyramid.string() + ": " + drawn.error().message};
-        valdetaro.emplace(std::move(drawn).value());
-    }
-    std::optional<LivnyRenderer> livny;
-    if (options.method == LodMethod::Livny2007) {
-        auto drawn =
-            LivnyRenderer::create(streamer.value()->layout(), streamer.value()->pool().capacity());
-        if (!drawn) return Error{pyramid.string() + ": " + drawn.error().message};
-        livny.emplace(std::move(drawn).value());
-    }
+    auto methodRenderer = createMethodRenderer(pyramid, *streamer.value(), options);
+    if (!methodRenderer) return methodRenderer.error();
     return std::unique_ptr<TerrainSession>(
         new TerrainSession(std::move(streamer).value(), std::move(renderer).value(),
-                           std::move(valdetaro), std::move(livny), options.method, options.lod));
+                           std::move(methodRenderer).value(), options.method, options.lod));
 }
 
 TerrainSession::TerrainSession(std::unique_ptr<TileStreamer> streamer, TerrainRenderer renderer,
-                               std::optional<ValdetaroRenderer> valdetaro,
-                               std::optional<LivnyRenderer> livny, LodMethod method,
+                               std::unique_ptr<PatchRenderer> methodRenderer, LodMethod method,
                                const LodOptions& lod)
     : m_streamer(std::move(streamer)),
       m_geometry(m_streamer->manifest()),
       m_renderer(std::move(renderer)),
-      m_valdetaro(std::move(valdetaro)),
-      m_livny(std::move(livny)),
+      m_methodRenderer(std::move(methodRenderer)),
       m_tree(std::make_unique<LodQuadtree>(*m_streamer, m_geometry, lodOptionsFor(method, lod))),
       m_method(method) {
     m_draws.reserve(static_cast<std::size_t>(m_streamer->pool().capacity()));
@@ -141,12 +160,8 @@ const LodUpdateStats& TerrainSession::beginFrame(const Camera& camera) {
 }
 
 TerrainDrawStats TerrainSession::draw(const Camera& camera, const TerrainStyle& style) {
-    if (m_valdetaro) {
-        m_lastDraw = m_valdetaro->draw(camera, m_geometry, m_streamer->pool(), m_draws, style);
-        return m_lastDraw;
-    }
-    if (m_livny) {
-        m_lastDraw = m_livny->draw(camera, m_geometry, m_streamer->pool(), m_draws, style);
+    if (m_methodRenderer) {
+        m_lastDraw = m_methodRenderer->draw(camera, m_geometry, m_streamer->pool(), m_draws, style);
         return m_lastDraw;
     }
     if (drawsFullPatches(m_method)) {

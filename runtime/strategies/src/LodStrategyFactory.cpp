@@ -15,6 +15,7 @@ Result<std::unique_ptr<LodStrategy>> openLodStrategy(const std::filesystem::path
         case LodMethod::ChunkedLod:
         case LodMethod::Uniform:
         case LodMethod::Livny2007:
+        case LodMethod::Cdlod:
         case LodMethod::Valdetaro2011: {
             auto session = TerrainSession::open(pyramid, options);
             if (!session) return named(session.error());

@@ -83,6 +83,10 @@ protected:
         return out;
     }
 
+    /// The tree under a split rule of the level's spacing settles on the cut of the
+    /// rule's traversal from the root, for three views.
+    void checkSpacingRuleCut(runtime::SplitRule rule);
+
     std::unique_ptr<FakeTileResidency> m_residency;
     std::optional<runtime::TerrainGeometry> m_geometry;
     std::unique_ptr<LodQuadtree> m_tree;
@@ -147,14 +151,21 @@ TEST_F(LodQuadtreeTest, SplitToFinestDrawsTheUniformGridOfWhatIsInView) {
     }
 }
 
-TEST_F(LodQuadtreeTest, LivnyEdgeRuleSettlesOnTheCutOfItsTopDownTraversal) {
-    // Livny 2007's rule (SplitRule::LivnyEdges) in the persistent tree gives what the paper's
-    // traversal from the root gives (§3, "Runtime Rendering"): a visible patch is split
-    // while γ · s / d > τ for its nearest edge (d: livnyEdgeDistance), s its level's spacing.
-    const runtime::LodOptions options{.errorPx = 12.0,
-                                      .coarseShare = 1.0,
-                                      .hysteresis = 1.0,
-                                      .splitRule = runtime::SplitRule::LivnyEdges};
+TEST_F(LodQuadtreeTest, SpacingRulesSettleOnTheCutsOfTheirTopDownTraversals) {
+    // Livny 2007's rule (SplitRule::LivnyEdges) and CDLOD's ranges (ProjectedSpacing) in the
+    // persistent tree give what the papers' traversals from the root give (Livny §3,
+    // "Runtime Rendering"): a visible patch is split while γ · s / d > τ, s its level's
+    // spacing, d the distance to its nearest edge (livnyEdgeDistance) or to its box.
+    for (const runtime::SplitRule rule :
+         {runtime::SplitRule::LivnyEdges, runtime::SplitRule::ProjectedSpacing}) {
+        checkSpacingRuleCut(rule);
+    }
+}
+
+void LodQuadtreeTest::checkSpacingRuleCut(runtime::SplitRule rule) {
+    SCOPED_TRACE(rule == runtime::SplitRule::LivnyEdges ? "LivnyEdges" : "ProjectedSpacing");
+    const runtime::LodOptions options{
+        .errorPx = 12.0, .coarseShare = 1.0, .hysteresis = 1.0, .splitRule = rule};
     auto reader = io::PyramidReader::open(streamingTestPyramid());
     ASSERT_TRUE(reader) << reader.error().message;
     const io::PyramidLayout& layout = m_residency->layout();
@@ -174,8 +185,11 @@ TEST_F(LodQuadtreeTest, LivnyEdgeRuleSettlesOnTheCutOfItsTopDownTraversal) {
             if (!frustum.intersects(box)) return;
             const glm::dvec2 spacing =
                 m_geometry->sampleSpacing() * static_cast<double>(layout.levelStep(id.level));
-            const double d = runtime::livnyEdgeDistance(c.position, box, m_geometry->minHeight(),
-                                                        m_geometry->maxHeight());
+            const double d =
+                rule == runtime::SplitRule::LivnyEdges
+                    ? runtime::livnyEdgeDistance(c.position, box, m_geometry->minHeight(),
+                                                 m_geometry->maxHeight())
+                    : runtime::distanceToBox(c.position, box);
             const double epsilon =
                 d > 0.0 ? c.errorScale() * std::max(spacing.x, spacing.y) / d : 1e300;
             if (id.level < layout.finestLevel() && epsilon > options.errorPx) {

@@ -13,6 +13,7 @@
 #include "terrain/gl/VertexArray.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/PatchInstanceRecord.h"
+#include "terrain/runtime/PatchRenderer.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TerrainRenderer.h"
@@ -23,7 +24,7 @@
 namespace terrain::runtime {
 
 /// Render thread only; draws into the framebuffer bound by the caller.
-class LivnyRenderer {
+class LivnyRenderer final : public PatchRenderer {
 public:
     static Result<LivnyRenderer> create(const io::PyramidLayout& layout, int maxInstances);
 
@@ -32,7 +33,7 @@ public:
     /// fixedTessFactor do not apply.
     TerrainDrawStats draw(const Camera& camera, const TerrainGeometry& geometry,
                           const cache::GpuTilePool& pool, std::span<const PatchDraw> patches,
-                          const TerrainStyle& style);
+                          const TerrainStyle& style) override;
 
 private:
     gl::Program m_program;

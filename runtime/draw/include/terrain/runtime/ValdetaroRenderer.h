@@ -16,6 +16,7 @@
 #include "terrain/gl/VertexArray.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/PatchInstanceRecord.h"
+#include "terrain/runtime/PatchRenderer.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TerrainRenderer.h"
@@ -39,7 +40,7 @@ struct ValdetaroParameters {
 };
 
 /// Render thread only; draws into the framebuffer bound by the caller.
-class ValdetaroRenderer {
+class ValdetaroRenderer final : public PatchRenderer {
 public:
     static Result<ValdetaroRenderer> create(const io::PyramidLayout& layout, int maxInstances,
                                             const ValdetaroTileGrid& tiles,
@@ -50,7 +51,7 @@ public:
     /// says; style.skirts and fixedTessFactor do not apply.
     TerrainDrawStats draw(const Camera& camera, const TerrainGeometry& geometry,
                           const cache::GpuTilePool& pool, std::span<const PatchDraw> patches,
-                          const TerrainStyle& style);
+                          const TerrainStyle& style) override;
 
     const ValdetaroParameters& parameters() const { return m_parameters; }
 

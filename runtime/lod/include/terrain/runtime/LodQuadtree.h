@@ -48,6 +48,10 @@ enum class SplitRule {
     /// for every patch that shares the edge, and no more than the distance to a part of
     /// it, which Livny's Claim 1 needs).
     LivnyEdges,
+    /// CDLOD (Strugar 2009): distance ranges doubling level by level. A patch is split while
+    /// the camera is nearer its box than R_l = γ · s_l / τ, s_l its level's sample spacing:
+    /// where a sample of the level would span more than τ pixels. (γ · s_l / ρ > τ.)
+    ProjectedSpacing,
 };
 
 struct LodOptions {

@@ -31,6 +31,10 @@ enum class LodMethod {
     /// patches, cut in tiles of 64 quads) with no hierarchy, each tile's factors from its
     /// height-acceleration map (Sobel of Sobel), its screen error and its distance (§4–5).
     Valdetaro2011,
+    /// Strugar 2009, CDLOD: the patch quadtree by distance ranges doubling level by level,
+    /// each patch a regular grid whose vertices morph towards the coarser level's grid near
+    /// the end of its range; no tessellation, no skirts.
+    Cdlod,
     /// A view-dependent right-triangulated irregular network built on the CPU from the
     /// full-resolution samples with exact per-vertex errors, kept conforming by nested
     /// errors and bounding spheres (Lindstrom & Pascucci 2002): the fewest-triangles

@@ -18,16 +18,19 @@
 // the uniform grid (every leaf split to the finest level, drawn at full resolution) and
 // Valdetaro et al. 2011 (the same finest-level grid, each patch cut into the paper's tiles
 // and drawn by ValdetaroRenderer) and Livny et al. 2007 (the quadtree split by Eq. 1,
-// drawn by LivnyRenderer).
+// drawn by LivnyRenderer) and CDLOD (Strugar 2009: the quadtree by distance ranges, drawn
+// morphed by CdlodRenderer).
 #pragma once
 
 #include "terrain/base/Result.h"
 #include "terrain/runtime/Camera.h"
+#include "terrain/runtime/CdlodRenderer.h"
 #include "terrain/runtime/FrameTelemetry.h"
 #include "terrain/runtime/LivnyRenderer.h"
 #include "terrain/runtime/LodMethod.h"
 #include "terrain/runtime/LodQuadtree.h"
 #include "terrain/runtime/LodStrategy.h"
+#include "terrain/runtime/PatchRenderer.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TerrainRenderer.h"
@@ -37,15 +40,13 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
-#include <optional>
 #include <span>
 #include <vector>
 
 namespace terrain::runtime {
 
 struct TerrainSessionOptions {
-    /// Yusov2011, ChunkedLod, Uniform, Livny2007 or Valdetaro2011 (others are refused:
-    /// openLodStrategy opens them).
+    /// Any method but the RTIN (refused: openLodStrategy opens it).
     LodMethod method = LodMethod::Yusov2011;
     ValdetaroParameters valdetaro;  ///< Valdetaro2011 only
     TileStreamerOptions streaming;
@@ -120,15 +121,16 @@ public:
 
 private:
     TerrainSession(std::unique_ptr<TileStreamer> streamer, TerrainRenderer renderer,
-                   std::optional<ValdetaroRenderer> valdetaro, std::optional<LivnyRenderer> livny,
-                   LodMethod method, const LodOptions& lod);
+                   std::unique_ptr<PatchRenderer> methodRenderer, LodMethod method,
+                   const LodOptions& lod);
 
     // Declared in destruction order's reverse: the tree holds pins in the streamer's pool.
     std::unique_ptr<TileStreamer> m_streamer;
     TerrainGeometry m_geometry;
     TerrainRenderer m_renderer;
-    std::optional<ValdetaroRenderer> m_valdetaro;  // Valdetaro2011 draws with it
-    std::optional<LivnyRenderer> m_livny;          // Livny2007 draws with it
+    // Valdetaro2011, Livny2007 and Cdlod draw with their own; null for the methods that
+    // draw with m_renderer.
+    std::unique_ptr<PatchRenderer> m_methodRenderer;
     std::unique_ptr<LodQuadtree> m_tree;
 
     std::vector<PatchDraw> m_draws;
