@@ -188,39 +188,55 @@ struct SettledMeasure {
     bool settled = false;
 };
 
+/// One settled frame of any LOD method (LodStrategy) drawn with `style` and measured by
+/// `probe` at ε = style.errorPx: settle, beginFrame, the probe's draws, endFrame, the
+/// reference, the measures.
+inline SettledMeasure measureSettledFrame(runtime::LodStrategy& strategy,
+                                          runtime::AccuracyProbe& probe,
+                                          const runtime::Camera& camera,
+                                          const runtime::TerrainStyle& style) {
+    SettledMeasure m;
+    m.settled = strategy.settle(camera, std::chrono::seconds(60));
+    EXPECT_TRUE(m.settled) << "the view never settled";
+    m.lod = strategy.beginFrame(camera);
+    const runtime::LodCapture lodCapture = probe.captureLod(strategy, camera, style);
+    m.triangles = lodCapture.draw.triangles;
+    m.patches = static_cast<std::uint64_t>(lodCapture.draw.instances);
+    runtime::FrameTelemetry t;
+    strategy.endFrame(t);
+    auto reference = probe.renderReference(camera, runtime::referenceStyleOf(style));
+    EXPECT_TRUE(reference) << reference.error().message;
+    if (!reference) return m;
+    auto accuracy = probe.compare(camera, lodCapture, reference.value(), style.errorPx);
+    EXPECT_TRUE(accuracy) << accuracy.error().message;
+    if (accuracy) m.accuracy = accuracy.value();
+    return m;
+}
+
+/// The style every settled measure draws with: measured, no fog, ε = errorPx.
+inline runtime::TerrainStyle measuredStyle(double errorPx) {
+    runtime::TerrainStyle style;
+    style.errorPx = errorPx;
+    style.fogDensityPerM = 0.0f;
+    style.measure = true;
+    return style;
+}
+
 /// `fixedTessFactor` > 0 draws every block edge with that factor (TerrainStyle): the
 /// patch's full resolution for blockQuads, so only the coarse LOD's error remains.
 inline SettledMeasure measureSettled(runtime::TerrainSession& session,
                                      runtime::AccuracyProbe& probe, const runtime::Camera& camera,
                                      double errorPx, int fixedTessFactor = 0,
                                      bool cullBlocks = true) {
-    SettledMeasure m;
     runtime::LodOptions lod = session.lodOptions();
     if (lod.errorPx != errorPx) {
         lod.errorPx = errorPx;
         session.setLodOptions(lod);
     }
-    m.settled = session.settle(camera, std::chrono::seconds(60));
-    EXPECT_TRUE(m.settled) << "the view never settled";
-    m.lod = session.beginFrame(camera);
-    runtime::TerrainStyle style;
-    style.errorPx = errorPx;
-    style.fogDensityPerM = 0.0f;
-    style.measure = true;
+    runtime::TerrainStyle style = measuredStyle(errorPx);
     style.fixedTessFactor = fixedTessFactor;
     style.cullBlocks = cullBlocks;
-    const runtime::LodCapture lodCapture = probe.captureLod(session, camera, style);
-    m.triangles = lodCapture.draw.triangles;
-    m.patches = static_cast<std::uint64_t>(lodCapture.draw.instances);
-    runtime::FrameTelemetry t;
-    session.endFrame(t);
-    auto reference = probe.renderReference(camera, runtime::referenceStyleOf(style));
-    EXPECT_TRUE(reference) << reference.error().message;
-    if (!reference) return m;
-    auto accuracy = probe.compare(camera, lodCapture, reference.value(), errorPx);
-    EXPECT_TRUE(accuracy) << accuracy.error().message;
-    if (accuracy) m.accuracy = accuracy.value();
-    return m;
+    return measureSettledFrame(session, probe, camera, style);
 }
 
 /// Where the full LOD's error comes from, at every pixel whose measured error exceeds

@@ -18,33 +18,6 @@
 
 namespace terrain::test {
 
-/// One settled frame of `strategy` at `errorPx`, measured by `probe`.
-inline SettledMeasure measureSettledStrategy(runtime::LodStrategy& strategy,
-                                             runtime::AccuracyProbe& probe,
-                                             const runtime::Camera& camera, double errorPx) {
-    SettledMeasure m;
-    strategy.setErrorPx(errorPx);
-    m.settled = strategy.settle(camera, std::chrono::seconds(60));
-    EXPECT_TRUE(m.settled) << "the view never settled";
-    m.lod = strategy.beginFrame(camera);
-    runtime::TerrainStyle style;
-    style.errorPx = errorPx;
-    style.fogDensityPerM = 0.0f;
-    style.measure = true;
-    const runtime::LodCapture capture = probe.captureLod(strategy, camera, style);
-    m.triangles = capture.draw.triangles;
-    m.patches = static_cast<std::uint64_t>(capture.draw.instances);
-    runtime::FrameTelemetry t;
-    strategy.endFrame(t);
-    auto reference = probe.renderReference(camera, runtime::referenceStyleOf(style));
-    EXPECT_TRUE(reference) << reference.error().message;
-    if (!reference) return m;
-    auto accuracy = probe.compare(camera, capture, reference.value(), errorPx);
-    EXPECT_TRUE(accuracy) << accuracy.error().message;
-    if (accuracy) m.accuracy = accuracy.value();
-    return m;
-}
-
 inline void sweepOtherMethods(const std::filesystem::path& pyramid, const std::vector<Pose>& poses,
                               const std::string& scene, int widthPx, int heightPx,
                               std::span<const double> errorsPx) {
@@ -65,8 +38,9 @@ inline void sweepOtherMethods(const std::filesystem::path& pyramid, const std::v
             for (const double errorPx : errorsPx) {
                 const std::string what = scene + " / " + std::string(method.name) + " / " +
                                          pose.name + " at ε = " + std::to_string(errorPx);
-                const SettledMeasure m =
-                    measureSettledStrategy(strategy, *probe.value(), pose.camera, errorPx);
+                strategy.setErrorPx(errorPx);
+                const SettledMeasure m = measureSettledFrame(strategy, *probe.value(), pose.camera,
+                                                             measuredStyle(errorPx));
                 std::cout << "[          ] " << what << ": " << m.triangles << " triangles; "
                           << describe(m.accuracy) << "\n";
                 if (method.skirts && method.boundsError) {

@@ -6,20 +6,8 @@
 #pragma once
 
 #include "terrain/base/Result.h"
-#include "terrain/cache/GpuTilePool.h"
-#include "terrain/gl/Buffer.h"
-#include "terrain/gl/Program.h"
-#include "terrain/gl/Query.h"
-#include "terrain/gl/VertexArray.h"
-#include "terrain/runtime/Camera.h"
-#include "terrain/runtime/PatchInstanceRecord.h"
+#include "terrain/runtime/MethodPatchDraw.h"
 #include "terrain/runtime/PatchRenderer.h"
-#include "terrain/runtime/PatchSelection.h"
-#include "terrain/runtime/TerrainGeometry.h"
-#include "terrain/runtime/TerrainRenderer.h"
-
-#include <span>
-#include <vector>
 
 namespace terrain::runtime {
 
@@ -36,13 +24,7 @@ public:
                           const TerrainStyle& style) override;
 
 private:
-    gl::Program m_program;
-    gl::VertexArray m_vertexArray;
-    gl::Buffer m_instances;
-    gl::Query m_primitivesQuery;
-    gl::Query m_timeQuery;
-    std::vector<PatchInstanceRecord> m_staging;
-    int m_maxInstances = 0;
+    MethodPatchDraw m_draw;
     int m_patchQuads = 0;
 };
 

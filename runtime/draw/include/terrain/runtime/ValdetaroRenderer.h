@@ -9,13 +9,9 @@
 
 #include "terrain/base/Result.h"
 #include "terrain/cache/GpuTilePool.h"
-#include "terrain/gl/Buffer.h"
-#include "terrain/gl/Program.h"
-#include "terrain/gl/Query.h"
 #include "terrain/gl/Texture.h"
-#include "terrain/gl/VertexArray.h"
 #include "terrain/runtime/Camera.h"
-#include "terrain/runtime/PatchInstanceRecord.h"
+#include "terrain/runtime/MethodPatchDraw.h"
 #include "terrain/runtime/PatchRenderer.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TerrainGeometry.h"
@@ -56,15 +52,9 @@ public:
     const ValdetaroParameters& parameters() const { return m_parameters; }
 
 private:
-    gl::Program m_program;
-    gl::VertexArray m_vertexArray;
-    gl::Buffer m_instances;
+    MethodPatchDraw m_draw;  // layerLevel.zw of its records: the patch's x, y
     gl::Texture m_tiles;
-    gl::Query m_primitivesQuery;
-    gl::Query m_timeQuery;
-    std::vector<PatchInstanceRecord> m_staging;  // layerLevel.zw: the tile grid / tiles a side
     ValdetaroParameters m_parameters;
-    int m_maxInstances = 0;
     int m_tilesPerPatch = 0;
     int m_tileQuads = 0;
 };
