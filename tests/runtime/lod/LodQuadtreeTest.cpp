@@ -168,7 +168,7 @@ void LodQuadtreeTest::checkSpacingRuleCut(runtime::SplitRule rule) {
         .errorPx = 12.0, .coarseShare = 1.0, .hysteresis = 1.0, .splitRule = rule};
     auto reader = io::PyramidReader::open(streamingTestPyramid());
     ASSERT_TRUE(reader) << reader.error().message;
-    const io::PyramidLayout& layout = m_residency->layout();
+    const io::PyramidLayout& layout = reader.value().layout();
     for (const Camera& c : {camera(0.2, 0.3, 300.0, 0.6, 0.5), camera(0.5, 0.5, 40.0, 0.9, 0.1),
                             camera(0.9, 0.1, 1500.0, 0.2, 0.8)}) {
         // A tree of its own for each view (the fake keeps requests the last view left).
