@@ -60,6 +60,7 @@ struct BenchOptions {
     std::string outputDir;
     std::string reportDir;
     bool noSettle = false;
+    int settleTimeoutS = 120;
     bool coarseOnly = false;
     runtime::ValdetaroParameters valdetaro;
     double tolerancePx = 0.05;
@@ -129,8 +130,6 @@ struct ThresholdRun {
     std::optional<runtime::LodCapture> previous;
     int unsettledFrames = 0;  ///< frames streaming did not settle for (not waited for again)
 };
-
-constexpr int kSettleTimeoutS = 120;
 
 nlohmann::json methodNames(const std::vector<ThresholdRun>& runs) {
     nlohmann::json names = nlohmann::json::array();
@@ -277,7 +276,7 @@ int run(const BenchOptions& o, const char* argv0) {
                 // over a large DEM) never settles: its frames are measured as drawn and marked,
                 // and after the first such frame it is not waited for again.
                 if (r.unsettledFrames > 0 ||
-                    !session.settle(camera, std::chrono::seconds(kSettleTimeoutS))) {
+                    !session.settle(camera, std::chrono::seconds(o.settleTimeoutS))) {
                     if (const runtime::TileFault* fault = session.fatalFault())
                         return fail(
                             fmt::format("{} ({}): {}", o.pyramid, r.methodName, fault->message));
@@ -286,7 +285,7 @@ int run(const BenchOptions& o, const char* argv0) {
                                    "terrain-bench: frame {} at ε = {} px ({}): streaming did not "
                                    "settle within {} s (its view needs more than the GPU pool "
                                    "holds?): its frames are measured as drawn\n",
-                                   frame, r.thresholdPx, r.methodName, kSettleTimeoutS);
+                                   frame, r.thresholdPx, r.methodName, o.settleTimeoutS);
                     }
                     rec.settled = false;
                 }
@@ -478,6 +477,12 @@ int main(int argc, char** argv) {
     app.add_option(
         "--report", o.reportDir,
         "Write PNG charts and report.md into this folder (needs /usr/bin/python3 with matplotlib)");
+    app.add_option("--settle-timeout-s", o.settleTimeoutS,
+                   "Seconds a frame waits for streaming to settle; a method that does not (its "
+                   "view needs more than the GPU pool holds) is then measured as drawn and "
+                   "reported, and not waited for again")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 3600));
     app.add_flag("--no-settle", o.noSettle,
                  "Draw each frame as streaming has it (default: let streaming settle first)");
     app.add_option("--methods,--method", o.methods,
