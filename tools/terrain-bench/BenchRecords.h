@@ -32,8 +32,8 @@ struct FrameRecord {
     std::uint64_t triangles = 0;  ///< GL_PRIMITIVES_GENERATED of the LOD draw (skirts included)
     std::uint64_t patches = 0;
     /// Patches the LOD culled and nodes in its tree this frame: the "culled" and
-    /// "traversed" columns of Livny 2007's Table 1 (for the RTIN: subtrees culled, bintree
-    /// nodes visited).
+    /// "traversed" columns of Livny 2007's Table 1 (LodUpdateStats: for the RTIN, subtrees
+    /// culled and bintree nodes visited).
     std::uint64_t patchesCulled = 0;
     std::uint64_t lodNodes = 0;
     std::uint64_t drawCalls = 0;

@@ -303,8 +303,7 @@ int run(const BenchOptions& o, const char* argv0) {
             rec.gpuMs = lod.draw.gpuMs;
             rec.patches = telemetry.patchesDrawn;
             rec.patchesCulled = lodStats.culled;
-            rec.lodNodes =
-                r.method == runtime::LodMethod::Rtin ? lodStats.evaluations : lodStats.nodes;
+            rec.lodNodes = lodStats.nodes;
             rec.drawCalls = telemetry.drawCalls;
             rec.residentBytes = session.memoryBytes();
             telemetry.frame = static_cast<std::uint64_t>(frame);

@@ -59,8 +59,13 @@ TerrainDrawStats issueInstancedPatchDraw(const cache::GpuTilePool& pool,
             draw.primitivesQuery->begin();
             draw.timeQuery->begin();
         }
-        glDrawArraysInstanced(GL_PATCHES, 0, draw.verticesPerInstance,
-                              static_cast<GLsizei>(draw.instanceCount));
+        if (draw.indexCount > 0) {
+            glDrawElementsInstanced(GL_TRIANGLES, draw.indexCount, GL_UNSIGNED_INT, nullptr,
+                                    static_cast<GLsizei>(draw.instanceCount));
+        } else {
+            glDrawArraysInstanced(GL_PATCHES, 0, draw.verticesPerInstance,
+                                  static_cast<GLsizei>(draw.instanceCount));
+        }
         if (measure) {
             draw.timeQuery->end();
             draw.primitivesQuery->end();

@@ -1,7 +1,8 @@
 // InstancedPatchDraw: the GL half every patch renderer shares (TerrainRenderer on the plane,
-// GlobeRenderer on the ellipsoid): bind the pool's texture arrays and the instance buffer,
-// issue ONE glDrawArraysInstanced of GL_PATCHES, measure it if asked, and put GL's state
-// back. The renderers differ only in their programs and instance records.
+// GlobeRenderer on the ellipsoid, the comparison methods' renderers): bind the pool's
+// texture arrays and the instance buffer, issue ONE instanced draw (of GL_PATCHES, or of an
+// indexed triangle grid), measure it if asked, and put GL's state back. The renderers differ
+// only in their programs and instance records.
 #pragma once
 
 #include "terrain/cache/GpuTilePool.h"
@@ -19,7 +20,10 @@ struct InstancedPatchDraw {
     const gl::VertexArray& vertexArray;
     const gl::Buffer& instances;
     const gl::Buffer* tessFactors = nullptr;  ///< bound for TERRAIN_DEBUG_TESS_FACTORS
-    int verticesPerInstance = 0;
+    int verticesPerInstance = 0;  ///< GL_PATCHES of 4 vertices each (indexCount 0)
+    /// > 0: indexed GL_TRIANGLES from the vertex array's index buffer instead (a draw
+    /// without tessellation: CDLOD's grids).
+    int indexCount = 0;
     int instanceCount = 0;
     bool wireframe = false;
     /// Measures with these queries (GL_PRIMITIVES_GENERATED, GL_TIME_ELAPSED) and waits.

@@ -51,23 +51,34 @@ std::int64_t edgeFunction(int ax, int ay, int bx, int by, int px, int py) {
 
 }  // namespace
 
+int RtinMesh::gridQuadsFor(int width, int height) {
+    int n = 1;
+    while (n < std::max(width, height) - 1) n *= 2;
+    return n;
+}
+
+Status RtinMesh::checkMemory(int width, int height, std::size_t maxBytes) {
+    const int n = gridQuadsFor(width, height);
+    const std::size_t vertices = static_cast<std::size_t>(n + 1) * static_cast<std::size_t>(n + 1);
+    const std::size_t samples = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+    const std::size_t bytes = (vertices * 2 + samples) * sizeof(float);
+    if (bytes <= maxBytes) return {};
+    return Error{fmt::format(
+        "the RTIN yardstick holds the whole finest level in memory: this raster of {} × {} "
+        "samples needs {:.0f} MiB (limit {:.0f} MiB)",
+        width, height, static_cast<double>(bytes) / (1 << 20),
+        static_cast<double>(maxBytes) / (1 << 20))};
+}
+
 Result<RtinMesh> RtinMesh::build(int width, int height, std::vector<float> heights,
                                  glm::dvec2 spacingM, std::size_t maxBytes) {
     TERRAIN_ASSERT(
         width >= 2 && height >= 2 &&
             heights.size() == static_cast<std::size_t>(width) * static_cast<std::size_t>(height),
         "RtinMesh: bad raster");
-    int n = 1;
-    while (n < std::max(width, height) - 1) n *= 2;
+    if (auto fits = checkMemory(width, height, maxBytes); !fits) return fits.error();
+    const int n = gridQuadsFor(width, height);
     const std::size_t vertices = static_cast<std::size_t>(n + 1) * static_cast<std::size_t>(n + 1);
-    const std::size_t bytes = vertices * 2 * sizeof(float) + heights.size() * sizeof(float);
-    if (bytes > maxBytes) {
-        return Error{fmt::format(
-            "the RTIN yardstick holds the whole finest level in memory: this raster of {} × {} "
-            "samples needs {:.0f} MiB (limit {:.0f} MiB)",
-            width, height, static_cast<double>(bytes) / (1 << 20),
-            static_cast<double>(maxBytes) / (1 << 20))};
-    }
     RtinMesh mesh;
     mesh.m_width = width;
     mesh.m_height = height;

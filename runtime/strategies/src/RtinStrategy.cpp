@@ -21,16 +21,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 /// The DEM's samples (width × height, rows south) from the finest level's patches.
-Result<std::vector<float>> readFinestLevel(io::PyramidReader& reader, std::size_t maxBytes) {
+Result<std::vector<float>> readFinestLevel(io::PyramidReader& reader) {
     const io::PyramidLayout& layout = reader.layout();
     const auto width = static_cast<std::size_t>(layout.rasterWidth());
     const auto height = static_cast<std::size_t>(layout.rasterHeight());
-    if (width * height * sizeof(float) > maxBytes) {
-        return Error{fmt::format(
-            "the RTIN yardstick holds the whole finest level in memory: {} × {} samples are "
-            "more than its {:.0f} MiB",
-            width, height, static_cast<double>(maxBytes) / (1 << 20))};
-    }
     std::vector<float> raster(width * height);
     const int finest = layout.finestLevel();
     const auto tileSide = static_cast<std::size_t>(layout.tileSamples());
@@ -67,11 +61,15 @@ Result<std::unique_ptr<RtinStrategy>> RtinStrategy::open(const std::filesystem::
                      ": a globe pyramid; the RTIN yardstick draws planar pyramids only"};
     TerrainGeometry geometry(reader.value().manifest());
     const io::PyramidLayout& layout = geometry.layout();
-    auto raster = readFinestLevel(reader.value(), maxBytes);
+    // Refused before a sample is read when the mesh would not fit.
+    const auto width = static_cast<int>(layout.rasterWidth());
+    const auto height = static_cast<int>(layout.rasterHeight());
+    if (auto fits = RtinMesh::checkMemory(width, height, maxBytes); !fits)
+        return Error{pyramid.string() + ": " + fits.error().message};
+    auto raster = readFinestLevel(reader.value());
     if (!raster) return Error{pyramid.string() + ": " + raster.error().message};
-    auto mesh = RtinMesh::build(static_cast<int>(layout.rasterWidth()),
-                                static_cast<int>(layout.rasterHeight()), std::move(raster).value(),
-                                geometry.sampleSpacing(), maxBytes);
+    auto mesh = RtinMesh::build(width, height, std::move(raster).value(), geometry.sampleSpacing(),
+                                maxBytes);
     if (!mesh) return Error{pyramid.string() + ": " + mesh.error().message};
 
     ProgramBuilder builder("rtin");
@@ -101,7 +99,9 @@ const LodUpdateStats& RtinStrategy::beginFrame(const Camera& camera) {
     m_lodUpdateUs = std::chrono::duration<double, std::micro>(Clock::now() - start).count();
     m_stats = {};
     m_stats.evaluations = selected.visited;
+    m_stats.nodes = selected.visited;  // the bintree nodes this frame's refinement looked at
     m_stats.culled = selected.culled;
+    m_uploaded = false;
     m_lastDraw = {};
     return m_stats;
 }
@@ -160,7 +160,13 @@ void RtinStrategy::upload(glm::dvec2 anchor) {
 TerrainDrawStats RtinStrategy::draw(const Camera& camera, const TerrainStyle& style) {
     const glm::dvec2 anchor = setCameraFrameUniforms(m_program, camera, m_geometry);
     setShadingUniforms(m_program, m_geometry, style.skyColor, style.fogDensityPerM);
-    upload(anchor);  // positions are relative to this camera's anchor
+    // Positions are relative to the anchor: written again only for a new mesh or anchor (the
+    // accuracy probe, a frozen view, draw one frame more than once).
+    if (!m_uploaded || anchor != m_uploadedAnchor) {
+        upload(anchor);
+        m_uploaded = true;
+        m_uploadedAnchor = anchor;
+    }
     TerrainDrawStats stats;
     stats.drawCalls = 1;
     stats.instances = 1;

@@ -122,7 +122,8 @@ LodCapture AccuracyProbe::captureLod(LodStrategy& session, const Camera& camera,
         capture.drawMs = millisecondsSince(start);
     }
     capture.images = readFrameImages(m_lodTarget);
-    if (style.skirts) {
+    // A method without skirts draws the same frame again without them: nothing to tell apart.
+    if (style.skirts && lodMethodInfo(session.method()).skirts) {
         TerrainStyle withoutSkirts = style;
         withoutSkirts.skirts = false;
         withoutSkirts.measure = false;

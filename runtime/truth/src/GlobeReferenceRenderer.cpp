@@ -42,7 +42,7 @@ Result<GlobeReferenceRenderer> GlobeReferenceRenderer::create(const io::PyramidM
     r.m_program = std::move(program).value();
     r.m_layout = manifest.layout;
     r.m_heightRange = globeHeightRange(manifest);
-    r.m_grid = ReferenceGrid::create(manifest.layout.patchQuads(), "globe reference grid");
+    r.m_grid = SampleGrid::create(manifest.layout.patchQuads(), "globe reference grid");
     r.m_instances = gl::Buffer::create(sizeof(GlobeInstance) * kBatchRegions,
                                        GL_DYNAMIC_STORAGE_BIT, "globe reference regions");
     const int side = manifest.layout.tileSamples();

@@ -26,7 +26,7 @@ Result<ReferenceRenderer> ReferenceRenderer::create(const io::PyramidLayout& lay
     r.m_program = std::move(program).value();
     r.m_tileQuads = std::min(layout.patchQuads(), kMaxTileQuads);
     const int quads = r.m_tileQuads;
-    r.m_grid = ReferenceGrid::create(quads, "reference grid");
+    r.m_grid = SampleGrid::create(quads, "reference grid");
     r.m_instances = gl::Buffer::create(sizeof(TileInstance) * kBatchTiles, GL_DYNAMIC_STORAGE_BIT,
                                        "reference tiles");
     auto heights = gl::Texture::create2DArray(

@@ -7,11 +7,11 @@
 
 #include "terrain/base/Result.h"
 #include "terrain/cache/GpuTilePool.h"
-#include "terrain/gl/Buffer.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/MethodPatchDraw.h"
 #include "terrain/runtime/PatchRenderer.h"
 #include "terrain/runtime/PatchSelection.h"
+#include "terrain/runtime/SampleGrid.h"
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TerrainRenderer.h"
 
@@ -36,10 +36,9 @@ public:
                           const TerrainStyle& style) override;
 
 private:
-    MethodPatchDraw m_draw;
-    gl::Buffer m_indices;  // the grid of the patch's samples
+    MethodPatchDraw m_draw;  // its vertex array is unused: the grid's holds the indices
+    SampleGrid m_grid;       // the patch's samples
     int m_gridQuads = 0;
-    int m_indexCount = 0;
 };
 
 }  // namespace terrain::runtime

@@ -79,9 +79,9 @@ struct LodUpdateStats {
     std::uint64_t culled = 0;       ///< leaves outside the frustum
     std::uint64_t evaluations = 0;  ///< split or merge decisions computed this frame
     std::uint64_t splits = 0;
-    std::uint64_t merges = 0;                ///< including subtrees collapsed as they left the view
-    std::uint64_t waitingSplits = 0;         ///< leaves too coarse whose children are not resident
-    std::uint64_t nodes = 0;                 ///< nodes in the tree after the update
+    std::uint64_t merges = 0;         ///< including subtrees collapsed as they left the view
+    std::uint64_t waitingSplits = 0;  ///< leaves too coarse whose children are not resident
+    std::uint64_t nodes = 0;  ///< nodes in the tree after the update (RTIN: bintree nodes visited)
     std::uint64_t coveredFinestPatches = 0;  ///< as PatchSelectionStats
 };
 

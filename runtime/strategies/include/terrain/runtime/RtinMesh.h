@@ -56,6 +56,12 @@ public:
     static Result<RtinMesh> build(int width, int height, std::vector<float> heights,
                                   glm::dvec2 spacingM, std::size_t maxBytes = kDefaultMaxBytes);
 
+    /// The error build() would give for a width × height raster and `maxBytes`, before any
+    /// sample is read (the heights and the grid's error and radius arrays).
+    static Status checkMemory(int width, int height, std::size_t maxBytes);
+    /// n: the padded grid's quads a side, the smallest power of two ≥ the raster's.
+    static int gridQuadsFor(int width, int height);
+
     int width() const { return m_width; }
     int height() const { return m_height; }
     int gridQuads() const { return m_n; }  ///< n: the padded grid has (n + 1)² vertices

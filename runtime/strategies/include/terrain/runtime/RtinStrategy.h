@@ -72,6 +72,8 @@ private:
     std::vector<Vertex> m_vertices;
     std::vector<std::uint32_t> m_indices;
     std::vector<std::uint32_t> m_gridVertices;  // this frame's grid vertices, sorted, unique
+    bool m_uploaded = false;  // the buffers hold this frame's mesh relative to m_uploadedAnchor
+    glm::dvec2 m_uploadedAnchor{0.0};
 
     LodUpdateStats m_stats;
     double m_lodUpdateUs = 0.0;

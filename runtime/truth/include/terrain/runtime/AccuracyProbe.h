@@ -38,7 +38,7 @@ struct AccuracyProbeOptions {
 
 struct LodCapture {
     FrameImages images;  ///< as drawn, with the style's skirts
-    /// The same frame drawn without skirts (empty when the style has none).
+    /// The same frame drawn without skirts (empty when the style or the method has none).
     std::vector<float> depthWithoutSkirts;
     TerrainDrawStats draw;  ///< of the first draw (triangles, GPU ms when style.measure)
     double drawMs = 0.0;    ///< wall time of the first draw up to glFinish
@@ -90,7 +90,8 @@ public:
     Result<ReferenceCapture> renderReference(const Camera& camera, const ReferenceStyle& style);
 
     /// Draws the strategy's frame for `camera` (between its beginFrame and endFrame) with
-    /// `style`, then without skirts, and reads both back. Any LOD method (LodStrategy.h).
+    /// `style`, then (for a method with skirts) without them, and reads both back. Any LOD
+    /// method (LodStrategy.h).
     LodCapture captureLod(LodStrategy& session, const Camera& camera, const TerrainStyle& style);
 
     /// The measures of `lod` against `reference` (same camera); with the previous frame's

@@ -25,8 +25,8 @@
 #include "terrain/io/PyramidReader.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/GlobeInstance.h"
-#include "terrain/runtime/ReferenceGrid.h"
 #include "terrain/runtime/ReferenceRenderer.h"
+#include "terrain/runtime/SampleGrid.h"
 
 #include <array>
 #include <cstdint>
@@ -80,7 +80,7 @@ private:
     void submitBatch();
 
     gl::Program m_program;
-    ReferenceGrid m_grid;
+    SampleGrid m_grid;
     gl::Buffer m_instances;
     gl::Texture m_heights;  // kBatchRegions layers of tileSamples²
     io::PyramidLayout m_layout;

@@ -19,7 +19,7 @@
 #include "terrain/gl/Texture.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/FullResolutionSurface.h"
-#include "terrain/runtime/ReferenceGrid.h"
+#include "terrain/runtime/SampleGrid.h"
 
 #include <array>
 #include <cstdint>
@@ -71,7 +71,7 @@ private:
     void submitBatch(int tiles);
 
     gl::Program m_program;
-    ReferenceGrid m_grid;
+    SampleGrid m_grid;
     gl::Buffer m_instances;
     gl::Texture m_heights;  // kBatchTiles layers of (tileQuads + 3)² samples
     std::vector<TileInstance> m_staging;

@@ -1,4 +1,4 @@
-#include "terrain/runtime/ReferenceGrid.h"
+#include "terrain/runtime/SampleGrid.h"
 
 #include "Bindings.h"
 
@@ -10,7 +10,7 @@
 
 namespace terrain::runtime {
 
-ReferenceGrid ReferenceGrid::create(int quads, std::string_view label) {
+SampleGrid SampleGrid::create(int quads, std::string_view label) {
     const int samples = quads + 1;
     std::vector<std::uint32_t> indices;
     indices.reserve(static_cast<std::size_t>(quads) * static_cast<std::size_t>(quads) * 6);
@@ -23,7 +23,7 @@ ReferenceGrid ReferenceGrid::create(int quads, std::string_view label) {
             indices.insert(indices.end(), {nw, ne, se, nw, se, sw});
         }
     }
-    ReferenceGrid grid;
+    SampleGrid grid;
     grid.m_indexCount = static_cast<int>(indices.size());
     grid.m_indices = gl::Buffer::createFrom(std::span<const std::uint32_t>(indices), 0,
                                             std::string(label) + " indices");
@@ -32,8 +32,8 @@ ReferenceGrid ReferenceGrid::create(int quads, std::string_view label) {
     return grid;
 }
 
-void ReferenceGrid::draw(const gl::Program& program, const gl::Texture& heights,
-                         const gl::Buffer& instances, int instanceCount) const {
+void SampleGrid::draw(const gl::Program& program, const gl::Texture& heights,
+                      const gl::Buffer& instances, int instanceCount) const {
     glUseProgram(program.id());
     glBindVertexArray(m_vertexArray.id());
     glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, heights.id());
