@@ -18,11 +18,26 @@
 #define TERRAIN_BINDING_BLOCK_ERRORS 1
 // Valdetaro et al. 2011 (LodMethod::Valdetaro2011): per tile HAM_max, h_max and its texel.
 #define TERRAIN_BINDING_VALDETARO_TILES 2
+// Lee & Shin 2011 (LodMethod::Lee2011): the full-resolution height field, the quadtree
+// texture of roughness values and the blocks' height ranges (a mip chain).
+#define TERRAIN_BINDING_LEE_HEIGHTS 3
+#define TERRAIN_BINDING_LEE_ROUGHNESS 4
+#define TERRAIN_BINDING_LEE_RANGES 5
+
+// Image units. Lee & Shin 2011: the flag of every block split this frame, at its centre.
+#define TERRAIN_IMAGE_LEE_SPLIT_FLAGS 0
 
 // Shader storage blocks.
 #define TERRAIN_BINDING_PATCH_INSTANCES 0
 // Tessellation factors the terrain's control stage chose, one record per (instance,
 // primitive): written only by programs built with TERRAIN_DEBUG_TESS_FACTORS (tests).
 #define TERRAIN_BINDING_DEBUG_TESS_FACTORS 1
+// Lee & Shin 2011's passes: their counters and indirect arguments, the pass's input and
+// output lists, the leaf blocks and the final triangles.
+#define TERRAIN_BINDING_LEE_COUNTERS 2
+#define TERRAIN_BINDING_LEE_INPUT 3
+#define TERRAIN_BINDING_LEE_OUTPUT 4
+#define TERRAIN_BINDING_LEE_LEAVES 5
+#define TERRAIN_BINDING_LEE_TRIANGLES 6
 
 #endif  // TERRAIN_BINDINGS_H

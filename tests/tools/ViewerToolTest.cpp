@@ -334,7 +334,7 @@ TEST_F(ViewerTool, GlobeViewerKeepsTheCameraJustAboveTheGround) {
     }
 }
 
-TEST_F(ViewerTool, FliesTheOtherStreamingLodMethodsAndRefusesTheRtin) {
+TEST_F(ViewerTool, FliesTheOtherStreamingLodMethodsAndRefusesTheInCoreOnes) {
     for (const std::string method : {"chunked-lod", "uniform"}) {
         const ToolRun r = runViewer(kPyramid + " --method " + method +
                                         " --frames 6 --settle --width 240 --height 160 --json",
@@ -345,10 +345,13 @@ TEST_F(ViewerTool, FliesTheOtherStreamingLodMethodsAndRefusesTheRtin) {
         EXPECT_EQ(summary["gl_errors"], 0);
         EXPECT_GT(summary["patches_drawn_last"].get<int>(), 0) << method;
     }
-    const ToolRun rtin =
-        run("env -u DISPLAY " + kViewer + " " + kPyramid + " --method rtin", m_folder);
-    EXPECT_EQ(rtin.status, 1) << describe(rtin);
-    EXPECT_NE(rtin.err.find("rtin streams nothing"), std::string::npos) << rtin.err;
+    for (const std::string inCore : {"rtin", "lee2011"}) {
+        const ToolRun refused =
+            run("env -u DISPLAY " + kViewer + " " + kPyramid + " --method " + inCore, m_folder);
+        EXPECT_EQ(refused.status, 1) << describe(refused);
+        EXPECT_NE(refused.err.find(inCore + " streams nothing"), std::string::npos)
+            << refused.err;
+    }
 }
 
 TEST_F(ViewerTool, MissingPyramidIsAClearError) {

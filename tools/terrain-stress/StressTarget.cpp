@@ -98,10 +98,10 @@ private:
 Result<std::unique_ptr<StressTarget>> StressTarget::open(const StressTargetOptions& o) {
     auto manifest = io::readManifest(o.pyramid);
     if (!manifest) return manifest.error();
-    if (o.method == runtime::LodMethod::Rtin)
-        return Error{o.pyramid +
-                     ": --method rtin streams nothing (it reads the finest level once): the "
-                     "stress test flies the streaming methods (every method but rtin)"};
+    if (runtime::lodMethodInfo(o.method).inCore)
+        return Error{o.pyramid + ": --method " + std::string(runtime::lodMethodName(o.method)) +
+                     " streams nothing (it reads the finest level once): the stress test flies "
+                     "the streaming methods (every method but rtin and lee2011)"};
     if (manifest.value().globe && o.method != runtime::LodMethod::Yusov2011)
         return Error{o.pyramid + ": a globe pyramid; only yusov2011 draws globes (--method " +
                      std::string(runtime::lodMethodName(o.method)) +

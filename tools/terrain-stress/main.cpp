@@ -409,7 +409,7 @@ int main(int argc, char** argv) {
         ->capture_default_str()
         ->check(CLI::Range(0.05, 1e4));
     app.add_option("--method", o.method,
-                   "LOD method (docs/lod-methods.md): any but rtin, which streams nothing")
+                   "LOD method (docs/lod-methods.md): any but rtin and lee2011, which stream nothing")
         ->capture_default_str();
     app.add_option("--fov", o.fovDegrees, "Vertical field of view, degrees")
         ->capture_default_str()

@@ -87,13 +87,15 @@ int main(int argc, char** argv) {
     app.add_flag("--json", o.json, "Print a JSON summary on stdout at exit");
     CLI11_PARSE(app, argc, argv);
 
-    // The viewer streams: the RTIN yardstick (which reads the finest level once) is for the
-    // benchmark and terrain-render.
+    // The viewer streams: the in-core methods (the RTIN yardstick and Lee & Shin, which
+    // read the finest level once) are for the benchmark and terrain-render.
     auto method = terrain::runtime::parseLodMethod(o.method);
-    if (!method || method.value() == terrain::runtime::LodMethod::Rtin) {
+    if (!method || terrain::runtime::lodMethodInfo(method.value()).inCore) {
         fmt::print(stderr, "terrain-view: --method: {}\n",
-                   method ? "rtin streams nothing; the viewer flies the streaming methods "
-                            "(terrain-render and terrain-bench draw rtin)"
+                   method ? fmt::format("{} streams nothing (it holds the finest level in "
+                                        "memory); the viewer flies the streaming methods "
+                                        "(terrain-render and terrain-bench draw it)",
+                                        o.method)
                           : method.error().message);
         return 1;
     }

@@ -74,6 +74,10 @@ void Program::setUniform(std::string_view name, const std::array<float, 2>& valu
     glProgramUniform2fv(id(), uniformLocation(name), 1, value.data());
 }
 
+void Program::setUniform(std::string_view name, const std::array<int, 2>& value) {
+    glProgramUniform2iv(id(), uniformLocation(name), 1, value.data());
+}
+
 void Program::setUniform(std::string_view name, const std::array<float, 3>& value) {
     glProgramUniform3fv(id(), uniformLocation(name), 1, value.data());
 }

@@ -73,6 +73,7 @@ Result<std::unique_ptr<PatchRenderer>> createMethodRenderer(const std::filesyste
         case LodMethod::Yusov2011:
         case LodMethod::ChunkedLod:
         case LodMethod::Uniform:
+        case LodMethod::Lee2011:
         case LodMethod::Rtin:
             break;
     }
@@ -88,8 +89,9 @@ bool drawsFullPatches(LodMethod method) {
 
 Result<std::unique_ptr<TerrainSession>> TerrainSession::open(const std::filesystem::path& pyramid,
                                                              const TerrainSessionOptions& options) {
-    if (options.method == LodMethod::Rtin)
-        return Error{"rtin: not a quadtree method (openLodStrategy opens it)"};
+    if (lodMethodInfo(options.method).inCore)
+        return Error{std::string(lodMethodName(options.method)) +
+                     ": not a streaming quadtree method (openLodStrategy opens it)"};
     auto streamer = TileStreamer::open(pyramid, options.streaming);
     if (!streamer) return streamer.error();
     if (streamer.value()->manifest().globe)

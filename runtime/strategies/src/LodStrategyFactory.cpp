@@ -1,6 +1,7 @@
 // openLodStrategy: the method → strategy table.
 #include "terrain/runtime/LodStrategyFactory.h"
 
+#include "terrain/runtime/GeometrySplittingStrategy.h"
 #include "terrain/runtime/RtinStrategy.h"
 
 namespace terrain::runtime {
@@ -20,6 +21,11 @@ Result<std::unique_ptr<LodStrategy>> openLodStrategy(const std::filesystem::path
             auto session = TerrainSession::open(pyramid, options);
             if (!session) return named(session.error());
             return std::unique_ptr<LodStrategy>(std::move(session).value());
+        }
+        case LodMethod::Lee2011: {
+            auto lee = GeometrySplittingStrategy::open(pyramid, options.lod.errorPx);
+            if (!lee) return named(lee.error());
+            return std::unique_ptr<LodStrategy>(std::move(lee).value());
         }
         case LodMethod::Rtin: {
             auto rtin = RtinStrategy::open(pyramid, options.lod.errorPx);

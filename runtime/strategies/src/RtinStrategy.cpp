@@ -4,6 +4,7 @@
 
 #include "terrain/gl/ReversedZScope.h"
 #include "terrain/io/PyramidReader.h"
+#include "terrain/runtime/FinestLevelRaster.h"
 #include "terrain/runtime/ProgramBuilder.h"
 #include "terrain/runtime/TerrainFrameUniforms.h"
 
@@ -13,42 +14,11 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstring>
 
 namespace terrain::runtime {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-/// The DEM's samples (width × height, rows south) from the finest level's patches.
-Result<std::vector<float>> readFinestLevel(io::PyramidReader& reader) {
-    const io::PyramidLayout& layout = reader.layout();
-    const auto width = static_cast<std::size_t>(layout.rasterWidth());
-    const auto height = static_cast<std::size_t>(layout.rasterHeight());
-    std::vector<float> raster(width * height);
-    const int finest = layout.finestLevel();
-    const auto tileSide = static_cast<std::size_t>(layout.tileSamples());
-    const auto apron = static_cast<std::size_t>(layout.apronSamples());
-    io::PatchRecord record;
-    for (std::int64_t py = 0; py < layout.patchesY(finest); ++py) {
-        for (std::int64_t px = 0; px < layout.patchesX(finest); ++px) {
-            const io::PatchId id{finest, px, py};
-            if (auto read = reader.readPatch(id, record); !read) return read.error();
-            const auto x0 = static_cast<std::size_t>(layout.patchOriginX(id));
-            const auto y0 = static_cast<std::size_t>(layout.patchOriginY(id));
-            const std::size_t columns =
-                std::min(static_cast<std::size_t>(layout.patchSamples()), width - x0);
-            for (std::size_t row = 0;
-                 row < static_cast<std::size_t>(layout.patchSamples()) && y0 + row < height;
-                 ++row) {
-                std::memcpy(raster.data() + (y0 + row) * width + x0,
-                            record.heights.data() + (row + apron) * tileSide + apron,
-                            columns * sizeof(float));
-            }
-        }
-    }
-    return raster;
-}
 
 }  // namespace
 
@@ -191,13 +161,7 @@ TerrainDrawStats RtinStrategy::draw(const Camera& camera, const TerrainStyle& st
     return stats;
 }
 
-void RtinStrategy::endFrame(FrameTelemetry& t) {
-    t.lodUpdateUs = m_lodUpdateUs;
-    t.drawCalls = static_cast<std::uint64_t>(m_lastDraw.drawCalls);
-    t.triangles = m_lastDraw.triangles;
-    t.gpuMs = m_lastDraw.drawCalls > 0 && m_lastDraw.gpuMs > 0.0 ? m_lastDraw.gpuMs
-                                                                 : FrameTelemetry::kNoValue;
-}
+void RtinStrategy::endFrame(FrameTelemetry& t) { writeDrawTelemetry(t, m_lodUpdateUs, m_lastDraw); }
 
 std::uint64_t RtinStrategy::memoryBytes() const {
     return m_mesh.memoryBytes() + m_vertexBuffer.sizeBytes() + m_indexBuffer.sizeBytes();

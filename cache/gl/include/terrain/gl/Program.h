@@ -43,6 +43,7 @@ public:
     void setUniform(std::string_view name, unsigned value);
     void setUniform(std::string_view name, float value);
     void setUniform(std::string_view name, const std::array<float, 2>& value);
+    void setUniform(std::string_view name, const std::array<int, 2>& value);
     void setUniform(std::string_view name, const std::array<float, 3>& value);
     void setUniform(std::string_view name, const std::array<float, 4>& value);
     /// A vec4[] uniform from element 0: values.size() / 4 vectors (a multiple of 4 floats).

@@ -35,6 +35,10 @@ enum class LodMethod {
     /// each patch a regular grid whose vertices morph towards the coarser level's grid near
     /// the end of its range; no tessellation, no skirts.
     Cdlod,
+    /// Lee & Shin 2011, geometry splitting: the quadtree of the whole finest level built on
+    /// the GPU each frame by vertex splitting in passes (LOD flag of Eq. 2 from the
+    /// roughness of Eq. 3), T-junctions removed by triangle splitting; in core.
+    Lee2011,
     /// A view-dependent right-triangulated irregular network built on the CPU from the
     /// full-resolution samples with exact per-vertex errors, kept conforming by nested
     /// errors and bounding spheres (Lindstrom & Pascucci 2002): the fewest-triangles
@@ -53,6 +57,9 @@ struct LodMethodInfo {
     /// sub-pixel gaps a frame can show where triangles are seen edge-on or cut by the near
     /// plane. A method without them may show such pixels although its mesh is conforming.
     bool skirts;
+    /// Holds the whole finest level in memory and streams nothing (the RTIN, Lee & Shin):
+    /// the streaming stress test and the viewer refuse it.
+    bool inCore;
 };
 
 /// Every method, the default first.

@@ -58,4 +58,14 @@ public:
     virtual std::uint64_t memoryBytes() const = 0;
 };
 
+/// endFrame of a method that streams nothing: the LOD time and the last draw's calls,
+/// triangles and GPU time (none when it was not measured).
+inline void writeDrawTelemetry(FrameTelemetry& t, double lodUpdateUs,
+                               const TerrainDrawStats& draw) {
+    t.lodUpdateUs = lodUpdateUs;
+    t.drawCalls = static_cast<std::uint64_t>(draw.drawCalls);
+    t.triangles = draw.triangles;
+    t.gpuMs = draw.drawCalls > 0 && draw.gpuMs > 0.0 ? draw.gpuMs : FrameTelemetry::kNoValue;
+}
+
 }  // namespace terrain::runtime
