@@ -184,6 +184,32 @@ def check_bench(folder):
                 fail(f"report.md: no line for {method} under \"Where each method fails\"")
             if f"| {method} |" not in report:
                 fail(f"report.md: no table row for {method}")
+    # --stability: every method and threshold at every stress pose, and a failure line per
+    # method in the report.
+    stability = bench.get("stability")
+    if stability:
+        poses = [p["name"] for p in stability.get("poses", [])]
+        for expected in ("whole-terrain", "cliff", "peak", "grazing"):
+            if expected not in poses:
+                fail(f"bench.json: no {expected} among the stress poses {poses}")
+        with open(os.path.join(folder, "stability.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        if len(rows) != len(poses) * len(summary):
+            fail(f"stability.csv has {len(rows)} rows, expected {len(poses)} poses × "
+                 f"{len(summary)} runs")
+        for row in rows:
+            if row["pose"] not in poses or row.get("error_max_px", "") == "":
+                fail(f"stability.csv: a row without its pose or error: {row.get('pose')}")
+        with open(os.path.join(folder, "report.md")) as f:
+            section = f.read().partition("## Where each method fails at the stress poses")[2]
+        if not section:
+            fail("report.md has no \"Where each method fails at the stress poses\" section")
+        for method in methods:
+            if f"**{method}**" not in section.partition("## ")[0]:
+                fail(f"report.md: no stress-pose line for {method}")
+        for pose in poses:
+            if f"**{pose}**" not in section:
+                fail(f"report.md: the stress pose {pose} is not described")
 
 
 def check_globe_bench(folder):

@@ -310,7 +310,76 @@ def method_sections(bench, summary_rows, summary_path, tol):
     return lines
 
 
-def write_report(out_dir, bench, summary_rows, charts, summary_path):
+def stability_section(bench, rows, path, tol):
+    """terrain-bench --stability: every method and threshold at the stress poses found in the
+    pyramid (stability.csv), and in plain words where each method fails there: error over
+    ε + tol, crack pixels, unmeasurable pixels, or a view that never settled."""
+    if not rows:
+        return []
+    info = (bench or {}).get("method_info", {})
+    poses = (bench or {}).get("stability", {}) or {}
+    pose_names = []
+    for r in rows:
+        if r["pose"] not in pose_names:
+            pose_names.append(r["pose"])
+    lines = ["## Where each method fails at the stress poses", "",
+             "The cases where LOD methods break, found in this pyramid (`terrain-bench "
+             "--stability`): each method at each ε, once, settled.", ""]
+    for p in poses.get("poses", []):
+        lines.append(f"- **{p['name']}**: {p['what']}.")
+    lines += ["", "Each cell: the largest measured error as a multiple of ε over the thresholds, "
+              f"✗ where it exceeds ε + {tol:g} px; crack and unmeasurable pixels when there are any.", "",
+              "| method | " + " | ".join(pose_names) + " |", "|---|" + "---|" * len(pose_names)]
+    by_method_pose = {}
+    for r in rows:
+        by_method_pose.setdefault(r["method"], {}).setdefault(r["pose"], []).append(r)
+    failures_by_method = {}
+    for method, per_pose in by_method_pose.items():
+        cells, failures = [], []
+        for pose in pose_names:
+            worst, over, cracks, unmeasurable, unsettled = 0.0, [], 0, 0, 0
+            for r in per_pose.get(pose, []):
+                n = lambda key: number(r, key, path)
+                eps = n("threshold_px")
+                err = n("error_max_px")
+                if not math.isnan(err):
+                    worst = max(worst, err / eps)
+                if n("non_finite_pixels") > 0 or (not math.isnan(err) and err > eps + tol):
+                    over.append(f"{fmt(err)} px at ε = {eps:g}")
+                cracks += int(n("crack_pixels"))
+                unmeasurable += int(n("non_finite_pixels"))
+                unsettled += 0 if r.get("settled", "1") == "1" else 1
+            cell = f"{fmt(worst)} ε" + (" ✗" if over else "")
+            if cracks:
+                cell += f", {cracks} crack px"
+            if unmeasurable:
+                cell += f", {unmeasurable} unmeasurable"
+            cells.append(cell if per_pose.get(pose) else "–")
+            bounds = info.get(method, {}).get("bounds_error", True)
+            if over:
+                failures.append(f"at the {pose} pose, over ε + {tol:g} px ({'; '.join(over)})"
+                                + ("" if bounds else " — it promises no bound"))
+            if cracks:
+                failures.append(f"{cracks} crack pixel{'s' if cracks != 1 else ''} at the {pose} pose")
+            if unmeasurable:
+                failures.append(f"{unmeasurable} unmeasurable pixel{'s' if unmeasurable != 1 else ''} "
+                                f"at the {pose} pose")
+            if unsettled:
+                failures.append(f"streaming did not settle at the {pose} pose (measured as drawn)")
+        lines.append(f"| {method} | " + " | ".join(cells) + " |")
+        failures_by_method[method] = failures
+    lines.append("")
+    for method, failures in failures_by_method.items():
+        if failures:
+            lines.append(f"- **{method}** fails: " + "; ".join(failures) + ".")
+        else:
+            lines.append(f"- **{method}**: no failure at the stress poses.")
+    lines.append("")
+    return lines
+
+
+def write_report(out_dir, bench, summary_rows, charts, summary_path, stability_rows=None,
+                 stability_path=""):
     lines = ["# Speed against accuracy", ""]
     if bench:
         lines += [f"Pyramid `{bench.get('pyramid')}`, "
@@ -349,6 +418,7 @@ def write_report(out_dir, bench, summary_rows, charts, summary_path):
               f"(the rasterisation tolerance); *popping*: LOD image change beyond the "
               f"reference's, in 8-bit levels. Definitions: docs/accuracy.md.", ""]
     lines += method_sections(bench, summary_rows, summary_path, tol)
+    lines += stability_section(bench, stability_rows or [], stability_path, tol)
     lines += ["## Charts", ""]
     for title, path in charts:
         lines += [f"### {title}", "", f"![{title}]({os.path.basename(path)})", ""]
@@ -356,6 +426,11 @@ def write_report(out_dir, bench, summary_rows, charts, summary_path):
     if samples:
         lines += ["## Sample frame", "", "The reference (full resolution) and the LOD at each ε:", ""]
         for f in samples:
+            lines += [f"![{f}]({f})", ""]
+    poses = sorted(f for f in os.listdir(out_dir) if f.startswith("stability-") and f.endswith(".png"))
+    if poses:
+        lines += ["## The stress poses", "", "The reference (full resolution) at each pose:", ""]
+        for f in poses:
             lines += [f"![{f}]({f})", ""]
     path = os.path.join(out_dir, "report.md")
     with open(path + ".tmp", "w") as f:
@@ -541,7 +616,10 @@ def main():
     if args.report:
         if not summary_rows:
             fail("--report needs a summary CSV")
-        write_report(args.out, bench, summary_rows, charts, ", ".join(summaries))
+        stability_path = os.path.join(args.bench_dir, "stability.csv") if args.bench_dir else ""
+        stability_rows = read_csv(stability_path) if stability_path and os.path.exists(stability_path) else []
+        write_report(args.out, bench, summary_rows, charts, ", ".join(summaries), stability_rows,
+                     stability_path)
     for _, path in charts:
         print(path)
 

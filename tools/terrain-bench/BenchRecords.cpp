@@ -154,9 +154,9 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
 }
 
 Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRecord> records,
-                      const std::string& gpuMsSource) {
+                      const std::string& gpuMsSource, bool withPose) {
     using R = FrameRecord;
-    const std::vector<Column<R>> columns = {
+    std::vector<Column<R>> columns = {
         {"method", [](const R& r) { return r.method; }},
         {"threshold_px", [](const R& r) { return number(r.thresholdPx); }},
         {"frame", [](const R& r) { return number(r.frame); }},
@@ -211,6 +211,7 @@ Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRe
         {"reference_triangles", [](const R& r) { return number(r.referenceTriangles); }},
         {"reference_ms", [](const R& r) { return number(r.referenceMs); }},
     };
+    if (withPose) columns.insert(columns.begin() + 2, {"pose", [](const R& r) { return r.pose; }});
     return writeCsv<R>(path, columns, records);
 }
 

@@ -21,6 +21,7 @@ inline constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
 struct FrameRecord {
     std::string method;        ///< the LOD method, "yusov2011"
+    std::string pose;          ///< --stability: the stress pose (StressPoses.h); else empty
     double thresholdPx = 0.0;  ///< ε of both LOD stages
     std::uint64_t frame = 0;
     double pathTimeS = 0.0;          ///< where on the camera path
@@ -122,8 +123,9 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
 
 /// frames.csv: one row per record. summary.csv: one row per summary; `gpuMsSource`
 /// ("gl-timer-query" or "llvmpipe-cpu") is written in a column of every row of both.
+/// `withPose` adds the pose column after the threshold (stability.csv).
 Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRecord> records,
-                      const std::string& gpuMsSource);
+                      const std::string& gpuMsSource, bool withPose = false);
 Status writeSummaryCsv(const std::filesystem::path& path,
                        std::span<const ThresholdSummary> summaries, const std::string& gpuMsSource);
 

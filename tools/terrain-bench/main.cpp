@@ -14,6 +14,7 @@
 #include "GlInfoJson.h"
 #include "GlobeBench.h"
 #include "StreamingBudgetFlags.h"
+#include "StressPoses.h"
 
 #include "terrain/base/AtomicFile.h"
 #include "terrain/cache/GpuTilePool.h"
@@ -62,6 +63,7 @@ struct BenchOptions {
     bool noSettle = false;
     int settleTimeoutS = 120;
     bool coarseOnly = false;
+    bool stability = false;
     runtime::ValdetaroParameters valdetaro;
     double tolerancePx = 0.05;
     tools::StreamingBudgets budgets{
@@ -227,11 +229,118 @@ int run(const BenchOptions& o, const char* argv0) {
         runtime::AccuracyProbe::create(o.pyramid, {.widthPx = o.widthPx, .heightPx = o.heightPx});
     if (!probe) return fail(probe.error().message);
 
-    runtime::Camera camera;
-    camera.viewportWidth = o.widthPx;
-    camera.viewportHeight = o.heightPx;
-    camera.nearPlane = 0.5;
+    runtime::Camera pathCamera;
+    pathCamera.viewportWidth = o.widthPx;
+    pathCamera.viewportHeight = o.heightPx;
+    pathCamera.nearPlane = 0.5;
     const int sampleFrame = o.sampleFrame >= 0 ? o.sampleFrame : o.frames / 2;
+
+    // One settled, measured frame of run r for `camera`: LOD, draw, telemetry and the
+    // comparison with `reference`. A frame of the flight (`flight`) writes its telemetry row
+    // and measures popping against the run's previous frame; a stress pose does neither.
+    const auto measureFrame =
+        [&](ThresholdRun& r, const runtime::Camera& camera, std::uint64_t frame, double t,
+            const runtime::ReferenceCapture& reference,
+            const runtime::ReferenceCapture* previousReference,
+            bool flight) -> Result<std::pair<tools::FrameRecord, runtime::LodCapture>> {
+        runtime::LodStrategy& session = *r.session;
+        runtime::TerrainStyle style;
+        style.errorPx = r.thresholdPx;
+        style.measure = true;
+        style.fogDensityPerM = static_cast<float>(o.fogDensity);
+        if (o.coarseOnly) style.fixedTessFactor = geometry.layout().blockQuads();
+        tools::FrameRecord rec;
+        rec.method = r.methodName;
+        rec.thresholdPx = r.thresholdPx;
+        rec.frame = frame;
+        rec.pathTimeS = t;
+        rec.cameraPosition = camera.position;
+        rec.cameraYawDeg = camera.yaw * 180.0 / std::numbers::pi;
+        rec.cameraPitchDeg = camera.pitch * 180.0 / std::numbers::pi;
+
+        auto frameStart = Clock::now();
+        runtime::LodUpdateStats lodStats = session.beginFrame(camera);
+        const runtime::LodUpdateStats first = lodStats;
+        rec.lodUpdateUs = session.lodUpdateUs();
+        if (!o.noSettle && (first.waitingSplits > 0 || session.loadsOutstanding() > 0)) {
+            // Let streaming catch up so the figures are the LOD method's, not the
+            // disk's; LOD µs stays the first update's.
+            runtime::FrameTelemetry discarded;
+            session.endFrame(discarded);
+            // A method whose view cannot fit the GPU pool (the uniform grid or a flat grid
+            // over a large DEM) never settles: its frames are measured as drawn and marked,
+            // and after the first such frame it is not waited for again.
+            if (r.unsettledFrames > 0 ||
+                !session.settle(camera, std::chrono::seconds(o.settleTimeoutS))) {
+                if (const runtime::TileFault* fault = session.fatalFault())
+                    return Error{
+                        fmt::format("{} ({}): {}", o.pyramid, r.methodName, fault->message)};
+                if (r.unsettledFrames++ == 0) {
+                    fmt::print(stderr,
+                               "terrain-bench: frame {} at ε = {} px ({}): streaming did not "
+                               "settle within {} s (its view needs more than the GPU pool "
+                               "holds?): its frames are measured as drawn\n",
+                               frame, r.thresholdPx, r.methodName, o.settleTimeoutS);
+                }
+                rec.settled = false;
+            }
+            rec.waitedForStreaming = true;
+            frameStart = Clock::now();
+            lodStats = session.beginFrame(camera);
+        }
+        const runtime::LodCapture lod = probe.value()->captureLod(session, camera, style);
+        runtime::FrameTelemetry telemetry;
+        session.endFrame(telemetry);
+        rec.frameMs = std::chrono::duration<double, std::milli>(Clock::now() - frameStart).count();
+        rec.drawMs = lod.drawMs;
+        rec.triangles = lod.draw.triangles;
+        rec.gpuMs = lod.draw.gpuMs;
+        rec.patches = telemetry.patchesDrawn;
+        rec.patchesCulled = lodStats.culled;
+        rec.lodNodes = lodStats.nodes;
+        rec.drawCalls = telemetry.drawCalls;
+        rec.residentBytes = session.memoryBytes();
+        telemetry.frame = frame;
+        telemetry.timeS = std::chrono::duration<double>(Clock::now() - start).count();
+        telemetry.frameMs = rec.frameMs;
+        if (flight) r.telemetry->write(telemetry);
+
+        auto accuracy = probe.value()->compare(camera, lod, reference, r.thresholdPx,
+                                               flight && r.previous ? &*r.previous : nullptr,
+                                               flight ? previousReference : nullptr);
+        if (!accuracy) return accuracy.error();
+        const runtime::FrameAccuracy& a = accuracy.value();
+        rec.errorMaxPx = a.error.maxPx;
+        rec.errorMeanPx = a.error.meanPx;
+        rec.errorP99Px = a.error.p99Px;
+        rec.errorPixels = a.error.pixels;
+        rec.errorOverThresholdPixels = a.error.pixelsOverThreshold;
+        rec.errorFixedDiagonalMaxPx = a.error.maxFixedDiagonalPx;
+        rec.errorMaxSinglePixelPx = a.error.maxSinglePixelPx;
+        rec.errorMaxExactPositionPx = a.error.maxExactPositionPx;
+        rec.errorWorstX = a.error.worstX;
+        rec.errorWorstY = a.error.worstY < 0 ? -1 : o.heightPx - 1 - a.error.worstY;
+        rec.errorWorstWorld = a.error.worstWorld;
+        rec.skirtPixels = a.error.skirtPixels;
+        rec.skirtErrorMaxPx = a.error.skirtMaxPx;
+        rec.skirtUnboundedPixels = a.error.skirtUnboundedPixels;
+        rec.nonFinitePixels = a.error.nonFinitePixels;
+        rec.rmse = a.image.rmse;
+        rec.psnrDb = a.image.psnrDb;
+        rec.crackPixels = a.crackPixels;
+        rec.uncoveredPixels = a.uncoveredPixels;
+        rec.diagonalUncoveredPixels = a.diagonalUncoveredPixels;
+        rec.poppingLevels = a.poppingLevels;
+        rec.lodChangeLevels = a.lodChangeLevels;
+        rec.referenceChangeLevels = a.referenceChangeLevels;
+        rec.referenceTriangles = reference.draw.triangles;
+        rec.referenceMs = reference.drawMs;
+        if (a.error.pixels == 0 && a.referencePixels > 0) {
+            fmt::print(stderr, "terrain-bench: frame {} at ε = {} px ({}): no pixel measured\n",
+                       frame, r.thresholdPx, r.methodName);
+        }
+        return std::pair{rec, lod};
+    };
 
     std::vector<tools::FrameRecord> records;
     std::optional<runtime::ReferenceCapture> previousReference;
@@ -239,112 +348,21 @@ int run(const BenchOptions& o, const char* argv0) {
     for (int frame = 0; frame < o.frames; ++frame) {
         const double t =
             path->startS() + (o.frames > 1 ? path->durationS() * frame / (o.frames - 1) : 0.0);
-        path->apply(t, camera);
+        path->apply(t, pathCamera);
         auto reference = probe.value()->renderReference(
-            camera, {.fogDensityPerM = static_cast<float>(o.fogDensity)});
+            pathCamera, {.fogDensityPerM = static_cast<float>(o.fogDensity)});
         if (!reference) return fail(reference.error().message);
         if (frame == sampleFrame) {
             if (auto w = writePng(reference.value().images, outputDir / "sample-reference.png"); !w)
                 return fail(w.error().message);
         }
         for (ThresholdRun& r : runs) {
-            runtime::LodStrategy& session = *r.session;
-            runtime::TerrainStyle style;
-            style.errorPx = r.thresholdPx;
-            style.measure = true;
-            style.fogDensityPerM = static_cast<float>(o.fogDensity);
-            if (o.coarseOnly) style.fixedTessFactor = geometry.layout().blockQuads();
-            tools::FrameRecord rec;
-            rec.method = r.methodName;
-            rec.thresholdPx = r.thresholdPx;
-            rec.frame = static_cast<std::uint64_t>(frame);
-            rec.pathTimeS = t;
-            rec.cameraPosition = camera.position;
-            rec.cameraYawDeg = camera.yaw * 180.0 / std::numbers::pi;
-            rec.cameraPitchDeg = camera.pitch * 180.0 / std::numbers::pi;
-
-            auto frameStart = Clock::now();
-            runtime::LodUpdateStats lodStats = session.beginFrame(camera);
-            const runtime::LodUpdateStats first = lodStats;
-            rec.lodUpdateUs = session.lodUpdateUs();
-            if (!o.noSettle && (first.waitingSplits > 0 || session.loadsOutstanding() > 0)) {
-                // Let streaming catch up so the figures are the LOD method's, not the
-                // disk's; LOD µs stays the first update's.
-                runtime::FrameTelemetry discarded;
-                session.endFrame(discarded);
-                // A method whose view cannot fit the GPU pool (the uniform grid or a flat grid
-                // over a large DEM) never settles: its frames are measured as drawn and marked,
-                // and after the first such frame it is not waited for again.
-                if (r.unsettledFrames > 0 ||
-                    !session.settle(camera, std::chrono::seconds(o.settleTimeoutS))) {
-                    if (const runtime::TileFault* fault = session.fatalFault())
-                        return fail(
-                            fmt::format("{} ({}): {}", o.pyramid, r.methodName, fault->message));
-                    if (r.unsettledFrames++ == 0) {
-                        fmt::print(stderr,
-                                   "terrain-bench: frame {} at ε = {} px ({}): streaming did not "
-                                   "settle within {} s (its view needs more than the GPU pool "
-                                   "holds?): its frames are measured as drawn\n",
-                                   frame, r.thresholdPx, r.methodName, o.settleTimeoutS);
-                    }
-                    rec.settled = false;
-                }
-                rec.waitedForStreaming = true;
-                frameStart = Clock::now();
-                lodStats = session.beginFrame(camera);
-            }
-            const runtime::LodCapture lod = probe.value()->captureLod(session, camera, style);
-            runtime::FrameTelemetry telemetry;
-            session.endFrame(telemetry);
-            rec.frameMs =
-                std::chrono::duration<double, std::milli>(Clock::now() - frameStart).count();
-            rec.drawMs = lod.drawMs;
-            rec.triangles = lod.draw.triangles;
-            rec.gpuMs = lod.draw.gpuMs;
-            rec.patches = telemetry.patchesDrawn;
-            rec.patchesCulled = lodStats.culled;
-            rec.lodNodes = lodStats.nodes;
-            rec.drawCalls = telemetry.drawCalls;
-            rec.residentBytes = session.memoryBytes();
-            telemetry.frame = static_cast<std::uint64_t>(frame);
-            telemetry.timeS = std::chrono::duration<double>(Clock::now() - start).count();
-            telemetry.frameMs = rec.frameMs;
-            r.telemetry->write(telemetry);
-
-            auto accuracy = probe.value()->compare(
-                camera, lod, reference.value(), r.thresholdPx, r.previous ? &*r.previous : nullptr,
-                previousReference ? &*previousReference : nullptr);
-            if (!accuracy) return fail(accuracy.error().message);
-            const runtime::FrameAccuracy& a = accuracy.value();
-            rec.errorMaxPx = a.error.maxPx;
-            rec.errorMeanPx = a.error.meanPx;
-            rec.errorP99Px = a.error.p99Px;
-            rec.errorPixels = a.error.pixels;
-            rec.errorOverThresholdPixels = a.error.pixelsOverThreshold;
-            rec.errorFixedDiagonalMaxPx = a.error.maxFixedDiagonalPx;
-            rec.errorMaxSinglePixelPx = a.error.maxSinglePixelPx;
-            rec.errorMaxExactPositionPx = a.error.maxExactPositionPx;
-            rec.errorWorstX = a.error.worstX;
-            rec.errorWorstY = a.error.worstY < 0 ? -1 : o.heightPx - 1 - a.error.worstY;
-            rec.errorWorstWorld = a.error.worstWorld;
-            rec.skirtPixels = a.error.skirtPixels;
-            rec.skirtErrorMaxPx = a.error.skirtMaxPx;
-            rec.skirtUnboundedPixels = a.error.skirtUnboundedPixels;
-            rec.nonFinitePixels = a.error.nonFinitePixels;
-            rec.rmse = a.image.rmse;
-            rec.psnrDb = a.image.psnrDb;
-            rec.crackPixels = a.crackPixels;
-            rec.uncoveredPixels = a.uncoveredPixels;
-            rec.diagonalUncoveredPixels = a.diagonalUncoveredPixels;
-            rec.poppingLevels = a.poppingLevels;
-            rec.lodChangeLevels = a.lodChangeLevels;
-            rec.referenceChangeLevels = a.referenceChangeLevels;
-            rec.referenceTriangles = reference.value().draw.triangles;
-            rec.referenceMs = reference.value().drawMs;
-            if (a.error.pixels == 0 && a.referencePixels > 0) {
-                fmt::print(stderr, "terrain-bench: frame {} at ε = {} px ({}): no pixel measured\n",
-                           frame, r.thresholdPx, r.methodName);
-            }
+            auto measured =
+                measureFrame(r, pathCamera, static_cast<std::uint64_t>(frame), t, reference.value(),
+                             previousReference ? &*previousReference : nullptr, true);
+            if (!measured) return fail(measured.error().message);
+            const tools::FrameRecord& rec = measured.value().first;
+            const runtime::LodCapture& lod = measured.value().second;
             if (frame == sampleFrame) {
                 const auto file =
                     outputDir / fmt::format("sample-{}eps-{}.png", fileTag(r.methodName),
@@ -362,6 +380,50 @@ int run(const BenchOptions& o, const char* argv0) {
         if (progress) fmt::print(stderr, "\rterrain-bench: frame {}/{}", frame + 1, o.frames);
     }
     if (progress) fmt::print(stderr, "\n");
+
+    // --stability: every run at the stress poses found in this pyramid (StressPoses.h), into
+    // stability.csv; the report's "Where each method fails at the stress poses" is written
+    // from it. No popping here: a pose follows no previous frame.
+    std::vector<tools::FrameRecord> stability;
+    nlohmann::json stabilityJson = nullptr;
+    if (o.stability) {
+        auto poses = tools::findStressPoses(o.pyramid, o.widthPx, o.heightPx);
+        if (!poses) return fail(poses.error().message);
+        stabilityJson = {{"csv", "stability.csv"}, {"poses", nlohmann::json::array()}};
+        for (const tools::StressPose& pose : poses.value()) {
+            const runtime::Camera& c = pose.camera;
+            stabilityJson["poses"].push_back(
+                {{"name", pose.name},
+                 {"what", pose.what},
+                 {"camera_position", {c.position.x, c.position.y, c.position.z}},
+                 {"camera_yaw_deg", c.yaw * 180.0 / std::numbers::pi},
+                 {"camera_pitch_deg", c.pitch * 180.0 / std::numbers::pi}});
+            auto reference = probe.value()->renderReference(
+                c, {.fogDensityPerM = static_cast<float>(o.fogDensity)});
+            if (!reference) return fail(reference.error().message);
+            const auto picture = outputDir / fmt::format("stability-{}-reference.png", pose.name);
+            if (auto w = writePng(reference.value().images, picture); !w)
+                return fail(w.error().message);
+            for (ThresholdRun& r : runs) {
+                auto measured =
+                    measureFrame(r, c, stability.size(), 0.0, reference.value(), nullptr, false);
+                if (!measured) return fail(measured.error().message);
+                tools::FrameRecord rec = measured.value().first;
+                rec.pose = pose.name;
+                stability.push_back(rec);
+            }
+            if (context.value()->debugLog().errorCount() > 0)
+                return fail("OpenGL reported an error:\n" +
+                            context.value()->debugLog().formatErrors());
+            if (progress)
+                fmt::print(stderr, "terrain-bench: stress pose {}: {}\n", pose.name, pose.what);
+        }
+        if (auto w =
+                tools::writeFramesCsv(outputDir / "stability.csv", stability, gpuMsSource, true);
+            !w)
+            return fail(w.error().message);
+    }
+
     for (ThresholdRun& r : runs) {
         if (auto closed = r.telemetry->close(); !closed) return fail(closed.error().message);
         r.session->drain(std::chrono::seconds(10));
@@ -405,6 +467,7 @@ int run(const BenchOptions& o, const char* argv0) {
                                    "the draw as GL_TIME_ELAPSED reports it, not GPU time"
                                  : "GL_TIME_ELAPSED of the terrain draw"},
         {"thresholds", thresholds},
+        {"stability", stabilityJson},
         {"total_seconds", std::chrono::duration<double>(Clock::now() - start).count()},
         {"gl", tools::glInfoJson(*context.value())},
     };
@@ -496,6 +559,11 @@ int main(int argc, char** argv) {
                    "valdetaro2011: d_max (§5.3) where a DEM sample spans this many pixels")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
+    app.add_flag("--stability", o.stability,
+                 "Also measure every method and threshold at the stress poses found in the "
+                 "pyramid (its steepest slope, sharpest peak, a view 1 m above the ground, the "
+                 "whole terrain, a no-data edge): stability.csv, and in the report \"Where "
+                 "each method fails at the stress poses\"");
     app.add_flag("--coarse-only", o.coarseOnly,
                  "Draw every block at its patch's full resolution (no fine LOD): the coarse LOD's "
                  "own error; method yusov2011-coarse-only");
@@ -518,6 +586,10 @@ int main(int argc, char** argv) {
             return fail(o.pyramid +
                         ": a globe pyramid; only yusov2011 draws globes (the other methods "
                         "compare on planar pyramids)");
+        if (o.stability)
+            return fail(o.pyramid +
+                        ": a globe pyramid; --stability finds its stress poses in planar "
+                        "pyramids only");
         tools::GlobeBenchOptions globe;
         globe.pyramid = o.pyramid;
         globe.sources = o.sources;
