@@ -123,6 +123,21 @@ def test_small_csv(script, work):
     for needle in ("| yusov2011 | 1 |", "| uniform-grid | 8 |", "triangles_vs_error.png"):
         if needle not in report:
             fail(f"report.md lacks '{needle}'")
+    # The yardstick ratio at equal measured error: rtin's 1,000 triangles at 0.9 px against
+    # yusov2011's 10,000 at 0.8 px and 4,000 at 1.6 px, interpolated log-log: 8,563, 8.56×.
+    yard = os.path.join(work, "yardstick-frames.csv")
+    write_csv(yard, ["method", "threshold_px", "frame", "error_max_px", "triangles"],
+              [[m, eps, f, err, tri] for f in range(3)
+               for m, eps, err, tri in (("rtin", 1, 0.9, 1000), ("yusov2011", 1, 0.8, 10000),
+                                        ("yusov2011", 2, 1.6, 4000))])
+    out = os.path.join(work, "yardstick")
+    result = run_chart_tool(script, ["--summary", summary, "--frames", yard, "--out", out, "--report"])
+    if result.returncode != 0:
+        fail(f"the chart tool failed on the yardstick frames ({result.returncode}): {result.stderr}")
+    check_png(os.path.join(out, "yardstick_ratio.png"))
+    with open(os.path.join(out, "report.md")) as f:
+        if "| yusov2011 | 8.56× (max 8.56×, 3 frames) |" not in f.read():
+            fail("report.md: the yardstick ratio at equal measured error is not 8.56× on 3 frames")
     # A CSV without a needed column: a clear message and a non-zero exit status.
     broken = os.path.join(work, "broken.csv")
     write_csv(broken, ["method", "threshold_px", "triangles_mean"], [["yusov2011", 1, 5]])
@@ -184,6 +199,13 @@ def check_bench(folder):
                 fail(f"report.md: no line for {method} under \"Where each method fails\"")
             if f"| {method} |" not in report:
                 fail(f"report.md: no table row for {method}")
+    # With the yardstick flown: the frame-by-frame ratio at equal measured error.
+    if "rtin" in methods:
+        if not os.path.exists(os.path.join(folder, "yardstick_ratio.png")):
+            fail("no yardstick_ratio.png although rtin was flown")
+        with open(os.path.join(folder, "report.md")) as f:
+            if "yardstick at equal measured error" not in f.read():
+                fail("report.md has no table of triangles against the yardstick at equal error")
     # --stability: every method and threshold at every stress pose, and a failure line per
     # method in the report.
     stability = bench.get("stability")

@@ -197,6 +197,102 @@ def chart_error_timeline(frame_rows, out_dir, source):
     return save(fig, out_dir, "error_timeline.png")
 
 
+def triangles_at_error(points, error):
+    """Triangles a method needs for `error` px, from its (measured error, triangles) points of
+    one frame: log-log interpolation between the two points that bracket it; None when the
+    method does not reach `error` or never goes above it on that frame."""
+    points = sorted((e, t) for e, t in points if e > 0 and t > 0 and math.isfinite(e))
+    for (e0, t0), (e1, t1) in zip(points, points[1:]):
+        if e0 <= error <= e1:
+            if e1 == e0:
+                return min(t0, t1)
+            a = (math.log(error) - math.log(e0)) / (math.log(e1) - math.log(e0))
+            return math.exp(math.log(t0) + a * (math.log(t1) - math.log(t0)))
+    exact = [t for e, t in points if e == error]
+    return min(exact) if exact else None
+
+
+def yardstick_ratios(frame_rows, source):
+    """Per frame and yardstick threshold: each method's triangles divided by the yardstick's
+    at the yardstick's measured error on that frame (the method's own thresholds
+    interpolated, triangles_at_error). {method: {ε: [(frame, ratio)]}}."""
+    if not any(r.get("method") == YARDSTICK for r in frame_rows):
+        return {}
+    by = {}
+    for r in frame_rows:
+        if r.get("pose"):
+            continue
+        by.setdefault(r.get("method", "yusov2011"), {}).setdefault(
+            int(number(r, "frame", source)), []).append(
+            (number(r, "threshold_px", source), number(r, "error_max_px", source),
+             number(r, "triangles", source)))
+    stick = by.get(YARDSTICK)
+    if not stick:
+        return {}
+    out = {}
+    for method, frames in by.items():
+        if method == YARDSTICK:
+            continue
+        for frame, yard in stick.items():
+            points = [(e, t) for _, e, t in frames.get(frame, [])]
+            for eps, error, triangles in yard:
+                need = triangles_at_error(points, error)
+                if need is not None and triangles > 0:
+                    out.setdefault(method, {}).setdefault(eps, []).append((frame, need / triangles))
+    return out
+
+
+def chart_yardstick_ratio(ratios, out_dir):
+    fig, ax = plt.subplots(figsize=(7.2, 4.2))
+    styles = ["-", "--", ":", "-."]
+    colors = {}
+    for method, by_eps in ratios.items():
+        for i, (eps, series) in enumerate(sorted(by_eps.items())):
+            # Frames where the method does not reach the error are gaps, not joined.
+            ratio_of = dict(series)
+            frames = list(range(min(ratio_of), max(ratio_of) + 1))
+            values = [ratio_of.get(f, math.nan) for f in frames]
+            kwargs = {"color": colors[method]} if method in colors else {}
+            line, = ax.plot(frames, values, styles[i % len(styles)], marker=".", ms=3,
+                            lw=1.2, label=f"{method}, {YARDSTICK} at ε={eps:g}", **kwargs)
+            colors.setdefault(method, line.get_color())
+    ax.set_yscale("log")
+    ax.axhline(1.0, color="black", lw=0.7)
+    ax.axhline(2.0, color="grey", lw=0.7, ls=":")
+    ax.set_xlabel("frame")
+    ax.set_ylabel(f"triangles ÷ {YARDSTICK}'s at its measured error")
+    ax.set_title(f"Triangles against the {YARDSTICK} yardstick, frame by frame")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=6, ncol=2)
+    return save(fig, out_dir, "yardstick_ratio.png")
+
+
+def yardstick_ratio_table(ratios):
+    if not ratios:
+        return []
+    eps_all = sorted({eps for by_eps in ratios.values() for eps in by_eps})
+    lines = [f"### Triangles against the {YARDSTICK} yardstick at equal measured error", "",
+             f"Frame by frame: the {YARDSTICK}'s largest measured error at each of its thresholds, "
+             "and the triangles each method needs for that same measured error on the same frame "
+             "(its own thresholds interpolated, log-log); median and largest ratio over the "
+             "frames, and on how many frames the method reaches that error at all.", "",
+             "| method | " + " | ".join(f"{YARDSTICK} ε = {e:g}" for e in eps_all) + " |",
+             "|---|" + "---|" * len(eps_all)]
+    for method, by_eps in ratios.items():
+        cells = []
+        for eps in eps_all:
+            values = sorted(r for _, r in by_eps.get(eps, []))
+            if not values:
+                cells.append("–")
+                continue
+            median = values[len(values) // 2] if len(values) % 2 else 0.5 * (
+                values[len(values) // 2 - 1] + values[len(values) // 2])
+            cells.append(f"{fmt(median)}× (max {fmt(values[-1])}×, {len(values)} frames)")
+        lines.append(f"| {method} | " + " | ".join(cells) + " |")
+    lines.append("")
+    return lines
+
+
 def chart_telemetry_timeline(rows, out_dir, source):
     time = [number(r, "time_s", source) for r in rows]
     fig, axes = plt.subplots(4, 1, figsize=(7.2, 8.0), sharex=True)
@@ -379,7 +475,7 @@ def stability_section(bench, rows, path, tol):
 
 
 def write_report(out_dir, bench, summary_rows, charts, summary_path, stability_rows=None,
-                 stability_path=""):
+                 stability_path="", ratios=None):
     lines = ["# Speed against accuracy", ""]
     if bench:
         lines += [f"Pyramid `{bench.get('pyramid')}`, "
@@ -418,6 +514,7 @@ def write_report(out_dir, bench, summary_rows, charts, summary_path, stability_r
               f"(the rasterisation tolerance); *popping*: LOD image change beyond the "
               f"reference's, in 8-bit levels. Definitions: docs/accuracy.md.", ""]
     lines += method_sections(bench, summary_rows, summary_path, tol)
+    lines += yardstick_ratio_table(ratios or {})
     lines += stability_section(bench, stability_rows or [], stability_path, tol)
     lines += ["## Charts", ""]
     for title, path in charts:
@@ -604,8 +701,14 @@ def main():
         charts.append(("Triangles against measured error", chart_triangles_vs_error(methods, args.out, source)))
         charts.append(("Frame time against measured error", chart_frame_time_vs_error(methods, args.out, source)))
         charts.append(("PSNR against triangles", chart_psnr_vs_triangles(methods, args.out, source)))
+    ratios = {}
     if frames and os.path.exists(frames):
-        charts.append(("Measured error along the flight", chart_error_timeline(read_csv(frames), args.out, frames)))
+        frame_rows = read_csv(frames)
+        charts.append(("Measured error along the flight", chart_error_timeline(frame_rows, args.out, frames)))
+        ratios = yardstick_ratios(frame_rows, frames)
+        if ratios:
+            charts.append((f"Triangles against the {YARDSTICK} yardstick, frame by frame",
+                           chart_yardstick_ratio(ratios, args.out)))
     if telemetry is None and args.bench_dir and summary_rows:
         # The flight at the threshold nearest Yusov's 2 px.
         thresholds = sorted({number(r, "threshold_px") for r in summary_rows}, key=lambda t: abs(t - 2.0))
@@ -619,7 +722,7 @@ def main():
         stability_path = os.path.join(args.bench_dir, "stability.csv") if args.bench_dir else ""
         stability_rows = read_csv(stability_path) if stability_path and os.path.exists(stability_path) else []
         write_report(args.out, bench, summary_rows, charts, ", ".join(summaries), stability_rows,
-                     stability_path)
+                     stability_path, ratios)
     for _, path in charts:
         print(path)
 
