@@ -24,6 +24,10 @@
 #define TERRAIN_BINDING_LEE_ROUGHNESS 4
 #define TERRAIN_BINDING_LEE_RANGES 5
 
+// Ripolles et al. (LodMethod::Ripolles): the full-resolution height field, filtered
+// (vertices fall between samples).
+#define TERRAIN_BINDING_RIPOLLES_HEIGHTS 6
+
 // Image units. Lee & Shin 2011: the flag of every block split this frame, at its centre.
 #define TERRAIN_IMAGE_LEE_SPLIT_FLAGS 0
 
@@ -39,5 +43,13 @@
 #define TERRAIN_BINDING_LEE_OUTPUT 4
 #define TERRAIN_BINDING_LEE_LEAVES 5
 #define TERRAIN_BINDING_LEE_TRIANGLES 6
+// Ripolles et al.'s steps: counters and indirect arguments, the current and the next
+// tessellation (leaf triangles), the triangle families and the free family slots.
+#define TERRAIN_BINDING_RIPOLLES_COUNTERS 7
+#define TERRAIN_BINDING_RIPOLLES_LEAVES 8
+#define TERRAIN_BINDING_RIPOLLES_NEXT_LEAVES 9
+#define TERRAIN_BINDING_RIPOLLES_FAMILIES 10
+#define TERRAIN_BINDING_RIPOLLES_FREE_SLOTS 11
+#define TERRAIN_BINDING_RIPOLLES_FREED_SLOTS 12
 
 #endif  // TERRAIN_BINDINGS_H

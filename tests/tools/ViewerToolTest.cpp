@@ -345,7 +345,7 @@ TEST_F(ViewerTool, FliesTheOtherStreamingLodMethodsAndRefusesTheInCoreOnes) {
         EXPECT_EQ(summary["gl_errors"], 0);
         EXPECT_GT(summary["patches_drawn_last"].get<int>(), 0) << method;
     }
-    for (const std::string inCore : {"rtin", "lee2011"}) {
+    for (const std::string inCore : {"rtin", "lee2011", "ripolles"}) {
         const ToolRun refused =
             run("env -u DISPLAY " + kViewer + " " + kPyramid + " --method " + inCore, m_folder);
         EXPECT_EQ(refused.status, 1) << describe(refused);

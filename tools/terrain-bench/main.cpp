@@ -64,6 +64,7 @@ struct BenchOptions {
     int settleTimeoutS = 120;
     bool coarseOnly = false;
     bool stability = false;
+    bool ripollesNoCoherence = false;
     runtime::ValdetaroParameters valdetaro;
     double tolerancePx = 0.05;
     tools::StreamingBudgets budgets{
@@ -195,6 +196,7 @@ int run(const BenchOptions& o, const char* argv0) {
             sessionOptions.method = method;
             sessionOptions.lod.errorPx = threshold;
             sessionOptions.valdetaro = o.valdetaro;
+            sessionOptions.ripolles.coherence = !o.ripollesNoCoherence;
             auto opened = runtime::openLodStrategy(o.pyramid, sessionOptions);
             if (!opened) return fail(opened.error().message);
             ThresholdRun r;
@@ -458,6 +460,7 @@ int run(const BenchOptions& o, const char* argv0) {
         {"tolerance_px", o.tolerancePx},
         {"methods", methodNames(runs)},
         {"method_info", methodInfo(runs)},
+        {"ripolles", {{"coherence", !o.ripollesNoCoherence}}},
         {"valdetaro",
          {{"ham_gain", o.valdetaro.hamGain},
           {"pixels_per_sample_at_d_max", o.valdetaro.pixelsPerSampleAtDMax}}},
@@ -551,6 +554,9 @@ int main(int argc, char** argv) {
                    "LOD methods to fly, comma-separated, or 'all' (docs/lod-methods.md): " +
                        runtime::lodMethodNames())
         ->capture_default_str();
+    app.add_flag("--ripolles-no-coherence", o.ripollesNoCoherence,
+                 "ripolles: each frame starts again from the input mesh (the paper's Table 3, "
+                 "\"no coherence exploitation\")");
     app.add_option("--valdetaro-gain", o.valdetaro.hamGain,
                    "valdetaro2011: g(HAM) = gain · √HAM_max, its T_max (§5.1)")
         ->capture_default_str()

@@ -56,6 +56,7 @@ struct RenderOptions {
     int heightPx = 540;
     double errorPx = 2.0;
     std::string method = "yusov2011";
+    bool ripollesNoCoherence = false;
     double fps = 30.0;
     double durationS = 0.0;  // of the default path; 0: 20 s
     std::uint64_t frames = 0;
@@ -299,6 +300,7 @@ int run(const RenderOptions& o) {
     auto method = runtime::parseLodMethod(o.method);
     if (!method) return fail("--method: " + method.error().message);
     sessionOptions.method = method.value();
+    sessionOptions.ripolles.coherence = !o.ripollesNoCoherence;
     auto opened = runtime::openLodStrategy(o.pyramid, sessionOptions);
     if (!opened) return fail(opened.error().message);
     runtime::LodStrategy& session = *opened.value();
@@ -483,6 +485,9 @@ int main(int argc, char** argv) {
     app.add_option("--method", o.method,
                    "LOD method (docs/lod-methods.md): " + runtime::lodMethodNames())
         ->capture_default_str();
+    app.add_flag("--ripolles-no-coherence", o.ripollesNoCoherence,
+                 "ripolles: each frame starts again from the input mesh (the paper's Table 3, "
+                 "\"no coherence exploitation\")");
     app.add_option("--fps", o.fps, "Path seconds per frame = 1 / fps")
         ->capture_default_str()
         ->check(CLI::Range(0.01, 1e4));

@@ -101,7 +101,7 @@ Result<std::unique_ptr<StressTarget>> StressTarget::open(const StressTargetOptio
     if (runtime::lodMethodInfo(o.method).inCore)
         return Error{o.pyramid + ": --method " + std::string(runtime::lodMethodName(o.method)) +
                      " streams nothing (it reads the finest level once): the stress test flies "
-                     "the streaming methods (every method but rtin and lee2011)"};
+                     "the streaming methods (every method but rtin, lee2011 and ripolles)"};
     if (manifest.value().globe && o.method != runtime::LodMethod::Yusov2011)
         return Error{o.pyramid + ": a globe pyramid; only yusov2011 draws globes (--method " +
                      std::string(runtime::lodMethodName(o.method)) +

@@ -408,8 +408,10 @@ int main(int argc, char** argv) {
     app.add_option("--error-px", o.errorPx, "Screen-space error threshold ε, pixels")
         ->capture_default_str()
         ->check(CLI::Range(0.05, 1e4));
-    app.add_option("--method", o.method,
-                   "LOD method (docs/lod-methods.md): any but rtin and lee2011, which stream nothing")
+    app.add_option(
+           "--method", o.method,
+           "LOD method (docs/lod-methods.md): any but rtin, lee2011 and ripolles, which stream "
+           "nothing")
         ->capture_default_str();
     app.add_option("--fov", o.fovDegrees, "Vertical field of view, degrees")
         ->capture_default_str()

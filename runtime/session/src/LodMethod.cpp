@@ -37,6 +37,10 @@ constexpr std::array kMethods{
                   "Lee & Shin 2011: the whole finest level's quadtree built on the GPU by vertex "
                   "splitting (roughness, Eq. 2-3), T-junctions removed by triangle splitting",
                   false, false, true},
+    LodMethodInfo{LodMethod::Ripolles, "ripolles",
+                  "Ripolles et al.: GPU tessellation of four input triangles by distance with "
+                  "Schmiade's seven patterns, one step a frame from the previous tessellation",
+                  false, false, true},
     LodMethodInfo{LodMethod::Rtin, "rtin",
                   "view-dependent RTIN from the full-resolution samples, exact per-vertex errors "
                   "(the fewest-triangles yardstick)",

@@ -74,6 +74,7 @@ Result<std::unique_ptr<PatchRenderer>> createMethodRenderer(const std::filesyste
         case LodMethod::ChunkedLod:
         case LodMethod::Uniform:
         case LodMethod::Lee2011:
+        case LodMethod::Ripolles:
         case LodMethod::Rtin:
             break;
     }

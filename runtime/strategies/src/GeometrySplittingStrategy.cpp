@@ -2,9 +2,10 @@
 // draw of what they wrote.
 #include "terrain/runtime/GeometrySplittingStrategy.h"
 
-#include "terrain/gl/ReversedZScope.h"
 #include "terrain/io/PyramidReader.h"
 #include "terrain/runtime/FinestLevelRaster.h"
+#include "terrain/runtime/FrustumUniform.h"
+#include "terrain/runtime/IndirectTriangleDraw.h"
 #include "terrain/runtime/ProgramBuilder.h"
 #include "terrain/runtime/RoughnessQuadtree.h"
 #include "terrain/runtime/TerrainFrameUniforms.h"
@@ -217,19 +218,7 @@ void GeometrySplittingStrategy::setFrameUniforms(gl::Program& program, const Cam
     program.setUniform("u_thresholdPx", static_cast<float>(m_thresholdPx));
     program.setUniform("u_viewportPx", std::array<float, 2>{float(camera.viewportWidth),
                                                             float(camera.viewportHeight)});
-    // The world planes moved to the camera: n · (p + eye) + d = n · p + (d + n · eye).
-    const Frustum frustum = camera.frustum();
-    std::array<float, 20> planes{};
-    for (std::size_t i = 0; i < frustum.planes.size(); ++i) {
-        const glm::dvec4 p = frustum.planes[i];
-        const double length = glm::length(glm::dvec3(p));
-        const double d = p.w + glm::dot(glm::dvec3(p), camera.position);
-        planes[4 * i] = static_cast<float>(p.x / length);
-        planes[4 * i + 1] = static_cast<float>(p.y / length);
-        planes[4 * i + 2] = static_cast<float>(p.z / length);
-        planes[4 * i + 3] = static_cast<float>(d / length);
-    }
-    program.setUniformVec4Array("u_frustumPlanes", planes);
+    program.setUniformVec4Array("u_frustumPlanes", cameraRelativeFrustumPlanes(camera));
 }
 
 void GeometrySplittingStrategy::writeArguments(std::uint32_t countWord, std::uint32_t capacity,
@@ -386,28 +375,11 @@ TerrainDrawStats GeometrySplittingStrategy::draw(const Camera& camera, const Ter
     stats.drawCalls = 1;
     stats.instances = 1;
     stats.triangles = m_counts.triangles;
-    {
-        const gl::ReversedZScope reversedZ;
-        if (style.wireframe) glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
-        glUseProgram(program.id());
-        glBindVertexArray(m_emptyVertexArray.id());
-        glBindTextureUnit(TERRAIN_BINDING_LEE_HEIGHTS, m_heights.id());
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_LEE_TRIANGLES, m_triangles.id());
-        glBindBuffer(GL_DRAW_INDIRECT_BUFFER, m_counters.id());
-        if (style.measure) m_timeQuery.begin();
-        glDrawArraysIndirect(GL_TRIANGLES,
-                             reinterpret_cast<const void*>(
-                                 static_cast<std::uintptr_t>(kDrawWord * sizeof(std::uint32_t))));
-        if (style.measure) {
-            m_timeQuery.end();
-            stats.gpuMs = static_cast<double>(m_timeQuery.waitResult()) * 1.0e-6;
-        }
-        glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
-        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_LEE_TRIANGLES, 0);
-        glBindVertexArray(0);
-        glUseProgram(0);
-        if (style.wireframe) glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-    }
+    glBindTextureUnit(TERRAIN_BINDING_LEE_HEIGHTS, m_heights.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_LEE_TRIANGLES, m_triangles.id());
+    stats.gpuMs = drawTrianglesIndirect(program, m_emptyVertexArray, m_counters,
+                                        kDrawWord * sizeof(std::uint32_t), m_timeQuery, style);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_LEE_TRIANGLES, 0);
     m_lastDraw = stats;
     return stats;
 }

@@ -2,6 +2,7 @@
 #include "terrain/runtime/LodStrategyFactory.h"
 
 #include "terrain/runtime/GeometrySplittingStrategy.h"
+#include "terrain/runtime/RipollesStrategy.h"
 #include "terrain/runtime/RtinStrategy.h"
 
 namespace terrain::runtime {
@@ -26,6 +27,11 @@ Result<std::unique_ptr<LodStrategy>> openLodStrategy(const std::filesystem::path
             auto lee = GeometrySplittingStrategy::open(pyramid, options.lod.errorPx);
             if (!lee) return named(lee.error());
             return std::unique_ptr<LodStrategy>(std::move(lee).value());
+        }
+        case LodMethod::Ripolles: {
+            auto ripolles = RipollesStrategy::open(pyramid, options.lod.errorPx, options.ripolles);
+            if (!ripolles) return named(ripolles.error());
+            return std::unique_ptr<LodStrategy>(std::move(ripolles).value());
         }
         case LodMethod::Rtin: {
             auto rtin = RtinStrategy::open(pyramid, options.lod.errorPx);

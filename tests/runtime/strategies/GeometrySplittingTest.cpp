@@ -7,6 +7,7 @@
 // never draws fewer triangles; a raster over the memory budget is refused before anything is
 // uploaded.
 #include "GlTestFixture.h"
+#include "GpuStrategyScenes.h"
 
 #include "terrain/io/PyramidManifest.h"
 #include "terrain/runtime/GeometrySplittingStrategy.h"
@@ -28,37 +29,6 @@ namespace terrain::test {
 namespace {
 
 using runtime::GeometrySplittingStrategy;
-
-std::vector<float> roughHeights(int width, int height, unsigned seed) {
-    std::mt19937 random(seed);
-    std::uniform_real_distribution<float> noise(-2.0f, 2.0f);
-    std::vector<float> h(static_cast<std::size_t>(width) * height);
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x)
-            h[static_cast<std::size_t>(y) * width + x] =
-                40.0f * std::sin(0.15f * float(x)) * std::cos(0.11f * float(y)) +
-                (x > width / 2 ? 30.0f : 0.0f) + noise(random);
-    return h;
-}
-
-runtime::TerrainGeometry geometryOf(int width, int height) {
-    auto layout = io::PyramidLayout::create(width, height, 33, 8, 4);
-    EXPECT_TRUE(layout) << layout.error().message;
-    return runtime::TerrainGeometry(io::PyramidManifest::forLayout(layout.value()));
-}
-
-/// Looking at the raster's centre from `heightM` above, along the given pitch.
-runtime::Camera cameraOver(const runtime::TerrainGeometry& geometry, double heightM,
-                           double pitchDeg, glm::dvec2 offsetM = {0.0, 0.0}) {
-    runtime::Camera c;
-    const glm::dvec2 centre = geometry.worldAtFraction(0.5, 0.5);
-    c.position = {centre.x + offsetM.x, centre.y + offsetM.y, heightM};
-    c.pitch = pitchDeg * std::numbers::pi / 180.0;
-    c.fovY = 1.2;
-    c.viewportWidth = 320;
-    c.viewportHeight = 240;
-    return c;
-}
 
 using Triangles = std::vector<std::array<glm::ivec2, 3>>;
 

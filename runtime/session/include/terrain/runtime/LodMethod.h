@@ -39,11 +39,23 @@ enum class LodMethod {
     /// the GPU each frame by vertex splitting in passes (LOD flag of Eq. 2 from the
     /// roughness of Eq. 3), T-junctions removed by triangle splitting; in core.
     Lee2011,
+    /// Ripolles et al., GPU tessellation of terrain: four input triangles refined edge by
+    /// edge by distance with Schmiade's seven patterns and coarsened family by family, one
+    /// step a frame from the previous frame's tessellation (coherence); in core.
+    Ripolles,
     /// A view-dependent right-triangulated irregular network built on the CPU from the
     /// full-resolution samples with exact per-vertex errors, kept conforming by nested
     /// errors and bounding spheres (Lindstrom & Pascucci 2002): the fewest-triangles
     /// yardstick.
     Rtin,
+};
+
+/// LodMethod::Ripolles's one parameter besides τ.
+struct RipollesParameters {
+    /// Each frame continues from the previous frame's tessellation with one step (§3.2); off:
+    /// each frame starts from the input mesh and steps until nothing changes (Table 3's "no
+    /// coherence exploitation").
+    bool coherence = true;
 };
 
 struct LodMethodInfo {

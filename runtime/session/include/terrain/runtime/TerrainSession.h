@@ -49,6 +49,7 @@ struct TerrainSessionOptions {
     /// Any method but the RTIN (refused: openLodStrategy opens it).
     LodMethod method = LodMethod::Yusov2011;
     ValdetaroParameters valdetaro;  ///< Valdetaro2011 only
+    RipollesParameters ripolles;    ///< Ripolles only (openLodStrategy)
     TileStreamerOptions streaming;
     LodOptions lod;
     TerrainRendererOptions renderer;
