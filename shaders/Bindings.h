@@ -43,11 +43,11 @@
 #define TERRAIN_BINDING_LEE_OUTPUT 4
 #define TERRAIN_BINDING_LEE_LEAVES 5
 #define TERRAIN_BINDING_LEE_TRIANGLES 6
-// Ripolles et al.'s steps: counters and indirect arguments, the current and the next
-// tessellation (leaf triangles), the triangle families and the free family slots.
+// Ripolles et al.'s steps: counters and indirect arguments, the current tessellation (leaf
+// triangles; the next one is written by transform feedback), the triangle families and the
+// free family slots.
 #define TERRAIN_BINDING_RIPOLLES_COUNTERS 7
 #define TERRAIN_BINDING_RIPOLLES_LEAVES 8
-#define TERRAIN_BINDING_RIPOLLES_NEXT_LEAVES 9
 #define TERRAIN_BINDING_RIPOLLES_FAMILIES 10
 #define TERRAIN_BINDING_RIPOLLES_FREE_SLOTS 11
 #define TERRAIN_BINDING_RIPOLLES_FREED_SLOTS 12

@@ -1,5 +1,6 @@
-// Ripolles et al.: the counters between steps (RipollesTessellation.h gives the words).
-//   u_phase 0, before a step: nothing written or taken yet; the step's dispatches.
+// Ripolles et al.: the counters between steps (RipollesStrategy.cpp names the words).
+//   u_phase 0, before a step: nothing written or taken yet; the family pass's dispatch and
+//              the leaf pass's draw (one point a leaf).
 //   u_phase 1, after it: the new tessellation becomes the current one (its draw), and the
 //              free-slot stack keeps what the step did not take, the slots it freed to be
 //              appended by ripolles_merge.comp.
@@ -14,7 +15,7 @@ uniform int u_phase;
 uniform uint u_inputTriangles;
 
 const uint kLeaves = 0u, kNextLeaves = 1u, kFamilyBump = 2u, kFreeSlots = 3u, kFreeTaken = 4u,
-           kFreedSlots = 5u, kChanges = 6u, kMergeBase = 8u, kLeafDispatch = 12u,
+           kFreedSlots = 5u, kChanges = 6u, kMergeBase = 8u, kLeafPoints = 12u,
            kFamilyDispatch = 16u, kFreedDispatch = 20u, kDraw = 24u;
 
 void dispatchFor(uint word, uint count) {
@@ -29,7 +30,10 @@ void main() {
         c_words[kFreeTaken] = 0u;
         c_words[kFreedSlots] = 0u;
         c_words[kChanges] = 0u;
-        dispatchFor(kLeafDispatch, c_words[kLeaves]);
+        c_words[kLeafPoints] = c_words[kLeaves];
+        c_words[kLeafPoints + 1u] = 1u;
+        c_words[kLeafPoints + 2u] = 0u;
+        c_words[kLeafPoints + 3u] = 0u;
         dispatchFor(kFamilyDispatch, c_words[kFamilyBump]);
     } else if (u_phase == 1) {
         uint remaining = c_words[kFreeSlots] - min(c_words[kFreeTaken], c_words[kFreeSlots]);

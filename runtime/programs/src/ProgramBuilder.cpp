@@ -4,6 +4,8 @@
 #include "terrain/gl/Shader.h"
 #include "terrain/runtime/ShaderLog.h"
 
+#include <epoxy/gl.h>
+
 #include <utility>
 
 namespace terrain::runtime {
@@ -81,6 +83,11 @@ ProgramBuilder& ProgramBuilder::loader(ShaderLoader loader) {
     return *this;
 }
 
+ProgramBuilder& ProgramBuilder::transformFeedback(std::vector<std::string> varyings) {
+    m_feedbackVaryings = std::move(varyings);
+    return *this;
+}
+
 Result<gl::Program> ProgramBuilder::build() const {
     const std::string name = "program '" + m_label + "'";
     if (m_stages.empty()) {
@@ -120,6 +127,12 @@ Result<gl::Program> ProgramBuilder::build() const {
     gl::Program program = gl::Program::create(m_label);
     for (const gl::Shader& shader : shaders) {
         program.attach(shader);
+    }
+    if (!m_feedbackVaryings.empty()) {
+        std::vector<const char*> names;
+        for (const std::string& v : m_feedbackVaryings) names.push_back(v.c_str());
+        glTransformFeedbackVaryings(program.id(), static_cast<GLsizei>(names.size()), names.data(),
+                                    GL_INTERLEAVED_ATTRIBS);
     }
     const bool linked = program.link();
     // Detached shader objects are freed with `shaders`; the program keeps its binary.

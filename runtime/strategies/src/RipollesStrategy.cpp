@@ -2,6 +2,7 @@
 // the current tessellation.
 #include "terrain/runtime/RipollesStrategy.h"
 
+#include "terrain/gl/Framebuffer.h"
 #include "terrain/io/PyramidReader.h"
 #include "terrain/runtime/FinestLevelRaster.h"
 #include "terrain/runtime/FrustumUniform.h"
@@ -25,7 +26,7 @@ using Clock = std::chrono::steady_clock;
 
 // The counter words of ripolles_tessellation.glsl and ripolles_bookkeeping.comp.
 constexpr std::uint32_t kLeavesWord = 0, kFamilyBumpWord = 2, kFreeSlotsWord = 3, kChangesWord = 6,
-                        kLeafDispatchWord = 12, kFamilyDispatchWord = 16, kFreedDispatchWord = 20,
+                        kLeafPointsWord = 12, kFamilyDispatchWord = 16, kFreedDispatchWord = 20,
                         kDrawWord = 24, kTotalWords = 28;
 constexpr std::size_t kLeafBytes = 32;                        // Leaf: three vec2, two int
 constexpr std::size_t kFamilyBytes = 48;                      // Family: three vec2, six int
@@ -45,10 +46,10 @@ std::size_t textureBytesFor(int width, int height) {
 }
 
 Result<gl::Program> buildProgram(std::string label, std::initializer_list<std::string> stages,
-                                 std::string_view define = {}) {
+                                 std::vector<std::string> feedback = {}) {
     ProgramBuilder builder(std::move(label));
     for (const std::string& s : stages) builder.stage(s);
-    if (!define.empty()) builder.define(std::string(define));
+    if (!feedback.empty()) builder.transformFeedback(std::move(feedback));
     return builder.build();
 }
 
@@ -94,9 +95,11 @@ Result<std::unique_ptr<RipollesStrategy>> RipollesStrategy::create(TerrainGeomet
                                                                    RipollesParameters parameters,
                                                                    std::size_t maxBytes) {
     Programs programs;
-    auto families = buildProgram("ripolles families", {"ripolles_step.comp"}, "RIPOLLES_FAMILIES");
+    auto families = buildProgram("ripolles families", {"ripolles_families.comp"});
     if (!families) return families.error();
-    auto step = buildProgram("ripolles step", {"ripolles_step.comp"});
+    // The next tessellation's triangles, captured as Leaf records (ripolles_tessellation.glsl).
+    auto step = buildProgram("ripolles step", {"ripolles_step.vert", "ripolles_step.geom"},
+                             {"o_v0", "o_v1", "o_v2", "o_family", "o_childType"});
     if (!step) return step.error();
     auto bookkeeping = buildProgram("ripolles bookkeeping", {"ripolles_bookkeeping.comp"});
     if (!bookkeeping) return bookkeeping.error();
@@ -111,21 +114,25 @@ Result<std::unique_ptr<RipollesStrategy>> RipollesStrategy::create(TerrainGeomet
     programs.draw = std::move(draw).value();
     auto time = gl::Query::create(gl::QueryKind::TimeElapsed, "ripolles GPU time");
     if (!time) return time.error();
+    // The step's draw rasterises nothing, but a draw needs a complete framebuffer.
+    auto target = gl::Framebuffer::create(1, 1, "ripolles step target");
+    if (!target) return target.error();
 
     std::unique_ptr<RipollesStrategy> strategy(
         new RipollesStrategy(std::move(geometry), std::move(programs), std::move(time).value(),
-                             thresholdPx, parameters, maxBytes));
+                             std::move(target).value(), thresholdPx, parameters, maxBytes));
     if (auto uploaded = strategy->upload(heights); !uploaded) return uploaded.error();
     strategy->reset();
     return strategy;
 }
 
 RipollesStrategy::RipollesStrategy(TerrainGeometry geometry, Programs programs, gl::Query timeQuery,
-                                   double thresholdPx, RipollesParameters parameters,
-                                   std::size_t maxBytes)
+                                   gl::Framebuffer stepTarget, double thresholdPx,
+                                   RipollesParameters parameters, std::size_t maxBytes)
     : m_geometry(std::move(geometry)),
       m_programs(std::move(programs)),
       m_timeQuery(std::move(timeQuery)),
+      m_stepTarget(std::move(stepTarget)),
       m_emptyVertexArray(gl::VertexArray::create("ripolles draw (no attributes)")),
       m_thresholdPx(thresholdPx),
       m_parameters(parameters),
@@ -276,8 +283,6 @@ bool RipollesStrategy::step(const Camera& camera) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_RIPOLLES_COUNTERS, m_counters.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_RIPOLLES_LEAVES,
                      m_leaves[m_current].id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_RIPOLLES_NEXT_LEAVES,
-                     m_leaves[1 - m_current].id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_RIPOLLES_FAMILIES, m_families.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_RIPOLLES_FREE_SLOTS,
                      m_freeSlots.id());
@@ -293,16 +298,35 @@ bool RipollesStrategy::step(const Camera& camera) {
         barrier();
     };
     dispatch(m_programs.families, kFamilyDispatchWord);
-    dispatch(m_programs.step, kLeafDispatchWord);
+    {
+        // The leaves' pass: one point a leaf through the geometry stage, its triangles of the
+        // next tessellation captured by transform feedback (§3.2).
+        GLint previousTarget = 0;
+        glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previousTarget);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m_stepTarget.id());
+        glEnable(GL_RASTERIZER_DISCARD);
+        glUseProgram(m_programs.step.id());
+        glBindVertexArray(m_emptyVertexArray.id());
+        glBindBuffer(GL_DRAW_INDIRECT_BUFFER, m_counters.id());
+        glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, m_leaves[1 - m_current].id());
+        glBeginTransformFeedback(GL_POINTS);
+        glDrawArraysIndirect(GL_POINTS, reinterpret_cast<const void*>(wordOffset(kLeafPointsWord)));
+        glEndTransformFeedback();
+        glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, 0);
+        glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+        glBindVertexArray(0);
+        glDisable(GL_RASTERIZER_DISCARD);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(previousTarget));
+        glMemoryBarrier(GL_ALL_BARRIER_BITS);
+    }
     bookkeeping(1);
     dispatch(m_programs.merge, kFreedDispatchWord);
 
     glUseProgram(0);
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
-    for (GLuint binding :
-         {TERRAIN_BINDING_RIPOLLES_COUNTERS, TERRAIN_BINDING_RIPOLLES_LEAVES,
-          TERRAIN_BINDING_RIPOLLES_NEXT_LEAVES, TERRAIN_BINDING_RIPOLLES_FAMILIES,
-          TERRAIN_BINDING_RIPOLLES_FREE_SLOTS, TERRAIN_BINDING_RIPOLLES_FREED_SLOTS})
+    for (GLuint binding : {TERRAIN_BINDING_RIPOLLES_COUNTERS, TERRAIN_BINDING_RIPOLLES_LEAVES,
+                           TERRAIN_BINDING_RIPOLLES_FAMILIES, TERRAIN_BINDING_RIPOLLES_FREE_SLOTS,
+                           TERRAIN_BINDING_RIPOLLES_FREED_SLOTS})
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, 0);
     m_current = 1 - m_current;
     readCounters();

@@ -31,6 +31,10 @@ public:
     /// `#define name value`, after the #version line, in every stage.
     ProgramBuilder& define(std::string name, std::string value = "1");
 
+    /// Output variables the last vertex-processing stage writes to transform feedback
+    /// buffer 0, interleaved in this order (glTransformFeedbackVaryings before the link).
+    ProgramBuilder& transformFeedback(std::vector<std::string> varyings);
+
     /// Where files come from; default ShaderLoader::fromEnvironment().
     ProgramBuilder& loader(ShaderLoader loader);
 
@@ -46,6 +50,7 @@ private:
     std::string m_label;
     std::vector<StageInput> m_stages;
     std::vector<ShaderDefine> m_defines;
+    std::vector<std::string> m_feedbackVaryings;
     std::optional<ShaderLoader> m_loader;
 };
 

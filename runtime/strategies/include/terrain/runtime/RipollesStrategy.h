@@ -5,8 +5,9 @@
 // 2^d quads, §4: "an initial mesh composed of 4 triangles"); the height field is on the GPU
 // whole (in core, as the paper's Fig. 4 keeps it). Each step refines every leaf triangle by
 // the pattern its edges select (Schmiade's seven, §3.1) or coarsens a family back to its
-// parent (§3.2), on the GPU (ripolles_*.comp: compute passes appending to lists where the
-// paper used a geometry shader and transform feedback). With coherence (the paper's method,
+// parent (§3.2), on the GPU as published: a geometry shader over the leaves whose output
+// triangles transform feedback captures (ripolles_step.geom), after a compute pass over the
+// triangle families (ripolles_families.comp). With coherence (the paper's method,
 // and the default) each frame runs one step from the previous frame's tessellation; without
 // it each frame starts again from the input mesh and steps until nothing changes — the two
 // columns of the paper's Table 3. settle() steps until nothing changes.
@@ -17,6 +18,7 @@
 
 #include "terrain/base/Result.h"
 #include "terrain/gl/Buffer.h"
+#include "terrain/gl/Framebuffer.h"
 #include "terrain/gl/Program.h"
 #include "terrain/gl/Query.h"
 #include "terrain/gl/Texture.h"
@@ -90,7 +92,8 @@ private:
     };
 
     RipollesStrategy(TerrainGeometry geometry, Programs programs, gl::Query timeQuery,
-                     double thresholdPx, RipollesParameters parameters, std::size_t maxBytes);
+                     gl::Framebuffer stepTarget, double thresholdPx, RipollesParameters parameters,
+                     std::size_t maxBytes);
     Status upload(const std::vector<float>& heights);
     /// Lists large enough for one more step from m_counts; false past the budget.
     bool reserve();
@@ -101,6 +104,7 @@ private:
     TerrainGeometry m_geometry;
     Programs m_programs;
     gl::Query m_timeQuery;
+    gl::Framebuffer m_stepTarget;  ///< 1 × 1: the leaves' pass draws, rasterising nothing
     gl::VertexArray m_emptyVertexArray;
     double m_thresholdPx = 1.0;
     RipollesParameters m_parameters;

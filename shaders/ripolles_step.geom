@@ -1,41 +1,28 @@
-// Ripolles et al., one tessellation step (§3.2), built in two programs from this file:
-//   RIPOLLES_FAMILIES  over the families: the count of leaf children at the step's start, and
-//                      whether the parent's edges now select a different pattern (`wants`
-//                      holds it + 8). Every live family is checked, also one whose children
-//                      are all refined further (no leaf of it would see the change);
-//   (otherwise)        over the leaves, the step itself: a leaf whose family, or a family above
-//                      it, wants to change is coarsened — once all its siblings are leaves,
-//                      child 0 recreates the parent (Eq. 3–6) and refines it again with the
-//                      pattern its edges select now, or leaves it whole ("the most suitable
-//                      pattern", §3.2); a family below one that changes is coarsened whole.
-//                      Every other leaf is refined by the pattern of its edges (Eq. 1–2), or
-//                      kept. One step changes the tessellation by at most one level: the
-//                      coherence of §3.2, the previous tessellation reused.
+// Ripolles et al., the second pass of a tessellation step (§3.2): a geometry shader over the
+// leaves (one point each) whose output points, one a triangle of the next tessellation, go to
+// transform feedback — the paper's geometry shader and stream output. Each leaf:
+//   - of a family that wants to change (ripolles_families.comp), or below one: once all its
+//     siblings are leaves, child 0 recreates the parent (Eq. 3–6) and refines it again with
+//     the pattern its edges select now, or leaves it whole ("the most suitable pattern");
+//     a family below one that changes is coarsened whole; the other children emit nothing;
+//     until then every child emits itself;
+//   - otherwise, refined by the pattern of its own edges (Eq. 1–2), or emitted as it is.
+// One step changes the tessellation by one level at most: the coherence of §3.2.
 // The CPU has made the lists large enough for the step's worst case beforehand.
 #include "ripolles_tessellation.glsl"
 
-layout(local_size_x = 64) in;
+layout(points) in;
+layout(points, max_vertices = 4) out;
 
-#ifdef RIPOLLES_FAMILIES
-void main() {
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= c_familyBump) return;
-    Family family = u_families[i];
-    // Written here only, so that the step's leaves all read the same values while child 0
-    // of a family rewrites its pattern and counts.
-    u_families[i].allLeavesAtStart = family.leafChildren == kChildren[family.pattern] ? 1 : 0;
-    u_families[i].wants = 0;
-    if (family.pattern == 0) return;  // a free slot
-    int pattern = refinementPattern(family.p0, family.p1, family.p2);
-    if (pattern != family.pattern) u_families[i].wants = 8 | pattern;
-}
-#else
+// The next tessellation's triangle, captured as a Leaf (RipollesStrategy.cpp names them).
+layout(location = 0) out vec2 o_v0;
+layout(location = 1) out vec2 o_v1;
+layout(location = 2) out vec2 o_v2;
+layout(location = 3) flat out int o_family;
+layout(location = 4) flat out int o_childType;
+
 layout(std430, binding = TERRAIN_BINDING_RIPOLLES_LEAVES) readonly buffer Current {
     Leaf u_leaves[];
-};
-
-layout(std430, binding = TERRAIN_BINDING_RIPOLLES_NEXT_LEAVES) writeonly buffer Next {
-    Leaf u_next[];
 };
 // The free family slots of earlier steps (a stack: this step pops from the top) and the
 // ones this step frees (merged into the stack after the step).
@@ -47,7 +34,14 @@ layout(std430, binding = TERRAIN_BINDING_RIPOLLES_FREED_SLOTS) writeonly buffer 
 };
 
 void emit(vec2 a, vec2 b, vec2 c, int family, int childType) {
-    u_next[atomicAdd(c_nextLeaves, 1u)] = Leaf(a, b, c, family, childType);
+    o_v0 = a;
+    o_v1 = b;
+    o_v2 = c;
+    o_family = family;
+    o_childType = childType;
+    gl_Position = vec4(0.0);
+    EmitVertex();
+    atomicAdd(c_nextLeaves, 1u);  // the count the bookkeeping reads
 }
 
 void emitChildren(vec2 v0, vec2 v1, vec2 v2, int pattern, int family) {
@@ -64,9 +58,7 @@ int allocateFamily() {
 }
 
 void main() {
-    uint i = gl_GlobalInvocationID.x;
-    if (i >= c_leaves) return;
-    Leaf t = u_leaves[i];
+    Leaf t = u_leaves[gl_PrimitiveIDIn];
     int f = t.family;
     if (f >= 0) {
         bool forced = false;
@@ -107,4 +99,3 @@ void main() {
     if (f >= 0) atomicAdd(u_families[f].leafChildren, -1);
     emitChildren(t.v0, t.v1, t.v2, pattern, g);
 }
-#endif
