@@ -1,6 +1,6 @@
 // Lee & Shin 2011: writes the indirect arguments of the next pass from a counter the passes
 // before it filled, so the CPU never reads a count between passes. LeeCounters is read as
-// plain words here (GeometrySplittingStrategy.h gives the offsets).
+// plain words here (GeometrySplittingStrategy.cpp gives the offsets).
 #include "Bindings.h"
 
 layout(local_size_x = 1) in;
