@@ -290,7 +290,7 @@ int run(const BenchOptions& o, const char* argv0) {
             frameStart = Clock::now();
             lodStats = session.beginFrame(camera);
         }
-        const runtime::LodCapture lod = probe.value()->captureLod(session, camera, style);
+        runtime::LodCapture lod = probe.value()->captureLod(session, camera, style);
         runtime::FrameTelemetry telemetry;
         session.endFrame(telemetry);
         rec.frameMs = std::chrono::duration<double, std::milli>(Clock::now() - frameStart).count();
@@ -341,7 +341,7 @@ int run(const BenchOptions& o, const char* argv0) {
             fmt::print(stderr, "terrain-bench: frame {} at ε = {} px ({}): no pixel measured\n",
                        frame, r.thresholdPx, r.methodName);
         }
-        return std::pair{rec, lod};
+        return std::pair{rec, std::move(lod)};
     };
 
     std::vector<tools::FrameRecord> records;
@@ -364,7 +364,7 @@ int run(const BenchOptions& o, const char* argv0) {
                              previousReference ? &*previousReference : nullptr, true);
             if (!measured) return fail(measured.error().message);
             const tools::FrameRecord& rec = measured.value().first;
-            const runtime::LodCapture& lod = measured.value().second;
+            runtime::LodCapture& lod = measured.value().second;
             if (frame == sampleFrame) {
                 const auto file =
                     outputDir / fmt::format("sample-{}eps-{}.png", fileTag(r.methodName),
@@ -372,7 +372,7 @@ int run(const BenchOptions& o, const char* argv0) {
                 if (auto w = writePng(lod.images, file); !w) return fail(w.error().message);
             }
             records.push_back(rec);
-            r.previous = lod;
+            r.previous = std::move(lod);
             if (context.value()->debugLog().errorCount() > 0) {
                 return fail("OpenGL reported an error:\n" +
                             context.value()->debugLog().formatErrors());

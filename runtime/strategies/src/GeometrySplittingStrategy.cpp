@@ -48,12 +48,12 @@ constexpr std::size_t kLeafBytes = 4 * sizeof(std::int32_t);      // ivec4
 constexpr std::size_t kPendingBytes = 8 * sizeof(std::int32_t);   // two ivec4
 constexpr std::size_t kTriangleBytes = 6 * sizeof(std::int32_t);  // three ivec2
 
+/// The GPU's textures: the height field, the quadtree texture and ranges, the split flags
+/// (one byte a sample of the n × n grid).
 std::size_t textureBytesFor(int width, int height) {
-    const auto w = static_cast<std::size_t>(width), h = static_cast<std::size_t>(height);
     const auto side = (std::size_t{1} << RoughnessQuadtree::depthFor(width, height)) + 1;
-    const std::size_t finestBlocks = ((side - 1) / 2) * ((side - 1) / 2);
-    return w * h * sizeof(float) + side * side * (sizeof(float) + 1) +
-           finestBlocks * 4 / 3 * 2 * sizeof(float);
+    return static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * sizeof(float) +
+           RoughnessQuadtree::bytesFor(width, height) + side * side;
 }
 
 Result<gl::Program> buildProgram(std::string label, std::initializer_list<std::string> stages,
@@ -319,10 +319,9 @@ bool GeometrySplittingStrategy::build(const Camera& camera) {
     std::array<std::uint32_t, kCounterWords> words{};
     m_counters.readBack(0, std::as_writable_bytes(std::span(words)));
     Capacities next = cap;
-    m_counts.blocksEvaluated = m_counts.trianglesSplit = 0;
+    m_counts.blocksEvaluated = 0;
     for (std::uint32_t p = 0; p < kMaxPasses; ++p) {
         m_counts.blocksEvaluated += std::min(words[kNodesWord + p], cap.blocks);
-        m_counts.trianglesSplit += std::min(words[kPendingWord + p], cap.pending);
         if (words[kNodesWord + p] > cap.blocks)
             next.blocks = std::max(next.blocks, grown(cap.blocks, words[kNodesWord + p]));
         if (words[kPendingWord + p] > cap.pending)

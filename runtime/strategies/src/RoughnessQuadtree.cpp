@@ -18,7 +18,7 @@ std::size_t RoughnessQuadtree::bytesFor(int width, int height) {
     const auto side = (std::size_t{1} << depthFor(width, height)) + 1;
     const std::size_t finestBlocks = ((side - 1) / 2) * ((side - 1) / 2);
     // σ over the whole grid; the ranges' mip chain is under 4/3 of its finest level.
-    return side * side * sizeof(float) + finestBlocks * 4 / 3 * sizeof(glm::vec2) + 64;
+    return side * side * sizeof(float) + finestBlocks * 4 / 3 * sizeof(glm::vec2);
 }
 
 Result<RoughnessQuadtree> RoughnessQuadtree::build(int width, int height,

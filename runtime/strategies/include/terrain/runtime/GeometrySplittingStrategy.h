@@ -37,7 +37,6 @@ class RoughnessQuadtree;
 struct GeometrySplittingCounts {
     std::uint64_t blocksEvaluated = 0;  ///< LOD flags computed (vertex-splitting inputs)
     std::uint64_t leaves = 0;           ///< blocks drawn
-    std::uint64_t trianglesSplit = 0;   ///< triangle-splitting inputs
     std::uint64_t triangles = 0;        ///< triangles drawn
     int builds = 0;  ///< times the frame was built (more than 1 when a list overflowed)
 };
