@@ -147,6 +147,29 @@ void edgeLod(PatchInstance patch_, ivec2 block, int edge, out int d, out float e
     errorM = d == 0 ? patch_.errors.x : edgeErrorM[d - 1];
 }
 
+// The block's inner factor. Yusov §5 takes the minimum of its edge factors, the coarsest
+// edge's d. But an edge's d holds for the box of both blocks sharing it, with the larger of
+// their errors, and the inner mesh touches no neighbour: the block may go coarser on its
+// own, to the largest d whose own Λ(d), projected over its own box, stays below ε. Λ(d)
+// bounds the regular mesh at d and its strips to edges of every finer factor
+// (io::transitionErrors), and every edge is at least as fine as that inner level, so the
+// bound holds for the whole block. Never finer than the coarsest edge: a strip from a
+// coarser edge to a finer inner mesh is one λ does not bound.
+float blockInnerFactor(PatchInstance patch_, ivec2 block, float coarsestEdgeFactor) {
+    if (u_fixedSimplification >= 0) return coarsestEdgeFactor;
+    vec4 ownErrorM = blockErrorM(patch_, block);
+    vec3 lo, hi;
+    blocksBoxM(patch_, block, block, patch_.errors.x, patch_.errors.x, lo, hi);
+    float pxPerM = verticalErrorPxPerM(lo, hi);
+    float inner = coarsestEdgeFactor;
+    for (int k = 1; k <= 4; ++k) {
+        float factor = float(max(1, u_blockQuads >> k));
+        float errorK = ownErrorM[k - 1];
+        if (factor < inner && (errorK <= 0.0 || errorK * pxPerM < u_errorPx)) inner = factor;
+    }
+    return inner;
+}
+
 // Whether the box [lo, hi] (camera-relative metres) lies entirely outside one plane of the
 // frustum. Conservative: the box must clear the plane by a margin that covers float
 // rounding of the box and planes, so nothing visible is ever discarded.
@@ -221,8 +244,9 @@ void main() {
         // instance's skirt depth (assignSkirtDepths).
         o_skirtDropM = o_edgeErrorM[0] + patch_.errors.y;
     } else {
-        // Yusov §5: the interior factor is the minimum of the block's edge factors.
-        inner = min(min(o_edgeFactor[0], o_edgeFactor[1]), min(o_edgeFactor[2], o_edgeFactor[3]));
+        inner = blockInnerFactor(patch_, block,
+                                 min(min(o_edgeFactor[0], o_edgeFactor[1]),
+                                     min(o_edgeFactor[2], o_edgeFactor[3])));
         for (int i = 0; i < 4; ++i) gl_TessLevelOuter[i] = o_edgeFactor[i];
         gl_TessLevelInner[0] = inner;
         gl_TessLevelInner[1] = inner;

@@ -178,7 +178,19 @@ std::vector<BlockFactors> patchBlockFactors(const Camera& camera, const TerrainG
                 f.edgeErrorM[e] =
                     d == 0 ? patchErrorM : edgeErrorM[static_cast<std::size_t>(d - 1)];
             }
-            const int inner = *std::min_element(f.outer.begin(), f.outer.end());
+            // The inner factor: the coarsest edge's, or coarser where the block's own Λ(d)
+            // over its own box allows (terrain.tesc, blockInnerFactor, says why it holds).
+            const int coarsestEdge = *std::min_element(f.outer.begin(), f.outer.end());
+            const double ownPxPerM =
+                verticalErrorPxPerM(viewProjection, viewportPx, edgeBoxM(block, block));
+            int inner = coarsestEdge;
+            for (int d = 1; d <= io::kMaxSimplification; ++d) {
+                const double lambda = blockErrorM(block, d);
+                const double projected = lambda > 0.0 ? lambda * ownPxPerM : 0.0;
+                f.innerProjectedPx[static_cast<std::size_t>(d - 1)] = projected;
+                const int factor = tessFactorOf(quads, d);
+                if (factor < inner && projected < errorPx) inner = factor;
+            }
             f.inner = {inner, inner};
             f.culled = blockDiscarded(camera, geometry, record.id, record.info, block, 0.0);
         }

@@ -9,7 +9,9 @@
 // the box of the blocks sharing the edge (verticalErrorPxPerM), so the chosen d holds for
 // every point of both blocks, and so does the inner level, the coarsest edge's. The
 // tessellator's transition strips between finer edges and that inner level are charged
-// to it too: the pyramid's λ(d) covers them (io::transitionErrors).
+// to it too: the pyramid's λ(d) covers them (io::transitionErrors). A second deviation,
+// for fewer triangles: the inner level may be coarser than every edge, where the block's
+// own Λ(d) over its own box allows it (the inner mesh touches no neighbour).
 //
 // Vertex → domain mapping of a block primitive (the vertex stage's corners): u runs east
 // along the patch's columns, v south along its rows, so GL's outer levels are
@@ -32,8 +34,10 @@
 namespace terrain::runtime {
 
 struct BlockFactors {
-    std::array<int, 4> outer{};           ///< GL order: west (u = 0), north (v = 0), east, south
-    std::array<int, 2> inner{};           ///< both the minimum of outer (Yusov §5)
+    std::array<int, 4> outer{};  ///< GL order: west (u = 0), north (v = 0), east, south
+    /// Both the same: the minimum of outer (Yusov §5), or coarser where the block's own
+    /// Λ(d), projected over its own box, stays below ε (innerProjectedPx).
+    std::array<int, 2> inner{};
     std::array<int, 4> simplification{};  ///< d of each edge, 0 (full resolution) … 4
     /// Λ_ec(d) of each edge at its d (Err(P) at d = 0), metres: how far the drawn edge may
     /// lie from the full-resolution surface; a skirt drops this plus the skirt depth.
@@ -41,6 +45,9 @@ struct BlockFactors {
     /// Λ_ec(d) · verticalErrorPxPerM of the edge's box for d = 1..4, pixels: the most any
     /// vertical error of Λ_ec(d) in the box may measure on screen; what d was chosen from.
     std::array<std::array<double, io::kMaxSimplification>, 4> projectedPx{};
+    /// The block's own Λ(d) · verticalErrorPxPerM of its own box for d = 1..4, pixels:
+    /// what an inner level coarser than every edge is chosen from.
+    std::array<double, io::kMaxSimplification> innerProjectedPx{};
     /// The control stage discards the block (wholly beyond the DEM, or outside the view).
     bool culled = false;
 };
