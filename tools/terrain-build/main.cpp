@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
     app.add_option("--patch-size", options.patchSamples, "Samples per patch side, 2^n + 1")
         ->capture_default_str();
     app.add_option("--block-quads", options.blockQuads,
-                   "Quads per tessellation-block side (16: 8 x 8 blocks in a 129 patch)")
+                   "Quads per tessellation-block side (8: 16 x 16 blocks in a 129 patch)")
         ->capture_default_str();
     app.add_option("--shard-patches", options.shardPatches, "Patches per shard side")
         ->capture_default_str();

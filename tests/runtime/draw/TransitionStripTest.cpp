@@ -1,6 +1,7 @@
 // The strips GL's tessellator puts between a block's edges and its inner mesh, read back
-// from the tessellator itself: for every combination of factors the fine LOD gives a block
-// of 16 quads (inner factor the smallest edge factor, all powers of two), every triangle is
+// from the tessellator itself: for every combination of factors the fine LOD can give a
+// block of 16 or 8 quads (inner factor at most the smallest edge factor, all powers of
+// two), every triangle is
 // one that io::transitionErrors models, and none deviates from rough surfaces by more than
 // the block's λ(d) for its inner factor. This is the property the fine LOD's bound rests
 // on: a block's error is charged to its coarsest edge (EdgeTessellation.h).
@@ -28,7 +29,6 @@
 namespace terrain::test {
 namespace {
 
-constexpr int kBlockQuads = 16;
 constexpr std::size_t kCapacityTriangles = 4096;
 
 struct SamplePoint {
@@ -47,20 +47,21 @@ std::string describe(const Factors& f) {
            std::to_string(f.inner);
 }
 
-// Rough heights: slopes, a ridge and noise of `noiseM`, on (kBlockQuads + 1)² samples.
-std::vector<float> roughGrid(unsigned seed, float noiseM) {
-    const int n = kBlockQuads + 1;
+// Rough heights: slopes, a ridge and noise of `noiseM`, on (blockQuads + 1)² samples.
+std::vector<float> roughGrid(int blockQuads, unsigned seed, float noiseM) {
+    const int n = blockQuads + 1;
     std::mt19937 rng(seed);
     std::normal_distribution<float> noise(0.0f, noiseM);
     std::vector<float> h(static_cast<std::size_t>(n * n));
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x)
-            h[static_cast<std::size_t>(y * n + x)] = 40.0f * std::sin(0.4f * float(x + seed)) +
-                                                     25.0f * std::abs(float(y) - 7.5f) + noise(rng);
+            h[static_cast<std::size_t>(y * n + x)] =
+                40.0f * std::sin(0.4f * float(x + seed)) +
+                25.0f * std::abs(float(y) - 0.47f * float(blockQuads)) + noise(rng);
     return h;
 }
 
-class TransitionStripTest : public GlTest {
+class TransitionStripTest : public GlTest, public ::testing::WithParamInterface<int> {
 protected:
     void SetUp() override {
         GlTest::SetUp();
@@ -87,8 +88,8 @@ protected:
             GL_DYNAMIC_STORAGE_BIT, "captured triangles");
     }
 
-    // The tessellator's triangles for `factors`, in block samples (domain · kBlockQuads).
-    std::vector<Triangle> capture(const Factors& factors) {
+    // The tessellator's triangles for `factors`, in block samples (domain · blockQuads).
+    std::vector<Triangle> capture(const Factors& factors, int blockQuads) {
         const std::array<std::uint32_t, 2> zero{};
         m_captured.upload(0, std::as_bytes(std::span(zero)));
         m_program.setUniform(
@@ -121,7 +122,7 @@ protected:
         for (std::size_t t = 0; t < count; ++t) {
             for (std::size_t i = 0; i < 3; ++i) {
                 const float u = domain[6 * t + 2 * i], v = domain[6 * t + 2 * i + 1];
-                const float x = u * kBlockQuads, y = v * kBlockQuads;
+                const float x = u * float(blockQuads), y = v * float(blockQuads);
                 // Power-of-two factors put every domain point on a sample.
                 EXPECT_NEAR(x, std::round(x), 1e-4) << describe(factors);
                 EXPECT_NEAR(y, std::round(y), 1e-4) << describe(factors);
@@ -138,10 +139,10 @@ protected:
 };
 
 // Every factor combination of a block whose inner factor is that of simplification d.
-std::vector<Factors> factorsOfInnerLevel(int d) {
-    const int inner = std::max(1, kBlockQuads >> d);
+std::vector<Factors> factorsOfInnerLevel(int blockQuads, int d) {
+    const int inner = std::max(1, blockQuads >> d);
     std::vector<int> edge;
-    for (int m = inner; m <= kBlockQuads; m *= 2) edge.push_back(m);
+    for (int m = inner; m <= blockQuads; m *= 2) edge.push_back(m);
     std::vector<Factors> all;
     for (int a : edge)
         for (int b : edge)
@@ -154,8 +155,9 @@ std::vector<Factors> factorsOfInnerLevel(int d) {
 // along some edge as io::transitionErrors enumerates it: two consecutive vertices of one
 // side and a vertex of the other within one inner spacing of them. `outer` holds the edges' factors
 // in the frame order below (v = 0, v = 1, u = 0, u = 1).
-bool isModelled(const Triangle& t, int innerSpacing, const std::array<int, 4>& outer) {
-    const int n = kBlockQuads;
+bool isModelled(const Triangle& t, int blockQuads, int innerSpacing,
+                const std::array<int, 4>& outer) {
+    const int n = blockQuads;
     auto minMax = [&](auto get) {
         auto [lo, hi] = std::minmax({get(t[0]), get(t[1]), get(t[2])});
         return std::pair{lo, hi};
@@ -210,25 +212,26 @@ bool isModelled(const Triangle& t, int innerSpacing, const std::array<int, 4>& o
     return false;
 }
 
-TEST_F(TransitionStripTest, EveryTriangleIsModelledAndWithinTheBlockError) {
+TEST_P(TransitionStripTest, EveryTriangleIsModelledAndWithinTheBlockError) {
+    const int blockQuads = GetParam();
     std::vector<std::vector<float>> grids;
     for (unsigned seed = 1; seed <= 4; ++seed)
-        grids.push_back(roughGrid(seed, 6.0f * static_cast<float>(seed)));
-    const int side = kBlockQuads + 1;
+        grids.push_back(roughGrid(blockQuads, seed, 6.0f * static_cast<float>(seed)));
+    const int side = blockQuads + 1;
     int combinations = 0, triangles = 0;
     double closest = 0.0;  // largest deviation / λ
     for (int d = 1; d <= io::kMaxSimplification; ++d) {
-        const int inner = std::max(1, kBlockQuads >> d);
-        const int innerSpacing = kBlockQuads / std::max(2, inner);
-        for (const Factors& factors : factorsOfInnerLevel(d)) {
+        const int inner = std::max(1, blockQuads >> d);
+        const int innerSpacing = blockQuads / std::max(2, inner);
+        for (const Factors& factors : factorsOfInnerLevel(blockQuads, d)) {
             ++combinations;
-            const std::vector<Triangle> drawn = capture(factors);
+            const std::vector<Triangle> drawn = capture(factors, blockQuads);
             // GL's outer order (u = 0, v = 0, u = 1, v = 1) in the frame order of isModelled.
             const std::array<int, 4> outer = {factors.outer[1], factors.outer[3], factors.outer[0],
                                               factors.outer[2]};
             for (const Triangle& t : drawn) {
                 ++triangles;
-                ASSERT_TRUE(isModelled(t, innerSpacing, outer))
+                ASSERT_TRUE(isModelled(t, blockQuads, innerSpacing, outer))
                     << describe(factors) << ": triangle (" << t[0].x << "," << t[0].y << ") ("
                     << t[1].x << "," << t[1].y << ") (" << t[2].x << "," << t[2].y << ")";
             }
@@ -237,7 +240,7 @@ TEST_F(TransitionStripTest, EveryTriangleIsModelledAndWithinTheBlockError) {
                     return double(h[static_cast<std::size_t>(y * side + x)]);
                 };
                 const io::BlockErrors lambda =
-                    io::blockErrors(io::GridView{h.data(), side, side}, 0, 0, kBlockQuads);
+                    io::blockErrors(io::GridView{h.data(), side, side}, 0, 0, blockQuads);
                 const double bound = double(lambda[static_cast<std::size_t>(d - 1)]);
                 for (const Triangle& t : drawn) {
                     auto corner = [&](SamplePoint p) {
@@ -257,6 +260,12 @@ TEST_F(TransitionStripTest, EveryTriangleIsModelledAndWithinTheBlockError) {
     RecordProperty("largest_deviation_over_lambda", std::to_string(closest));
     EXPECT_GT(closest, 0.5);  // the bound is not vacuous
 }
+
+// Yusov's block of 16 quads, and the default of 8 (PyramidLayout::kDefaultBlockQuads).
+INSTANTIATE_TEST_SUITE_P(BlockSizes, TransitionStripTest, ::testing::Values(16, 8),
+                         [](const ::testing::TestParamInfo<int>& param) {
+                             return std::to_string(param.param) + "Quads";
+                         });
 
 }  // namespace
 }  // namespace terrain::test
