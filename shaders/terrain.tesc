@@ -23,6 +23,10 @@ layout(vertices = 4) out;
 
 layout(binding = TERRAIN_BINDING_BLOCK_ERRORS) uniform sampler2DArray u_blockErrors;
 uniform mat4 u_viewProjection;  // camera-relative metres to clip space
+// The camera whose view decides the factors (TerrainStyle::lodCamera; by default the drawn
+// one): its view-projection, relative to it, and the drawn camera's position minus its own.
+uniform mat4 u_lodViewProjection;
+uniform vec3 u_lodOffsetM;
 uniform vec2 u_viewportPx;
 uniform float u_errorPx;            // ε
 uniform int u_fixedSimplification;  // −1: error-driven; else every edge uses this d
@@ -67,14 +71,15 @@ vec4 blockErrorM(PatchInstance patch_, ivec2 block) {
 // the box [lo, hi] (camera-relative metres); the derivation is verticalErrorPxPerM's
 // (EdgeTessellation.h). It replaces Yusov's proj(e_c^(d),−, e_c^(d),+) at the edge centre
 // (§5), which points of the block nearer the camera exceed.
-float verticalErrorPxPerM(vec3 lo, vec3 hi) {
-    float nearM = u_viewProjection[3].z;  // Camera::projection: z_clip = near
+float verticalErrorPxPerM(vec3 drawnLo, vec3 drawnHi) {
+    vec3 lo = drawnLo + u_lodOffsetM, hi = drawnHi + u_lodOffsetM;  // relative to the LOD camera
+    float nearM = u_lodViewProjection[3].z;  // Camera::projection: z_clip = near
     float depthMin = 3.0e38;
     vec2 ndcLo = vec2(3.0e38), ndcHi = vec2(-3.0e38);
     for (int i = 0; i < 8; ++i) {
         vec3 corner = vec3((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y,
                            (i & 4) != 0 ? hi.z : lo.z);
-        vec4 clip = u_viewProjection * vec4(corner, 1.0);
+        vec4 clip = u_lodViewProjection * vec4(corner, 1.0);
         depthMin = min(depthMin, clip.w);
         vec2 ndc = clip.xy / clip.w;
         ndcLo = min(ndcLo, ndc);
@@ -86,7 +91,7 @@ float verticalErrorPxPerM(vec3 lo, vec3 hi) {
     }
     ndcLo = clamp(ndcLo, -1.0, 1.0);
     ndcHi = clamp(ndcHi, -1.0, 1.0);
-    vec4 a = u_viewProjection[2];  // the clip-space image of e_z
+    vec4 a = u_lodViewProjection[2];  // the clip-space image of e_z
     vec2 halfViewport = 0.5 * u_viewportPx;
     float largest = 0.0;
     for (int i = 0; i < 4; ++i) {
@@ -95,8 +100,10 @@ float verticalErrorPxPerM(vec3 lo, vec3 hi) {
     }
     // A point in the frustum has |p| ≤ w · √(1 + tan²x + tan²y), and the rows of the
     // projection's x and y are the camera's right and up over tan x and tan y.
-    vec3 rowX = vec3(u_viewProjection[0].x, u_viewProjection[1].x, u_viewProjection[2].x);
-    vec3 rowY = vec3(u_viewProjection[0].y, u_viewProjection[1].y, u_viewProjection[2].y);
+    vec3 rowX =
+        vec3(u_lodViewProjection[0].x, u_lodViewProjection[1].x, u_lodViewProjection[2].x);
+    vec3 rowY =
+        vec3(u_lodViewProjection[0].y, u_lodViewProjection[1].y, u_lodViewProjection[2].y);
     float diagonal = sqrt(1.0 + 1.0 / dot(rowX, rowX) + 1.0 / dot(rowY, rowY));
     vec3 outside = max(max(lo, -hi), vec3(0.0));  // camera at the origin
     float depthOfDistance = length(outside) / diagonal;

@@ -100,7 +100,7 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
         s.method = method;
         s.thresholdPx = threshold;
         std::vector<double> triangles, patches, lodUs, gpuMs, drawMs, frameMs, errorMax, errorMean,
-            errorP99, fixedMax, rawMax, exactMax, rmse, psnr, popping;
+            errorP99, fixedMax, rawMax, exactMax, rmse, psnr, popping, lodSwitch, jumps;
         for (const FrameRecord& r : records) {
             if (r.method != method || r.thresholdPx != threshold) continue;
             ++s.frames;
@@ -122,6 +122,8 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
             rmse.push_back(r.rmse);
             psnr.push_back(r.psnrDb);
             popping.push_back(r.poppingLevels);
+            lodSwitch.push_back(r.lodSwitchLevels);
+            jumps.push_back(r.lodSwitchJumpShare);
             const bool over = r.errorMaxPx > threshold + tolerancePx || r.nonFinitePixels > 0;
             s.framesOverThreshold += over ? 1 : 0;
             s.nonFinitePixelsTotal += r.nonFinitePixels;
@@ -148,6 +150,8 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
         s.psnrDbMean = mean(psnr);
         s.psnrDbMin = minOf(psnr);
         s.poppingLevelsMean = mean(popping);
+        s.lodSwitchLevelsMean = mean(lodSwitch);
+        s.lodSwitchJumpShareMean = mean(jumps);
         out.push_back(s);
     }
     return out;
@@ -208,6 +212,8 @@ Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRe
         {"popping_levels", [](const R& r) { return number(r.poppingLevels); }},
         {"lod_change_levels", [](const R& r) { return number(r.lodChangeLevels); }},
         {"reference_change_levels", [](const R& r) { return number(r.referenceChangeLevels); }},
+        {"lod_switch_levels", [](const R& r) { return number(r.lodSwitchLevels); }},
+        {"lod_switch_jump_share", [](const R& r) { return number(r.lodSwitchJumpShare); }},
         {"reference_triangles", [](const R& r) { return number(r.referenceTriangles); }},
         {"reference_ms", [](const R& r) { return number(r.referenceMs); }},
     };
@@ -251,6 +257,8 @@ Status writeSummaryCsv(const std::filesystem::path& path,
         {"psnr_db_min", [](const S& s) { return number(s.psnrDbMin); }},
         {"crack_pixels_total", [](const S& s) { return number(s.crackPixelsTotal); }},
         {"popping_levels_mean", [](const S& s) { return number(s.poppingLevelsMean); }},
+        {"lod_switch_levels_mean", [](const S& s) { return number(s.lodSwitchLevelsMean); }},
+        {"lod_switch_jump_share_mean", [](const S& s) { return number(s.lodSwitchJumpShareMean); }},
         {"frames_waited", [](const S& s) { return number(s.framesWaited); }},
         {"frames_unsettled", [](const S& s) { return number(s.framesUnsettled); }},
     };

@@ -80,6 +80,14 @@ struct FrameRecord {
     double poppingLevels = kNoValue;
     double lodChangeLevels = kNoValue;
     double referenceChangeLevels = kNoValue;
+    /// The image change the LOD's switch alone makes, 8-bit levels: the mean over pixels of
+    /// |L − L'| (mean R, G, B difference), L this frame and L' the previous frame's LOD drawn
+    /// from this frame's camera, so the camera's motion is not in it (popping_levels has
+    /// it, less the reference's change). yusov2011 only: the other methods' draws do not
+    /// take a separate LOD camera.
+    double lodSwitchLevels = kNoValue;
+    /// The share of those pixels whose change is a jump (LodSwitchChange::jumpShare).
+    double lodSwitchJumpShare = kNoValue;
     std::uint64_t referenceTriangles = 0;
     double referenceMs = kNoValue;
 };
@@ -114,6 +122,8 @@ struct ThresholdSummary {
     double psnrDbMin = kNoValue;
     std::uint64_t crackPixelsTotal = 0;
     double poppingLevelsMean = kNoValue;
+    double lodSwitchLevelsMean = kNoValue;
+    double lodSwitchJumpShareMean = kNoValue;
     std::uint64_t framesWaited = 0;
     std::uint64_t framesUnsettled = 0;  ///< measured although streaming had not settled
 };

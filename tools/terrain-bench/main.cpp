@@ -22,6 +22,7 @@
 #include "terrain/io/PyramidManifest.h"
 #include "terrain/runtime/AccuracyProbe.h"
 #include "terrain/runtime/CameraPath.h"
+#include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/LodStrategyFactory.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TerrainSession.h"
@@ -118,6 +119,8 @@ nlohmann::json summaryJson(const tools::ThresholdSummary& s) {
             {"rmse_mean", v(s.rmseMean)},
             {"crack_pixels_total", s.crackPixelsTotal},
             {"popping_levels_mean", v(s.poppingLevelsMean)},
+            {"lod_switch_levels_mean", v(s.lodSwitchLevelsMean)},
+            {"lod_switch_jump_share_mean", v(s.lodSwitchJumpShareMean)},
             {"frames_waited", s.framesWaited},
             {"frames_unsettled", s.framesUnsettled}};
 }
@@ -131,6 +134,7 @@ struct ThresholdRun {
     std::unique_ptr<runtime::LodStrategy> session;
     std::optional<runtime::TelemetryCsvWriter> telemetry;
     std::optional<runtime::LodCapture> previous;
+    std::optional<runtime::Camera> previousCamera;  ///< the previous flight frame's
     int unsettledFrames = 0;  ///< frames streaming did not settle for (not waited for again)
 };
 
@@ -260,6 +264,15 @@ int run(const BenchOptions& o, const char* argv0) {
         rec.cameraYawDeg = camera.yaw * 180.0 / std::numbers::pi;
         rec.cameraPitchDeg = camera.pitch * 180.0 / std::numbers::pi;
 
+        // The previous frame's LOD, still the session's, drawn from this camera: what the
+        // image would be without this frame's switch (FrameRecord::lodSwitchLevels).
+        std::optional<runtime::LodCapture> held;
+        if (flight && r.previousCamera && r.method == runtime::LodMethod::Yusov2011) {
+            runtime::TerrainStyle heldStyle = style;
+            heldStyle.measure = false;
+            heldStyle.lodCamera = *r.previousCamera;
+            held = probe.value()->captureLod(session, camera, heldStyle);
+        }
         auto frameStart = Clock::now();
         runtime::LodUpdateStats lodStats = session.beginFrame(camera);
         const runtime::LodUpdateStats first = lodStats;
@@ -333,6 +346,12 @@ int run(const BenchOptions& o, const char* argv0) {
         rec.uncoveredPixels = a.uncoveredPixels;
         rec.diagonalUncoveredPixels = a.diagonalUncoveredPixels;
         rec.poppingLevels = a.poppingLevels;
+        if (held) {
+            const runtime::LodSwitchChange change =
+                runtime::lodSwitchChange(held->images, lod.images);
+            rec.lodSwitchLevels = change.meanLevels;
+            rec.lodSwitchJumpShare = change.jumpShare;
+        }
         rec.lodChangeLevels = a.lodChangeLevels;
         rec.referenceChangeLevels = a.referenceChangeLevels;
         rec.referenceTriangles = reference.draw.triangles;
@@ -373,6 +392,7 @@ int run(const BenchOptions& o, const char* argv0) {
             }
             records.push_back(rec);
             r.previous = std::move(lod);
+            r.previousCamera = pathCamera;
             if (context.value()->debugLog().errorCount() > 0) {
                 return fail("OpenGL reported an error:\n" +
                             context.value()->debugLog().formatErrors());
@@ -505,10 +525,14 @@ int run(const BenchOptions& o, const char* argv0) {
             "terrain-bench: {} ε = {:>5} px: triangles {:>9.0f}, measured error max {:.3f} px "
             "(median of frame maxima {:.3f}, mean {:.3f}), PSNR {:.2f} dB, {} of {} frames "
             "over ε + {} px, "
-            "{} crack pixels, {} unmeasurable (non-finite) pixels\n",
+            "{} crack pixels, {} unmeasurable (non-finite) pixels{}\n",
             s.method, s.thresholdPx, s.trianglesMean, s.errorMaxPx, s.errorMaxMedianPx,
             s.errorMeanPx, s.psnrDbMean, s.framesOverThreshold, s.frames, o.tolerancePx,
-            s.crackPixelsTotal, s.nonFinitePixelsTotal);
+            s.crackPixelsTotal, s.nonFinitePixelsTotal,
+            std::isnan(s.lodSwitchLevelsMean)
+                ? std::string()
+                : fmt::format(", LOD switches {:.4f} levels a frame, {:.4f} % of pixels jumping",
+                              s.lodSwitchLevelsMean, 100.0 * s.lodSwitchJumpShareMean));
     }
     return 0;
 }

@@ -91,6 +91,13 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
     m_program.setUniform("u_fixedSimplification",
                          fixedSimplification(style.fixedTessFactor, m_blockQuads));
     m_program.setUniform("u_cullBlocks", style.cullBlocks ? 1 : 0);
+    const Camera& lodCamera = style.lodCamera ? *style.lodCamera : camera;
+    const glm::mat4 lodViewProjection(lodCamera.relativeViewProjection());
+    m_program.setUniformMat4("u_lodViewProjection",
+                             std::span<const float, 16>(glm::value_ptr(lodViewProjection), 16));
+    const glm::vec3 lodOffsetM(camera.position - lodCamera.position);
+    m_program.setUniform("u_lodOffsetM",
+                         std::array<float, 3>{lodOffsetM.x, lodOffsetM.y, lodOffsetM.z});
     setRelativeFrustumUniform(m_program, camera);
     setShadingUniforms(m_program, geometry, style.skyColor, style.fogDensityPerM);
     m_program.setUniform("u_debugView", static_cast<int>(style.debugView));

@@ -91,6 +91,25 @@ double meanImageChange(std::span<const std::uint8_t> a, std::span<const std::uin
     return sum / static_cast<double>(pixels);
 }
 
+LodSwitchChange lodSwitchChange(const FrameImages& held, const FrameImages& drawn) {
+    TERRAIN_ASSERT(held.rgba.size() == drawn.rgba.size() &&
+                       held.depth.size() == drawn.depth.size() &&
+                       held.depth.size() * 4 == held.rgba.size(),
+                   "lodSwitchChange: sizes differ");
+    double sum = 0.0;
+    std::size_t both = 0, jumps = 0;
+    for (std::size_t i = 0; i < held.depth.size(); ++i) {
+        if (!held.drawn(i) || !drawn.drawn(i)) continue;
+        const double change = pixelChange(held.rgba, drawn.rgba, i);
+        sum += change;
+        jumps += change > LodSwitchChange::kJumpLevels ? 1 : 0;
+        ++both;
+    }
+    if (both == 0) return {.meanLevels = 0.0, .jumpShare = 0.0};
+    return {.meanLevels = sum / static_cast<double>(both),
+            .jumpShare = static_cast<double>(jumps) / static_cast<double>(both)};
+}
+
 double poppingLevels(std::span<const std::uint8_t> lodPrevious, std::span<const std::uint8_t> lod,
                      std::span<const std::uint8_t> referencePrevious,
                      std::span<const std::uint8_t> reference) {

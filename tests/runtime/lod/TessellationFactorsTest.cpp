@@ -344,6 +344,60 @@ TEST_F(TessellationFactorsTest, FixedFactorIsUniformAndSkirtsDropItsBlockError) 
     }
 }
 
+// TerrainStyle::lodCamera: the factors are the LOD camera's wherever the drawn camera is
+// (terrain-bench draws the previous frame's LOD from this frame's camera this way).
+TEST_F(TessellationFactorsTest, LodCameraDecidesTheFactors) {
+    Scene scene = loadScene();
+    const runtime::TerrainGeometry g(scene.manifest);
+    const io::PyramidLayout& layout = g.layout();
+    const int blocks = layout.blocksPerSide();
+    const int perInstance = blocks * blocks + 4 * blocks;
+    auto renderer = runtime::TerrainRenderer::create(layout, static_cast<int>(scene.draws.size()),
+                                                     {.recordTessFactors = true});
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    const std::vector<Pose> all = poses(g);
+    std::uint64_t compared = 0, differFromDrawn = 0;
+    for (std::size_t p = 0; p + 1 < all.size(); p += 2) {
+        const Pose& lodPose = all[p];
+        Camera drawn = all[p + 1].camera;  // another pose, seen through the same viewport
+        drawn.viewportWidth = lodPose.camera.viewportWidth;
+        drawn.viewportHeight = lodPose.camera.viewportHeight;
+        SCOPED_TRACE(lodPose.name + " drawn from " + all[p + 1].name);
+        runtime::TerrainStyle style;
+        style.errorPx = lodPose.errorPx;
+        style.cullBlocks = false;  // culling follows the drawn camera; the factors do not
+        style.lodCamera = lodPose.camera;
+        const std::vector<RecordedTessFactors> gpu =
+            drawAndRecord(renderer.value(), scene, g, drawn, style);
+        for (std::size_t i = 0; i < scene.records.size(); ++i) {
+            const std::vector<BlockFactors> want =
+                runtime::patchBlockFactors(lodPose.camera, g, scene.records[i], lodPose.errorPx);
+            const std::vector<BlockFactors> ofDrawn =
+                runtime::patchBlockFactors(drawn, g, scene.records[i], lodPose.errorPx);
+            const RecordedTessFactors* patch = &gpu[i * static_cast<std::size_t>(perInstance)];
+            for (int b = 0; b < blocks * blocks; ++b) {
+                const BlockFactors& cpu = want[static_cast<std::size_t>(b)];
+                bool borderline = false;
+                for (std::size_t e = 0; e < 4; ++e)
+                    borderline |= isBorderline(cpu, e, style.errorPx);
+                for (const double px : cpu.innerProjectedPx)
+                    borderline |=
+                        std::abs(px - style.errorPx) <= kBorderlineRelative * style.errorPx;
+                if (borderline) continue;
+                ++compared;
+                differFromDrawn += cpu.outer != ofDrawn[static_cast<std::size_t>(b)].outer ? 1 : 0;
+                EXPECT_EQ(patch[b].outer,
+                          (std::array<std::int32_t, 4>{cpu.outer[0], cpu.outer[1], cpu.outer[2],
+                                                       cpu.outer[3]}));
+                EXPECT_EQ(patch[b].inner[0], cpu.inner[0]);
+            }
+        }
+    }
+    // The poses differ enough that the drawn camera alone would give other factors.
+    EXPECT_GT(differFromDrawn, compared / 10);
+    RecordProperty("blocks_compared", std::to_string(compared));
+}
+
 TEST_F(TessellationFactorsTest, MeasuredDrawCountsItsTrianglesAndRestoresState) {
     Scene scene = loadScene();
     const runtime::TerrainGeometry g(scene.manifest);

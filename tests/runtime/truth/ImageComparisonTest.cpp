@@ -1,6 +1,6 @@
 // The image measures of accuracy (ImageComparison.h) on small hand-made images: RMSE and
-// PSNR, cracks told apart from silhouettes, and popping as the LOD's change beyond the
-// reference's.
+// PSNR, cracks told apart from silhouettes, popping as the LOD's change beyond the
+// reference's, and a LOD switch's change where both frames show terrain.
 #include "terrain/runtime/ImageComparison.h"
 
 #include <gtest/gtest.h>
@@ -93,6 +93,25 @@ TEST(ImageComparison, PoppingIsTheLodChangeTheReferenceDoesNotShow) {
     std::vector<std::uint8_t> elsewhere = still;
     elsewhere[4 * 5] = 160;
     EXPECT_NEAR(poppingLevels(still, popped, still, elsewhere), 2.0, 1e-12);
+}
+
+TEST(ImageComparison, LodSwitchIsTheChangeWhereBothShowTerrain) {
+    const FrameImages held = image({"TTTT", "TT.."});
+    FrameImages drawn = image({"TTTT", "TTTT"});
+    // Terrain only the drawn frame covers (the held LOD culled it) is no switch.
+    LodSwitchChange change = lodSwitchChange(held, drawn);
+    EXPECT_EQ(change.meanLevels, 0.0);
+    EXPECT_EQ(change.jumpShare, 0.0);
+    // One of the 6 pixels both cover changes by 27 levels (red by 81): a jump.
+    drawn.rgba[0] = 128 + 81;
+    // Another by 6 levels (red by 18): a change, not a jump.
+    drawn.rgba[4] = 128 + 18;
+    change = lodSwitchChange(held, drawn);
+    EXPECT_NEAR(change.meanLevels, (27.0 + 6.0) / 6.0, 1e-12);
+    EXPECT_NEAR(change.jumpShare, 1.0 / 6.0, 1e-12);
+    // Nothing covered by both: no change at all, not a division by zero.
+    const FrameImages empty = image({"....", "...."});
+    EXPECT_EQ(lodSwitchChange(empty, drawn).meanLevels, 0.0);
 }
 
 }  // namespace

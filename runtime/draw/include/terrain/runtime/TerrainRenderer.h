@@ -21,6 +21,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -45,6 +46,10 @@ struct TerrainStyle {
     /// The control stage discards blocks and skirts whose box lies outside the view
     /// frustum (false: every block of every drawn patch is tessellated, for comparisons).
     bool cullBlocks = true;
+    /// The camera whose view decides the blocks' tessellation (the fine LOD); unset: the
+    /// drawn camera. terrain-bench draws a frame's predecessor's LOD from the frame's own
+    /// camera, so the image change a LOD switch makes is seen without the camera's motion.
+    std::optional<Camera> lodCamera;
     std::array<float, 3> skyColor{0.72f, 0.80f, 0.90f};
     float fogDensityPerM = 0.0f;  ///< 0: no fog
     /// submit() measures the draw (GL_PRIMITIVES_GENERATED, GL_TIME_ELAPSED) and waits for

@@ -47,6 +47,24 @@ UncoveredPixels countUncoveredPixels(const FrameImages& lod, const FrameImages& 
 /// 8-bit levels.
 double meanImageChange(std::span<const std::uint8_t> a, std::span<const std::uint8_t> b);
 
+/// The image change the LOD's own change between two frames makes, over the pixels where
+/// both images show terrain: `held` is the previous frame's LOD drawn from the camera of
+/// `drawn` (TerrainStyle::lodCamera). The camera is the same, so unlike poppingLevels no
+/// motion is in it; pixels only one covers (the held LOD's patches culled by the previous
+/// view) are not a switch and are left out.
+struct LodSwitchChange {
+    /// A change a viewer sees as a jump: more than this many 8-bit levels in one frame.
+    static constexpr double kJumpLevels = 8.0;
+    /// The mean per-pixel change (mean R, G, B difference), 8-bit levels. A change spread
+    /// over frames (geomorphing) sums to the same as one jump, so this does not fall with
+    /// it over a flight of many frames.
+    double meanLevels = 0.0;
+    /// The share of those pixels that change by more than kJumpLevels: the jumps
+    /// geomorphing is for.
+    double jumpShare = 0.0;
+};
+LodSwitchChange lodSwitchChange(const FrameImages& held, const FrameImages& drawn);
+
 /// Temporal popping, 8-bit levels: the mean over pixels of
 ///   max(0, |L_t − L_{t−1}| − |R_t − R_{t−1}|)
 /// with |·| the mean absolute R, G, B difference of one pixel: the change of the LOD image
