@@ -92,11 +92,11 @@ private:
     Height m_height;
 };
 
-/// Builds `reader`'s pyramid into `folder`/name.pyramid: patches of 65 samples in 4 × 4
-/// blocks of 16 quads (Yusov's block size, several levels on a 513² DEM).
-inline std::filesystem::path buildScenePyramid(io::DemReader& reader, const TempFolder& folder,
-                                               const std::string& name, int patchSamples = 65,
-                                               int blockQuads = 16) {
+/// Builds `reader`'s pyramid into `folder`/name.pyramid: patches of 65 samples (several
+/// levels on a 513² DEM) in 8 × 8 blocks of the default 8 quads.
+inline std::filesystem::path buildScenePyramid(
+    io::DemReader& reader, const TempFolder& folder, const std::string& name, int patchSamples = 65,
+    int blockQuads = io::PyramidLayout::kDefaultBlockQuads) {
     const std::filesystem::path out = folder.path() / (name + ".pyramid");
     io::PyramidBuildOptions options;
     options.patchSamples = patchSamples;

@@ -80,11 +80,11 @@ struct FrameRecord {
     double poppingLevels = kNoValue;
     double lodChangeLevels = kNoValue;
     double referenceChangeLevels = kNoValue;
-    /// The image change the LOD's switch alone makes, 8-bit levels: the mean over pixels of
-    /// |L − L'| (mean R, G, B difference), L this frame and L' the previous frame's LOD drawn
-    /// from this frame's camera, so the camera's motion is not in it (popping_levels has
-    /// it, less the reference's change). yusov2011 only: the other methods' draws do not
-    /// take a separate LOD camera.
+    /// The image change the LOD's switch alone makes, 8-bit levels: the mean of |L − L'|
+    /// (mean R, G, B difference) over the pixels both show terrain, L this frame and L' the
+    /// previous frame's LOD drawn from this frame's camera, so the camera's motion is not in
+    /// it (popping_levels has it, less the reference's change). yusov2011 only: the other
+    /// methods' draws do not take a separate LOD camera (runtime::lodSwitchChange).
     double lodSwitchLevels = kNoValue;
     /// The share of those pixels whose change is a jump (LodSwitchChange::jumpShare).
     double lodSwitchJumpShare = kNoValue;

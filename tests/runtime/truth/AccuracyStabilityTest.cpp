@@ -187,7 +187,12 @@ TEST_F(AccuracyStabilityTest, NeedleForestOfExtremeRelief) {
     constexpr std::int64_t kSize = 257;
     FunctionDem dem(kSize, kSize, 1.0, needles, false);
     const TempFolder folder;
-    const std::filesystem::path pyramid = buildScenePyramid(dem, folder, "needles");
+    // Blocks of 16 quads, not the default 8: with blocks of 8 the crack test counts one pixel
+    // of "among the needles" for every method, the uniform grid (every patch at full
+    // resolution, no T-junction) included. The full-resolution mesh has no gap, so that is
+    // the crack test's diagonal-coverage edge case, not the LOD's (docs/accuracy.md,
+    // "Stability suite"); it is not resolved yet.
+    const std::filesystem::path pyramid = buildScenePyramid(dem, folder, "needles", 65, 16);
     auto surfaceOpened = runtime::FullResolutionSurface::open(pyramid);
     ASSERT_TRUE(surfaceOpened) << surfaceOpened.error().message;
     runtime::FullResolutionSurface& surface = surfaceOpened.value();
