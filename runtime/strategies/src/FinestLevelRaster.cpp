@@ -6,8 +6,19 @@
 
 #include <algorithm>
 #include <cstring>
+#include <string>
 
 namespace terrain::runtime {
+
+Result<io::PyramidReader> openPlanarPyramid(const std::filesystem::path& pyramid,
+                                            std::string_view method) {
+    auto reader = io::PyramidReader::open(pyramid);
+    if (!reader) return reader.error();
+    if (reader.value().manifest().globe)
+        return Error{pyramid.string() + ": a globe pyramid; " + std::string(method) +
+                     " draws planar pyramids only"};
+    return reader;
+}
 
 Result<std::vector<float>> readFinestLevel(io::PyramidReader& reader) {
     const io::PyramidLayout& layout = reader.layout();

@@ -75,11 +75,8 @@ std::uint32_t grown(std::uint32_t capacity, std::uint64_t needed) {
 
 Result<std::unique_ptr<GeometrySplittingStrategy>> GeometrySplittingStrategy::open(
     const std::filesystem::path& pyramid, double errorPx, std::size_t maxBytes) {
-    auto reader = io::PyramidReader::open(pyramid);
+    auto reader = openPlanarPyramid(pyramid, "Lee & Shin's GPU quadtree");
     if (!reader) return reader.error();
-    if (reader.value().manifest().globe)
-        return Error{pyramid.string() +
-                     ": a globe pyramid; Lee & Shin's GPU quadtree draws planar pyramids only"};
     TerrainGeometry geometry(reader.value().manifest());
     const auto width = static_cast<int>(geometry.layout().rasterWidth());
     const auto height = static_cast<int>(geometry.layout().rasterHeight());

@@ -67,11 +67,8 @@ void barrier() {
 Result<std::unique_ptr<RipollesStrategy>> RipollesStrategy::open(
     const std::filesystem::path& pyramid, double thresholdPx, RipollesParameters parameters,
     std::size_t maxBytes) {
-    auto reader = io::PyramidReader::open(pyramid);
+    auto reader = openPlanarPyramid(pyramid, "Ripolles's GPU tessellation");
     if (!reader) return reader.error();
-    if (reader.value().manifest().globe)
-        return Error{pyramid.string() +
-                     ": a globe pyramid; Ripolles's GPU tessellation draws planar pyramids only"};
     TerrainGeometry geometry(reader.value().manifest());
     const auto width = static_cast<int>(geometry.layout().rasterWidth());
     const auto height = static_cast<int>(geometry.layout().rasterHeight());

@@ -24,11 +24,8 @@ using Clock = std::chrono::steady_clock;
 
 Result<std::unique_ptr<RtinStrategy>> RtinStrategy::open(const std::filesystem::path& pyramid,
                                                          double errorPx, std::size_t maxBytes) {
-    auto reader = io::PyramidReader::open(pyramid);
+    auto reader = openPlanarPyramid(pyramid, "the RTIN yardstick");
     if (!reader) return reader.error();
-    if (reader.value().manifest().globe)
-        return Error{pyramid.string() +
-                     ": a globe pyramid; the RTIN yardstick draws planar pyramids only"};
     TerrainGeometry geometry(reader.value().manifest());
     const io::PyramidLayout& layout = geometry.layout();
     // Refused before a sample is read when the mesh would not fit.

@@ -137,6 +137,19 @@ bool isBorderline(const BlockFactors& cpu, std::size_t edge, double errorPx) {
 
 class TessellationFactorsTest : public GlTest {
 protected:
+    // A renderer that records every (instance, primitive)'s factors for `scene`'s draws.
+    static Result<runtime::TerrainRenderer> recordingRenderer(const io::PyramidLayout& layout,
+                                                              const Scene& scene) {
+        return runtime::TerrainRenderer::create(layout, static_cast<int>(scene.draws.size()),
+                                                {.recordTessFactors = true});
+    }
+
+    // Records a drawn patch leaves: its blocks, then a skirt for each border block of each side.
+    static int recordsPerInstance(const io::PyramidLayout& layout) {
+        const int blocks = layout.blocksPerSide();
+        return blocks * blocks + 4 * blocks;
+    }
+
     static std::vector<RecordedTessFactors> drawAndRecord(runtime::TerrainRenderer& renderer,
                                                           Scene& scene,
                                                           const runtime::TerrainGeometry& g,
@@ -161,9 +174,8 @@ TEST_F(TessellationFactorsTest, ControlStageMatchesTheCpuModel) {
     const io::PyramidLayout& layout = g.layout();
     const int blocks = layout.blocksPerSide();
     const int quads = layout.blockQuads();
-    const int perInstance = blocks * blocks + 4 * blocks;
-    auto renderer = runtime::TerrainRenderer::create(layout, static_cast<int>(scene.draws.size()),
-                                                     {.recordTessFactors = true});
+    const int perInstance = recordsPerInstance(layout);
+    auto renderer = recordingRenderer(layout, scene);
     ASSERT_TRUE(renderer) << renderer.error().message;
 
     std::uint64_t edges = 0, borderline = 0, mismatches = 0, coarsened = 0, fullResolution = 0;
@@ -313,9 +325,8 @@ TEST_F(TessellationFactorsTest, FixedFactorIsUniformAndSkirtsDropItsBlockError) 
     const runtime::TerrainGeometry g(scene.manifest);
     const io::PyramidLayout& layout = g.layout();
     const int blocks = layout.blocksPerSide();
-    const int perInstance = blocks * blocks + 4 * blocks;
-    auto renderer = runtime::TerrainRenderer::create(layout, static_cast<int>(scene.draws.size()),
-                                                     {.recordTessFactors = true});
+    const int perInstance = recordsPerInstance(layout);
+    auto renderer = recordingRenderer(layout, scene);
     ASSERT_TRUE(renderer) << renderer.error().message;
     const Camera camera = poses(g).front().camera;
     for (const int requested : {1, 2, 3, 8, 100}) {
@@ -351,9 +362,8 @@ TEST_F(TessellationFactorsTest, LodCameraDecidesTheFactors) {
     const runtime::TerrainGeometry g(scene.manifest);
     const io::PyramidLayout& layout = g.layout();
     const int blocks = layout.blocksPerSide();
-    const int perInstance = blocks * blocks + 4 * blocks;
-    auto renderer = runtime::TerrainRenderer::create(layout, static_cast<int>(scene.draws.size()),
-                                                     {.recordTessFactors = true});
+    const int perInstance = recordsPerInstance(layout);
+    auto renderer = recordingRenderer(layout, scene);
     ASSERT_TRUE(renderer) << renderer.error().message;
     const std::vector<Pose> all = poses(g);
     std::uint64_t compared = 0, differFromDrawn = 0;
