@@ -1,5 +1,6 @@
 #include "terrain/io/GlobePyramidBuilder.h"
 
+#include "BuildClock.h"
 #include "BuildOutput.h"
 #include "GeographicGrid.h"
 #include "GlobeSources.h"
@@ -35,10 +36,6 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using globe::GlobePatchId;
-
-double secondsSince(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 float roundUp(double value) {
     auto f = static_cast<float>(value);

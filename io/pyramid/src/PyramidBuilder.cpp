@@ -8,6 +8,7 @@
 // is then known when the coarser level's pass reaches P.
 #include "terrain/io/PyramidBuilder.h"
 
+#include "BuildClock.h"
 #include "BuildOutput.h"
 #include "ParallelFor.h"
 #include "terrain/base/Assert.h"
@@ -34,10 +35,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Rows [firstRow, firstRow + rows) of one level's padded raster, columns −1 … samplesX
 // (the apron on both sides) stored from index 0.
