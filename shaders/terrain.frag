@@ -17,6 +17,50 @@ layout(location = 4) flat in int i_tessFactor;
 layout(location = 5) in vec2 i_demSample;
 layout(location = TERRAIN_FRAG_COLOR) out vec4 o_color;
 
+#ifdef TERRAIN_FRAGMENT_NORMALS
+// The planar terrain draw (terrain.tese) shades with the normal of the patch's own
+// full-resolution mesh at the fragment rather than the one interpolated between the drawn
+// vertices: shading then does not depend on the tessellation, so a block or a coarse cell
+// (runtime/lod CoarseCells.h) that changes level changes the geometry only, within its
+// bound, and not the light across it. The reference renderer's mesh is the same one at the
+// finest level, so at full resolution both shade alike.
+layout(binding = TERRAIN_BINDING_HEIGHTS) uniform sampler2DArray u_heights;
+layout(location = 6) in vec2 i_patchSample;  // the patch's samples, apron excluded
+layout(location = 7) flat in int i_layer;
+layout(location = 8) flat in vec2 i_metresPerSample;
+
+float heightAt(ivec2 texel) {
+    return texelFetch(u_heights, ivec3(texel, i_layer), 0).r;
+}
+
+// The normal at patch sample s: central differences, as the evaluation stage and the
+// reference renderer take them. Rows run south: +row is −y.
+vec3 sampleNormal(ivec2 s) {
+    ivec2 texel = s + 1;  // the apron
+    float dx = heightAt(texel + ivec2(1, 0)) - heightAt(texel - ivec2(1, 0));
+    float dy = heightAt(texel - ivec2(0, 1)) - heightAt(texel + ivec2(0, 1));
+    return normalize(
+        vec3(-dx / (2.0 * i_metresPerSample.x), -dy / (2.0 * i_metresPerSample.y), 1.0));
+}
+
+// The normal of the full-resolution mesh at patch sample p: its cell split along the
+// north-west–south-east diagonal, as the reference renderer splits it, and the corners'
+// normals blended barycentrically, as the rasteriser blends the reference's vertices'.
+vec3 fragmentNormal(vec2 p) {
+    ivec2 lastCell = textureSize(u_heights, 0).xy - 4;  // N + 2 texels, N − 1 cells
+    ivec2 cell = clamp(ivec2(floor(p)), ivec2(0), lastCell);
+    vec2 f = clamp(p - vec2(cell), 0.0, 1.0);
+    vec3 a = sampleNormal(cell);
+    vec3 d = sampleNormal(cell + ivec2(1, 1));
+    if (f.x >= f.y) {
+        vec3 b = sampleNormal(cell + ivec2(1, 0));
+        return a + (b - a) * f.x + (d - b) * f.y;
+    }
+    vec3 c = sampleNormal(cell + ivec2(0, 1));
+    return a + (d - c) * f.x + (c - a) * f.y;
+}
+#endif
+
 // Interpolation may put the DEM's own edge a hair outside it.
 const float kEdgeToleranceSamples = 1.0e-3;
 
@@ -42,10 +86,15 @@ void main() {
         any(greaterThan(i_demSample, u_demLastSample + kEdgeToleranceSamples))) {
         discard;
     }
+#ifdef TERRAIN_FRAGMENT_NORMALS
+    vec3 normal = fragmentNormal(i_patchSample);
+#else
+    vec3 normal = i_normal;
+#endif
     if (u_debugView == 0) {
-        o_color = vec4(terrainShade(i_normal, i_heightM, i_fromCameraM), 1.0);
+        o_color = vec4(terrainShade(normal, i_heightM, i_fromCameraM), 1.0);
         return;
     }
     vec3 base = u_debugView == 1 ? levelColor(i_level) : tessFactorColor(i_tessFactor);
-    o_color = vec4(terrainShadeColor(base, i_normal, i_fromCameraM), 1.0);
+    o_color = vec4(terrainShadeColor(base, normal, i_fromCameraM), 1.0);
 }

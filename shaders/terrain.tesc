@@ -16,6 +16,11 @@
 // screen, and Yusov's rule tessellates a near block finely wherever it lies. A discarded
 // block leaves no crack on screen: its area is off screen, and its visible neighbours'
 // edge factors do not depend on it being drawn.
+//
+// A patch the CPU marked as coarse cells (PatchInstance.coarseCells, runtime/lod
+// CoarseCells.h) is drawn as a grid of cells of one quad each at factor 1: its blocks' edge
+// rule is skipped, the cells' Λ is their error, and the primitives a cell covers are
+// discarded.
 #include "Bindings.h"
 #include "terrain_patches.glsl"
 
@@ -50,11 +55,12 @@ layout(location = 5) patch out int o_debugFactor;   // block: inner factor; skir
 struct TessFactorRecord {
     ivec4 outer;  // before culling
     ivec2 inner;
-    int flags;  // kRecordSkirt | kRecordCulled
+    int flags;  // kRecordSkirt | kRecordCulled | kRecordMerged
     float skirtDropM;
 };
 const int kRecordSkirt = 1;   // RecordedTessFactors::kSkirt
 const int kRecordCulled = 2;  // RecordedTessFactors::kCulled
+const int kRecordMerged = 4;  // RecordedTessFactors::kMerged
 layout(std430, binding = TERRAIN_BINDING_DEBUG_TESS_FACTORS) writeonly buffer TessFactors {
     TessFactorRecord u_tessFactors[];  // (instance · (K² + 4K) + primitive)
 };
@@ -190,12 +196,27 @@ bool outsideFrustum(vec3 lo, vec3 hi) {
     return false;
 }
 
-// The camera-relative box of `block` of the patch, from the patch's height range, reaching
-// `dropM` further down (a skirt's drop; 0 for the block itself).
-bool blockOutsideFrustum(PatchInstance patch_, ivec2 block, float dropM) {
+// The camera-relative box of blocks first..last of the patch, from the patch's height range,
+// reaching `dropM` further down (a skirt's drop; 0 for blocks themselves).
+bool blocksOutsideFrustum(PatchInstance patch_, ivec2 first, ivec2 last, float dropM) {
     vec3 lo, hi;
-    blocksBoxM(patch_, block, block, dropM, 0.0, lo, hi);
+    blocksBoxM(patch_, first, last, dropM, 0.0, lo, hi);
     return outsideFrustum(lo, hi);
+}
+
+// Coarse cells (runtime/lod CoarseCells.h): the CPU found the whole patch within ε drawn as
+// cells of cellBlocks × cellBlocks blocks, one quad each at factor 1. The primitive of the
+// cell's north-west block draws the cell, and a skirt whose block starts a cell's side hangs
+// from that side; the others are discarded. A block or skirt corner is (block + offset) · B
+// with offset in {0, 1}²; the cell's is (cell + offset) · cellBlocks · B (exact integers).
+vec2 coarseCellCorner(vec2 blockCorner, ivec2 block, int cellBlocks) {
+    vec2 offset = blockCorner / float(u_blockQuads) - vec2(block);
+    return (vec2(block / cellBlocks) + offset) * float(cellBlocks * u_blockQuads);
+}
+
+bool drawsCoarseCell(ivec2 block, bool isSkirt, int edge, int cellBlocks) {
+    if (isSkirt) return ((edge & 1) == 0 ? block.y : block.x) % cellBlocks == 0;  // W, E: along y
+    return all(equal(block % cellBlocks, ivec2(0)));
 }
 
 // Whether `block` lies wholly beyond the DEM's extent (in a patch overhanging its right
@@ -206,7 +227,6 @@ bool blockBeyondDem(PatchInstance patch_, ivec2 block) {
 }
 
 void main() {
-    o_sample[gl_InvocationID] = i_sample[gl_InvocationID];
     o_instance[gl_InvocationID] = i_instance[gl_InvocationID];
     PatchInstance patch_ = u_instances[i_instance[0]];
     int primitive = i_primitive[0];
@@ -222,13 +242,22 @@ void main() {
         block = ivec2(primitive % u_blocksPerSide, primitive / u_blocksPerSide);
         edge = gl_InvocationID;
     }
-    int d;
-    float errorM;
-    edgeLod(patch_, block, edge, d, errorM);
-    // Powers of two dividing the block's quads: every vertex lands on a sample. A
-    // simplification coarser than the block keeps its corners (factor 1).
-    o_edgeFactor[gl_InvocationID] = float(max(1, u_blockQuads >> d));
-    o_edgeErrorM[gl_InvocationID] = errorM;
+    int cellQuads = u_fixedSimplification < 0 ? int(patch_.coarseCells.x) : 0;
+    int cellBlocks = max(1, cellQuads / u_blockQuads);
+    if (cellQuads > 0) {
+        o_sample[gl_InvocationID] = coarseCellCorner(i_sample[gl_InvocationID], block, cellBlocks);
+        o_edgeFactor[gl_InvocationID] = 1.0;
+        o_edgeErrorM[gl_InvocationID] = patch_.coarseCells.y;
+    } else {
+        o_sample[gl_InvocationID] = i_sample[gl_InvocationID];
+        int d;
+        float errorM;
+        edgeLod(patch_, block, edge, d, errorM);
+        // Powers of two dividing the block's quads: every vertex lands on a sample. A
+        // simplification coarser than the block keeps its corners (factor 1).
+        o_edgeFactor[gl_InvocationID] = float(max(1, u_blockQuads >> d));
+        o_edgeErrorM[gl_InvocationID] = errorM;
+    }
     barrier();
     if (gl_InvocationID != 0) return;
 
@@ -248,8 +277,14 @@ void main() {
         // this patch's drawn surface is within Λ_A = Λ_ec(d) of the full-resolution
         // surface and its neighbour's within its own Λ_B, so the gap between them is at
         // most Λ_A + Λ_B. Λ_A is known here; the CPU bounds any neighbour's Λ_B by the
-        // instance's skirt depth (assignSkirtDepths).
+        // instance's skirt depth (assignSkirtDepths, and the coarse cells' Λ).
         o_skirtDropM = o_edgeErrorM[0] + patch_.errors.y;
+    } else if (cellQuads > 0) {
+        for (int i = 0; i < 4; ++i) gl_TessLevelOuter[i] = 1.0;
+        inner = 1.0;
+        gl_TessLevelInner[0] = inner;
+        gl_TessLevelInner[1] = inner;
+        o_skirtDropM = 0.0;
     } else {
         inner = blockInnerFactor(patch_, block,
                                  min(min(o_edgeFactor[0], o_edgeFactor[1]),
@@ -260,17 +295,25 @@ void main() {
         o_skirtDropM = 0.0;
     }
     o_debugFactor = int(inner);
-    bool culled = blockBeyondDem(patch_, block) ||
-                  (u_cullBlocks != 0 && blockOutsideFrustum(patch_, block, o_skirtDropM));
+    bool merged = cellQuads > 0 && !drawsCoarseCell(block, isSkirt, edge, cellBlocks);
+    ivec2 first = cellQuads > 0 ? (block / cellBlocks) * cellBlocks : block;
+    bool culled = !merged && (blockBeyondDem(patch_, first) ||
+                              (u_cullBlocks != 0 &&
+                               blocksOutsideFrustum(patch_, first, first + (cellBlocks - 1),
+                                                    o_skirtDropM)));
 #ifdef TERRAIN_DEBUG_TESS_FACTORS
     int record = i_instance[0] * (blocks + 4 * u_blocksPerSide) + primitive;
-    u_tessFactors[record].outer = ivec4(gl_TessLevelOuter[0], gl_TessLevelOuter[1],
-                                        gl_TessLevelOuter[2], gl_TessLevelOuter[3]);
-    u_tessFactors[record].inner = ivec2(gl_TessLevelInner[0], gl_TessLevelInner[1]);
-    u_tessFactors[record].flags = (isSkirt ? kRecordSkirt : 0) | (culled ? kRecordCulled : 0);
+    u_tessFactors[record].outer =
+        merged ? ivec4(0)
+               : ivec4(gl_TessLevelOuter[0], gl_TessLevelOuter[1], gl_TessLevelOuter[2],
+                       gl_TessLevelOuter[3]);
+    u_tessFactors[record].inner =
+        merged ? ivec2(0) : ivec2(gl_TessLevelInner[0], gl_TessLevelInner[1]);
+    u_tessFactors[record].flags = (isSkirt ? kRecordSkirt : 0) | (culled ? kRecordCulled : 0) |
+                                  (merged ? kRecordMerged : 0);
     u_tessFactors[record].skirtDropM = o_skirtDropM;
 #endif
-    if (culled) {
+    if (culled || merged) {
         // An outer level of 0 discards the primitive (GL 4.5 §11.2.2).
         for (int i = 0; i < 4; ++i) gl_TessLevelOuter[i] = 0.0;
     }

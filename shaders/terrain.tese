@@ -22,6 +22,11 @@ layout(location = 2) out float o_heightM;
 layout(location = 3) flat out int o_level;
 layout(location = 4) flat out int o_tessFactor;
 layout(location = 5) out vec2 o_demSample;  // minus the anchor: the fragment stage clips
+// For the fragment stage's normals (terrain.frag, TERRAIN_FRAGMENT_NORMALS): where in the
+// patch's samples, in which layer, and how far apart its samples are.
+layout(location = 6) out vec2 o_patchSample;
+layout(location = 7) flat out int o_layer;
+layout(location = 8) flat out vec2 o_metresPerSample;
 
 float heightAt(ivec2 texel, int layer) {
     return texelFetch(u_heights, ivec3(texel, layer), 0).r;
@@ -44,6 +49,9 @@ void main() {
     o_level = patch_.layerLevel.y;
     o_tessFactor = i_debugFactor;
     o_demSample = terrainDemSample(patch_, vec2(sampleXY));
+    o_patchSample = vec2(sampleXY);
+    o_layer = layer;
+    o_metresPerSample = metresPerSample;
     // Blocks have no drop; a skirt's top row (v = 0) is exactly the patch's edge.
     precise vec3 position = terrainPositionM(patch_, vec2(sampleXY), h);
     precise float drop = i_skirtDropM * u.y;

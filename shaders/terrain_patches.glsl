@@ -12,6 +12,9 @@ struct PatchInstance {
     // any neighbouring patch (SkirtDepth.h); z, w: the patch's min and max height, metres.
     vec4 errors;
     ivec4 layerLevel;  // x: texture-array layer, y: level, z, w: the patch's x, y at its level
+    // x: quads along a coarse cell's side, 0 when the patch is drawn as blocks; y: the
+    // cells' Λ, metres (runtime/lod CoarseCells.h; terrain.tesc draws them).
+    vec4 coarseCells;
 };
 
 layout(std430, binding = TERRAIN_BINDING_PATCH_INSTANCES) readonly buffer PatchInstances {

@@ -3,6 +3,7 @@
 
 #include "terrain/base/Assert.h"
 #include "terrain/gl/PixelStoreScope.h"
+#include "terrain/io/CoarseCellErrors.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -102,6 +103,11 @@ Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
     pool.m_invariantScratch.assign(static_cast<std::size_t>(layers), 0);
     pool.m_layerPatch.resize(static_cast<std::size_t>(layers));
     pool.m_maxBlockErrorM.assign(static_cast<std::size_t>(layers), 0.0f);
+    pool.m_coarseCellsPerLayer = io::coarseCellCount(layout.patchQuads(), layout.blockQuads());
+    pool.m_coarseCellErrorsM.assign(
+        static_cast<std::size_t>(layers) * static_cast<std::size_t>(pool.m_coarseCellsPerLayer),
+        0.0f);
+    pool.m_cornerScratch.assign(squared(pool.m_blocksPerSide + 1), 0.0f);
     const auto capacity = static_cast<std::size_t>(layers);
     pool.m_slots.reserve(capacity);
     pool.m_spareNodes.reserve(capacity);
@@ -224,6 +230,14 @@ std::optional<float> GpuTilePool::maxBlockErrorM(const io::PatchId& id) const {
     return m_maxBlockErrorM[static_cast<std::size_t>(found->second.layer)];
 }
 
+std::span<const float> GpuTilePool::coarseCellErrorsM(const io::PatchId& id) const {
+    const auto found = m_slots.find(id);
+    if (found == m_slots.end() || !found->second.resident) return {};
+    const auto cells = static_cast<std::size_t>(m_coarseCellsPerLayer);
+    return std::span(m_coarseCellErrorsM)
+        .subspan(static_cast<std::size_t>(found->second.layer) * cells, cells);
+}
+
 std::optional<io::PatchId> GpuTilePool::patchOnLayer(int layer) const {
     TERRAIN_ASSERT(layer >= 0 && layer < capacity(), "GpuTilePool: layer out of range");
     if (!m_freeList.isAllocated(layer)) {
@@ -302,6 +316,16 @@ bool GpuTilePool::upload(const io::PatchRecord& record) {
         for (const float lambda : errors) maxBlockError = std::max(maxBlockError, lambda);
     }
     m_maxBlockErrorM[static_cast<std::size_t>(layer)] = maxBlockError;
+    if (m_coarseCellsPerLayer > 0) {
+        // A few microseconds: the block-corner grid is (K + 1)² samples.
+        const auto cells = static_cast<std::size_t>(m_coarseCellsPerLayer);
+        const int patchSamples = m_tileSamples - 2;
+        const io::GridView interior{record.heights.data() + m_tileSamples + 1, patchSamples,
+                                    m_tileSamples};
+        io::coarseCellErrors(
+            interior, (patchSamples - 1) / m_blocksPerSide, record.blockErrors, m_cornerScratch,
+            std::span(m_coarseCellErrorsM).subspan(static_cast<std::size_t>(layer) * cells, cells));
+    }
     if (m_lru.contains(layer)) m_lru.touch(layer, m_frame);
     ++m_stats.uploads;
     m_stats.bytesUploaded += tileBytes;

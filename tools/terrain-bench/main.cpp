@@ -64,6 +64,8 @@ struct BenchOptions {
     bool noSettle = false;
     int settleTimeoutS = 120;
     bool coarseOnly = false;
+    bool blocksOnly = false;
+    bool vertexNormals = false;
     bool stability = false;
     bool ripollesNoCoherence = false;
     runtime::ValdetaroParameters valdetaro;
@@ -89,11 +91,10 @@ Status writePng(const runtime::FrameImages& images, const fs::path& path) {
 
 std::string thresholdName(double px) { return fmt::format("{}", px); }
 
-/// The method's part of a per-run file name: none for the default method (the names the
-/// single-method bench has always written), else "METHOD-".
+/// The method's part of a per-run file name: none for the default method and its variants
+/// (the names the single-method bench has always written), else "METHOD-".
 std::string fileTag(const std::string& methodName) {
-    return methodName == "yusov2011" || methodName == "yusov2011-coarse-only" ? ""
-                                                                              : methodName + "-";
+    return methodName.starts_with("yusov2011") ? "" : methodName + "-";
 }
 
 nlohmann::json summaryJson(const tools::ThresholdSummary& s) {
@@ -199,6 +200,7 @@ int run(const BenchOptions& o, const char* argv0) {
         for (const double threshold : o.thresholdsPx) {
             sessionOptions.method = method;
             sessionOptions.lod.errorPx = threshold;
+            sessionOptions.renderer.fragmentNormals = !o.vertexNormals;
             sessionOptions.valdetaro = o.valdetaro;
             sessionOptions.ripolles.coherence = !o.ripollesNoCoherence;
             auto opened = runtime::openLodStrategy(o.pyramid, sessionOptions);
@@ -208,6 +210,13 @@ int run(const BenchOptions& o, const char* argv0) {
             r.methodName = std::string(runtime::lodMethodName(method));
             if (o.coarseOnly && method == runtime::LodMethod::Yusov2011)
                 r.methodName += "-coarse-only";
+            else if (o.blocksOnly && method == runtime::LodMethod::Yusov2011)
+                r.methodName += "-blocks-only";
+            // The methods the terrain draw (TerrainRenderer) draws: the others shade their own way.
+            if (o.vertexNormals &&
+                (method == runtime::LodMethod::Yusov2011 ||
+                 method == runtime::LodMethod::ChunkedLod || method == runtime::LodMethod::Uniform))
+                r.methodName += "-vertex-normals";
             r.thresholdPx = threshold;
             r.session = std::move(opened).value();
             auto csv = runtime::TelemetryCsvWriter::create(
@@ -255,6 +264,7 @@ int run(const BenchOptions& o, const char* argv0) {
         style.measure = true;
         style.fogDensityPerM = static_cast<float>(o.fogDensity);
         if (o.coarseOnly) style.fixedTessFactor = geometry.layout().blockQuads();
+        style.coarseCells = !o.blocksOnly;
         tools::FrameRecord rec;
         rec.method = r.methodName;
         rec.thresholdPx = r.thresholdPx;
@@ -597,6 +607,16 @@ int main(int argc, char** argv) {
     app.add_flag("--coarse-only", o.coarseOnly,
                  "Draw every block at its patch's full resolution (no fine LOD): the coarse LOD's "
                  "own error; method yusov2011-coarse-only");
+    app.add_flag("--blocks-only", o.blocksOnly,
+                 "Draw every patch as tessellation blocks, never as coarse cells (a distant "
+                 "patch's grid of one quad per cell, docs/accuracy.md): what coarse cells save; "
+                 "method yusov2011-blocks-only")
+        ->excludes("--coarse-only");
+    app.add_flag("--vertex-normals", o.vertexNormals,
+                 "Shade with normals interpolated between the drawn vertices instead of each "
+                 "fragment's from the height texture (docs/accuracy.md, \"Image measures\"): "
+                 "what shading independent of the tessellation saves; method suffix "
+                 "-vertex-normals");
     app.add_option("--tolerance-px", o.tolerancePx,
                    "Rasterisation tolerance added to ε when counting frames over ε")
         ->capture_default_str();

@@ -20,7 +20,8 @@ void writePatchInstanceRecords(const io::PyramidLayout& layout, const cache::Gpu
                         static_cast<float>(step), 0.0f},
                        {p.errorM, p.skirtDepthM, info.minHeight, info.maxHeight},
                        {p.layer, p.id.level, static_cast<std::int32_t>(p.id.x),
-                        static_cast<std::int32_t>(p.id.y)}});
+                        static_cast<std::int32_t>(p.id.y)},
+                       {0.0f, 0.0f, 0.0f, 0.0f}});
     }
 }
 

@@ -6,6 +6,7 @@
 #include "InstancedPatchDraw.h"
 #include "terrain/base/Assert.h"
 #include "terrain/io/PatchErrors.h"
+#include "terrain/runtime/CoarseCells.h"
 #include "terrain/runtime/ProgramBuilder.h"
 #include "terrain/runtime/TerrainFrameUniforms.h"
 
@@ -15,6 +16,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 
 namespace terrain::runtime {
 
@@ -23,6 +25,7 @@ Result<TerrainRenderer> TerrainRenderer::create(const io::PyramidLayout& layout,
     TERRAIN_ASSERT(maxInstances >= 1);
     ProgramBuilder builder("terrain");
     builder.stage("terrain.vert").stage("terrain.tesc").stage("terrain.tese").stage("terrain.frag");
+    if (options.fragmentNormals) builder.define("TERRAIN_FRAGMENT_NORMALS");
     if (options.recordTessFactors) builder.define("TERRAIN_DEBUG_TESS_FACTORS");
     auto program = builder.build();
     if (!program) return program.error();
@@ -80,6 +83,26 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
     const io::PyramidLayout& layout = geometry.layout();
     const glm::dvec2 anchor = setCameraFrameUniforms(m_program, camera, geometry);
     writePatchInstanceRecords(layout, pool, patches, anchor, m_staging);
+    const Camera& lodCamera = style.lodCamera ? *style.lodCamera : camera;
+    if (style.coarseCells && style.fixedTessFactor == 0) {
+        // A patch drawn as cells has the cells' Λ: the skirts of every patch must reach it
+        // too (SkirtDepth.h: a skirt drops its own edge error plus any neighbour's Λ).
+        float coarseDepthM = 0.0f;
+        for (std::size_t i = 0; i < patches.size(); ++i) {
+            const CoarseCellChoice choice =
+                coarseCellChoice(lodCamera, geometry, patches[i].id, *pool.info(patches[i].id),
+                                 pool.coarseCellErrorsM(patches[i].id), style.errorPx);
+            if (!choice.coarse()) continue;
+            auto errorM = static_cast<float>(choice.errorM);  // a bound: rounded up
+            if (static_cast<double>(errorM) < choice.errorM)
+                errorM = std::nextafter(errorM, std::numeric_limits<float>::infinity());
+            m_staging[i].coarseCells = {static_cast<float>(choice.cellQuads), errorM, 0.0f, 0.0f};
+            coarseDepthM = std::max(coarseDepthM, errorM);
+        }
+        for (PatchInstanceRecord& record : m_staging) {
+            record.errors[1] = std::max(record.errors[1], coarseDepthM);
+        }
+    }
     m_instances.upload(0, std::as_bytes(std::span(m_staging)));
 
     m_program.setUniform("u_blocksPerSide", m_blocksPerSide);
@@ -91,7 +114,6 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
     m_program.setUniform("u_fixedSimplification",
                          fixedSimplification(style.fixedTessFactor, m_blockQuads));
     m_program.setUniform("u_cullBlocks", style.cullBlocks ? 1 : 0);
-    const Camera& lodCamera = style.lodCamera ? *style.lodCamera : camera;
     const glm::mat4 lodViewProjection(lodCamera.relativeViewProjection());
     m_program.setUniformMat4("u_lodViewProjection",
                              std::span<const float, 16>(glm::value_ptr(lodViewProjection), 16));

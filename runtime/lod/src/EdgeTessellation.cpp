@@ -18,8 +18,8 @@ namespace {
 
 constexpr std::array<glm::ivec2, 4> kEdgeNeighbour{{{-1, 0}, {0, -1}, {1, 0}, {0, 1}}};
 
-// The world box of blocks first..last (inclusive) of patch `id`: their footprint, heights
-// lowM..highM (the control stage's blocksBoxM in double).
+}  // namespace
+
 Aabb blocksWorldBox(const TerrainGeometry& geometry, const io::PatchId& id, glm::ivec2 first,
                     glm::ivec2 last, double lowM, double highM) {
     const io::PyramidLayout& layout = geometry.layout();
@@ -34,8 +34,6 @@ Aabb blocksWorldBox(const TerrainGeometry& geometry, const io::PatchId& id, glm:
                                                  row + (last.y + 1) * quads * step);
     return {.min = {nw.x, se.y, lowM}, .max = {se.x, nw.y, highM}};
 }
-
-}  // namespace
 
 double verticalErrorPxPerM(const glm::dmat4& relativeViewProjection, const glm::dvec2& viewportPx,
                            const Aabb& box) {

@@ -4,6 +4,8 @@
 // interpolation.
 #include "terrain/io/PatchErrors.h"
 
+#include "terrain/io/CoarseCellErrors.h"
+
 #include "TriangulationOracle.h"
 
 #include <gtest/gtest.h>
@@ -201,6 +203,57 @@ TEST(PatchErrors, SingleSpikeIsSeenByEveryCoarserLevel) {
     h[5 * n + 7] = 1010.0f;  // odd position: dropped at every simplification
     const BlockErrors e = blockErrors(GridView{h.data(), n, n}, 0, 0, 16);
     for (float v : e) EXPECT_FLOAT_EQ(v, 1000.0f);
+}
+
+// Coarse cells (CoarseCellErrors.h): a patch drawn as cells of 2^k × 2^k blocks, one quad
+// each. The bound of every cell covers the brute-force distance between its two triangles
+// (either diagonal) and the full-resolution surface under it.
+TEST(PatchErrors, CoarseCellBoundsCoverTheirCellsBruteForceError) {
+    EXPECT_EQ(coarseCellLevels(128, 8), 4);
+    EXPECT_EQ(coarseCellCount(128, 8), 64 + 16 + 4 + 1);
+    EXPECT_EQ(coarseCellCount(128, 4), 256 + 64 + 16 + 4 + 1);
+    EXPECT_EQ(coarseCellCount(128, 16), 16 + 4 + 1);
+    EXPECT_EQ(coarseCellLevels(128, 32), 0);  // λ has no factor-1 level for blocks of 32
+    const int n = 65, blockQuads = 8, blocks = 8;
+    ASSERT_EQ(coarseCellLevels(n - 1, blockQuads), 3);
+    int looserThanTwice = 0, cells = 0;
+    for (unsigned seed = 20; seed < 24; ++seed) {
+        const auto h = randomGrid(n, seed, seed % 2 ? 6.0f : 0.5f);
+        const GridView g{h.data(), n, n};
+        std::vector<BlockErrors> lambda(blocks * blocks);
+        patchBlockErrors(g, blockQuads, lambda);
+        const std::vector<float> bounds = coarseCellErrors(g, blockQuads, lambda);
+        ASSERT_EQ(bounds.size(), std::size_t(16 + 4 + 1));
+        for (int k = 1; k <= 3; ++k) {
+            const int cellQuads = blockQuads << k, perSide = blocks >> k;
+            for (int cy = 0; cy < perSide; ++cy) {
+                for (int cx = 0; cx < perSide; ++cx) {
+                    const double exact =
+                        bruteForce(h, n, cx * cellQuads, cy * cellQuads, cellQuads, cellQuads);
+                    const double bound = bounds[coarseCellOffset(blocks, k) + cy * perSide + cx];
+                    EXPECT_GE(bound + 1e-4 * (1.0 + bound), exact)
+                        << "seed " << seed << ", cells of " << cellQuads << " quads, cell (" << cx
+                        << ", " << cy << ")";
+                    looserThanTwice += bound > 2.0 * exact + 1.0 ? 1 : 0;
+                    ++cells;
+                }
+            }
+        }
+    }
+    // The triangle inequality costs something, not everything: most bounds are within twice
+    // the exact error (plus a metre).
+    EXPECT_LT(looserThanTwice, cells / 4);
+}
+
+TEST(PatchErrors, CoarseCellsOfAPlaneHaveNoError) {
+    const int n = 65;
+    std::vector<float> h(n * n);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) h[y * n + x] = 0.5f * float(x) - 0.25f * float(y) + 7.0f;
+    const GridView g{h.data(), n, n};
+    std::vector<BlockErrors> lambda(64);
+    patchBlockErrors(g, 8, lambda);
+    for (const float bound : coarseCellErrors(g, 8, lambda)) EXPECT_LE(bound, 1e-12f);
 }
 
 }  // namespace

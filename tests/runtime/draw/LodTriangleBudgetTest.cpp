@@ -1,10 +1,10 @@
 // Model no more than a scene needs (issue 6): on settled views, triangles drop
-// monotonically as ε grows; a flat plain collapses to its root patch drawn with the fewest
-// triangles the method has — every one of its K² tessellation blocks at factor 1, two
-// triangles, and its 4K skirt segments two triangles each (Yusov's fixed K × K blocks per
-// patch) — because Err(P) = 0 never splits it; and in a DEM that is flat but for one
-// hill, every drawn patch that is flat gets exactly that minimum, and no flat patch is
-// split.
+// monotonically as ε grows; a flat plain collapses to its root patch, because Err(P) = 0
+// never splits it, drawn with the fewest triangles the method has: one coarse cell of two
+// triangles and a skirt of two on each side (CoarseCells.h), or, as blocks, every one of
+// its K² tessellation blocks at factor 1 and its 4K skirt segments, two triangles each
+// (Yusov's fixed K × K blocks per patch); and in a DEM that is flat but for one hill,
+// every drawn patch that is flat is one cell, and no flat patch is split.
 #include "AccuracyScenes.h"
 #include "GlTestFixture.h"
 #include "TempFolder.h"
@@ -16,9 +16,12 @@
 
 #include <epoxy/gl.h>
 
+#include <array>
 #include <cmath>
 #include <iostream>
 #include <random>
+#include <span>
+#include <string>
 
 namespace terrain::test {
 namespace {
@@ -26,10 +29,30 @@ namespace {
 constexpr int kWidth = 256;
 constexpr int kHeight = 192;
 
-/// Triangles of one patch drawn at its minimum: 2 per block (K²) and 2 per skirt (4K).
-std::uint64_t minimumTriangles(const io::PyramidLayout& layout) {
+/// Triangles of one patch drawn as blocks at their minimum: 2 per block (K²) and 2 per
+/// skirt (4K).
+std::uint64_t minimumBlockTriangles(const io::PyramidLayout& layout) {
     const auto k = static_cast<std::uint64_t>(layout.blocksPerSide());
     return 2 * k * k + 2 * 4 * k;
+}
+
+/// Triangles of one patch drawn as a single coarse cell (CoarseCells.h): 2, and 2 for each
+/// of its four skirts.
+constexpr std::uint64_t kOneCellTriangles = 2 + 4 * 2;
+
+/// Whether the K² + 4K records of a patch are one coarse cell: block 0 and the first skirt
+/// of each side at factor 1, every other primitive merged into them.
+void expectOneCell(std::span<const runtime::RecordedTessFactors> records, int k,
+                   const std::string& what) {
+    for (int p = 0; p < k * k + 4 * k; ++p) {
+        const runtime::RecordedTessFactors& f = records[static_cast<std::size_t>(p)];
+        const bool drawsCell = p == 0 || (p >= k * k && (p - k * k) % k == 0);
+        EXPECT_EQ(f.merged(), !drawsCell) << what << ", primitive " << p;
+        if (!drawsCell) continue;
+        EXPECT_EQ(f.outer, (std::array<std::int32_t, 4>{1, 1, 1, 1}))
+            << what << ", primitive " << p;
+        EXPECT_EQ(f.inner, (std::array<std::int32_t, 2>{1, 1})) << what << ", primitive " << p;
+    }
 }
 
 /// Settles a fresh session for `camera` at ε (both stages) and draws once, measured.
@@ -40,7 +63,8 @@ struct DrawnView {
 };
 
 DrawnView drawSettled(const std::filesystem::path& pyramid, const runtime::Camera& camera,
-                      double errorPx, bool cullBlocks, bool recordFactors = false) {
+                      double errorPx, bool cullBlocks, bool recordFactors = false,
+                      bool coarseCells = true) {
     runtime::TerrainSessionOptions options = roomySessionOptions(errorPx);
     options.renderer.recordTessFactors = recordFactors;
     auto opened = runtime::TerrainSession::open(pyramid, options);
@@ -55,6 +79,7 @@ DrawnView drawSettled(const std::filesystem::path& pyramid, const runtime::Camer
     style.errorPx = errorPx;
     style.measure = true;
     style.cullBlocks = cullBlocks;
+    style.coarseCells = coarseCells;
     fb.value().clear(kHoleColor, 0.0f);
     glBindFramebuffer(GL_FRAMEBUFFER, fb.value().id());
     glViewport(0, 0, kWidth, kHeight);
@@ -125,7 +150,7 @@ TEST_F(LodTriangleBudgetTest, FlatPlainIsOnePatchOfMinimumTriangles) {
     const io::PyramidLayout& layout = g.layout();
     ASSERT_GT(layout.levelCount(), 2) << "the plain must have levels to (not) split into";
     const int k = layout.blocksPerSide();
-    const std::uint64_t minimum = minimumTriangles(layout);
+    const std::uint64_t minimum = minimumBlockTriangles(layout);
     const std::vector<runtime::Camera> poses = {
         wholeTerrainPose(g, kWidth, kHeight),
         groundPose(surface.value(), kWidth, kHeight, 0.1, 0.9, 45.0, -30.0, 50.0),
@@ -136,28 +161,34 @@ TEST_F(LodTriangleBudgetTest, FlatPlainIsOnePatchOfMinimumTriangles) {
     for (const runtime::Camera& camera : poses) {
         for (const double errorPx : {0.5, 1.0, 4.0}) {
             const std::string what = describe(camera) + " at ε = " + std::to_string(errorPx);
-            const DrawnView all = drawSettled(pyramid, camera, errorPx, false, true);
-            ASSERT_EQ(all.patches.size(), 1u) << what;
-            EXPECT_EQ(all.patches.front().id.level, 0)
+            const DrawnView blocks = drawSettled(pyramid, camera, errorPx, false, true, false);
+            ASSERT_EQ(blocks.patches.size(), 1u) << what;
+            EXPECT_EQ(blocks.patches.front().id.level, 0)
                 << what << ": a flat patch (Err(P) = 0) was split";
-            ASSERT_EQ(all.factors.size(), static_cast<std::size_t>(k * k + 4 * k));
-            // Every block edge of the plain is simplified to factor 1, wherever it lies —
-            // also behind the camera, where an error of 0 projects to nothing.
+            ASSERT_EQ(blocks.factors.size(), static_cast<std::size_t>(k * k + 4 * k));
+            // As blocks, every block edge of the plain is simplified to factor 1, wherever
+            // it lies — also behind the camera, where an error of 0 projects to nothing.
             for (int b = 0; b < k * k; ++b) {
-                const runtime::RecordedTessFactors& f = all.factors[static_cast<std::size_t>(b)];
+                const runtime::RecordedTessFactors& f = blocks.factors[static_cast<std::size_t>(b)];
                 for (int e = 0; e < 4; ++e) {
                     EXPECT_EQ(f.outer[static_cast<std::size_t>(e)], 1)
                         << what << ", block " << b << " edge " << e;
                 }
             }
-            // Without block culling the count is the formula's exactly; block culling only
-            // ever removes primitives.
-            EXPECT_EQ(all.triangles, minimum) << what;
+            // Without block culling the count is the formula's exactly.
+            EXPECT_EQ(blocks.triangles, minimum) << what;
+            // With coarse cells (the default) the plain is one cell: its bound is 0.
+            const DrawnView all = drawSettled(pyramid, camera, errorPx, false, true);
+            ASSERT_EQ(all.factors.size(), static_cast<std::size_t>(k * k + 4 * k));
+            expectOneCell(all.factors, k, what);
+            EXPECT_EQ(all.triangles, kOneCellTriangles) << what;
+            // Block culling only ever removes primitives.
             const DrawnView culled = drawSettled(pyramid, camera, errorPx, true);
             EXPECT_LE(culled.triangles, all.triangles) << what;
             EXPECT_GT(culled.triangles, 0u) << what;
-            std::cout << "[          ] " << what << ": " << all.triangles << " triangles ("
-                      << culled.triangles << " with block culling); minimum " << minimum << "\n";
+            std::cout << "[          ] " << what << ": " << blocks.triangles
+                      << " triangles as blocks, " << all.triangles << " as one cell ("
+                      << culled.triangles << " with block culling)\n";
         }
         // And it is exact: no error, no crack.
         auto session = runtime::TerrainSession::open(pyramid, roomySessionOptions(1.0));
@@ -169,14 +200,15 @@ TEST_F(LodTriangleBudgetTest, FlatPlainIsOnePatchOfMinimumTriangles) {
         EXPECT_EQ(m.accuracy.crackPixels, 0u);
         EXPECT_GT(m.accuracy.image.psnrDb, 40.0) << describe(camera);
     }
-    std::cout << "[          ] flat plain: 1 patch, minimum " << minimum
-              << " triangles (2·K² + 8·K, K = " << k << ")\n";
+    std::cout << "[          ] flat plain: 1 patch, as blocks at least " << minimum
+              << " triangles (2·K² + 8·K, K = " << k << "), as one cell " << kOneCellTriangles
+              << "\n";
 }
 
 TEST_F(LodTriangleBudgetTest, FlatPatchesOfABumpyDemGetTheMinimum) {
     // Flat at 100 m but for one hill in the north-west corner: the coarse LOD splits
-    // towards the hill only, and every drawn flat patch (Err(P) = 0, every λ(d) = 0) has
-    // factor 1 on every block edge.
+    // towards the hill only, and every drawn flat patch (Err(P) = 0, every λ(d) = 0) is
+    // one coarse cell at factor 1.
     FunctionDem dem(
         513, 513, 30.0,
         [](std::int64_t x, std::int64_t y) {
@@ -220,17 +252,11 @@ TEST_F(LodTriangleBudgetTest, FlatPatchesOfABumpyDemGetTheMinimum) {
         }
         ++flatPatches;
         EXPECT_EQ(info.value().error, 0.0f);
-        for (int p = 0; p < perInstance; ++p) {
-            const runtime::RecordedTessFactors& f =
-                view.factors[i * static_cast<std::size_t>(perInstance) +
-                             static_cast<std::size_t>(p)];
-            for (const std::int32_t outer : f.outer)
-                EXPECT_EQ(outer, 1) << "flat patch level " << id.level << ", primitive " << p;
-            if (!f.isSkirt()) {
-                EXPECT_EQ(f.inner[0], 1);
-                EXPECT_EQ(f.inner[1], 1);
-            }
-        }
+        // Every λ(d) and Err(P) is 0, so every cell bound is too: the patch is one cell.
+        expectOneCell(std::span(view.factors)
+                          .subspan(i * static_cast<std::size_t>(perInstance),
+                                   static_cast<std::size_t>(perInstance)),
+                      k, "flat patch level " + std::to_string(id.level));
     }
     std::cout << "[          ] " << flatPatches << " flat and " << bumpyPatches
               << " bumpy patches drawn, " << view.triangles << " triangles\n";

@@ -10,7 +10,9 @@
 #include "StreamingTestPyramid.h"
 #include "terrain/cache/GpuTilePool.h"
 #include "terrain/gl/Framebuffer.h"
+#include "terrain/io/CoarseCellErrors.h"
 #include "terrain/io/PyramidReader.h"
+#include "terrain/runtime/CoarseCells.h"
 #include "terrain/runtime/EdgeTessellation.h"
 #include "terrain/runtime/SkirtDepth.h"
 #include "terrain/runtime/TerrainGeometry.h"
@@ -187,6 +189,7 @@ TEST_F(TessellationFactorsTest, ControlStageMatchesTheCpuModel) {
         SCOPED_TRACE(pose.name);
         runtime::TerrainStyle style;
         style.errorPx = pose.errorPx;
+        style.coarseCells = false;  // every patch as blocks: the edge rule everywhere
         const std::vector<RecordedTessFactors> gpu =
             drawAndRecord(renderer.value(), scene, g, pose.camera, style);
         int failures = 0;  // messages per pose, not per edge
@@ -376,6 +379,7 @@ TEST_F(TessellationFactorsTest, LodCameraDecidesTheFactors) {
         runtime::TerrainStyle style;
         style.errorPx = lodPose.errorPx;
         style.cullBlocks = false;  // culling follows the drawn camera; the factors do not
+        style.coarseCells = false;
         style.lodCamera = lodPose.camera;
         const std::vector<RecordedTessFactors> gpu =
             drawAndRecord(renderer.value(), scene, g, drawn, style);
@@ -406,6 +410,96 @@ TEST_F(TessellationFactorsTest, LodCameraDecidesTheFactors) {
     // The poses differ enough that the drawn camera alone would give other factors.
     EXPECT_GT(differFromDrawn, compared / 10);
     RecordProperty("blocks_compared", std::to_string(compared));
+}
+
+// Coarse cells (CoarseCells.h): where the CPU finds every cell of a patch within ε, the cell's
+// north-west block draws it at factor 1 and the blocks it covers are discarded; the skirts
+// follow the cells, and every skirt of the frame reaches the cells' Λ.
+TEST_F(TessellationFactorsTest, CoarseCellsAreTheCpuChoiceAndCoverTheirBlocks) {
+    Scene scene = loadScene();
+    const runtime::TerrainGeometry g(scene.manifest);
+    const io::PyramidLayout& layout = g.layout();
+    const int blocks = layout.blocksPerSide();
+    const int perInstance = recordsPerInstance(layout);
+    auto renderer = recordingRenderer(layout, scene);
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    std::uint64_t coarsePatches = 0, blockPatches = 0;
+    std::array<std::uint64_t, 5> perCellSize{};  // k = 1..4 by index
+    for (const Pose& pose : poses(g)) {
+        SCOPED_TRACE(pose.name);
+        runtime::TerrainStyle style;
+        style.errorPx = pose.errorPx;
+        const std::vector<RecordedTessFactors> gpu =
+            drawAndRecord(renderer.value(), scene, g, pose.camera, style);
+        // The CPU's choice, from the pool's bounds as the renderer reads them, which are
+        // io::coarseCellErrors of the record.
+        std::vector<runtime::CoarseCellChoice> choices;
+        double depthM = 0.0;
+        for (std::size_t i = 0; i < scene.records.size(); ++i) {
+            const io::PatchRecord& record = scene.records[i];
+            const std::span<const float> bounds = scene.pool.coarseCellErrorsM(record.id);
+            const int t = layout.tileSamples();
+            const io::GridView interior{record.heights.data() + t + 1, layout.patchSamples(), t};
+            const std::vector<float> own =
+                io::coarseCellErrors(interior, layout.blockQuads(), record.blockErrors);
+            ASSERT_TRUE(std::equal(bounds.begin(), bounds.end(), own.begin(), own.end()));
+            choices.push_back(runtime::coarseCellChoice(pose.camera, g, record.id, record.info,
+                                                        bounds, pose.errorPx));
+            depthM = std::max(
+                {depthM, static_cast<double>(scene.draws[i].skirtDepthM), choices.back().errorM});
+        }
+        for (std::size_t i = 0; i < scene.records.size(); ++i) {
+            const runtime::CoarseCellChoice& choice = choices[i];
+            const RecordedTessFactors* patch = &gpu[i * static_cast<std::size_t>(perInstance)];
+            const int cellBlocks = choice.coarse() ? choice.cellQuads / layout.blockQuads() : 1;
+            if (choice.coarse()) {
+                ++coarsePatches;
+                ++perCellSize[static_cast<std::size_t>(
+                    std::countr_zero(static_cast<unsigned>(cellBlocks)))];
+            } else {
+                ++blockPatches;
+            }
+            for (int b = 0; b < blocks * blocks; ++b) {
+                const RecordedTessFactors& got = patch[b];
+                const bool drawsCell =
+                    (b % blocks) % cellBlocks == 0 && (b / blocks) % cellBlocks == 0;
+                if (!choice.coarse()) {
+                    EXPECT_FALSE(got.merged());
+                } else if (drawsCell) {
+                    EXPECT_FALSE(got.merged());
+                    EXPECT_EQ(got.outer, (std::array<std::int32_t, 4>{1, 1, 1, 1}));
+                    EXPECT_EQ(got.inner, (std::array<std::int32_t, 2>{1, 1}));
+                } else {
+                    EXPECT_TRUE(got.merged());
+                    EXPECT_EQ(got.outer, (std::array<std::int32_t, 4>{0, 0, 0, 0}));
+                }
+            }
+            for (int e = 0; e < 4; ++e) {
+                for (int k = 0; k < blocks; ++k) {
+                    const RecordedTessFactors& skirt = patch[blocks * blocks + e * blocks + k];
+                    EXPECT_TRUE(skirt.isSkirt());
+                    if (!choice.coarse()) {
+                        EXPECT_FALSE(skirt.merged());
+                        continue;
+                    }
+                    EXPECT_EQ(skirt.merged(), k % cellBlocks != 0);
+                    if (skirt.merged()) continue;
+                    EXPECT_EQ(skirt.outer, (std::array<std::int32_t, 4>{1, 1, 1, 1}));
+                    const double drop = choice.errorM + depthM;
+                    EXPECT_NEAR(skirt.skirtDropM, drop, 1e-5 * drop + 1e-6);
+                }
+            }
+        }
+    }
+    std::cout << "[          ] patches drawn as coarse cells " << coarsePatches << ", as blocks "
+              << blockPatches << "; cells of 2, 4, 8, 16 blocks: " << perCellSize[1] << ", "
+              << perCellSize[2] << ", " << perCellSize[3] << ", " << perCellSize[4] << "\n";
+    // The poses see both: far patches as cells, near ones as blocks, and more than one size.
+    EXPECT_GT(coarsePatches, 0u);
+    EXPECT_GT(blockPatches, coarsePatches / 10);
+    EXPECT_GE(std::count_if(perCellSize.begin() + 1, perCellSize.end(),
+                            [](std::uint64_t n) { return n > 0; }),
+              2);
 }
 
 TEST_F(TessellationFactorsTest, MeasuredDrawCountsItsTrianglesAndRestoresState) {

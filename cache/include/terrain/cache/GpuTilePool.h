@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -103,6 +104,11 @@ public:
     /// from its uploaded record; nullopt unless resident. With Err(P) it bounds the
     /// patch's Λ (SkirtDepth.h). Render thread only.
     std::optional<float> maxBlockErrorM(const io::PatchId& id) const;
+    /// io::coarseCellErrors of a resident patch, from its uploaded record: for every cell of
+    /// 2^k × 2^k blocks, k = 1.., how far it may lie from the patch's own surface when drawn
+    /// as one quad at factor 1 (add Err(P)). Empty unless resident, or when the layout has
+    /// no coarse cells. Render thread only.
+    std::span<const float> coarseCellErrorsM(const io::PatchId& id) const;
     /// The patch holding `layer`, or nullopt when the layer is free. Render thread only.
     std::optional<io::PatchId> patchOnLayer(int layer) const;
 
@@ -171,8 +177,11 @@ private:
     std::vector<std::uint8_t> m_pinned;                    // per layer
     mutable std::vector<std::uint8_t> m_invariantScratch;  // per layer, for checkInvariants()
     int m_pinnedCount = 0;
-    std::vector<io::PatchId> m_layerPatch;  // per allocated layer, its patch
-    std::vector<float> m_maxBlockErrorM;    // per layer, of its last upload
+    std::vector<io::PatchId> m_layerPatch;   // per allocated layer, its patch
+    std::vector<float> m_maxBlockErrorM;     // per layer, of its last upload
+    int m_coarseCellsPerLayer = 0;           // io::coarseCellCount of the layout
+    std::vector<float> m_coarseCellErrorsM;  // that many per layer, of its last upload
+    std::vector<float> m_cornerScratch;      // io::coarseCellErrors' block-corner grid
     std::uint64_t m_frame = 0;
     SlotMap m_slots;
     std::vector<SlotMap::node_type> m_spareNodes;  // reused by allocate(): no node allocation

@@ -23,8 +23,11 @@ struct alignas(16) PatchInstanceRecord {
     std::array<float, 4> originAndStep;
     std::array<float, 4> errors;             ///< Err(P), skirt depth, min and max height, metres
     std::array<std::int32_t, 4> layerLevel;  ///< layer, level, the patch's x and y
+    /// x: quads along a coarse cell's side, 0 when the patch is drawn as blocks; y: the cells'
+    /// Λ, metres (CoarseCells.h). Only the terrain draw reads it; the records start as blocks.
+    std::array<float, 4> coarseCells;
 };
-static_assert(sizeof(PatchInstanceRecord) == 48);
+static_assert(sizeof(PatchInstanceRecord) == 64);
 
 /// The records of `patches` (every one resident in `pool` on its layer, TERRAIN_ASSERT),
 /// origins relative to `anchor` (setCameraFrameUniforms), into `out` (cleared first).

@@ -50,6 +50,10 @@ struct TerrainStyle {
     /// drawn camera. terrain-bench draws a frame's predecessor's LOD from the frame's own
     /// camera, so the image change a LOD switch makes is seen without the camera's motion.
     std::optional<Camera> lodCamera;
+    /// Patches far enough away are drawn as coarse cells of one quad each instead of blocks
+    /// (CoarseCells.h), where that keeps ε; false: every patch as blocks, for comparisons.
+    /// Never with fixedTessFactor.
+    bool coarseCells = true;
     std::array<float, 3> skyColor{0.72f, 0.80f, 0.90f};
     float fogDensityPerM = 0.0f;  ///< 0: no fog
     /// submit() measures the draw (GL_PRIMITIVES_GENERATED, GL_TIME_ELAPSED) and waits for
@@ -69,12 +73,20 @@ struct TerrainRendererOptions {
     /// the factors of every (instance, primitive) to a buffer readTessFactors() returns.
     /// For tests.
     bool recordTessFactors = false;
+    /// Shades with the normal of the patch's full-resolution mesh at each fragment
+    /// (terrain.frag, TERRAIN_FRAGMENT_NORMALS), so shading does not change when the
+    /// tessellation does; false: normals interpolated between the drawn vertices, as Yusov's
+    /// draw has them, for comparisons.
+    bool fragmentNormals = true;
 };
 
 /// What the control stage chose for one primitive (recordTessFactors only).
 struct RecordedTessFactors {
     static constexpr std::int32_t kSkirt = 1;   ///< flags: the primitive is a skirt
     static constexpr std::int32_t kCulled = 2;  ///< flags: discarded, outside the frustum
+    /// flags: discarded, its area drawn by its patch's coarse cell (then outer and inner are
+    /// 0); the cell itself is recorded at the cell's north-west block and its first skirt
+    static constexpr std::int32_t kMerged = 4;
 
     /// GL order: west (u = 0), north, east, south; the factors chosen before culling (a
     /// culled primitive's levels are all 0).
@@ -85,6 +97,7 @@ struct RecordedTessFactors {
 
     bool isSkirt() const { return (flags & kSkirt) != 0; }
     bool culled() const { return (flags & kCulled) != 0; }
+    bool merged() const { return (flags & kMerged) != 0; }
 };
 static_assert(sizeof(RecordedTessFactors) == 32);  // std430 TessFactorRecord, terrain.tesc
 

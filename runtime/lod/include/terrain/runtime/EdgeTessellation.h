@@ -67,6 +67,11 @@ struct BlockFactors {
 double verticalErrorPxPerM(const glm::dmat4& relativeViewProjection, const glm::dvec2& viewportPx,
                            const Aabb& box);
 
+/// The world box of blocks first..last (inclusive) of patch `id`: their footprint, heights
+/// lowM..highM (the control stage's blocksBoxM, in double).
+Aabb blocksWorldBox(const TerrainGeometry& geometry, const io::PatchId& id, glm::ivec2 first,
+                    glm::ivec2 last, double lowM, double highM);
+
 /// The factors of every block of `record`'s patch seen by `camera` at ε = errorPx,
 /// row-major by block (blocksPerSide² entries). Err(P) is record.info.error.
 std::vector<BlockFactors> patchBlockFactors(const Camera& camera, const TerrainGeometry& geometry,

@@ -1,0 +1,77 @@
+// Shading that does not depend on the tessellation (terrain.frag, TERRAIN_FRAGMENT_NORMALS):
+// the terrain draw takes each fragment's normal from the patch's full-resolution mesh,
+// blended as the reference renderer blends its vertices' normals. The same LOD shaded either
+// way has the same triangles and the same measured error to the bit; at full resolution the
+// fragment normals are the reference's, so that image is closer to the reference than the
+// one whose normals the tessellator's own triangles interpolate.
+#include "AccuracyScenes.h"
+#include "GlTestFixture.h"
+#include "TempFolder.h"
+
+#include <cmath>
+#include <iostream>
+
+namespace terrain::test {
+namespace {
+
+constexpr int kWidth = 320;
+constexpr int kHeight = 240;
+
+class FragmentNormalsTest : public GlTest {};
+
+TEST_F(FragmentNormalsTest, SameGeometryAndTheReferencesShadingAtFullResolution) {
+    // Rolling hills: normals that vary across every block.
+    FunctionDem dem(
+        257, 257, 30.0,
+        [](std::int64_t x, std::int64_t y) {
+            const double fx = static_cast<double>(x), fy = static_cast<double>(y);
+            return static_cast<float>(300.0 + 90.0 * std::sin(fx / 11.0) * std::cos(fy / 17.0) +
+                                      40.0 * std::sin((fx + fy) / 7.0));
+        },
+        false);
+    const TempFolder folder;
+    const std::filesystem::path pyramid = buildScenePyramid(dem, folder, "hills");
+    auto probe = runtime::AccuracyProbe::create(pyramid, {.widthPx = kWidth, .heightPx = kHeight});
+    ASSERT_TRUE(probe) << probe.error().message;
+
+    struct Shaded {
+        double psnrDb = 0.0;
+        double errorMaxPx = 0.0;
+        std::uint64_t triangles = 0;
+    };
+    // fixedTessFactor 0: the LOD at ε; else every block at that factor.
+    const auto shade = [&](bool fragmentNormals, double errorPx, int fixedTessFactor) {
+        runtime::TerrainSessionOptions options = roomySessionOptions(errorPx);
+        options.renderer.fragmentNormals = fragmentNormals;
+        auto session = runtime::TerrainSession::open(pyramid, options);
+        EXPECT_TRUE(session) << session.error().message;
+        // Looking down from low enough that every DEM cell spans several pixels.
+        const runtime::TerrainGeometry& g = session.value()->geometry();
+        const glm::dvec3 centre{g.worldAtFraction(0.5, 0.5), 300.0};
+        const runtime::Camera camera =
+            lookingAt(kWidth, kHeight, centre + glm::dvec3(0.0, -1.0, 1500.0), centre);
+        const SettledMeasure m =
+            measureSettled(*session.value(), *probe.value(), camera, errorPx, fixedTessFactor);
+        return Shaded{m.accuracy.image.psnrDb, m.accuracy.error.maxPx, m.triangles};
+    };
+    const int fullResolution = io::PyramidLayout::kDefaultBlockQuads;
+    for (const auto& [errorPx, fixed] : {std::pair{0.1, fullResolution}, {1.0, 0}, {4.0, 0}}) {
+        const std::string what = "ε = " + std::to_string(errorPx) +
+                                 (fixed > 0 ? ", every block at full resolution" : "");
+        const Shaded vertex = shade(false, errorPx, fixed);
+        const Shaded fragment = shade(true, errorPx, fixed);
+        std::cout << "[          ] " << what << ": " << fragment.triangles << " triangles, PSNR "
+                  << vertex.psnrDb << " dB with vertex normals, " << fragment.psnrDb
+                  << " dB with fragment normals; measured error max " << fragment.errorMaxPx
+                  << " px\n";
+        EXPECT_EQ(fragment.triangles, vertex.triangles) << what;
+        EXPECT_EQ(fragment.errorMaxPx, vertex.errorMaxPx) << what;
+        if (fixed > 0) {
+            EXPECT_EQ(fragment.errorMaxPx, 0.0) << what << ": not the finest level";
+            EXPECT_GT(fragment.psnrDb, vertex.psnrDb + 1.0) << what;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace terrain::test
