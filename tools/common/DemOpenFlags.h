@@ -26,6 +26,10 @@ public:
         app.add_option("--epsg", m_options.epsg, "EPSG code of the CRS (no georeference)");
         app.add_option("--nodata", m_options.noDataValue,
                        "Raw no-data value (overrides the file's)");
+        app.add_option("-b,--band", m_options.band,
+                       "Raster band to read heights from, 1-based as GDAL numbers them "
+                       "(default 1, with a warning when the input has several)")
+            ->check(CLI::PositiveNumber);
     }
 
     const io::DemOpenOptions& options() {

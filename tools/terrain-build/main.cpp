@@ -165,6 +165,10 @@ int main(int argc, char** argv) {
 
     const io::PyramidBuildSummary& s = built.value();
     const io::DemInfo& dem = sources.front()->info();
+    for (const std::string& warning : s.warnings) {
+        fmt::print(stderr, "terrain-build: warning: {}\n", warning);
+        warnings.push_back(warning);
+    }
     if (json) {
         nlohmann::json levels = nlohmann::json::array();
         for (const auto& level : s.manifest.levels)
@@ -179,7 +183,15 @@ int main(int argc, char** argv) {
             {"inputs", inputs},
             {"reader", dem.readerName},
             {"raster",
-             {{"width", dem.width}, {"height", dem.height}, {"sampleType", dem.sampleType}}},
+             {{"width", dem.width},
+              {"height", dem.height},
+              {"sampleType", dem.sampleType},
+              {"band", dem.band},
+              {"bands", dem.bandCount},
+              {"subdataset",
+               io::isGdalDatasetName(dem.path) ? nlohmann::json(dem.path) : nlohmann::json()},
+              {"rowsFlipped", dem.rowsFlipped},
+              {"columnsFlipped", dem.columnsFlipped}}},
             {"levels", s.manifest.levels.size()},
             {"tiling", s.manifest.globe ? "globe" : "planar"},
             {"faceFinestLevel", s.manifest.globe ? nlohmann::json(s.manifest.globe->faceFinestLevel)

@@ -60,9 +60,11 @@ void printText(const io::PyramidReader& reader, const inspect::Inspection& inspe
     fmt::print("statistics: heights {} to {} m over {} valid samples; root Err(P) {} m\n",
                m.statistics.minHeight, m.statistics.maxHeight, m.statistics.validSamples,
                m.statistics.rootError);
-    fmt::print("source: {} ({} reader, {}); built by {} {} in {:.2f} s\n",
-               fmt::join(m.source.inputs, ", "), m.source.reader, m.source.sampleType, m.build.tool,
-               m.build.version, m.build.seconds);
+    fmt::print("source: {} ({} reader, {}, band {} of {}{}{}); built by {} {} in {:.2f} s\n",
+               fmt::join(m.source.inputs, ", "), m.source.reader, m.source.sampleType,
+               m.source.band, m.source.bandCount, m.source.rowsFlipped ? ", rows flipped" : "",
+               m.source.columnsFlipped ? ", columns flipped" : "", m.build.tool, m.build.version,
+               m.build.seconds);
     fmt::print("\n{:>5} {:>13} {:>10} {:>9} {:>11}   {}\n", "level", "patches", "present", "shards",
                "on disk", "Err(P) min / median / max, m");
     std::int64_t patches = 0, present = 0, shards = 0;

@@ -84,13 +84,16 @@ DemReaderResult openGdalMosaic(const std::vector<std::string>& paths,
         Result<GdalDataset> opened = openGdalDataset(path);
         if (!opened) return opened.error();
         GdalDataset dataset = std::move(opened).value();
-        Result<DemInfo> info = describeGdalDataset(*dataset, path);
+        Result<DemInfo> info = describeGdalDataset(*dataset, path, options.band);
         if (!info) return info.error();
         if (!info.value().hasGeoreference)
             return Error{
                 fmt::format("{}: no georeference; every input of a mosaic needs one", path)};
-        if (gdalRowsRunNorth(*dataset))
-            return Error{fmt::format("{}: rows run north; mosaics need north-up inputs", path)};
+        if (info.value().rowsFlipped || info.value().columnsFlipped)
+            return Error{
+                fmt::format("{}: rows run north or columns west; mosaics need north-up "
+                            "inputs (gdalwarp makes one)",
+                            path)};
         inputs.push_back(MosaicInput{path, std::move(info).value(), std::move(dataset)});
         if (inputs.size() > 1)
             if (Status s = checkCompatible(inputs.front(), inputs.back()); !s) return s.error();
@@ -107,7 +110,7 @@ DemReaderResult openGdalMosaic(const std::vector<std::string>& paths,
     if (!vrt)
         return Error{fmt::format("{}: cannot build the mosaic of {} inputs: {}", paths.front(),
                                  paths.size(), errors.message("GDALBuildVRT failed"))};
-    Result<DemInfo> described = describeGdalDataset(*vrt, paths.front());
+    Result<DemInfo> described = describeGdalDataset(*vrt, paths.front(), options.band);
     if (!described) return described.error();
     DemInfo info = std::move(described).value();
     info.inputs = paths;
@@ -116,6 +119,7 @@ DemReaderResult openGdalMosaic(const std::vector<std::string>& paths,
     info.georeference.epsg = inputs.front().info.georeference.epsg;
     info.georeference.wkt = inputs.front().info.georeference.wkt;
     info.sampleType = inputs.front().info.sampleType;
+    info.warnings = inputs.front().info.warnings;  // the band warning, once
 
     // Footprints, to find gaps: without a VRT no-data value GDAL fills them with 0.
     std::vector<PixelRect> footprints;
@@ -146,8 +150,8 @@ DemReaderResult openGdalMosaic(const std::vector<std::string>& paths,
     if (!mayHaveGaps || info.noDataValue) footprints.clear();
 
     if (Status s = applyDemOpenOptions(info, options); !s) return s.error();
-    return std::unique_ptr<DemReader>(std::make_unique<GdalDemReader>(
-        std::move(info), std::move(vrt), false, std::move(footprints)));
+    return std::unique_ptr<DemReader>(
+        std::make_unique<GdalDemReader>(std::move(info), std::move(vrt), std::move(footprints)));
 }
 
 }  // namespace terrain::io::detail

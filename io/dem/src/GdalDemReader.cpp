@@ -1,6 +1,8 @@
-// DEM reader for anything GDAL opens (netCDF, VRT, DTED, ...): band 1 read as float
-// windows through RasterIO, no-data and scale/offset from the band, the placement from
-// the geotransform and the CRS from the dataset's spatial reference.
+// DEM reader for anything GDAL opens (netCDF, VRT, DTED, subdatasets, /vsi… paths, ...):
+// one band (band 1 unless chosen) read as float windows through RasterIO, rows and columns
+// flipped to north-up where the geotransform runs the other way, no-data and scale/offset
+// from the band, the placement from the geotransform and the CRS from the dataset's spatial
+// reference.
 #include "GdalDemReader.h"
 #include "DemSampleConversion.h"
 #include "NetCdfClassicExtent.h"
@@ -16,9 +18,11 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <optional>
 #include <string_view>
+#include <system_error>
 
 namespace terrain::io::detail {
 
@@ -113,17 +117,38 @@ std::optional<double> metresPerHeightUnit(std::string_view unit) {
     return std::nullopt;
 }
 
-bool gdalRowsRunNorth(GDALDataset& dataset) {
-    std::array<double, 6> gt{};
-    return dataset.GetGeoTransform(gt.data()) == CE_None && gt[5] > 0.0;
-}
-
-Result<DemInfo> describeGdalDataset(GDALDataset& dataset, const std::string& path) {
+Result<DemInfo> describeGdalDataset(GDALDataset& dataset, const std::string& path,
+                                    std::optional<int> bandNumber) {
     const auto fail = [&](const std::string& what) {
         return Error{fmt::format("{}: {}", path, what)};
     };
-    if (dataset.GetRasterCount() < 1) return fail("GDAL finds no raster band in it");
-    GDALRasterBand* band = dataset.GetRasterBand(1);
+    const int bands = dataset.GetRasterCount();
+    if (bands < 1) {
+        // A container (netCDF or HDF with several variables, a multi-page TIFF): name what
+        // a user could open instead, as gdalinfo lists it.
+        std::string list;
+        int count = 0;
+        for (CSLConstList item = dataset.GetMetadata("SUBDATASETS");
+             item != nullptr && *item != nullptr; ++item) {
+            const std::string_view entry(*item);
+            const std::size_t equals = entry.find('=');
+            if (equals == std::string_view::npos || !entry.substr(0, equals).ends_with("_NAME"))
+                continue;
+            list += fmt::format("\n  {}", entry.substr(equals + 1));
+            ++count;
+        }
+        if (count > 0)
+            return fail(fmt::format(
+                "holds {} subdatasets and no raster band of its own; give one of them as the "
+                "input:{}",
+                count, list));
+        return fail("GDAL finds no raster band in it");
+    }
+    const int bandIndex = bandNumber.value_or(1);
+    if (bandIndex < 1 || bandIndex > bands)
+        return fail(fmt::format("no band {}: it has {} band{} (1 to {})", bandIndex, bands,
+                                bands == 1 ? "" : "s", bands));
+    GDALRasterBand* band = dataset.GetRasterBand(bandIndex);
     const GDALDataType type = band->GetRasterDataType();
     const char* typeName = sampleTypeName(type);
     if (typeName == nullptr)
@@ -134,6 +159,17 @@ Result<DemInfo> describeGdalDataset(GDALDataset& dataset, const std::string& pat
     info.path = path;
     info.readerName = "gdal";
     info.inputs = {path};
+    info.band = bandIndex;
+    info.bandCount = bands;
+    if (bands > 1 && !bandNumber) {
+        const char* colour = GDALGetColorInterpretationName(band->GetColorInterpretation());
+        info.warnings.push_back(fmt::format(
+            "{}: {} bands; heights are read from band 1{}; choose another with -b/--band N", path,
+            bands,
+            colour != nullptr && std::string_view(colour) != "Undefined"
+                ? fmt::format(" ({})", colour)
+                : std::string()));
+    }
     info.width = dataset.GetRasterXSize();
     info.height = dataset.GetRasterYSize();
     info.sampleType = typeName;
@@ -162,27 +198,29 @@ Result<DemInfo> describeGdalDataset(GDALDataset& dataset, const std::string& pat
     if (dataset.GetGeoTransform(gt.data()) != CE_None) return info;  // not georeferenced
     if (gt[2] != 0.0 || gt[4] != 0.0)
         return fail(fmt::format(
-            "rotated or sheared rasters are not supported (geotransform {}, {}, {}, {}, {}, {})",
+            "rotated or sheared rasters are not supported (geotransform {}, {}, {}, {}, {}, {}); "
+            "resample it onto a north-up grid first (gdalwarp)",
             gt[0], gt[1], gt[2], gt[3], gt[4], gt[5]));
-    if (!(gt[1] > 0.0) || gt[5] == 0.0 || !std::isfinite(gt[1]) || !std::isfinite(gt[5]))
+    if (gt[1] == 0.0 || gt[5] == 0.0 || !std::isfinite(gt[1]) || !std::isfinite(gt[5]))
         return fail(fmt::format("unusable pixel size {} × {} in the geotransform", gt[1], gt[5]));
     Georeference& geo = info.georeference;
-    geo.pixelSizeX = gt[1];
+    geo.pixelSizeX = std::abs(gt[1]);
     geo.pixelSizeY = std::abs(gt[5]);
-    geo.originX = gt[0];
-    // Rows running north are flipped on read, so the north edge is the far end.
-    geo.originY = gt[5] < 0.0 ? gt[3] : gt[3] + gt[5] * static_cast<double>(info.height);
+    // Rows running north and columns running west are flipped on read, so the north and
+    // west edges are the far ends.
+    info.rowsFlipped = gt[5] > 0.0;
+    info.columnsFlipped = gt[1] < 0.0;
+    geo.originX = info.columnsFlipped ? gt[0] + gt[1] * static_cast<double>(info.width) : gt[0];
+    geo.originY = info.rowsFlipped ? gt[3] + gt[5] * static_cast<double>(info.height) : gt[3];
     describeCrs(dataset, geo);
     info.hasGeoreference = true;
     return info;
 }
 
-GdalDemReader::GdalDemReader(DemInfo info, GdalDataset dataset, bool bottomUp,
-                             std::vector<PixelRect> coverage)
+GdalDemReader::GdalDemReader(DemInfo info, GdalDataset dataset, std::vector<PixelRect> coverage)
     : m_info(std::move(info)),
       m_dataset(std::move(dataset)),
-      m_band(m_dataset->GetRasterBand(1)),
-      m_bottomUp(bottomUp),
+      m_band(m_dataset->GetRasterBand(m_info.band)),
       m_coverage(std::move(coverage)) {
     const GDALDataType type = m_band->GetRasterDataType();
     m_wide = type == GDT_Float64 || type == GDT_Int32 || type == GDT_UInt32 || type == GDT_Int64 ||
@@ -194,17 +232,18 @@ Status GdalDemReader::readWindow(std::int64_t x0, std::int64_t y0, std::int64_t 
     assertDemWindow(m_info, x0, y0, width, rows, out);
     if (width == 0 || rows == 0) return {};
     const std::size_t count = static_cast<std::size_t>(width * rows);
-    const std::int64_t sourceY = m_bottomUp ? m_info.height - y0 - rows : y0;
+    const std::int64_t sourceY = m_info.rowsFlipped ? m_info.height - y0 - rows : y0;
+    const std::int64_t sourceX = m_info.columnsFlipped ? m_info.width - x0 - width : x0;
     void* target = out.data();
     if (m_wide) {
         m_wideScratch.resize(count);
         target = m_wideScratch.data();
     }
     GdalErrorCapture errors;
-    const CPLErr result = m_band->RasterIO(GF_Read, static_cast<int>(x0), static_cast<int>(sourceY),
-                                           static_cast<int>(width), static_cast<int>(rows), target,
-                                           static_cast<int>(width), static_cast<int>(rows),
-                                           m_wide ? GDT_Float64 : GDT_Float32, 0, 0, nullptr);
+    const CPLErr result = m_band->RasterIO(
+        GF_Read, static_cast<int>(sourceX), static_cast<int>(sourceY), static_cast<int>(width),
+        static_cast<int>(rows), target, static_cast<int>(width), static_cast<int>(rows),
+        m_wide ? GDT_Float64 : GDT_Float32, 0, 0, nullptr);
     if (result != CE_None)
         return Error{
             fmt::format("{}: cannot read rows {}..{}: {}", m_info.path, y0, y0 + rows - 1,
@@ -214,10 +253,14 @@ Status GdalDemReader::readWindow(std::int64_t x0, std::int64_t y0, std::int64_t 
                           m_info.noDataValue);
     else
         convertDemSamples(out.data(), count, out.data(), m_info.vertical, m_info.noDataValue);
-    if (m_bottomUp) {
+    if (m_info.rowsFlipped) {
         for (std::int64_t r = 0; r < rows / 2; ++r)
             std::swap_ranges(out.data() + r * width, out.data() + (r + 1) * width,
                              out.data() + (rows - 1 - r) * width);
+    }
+    if (m_info.columnsFlipped) {
+        for (std::int64_t r = 0; r < rows; ++r)
+            std::reverse(out.data() + r * width, out.data() + (r + 1) * width);
     }
     if (!m_coverage.empty()) maskUncovered(x0, y0, width, rows, out);
     return {};
@@ -292,14 +335,17 @@ Status checkTextGridRows(GDALDataset& dataset, const std::string& path) {
 }  // namespace
 
 Result<GdalDataset> openGdalDataset(const std::string& path) {
-    const Result<std::uint64_t> size = checkDemInputFile(path);
-    if (!size) return size.error();
-    const Result<std::optional<std::uint64_t>> end = netCdfClassicDataEnd(path);
-    if (!end) return end.error();
-    if (end.value() && *end.value() > size.value())
-        return Error{fmt::format(
-            "{}: truncated: the netCDF variables' data ends at byte {}, the file has {} bytes",
-            path, *end.value(), size.value())};
+    std::error_code missing;
+    if (!isGdalDatasetName(path) || std::filesystem::exists(path, missing)) {
+        const Result<std::uint64_t> size = checkDemInputFile(path);
+        if (!size) return size.error();
+        const Result<std::optional<std::uint64_t>> end = netCdfClassicDataEnd(path);
+        if (!end) return end.error();
+        if (end.value() && *end.value() > size.value())
+            return Error{fmt::format(
+                "{}: truncated: the netCDF variables' data ends at byte {}, the file has {} bytes",
+                path, *end.value(), size.value())};
+    }
     ensureGdalRegistered();
     GdalErrorCapture errors;
     GdalDataset dataset(
@@ -317,12 +363,11 @@ DemReaderResult openGdalDem(const std::string& path, const DemOpenOptions& optio
     Result<GdalDataset> opened = openGdalDataset(path);
     if (!opened) return opened.error();
     GdalDataset dataset = std::move(opened).value();
-    Result<DemInfo> info = describeGdalDataset(*dataset, path);
+    Result<DemInfo> info = describeGdalDataset(*dataset, path, options.band);
     if (!info) return info.error();
     if (Status s = applyDemOpenOptions(info.value(), options); !s) return s.error();
-    const bool bottomUp = gdalRowsRunNorth(*dataset);
     return std::unique_ptr<DemReader>(
-        std::make_unique<GdalDemReader>(std::move(info).value(), std::move(dataset), bottomUp));
+        std::make_unique<GdalDemReader>(std::move(info).value(), std::move(dataset)));
 }
 
 }  // namespace terrain::io::detail

@@ -18,10 +18,13 @@ struct PixelRect {
     std::int64_t x = 0, y = 0, width = 0, height = 0;
 };
 
-/// What a dataset says about itself: size, sample type, no-data, scale/offset and the
-/// georeference with the CRS. Errors name `path`: complex samples, a rotated or sheared
-/// geotransform, no raster band.
-Result<DemInfo> describeGdalDataset(GDALDataset& dataset, const std::string& path);
+/// What band `band` (1-based; unset: band 1, with a warning when there are several) of a
+/// dataset says about itself: size, sample type, no-data, scale/offset, the georeference
+/// with the CRS, and whether rows or columns run backwards (read flipped). Errors name
+/// `path`: complex samples, a rotated or sheared geotransform, a band it does not have, no
+/// raster band (listing the subdatasets a container holds instead).
+Result<DemInfo> describeGdalDataset(GDALDataset& dataset, const std::string& path,
+                                    std::optional<int> band = std::nullopt);
 
 /// Metres per unit of a band's height unit (GDAL's unit type: netCDF/CF `units`): 1 for
 /// metres or no unit, 1000 for km, 0.3048 for ft, 1200/3937 for US survey ft; nothing for
@@ -32,8 +35,8 @@ class GdalDemReader final : public DemReader {
 public:
     /// `coverage`: for a mosaic with gaps, the inputs' footprints (samples outside all of
     /// them read as NaN); empty when the whole raster is covered.
-    GdalDemReader(DemInfo info, GdalDataset dataset, bool bottomUp,
-                  std::vector<PixelRect> coverage = {});
+    /// Reads band info.band, flipping rows and columns as info says.
+    GdalDemReader(DemInfo info, GdalDataset dataset, std::vector<PixelRect> coverage = {});
 
     const DemInfo& info() const override { return m_info; }
     Status readWindow(std::int64_t x0, std::int64_t y0, std::int64_t width, std::int64_t rows,
@@ -46,17 +49,14 @@ private:
     DemInfo m_info;
     GdalDataset m_dataset;
     GDALRasterBand* m_band = nullptr;
-    bool m_wide = false;      // read as Float64: int32/uint32/float64 do not fit a float
-    bool m_bottomUp = false;  // geotransform with rows running north: flip on read
+    bool m_wide = false;  // read as Float64: int32/uint32/float64 do not fit a float
     std::vector<PixelRect> m_coverage;
     std::vector<double> m_wideScratch;
 };
 
-/// Opens `path` (checked: exists, not empty, not a truncated netCDF classic file) for
-/// reading. Errors start with the path and carry GDAL's message.
+/// Opens `path` (a file checked first: exists, not empty, not a truncated netCDF classic
+/// file; a GDAL dataset name as GDAL takes it) for reading. Errors start with the path and
+/// carry GDAL's message.
 Result<GdalDataset> openGdalDataset(const std::string& path);
-
-/// true when `dataset` has a geotransform whose rows run north (positive y step).
-bool gdalRowsRunNorth(GDALDataset& dataset);
 
 }  // namespace terrain::io::detail

@@ -87,6 +87,12 @@ CrsKeys readCrsKeys(TIFF* tiff) {
 
 namespace detail {
 
+bool hasFlippedOrRotatedPlacement(TIFF* t) {
+    if (!arrayTag<double>(t, kModelTransformationTag).empty()) return true;
+    const std::span<const double> scale = arrayTag<double>(t, kModelPixelScaleTag);
+    return scale.size() >= 2 && (scale[0] < 0.0 || scale[1] < 0.0);
+}
+
 Result<std::optional<Georeference>> readGeoreferenceTags(TIFF* t) {
     if (!arrayTag<double>(t, kModelTransformationTag).empty())
         return Error{"rotated or sheared rasters (GeoTIFF ModelTransformation) are not supported"};

@@ -21,6 +21,11 @@ inline constexpr ttag_t kGdalNoDataTag = 42113;    // ASCII, e.g. "-32768"
 /// (rotated or sheared), a pixel scale that is not positive.
 Result<std::optional<Georeference>> readGeoreferenceTags(TIFF* tiff);
 
+/// Whether the TIFF's grid is not north-up: placed by a ModelTransformation matrix (what
+/// rotated, sheared and some flipped grids use), or by a negative ModelPixelScale (GDAL writes
+/// one for columns running west).
+bool hasFlippedOrRotatedPlacement(TIFF* tiff);
+
 /// The text of an ASCII tag (also one libtiff does not know), nullopt when absent.
 std::optional<std::string> readAsciiTag(TIFF* tiff, ttag_t tag);
 

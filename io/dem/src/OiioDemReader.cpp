@@ -265,6 +265,10 @@ DemReaderResult openOiioDem(const std::string& path, const DemOpenOptions& optio
         Result<TiffDemFacts> facts = inspectTiffDem(path, size.value());
         if (!facts) return facts.error();
         tiffFacts = std::move(facts).value();
+        // GDAL reads flipped grids (and refuses rotated ones with its geotransform), and
+        // chooses among bands.
+        if (tiffFacts->flippedOrRotated || tiffFacts->samplesPerPixel > 1)
+            return openGdalDem(path, options);
     }
     const bool jpeg = ext == ".jpg" || ext == ".jpeg" || ext == ".jpe";
     std::optional<std::string> truncated;
@@ -288,6 +292,12 @@ DemReaderResult openOiioDem(const std::string& path, const DemOpenOptions& optio
                                 spec.nchannels));
     if (spec.depth > 1)
         return fail(fmt::format("volume images (depth {}) are not DEMs", spec.depth));
+    // Several channels in a PNG or JPEG (RGB, grey and alpha) are bands: GDAL chooses one and
+    // says which. OpenEXR's channels are not bands; its first is read.
+    if (spec.nchannels > 1 && ext != ".exr") {
+        input->close();
+        return openGdalDem(path, options);
+    }
     const OIIO::TypeDesc native = spec.channelformat(0);
     const char* typeName = sampleTypeName(static_cast<OIIO::TypeDesc::BASETYPE>(native.basetype));
     if (typeName == nullptr)
@@ -324,6 +334,12 @@ DemReaderResult openOiioDem(const std::string& path, const DemOpenOptions& optio
     info.path = path;
     info.readerName = "oiio";
     info.inputs = {path};
+    if (spec.nchannels > 1) {  // OpenEXR: its first channel, said
+        info.bandCount = spec.nchannels;
+        info.warnings.push_back(fmt::format(
+            "{}: {} channels; heights are read from the first ({})", path, spec.nchannels,
+            spec.channelnames.empty() ? std::string("unnamed") : spec.channelnames.front()));
+    }
     info.width = spec.width;
     info.height = spec.height;
     info.sampleType = typeName;

@@ -1,12 +1,16 @@
-// openDem: picks the reader for the inputs. "procedural:" is the built-in terrain, .hgt
-// the SRTM reader, image extensions OpenImageIO, anything else (netCDF, VRT, DTED, ...)
+// openDem: picks the reader for the inputs. "procedural:" is the built-in terrain, GDAL
+// dataset names (subdatasets, /vsi… paths, inline VRT) GDAL, .hgt the SRTM reader, image
+// extensions OpenImageIO (GDAL when a band is chosen), anything else (netCDF, VRT, DTED, ...)
 // and every mosaic GDAL.
 #include "DemReaderFactories.h"
 
 #include <fmt/format.h>
 
 #include <array>
+#include <cctype>
+#include <filesystem>
 #include <string_view>
+#include <system_error>
 
 namespace terrain::io {
 
@@ -20,6 +24,19 @@ bool isProcedural(const std::string& input) { return input.starts_with(kProcedur
 
 }  // namespace
 
+bool isGdalDatasetName(const std::string& input) {
+    if (input.starts_with("/vsi") || input.starts_with("<")) return true;
+    // DRIVER:rest, the driver's short name two or more letters, digits or underscores (a
+    // one-letter prefix would be a drive letter).
+    const std::size_t colon = input.find(':');
+    if (colon == std::string::npos || colon < 2) return false;
+    for (std::size_t i = 0; i < colon; ++i) {
+        const char c = input[i];
+        if (!(std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_')) return false;
+    }
+    return !input.starts_with(kProceduralPrefix);
+}
+
 Result<std::unique_ptr<DemReader>> openDem(const std::vector<std::string>& inputs,
                                            const DemOpenOptions& options) {
     if (inputs.empty()) return Error{"openDem: no input given"};
@@ -31,11 +48,33 @@ Result<std::unique_ptr<DemReader>> openDem(const std::vector<std::string>& input
         return detail::openGdalMosaic(inputs, options);
     }
     const std::string& input = inputs.front();
-    if (isProcedural(input)) return detail::openProceduralDem(input, options);
+    if (isProcedural(input)) {
+        if (options.band && *options.band != 1)
+            return Error{fmt::format("{}: the procedural terrain has one band, not band {}", input,
+                                     *options.band)};
+        return detail::openProceduralDem(input, options);
+    }
+    // A file whose name only looks like one (a ':' in a folder name) is a file.
+    std::error_code error;
+    if (isGdalDatasetName(input) && !std::filesystem::exists(input, error))
+        return detail::openGdalDem(input, options);
     const std::string ext = detail::lowerExtension(input);
-    if (ext == ".hgt") return detail::openHgtDem(input, options);
-    for (const std::string_view oiio : kOiioExtensions)
-        if (ext == oiio) return detail::openOiioDem(input, options);
+    if (ext == ".hgt") {
+        if (options.band && *options.band != 1)
+            return Error{fmt::format("{}: an SRTM .hgt tile has one band, not band {}", input,
+                                     *options.band)};
+        return detail::openHgtDem(input, options);
+    }
+    for (const std::string_view oiio : kOiioExtensions) {
+        if (ext != oiio) continue;
+        // GDAL numbers and chooses bands; OpenEXR's channels are not bands.
+        if (options.band && ext == ".exr" && *options.band != 1)
+            return Error{
+                fmt::format("{}: OpenEXR heights are its first channel; there is no band {}", input,
+                            *options.band)};
+        if (options.band && ext != ".exr") return detail::openGdalDem(input, options);
+        return detail::openOiioDem(input, options);
+    }
     return detail::openGdalDem(input, options);
 }
 

@@ -152,6 +152,13 @@ Result<TiffDemFacts> inspectTiffDem(const std::string& path, std::uint64_t fileB
     }
 
     TiffDemFacts facts;
+    std::uint16_t samplesPerPixel = 1;
+    if (TIFFGetFieldDefaulted(t, TIFFTAG_SAMPLESPERPIXEL, &samplesPerPixel) == 1)
+        facts.samplesPerPixel = samplesPerPixel;
+    if (hasFlippedOrRotatedPlacement(t)) {
+        facts.flippedOrRotated = true;
+        return facts;
+    }
     Result<std::optional<Georeference>> geo = readGeoreferenceTags(t);
     if (!geo) return fail(geo.error().message);
     facts.georeference = geo.value();

@@ -21,11 +21,17 @@ struct TiffDemFacts {
     /// raw · scale + offset.
     std::optional<double> scale;
     std::optional<double> offset;
+    /// Not north-up (a ModelTransformation, or a negative pixel scale: a flipped, rotated or
+    /// sheared grid): the other facts are left unread, for GDAL, which reads such a grid
+    /// (or refuses it by name), to take the file.
+    bool flippedOrRotated = false;
+    /// Samples per pixel: more than 1 is a multi-band image, read by GDAL, which chooses bands.
+    int samplesPerPixel = 1;
 };
 
 /// Errors start with the path: not a TIFF (libtiff's message), an unsupported sample
 /// type ("complex int16", "1-bit unsigned integer", …), "truncated: TIFF strip 3 ends
-/// past the end of the file", a rotated georeference.
+/// past the end of the file".
 Result<TiffDemFacts> inspectTiffDem(const std::string& path, std::uint64_t fileBytes);
 
 }  // namespace terrain::io::detail

@@ -5,6 +5,7 @@
 #include "GeographicGrid.h"
 #include "GlobeSources.h"
 #include "ParallelFor.h"
+#include "SourceCoverage.h"
 #include "terrain/globe/CubeSphere.h"
 #include "terrain/globe/GlobePatch.h"
 #include "terrain/globe/Wgs84.h"
@@ -392,6 +393,21 @@ Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> reader
         GlobeSources::read(readers, options.memoryBudgetBytes / 2, options.patchSamples - 1);
     if (!read) return read.error();
     const GlobeSources& composite = read.value();
+    std::vector<std::string> warnings;
+    std::int64_t compositeValid = 0;
+    for (const GlobeSources::Source& source : composite.sources()) {
+        const GeographicGrid& g = source.grid;
+        const std::string& path = source.path;
+        compositeValid += g.validSamples();
+        if (composite.sources().size() > 1 && g.validSamples() == 0)
+            warnings.push_back(fmt::format("{}: no valid sample; it adds nothing", path));
+        else if (auto warning = mostlyNoDataWarning(path, g.width() * g.height(), g.validSamples()))
+            warnings.push_back(*warning);
+    }
+    if (compositeValid == 0) {
+        const GeographicGrid& g = composite.sources().front().grid;
+        return refuseEmptySource(readers.front()->info().path, g.width() * g.height(), 0).error();
+    }
     const int faceLevel = composite.finestFaceLevel();
     const DemInfo& first = readers.front()->info();
     Result<PyramidLayout> layout =
@@ -407,6 +423,7 @@ Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> reader
         return Error{first.path + ": " + built.error().message};
 
     PyramidBuildSummary summary;
+    summary.warnings = std::move(warnings);
     PyramidManifest& m = summary.manifest;
     m = PyramidManifest::forLayout(l);
     m.formatVersion = PyramidManifest::kGlobeFormatVersion;
@@ -451,6 +468,10 @@ Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> reader
         for (const std::string& input : reader->info().inputs) m.source.inputs.push_back(input);
     m.source.reader = first.readerName;
     m.source.sampleType = first.sampleType;
+    m.source.band = first.band;
+    m.source.bandCount = first.bandCount;
+    m.source.rowsFlipped = first.rowsFlipped;
+    m.source.columnsFlipped = first.columnsFlipped;
     m.build.tool = "terrain-build";
     m.build.version = TERRAIN_VERSION;
     summary.patches = builder.patches();

@@ -11,6 +11,7 @@
 #include "BuildClock.h"
 #include "BuildOutput.h"
 #include "ParallelFor.h"
+#include "SourceCoverage.h"
 #include "terrain/base/Assert.h"
 #include "terrain/io/NoDataFill.h"
 #include "terrain/io/PatchErrors.h"
@@ -559,6 +560,10 @@ PyramidManifest makeManifest(const DemReader& reader, const PyramidLayout& layou
     m.source.inputs = dem.inputs;
     m.source.reader = dem.readerName;
     m.source.sampleType = dem.sampleType;
+    m.source.band = dem.band;
+    m.source.bandCount = dem.bandCount;
+    m.source.rowsFlipped = dem.rowsFlipped;
+    m.source.columnsFlipped = dem.columnsFlipped;
     m.build.tool = "terrain-build";
     m.build.version = TERRAIN_VERSION;
     return m;
@@ -603,6 +608,11 @@ Result<PyramidBuildSummary> buildPyramid(DemReader& reader, const fs::path& outp
 
     PyramidBuildSummary summary;
     summary.manifest = makeManifest(reader, l, builder, withMask);
+    const std::int64_t samples = dem.width * dem.height;
+    const std::int64_t valid = summary.manifest.statistics.validSamples;
+    if (Status empty = refuseEmptySource(dem.path, samples, valid); !empty) return empty.error();
+    if (auto warning = mostlyNoDataWarning(dem.path, samples, valid))
+        summary.warnings.push_back(*warning);
     summary.patches = builder.patches();
     summary.phases = builder.phases();
     summary.seconds = std::chrono::duration<double>(Clock::now() - start).count();

@@ -204,6 +204,14 @@ PyramidManifest parseFields(const Json& root, LayoutFields& f) {
     }
     m.source.reader = stringField(source, "source", "reader");
     m.source.sampleType = stringField(source, "source", "sampleType");
+    if (source.contains("band")) m.source.band = intField(source, "source", "band");
+    if (source.contains("bandCount")) m.source.bandCount = intField(source, "source", "bandCount");
+    if (m.source.band < 1 || m.source.band > m.source.bandCount)
+        throw FieldError{"source.band", "a band from 1 to source.bandCount"};
+    if (source.contains("rowsFlipped"))
+        m.source.rowsFlipped = boolField(source, "source", "rowsFlipped");
+    if (source.contains("columnsFlipped"))
+        m.source.columnsFlipped = boolField(source, "source", "columnsFlipped");
 
     const Json& build = objectField(root, "", "build");
     m.build.tool = stringField(build, "build", "tool");
@@ -414,7 +422,11 @@ std::string toJson(const PyramidManifest& m) {
     j["levels"] = std::move(levels);
     j["source"] = {{"inputs", m.source.inputs},
                    {"reader", m.source.reader},
-                   {"sampleType", m.source.sampleType}};
+                   {"sampleType", m.source.sampleType},
+                   {"band", m.source.band},
+                   {"bandCount", m.source.bandCount},
+                   {"rowsFlipped", m.source.rowsFlipped},
+                   {"columnsFlipped", m.source.columnsFlipped}};
     j["build"] = {
         {"tool", m.build.tool}, {"version", m.build.version}, {"seconds", m.build.seconds}};
     if (m.globe)

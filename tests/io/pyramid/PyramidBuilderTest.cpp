@@ -19,7 +19,9 @@
 #include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -263,6 +265,60 @@ TEST(PyramidBuilder, MemoryBudgetTooSmallForTheWidthIsAClearError) {
     ASSERT_FALSE(result.ok());
     EXPECT_NE(result.error().message.find("--memory"), std::string::npos) << result.error().message;
     EXPECT_TRUE(fs::is_empty(tmp.path()));
+}
+
+// A float DEM whose samples left of column `validFrom` are NaN (no-data).
+class PartlyEmptyDem final : public DemReader {
+public:
+    PartlyEmptyDem(std::int64_t width, std::int64_t height, std::int64_t validFrom)
+        : m_validFrom(validFrom) {
+        m_info.path = "partly-empty";
+        m_info.readerName = "test";
+        m_info.inputs = {"partly-empty"};
+        m_info.width = width;
+        m_info.height = height;
+        m_info.sampleType = "float32";
+    }
+    const DemInfo& info() const override { return m_info; }
+    Status readWindow(std::int64_t x0, std::int64_t y0, std::int64_t width, std::int64_t rows,
+                      std::span<float> out) override {
+        for (std::int64_t r = 0; r < rows; ++r)
+            for (std::int64_t c = 0; c < width; ++c)
+                out[static_cast<std::size_t>(r * width + c)] =
+                    x0 + c < m_validFrom ? std::numeric_limits<float>::quiet_NaN()
+                                         : static_cast<float>(100 + (x0 + c) % 7 + (y0 + r) % 5);
+        return {};
+    }
+
+private:
+    DemInfo m_info;
+    std::int64_t m_validFrom;
+};
+
+// A raster without a valid sample would build a pyramid of nothing: refused, and nothing
+// left behind. One mostly of no-data builds, with a warning naming the share.
+TEST(PyramidBuilder, NoValidSampleIsRefusedAndMostlyNoDataIsWarnedAbout) {
+    TempFolder tmp;
+    PartlyEmptyDem empty(100, 80, 100);
+    const auto refused = buildPyramid(empty, tmp.path() / "empty");
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find("no valid sample"), std::string::npos)
+        << refused.error().message;
+    EXPECT_TRUE(refused.error().message.starts_with("partly-empty")) << refused.error().message;
+    EXPECT_TRUE(fs::is_empty(tmp.path()));
+
+    PartlyEmptyDem mostly(100, 80, 70);  // 70 % no-data
+    const auto warned = buildPyramid(mostly, tmp.path() / "mostly");
+    ASSERT_TRUE(warned.ok()) << warned.error().message;
+    ASSERT_EQ(warned.value().warnings.size(), 1u);
+    EXPECT_NE(warned.value().warnings.front().find("70.0 % of its 8000 samples are no-data"),
+              std::string::npos)
+        << warned.value().warnings.front();
+
+    PartlyEmptyDem some(100, 80, 30);  // 30 %: no warning
+    const auto quiet = buildPyramid(some, tmp.path() / "some");
+    ASSERT_TRUE(quiet.ok()) << quiet.error().message;
+    EXPECT_TRUE(quiet.value().warnings.empty());
 }
 
 }  // namespace

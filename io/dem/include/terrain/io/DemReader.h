@@ -42,6 +42,13 @@ struct DemInfo {
     /// as metres, no spacing at all taken as 1 m), each naming the file and the flags that
     /// say otherwise.
     std::vector<std::string> warnings;
+    /// Which raster band (1-based, GDAL's numbering) of how many the heights come from.
+    int band = 1;
+    int bandCount = 1;
+    /// The source's rows run south to north, or its columns east to west: read flipped,
+    /// so row 0 is still the north edge and column 0 the west edge.
+    bool rowsFlipped = false;
+    bool columnsFlipped = false;
 };
 
 class DemReader {
@@ -66,13 +73,23 @@ struct DemOpenOptions {
     std::optional<double> originY;    ///< map y of the north edge of row 0
     std::optional<int> epsg;          ///< sets crsKind and wkt from PROJ; unknown codes are Errors
     std::optional<double> noDataValue;  ///< raw value; samples equal to it read as NaN
+    /// The raster band to read, 1-based (GDAL's -b); unset: band 1, with a warning when the
+    /// input has several.
+    std::optional<int> band;
 };
+
+/// Whether `input` is a GDAL dataset name rather than a file: a subdataset
+/// (`NETCDF:"file.nc":var`, `HDF5:…`, `GTIFF_DIR:…`), a virtual file system path
+/// (`/vsizip/…`, `/vsicurl/…`) or a VRT document given inline (`<VRTDataset …`).
+bool isGdalDatasetName(const std::string& input);
 
 /// Opens one input, or several as a mosaic (same CRS and pixel size, aligned grids).
 /// An input "procedural:size=16385,seed=7,spacing=10" (keys optional; also width=,
-/// height=) is the built-in procedural terrain. The reader is chosen by extension:
-/// .hgt → SRTM reader; .tif/.tiff/.png/.exr/.jpg/.jpeg → OpenImageIO (GeoTIFF tags through
-/// libtiff); anything else and every mosaic → GDAL. Errors start with the input's path:
+/// height=) is the built-in procedural terrain. GDAL dataset names (isGdalDatasetName) go
+/// to GDAL. Otherwise the reader is chosen by extension: .hgt → SRTM reader;
+/// .tif/.tiff/.png/.exr/.jpg/.jpeg → OpenImageIO (GeoTIFF tags through libtiff), or GDAL
+/// for a band chosen with options.band, several channels, or a GeoTIFF ModelTransformation;
+/// anything else and every mosaic → GDAL. Errors start with the input's path:
 /// missing, empty, truncated or corrupt files, unsupported sample types, rotated rasters,
 /// mosaic inputs that do not match the first. Calling thread.
 Result<std::unique_ptr<DemReader>> openDem(const std::vector<std::string>& inputs,

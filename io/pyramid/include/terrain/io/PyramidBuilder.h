@@ -52,12 +52,15 @@ struct PyramidBuildSummary {
     std::uint64_t bytes = 0;  ///< shard files and manifest on disk
     double seconds = 0.0;
     PyramidBuildPhases phases;
+    /// What the user should know about the sources (most of a source is no-data), each
+    /// naming the file.
+    std::vector<std::string> warnings;
 };
 
 /// Builds the pyramid of `reader`'s DEM at `output` (a folder). The folder is built as
 /// "<output>.partial-<pid>" and renamed into place only when complete, so an interrupted
 /// or failed build never leaves a valid-looking pyramid. Errors name the file and the
-/// problem. Calling thread (plus worker threads it owns).
+/// problem; a source without a valid sample is one. Calling thread (plus worker threads it owns).
 Result<PyramidBuildSummary> buildPyramid(DemReader& reader, const std::filesystem::path& output,
                                          const PyramidBuildOptions& options = {});
 

@@ -71,6 +71,12 @@ struct ManifestSource {
     std::vector<std::string> inputs;
     std::string reader;      ///< DemInfo::readerName
     std::string sampleType;  ///< DemInfo::sampleType
+    /// DemInfo::band of bandCount, and whether rows or columns were flipped on read
+    /// (optional in the file: a manifest without them read band 1 of 1, north-up).
+    int band = 1;
+    int bandCount = 1;
+    bool rowsFlipped = false;
+    bool columnsFlipped = false;
     bool operator==(const ManifestSource&) const = default;
 };
 

@@ -1,0 +1,262 @@
+// Inputs the GDAL way (issue 21): a band chosen with -b, several bands warned about, a
+// container's subdatasets listed and opened by GDAL's name for them, an inline VRT, grids
+// whose rows run north or columns west read north-up with their heights where GDAL puts
+// them, and a rotated grid refused with the way out. Every file is written here with
+// GDAL's own API.
+#include "DemTestSupport.h"
+
+#include "terrain/io/DemReader.h"
+
+#include <gdal_priv.h>
+#include <ogr_spatialref.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace terrain::io {
+namespace {
+
+using test::readAll;
+using test::TempDir;
+
+constexpr int kWidth = 5;
+constexpr int kHeight = 4;
+
+// Band b's sample at column x, row y (as stored in the file): distinct everywhere, each
+// band above the one before, all within a byte.
+float storedValue(int band, int x, int y) { return static_cast<float>(50 * band + 10 * y + x); }
+
+DemOpenOptions bandOption(int band) {
+    DemOpenOptions options;
+    options.band = band;
+    return options;
+}
+
+class GdalInputsTest : public ::testing::Test {
+protected:
+    void SetUp() override { GDALAllRegister(); }
+
+    // A MEM dataset of `bands` float bands of storedValue, placed by `geoTransform`.
+    static GDALDataset* memoryDataset(int bands, const std::array<double, 6>& geoTransform,
+                                      GDALDataType type = GDT_Float32) {
+        GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
+        GDALDataset* ds = mem->Create("", kWidth, kHeight, bands, type, nullptr);
+        std::array<double, 6> gt = geoTransform;
+        ds->SetGeoTransform(gt.data());
+        OGRSpatialReference srs;
+        srs.importFromEPSG(32610);
+        ds->SetSpatialRef(&srs);
+        for (int b = 1; b <= bands; ++b) {
+            std::vector<float> values;
+            for (int y = 0; y < kHeight; ++y)
+                for (int x = 0; x < kWidth; ++x) values.push_back(storedValue(b, x, y));
+            EXPECT_EQ(ds->GetRasterBand(b)->RasterIO(GF_Write, 0, 0, kWidth, kHeight, values.data(),
+                                                     kWidth, kHeight, GDT_Float32, 0, 0, nullptr),
+                      CE_None);
+        }
+        return ds;
+    }
+
+    std::string copyTo(GDALDataset* source, const char* driverName, const std::string& name) {
+        const std::string path = m_dir.file(name);
+        GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(driverName);
+        EXPECT_NE(driver, nullptr) << driverName;
+        GDALDataset* copy =
+            driver->CreateCopy(path.c_str(), source, FALSE, nullptr, nullptr, nullptr);
+        EXPECT_NE(copy, nullptr) << path;
+        if (copy != nullptr) GDALClose(copy);
+        GDALClose(source);
+        return path;
+    }
+
+    static constexpr std::array<double, 6> kNorthUp = {500000.0, 10.0, 0.0, 5200000.0, 0.0, -10.0};
+
+    TempDir m_dir;
+};
+
+TEST_F(GdalInputsTest, BandIsChosenAndSeveralBandsAreWarnedAbout) {
+    const std::string tiff = copyTo(memoryDataset(3, kNorthUp), "GTiff", "three-bands.tif");
+    {
+        auto reader = test::openOne(tiff);
+        ASSERT_TRUE(reader) << reader.error().message;
+        const DemInfo& info = reader.value()->info();
+        EXPECT_EQ(info.readerName, "gdal");  // the OpenImageIO reader hands bands to GDAL
+        EXPECT_EQ(info.band, 1);
+        EXPECT_EQ(info.bandCount, 3);
+        ASSERT_EQ(info.warnings.size(), 1u);
+        EXPECT_NE(info.warnings.front().find("3 bands"), std::string::npos)
+            << info.warnings.front();
+        EXPECT_NE(info.warnings.front().find("-b/--band"), std::string::npos);
+        EXPECT_EQ(readAll(*reader.value()).front(), storedValue(1, 0, 0));
+    }
+    {
+        auto reader = test::openOne(tiff, bandOption(2));
+        ASSERT_TRUE(reader) << reader.error().message;
+        EXPECT_EQ(reader.value()->info().band, 2);
+        EXPECT_TRUE(reader.value()->info().warnings.empty());
+        const std::vector<float> all = readAll(*reader.value());
+        EXPECT_EQ(all[static_cast<std::size_t>(kWidth + 3)], storedValue(2, 3, 1));
+    }
+    const auto missing = test::openOne(tiff, bandOption(4));
+    ASSERT_FALSE(missing);
+    EXPECT_NE(missing.error().message.find("no band 4: it has 3 bands"), std::string::npos)
+        << missing.error().message;
+    EXPECT_TRUE(missing.error().message.starts_with(tiff)) << missing.error().message;
+
+    // An RGB PNG: its channels are bands too.
+    GDALDataset* bytes = memoryDataset(3, kNorthUp, GDT_Byte);
+    const std::string png = copyTo(bytes, "PNG", "rgb.png");
+    auto rgb = test::openOne(png, bandOption(3));
+    ASSERT_TRUE(rgb) << rgb.error().message;
+    EXPECT_EQ(readAll(*rgb.value()).back(), storedValue(3, kWidth - 1, kHeight - 1));
+
+    // A single-band file takes -b 1 and refuses -b 2; so do the procedural source and .hgt.
+    EXPECT_TRUE(
+        test::openOne(copyTo(memoryDataset(1, kNorthUp), "GTiff", "one.tif"), bandOption(1)));
+    EXPECT_FALSE(test::openOne(m_dir.file("one.tif"), bandOption(2)));
+    EXPECT_FALSE(test::openOne("procedural:size=65", bandOption(2)));
+}
+
+TEST_F(GdalInputsTest, ContainerListsItsSubdatasetsAndOpensOneByName) {
+    GDALDriver* netcdf = GetGDALDriverManager()->GetDriverByName("netCDF");
+    ASSERT_NE(netcdf, nullptr) << "GDAL without its netCDF driver";
+    const std::string path = m_dir.file("two-variables.nc");
+    {
+        std::unique_ptr<GDALDataset> ds(
+            netcdf->CreateMultiDimensional(path.c_str(), nullptr, nullptr));
+        ASSERT_NE(ds, nullptr);
+        const std::shared_ptr<GDALGroup> root = ds->GetRootGroup();
+        const auto y = root->CreateDimension("y", "", "", kHeight);
+        const auto x = root->CreateDimension("x", "", "", kWidth);
+        ASSERT_TRUE(y && x);
+        for (const auto& [name, band] : {std::pair{"elevation", 1}, {"quality", 2}}) {
+            const auto array =
+                root->CreateMDArray(name, {y, x}, GDALExtendedDataType::Create(GDT_Float32));
+            ASSERT_NE(array, nullptr) << name;
+            std::vector<float> values;
+            for (int r = 0; r < kHeight; ++r)
+                for (int c = 0; c < kWidth; ++c) values.push_back(storedValue(band, c, r));
+            const std::array<GUInt64, 2> start{0, 0};
+            const std::array<std::size_t, 2> count{kHeight, kWidth};
+            ASSERT_TRUE(array->Write(start.data(), count.data(), nullptr, nullptr,
+                                     GDALExtendedDataType::Create(GDT_Float32), values.data()));
+        }
+    }
+    const auto container = test::openOne(path);
+    ASSERT_FALSE(container);
+    const std::string& message = container.error().message;
+    EXPECT_NE(message.find("holds 2 subdatasets"), std::string::npos) << message;
+    const std::string quality = "NETCDF:\"" + path + "\":quality";
+    EXPECT_NE(message.find(quality), std::string::npos) << message;
+    EXPECT_NE(message.find("NETCDF:\"" + path + "\":elevation"), std::string::npos) << message;
+
+    auto reader = test::openOne(quality);
+    ASSERT_TRUE(reader) << reader.error().message;
+    EXPECT_EQ(reader.value()->info().width, kWidth);
+    const std::vector<float> all = readAll(*reader.value());
+    // Whatever way the file stores its rows, the values are the variable's, not its
+    // neighbour's.
+    for (const float v : all) EXPECT_GE(v, storedValue(2, 0, 0));
+    EXPECT_EQ(*std::max_element(all.begin(), all.end()), storedValue(2, kWidth - 1, kHeight - 1));
+
+    // A name GDAL cannot open is an error naming it, not "no such file".
+    const auto wrong = test::openOne("NETCDF:\"" + path + "\":slope");
+    ASSERT_FALSE(wrong);
+    EXPECT_TRUE(wrong.error().message.starts_with("NETCDF:")) << wrong.error().message;
+    EXPECT_EQ(wrong.error().message.find("no such file"), std::string::npos);
+}
+
+TEST_F(GdalInputsTest, InlineVrtIsADataset) {
+    const std::string tiff = copyTo(memoryDataset(2, kNorthUp), "GTiff", "source.tif");
+    const std::string vrt = "<VRTDataset rasterXSize=\"" + std::to_string(kWidth) +
+                            "\" rasterYSize=\"" + std::to_string(kHeight) +
+                            "\"><VRTRasterBand dataType=\"Float32\" band=\"1\"><SimpleSource>"
+                            "<SourceFilename>" +
+                            tiff +
+                            "</SourceFilename><SourceBand>2</SourceBand></SimpleSource>"
+                            "</VRTRasterBand></VRTDataset>";
+    auto reader = test::openOne(vrt);
+    ASSERT_TRUE(reader) << reader.error().message;
+    EXPECT_EQ(readAll(*reader.value())[1], storedValue(2, 1, 0));
+}
+
+// A grid stored south to north, or east to west, reads north-up: each height where GDAL's
+// geotransform puts it, and the georeference of the north-west corner.
+TEST_F(GdalInputsTest, FlippedGridsReadNorthUpWhereGdalPutsTheirHeights) {
+    struct Case {
+        const char* name;
+        std::array<double, 6> gt;
+        bool rowsFlipped, columnsFlipped;
+    };
+    const double west = 500000.0, north = 5200000.0, step = 10.0;
+    const std::vector<Case> cases{
+        {"south-up.tif", {west, step, 0.0, north - kHeight * step, 0.0, step}, true, false},
+        {"east-to-west.tif", {west + kWidth * step, -step, 0.0, north, 0.0, -step}, false, true},
+        {"both.tif",
+         {west + kWidth * step, -step, 0.0, north - kHeight * step, 0.0, step},
+         true,
+         true},
+        {"south-up.nc", {west, step, 0.0, north - kHeight * step, 0.0, step}, true, false},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        const std::string name = c.name;
+        const std::string path =
+            copyTo(memoryDataset(1, c.gt), name.ends_with(".nc") ? "netCDF" : "GTiff", name);
+        auto reader = test::openOne(path);
+        ASSERT_TRUE(reader) << reader.error().message;
+        const DemInfo& info = reader.value()->info();
+        EXPECT_EQ(info.georeference.originX, west);
+        EXPECT_EQ(info.georeference.originY, north);
+        EXPECT_EQ(info.georeference.pixelSizeX, step);
+        EXPECT_EQ(info.georeference.pixelSizeY, step);
+        // What GDAL says is at each sample's centre, through its own geotransform of the file.
+        GDALDataset* ds = GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY);
+        ASSERT_NE(ds, nullptr);
+        std::array<double, 6> gt{};
+        ds->GetGeoTransform(gt.data());
+        std::vector<float> stored(kWidth * kHeight);
+        ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Read, 0, 0, kWidth, kHeight, stored.data(),
+                                                 kWidth, kHeight, GDT_Float32, 0, 0, nullptr),
+                  CE_None);
+        GDALClose(ds);
+        const bool rows = gt[5] > 0.0, columns = gt[1] < 0.0;
+        EXPECT_EQ(info.rowsFlipped, rows);
+        EXPECT_EQ(info.columnsFlipped, columns);
+        if (!name.ends_with(".nc")) {
+            EXPECT_EQ(rows, c.rowsFlipped);
+            EXPECT_EQ(columns, c.columnsFlipped);
+        }
+        const std::vector<float> read = readAll(*reader.value());
+        for (int y = 0; y < kHeight; ++y) {
+            for (int x = 0; x < kWidth; ++x) {
+                // Our sample (x, y) is centred at west + (x + ½)·step, north − (y + ½)·step;
+                // find the stored sample GDAL centres there.
+                const double mx = west + (x + 0.5) * step, my = north - (y + 0.5) * step;
+                const auto sx = static_cast<int>(std::floor((mx - gt[0]) / gt[1]));
+                const auto sy = static_cast<int>(std::floor((my - gt[3]) / gt[5]));
+                EXPECT_EQ(read[static_cast<std::size_t>(y * kWidth + x)],
+                          stored[static_cast<std::size_t>(sy * kWidth + sx)])
+                    << "sample (" << x << ", " << y << ")";
+            }
+        }
+    }
+}
+
+TEST_F(GdalInputsTest, RotatedGridIsRefusedWithTheWayOut) {
+    const std::string path = copyTo(memoryDataset(1, {500000.0, 10.0, 2.0, 5200000.0, 2.0, -10.0}),
+                                    "GTiff", "rotated.tif");
+    const auto reader = test::openOne(path);
+    ASSERT_FALSE(reader);
+    EXPECT_NE(reader.error().message.find("rotated or sheared"), std::string::npos)
+        << reader.error().message;
+    EXPECT_NE(reader.error().message.find("gdalwarp"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace terrain::io
