@@ -7,6 +7,7 @@
 
 #include "terrain/io/DemReader.h"
 
+#include <cpl_vsi.h>
 #include <gdal_priv.h>
 #include <ogr_spatialref.h>
 
@@ -183,6 +184,21 @@ TEST_F(GdalInputsTest, InlineVrtIsADataset) {
     auto reader = test::openOne(vrt);
     ASSERT_TRUE(reader) << reader.error().message;
     EXPECT_EQ(readAll(*reader.value())[1], storedValue(2, 1, 0));
+}
+
+// A file inside a zip, by GDAL's /vsizip/ name: no such file on disk, yet an input.
+TEST_F(GdalInputsTest, ZippedFileIsReadThroughVsizip) {
+    const std::string tiff = copyTo(memoryDataset(1, kNorthUp), "GTiff", "inside.tif");
+    const std::vector<char> bytes = test::readBytes(tiff);
+    const std::string name = "/vsizip/" + m_dir.file("dems.zip") + "/inside.tif";
+    VSILFILE* zipped = VSIFOpenL(name.c_str(), "wb");
+    ASSERT_NE(zipped, nullptr) << "GDAL cannot write " << name;
+    EXPECT_EQ(VSIFWriteL(bytes.data(), 1, bytes.size(), zipped), bytes.size());
+    VSIFCloseL(zipped);
+    auto reader = test::openOne(name);
+    ASSERT_TRUE(reader) << reader.error().message;
+    EXPECT_EQ(reader.value()->info().readerName, "gdal");
+    EXPECT_EQ(readAll(*reader.value())[7], storedValue(1, 2, 1));
 }
 
 // A grid stored south to north, or east to west, reads north-up: each height where GDAL's
