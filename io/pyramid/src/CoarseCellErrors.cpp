@@ -6,8 +6,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <cmath>
-#include <limits>
 
 namespace terrain::io {
 
@@ -64,10 +62,7 @@ void coarseCellErrors(const GridView& patch, int blockQuads,
                 const double bound = static_cast<double>(simplificationError(
                                          corners, cx, cy, cellBlocks, cellBlocks)) +
                                      static_cast<double>(lambda);
-                auto rounded = static_cast<float>(bound);
-                if (static_cast<double>(rounded) < bound)
-                    rounded = std::nextafter(rounded, std::numeric_limits<float>::infinity());
-                out[next++] = rounded;
+                out[next++] = roundUpToFloat(bound);
             }
         }
     }

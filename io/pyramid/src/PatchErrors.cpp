@@ -38,13 +38,6 @@ Cell cellAt(const GridView& g, int x, int y, int side) {
     return {g.at(x, y), g.at(x + side, y), g.at(x, y + side), g.at(x + side, y + side)};
 }
 
-float roundUpToFloat(double value) {
-    auto f = static_cast<float>(value);
-    if (static_cast<double>(f) < value)
-        f = std::nextafter(f, std::numeric_limits<float>::infinity());
-    return f;
-}
-
 // Barycentric weights of the corners (a, b, c, d) at the points of a coarse cell of side
 // `step` on both diagonals: at its (step + 1)² samples, then at its step² fine cell
 // centres. Stored as separate arrays so the loops below run branch-free and vectorise;
@@ -365,6 +358,13 @@ std::pair<double, double> cellSurfaceHeights(double a, double b, double c, doubl
                                              double v) {
     const TwoHeights h = cellHeights(Cell{a, b, c, d}, u, v);
     return {h.first, h.second};
+}
+
+float roundUpToFloat(double value) {
+    auto f = static_cast<float>(value);
+    if (static_cast<double>(f) < value)
+        f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    return f;
 }
 
 float simplificationError(const GridView& grid, int x0, int y0, int quadsX, int quadsY, int step) {

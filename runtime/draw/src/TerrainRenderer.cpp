@@ -16,7 +16,6 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <limits>
 
 namespace terrain::runtime {
 
@@ -93,9 +92,7 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
                 coarseCellChoice(lodCamera, geometry, patches[i].id, *pool.info(patches[i].id),
                                  pool.coarseCellErrorsM(patches[i].id), style.errorPx);
             if (!choice.coarse()) continue;
-            auto errorM = static_cast<float>(choice.errorM);  // a bound: rounded up
-            if (static_cast<double>(errorM) < choice.errorM)
-                errorM = std::nextafter(errorM, std::numeric_limits<float>::infinity());
+            const float errorM = io::roundUpToFloat(choice.errorM);  // a bound: rounded up
             m_staging[i].coarseCells = {static_cast<float>(choice.cellQuads), errorM, 0.0f, 0.0f};
             coarseDepthM = std::max(coarseDepthM, errorM);
         }

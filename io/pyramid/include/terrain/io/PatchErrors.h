@@ -23,6 +23,9 @@ struct GridView {
     float at(int x, int y) const { return data[static_cast<std::ptrdiff_t>(y) * stride + x]; }
 };
 
+/// `value` as a float no smaller than it: a bound stays a bound after the conversion.
+float roundUpToFloat(double value);
+
 /// The largest vertical distance between a grid's full-resolution surface and the same
 /// grid simplified to every `step`-th sample, over the square region of `quads` × `quads`
 /// quads whose top-left sample is (x0, y0). The difference of two piecewise-linear
