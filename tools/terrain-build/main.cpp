@@ -53,6 +53,17 @@ std::optional<std::uint64_t> parseBytes(const std::string& text) {
     return static_cast<std::uint64_t>(value * scale);
 }
 
+// A rotated or sheared source's resampling, or null.
+nlohmann::json resampledJson(const std::optional<terrain::io::ManifestResampling>& r) {
+    if (!r) return nullptr;
+    return {{"method", r->method},
+            {"width", r->width},
+            {"height", r->height},
+            {"geoTransform", r->geoTransform},
+            {"validSamples", r->validSamples},
+            {"finestDistanceM", r->finestDistanceM}};
+}
+
 // A one-line progress bar with an ETA, redrawn in place on a terminal.
 class ProgressBar {
 public:
@@ -191,7 +202,8 @@ int main(int argc, char** argv) {
               {"subdataset",
                io::isGdalDatasetName(dem.path) ? nlohmann::json(dem.path) : nlohmann::json()},
               {"rowsFlipped", dem.rowsFlipped},
-              {"columnsFlipped", dem.columnsFlipped}}},
+              {"columnsFlipped", dem.columnsFlipped},
+              {"resampled", resampledJson(s.manifest.source.resampled)}}},
             {"levels", s.manifest.levels.size()},
             {"tiling", s.manifest.globe ? "globe" : "planar"},
             {"faceFinestLevel", s.manifest.globe ? nlohmann::json(s.manifest.globe->faceFinestLevel)

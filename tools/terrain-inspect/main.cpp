@@ -65,6 +65,13 @@ void printText(const io::PyramidReader& reader, const inspect::Inspection& inspe
                m.source.band, m.source.bandCount, m.source.rowsFlipped ? ", rows flipped" : "",
                m.source.columnsFlipped ? ", columns flipped" : "", m.build.tool, m.build.version,
                m.build.seconds);
+    if (const auto& r = m.source.resampled)
+        fmt::print(
+            "resampled: a rotated or sheared grid of {} × {} ({} valid samples, geotransform {}) "
+            "resampled {} onto this grid; its samples lie up to {} m from the finest level, and "
+            "every Err(P) covers them\n",
+            r->width, r->height, r->validSamples, fmt::join(r->geoTransform, ", "), r->method,
+            r->finestDistanceM);
     fmt::print("\n{:>5} {:>13} {:>10} {:>9} {:>11}   {}\n", "level", "patches", "present", "shards",
                "on disk", "Err(P) min / median / max, m");
     std::int64_t patches = 0, present = 0, shards = 0;

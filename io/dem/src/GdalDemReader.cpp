@@ -118,7 +118,7 @@ std::optional<double> metresPerHeightUnit(std::string_view unit) {
 }
 
 Result<DemInfo> describeGdalDataset(GDALDataset& dataset, const std::string& path,
-                                    std::optional<int> bandNumber) {
+                                    std::optional<int> bandNumber, RotatedGrids rotated) {
     const auto fail = [&](const std::string& what) {
         return Error{fmt::format("{}: {}", path, what)};
     };
@@ -196,11 +196,21 @@ Result<DemInfo> describeGdalDataset(GDALDataset& dataset, const std::string& pat
     info.georeference.crsKind = CrsKind::Unknown;
     std::array<double, 6> gt{};
     if (dataset.GetGeoTransform(gt.data()) != CE_None) return info;  // not georeferenced
-    if (gt[2] != 0.0 || gt[4] != 0.0)
-        return fail(fmt::format(
-            "rotated or sheared rasters are not supported (geotransform {}, {}, {}, {}, {}, {}); "
-            "resample it onto a north-up grid first (gdalwarp)",
-            gt[0], gt[1], gt[2], gt[3], gt[4], gt[5]));
+    if (gt[2] != 0.0 || gt[4] != 0.0) {
+        if (rotated == RotatedGrids::Refuse)
+            return fail(fmt::format(
+                "rotated or sheared rasters are not supported here (geotransform {}, {}, {}, {}, "
+                "{}, {}); resample it onto a north-up grid first (gdalwarp)",
+                gt[0], gt[1], gt[2], gt[3], gt[4], gt[5]));
+        if (!std::all_of(gt.begin(), gt.end(), [](double v) { return std::isfinite(v); }) ||
+            gt[1] * gt[5] - gt[2] * gt[4] == 0.0)
+            return fail(fmt::format("unusable geotransform {}, {}, {}, {}, {}, {}", gt[0], gt[1],
+                                    gt[2], gt[3], gt[4], gt[5]));
+        // Placed by openResampledGdalDem once the warper's grid is chosen.
+        info.resampledFrom = ResampledGrid{info.width, info.height, gt, {}, "bilinear"};
+        describeCrs(dataset, info.georeference);
+        return info;
+    }
     if (gt[1] == 0.0 || gt[5] == 0.0 || !std::isfinite(gt[1]) || !std::isfinite(gt[5]))
         return fail(fmt::format("unusable pixel size {} × {} in the geotransform", gt[1], gt[5]));
     Georeference& geo = info.georeference;
@@ -217,10 +227,11 @@ Result<DemInfo> describeGdalDataset(GDALDataset& dataset, const std::string& pat
     return info;
 }
 
-GdalDemReader::GdalDemReader(DemInfo info, GdalDataset dataset, std::vector<PixelRect> coverage)
+GdalDemReader::GdalDemReader(DemInfo info, GdalDataset dataset, std::vector<PixelRect> coverage,
+                             int datasetBand)
     : m_info(std::move(info)),
       m_dataset(std::move(dataset)),
-      m_band(m_dataset->GetRasterBand(m_info.band)),
+      m_band(m_dataset->GetRasterBand(datasetBand > 0 ? datasetBand : m_info.band)),
       m_coverage(std::move(coverage)) {
     const GDALDataType type = m_band->GetRasterDataType();
     m_wide = type == GDT_Float64 || type == GDT_Int32 || type == GDT_UInt32 || type == GDT_Int64 ||
@@ -363,8 +374,11 @@ DemReaderResult openGdalDem(const std::string& path, const DemOpenOptions& optio
     Result<GdalDataset> opened = openGdalDataset(path);
     if (!opened) return opened.error();
     GdalDataset dataset = std::move(opened).value();
-    Result<DemInfo> info = describeGdalDataset(*dataset, path, options.band);
+    Result<DemInfo> info =
+        describeGdalDataset(*dataset, path, options.band, RotatedGrids::Resample);
     if (!info) return info.error();
+    if (info.value().resampledFrom)
+        return openResampledGdalDem(std::move(info).value(), std::move(dataset), options);
     if (Status s = applyDemOpenOptions(info.value(), options); !s) return s.error();
     return std::unique_ptr<DemReader>(
         std::make_unique<GdalDemReader>(std::move(info).value(), std::move(dataset)));

@@ -18,13 +18,18 @@ struct PixelRect {
     std::int64_t x = 0, y = 0, width = 0, height = 0;
 };
 
+enum class RotatedGrids { Refuse, Resample };
+
 /// What band `band` (1-based; unset: band 1, with a warning when there are several) of a
 /// dataset says about itself: size, sample type, no-data, scale/offset, the georeference
-/// with the CRS, and whether rows or columns run backwards (read flipped). Errors name
-/// `path`: complex samples, a rotated or sheared geotransform, a band it does not have, no
+/// with the CRS, and whether rows or columns run backwards (read flipped). A rotated or
+/// sheared geotransform is an Error, or with RotatedGrids::Resample is described in
+/// `resampledFrom` (the size is the source's, the georeference only its CRS) for
+/// openResampledGdalDem. Errors name `path`: complex samples, a band it does not have, no
 /// raster band (listing the subdatasets a container holds instead).
 Result<DemInfo> describeGdalDataset(GDALDataset& dataset, const std::string& path,
-                                    std::optional<int> band = std::nullopt);
+                                    std::optional<int> band = std::nullopt,
+                                    RotatedGrids rotated = RotatedGrids::Refuse);
 
 /// Metres per unit of a band's height unit (GDAL's unit type: netCDF/CF `units`): 1 for
 /// metres or no unit, 1000 for km, 0.3048 for ft, 1200/3937 for US survey ft; nothing for
@@ -35,8 +40,10 @@ class GdalDemReader final : public DemReader {
 public:
     /// `coverage`: for a mosaic with gaps, the inputs' footprints (samples outside all of
     /// them read as NaN); empty when the whole raster is covered.
-    /// Reads band info.band, flipping rows and columns as info says.
-    GdalDemReader(DemInfo info, GdalDataset dataset, std::vector<PixelRect> coverage = {});
+    /// Reads band info.band (or `datasetBand` when the dataset numbers it otherwise),
+    /// flipping rows and columns as info says.
+    GdalDemReader(DemInfo info, GdalDataset dataset, std::vector<PixelRect> coverage = {},
+                  int datasetBand = 0);
 
     const DemInfo& info() const override { return m_info; }
     Status readWindow(std::int64_t x0, std::int64_t y0, std::int64_t width, std::int64_t rows,
@@ -53,6 +60,14 @@ private:
     std::vector<PixelRect> m_coverage;
     std::vector<double> m_wideScratch;
 };
+
+/// The reader of a rotated or sheared dataset described with RotatedGrids::Resample: GDAL's
+/// warper resamples band info.band bilinearly onto the north-up grid, in the same CRS,
+/// whose sample centres cover every source sample centre at the source's finest spacing;
+/// originalSamples() reads the source's own grid. Options that place the raster (pixel
+/// size, origin) are refused: the geotransform places it. Errors name info.path.
+DemReaderResult openResampledGdalDem(DemInfo info, GdalDataset dataset,
+                                     const DemOpenOptions& options);
 
 /// Opens `path` (a file checked first: exists, not empty, not a truncated netCDF classic
 /// file; a GDAL dataset name as GDAL takes it) for reading. Errors start with the path and

@@ -4,6 +4,7 @@
 #include "terrain/io/PatchErrors.h"
 
 #include <algorithm>
+#include <string>
 
 namespace terrain::io {
 
@@ -17,6 +18,11 @@ Result<GlobeSources> GlobeSources::read(std::span<DemReader* const> readers,
                                         std::uint64_t memoryBudgetBytes, int quads) {
     std::vector<Source> sources;
     for (DemReader* reader : readers) {
+        // Its bounds would hold for the resampled grid only, not the source's own samples.
+        if (reader->info().resampledFrom)
+            return Error{reader->info().path +
+                         ": a rotated or sheared grid cannot go into a globe pyramid yet; "
+                         "resample it onto a north-up grid first (gdalwarp)"};
         Result<GeographicGrid> grid = GeographicGrid::read(
             *reader, memoryBudgetBytes / std::max<std::size_t>(1, readers.size()));
         if (!grid) return grid.error();

@@ -10,6 +10,7 @@
 
 #include "BuildClock.h"
 #include "BuildOutput.h"
+#include "OriginalSampleDistances.h"
 #include "ParallelFor.h"
 #include "SourceCoverage.h"
 #include "terrain/base/Assert.h"
@@ -297,6 +298,7 @@ public:
     Builder(DemReader& reader, const PyramidLayout& layout, const PyramidBuildOptions& options,
             const fs::path& folder, bool withMask)
         : m_reader(reader),
+          m_original(reader.originalSamples()),
           m_layout(layout),
           m_options(options),
           m_folder(folder),
@@ -344,6 +346,10 @@ public:
     std::int64_t patches() const { return m_patches; }
     float rootError() const { return m_rootError; }
     const std::vector<float>& levelMaxError() const { return m_levelMaxError; }
+    /// A resampled source's own valid samples, and their largest distance from the finest
+    /// level's surface.
+    std::int64_t originalValidSamples() const { return m_originalValid; }
+    double originalFinestDistance() const { return m_originalFinestDistance; }
     const PyramidBuildPhases& phases() const { return m_phases; }
 
 private:
@@ -354,6 +360,7 @@ private:
 
         // Err_Appr(P) = Err_Int(P) + max over children (0 at the finest level).
         m_approx.reset(patchesX, patchesY);
+        if (m_original != nullptr) m_error.reset(patchesX, patchesY);
         LevelGrid parentInterpolation;
         if (level > 0)
             parentInterpolation.reset(m_layout.patchesX(level - 1), m_layout.patchesY(level - 1));
@@ -384,6 +391,11 @@ private:
                 makeRecord(level, band, PatchId{level, i % patchesX, firstPatchRow + i / patchesX},
                            records[static_cast<std::size_t>(i)]);
             });
+            if (m_original != nullptr) {
+                if (auto raised = coverOriginalSamples(level, firstPatchRow, patchRows, records);
+                    !raised)
+                    return raised;
+            }
             // Err_Int of the parents whose children are in this band (Yusov §4).
             if (level > 0) {
                 parallelFor(m_layout.patchesX(level - 1), m_threads, [&](std::int64_t parentX) {
@@ -419,8 +431,9 @@ private:
             TERRAIN_ASSERT(coarser->rowsWritten() == coarser->height());
         }
         m_childApprox = m_approx;
+        m_childError = m_error;
         m_interpolation = std::move(parentInterpolation);
-        if (level == 0) m_rootError = m_approx.at(0, 0);
+        if (level == 0) m_rootError = m_original != nullptr ? m_error.at(0, 0) : m_approx.at(0, 0);
         return {};
     }
 
@@ -462,6 +475,48 @@ private:
         info.approxError = approx;
         info.quantError = 0.0f;  // float32 storage is lossless
         info.error = approx;
+    }
+
+    // A resampled source (issue 21): Err(P) is raised to cover the source's own samples
+    // lying in P, measured against P's surface (OriginalSampleDistances.h), and to its
+    // children's Err, so the bound still shrinks from a patch to its children. Err_Appr
+    // stays Yusov's: the bound against the resampled grid.
+    Status coverOriginalSamples(int level, std::int64_t firstPatchRow, int patchRows,
+                                std::vector<PatchRecord>& records) {
+        const std::int64_t patchesX = m_layout.patchesX(level);
+        const std::size_t count = static_cast<std::size_t>(patchRows * patchesX);
+        m_distances.assign(count, 0.0);
+        const bool finest = level == m_layout.finestLevel();
+        const auto patchAt = [&](std::int64_t px, std::int64_t py) -> const PatchRecord& {
+            return records[static_cast<std::size_t>((py - firstPatchRow) * patchesX + px)];
+        };
+        const auto visit = [&](const PatchRecord& patch, std::int64_t, std::int64_t,
+                               double distance) {
+            double& worst = m_distances[static_cast<std::size_t>(&patch - records.data())];
+            worst = std::max(worst, distance);
+            if (finest) {
+                ++m_originalValid;
+                m_originalFinestDistance = std::max(m_originalFinestDistance, distance);
+            }
+        };
+        if (Status visited =
+                detail::visitOriginalSamples(*m_original, *m_reader.info().resampledFrom, m_layout,
+                                             level, firstPatchRow, patchRows, patchAt, visit);
+            !visited)
+            return visited;
+        for (std::size_t i = 0; i < count; ++i) {
+            PatchInfo& info = records[i].info;
+            const PatchId& id = records[i].id;
+            float error = std::max(info.error, roundUpToFloat(m_distances[i]));
+            for (std::int64_t cy = 2 * id.y;
+                 !finest && cy < std::min(2 * id.y + 2, m_childError.height); ++cy)
+                for (std::int64_t cx = 2 * id.x; cx < std::min(2 * id.x + 2, m_childError.width);
+                     ++cx)
+                    error = std::max(error, m_childError.at(cx, cy));
+            info.error = error;
+            m_error.at(id.x, id.y) = error;
+        }
+        return {};
     }
 
     static float roundUpSum(float a, float b) {
@@ -517,6 +572,7 @@ private:
     }
 
     DemReader& m_reader;
+    DemReader* m_original;  // a resampled source's own samples, else null
     const PyramidLayout& m_layout;
     const PyramidBuildOptions& m_options;
     fs::path m_folder;
@@ -526,6 +582,10 @@ private:
     DemEdges m_edges;
     DemStatistics m_statistics;
     LevelGrid m_approx, m_childApprox, m_interpolation;
+    LevelGrid m_error, m_childError;  // Err(P) of a resampled source's levels
+    std::vector<double> m_distances;
+    std::int64_t m_originalValid = 0;
+    double m_originalFinestDistance = 0.0;
     std::vector<float> m_rowScratch;
     std::vector<std::uint8_t> m_validScratch;
     std::vector<float> m_levelMaxError;
@@ -564,6 +624,11 @@ PyramidManifest makeManifest(const DemReader& reader, const PyramidLayout& layou
     m.source.bandCount = dem.bandCount;
     m.source.rowsFlipped = dem.rowsFlipped;
     m.source.columnsFlipped = dem.columnsFlipped;
+    if (dem.resampledFrom)
+        m.source.resampled =
+            ManifestResampling{dem.resampledFrom->method,      dem.resampledFrom->width,
+                               dem.resampledFrom->height,      dem.resampledFrom->geoTransform,
+                               builder.originalValidSamples(), builder.originalFinestDistance()};
     m.build.tool = "terrain-build";
     m.build.version = TERRAIN_VERSION;
     return m;
@@ -602,14 +667,19 @@ Result<PyramidBuildSummary> buildPyramid(DemReader& reader, const fs::path& outp
     // source that declares none are filled and counted all the same, but not masked: the
     // mask costs 2 bytes a sample (half) in every tile, and the build streams, so it has to
     // decide before it has seen the samples.
-    const bool withMask = dem.noDataValue.has_value();
+    // A resampled source is masked too: the resampled grid's corners outside it are no-data.
+    const bool withMask = dem.noDataValue.has_value() || dem.resampledFrom.has_value();
     Builder builder(reader, l, options, partial.path(), withMask);
     if (auto built = builder.run(); !built) return built.error();
 
     PyramidBuildSummary summary;
     summary.manifest = makeManifest(reader, l, builder, withMask);
-    const std::int64_t samples = dem.width * dem.height;
-    const std::int64_t valid = summary.manifest.statistics.validSamples;
+    // Coverage is the source's own: a rotated grid's resampling is partly empty by shape.
+    const auto& resampled = summary.manifest.source.resampled;
+    const std::int64_t samples =
+        resampled ? resampled->width * resampled->height : dem.width * dem.height;
+    const std::int64_t valid =
+        resampled ? resampled->validSamples : summary.manifest.statistics.validSamples;
     if (Status empty = refuseEmptySource(dem.path, samples, valid); !empty) return empty.error();
     if (auto warning = mostlyNoDataWarning(dem.path, samples, valid))
         summary.warnings.push_back(*warning);

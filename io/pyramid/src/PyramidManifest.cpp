@@ -212,6 +212,22 @@ PyramidManifest parseFields(const Json& root, LayoutFields& f) {
         m.source.rowsFlipped = boolField(source, "source", "rowsFlipped");
     if (source.contains("columnsFlipped"))
         m.source.columnsFlipped = boolField(source, "source", "columnsFlipped");
+    if (source.contains("resampled")) {
+        const Json& r = objectField(source, "source", "resampled");
+        const std::string p = "source.resampled";
+        ManifestResampling& resampled = m.source.resampled.emplace();
+        resampled.method = stringField(r, p, "method");
+        resampled.width = int64Field(r, p, "width");
+        resampled.height = int64Field(r, p, "height");
+        const Json& gt = arrayField(r, p, "geoTransform");
+        if (gt.size() != 6) throw FieldError{p + ".geoTransform", "6 numbers"};
+        for (std::size_t i = 0; i < 6; ++i) {
+            if (!gt[i].is_number()) throw FieldError{p + ".geoTransform", "6 numbers"};
+            resampled.geoTransform[i] = gt[i].get<double>();
+        }
+        resampled.validSamples = int64Field(r, p, "validSamples");
+        resampled.finestDistanceM = numberField(r, p, "finestDistanceM");
+    }
 
     const Json& build = objectField(root, "", "build");
     m.build.tool = stringField(build, "build", "tool");
@@ -427,6 +443,13 @@ std::string toJson(const PyramidManifest& m) {
                    {"bandCount", m.source.bandCount},
                    {"rowsFlipped", m.source.rowsFlipped},
                    {"columnsFlipped", m.source.columnsFlipped}};
+    if (const auto& r = m.source.resampled)
+        j["source"]["resampled"] = {{"method", r->method},
+                                    {"width", r->width},
+                                    {"height", r->height},
+                                    {"geoTransform", r->geoTransform},
+                                    {"validSamples", r->validSamples},
+                                    {"finestDistanceM", r->finestDistanceM}};
     j["build"] = {
         {"tool", m.build.tool}, {"version", m.build.version}, {"seconds", m.build.seconds}};
     if (m.globe)

@@ -1,6 +1,7 @@
 #include "terrain/io/PyramidSourceCheck.h"
 
 #include "GlobeSourceCheck.h"
+#include "OriginalSampleDistances.h"
 #include "ParallelFor.h"
 #include "terrain/io/PatchErrors.h"
 
@@ -80,6 +81,51 @@ private:
     double m_tightest = 0.0;
 };
 
+// A resampled source (DemInfo::resampledFrom): its own samples, wherever they lie between
+// the pyramid's, level by level and patch row by patch row.
+Result<SourceCheckReport> checkOriginalSamples(PyramidReader& reader, DemReader& original,
+                                               const ResampledGrid& grid,
+                                               const std::function<void(double)>& progress) {
+    const PyramidLayout& layout = reader.layout();
+    SourceCheckReport report;
+    std::vector<PatchRecord> records;
+    double rowsDone = 0.0, rowsTotal = 0.0;
+    for (int level = 0; level < layout.levelCount(); ++level)
+        rowsTotal += double(layout.patchesY(level));
+    for (int level = 0; level < layout.levelCount(); ++level) {
+        const std::int64_t patchesX = layout.patchesX(level);
+        records.resize(static_cast<std::size_t>(patchesX));
+        double tightest = 0.0;
+        for (std::int64_t py = 0; py < layout.patchesY(level); ++py) {
+            for (std::int64_t px = 0; px < patchesX; ++px)
+                if (auto read =
+                        reader.readPatch({level, px, py}, records[static_cast<std::size_t>(px)]);
+                    !read)
+                    return read.error();
+            const auto patchAt = [&](std::int64_t x, std::int64_t) -> const PatchRecord& {
+                return records[static_cast<std::size_t>(x)];
+            };
+            const auto visit = [&](const PatchRecord& patch, std::int64_t column, std::int64_t row,
+                                   double distance) {
+                const float bound = patch.info.error;
+                ++report.samplesChecked;
+                if (bound > 0.0f) tightest = std::max(tightest, distance / bound);
+                if (distance <= double(bound)) return;
+                ++report.violationCount;
+                if (report.violations.size() < SourceCheckReport::kMaxListed)
+                    report.violations.push_back({patch.id, column, row, distance, bound});
+            };
+            if (Status visited = detail::visitOriginalSamples(original, grid, layout, level, py, 1,
+                                                              patchAt, visit);
+                !visited)
+                return visited.error();
+            if (progress) progress(++rowsDone / rowsTotal);
+        }
+        report.tightestRatio.push_back(tightest);
+    }
+    return report;
+}
+
 }  // namespace
 
 Result<SourceCheckReport> checkErrorBoundsAgainstSource(
@@ -97,6 +143,8 @@ Result<SourceCheckReport> checkErrorBoundsAgainstSource(
         return Error{fmt::format("{}: {}×{} samples, but the pyramid {} was built from {}×{}",
                                  dem.path, dem.width, dem.height, pyramidDir.string(),
                                  layout.rasterWidth(), layout.rasterHeight())};
+    if (DemReader* original = source.originalSamples(); original != nullptr && dem.resampledFrom)
+        return checkOriginalSamples(first.value(), *original, *dem.resampledFrom, progress);
     std::vector<LevelChecker> levels;
     for (int level = 0; level < layout.levelCount(); ++level) {
         auto reader = level == 0 ? std::move(first) : PyramidReader::open(pyramidDir);

@@ -1,7 +1,7 @@
 // Broken DEM inputs: each is an Error whose message starts with the path and says what is
 // wrong, never a crash — missing and empty files, truncated files (every reader, many
 // prefixes), garbage with a DEM extension, a .hgt of the wrong size, corrupt compressed
-// tiles, sample types that are not heights, rotated rasters.
+// tiles, sample types that are not heights, rotated mosaic inputs.
 #include "DemTestSupport.h"
 #include "SharedData.h"
 
@@ -265,13 +265,20 @@ TEST_F(DemReaderErrorsTest, UnsupportedSampleTypes) {
     expectErrorStartingWithPath(twelveBit, "12-bit");
 }
 
+// One rotated raster is resampled (GdalInputsTest); a degenerate placement cannot be, and
+// a mosaic's inputs must share one north-up grid.
 TEST_F(DemReaderErrorsTest, RotatedRasters) {
+    const std::array<double, 6> flat = {100.0, 1.0, 1.0, 200.0, 1.0, 1.0};  // no area
+    const std::string degenerate = writeGdal("degenerate.tif", GDT_Float32, {}, flat);
+    expectErrorStartingWithPath(degenerate, "geotransform");
     const std::array<double, 6> rotated = {100.0, 1.0, 0.2, 200.0, 0.2, -1.0};
     const std::string tif = writeGdal("rotated.tif", GDT_Float32, {}, rotated);
-    expectErrorStartingWithPath(tif, "rotated");
     const std::string other = m_dir.file("rotated.gtiff_raster");
     fs::copy_file(tif, other);
-    expectErrorStartingWithPath(other, "rotated");
+    const auto mosaic = openDem({tif, other});
+    ASSERT_FALSE(mosaic.ok());
+    EXPECT_TRUE(mosaic.error().message.starts_with(tif + ":")) << mosaic.error().message;
+    EXPECT_NE(mosaic.error().message.find("rotated"), std::string::npos) << mosaic.error().message;
 }
 
 TEST_F(DemReaderErrorsTest, MessagesAreReadable) {

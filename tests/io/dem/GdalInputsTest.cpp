@@ -1,8 +1,8 @@
 // Inputs the GDAL way (issue 21): a band chosen with -b, several bands warned about, a
 // container's subdatasets listed and opened by GDAL's name for them, an inline VRT, grids
 // whose rows run north or columns west read north-up with their heights where GDAL puts
-// them, and a rotated grid refused with the way out. Every file is written here with
-// GDAL's own API.
+// them, and rotated and sheared grids resampled north-up by GDAL's warper. Every file is
+// written here with GDAL's own API.
 #include "DemTestSupport.h"
 
 #include "terrain/io/DemReader.h"
@@ -264,14 +264,100 @@ TEST_F(GdalInputsTest, FlippedGridsReadNorthUpWhereGdalPutsTheirHeights) {
     }
 }
 
-TEST_F(GdalInputsTest, RotatedGridIsRefusedWithTheWayOut) {
+// A rotated grid (30°) and a sheared one: GDAL's warper resamples them onto a north-up
+// grid in their CRS at their finer spacing. storedValue is a plane in the stored column
+// and row, and bilinear interpolation (and its extension over the rim) is exact on a
+// plane, so every resampled sample is that plane at its place in the source.
+TEST_F(GdalInputsTest, RotatedAndShearedGridsAreResampledOntoANorthUpGrid) {
+    const double c = 10.0 * std::cos(M_PI / 6.0), s = 10.0 * std::sin(M_PI / 6.0);
+    const std::array<std::array<double, 6>, 2> placements = {
+        std::array<double, 6>{500000.0, c, s, 5200000.0, s, -c},
+        std::array<double, 6>{500000.0, 10.0, 4.0, 5200000.0, 0.0, -10.0}};
+    int file = 0;
+    for (const std::array<double, 6>& gt : placements) {
+        SCOPED_TRACE(::testing::PrintToString(gt));
+        const std::string path =
+            copyTo(memoryDataset(1, gt), "GTiff", "tilted" + std::to_string(file++) + ".tif");
+        const auto reader = test::openOne(path);
+        ASSERT_TRUE(reader) << reader.error().message;
+        const DemInfo& info = reader.value()->info();
+        ASSERT_TRUE(info.resampledFrom);
+        const ResampledGrid& from = *info.resampledFrom;
+        EXPECT_EQ(from.width, kWidth);
+        EXPECT_EQ(from.height, kHeight);
+        EXPECT_EQ(from.geoTransform, gt);
+        EXPECT_DOUBLE_EQ(info.georeference.pixelSizeX, 10.0);  // the finer axis' spacing
+        EXPECT_DOUBLE_EQ(info.georeference.pixelSizeY, 10.0);
+        EXPECT_EQ(info.georeference.epsg, 32610);
+        ASSERT_FALSE(info.warnings.empty());
+        EXPECT_NE(info.warnings.back().find("resampled"), std::string::npos);
+
+        // Every source sample lies inside the grid, where its map position says.
+        const std::array<double, 6>& a = from.toGrid;
+        for (int r = 0; r < kHeight; ++r)
+            for (int col = 0; col < kWidth; ++col) {
+                const double x = a[0] + a[1] * col + a[2] * r, y = a[3] + a[4] * col + a[5] * r;
+                EXPECT_GE(x, -1e-9);
+                EXPECT_LE(x, double(info.width - 1) + 1e-9);
+                EXPECT_GE(y, -1e-9);
+                EXPECT_LE(y, double(info.height - 1) + 1e-9);
+                const double mapX = gt[0] + (col + 0.5) * gt[1] + (r + 0.5) * gt[2];
+                EXPECT_NEAR(info.georeference.originX + (x + 0.5) * 10.0, mapX, 1e-6);
+            }
+
+        // The resampled samples: the plane wherever the source reaches, no-data beyond.
+        const std::vector<float> resampled = readAll(*reader.value());
+        const double det = a[1] * a[5] - a[2] * a[4];
+        int inside = 0, valid = 0;
+        for (std::int64_t y = 0; y < info.height; ++y)
+            for (std::int64_t x = 0; x < info.width; ++x) {
+                const double dx = double(x) - a[0], dy = double(y) - a[3];
+                const double col = (a[5] * dx - a[2] * dy) / det,
+                             row = (a[1] * dy - a[4] * dx) / det;
+                const float value = resampled[static_cast<std::size_t>(y * info.width + x)];
+                const bool inHull = col >= 0 && col <= kWidth - 1 && row >= 0 && row <= kHeight - 1;
+                inside += inHull ? 1 : 0;
+                if (std::isnan(value)) {
+                    EXPECT_FALSE(inHull) << x << ", " << y;
+                    continue;
+                }
+                ++valid;
+                EXPECT_NEAR(value, 50.0 + 10.0 * row + col, 1e-3) << x << ", " << y;
+            }
+        EXPECT_GT(inside, 0);
+        EXPECT_GT(valid, inside);  // the rim around the source, extended
+        EXPECT_LT(valid, info.width * info.height);
+
+        // The source's own samples, as stored.
+        DemReader* original = reader.value()->originalSamples();
+        ASSERT_NE(original, nullptr);
+        EXPECT_EQ(original->info().width, kWidth);
+        EXPECT_EQ(original->info().height, kHeight);
+        const std::vector<float> stored = readAll(*original);
+        for (int r = 0; r < kHeight; ++r)
+            for (int col = 0; col < kWidth; ++col)
+                EXPECT_EQ(stored[static_cast<std::size_t>(r * kWidth + col)],
+                          storedValue(1, col, r));
+    }
+}
+
+TEST_F(GdalInputsTest, RotatedGridRefusesAPlacementFromTheCommandLine) {
     const std::string path = copyTo(memoryDataset(1, {500000.0, 10.0, 2.0, 5200000.0, 2.0, -10.0}),
                                     "GTiff", "rotated.tif");
-    const auto reader = test::openOne(path);
+    DemOpenOptions options;
+    options.pixelSize = 5.0;
+    const auto reader = test::openOne(path, options);
     ASSERT_FALSE(reader);
     EXPECT_NE(reader.error().message.find("rotated or sheared"), std::string::npos)
         << reader.error().message;
-    EXPECT_NE(reader.error().message.find("gdalwarp"), std::string::npos);
+    EXPECT_EQ(reader.error().message.rfind(path, 0), 0U);
+}
+
+TEST_F(GdalInputsTest, NorthUpGridsAreNotResampled) {
+    const auto reader = test::openOne(copyTo(memoryDataset(1, kNorthUp), "GTiff", "plain.tif"));
+    ASSERT_TRUE(reader) << reader.error().message;
+    EXPECT_FALSE(reader.value()->info().resampledFrom);
+    EXPECT_EQ(reader.value()->originalSamples(), nullptr);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "terrain/base/Result.h"
 #include "terrain/io/Georeference.h"
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -20,6 +21,19 @@ struct VerticalTransform {
     double scale = 1.0;
     double offset = 0.0;
     bool operator==(const VerticalTransform&) const = default;
+};
+
+/// A rotated or sheared source, resampled onto a north-up grid by GDAL's warper: where its
+/// own samples lie on that grid, so error bounds are made and checked against them.
+struct ResampledGrid {
+    std::int64_t width = 0;  ///< the source's own columns and rows
+    std::int64_t height = 0;
+    std::array<double, 6> geoTransform{};  ///< the source's, in GDAL's order
+    /// Source sample (column c, row r) lies at x = toGrid[0] + toGrid[1]·c + toGrid[2]·r,
+    /// y = toGrid[3] + toGrid[4]·c + toGrid[5]·r on the resampled grid, in its samples
+    /// (column 0 at x = 0, row 0 at y = 0); every sample lies inside that grid.
+    std::array<double, 6> toGrid{};
+    std::string method = "bilinear";  ///< GDAL's resampling
 };
 
 struct DemInfo {
@@ -49,6 +63,9 @@ struct DemInfo {
     /// so row 0 is still the north edge and column 0 the west edge.
     bool rowsFlipped = false;
     bool columnsFlipped = false;
+    /// Set when the source is rotated or sheared: this grid is its bilinear resampling and
+    /// DemReader::originalSamples reads the source's own samples.
+    std::optional<ResampledGrid> resampledFrom;
 };
 
 class DemReader {
@@ -62,6 +79,12 @@ public:
     /// truncated file is an Error naming the file and what is wrong. One thread at a time.
     virtual Status readWindow(std::int64_t x0, std::int64_t y0, std::int64_t width,
                               std::int64_t rows, std::span<float> out) = 0;
+
+    /// For a resampled source (info().resampledFrom): a reader of the source's own
+    /// samples, on its own grid (rows and columns as stored, no georeference), which
+    /// info().resampledFrom places on this grid. Null for every other source. Same thread
+    /// rules; owned by this reader.
+    virtual DemReader* originalSamples() { return nullptr; }
 };
 
 /// What the command line may say about the inputs; each set field overrides the file.
@@ -89,9 +112,10 @@ bool isGdalDatasetName(const std::string& input);
 /// to GDAL. Otherwise the reader is chosen by extension: .hgt → SRTM reader;
 /// .tif/.tiff/.png/.exr/.jpg/.jpeg → OpenImageIO (GeoTIFF tags through libtiff), or GDAL
 /// for a band chosen with options.band, several channels, or a GeoTIFF ModelTransformation;
-/// anything else and every mosaic → GDAL. Errors start with the input's path:
-/// missing, empty, truncated or corrupt files, unsupported sample types, rotated rasters,
-/// mosaic inputs that do not match the first. Calling thread.
+/// anything else and every mosaic → GDAL. A rotated or sheared grid is resampled onto a
+/// north-up grid by GDAL's warper (bilinear; DemInfo::resampledFrom). Errors start with the
+/// input's path: missing, empty, truncated or corrupt files, unsupported sample types,
+/// rotated mosaic inputs, mosaic inputs that do not match the first. Calling thread.
 Result<std::unique_ptr<DemReader>> openDem(const std::vector<std::string>& inputs,
                                            const DemOpenOptions& options = {});
 

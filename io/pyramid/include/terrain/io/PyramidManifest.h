@@ -9,6 +9,7 @@
 #include "terrain/io/Georeference.h"
 #include "terrain/io/PyramidLayout.h"
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -67,6 +68,18 @@ struct ManifestGlobe {
     bool operator==(const ManifestGlobe&) const = default;
 };
 
+/// A rotated or sheared source resampled onto the pyramid's grid (DemInfo::resampledFrom).
+struct ManifestResampling {
+    std::string method;                    ///< "bilinear"
+    std::int64_t width = 0, height = 0;    ///< the source's own samples
+    std::array<double, 6> geoTransform{};  ///< the source's, in GDAL's order
+    std::int64_t validSamples = 0;         ///< of the source's own samples
+    /// The largest distance of a source sample from the finest level's surface: what the
+    /// resampling alone costs; every level's Err(P) covers the source's samples.
+    double finestDistanceM = 0.0;
+    bool operator==(const ManifestResampling&) const = default;
+};
+
 struct ManifestSource {
     std::vector<std::string> inputs;
     std::string reader;      ///< DemInfo::readerName
@@ -77,6 +90,7 @@ struct ManifestSource {
     int bandCount = 1;
     bool rowsFlipped = false;
     bool columnsFlipped = false;
+    std::optional<ManifestResampling> resampled{};  ///< optional in the file
     bool operator==(const ManifestSource&) const = default;
 };
 

@@ -33,7 +33,10 @@ struct SourceCheckReport {
 };
 
 /// Streams the source once, row by row, keeping one row of patches per level. The source
-/// must have the pyramid's raster size. Calling thread (plus one worker per level).
+/// must have the pyramid's raster size. A resampled source (a rotated grid,
+/// DemInfo::resampledFrom) is checked by its own samples instead, each where it lies
+/// between the pyramid's (`x`, `y` of a violation are its stored column and row), reading
+/// the rows that cross each patch row. Calling thread (plus one worker per level).
 /// For a globe pyramid (version 3) the source is any geographic DEM it was built from: each
 /// valid sample is checked at every face level along its ellipsoid normal against the
 /// drawn triangles of the patch holding it (GlobePatchSurface); `x`, `y` of a violation are
