@@ -3,9 +3,13 @@
 
 For every real DEM in ../shared/data and a 16,385² float32 procedural DEM written as a
 tiled GeoTIFF, runs (one at a time, same machine, same thread count)
-  terrain-build INPUT -o PYRAMID --threads 2
+  terrain-build INPUT -o PYRAMID --threads 2                 (height codes, zlib level 1)
+  terrain-build INPUT -o PYRAMID --threads 2 --zip-level 0   (the same, uncompressed)
   gdal_translate -of COG -co COMPRESS=DEFLATE -co PREDICTOR=YES -co NUM_THREADS=2 INPUT OUT.tif
-and records wall seconds and peak RSS of each (os.wait4), then writes
+  gdal_translate -of COG -co COMPRESS=LERC -co MAX_Z_ERROR=1 -co NUM_THREADS=2 INPUT OUT.tif
+(the COG driver adds overviews, OVERVIEWS=AUTO, to a raster larger than its 512² blocks; the
+predictor is 2 for integer and 3 for float samples), records wall seconds and peak RSS of
+each (os.wait4) and their sizes, then writes
 OUT_DIR/pyramid-build-bench.json and .md. Rerun with:
   tools/bench/pyramid_build_bench.py --build build --out out/bench
 """
@@ -82,30 +86,47 @@ def main():
             [terrain_build, path, "-o", pyramid, "--threads", "2", "--json", "--quiet", *flags],
             scratch / "terrain-build.log")
         summary = json.loads(ours_json)
+        shutil.rmtree(pyramid, ignore_errors=True)
+        raw_s, _, raw_json = run(
+            [terrain_build, path, "-o", pyramid, "--threads", "2", "--zip-level", "0", "--json",
+             "--quiet", *flags], scratch / "terrain-build.log")
+        raw_bytes = json.loads(raw_json)["bytes"]
+        shutil.rmtree(pyramid, ignore_errors=True)
         gdal_s, gdal_rss, _ = run(
             ["gdal_translate", "-q", "-of", "COG", "-co", "COMPRESS=DEFLATE", "-co", "PREDICTOR=YES",
              "-co", "NUM_THREADS=2", path, cog], scratch / "gdal.log")
+        cog_bytes = cog.stat().st_size
+        cog.unlink(missing_ok=True)
+        lerc_s, _, _ = run(
+            ["gdal_translate", "-q", "-of", "COG", "-co", "COMPRESS=LERC", "-co", "MAX_Z_ERROR=1",
+             "-co", "NUM_THREADS=2", path, cog], scratch / "gdal.log")
+        lerc_bytes = cog.stat().st_size
         rows.append({
             "input": path.name, "width": summary["raster"]["width"], "height": summary["raster"]["height"],
             "levels": summary["levels"], "patches": summary["patches"],
             "terrainBuildSeconds": round(ours_s, 3), "terrainBuildPeakRssMiB": round(ours_rss / 2**20, 1),
             "pyramidMiB": round(summary["bytes"] / 2**20, 2),
+            "uncompressedBuildSeconds": round(raw_s, 3), "uncompressedPyramidMiB": round(raw_bytes / 2**20, 2),
             "gdalCogSeconds": round(gdal_s, 3), "gdalCogPeakRssMiB": round(gdal_rss / 2**20, 1),
-            "cogMiB": round(cog.stat().st_size / 2**20, 2),
+            "cogMiB": round(cog_bytes / 2**20, 2),
+            "lercCogSeconds": round(lerc_s, 3), "lercCogMiB": round(lerc_bytes / 2**20, 2),
+            "pyramidToCog": round(summary["bytes"] / cog_bytes, 2),
         })
         print(json.dumps(rows[-1]), flush=True)
-        shutil.rmtree(pyramid, ignore_errors=True)
         cog.unlink(missing_ok=True)
 
     result = {"machine": {"cpus": os.cpu_count(), "platform": platform.platform()},
               "command": " ".join(sys.argv), "rows": rows}
     (out / "pyramid-build-bench.json").write_text(json.dumps(result, indent=2) + "\n")
-    lines = ["| input | size | levels | patches | terrain-build s | RSS MiB | pyramid MiB | gdal COG s | RSS MiB | COG MiB |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| input | size | levels | patches | terrain-build s | RSS MiB | pyramid MiB | "
+             "uncompressed s | MiB | gdal COG s | RSS MiB | COG MiB | pyramid / COG | LERC 1 m s | MiB |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r['input']} | {r['width']}×{r['height']} | {r['levels']} | {r['patches']} | "
                      f"{r['terrainBuildSeconds']} | {r['terrainBuildPeakRssMiB']} | {r['pyramidMiB']} | "
-                     f"{r['gdalCogSeconds']} | {r['gdalCogPeakRssMiB']} | {r['cogMiB']} |")
+                     f"{r['uncompressedBuildSeconds']} | {r['uncompressedPyramidMiB']} | "
+                     f"{r['gdalCogSeconds']} | {r['gdalCogPeakRssMiB']} | {r['cogMiB']} | "
+                     f"{r['pyramidToCog']} | {r['lercCogSeconds']} | {r['lercCogMiB']} |")
     (out / "pyramid-build-bench.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
 

@@ -111,8 +111,8 @@ int main(int argc, char** argv) {
     app.add_option("--shard-patches", options.shardPatches, "Patches per shard side")
         ->capture_default_str();
     app.add_option("--zip-level", options.zipLevel,
-                   "Tile compression: 0 stores tiles uncompressed (fastest to build and to "
-                   "stream), 1..9 zlib (lossless, about a quarter smaller, slower)")
+                   "Tile compression, lossless: 1..9 zlib level of the height codes and "
+                   "bounds; 0 stores them uncompressed, as large as floats")
         ->capture_default_str()
         ->check(CLI::Range(0, 9));
     app.add_option("--threads", options.threads, "Worker threads (0: one per core)")

@@ -65,6 +65,8 @@ void checkPatchContents(const io::PyramidManifest& manifest, bool hasMask,
                                   lambda);
     else
         io::patchBlockErrors(interior, layout.blockQuads(), lambda);
+    for (io::BlockErrors& e : lambda)  // as the shards store them
+        for (float& bound : e) bound = io::roundUpToHalf(bound);
     for (std::size_t b = 0; b < lambda.size(); ++b) {
         if (lambda[b] != record.blockErrors[b]) {
             const int k = layout.blocksPerSide();

@@ -2,6 +2,8 @@
 // ROAM's wedgies) and §5 (tessellation-block errors λ(d)).
 #include "terrain/io/PatchErrors.h"
 
+#include <half.h>
+
 #include "terrain/base/Assert.h"
 
 #include <algorithm>
@@ -358,6 +360,14 @@ std::pair<double, double> cellSurfaceHeights(double a, double b, double c, doubl
                                              double v) {
     const TwoHeights h = cellHeights(Cell{a, b, c, d}, u, v);
     return {h.first, h.second};
+}
+
+float roundUpToHalf(float bound) {
+    const Imath::half nearest(bound);  // round to nearest: may be below
+    if (static_cast<float>(nearest) >= bound) return static_cast<float>(nearest);
+    Imath::half up;
+    up.setBits(static_cast<unsigned short>(nearest.bits() + 1U));  // the next half up (≥ 0)
+    return static_cast<float>(up);
 }
 
 float roundUpToFloat(double value) {

@@ -306,6 +306,7 @@ public:
           m_threads(options.threads > 0 ? options.threads
                                         : std::max(1u, std::thread::hardware_concurrency())) {
         m_shardOptions.zipLevel = options.zipLevel;
+        m_shardOptions.sourceUnits = reader.info().vertical;  // the manifest's
         ShardWriter::setCompressionThreads(static_cast<int>(m_threads));
         for (int l = 0; l < m_layout.levelCount(); ++l)
             m_totalSamples += double(m_layout.levelSamplesX(l)) * double(m_layout.levelSamplesY(l));

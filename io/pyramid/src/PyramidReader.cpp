@@ -3,6 +3,7 @@
 // list caps how many stay open. Everything OpenEXR throws becomes an Error naming the
 // shard file and the patch, and the shard is closed so a damaged file is not reused.
 #include "terrain/io/PyramidReader.h"
+#include "terrain/io/HeightCodes.h"
 
 #include "terrain/io/ExrHeaderCheck.h"
 
@@ -57,6 +58,7 @@ struct PyramidReader::Impl {
     std::uint64_t clock = 0;
     std::uint64_t openings = 0;
     std::vector<std::uint16_t> maskScratch;  // one tile of HALF bits
+    std::vector<std::uint32_t> codeScratch;  // one tile of height codes
 
     std::filesystem::path shardFile(const ShardId& s) const { return folder / layout.shardPath(s); }
 
@@ -178,6 +180,7 @@ struct PyramidReader::Impl {
         frame.insert("quantError", slice(Imf::FLOAT, offsetof(shard::StoredInfo, quantError)));
         frame.insert("noDataSamples", slice(Imf::UINT, offsetof(shard::StoredInfo, noDataSamples)));
         frame.insert("crc32", slice(Imf::UINT, offsetof(shard::StoredInfo, crc32)));
+        frame.insert("heightDivisor", slice(Imf::UINT, offsetof(shard::StoredInfo, heightDivisor)));
         info.setFrameBuffer(frame);
         info.readTile(0, 0);
         // Absent patches are all zeros (their crc32 too), so a damaged present flag is
@@ -195,6 +198,13 @@ struct PyramidReader::Impl {
                     i % static_cast<std::size_t>(shard.countX),
                     i / static_cast<std::size_t>(shard.countX), p.present,
                     absentButNotZero ? "non-zero" : "any")};
+            const std::span<const std::uint32_t> divisors = heightDivisors();
+            if (p.heightDivisor != 0 && p.heightDivisor != kSourceUnits &&
+                std::find(divisors.begin(), divisors.end(), p.heightDivisor) == divisors.end())
+                return Error{fmt::format(
+                    "corrupt patchInfo: pixel ({}, {}) has heightDivisor {}, not one a writer uses",
+                    i % static_cast<std::size_t>(shard.countX),
+                    i / static_cast<std::size_t>(shard.countX), p.heightDivisor)};
         }
         return {};
     }
@@ -231,10 +241,9 @@ struct PyramidReader::Impl {
         const int ty = static_cast<int>(id.y - layout.shardFirstY(s.id));
         try {
             Imf::FrameBuffer heights;
-            heights.insert(
-                shard::kHeightChannel,
-                Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(out.heights.data()), sizeof(float),
-                           sizeof(float) * static_cast<std::size_t>(tile), 1, 1, 0.0, true, true));
+            codeScratch.resize(tile2);
+            shard::insertHeightCodeSlices(heights, codeScratch.data(),
+                                          static_cast<std::size_t>(tile), true);
             if (hasMask)
                 heights.insert(shard::kMaskChannel,
                                Imf::Slice(Imf::HALF, reinterpret_cast<char*>(maskScratch.data()),
@@ -259,6 +268,7 @@ struct PyramidReader::Impl {
             close(&s);  // a shard that failed once is reopened (and rechecked) next time
             return patchError(path, id, fmt::format("cannot read its tiles: {}", e.what()));
         }
+        decodeHeights(codeScratch, tile, stored.heightDivisor, out.heights, manifest.vertical);
         for (std::size_t i = 0; i < maskScratch.size(); ++i) {
             const std::uint16_t bits = maskScratch[i];
             if (bits != shard::kHalfOne && bits != shard::kHalfZero)

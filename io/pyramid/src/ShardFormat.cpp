@@ -1,6 +1,8 @@
 // OpenEXR headers of a shard file and their check on reading (see ShardFormat.h).
 #include "ShardFormat.h"
 
+#include <bit>
+
 #include <ImfChannelList.h>
 #include <ImfCompression.h>
 #include <ImfIntAttribute.h>
@@ -9,6 +11,7 @@
 #include <ImfTileDescription.h>
 #include <ImfVecAttribute.h>
 #include <fmt/format.h>
+#include <half.h>
 
 namespace terrain::io::shard {
 namespace {
@@ -49,15 +52,26 @@ std::uint32_t storedPresent(const PatchInfo& info) {
     return info.present ? 1U + 2U * info.presentChildren : 0U;
 }
 
-StoredInfo toStored(const PatchInfo& info) {
-    return {storedPresent(info), info.minHeight,  info.maxHeight,     info.error,
-            info.approxError,    info.quantError, info.noDataSamples, info.crc32};
+StoredInfo toStored(const PatchInfo& info, std::uint32_t heightDivisor) {
+    return {storedPresent(info), info.minHeight,     info.maxHeight, info.error,   info.approxError,
+            info.quantError,     info.noDataSamples, info.crc32,     heightDivisor};
 }
 
 PatchInfo fromStored(const StoredInfo& s) {
     return {s.present != 0,  s.minHeight,   s.maxHeight,
             s.error,         s.approxError, s.quantError,
             s.noDataSamples, s.crc32,       static_cast<std::uint8_t>(s.present >> 1)};
+}
+
+void insertHeightCodeSlices(Imf::FrameBuffer& frame, std::uint32_t* codes, std::size_t rowCodes,
+                            bool xTileCoordinates) {
+    static_assert(std::endian::native == std::endian::little,
+                  "the code channels are the low and high halves of little-endian uint32s");
+    for (std::size_t k = 0; k < kHeightCodeChannels.size(); ++k)
+        frame.insert(
+            kHeightCodeChannels[k],
+            Imf::Slice(Imf::HALF, reinterpret_cast<char*>(codes) + 2 * k, sizeof(std::uint32_t),
+                       sizeof(std::uint32_t) * rowCodes, 1, 1, 0.0, xTileCoordinates, true));
 }
 
 std::vector<Imf::Header> shardHeaders(const PyramidLayout& layout, const ShardId& s, bool withMask,
@@ -88,12 +102,13 @@ std::vector<Imf::Header> shardHeaders(const PyramidLayout& layout, const ShardId
 
     std::vector<Imf::Header> headers;
     headers.push_back(makeHeader(kHeightsPart, box(cx * tile, cy * tile), tile, tile));
-    headers.back().channels().insert(kHeightChannel, Imf::Channel(Imf::FLOAT));
+    for (const char* name : kHeightCodeChannels)
+        headers.back().channels().insert(name, Imf::Channel(Imf::HALF));
     if (withMask) headers.back().channels().insert(kMaskChannel, Imf::Channel(Imf::HALF));
 
     headers.push_back(makeHeader(kBlockErrorsPart, box(cx * blocks, cy * blocks), blocks, blocks));
     for (const char* name : kBlockErrorChannels)
-        headers.back().channels().insert(name, Imf::Channel(Imf::FLOAT));
+        headers.back().channels().insert(name, Imf::Channel(Imf::HALF));
 
     headers.push_back(makeHeader(kPatchInfoPart, box(cx, cy), cx, cy));
     Imf::ChannelList& info = headers.back().channels();
@@ -105,6 +120,7 @@ std::vector<Imf::Header> shardHeaders(const PyramidLayout& layout, const ShardId
     info.insert("quantError", Imf::Channel(Imf::FLOAT));
     info.insert("noDataSamples", Imf::Channel(Imf::UINT));
     info.insert("crc32", Imf::Channel(Imf::UINT));
+    info.insert("heightDivisor", Imf::Channel(Imf::UINT));
     return headers;
 }
 

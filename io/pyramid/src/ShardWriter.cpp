@@ -8,14 +8,18 @@
 #include "PatchChecksum.h"
 #include "ShardFormat.h"
 #include "terrain/base/AtomicFile.h"
+#include "terrain/io/HeightCodes.h"
+#include "terrain/io/PatchErrors.h"
 
 #include <ImfFrameBuffer.h>
 #include <ImfMultiPartOutputFile.h>
 #include <ImfThreading.h>
 #include <ImfTiledOutputPart.h>
 #include <fmt/format.h>
+#include <half.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cstddef>
 #include <cstring>
@@ -36,10 +40,14 @@ void configureDefaultThreads() {
 // The staged samples of one row of the shard's tiles, in the layout of that row: sample
 // (i, j) of tile tx is at [j · rowWidth + tx · tile + i]. Frame buffers use y relative to
 // the tile (yTileCoords) so the same buffer serves any row.
+// λ(1..4) of a block as the HALF bits OpenEXR writes (it converts halves to floats on
+// reading, not floats to halves on writing).
+using HalfBlockErrors = std::array<std::uint16_t, kMaxSimplification>;
+
 struct RowBuffer {
-    std::vector<float> heights;
-    std::vector<std::uint16_t> mask;       // HALF bits
-    std::vector<BlockErrors> blockErrors;  // [j · cx·K + tx · K + i]
+    std::vector<std::uint32_t> heights;        // height codes
+    std::vector<std::uint16_t> mask;           // HALF bits
+    std::vector<HalfBlockErrors> blockErrors;  // [j · cx·K + tx · K + i]
 };
 
 }  // namespace
@@ -62,6 +70,9 @@ struct ShardWriter::Impl {
     std::vector<bool> rowDone;               // per tile row: tiles handed to OpenEXR
     std::vector<std::uint8_t> patchWritten;  // per patch of the shard
     std::vector<shard::StoredInfo> infos;    // the patchInfo tile
+    std::vector<std::uint32_t> codes;        // one patch's height codes
+    std::vector<BlockErrors> lambdas;        // its block errors, rounded up to halves
+    VerticalTransform sourceUnits;
     Imf::FrameBuffer heightsFrame, blockErrorsFrame;
 
     std::optional<Error> failure;
@@ -101,12 +112,13 @@ struct ShardWriter::Impl {
         return slot;
     }
 
+    // Stages the patch's height codes (in `codes`, tile² of them) and the rest of it.
     void stage(RowBuffer& row, int tx, const PatchRecord& record) {
         const auto t = static_cast<std::size_t>(tile);
         const std::size_t rowWidth = static_cast<std::size_t>(cx) * t;
         const std::size_t x0 = static_cast<std::size_t>(tx) * t;
         for (std::size_t j = 0; j < t; ++j) {
-            std::memcpy(&row.heights[j * rowWidth + x0], &record.heights[j * t], t * sizeof(float));
+            std::copy_n(&codes[j * t], t, &row.heights[j * rowWidth + x0]);
             if (withMask) {
                 std::uint16_t* out = &row.mask[j * rowWidth + x0];
                 const std::uint8_t* in = &record.valid[j * t];
@@ -117,8 +129,10 @@ struct ShardWriter::Impl {
         const auto k = static_cast<std::size_t>(blocks);
         const std::size_t errorsWidth = static_cast<std::size_t>(cx) * k;
         for (std::size_t j = 0; j < k; ++j)
-            std::copy_n(&record.blockErrors[j * k], k,
-                        &row.blockErrors[j * errorsWidth + static_cast<std::size_t>(tx) * k]);
+            for (std::size_t i = 0; i < k; ++i)
+                for (std::size_t d = 0; d < kMaxSimplification; ++d)
+                    row.blockErrors[j * errorsWidth + static_cast<std::size_t>(tx) * k + i][d] =
+                        Imath::half(lambdas[j * k + i][d]).bits();  // exact: already a half
     }
 
     void stageZeros(RowBuffer& row, int tx) {
@@ -126,14 +140,14 @@ struct ShardWriter::Impl {
         const std::size_t rowWidth = static_cast<std::size_t>(cx) * t;
         const std::size_t x0 = static_cast<std::size_t>(tx) * t;
         for (std::size_t j = 0; j < t; ++j) {
-            std::fill_n(&row.heights[j * rowWidth + x0], t, 0.0f);
+            std::fill_n(&row.heights[j * rowWidth + x0], t, 0U);
             if (withMask) std::fill_n(&row.mask[j * rowWidth + x0], t, shard::kHalfZero);
         }
         const auto k = static_cast<std::size_t>(blocks);
         const std::size_t errorsWidth = static_cast<std::size_t>(cx) * k;
         for (std::size_t j = 0; j < k; ++j)
             std::fill_n(&row.blockErrors[j * errorsWidth + static_cast<std::size_t>(tx) * k], k,
-                        BlockErrors{});
+                        HalfBlockErrors{});
     }
 
     // Hands tile row ty to OpenEXR (compressed in parallel) and recycles its buffer.
@@ -145,10 +159,7 @@ struct ShardWriter::Impl {
             static_cast<std::size_t>(cx) * static_cast<std::size_t>(blocks);
         try {
             heightsFrame = Imf::FrameBuffer();
-            heightsFrame.insert(
-                shard::kHeightChannel,
-                Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(row.heights.data()), sizeof(float),
-                           sizeof(float) * rowWidth, 1, 1, 0.0, false, true));
+            shard::insertHeightCodeSlices(heightsFrame, row.heights.data(), rowWidth, false);
             if (withMask)
                 heightsFrame.insert(
                     shard::kMaskChannel,
@@ -162,9 +173,9 @@ struct ShardWriter::Impl {
             for (std::size_t d = 0; d < kMaxSimplification; ++d)
                 blockErrorsFrame.insert(
                     shard::kBlockErrorChannels[d],
-                    Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(&row.blockErrors[0][d]),
-                               sizeof(BlockErrors), sizeof(BlockErrors) * errorsWidth, 1, 1, 0.0,
-                               false, true));
+                    Imf::Slice(Imf::HALF, reinterpret_cast<char*>(&row.blockErrors[0][d]),
+                               sizeof(HalfBlockErrors), sizeof(HalfBlockErrors) * errorsWidth, 1, 1,
+                               0.0, false, true));
             blockErrorsPart->setFrameBuffer(blockErrorsFrame);
             blockErrorsPart->writeTiles(0, cx - 1, ty, ty);
         } catch (const std::exception& e) {
@@ -195,6 +206,8 @@ struct ShardWriter::Impl {
             frame.insert("noDataSamples",
                          slice(Imf::UINT, offsetof(shard::StoredInfo, noDataSamples)));
             frame.insert("crc32", slice(Imf::UINT, offsetof(shard::StoredInfo, crc32)));
+            frame.insert("heightDivisor",
+                         slice(Imf::UINT, offsetof(shard::StoredInfo, heightDivisor)));
             infoPart->setFrameBuffer(frame);
             infoPart->writeTile(0, 0);
         } catch (const std::exception& e) {
@@ -258,6 +271,7 @@ Result<ShardWriter> ShardWriter::create(const std::filesystem::path& finalPath,
     impl->layout = layout;
     impl->shard = shardId;
     impl->withMask = withMask;
+    impl->sourceUnits = options.sourceUnits;
     impl->cx = layout.shardCountX(shardId);
     impl->cy = layout.shardCountY(shardId);
     impl->tile = layout.tileSamples();
@@ -312,8 +326,15 @@ Status ShardWriter::writePatch(const PatchRecord& record) {
     TERRAIN_ASSERT(w.patchWritten[index] == 0, "patch written twice");
 
     PatchInfo info = record.info;
-    info.crc32 = patchChecksum(record.heights, record.valid, record.blockErrors, info);
-    w.infos[index] = shard::toStored(info);
+    // The block errors as stored: rounded up to halves, and checksummed so.
+    w.lambdas.resize(record.blockErrors.size());
+    for (std::size_t b = 0; b < record.blockErrors.size(); ++b)
+        for (std::size_t d = 0; d < kMaxSimplification; ++d)
+            w.lambdas[b][d] = roundUpToHalf(record.blockErrors[b][d]);
+    info.crc32 = patchChecksum(record.heights, record.valid, w.lambdas, info);
+    w.codes.resize(tile2);
+    const std::uint32_t divisor = encodeHeights(record.heights, w.tile, w.codes, w.sourceUnits);
+    w.infos[index] = shard::toStored(info, divisor);
     w.patchWritten[index] = 1;
     const int slot = w.acquireRow(ty);
     w.stage(w.rowPool[static_cast<std::size_t>(slot)], tx, record);

@@ -105,11 +105,14 @@ void checkPyramid(const Built& b, const fs::path& out, int patchesPerLevel) {
             const PatchRecord& p = patch.value();
             tightest = std::max(tightest, checkErrorBound(b, layout, p));
 
-            // Stored λ(d) are the block errors of the stored heights (Yusov §5).
+            // Stored λ(d) are the block errors of the stored heights (Yusov §5), rounded
+            // up to halves.
             const int n = layout.patchSamples(), t = layout.tileSamples();
             std::vector<BlockErrors> expected(p.blockErrors.size());
             patchBlockErrors(GridView{p.heights.data() + t + 1, n, t}, layout.blockQuads(),
                              expected);
+            for (BlockErrors& e : expected)
+                for (float& lambda : e) lambda = roundUpToHalf(lambda);
             EXPECT_EQ(p.blockErrors, expected);
             EXPECT_GE(p.info.error, p.info.approxError);
             if (level == layout.finestLevel()) {

@@ -26,6 +26,10 @@ struct GridView {
 /// `value` as a float no smaller than it: a bound stays a bound after the conversion.
 float roundUpToFloat(double value);
 
+/// The smallest half-precision value at least `bound` (≥ 0), as a float; +∞ beyond the
+/// largest half (65,504 m, more than any relief). How shards store block errors.
+float roundUpToHalf(float bound);
+
 /// The largest vertical distance between a grid's full-resolution surface and the same
 /// grid simplified to every `step`-th sample, over the square region of `quads` × `quads`
 /// quads whose top-left sample is (x0, y0). The difference of two piecewise-linear

@@ -28,9 +28,10 @@ struct PyramidBuildOptions {
     std::uint64_t memoryBudgetBytes = std::uint64_t{1} << 30;
     unsigned threads = 0;  ///< 0: one per hardware thread
     /// OpenEXR ZIP level of the tiles, 0 (stored uncompressed) … 9; lossless at every
-    /// level. 0 by default: zlib dominates the build (a 16,385² build takes about twice as
-    /// long at level 1) and tile decoding dominates streaming, for about a third more disk.
-    int zipLevel = 0;
+    /// level. The heights are stored as height codes (HeightCodes.h), small integers that
+    /// zlib's fastest level shrinks several times over (docs/pyramid-format.md,
+    /// "Compression"); 0 stores them as large as floats.
+    int zipLevel = 1;
     bool overwrite = false;  ///< replace an existing pyramid at the output path
     /// Called on the building thread after every band.
     std::function<void(const PyramidBuildProgress&)> progress;

@@ -103,8 +103,10 @@ struct ManifestBuild {
 
 struct PyramidManifest {
     static constexpr std::string_view kFormatName = "terrain-pyramid";
-    static constexpr int kFormatVersion = 2;       ///< planar pyramids
-    static constexpr int kGlobeFormatVersion = 3;  ///< globe pyramids (`globe` is set)
+    /// Planar pyramids. Version 4 stores height codes (HeightCodes.h) where versions 2 and
+    /// 3 stored floats; 1 had weaker block errors.
+    static constexpr int kFormatVersion = 4;
+    static constexpr int kGlobeFormatVersion = 5;  ///< globe pyramids (`globe` is set)
     static constexpr std::string_view kFileName = "manifest.json";
     static constexpr std::string_view kVerticalUnits = "metre";
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "terrain/base/Result.h"
+#include "terrain/io/DemReader.h"
 #include "terrain/io/PatchRecord.h"
 #include "terrain/io/PyramidLayout.h"
 
@@ -14,12 +15,14 @@ namespace terrain::io {
 
 struct ShardWriterOptions {
     /// zlib level of the ZIP-compressed tiles (1 fastest … 9 smallest; lossless at every
-    /// level). Level 1 costs about 20 % less CPU than OpenEXR's default (4) for 11 % more
-    /// bytes on a real DEM and the same bytes on float data (docs/pyramid-format.md,
-    /// "Compression"). 0 stores the tiles uncompressed (NO_COMPRESSION): 10 times cheaper to
-    /// write, for float data whose low mantissa bytes do not compress anyway.
+    /// level). The heights are height codes (HeightCodes.h), which level 1 shrinks 2.8 to 36
+    /// times (docs/pyramid-format.md, "Compression"); 0 stores the tiles uncompressed
+    /// (NO_COMPRESSION), as large as floats.
     static constexpr int kDefaultZipLevel = 1;
     int zipLevel = kDefaultZipLevel;
+    /// The manifest's vertical transform, whose units the height codes may count in
+    /// (HeightCodes.h); the identity for none.
+    VerticalTransform sourceUnits;
 };
 
 /// Writes one shard. Move-only; used by one thread at a time (its owner). Compression runs

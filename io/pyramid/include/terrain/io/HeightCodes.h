@@ -1,0 +1,39 @@
+// Lossless height codes for the shards (docs/pyramid-format.md, "Height codes"; issue 19).
+// A tile's float heights become small integers that OpenEXR's ZIP compresses well: heights
+// that are whole multiples of 1/D metres for a D from a fixed list (int16 SRTM metres: D = 1;
+// the Puget Sound PNG's decimetres: D = 10; the procedural terrain's 1/1024 m: D = 1024)
+// are stored as those multiples, any other tile as its floats' bits in an order-preserving
+// integer map; either way each integer is replaced by its difference from the median edge
+// detector's prediction (LOCO-I, Weinberger, Seroussi & Sapiro 2000, §2.3: the median of
+// west, north and west + north − north-west), zigzagged so small differences of either
+// sign are small codes. Decoding gives back every float bit for bit.
+#pragma once
+
+#include "terrain/io/DemReader.h"
+
+#include <cstdint>
+#include <span>
+
+namespace terrain::io {
+
+/// The divisor that says a tile's integers are the source's own units: heights are
+/// (float)(v · verticalScale + verticalOffset), as the DEM readers make them (an 8-bit
+/// JPEG scaled by 25.7 m is whole multiples of nothing else).
+inline constexpr std::uint32_t kSourceUnits = 0xFFFFFFFFU;
+
+/// `heights` (side × side, row-major, finite) as codes; returns the divisor D the codes
+/// use: kSourceUnits when `source` is not the identity and every height is a whole
+/// number of its units, else the first of heightDivisors() that makes every height a
+/// whole multiple of 1/D, else 0 (the codes are the floats' bits). Any thread.
+std::uint32_t encodeHeights(std::span<const float> heights, int side,
+                            std::span<std::uint32_t> codes, const VerticalTransform& source = {});
+
+/// The inverse of encodeHeights given its divisor and `source`. Any codes decode to some
+/// floats (a damaged tile is caught by the patch checksum, not here). Any thread.
+void decodeHeights(std::span<const std::uint32_t> codes, int side, std::uint32_t divisor,
+                   std::span<float> heights, const VerticalTransform& source = {});
+
+/// The divisors encodeHeights tries, coarsest step first.
+std::span<const std::uint32_t> heightDivisors();
+
+}  // namespace terrain::io
