@@ -1,15 +1,25 @@
 // GDAL registration and error capture (see GdalSession.h).
 #include "GdalSession.h"
 
+#include <cpl_conv.h>
 #include <cpl_error.h>
 
 #include <mutex>
+#include <string>
 
 namespace terrain::io::detail {
 
 void ensureGdalRegistered() {
     static std::once_flag once;
-    std::call_once(once, [] { GDALAllRegister(); });
+    std::call_once(once, [] {
+        // Drivers that crash on a damaged file and read no format a DEM comes in, skipped
+        // (GDAL_SKIP, added to the user's): NDF, Landsat's NLAPS imagery, dereferences a
+        // bad pointer in GDAL 3.6's Open on a 200-byte header (found by fuzz-dem-netcdf;
+        // tests/fuzz/dem-netcdf/ndf-header-crashes-gdal-3.6.nc).
+        const std::string skip = CPLGetConfigOption("GDAL_SKIP", "");
+        CPLSetConfigOption("GDAL_SKIP", (skip.empty() ? "NDF" : skip + " NDF").c_str());
+        GDALAllRegister();
+    });
 }
 
 GdalErrorCapture::GdalErrorCapture() { CPLPushErrorHandlerEx(&GdalErrorCapture::handle, this); }

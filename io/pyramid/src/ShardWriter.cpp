@@ -37,13 +37,13 @@ void configureDefaultThreads() {
     Imf::setGlobalThreadCount(static_cast<int>(std::max(1U, std::thread::hardware_concurrency())));
 }
 
-// The staged samples of one row of the shard's tiles, in the layout of that row: sample
-// (i, j) of tile tx is at [j · rowWidth + tx · tile + i]. Frame buffers use y relative to
-// the tile (yTileCoords) so the same buffer serves any row.
 // λ(1..4) of a block as the HALF bits OpenEXR writes (it converts halves to floats on
 // reading, not floats to halves on writing).
 using HalfBlockErrors = std::array<std::uint16_t, kMaxSimplification>;
 
+// The staged samples of one row of the shard's tiles, in the layout of that row: sample
+// (i, j) of tile tx is at [j · rowWidth + tx · tile + i]. Frame buffers use y relative to
+// the tile (yTileCoords) so the same buffer serves any row.
 struct RowBuffer {
     std::vector<std::uint32_t> heights;        // height codes
     std::vector<std::uint16_t> mask;           // HALF bits
