@@ -8,6 +8,7 @@
 #include "terrain/io/DemSlope.h"
 #include "terrain/io/GlobePyramidBuilder.h"
 #include "terrain/io/PyramidBuilder.h"
+#include "terrain/io/PyramidManifest.h"
 
 #include <fmt/core.h>
 #include <unistd.h>
@@ -51,17 +52,6 @@ std::optional<std::uint64_t> parseBytes(const std::string& text) {
         return std::nullopt;
     if (value <= 0.0) return std::nullopt;
     return static_cast<std::uint64_t>(value * scale);
-}
-
-// A rotated or sheared source's resampling, or null.
-nlohmann::json resampledJson(const std::optional<terrain::io::ManifestResampling>& r) {
-    if (!r) return nullptr;
-    return {{"method", r->method},
-            {"width", r->width},
-            {"height", r->height},
-            {"geoTransform", r->geoTransform},
-            {"validSamples", r->validSamples},
-            {"finestDistanceM", r->finestDistanceM}};
 }
 
 // A one-line progress bar with an ETA, redrawn in place on a terminal.
@@ -203,7 +193,9 @@ int main(int argc, char** argv) {
                io::isGdalDatasetName(dem.path) ? nlohmann::json(dem.path) : nlohmann::json()},
               {"rowsFlipped", dem.rowsFlipped},
               {"columnsFlipped", dem.columnsFlipped},
-              {"resampled", resampledJson(s.manifest.source.resampled)}}},
+              // As the manifest records it (source.resampled), or null.
+              {"resampled", nlohmann::json::parse(io::toJson(s.manifest))["source"].value(
+                                "resampled", nlohmann::json())}}},
             {"levels", s.manifest.levels.size()},
             {"tiling", s.manifest.globe ? "globe" : "planar"},
             {"faceFinestLevel", s.manifest.globe ? nlohmann::json(s.manifest.globe->faceFinestLevel)

@@ -29,24 +29,23 @@ float fromSourceUnits(std::int32_t v, const VerticalTransform& source) {
     return static_cast<float>(static_cast<double>(v) * source.scale + source.offset);
 }
 
-std::int32_t toInteger(float h, std::uint32_t divisor, const VerticalTransform& source) {
-    const double m = divisor == kSourceUnits ? (double(h) - source.offset) / source.scale
-                                             : double(h) * double(divisor);
-    return static_cast<std::int32_t>(std::nearbyint(m));
-}
-
 float fromInteger(std::int32_t v, std::uint32_t divisor, const VerticalTransform& source) {
     return divisor == kSourceUnits ? fromSourceUnits(v, source) : fromMultiple(v, divisor);
 }
 
-bool integersFit(std::span<const float> heights, std::uint32_t divisor,
-                 const VerticalTransform& source) {
-    for (const float h : heights) {
-        const double m = divisor == kSourceUnits ? (double(h) - source.offset) / source.scale
-                                                 : double(h) * double(divisor);
-        if (!(std::abs(std::nearbyint(m)) <= kLargestMultiple)) return false;
-        if (std::bit_cast<std::uint32_t>(fromInteger(toInteger(h, divisor, source), divisor,
-                                                     source)) != std::bit_cast<std::uint32_t>(h))
+// Writes the integer of every height under `divisor` to `values`; false, stopping early, as
+// soon as one is out of range or does not give its height back bit for bit.
+bool toIntegers(std::span<const float> heights, std::uint32_t divisor,
+                const VerticalTransform& source, std::int32_t* values) {
+    for (std::size_t i = 0; i < heights.size(); ++i) {
+        const float h = heights[i];
+        const double m =
+            std::nearbyint(divisor == kSourceUnits ? (double(h) - source.offset) / source.scale
+                                                   : double(h) * double(divisor));
+        if (!(std::abs(m) <= kLargestMultiple)) return false;
+        values[i] = static_cast<std::int32_t>(m);
+        if (std::bit_cast<std::uint32_t>(fromInteger(values[i], divisor, source)) !=
+            std::bit_cast<std::uint32_t>(h))
             return false;
     }
     return true;
@@ -94,22 +93,23 @@ std::uint32_t encodeHeights(std::span<const float> heights, int side,
     const auto count = static_cast<std::size_t>(side) * static_cast<std::size_t>(side);
     TERRAIN_ASSERT(heights.size() == count && codes.size() == count,
                    "encodeHeights: side × side heights and codes");
-    std::uint32_t divisor = 0;
-    const bool scaled = source.scale != 1.0 || source.offset != 0.0;
-    if (scaled && source.scale != 0.0 && integersFit(heights, kSourceUnits, source)) {
-        divisor = kSourceUnits;
-    } else {
-        for (const std::uint32_t d : kDivisors)
-            if (integersFit(heights, d, source)) {
-                divisor = d;
-                break;
-            }
-    }
     // The integers first (in `codes`, as int32 bits), then their differences in place,
     // from the last sample back, so each prediction still reads original integers.
     auto* values = reinterpret_cast<std::int32_t*>(codes.data());
-    for (std::size_t i = 0; i < count; ++i)
-        values[i] = divisor == 0 ? orderedBits(heights[i]) : toInteger(heights[i], divisor, source);
+    std::uint32_t divisor = 0;
+    const bool scaled = source.scale != 1.0 || source.offset != 0.0;
+    if (scaled && source.scale != 0.0 && toIntegers(heights, kSourceUnits, source, values)) {
+        divisor = kSourceUnits;
+    } else {
+        const auto fits = std::find_if(kDivisors.begin(), kDivisors.end(), [&](std::uint32_t d) {
+            return toIntegers(heights, d, source, values);
+        });
+        if (fits != kDivisors.end()) {
+            divisor = *fits;
+        } else {
+            for (std::size_t i = 0; i < count; ++i) values[i] = orderedBits(heights[i]);
+        }
+    }
     for (int y = side - 1; y >= 0; --y)
         for (int x = side - 1; x >= 0; --x) {
             const std::size_t i = static_cast<std::size_t>(y * side + x);

@@ -34,6 +34,16 @@ ColumnSpan columnsReaching(const ResampledGrid& grid, std::int64_t row, double y
 
 }  // namespace
 
+double distanceToPatchSurface(const PatchRecord& patch, int tileSamples, int quads, double u,
+                              double v, double height) {
+    const auto cx = static_cast<int>(std::min(std::floor(u), double(quads - 1)));
+    const auto cy = static_cast<int>(std::min(std::floor(v), double(quads - 1)));
+    const int t = tileSamples;
+    const float* h = patch.heights.data() + (cy + 1) * t + cx + 1;
+    const auto [one, other] = cellSurfaceHeights(h[0], h[1], h[t], h[t + 1], u - cx, v - cy);
+    return std::max(std::abs(one - height), std::abs(other - height));
+}
+
 Status visitOriginalSamples(
     DemReader& original, const ResampledGrid& grid, const PyramidLayout& layout, int level,
     std::int64_t firstPatchRow, std::int64_t patchRows,
@@ -85,13 +95,8 @@ Status visitOriginalSamples(
                 const PatchRecord& patch = patchAt(px, py);
                 const double u = (x - double(px * span)) / double(s);
                 const double v = (y - double(py * span)) / double(s);
-                const auto cx = static_cast<int>(std::min(std::floor(u), double(q - 1)));
-                const auto cy = static_cast<int>(std::min(std::floor(v), double(q - 1)));
-                const float* h = patch.heights.data() + (cy + 1) * t + cx + 1;
-                const auto [one, other] =
-                    cellSurfaceHeights(h[0], h[1], h[t], h[t + 1], u - cx, v - cy);
-                const double height = row[c];
-                visit(patch, c, r, std::max(std::abs(one - height), std::abs(other - height)));
+                visit(patch, c, r,
+                      distanceToPatchSurface(patch, t, static_cast<int>(q), u, v, row[c]));
             }
         }
     }

@@ -17,6 +17,13 @@
 
 namespace terrain::io::detail {
 
+/// The larger distance from `height` to the two surfaces (one per diagonal) the patch's
+/// cell at (u, v) can have, (u, v) in level samples from the patch's north-west sample
+/// (0 … quads each; the last row and column belong to the last cell). `tileSamples`: the
+/// record's row length, apron included.
+double distanceToPatchSurface(const PatchRecord& patch, int tileSamples, int quads, double u,
+                              double v, double height);
+
 /// Visits every valid sample of `original` (the source on its own grid, placed on the
 /// pyramid's raster by `grid`) that lies in patch rows [firstPatchRow, firstPatchRow +
 /// patchRows) of `level`: `patchAt(px, py)` gives that patch, `visit` the sample's stored

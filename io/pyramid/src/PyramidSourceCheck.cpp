@@ -3,7 +3,6 @@
 #include "GlobeSourceCheck.h"
 #include "OriginalSampleDistances.h"
 #include "ParallelFor.h"
-#include "terrain/io/PatchErrors.h"
 
 #include <fmt/core.h>
 
@@ -42,19 +41,14 @@ public:
                 m_loadedRow = py;
             }
             const double v = double(y - py * q * s) / double(s);
-            const auto cy = static_cast<int>(std::min<double>(std::floor(v), double(q - 1)));
             const float* row = samples.data() + (y - firstRow) * width;
             for (std::int64_t x = 0; x < width; ++x) {
                 if (std::isnan(row[x])) continue;
                 const std::int64_t px = std::min(x / (q * s), layout.patchesX(m_level) - 1);
                 const PatchRecord& patch = m_records[static_cast<std::size_t>(px)];
                 const double u = double(x - px * q * s) / double(s);
-                const auto cx = static_cast<int>(std::min<double>(std::floor(u), double(q - 1)));
-                const float* h = patch.heights.data() + (cy + 1) * t + cx + 1;
-                const auto [first, second] =
-                    cellSurfaceHeights(h[0], h[1], h[t], h[t + 1], u - cx, v - cy);
                 const double distance =
-                    std::max(std::abs(first - row[x]), std::abs(second - row[x]));
+                    detail::distanceToPatchSurface(patch, t, static_cast<int>(q), u, v, row[x]);
                 const float bound = patch.info.error;
                 ++checked;
                 if (bound > 0.0f) m_tightest = std::max(m_tightest, distance / bound);

@@ -11,7 +11,6 @@
 #include <ImfTileDescription.h>
 #include <ImfVecAttribute.h>
 #include <fmt/format.h>
-#include <half.h>
 
 namespace terrain::io::shard {
 namespace {
