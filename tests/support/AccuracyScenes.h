@@ -93,16 +93,18 @@ private:
 };
 
 /// Builds `reader`'s pyramid into `folder`/name.pyramid: patches of 65 samples (several
-/// levels on a 513² DEM) in 8 × 8 blocks of the default 8 quads.
+/// levels on a 513² DEM) in 8 × 8 blocks of the default 8 quads; `maxErrorM` > 0 stores it
+/// lossy (terrain-build --max-error-m).
 inline std::filesystem::path buildScenePyramid(
     io::DemReader& reader, const TempFolder& folder, const std::string& name, int patchSamples = 65,
-    int blockQuads = io::PyramidLayout::kDefaultBlockQuads) {
+    int blockQuads = io::PyramidLayout::kDefaultBlockQuads, double maxErrorM = 0.0) {
     const std::filesystem::path out = folder.path() / (name + ".pyramid");
     io::PyramidBuildOptions options;
     options.patchSamples = patchSamples;
     options.blockQuads = blockQuads;
     options.shardPatches = 8;
     options.threads = 1;
+    options.maxErrorM = maxErrorM;
     auto built = io::buildPyramid(reader, out, options);
     EXPECT_TRUE(built) << built.error().message;
     return out;

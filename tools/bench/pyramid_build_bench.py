@@ -3,13 +3,16 @@
 
 For every real DEM in ../shared/data and a 16,385² float32 procedural DEM written as a
 tiled GeoTIFF, runs (one at a time, same machine, same thread count)
-  terrain-build INPUT -o PYRAMID --threads 2                 (height codes, zlib level 1)
+  terrain-build INPUT -o PYRAMID --threads 2                 (height codes, --zip-level 4)
   terrain-build INPUT -o PYRAMID --threads 2 --zip-level 0   (the same, uncompressed)
+  terrain-build INPUT -o PYRAMID --threads 2 --max-error-m 1  (lossy, Yusov §4's quantizer)
+  terrain-inspect PYRAMID --verify --source INPUT --json      (its bounds against the source)
   gdal_translate -of COG -co COMPRESS=DEFLATE -co PREDICTOR=YES -co NUM_THREADS=2 INPUT OUT.tif
   gdal_translate -of COG -co COMPRESS=LERC -co MAX_Z_ERROR=1 -co NUM_THREADS=2 INPUT OUT.tif
 (the COG driver adds overviews, OVERVIEWS=AUTO, to a raster larger than its 512² blocks; the
 predictor is 2 for integer and 3 for float samples), records wall seconds and peak RSS of
-each (os.wait4) and their sizes, then writes
+each (os.wait4) and their sizes, the lossy pyramid's ratio to the raw float32 raster (and to
+16-bit samples, Yusov's reference) and whether its bounds held, then writes
 OUT_DIR/pyramid-build-bench.json and .md. Rerun with:
   tools/bench/pyramid_build_bench.py --build build --out out/bench
 """
@@ -58,11 +61,20 @@ def main():
     parser.add_argument("--shared", default=str(REPO.parent / "shared" / "data"), help="real DEMs")
     parser.add_argument("--size", type=int, default=16385, help="procedural DEM side")
     parser.add_argument("--scratch", default="/tmp/terrain-bench", help="big temporary files")
+    parser.add_argument("--max-error-m", type=float, default=1.0,
+                        help="δ of the lossy build and LERC's MAX_Z_ERROR")
+    parser.add_argument("--zip-level", type=int, default=4,
+                        help="terrain-build --zip-level of the compressed and lossy builds")
+    parser.add_argument("--no-procedural", action="store_true",
+                        help="the shared DEMs only, without the procedural DEM")
+    parser.add_argument("--no-verify", action="store_true",
+                        help="skip terrain-inspect --verify --source of the lossy pyramids")
     args = parser.parse_args()
 
     build = Path(args.build)
     terrain_build = build / "tools" / "terrain-build" / "terrain-build"
     terrain_generate = build / "tools" / "terrain-generate" / "terrain-generate"
+    terrain_inspect = build / "tools" / "terrain-inspect" / "terrain-inspect"
     if shutil.which("gdal_translate") is None:
         sys.exit("gdal_translate not found: scripts/setup.sh installs gdal-bin")
     out, scratch = Path(args.out), Path(args.scratch)
@@ -71,11 +83,13 @@ def main():
 
     inputs = [(Path(args.shared) / name, flags) for name, flags in REAL_DEMS]
     big = scratch / f"procedural-{args.size}.tif"
-    if not big.exists():
+    if not args.no_procedural and not big.exists():
         print(f"writing {big} (float32, tiled 256², uncompressed) ...", flush=True)
         run([terrain_generate, "--size", str(args.size), "--compression", "none", "-o", big],
             scratch / "generate.log")
-    inputs.append((big, []))
+    if not args.no_procedural:
+        inputs.append((big, []))
+    zip_level = ["--zip-level", str(args.zip_level)]
 
     rows = []
     for path, flags in inputs:
@@ -83,7 +97,8 @@ def main():
         cog = scratch / (path.stem + ".cog.tif")
         shutil.rmtree(pyramid, ignore_errors=True)
         ours_s, ours_rss, ours_json = run(
-            [terrain_build, path, "-o", pyramid, "--threads", "2", "--json", "--quiet", *flags],
+            [terrain_build, path, "-o", pyramid, "--threads", "2", *zip_level, "--json", "--quiet",
+             *flags],
             scratch / "terrain-build.log")
         summary = json.loads(ours_json)
         shutil.rmtree(pyramid, ignore_errors=True)
@@ -92,15 +107,34 @@ def main():
              "--quiet", *flags], scratch / "terrain-build.log")
         raw_bytes = json.loads(raw_json)["bytes"]
         shutil.rmtree(pyramid, ignore_errors=True)
+        delta = str(args.max_error_m)
+        lossy_s, _, lossy_json = run(
+            [terrain_build, path, "-o", pyramid, "--threads", "2", "--max-error-m", delta,
+             *zip_level, "--json", "--quiet", *flags], scratch / "terrain-build.log")
+        lossy = json.loads(lossy_json)
+        check = None
+        if not args.no_verify:
+            # terrain-inspect exits 1 when it finds a problem: recorded, not fatal here.
+            with open(scratch / "terrain-inspect.log", "w") as err:
+                inspected = subprocess.run(
+                    [terrain_inspect, pyramid, "--verify", "--source", path, "--json", *flags],
+                    stdout=subprocess.PIPE, stderr=err, text=True)
+            report = json.loads(inspected.stdout)
+            source = report.get("sourceCheck") or {}
+            check = {"ok": report.get("ok"), "violations": source.get("violations"),
+                     "storedViolations": source.get("storedViolations"),
+                     "largestStoredDifferencePerLevelM": source.get("largestStoredDifferencePerLevelM")}
+        shutil.rmtree(pyramid, ignore_errors=True)
         gdal_s, gdal_rss, _ = run(
             ["gdal_translate", "-q", "-of", "COG", "-co", "COMPRESS=DEFLATE", "-co", "PREDICTOR=YES",
              "-co", "NUM_THREADS=2", path, cog], scratch / "gdal.log")
         cog_bytes = cog.stat().st_size
         cog.unlink(missing_ok=True)
         lerc_s, _, _ = run(
-            ["gdal_translate", "-q", "-of", "COG", "-co", "COMPRESS=LERC", "-co", "MAX_Z_ERROR=1",
+            ["gdal_translate", "-q", "-of", "COG", "-co", "COMPRESS=LERC", "-co", f"MAX_Z_ERROR={args.max_error_m:g}",
              "-co", "NUM_THREADS=2", path, cog], scratch / "gdal.log")
         lerc_bytes = cog.stat().st_size
+        samples = summary["raster"]["width"] * summary["raster"]["height"]
         rows.append({
             "input": path.name, "width": summary["raster"]["width"], "height": summary["raster"]["height"],
             "levels": summary["levels"], "patches": summary["patches"],
@@ -111,6 +145,12 @@ def main():
             "cogMiB": round(cog_bytes / 2**20, 2),
             "lercCogSeconds": round(lerc_s, 3), "lercCogMiB": round(lerc_bytes / 2**20, 2),
             "pyramidToCog": round(summary["bytes"] / cog_bytes, 2),
+            "maxErrorM": args.max_error_m,
+            "lossyBuildSeconds": round(lossy_s, 3), "lossyPyramidMiB": round(lossy["bytes"] / 2**20, 2),
+            "lossyToLerc": round(lossy["bytes"] / lerc_bytes, 2),
+            "float32ToLossy": round(4 * samples / lossy["bytes"], 1),
+            "int16ToLossy": round(2 * samples / lossy["bytes"], 1),
+            "lossyCheck": check,
         })
         print(json.dumps(rows[-1]), flush=True)
         cog.unlink(missing_ok=True)
@@ -119,14 +159,18 @@ def main():
               "command": " ".join(sys.argv), "rows": rows}
     (out / "pyramid-build-bench.json").write_text(json.dumps(result, indent=2) + "\n")
     lines = ["| input | size | levels | patches | terrain-build s | RSS MiB | pyramid MiB | "
-             "uncompressed s | MiB | gdal COG s | RSS MiB | COG MiB | pyramid / COG | LERC 1 m s | MiB |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "uncompressed s | MiB | gdal COG s | RSS MiB | COG MiB | pyramid / COG | LERC s | MiB | "
+             "lossy s | MiB | lossy / LERC | float32 / lossy | bounds held |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r['input']} | {r['width']}×{r['height']} | {r['levels']} | {r['patches']} | "
                      f"{r['terrainBuildSeconds']} | {r['terrainBuildPeakRssMiB']} | {r['pyramidMiB']} | "
                      f"{r['uncompressedBuildSeconds']} | {r['uncompressedPyramidMiB']} | "
                      f"{r['gdalCogSeconds']} | {r['gdalCogPeakRssMiB']} | {r['cogMiB']} | "
-                     f"{r['pyramidToCog']} | {r['lercCogSeconds']} | {r['lercCogMiB']} |")
+                     f"{r['pyramidToCog']} | {r['lercCogSeconds']} | {r['lercCogMiB']} | "
+                     f"{r['lossyBuildSeconds']} | "
+                     f"{r['lossyPyramidMiB']} | {r['lossyToLerc']} | {r['float32ToLossy']} | "
+                     f"{'not checked' if r['lossyCheck'] is None else 'yes' if r['lossyCheck']['ok'] else 'NO'} |")
     (out / "pyramid-build-bench.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
 

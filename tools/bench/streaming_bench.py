@@ -12,7 +12,7 @@ pyramid with default patches (129² + apron) and runs
       after a 5 s warm-up, in ms and in frames
 and writes OUT_DIR/streaming-bench.json and .md. Rerun with:
   /usr/bin/python3 tools/bench/streaming_bench.py --build build --out out/bench
-On llvmpipe a 1080p frame takes tens of milliseconds, so the latency in frames is the
+(--max-error-m 1 builds the pyramids lossy, docs/pyramid-format.md "Lossy storage"). On llvmpipe a 1080p frame takes tens of milliseconds, so the latency in frames is the
 figure that carries over to a GPU; the ms figures are this machine's.
 """
 import argparse
@@ -43,6 +43,8 @@ def main():
     parser.add_argument("--shared", default=str(REPO.parent / "shared" / "data"), help="real DEMs")
     parser.add_argument("--scratch", default="/tmp/terrain-bench", help="pyramids")
     parser.add_argument("--flight-seconds", type=float, default=30.0)
+    parser.add_argument("--max-error-m", type=float, default=0.0,
+                        help="terrain-build --max-error-m: lossy pyramids (0: lossless)")
     args = parser.parse_args()
 
     tools = Path(args.build) / "tools"
@@ -56,7 +58,7 @@ def main():
         print(f"{name}: building {pyramid} ...", flush=True)
         shutil.rmtree(pyramid, ignore_errors=True)
         built = run_json([tools / "terrain-build" / "terrain-build", dem, *flags, "-o", pyramid,
-                          "--json", "--quiet"])
+                          "--max-error-m", args.max_error_m, "--json", "--quiet"])
         manifest = json.loads((pyramid / "manifest.json").read_text())
         io = run_json([tools / "terrain-io-bench" / "terrain-io-bench", pyramid, "--seconds", "5", "--json"])
         georef = manifest["georeference"]
@@ -73,6 +75,8 @@ def main():
         rows.append({
             "dem": name,
             "patches": built.get("patches"),
+            "pyramid_mib": built.get("bytes", 0) / 2**20,
+            "max_error_m": args.max_error_m,
             "io_tiles_per_s": io["tiles_per_s"],
             "io_mib_per_s": io["mib_per_s"],
             "cruise_speed_mps": speed,

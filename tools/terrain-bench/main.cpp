@@ -52,6 +52,7 @@ namespace fs = std::filesystem;
 
 struct BenchOptions {
     std::string pyramid;
+    std::string referencePyramid;  ///< the ground truth's pyramid, if not `pyramid`
     std::string methods = "yusov2011";
     std::vector<double> thresholdsPx{0.5, 1.0, 2.0, 4.0, 8.0, 16.0};
     std::string pathFile;
@@ -240,8 +241,8 @@ int run(const BenchOptions& o, const char* argv0) {
     if (auto saved = path->save(outputDir / "camera-path.json"); !saved)
         return fail(saved.error().message);
 
-    auto probe =
-        runtime::AccuracyProbe::create(o.pyramid, {.widthPx = o.widthPx, .heightPx = o.heightPx});
+    auto probe = runtime::AccuracyProbe::create(
+        o.pyramid, {.widthPx = o.widthPx, .heightPx = o.heightPx}, o.referencePyramid);
     if (!probe) return fail(probe.error().message);
 
     runtime::Camera pathCamera;
@@ -474,6 +475,7 @@ int run(const BenchOptions& o, const char* argv0) {
         {"tool", "terrain-bench"},
         {"command", o.commandLine},
         {"pyramid", o.pyramid},
+        {"referencePyramid", o.referencePyramid.empty() ? o.pyramid : o.referencePyramid},
         {"raster",
          {{"width", layout.rasterWidth()},
           {"height", layout.rasterHeight()},
@@ -558,6 +560,10 @@ int main(int argc, char** argv) {
         "PNG charts and report.md."};
     BenchOptions o;
     app.add_option("pyramid", o.pyramid, "Pyramid folder (terrain-build's output)")->required();
+    app.add_option("--reference", o.referencePyramid,
+                   "Pyramid whose finest level is the ground truth (default: the measured one): "
+                   "the lossless build of a lossy pyramid (terrain-build --max-error-m), so that "
+                   "the error is measured against the source's own samples");
     app.add_option("--thresholds", o.thresholdsPx, "Error thresholds ε in pixels (comma-separated)")
         ->delimiter(',')
         ->capture_default_str();

@@ -105,6 +105,11 @@ int main(int argc, char** argv) {
                    "bounds; 0 stores them uncompressed, as large as floats")
         ->capture_default_str()
         ->check(CLI::Range(0, 9));
+    app.add_option("--max-error-m", options.maxErrorM,
+                   "Lossy storage: each finest-level height within this many metres of the "
+                   "source, level l's within 2^(finest - l) times it (Yusov 2011, section 4), "
+                   "and added to the error bounds; 0 is lossless. Planar pyramids")
+        ->capture_default_str();
     app.add_option("--threads", options.threads, "Worker threads (0: one per core)")
         ->capture_default_str();
     demFlags.addTo(app);
@@ -178,6 +183,7 @@ int main(int argc, char** argv) {
                               {"patchesY", level.patchesY},
                               {"presentPatches", level.presentPatches},
                               {"maxErrorM", level.maxError}});
+        const auto manifestJson = nlohmann::json::parse(io::toJson(s.manifest));
         const nlohmann::json summary{
             {"tool", "terrain-build"},
             {"output", output},
@@ -194,8 +200,9 @@ int main(int argc, char** argv) {
               {"rowsFlipped", dem.rowsFlipped},
               {"columnsFlipped", dem.columnsFlipped},
               // As the manifest records it (source.resampled), or null.
-              {"resampled", nlohmann::json::parse(io::toJson(s.manifest))["source"].value(
-                                "resampled", nlohmann::json())}}},
+              {"resampled", manifestJson["source"].value("resampled", nlohmann::json())}}},
+            // As the manifest records it, or null for a lossless pyramid.
+            {"quantization", manifestJson.value("quantization", nlohmann::json())},
             {"levels", s.manifest.levels.size()},
             {"tiling", s.manifest.globe ? "globe" : "planar"},
             {"faceFinestLevel", s.manifest.globe ? nlohmann::json(s.manifest.globe->faceFinestLevel)

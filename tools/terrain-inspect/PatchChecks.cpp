@@ -87,6 +87,15 @@ void checkPatchContents(const io::PyramidManifest& manifest, bool hasMask,
             fmt::format("bounds out of order: Err(P) {} m must be ≥ Err_Appr(P) {} m + δ {} m, "
                         "both ≥ 0",
                         info.error, info.approxError, info.quantError));
+    // δ is the quantizer's (docs/pyramid-format.md, "Lossy storage"): at least δ_l in a lossy
+    // pyramid, or 0 where it stored the patch exactly; 0 in a lossless one.
+    const double halfStep = manifest.quantization
+                                ? manifest.quantization->halfStep(id.level, layout.finestLevel())
+                                : 0.0;
+    if (info.quantError != 0.0f &&
+        (!manifest.quantization || !(double(info.quantError) >= halfStep)))
+        report(fmt::format("δ = {} m, but the pyramid's quantizer gives δ_l = {} m at level {}",
+                           info.quantError, halfStep, id.level));
     // A globe's finest level is resampled: its Err(P) is measured against the source.
     if (!globe && id.level == layout.finestLevel() && info.approxError != 0.0f)
         report(

@@ -65,6 +65,14 @@ void printText(const io::PyramidReader& reader, const inspect::Inspection& inspe
                m.source.band, m.source.bandCount, m.source.rowsFlipped ? ", rows flipped" : "",
                m.source.columnsFlipped ? ", columns flipped" : "", m.build.tool, m.build.version,
                m.build.seconds);
+    if (const auto& q = m.quantization)
+        fmt::print(
+            "storage: lossy, every stored height within δ_l = {} m · 2^({} − level) of "
+            "the source (Yusov 2011 §4; the finest level's largest difference {} m), and "
+            "δ_l added to Err(P)\n",
+            q->maxErrorM, m.layout.finestLevel(), q->finestLargestErrorM);
+    else
+        fmt::print("storage: lossless\n");
     if (const auto& r = m.source.resampled)
         fmt::print(
             "resampled: a rotated or sheared grid of {} × {} ({} valid samples, geotransform {}) "
@@ -216,19 +224,26 @@ int main(int argc, char** argv) {
             for (const io::ErrorBoundViolation& v : sourceCheck->violations)
                 inspection.problems.push_back(inspect::patchProblem(
                     reader.value().shardFile(v.patch).string(), v.patch,
-                    fmt::format("DEM sample ({}, {}) is {:.6f} m from the surface, beyond "
-                                "Err(P) = {:.6f} m",
-                                v.x, v.y, v.distanceM, v.boundM)));
+                    v.stored ? fmt::format("DEM sample ({}, {}) is stored {:.6f} m from the "
+                                           "source's value, beyond δ = {:.6f} m",
+                                           v.x, v.y, v.distanceM, v.boundM)
+                             : fmt::format("DEM sample ({}, {}) is {:.6f} m from the surface, "
+                                           "beyond Err(P) = {:.6f} m",
+                                           v.x, v.y, v.distanceM, v.boundM)));
         }
     }
     if (json) {
         Json summary = summaryJson(reader.value(), inspection, verify);
         summary["sourceCheck"] = nullptr;
         if (sourceCheck)
-            summary["sourceCheck"] = {{"source", sources},
-                                      {"samplesChecked", sourceCheck->samplesChecked},
-                                      {"violations", sourceCheck->violationCount},
-                                      {"tightestRatioPerLevel", sourceCheck->tightestRatio}};
+            summary["sourceCheck"] = {
+                {"source", sources},
+                {"samplesChecked", sourceCheck->samplesChecked},
+                {"violations", sourceCheck->violationCount},
+                {"tightestRatioPerLevel", sourceCheck->tightestRatio},
+                {"storedSamplesChecked", sourceCheck->storedSamplesChecked},
+                {"storedViolations", sourceCheck->storedViolationCount},
+                {"largestStoredDifferencePerLevelM", sourceCheck->largestStoredDifference}};
         summary["ok"] = inspection.problems.empty();
         std::printf("%s\n", summary.dump(2).c_str());
     } else {
@@ -240,6 +255,14 @@ int main(int argc, char** argv) {
                 sourceCheck->samplesChecked, sourceCheck->violationCount);
             for (double ratio : sourceCheck->tightestRatio) fmt::print(" {:.3f}", ratio);
             fmt::print("\n");
+            if (sourceCheck->storedSamplesChecked > 0) {
+                fmt::print(
+                    "stored samples: {} (sample, level) pairs on the levels' grids, {} beyond "
+                    "δ; largest |stored − source| per level, m:",
+                    sourceCheck->storedSamplesChecked, sourceCheck->storedViolationCount);
+                for (double d : sourceCheck->largestStoredDifference) fmt::print(" {:.4g}", d);
+                fmt::print("\n");
+            }
         }
     }
     if (!inspection.problems.empty()) {

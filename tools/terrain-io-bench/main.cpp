@@ -14,8 +14,8 @@
 #include <cstdio>
 #include <fstream>
 #include <random>
-#include <thread>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace {
@@ -43,19 +43,26 @@ std::vector<io::PatchId> allPatches(const io::PyramidLayout& layout, std::uint64
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"Tiles per second read and decoded by one streaming I/O thread from the page "
-                 "cache, through the runtime's IoThread."};
+    CLI::App app{
+        "Tiles per second read and decoded by one streaming I/O thread from the page "
+        "cache, through the runtime's IoThread."};
     std::string pyramid;
     double seconds = 5.0;
     std::size_t maxPatches = 20000;
     std::size_t inFlight = 64;
+    int openShards = io::IoThreadOptions{}.maxOpenShards;
     bool json = false;
     app.add_option("pyramid", pyramid, "Pyramid folder")->required();
     app.add_option("--seconds", seconds, "Measure for at least this long")->capture_default_str();
     app.add_option("--max-patches", maxPatches, "Cycle over at most this many patches")
         ->capture_default_str();
     app.add_option("--in-flight", inFlight, "Requests kept submitted at once")
-        ->capture_default_str()->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
+        ->capture_default_str()
+        ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 20));
+    app.add_option("--open-shards", openShards,
+                   "Shard files the I/O thread keeps open (the runtime's default)")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 4096));
     app.add_flag("--json", json, "Print a JSON summary on stdout");
     CLI11_PARSE(app, argc, argv);
 
@@ -67,13 +74,15 @@ int main(int argc, char** argv) {
     // Warm the page cache (and check every patch reads) with a plain reader.
     io::PatchRecord record;
     for (const io::PatchId& id : ids) {
-        if (auto read = reader.value().readPatch(id, record); !read) return fail(read.error().message);
+        if (auto read = reader.value().readPatch(id, record); !read)
+            return fail(read.error().message);
     }
     const std::size_t tileBytes = record.heights.size() * sizeof(float) + record.valid.size() +
                                   record.blockErrors.size() * sizeof(io::BlockErrors);
 
     io::IoThreadOptions options;
     options.maxUnpolled = inFlight;
+    options.maxOpenShards = openShards;
     auto started = io::IoThread::start(pyramid, options);
     if (!started) return fail(started.error().message);
     io::IoThread& thread = *started.value();
@@ -111,6 +120,7 @@ int main(int argc, char** argv) {
             {"tile_bytes", tileBytes},
             {"distinct_patches", ids.size()},
             {"io_threads", 1},
+            {"open_shards", openShards},
             {"tiles", completed},
             {"failed", failed},
             {"seconds", elapsed},
@@ -120,7 +130,8 @@ int main(int argc, char** argv) {
         };
         std::puts(out.dump(2).c_str());
     }
-    fmt::print(stderr, "terrain-io-bench: {} tiles of {}² in {:.2f} s on 1 I/O thread: {:.0f} tiles/s "
+    fmt::print(stderr,
+               "terrain-io-bench: {} tiles of {}² in {:.2f} s on 1 I/O thread: {:.0f} tiles/s "
                "({:.1f} MiB/s, {:.0f} µs per tile){}\n",
                completed, layout.patchSamples() + 2, elapsed, tilesPerS,
                tilesPerS * static_cast<double>(tileBytes) / (1024.0 * 1024.0), 1e6 / tilesPerS,

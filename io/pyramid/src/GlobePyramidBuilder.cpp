@@ -389,6 +389,10 @@ Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> reader
     const auto start = Clock::now();
     if (readers.empty())
         return Error{output.string() + ": no source to build a globe pyramid from"};
+    if (options.maxErrorM != 0.0)
+        return Error{output.string() +
+                     ": lossy storage (a maximum storage error) is not implemented for globe "
+                     "pyramids yet; build it losslessly"};
     Result<GlobeSources> read =
         GlobeSources::read(readers, options.memoryBudgetBytes / 2, options.patchSamples - 1);
     if (!read) return read.error();

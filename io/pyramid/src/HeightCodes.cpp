@@ -29,22 +29,40 @@ float fromSourceUnits(std::int32_t v, const VerticalTransform& source) {
     return static_cast<float>(static_cast<double>(v) * source.scale + source.offset);
 }
 
-float fromInteger(std::int32_t v, std::uint32_t divisor, const VerticalTransform& source) {
-    return divisor == kSourceUnits ? fromSourceUnits(v, source) : fromMultiple(v, divisor);
+float fromSteps(std::int32_t q, double step) { return static_cast<float>(double(q) * step); }
+
+float fromInteger(std::int32_t v, std::uint32_t divisor, const HeightUnits& units) {
+    switch (divisor) {
+        case kSourceUnits:
+            return fromSourceUnits(v, units.source);
+        case kQuantizerSteps:
+            return fromSteps(v, units.quantizerStep);
+        default:
+            return fromMultiple(v, divisor);
+    }
+}
+
+double toReal(float h, std::uint32_t divisor, const HeightUnits& units) {
+    switch (divisor) {
+        case kSourceUnits:
+            return (double(h) - units.source.offset) / units.source.scale;
+        case kQuantizerSteps:
+            return double(h) / units.quantizerStep;
+        default:
+            return double(h) * double(divisor);
+    }
 }
 
 // Writes the integer of every height under `divisor` to `values`; false, stopping early, as
 // soon as one is out of range or does not give its height back bit for bit.
-bool toIntegers(std::span<const float> heights, std::uint32_t divisor,
-                const VerticalTransform& source, std::int32_t* values) {
+bool toIntegers(std::span<const float> heights, std::uint32_t divisor, const HeightUnits& units,
+                std::int32_t* values) {
     for (std::size_t i = 0; i < heights.size(); ++i) {
         const float h = heights[i];
-        const double m =
-            std::nearbyint(divisor == kSourceUnits ? (double(h) - source.offset) / source.scale
-                                                   : double(h) * double(divisor));
+        const double m = std::nearbyint(toReal(h, divisor, units));
         if (!(std::abs(m) <= kLargestMultiple)) return false;
         values[i] = static_cast<std::int32_t>(m);
-        if (std::bit_cast<std::uint32_t>(fromInteger(values[i], divisor, source)) !=
+        if (std::bit_cast<std::uint32_t>(fromInteger(values[i], divisor, units)) !=
             std::bit_cast<std::uint32_t>(h))
             return false;
     }
@@ -88,8 +106,23 @@ std::int32_t unzigzag(std::uint32_t z) {
 
 std::span<const std::uint32_t> heightDivisors() { return kDivisors; }
 
+double quantizeHeights(std::span<float> heights, double halfStep) {
+    TERRAIN_ASSERT(halfStep > 0.0 && std::isfinite(halfStep), "quantizeHeights: δ > 0");
+    const double step = 2.0 * halfStep;
+    double largest = 0.0;
+    for (float& h : heights) {
+        // §4: Q_l(h) = ⌊(h + δ_l)/(2δ_l)⌋, ĥ = 2δ_l · Q_l(h).
+        const double q = std::floor((double(h) + halfStep) / step);
+        if (!(std::abs(q) <= kLargestMultiple)) continue;
+        const float stored = fromSteps(static_cast<std::int32_t>(q), step);
+        largest = std::max(largest, std::abs(double(stored) - double(h)));
+        h = stored;
+    }
+    return largest;
+}
+
 std::uint32_t encodeHeights(std::span<const float> heights, int side,
-                            std::span<std::uint32_t> codes, const VerticalTransform& source) {
+                            std::span<std::uint32_t> codes, const HeightUnits& units) {
     const auto count = static_cast<std::size_t>(side) * static_cast<std::size_t>(side);
     TERRAIN_ASSERT(heights.size() == count && codes.size() == count,
                    "encodeHeights: side × side heights and codes");
@@ -97,12 +130,16 @@ std::uint32_t encodeHeights(std::span<const float> heights, int side,
     // from the last sample back, so each prediction still reads original integers.
     auto* values = reinterpret_cast<std::int32_t*>(codes.data());
     std::uint32_t divisor = 0;
+    const VerticalTransform& source = units.source;
     const bool scaled = source.scale != 1.0 || source.offset != 0.0;
-    if (scaled && source.scale != 0.0 && toIntegers(heights, kSourceUnits, source, values)) {
+    const bool quantized = units.quantizerStep > 0.0 && std::isfinite(units.quantizerStep);
+    if (quantized && toIntegers(heights, kQuantizerSteps, units, values)) {
+        divisor = kQuantizerSteps;
+    } else if (scaled && source.scale != 0.0 && toIntegers(heights, kSourceUnits, units, values)) {
         divisor = kSourceUnits;
     } else {
         const auto fits = std::find_if(kDivisors.begin(), kDivisors.end(), [&](std::uint32_t d) {
-            return toIntegers(heights, d, source, values);
+            return toIntegers(heights, d, units, values);
         });
         if (fits != kDivisors.end()) {
             divisor = *fits;
@@ -122,7 +159,7 @@ std::uint32_t encodeHeights(std::span<const float> heights, int side,
 }
 
 void decodeHeights(std::span<const std::uint32_t> codes, int side, std::uint32_t divisor,
-                   std::span<float> heights, const VerticalTransform& source) {
+                   std::span<float> heights, const HeightUnits& units) {
     const auto count = static_cast<std::size_t>(side) * static_cast<std::size_t>(side);
     TERRAIN_ASSERT(heights.size() == count && codes.size() == count,
                    "decodeHeights: side × side codes and heights");
@@ -148,7 +185,11 @@ void decodeHeights(std::span<const std::uint32_t> codes, int side, std::uint32_t
     if (divisor == 0) {
         for (std::size_t i = 0; i < count; ++i) heights[i] = fromOrderedBits(values[i]);
     } else if (divisor == kSourceUnits) {
-        for (std::size_t i = 0; i < count; ++i) heights[i] = fromSourceUnits(values[i], source);
+        for (std::size_t i = 0; i < count; ++i)
+            heights[i] = fromSourceUnits(values[i], units.source);
+    } else if (divisor == kQuantizerSteps) {
+        for (std::size_t i = 0; i < count; ++i)
+            heights[i] = fromSteps(values[i], units.quantizerStep);
     } else {
         for (std::size_t i = 0; i < count; ++i) heights[i] = fromMultiple(values[i], divisor);
     }

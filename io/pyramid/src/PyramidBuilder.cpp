@@ -14,6 +14,7 @@
 #include "ParallelFor.h"
 #include "SourceCoverage.h"
 #include "terrain/base/Assert.h"
+#include "terrain/io/HeightCodes.h"
 #include "terrain/io/NoDataFill.h"
 #include "terrain/io/PatchErrors.h"
 #include "terrain/io/PatchRecord.h"
@@ -306,7 +307,8 @@ public:
           m_threads(options.threads > 0 ? options.threads
                                         : std::max(1u, std::thread::hardware_concurrency())) {
         m_shardOptions.zipLevel = options.zipLevel;
-        m_shardOptions.sourceUnits = reader.info().vertical;  // the manifest's
+        m_shardOptions.units.source = reader.info().vertical;  // the manifest's
+        if (options.maxErrorM > 0.0) m_quantization = ManifestQuantization{options.maxErrorM};
         ShardWriter::setCompressionThreads(static_cast<int>(m_threads));
         for (int l = 0; l < m_layout.levelCount(); ++l)
             m_totalSamples += double(m_layout.levelSamplesX(l)) * double(m_layout.levelSamplesY(l));
@@ -351,6 +353,8 @@ public:
     /// level's surface.
     std::int64_t originalValidSamples() const { return m_originalValid; }
     double originalFinestDistance() const { return m_originalFinestDistance; }
+    /// Set for a lossy build, with the largest difference the finest level's quantizer made.
+    const std::optional<ManifestQuantization>& quantization() const { return m_quantization; }
     const PyramidBuildPhases& phases() const { return m_phases; }
 
 private:
@@ -388,10 +392,16 @@ private:
 
             // Patches of the band, in parallel.
             const std::int64_t count = patchRows * patchesX;
+            m_quantized.assign(static_cast<std::size_t>(count), 0.0);
             parallelFor(count, m_threads, [&](std::int64_t i) {
-                makeRecord(level, band, PatchId{level, i % patchesX, firstPatchRow + i / patchesX},
-                           records[static_cast<std::size_t>(i)]);
+                m_quantized[static_cast<std::size_t>(i)] = makeRecord(
+                    level, band, PatchId{level, i % patchesX, firstPatchRow + i / patchesX},
+                    records[static_cast<std::size_t>(i)]);
             });
+            if (m_quantization && level == m_layout.finestLevel())
+                for (const double d : m_quantized)
+                    m_quantization->finestLargestErrorM =
+                        std::max(m_quantization->finestLargestErrorM, d);
             if (m_original != nullptr) {
                 if (auto raised = coverOriginalSamples(level, firstPatchRow, patchRows, records);
                     !raised)
@@ -434,11 +444,13 @@ private:
         m_childApprox = m_approx;
         m_childError = m_error;
         m_interpolation = std::move(parentInterpolation);
-        if (level == 0) m_rootError = m_original != nullptr ? m_error.at(0, 0) : m_approx.at(0, 0);
+        if (level == 0) m_rootError = m_levelMaxError[0];  // the one root patch's Err(P)
         return {};
     }
 
-    void makeRecord(int level, Band& band, const PatchId& id, PatchRecord& record) {
+    // Returns the largest difference the quantizer made to the patch's samples (0 when
+    // lossless).
+    double makeRecord(int level, Band& band, const PatchId& id, PatchRecord& record) {
         const int n = m_layout.patchSamples(), t = m_layout.tileSamples(),
                   q = m_layout.patchQuads();
         record.id = id;
@@ -451,6 +463,24 @@ private:
             const std::int64_t row = id.y * q - 1 + j;
             std::copy_n(band.heightRow(row) + x0, t, record.heights.data() + j * t);
             std::copy_n(band.validRow(row) + x0, t, record.valid.data() + j * t);
+        }
+        // A lossy build stores the quantized heights (Yusov §4), so everything below that
+        // describes what is drawn (min/max, λ(d), the checksum) describes them; Err_Appr
+        // stays the exact heights' (from the band), and δ_l joins it in Err(P).
+        double quantized = 0.0;
+        float quantError = 0.0f;
+        // A source whose own units are at least the step (the Puget Sound JPEG's 25.7 m) is
+        // stored exactly, in its units: rounding them to the step would only make codes
+        // larger.
+        if (m_quantization) {
+            const double halfStep = m_quantization->halfStep(level, m_layout.finestLevel());
+            const VerticalTransform& units = m_reader.info().vertical;
+            const bool coarseUnits =
+                units != VerticalTransform{} && std::abs(units.scale) >= 2.0 * halfStep;
+            if (!coarseUnits) {
+                quantized = quantizeHeights(record.heights, halfStep);
+                quantError = roundUpToFloat(std::max(halfStep, quantized));
+            }
         }
         PatchInfo& info = record.info;
         info = PatchInfo{};
@@ -474,8 +504,11 @@ private:
         }
         m_approx.at(id.x, id.y) = approx;
         info.approxError = approx;
-        info.quantError = 0.0f;  // float32 storage is lossless
-        info.error = approx;
+        // Err(P) = Err_Appr(P) + δ_l (Yusov §4): the stored surface is within δ_l of the
+        // exact one at every sample, so between them too.
+        info.quantError = quantError;
+        info.error = roundUpSum(approx, quantError);
+        return quantized;
     }
 
     // A resampled source (issue 21): Err(P) is raised to cover the source's own samples
@@ -559,8 +592,11 @@ private:
                 if (ec)
                     return Error{path.parent_path().string() +
                                  ": cannot create folder: " + ec.message()};
-                auto writer =
-                    ShardWriter::create(path, m_layout, shard, m_withMask, m_shardOptions);
+                ShardWriterOptions options = m_shardOptions;
+                if (m_quantization)
+                    options.units.quantizerStep =
+                        2.0 * m_quantization->halfStep(level, m_layout.finestLevel());
+                auto writer = ShardWriter::create(path, m_layout, shard, m_withMask, options);
                 if (!writer) return writer.error();
                 it = writers.emplace(std::pair{shard.y, shard.x}, std::move(writer).value()).first;
             }
@@ -587,6 +623,8 @@ private:
     std::vector<double> m_distances;
     std::int64_t m_originalValid = 0;
     double m_originalFinestDistance = 0.0;
+    std::optional<ManifestQuantization> m_quantization;  // a lossy build's
+    std::vector<double> m_quantized;                     // per patch of the band
     std::vector<float> m_rowScratch;
     std::vector<std::uint8_t> m_validScratch;
     std::vector<float> m_levelMaxError;
@@ -630,6 +668,7 @@ PyramidManifest makeManifest(const DemReader& reader, const PyramidLayout& layou
             ManifestResampling{dem.resampledFrom->method,      dem.resampledFrom->width,
                                dem.resampledFrom->height,      dem.resampledFrom->geoTransform,
                                builder.originalValidSamples(), builder.originalFinestDistance()};
+    m.quantization = builder.quantization();
     m.build.tool = "terrain-build";
     m.build.version = TERRAIN_VERSION;
     return m;
@@ -641,6 +680,11 @@ Result<PyramidBuildSummary> buildPyramid(DemReader& reader, const fs::path& outp
                                          const PyramidBuildOptions& options) {
     const auto start = Clock::now();
     const DemInfo& dem = reader.info();
+    if (!(options.maxErrorM >= 0.0) || !std::isfinite(options.maxErrorM))
+        return Error{
+            fmt::format("{}: the maximum storage error must be a finite number of "
+                        "metres ≥ 0 (0: lossless), not {}",
+                        output.string(), options.maxErrorM)};
     auto layout = PyramidLayout::create(dem.width, dem.height, options.patchSamples,
                                         options.blockQuads, options.shardPatches);
     if (!layout) return Error{dem.path + ": " + layout.error().message};

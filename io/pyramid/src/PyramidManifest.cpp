@@ -229,6 +229,18 @@ PyramidManifest parseFields(const Json& root, LayoutFields& f) {
         resampled.finestDistanceM = numberField(r, p, "finestDistanceM");
     }
 
+    if (root.contains("quantization")) {
+        const Json& q = objectField(root, "", "quantization");
+        const std::string p = "quantization";
+        if (stringField(q, p, "rule") != ManifestQuantization::kRule)
+            throw FieldError{p + ".rule", fmt::format("\"{}\"", ManifestQuantization::kRule)};
+        ManifestQuantization& quantization = m.quantization.emplace();
+        quantization.maxErrorM = numberField(q, p, "maxErrorM");
+        if (!(quantization.maxErrorM > 0.0) || !std::isfinite(quantization.maxErrorM))
+            throw FieldError{p + ".maxErrorM", "a finite number of metres > 0"};
+        quantization.finestLargestErrorM = numberField(q, p, "finestLargestErrorM");
+    }
+
     const Json& build = objectField(root, "", "build");
     m.build.tool = stringField(build, "build", "tool");
     m.build.version = stringField(build, "build", "version");
@@ -315,6 +327,14 @@ Status checkGlobe(const PyramidManifest& m, const std::string& name) {
 
 Status checkManifest(const PyramidManifest& m, const std::string& name) {
     if (Status globe = checkGlobe(m, name); !globe) return globe;
+    if (m.quantization && m.globe)
+        return Error{fmt::format("{}: quantization: a globe pyramid is stored losslessly", name)};
+    if (m.quantization &&
+        (!(m.quantization->maxErrorM > 0.0) || !std::isfinite(m.quantization->maxErrorM)))
+        return Error{
+            fmt::format("{}: quantization.maxErrorM must be a finite number of metres "
+                        "> 0, not {}",
+                        name, m.quantization->maxErrorM)};
     // A layout is only made by PyramidLayout::create; one that create rejects is a default
     // (empty) one.
     const PyramidLayout& layout = m.layout;
@@ -386,6 +406,10 @@ Status checkManifest(const PyramidManifest& m, const std::string& name) {
 
 }  // namespace
 
+double ManifestQuantization::halfStep(int level, int finestLevel) const {
+    return std::ldexp(maxErrorM, finestLevel - level);
+}
+
 PyramidManifest PyramidManifest::forLayout(const PyramidLayout& layout) {
     PyramidManifest m;
     m.layout = layout;
@@ -450,6 +474,10 @@ std::string toJson(const PyramidManifest& m) {
                                     {"geoTransform", r->geoTransform},
                                     {"validSamples", r->validSamples},
                                     {"finestDistanceM", r->finestDistanceM}};
+    if (const auto& q = m.quantization)
+        j["quantization"] = {{"rule", ManifestQuantization::kRule},
+                             {"maxErrorM", q->maxErrorM},
+                             {"finestLargestErrorM", q->finestLargestErrorM}};
     j["build"] = {
         {"tool", m.build.tool}, {"version", m.build.version}, {"seconds", m.build.seconds}};
     if (m.globe)

@@ -199,7 +199,9 @@ struct PyramidReader::Impl {
                     i / static_cast<std::size_t>(shard.countX), p.present,
                     absentButNotZero ? "non-zero" : "any")};
             const std::span<const std::uint32_t> divisors = heightDivisors();
-            if (p.heightDivisor != 0 && p.heightDivisor != kSourceUnits &&
+            const bool quantizerSteps =
+                p.heightDivisor == kQuantizerSteps && manifest.quantization.has_value();
+            if (p.heightDivisor != 0 && p.heightDivisor != kSourceUnits && !quantizerSteps &&
                 std::find(divisors.begin(), divisors.end(), p.heightDivisor) == divisors.end())
                 return Error{fmt::format(
                     "corrupt patchInfo: pixel ({}, {}) has heightDivisor {}, not one a writer uses",
@@ -268,7 +270,11 @@ struct PyramidReader::Impl {
             close(&s);  // a shard that failed once is reopened (and rechecked) next time
             return patchError(path, id, fmt::format("cannot read its tiles: {}", e.what()));
         }
-        decodeHeights(codeScratch, tile, stored.heightDivisor, out.heights, manifest.vertical);
+        HeightUnits units{manifest.vertical};
+        if (manifest.quantization)
+            units.quantizerStep =
+                2.0 * manifest.quantization->halfStep(id.level, layout.finestLevel());
+        decodeHeights(codeScratch, tile, stored.heightDivisor, out.heights, units);
         for (std::size_t i = 0; i < maskScratch.size(); ++i) {
             const std::uint16_t bits = maskScratch[i];
             if (bits != shard::kHalfOne && bits != shard::kHalfZero)

@@ -47,6 +47,8 @@ public:
                 const std::int64_t px = std::min(x / (q * s), layout.patchesX(m_level) - 1);
                 const PatchRecord& patch = m_records[static_cast<std::size_t>(px)];
                 const double u = double(x - px * q * s) / double(s);
+                if (x % s == 0 && y % s == 0)
+                    checkStored(patch, t, u, v, x, y, row[x], report, reportMutex);
                 const double distance =
                     detail::distanceToPatchSurface(patch, t, static_cast<int>(q), u, v, row[x]);
                 const float bound = patch.info.error;
@@ -62,17 +64,40 @@ public:
         }
         std::lock_guard lock(reportMutex);
         report.samplesChecked += checked;
+        report.storedSamplesChecked += m_storedChecked;
+        m_storedChecked = 0;
         return {};
     }
 
     double tightest() const { return m_tightest; }
+    double largestStoredDifference() const { return m_largestStored; }
 
 private:
+    // The level's own sample (u, v) of the patch is the source's (x, y) after the lossless
+    // or lossy storage (Yusov §4: |ĥ − h| ≤ δ_l); δ is the patch's quantError.
+    void checkStored(const PatchRecord& patch, int t, double u, double v, std::int64_t x,
+                     std::int64_t y, float source, SourceCheckReport& report,
+                     std::mutex& reportMutex) {
+        const auto at =
+            static_cast<std::size_t>((static_cast<int>(v) + 1) * t + static_cast<int>(u) + 1);
+        const double difference = std::abs(double(patch.heights[at]) - double(source));
+        ++m_storedChecked;
+        m_largestStored = std::max(m_largestStored, difference);
+        if (difference <= double(patch.info.quantError)) return;
+        std::lock_guard lock(reportMutex);
+        ++report.storedViolationCount;
+        if (report.violations.size() < SourceCheckReport::kMaxListed)
+            report.violations.push_back(
+                {patch.id, x, y, difference, patch.info.quantError, /*stored=*/true});
+    }
+
     PyramidReader m_reader;  // one reader per level: readers are single-threaded
     int m_level;
     std::vector<PatchRecord> m_records;
     std::int64_t m_loadedRow = -1;
     double m_tightest = 0.0;
+    std::int64_t m_storedChecked = 0;
+    double m_largestStored = 0.0;
 };
 
 // A resampled source (DemInfo::resampledFrom): its own samples, wherever they lie between
@@ -164,7 +189,10 @@ Result<SourceCheckReport> checkErrorBoundsAgainstSource(
             if (!result) return result.error();
         if (progress) progress(double(y + rows) / double(dem.height));
     }
-    for (const LevelChecker& level : levels) report.tightestRatio.push_back(level.tightest());
+    for (const LevelChecker& level : levels) {
+        report.tightestRatio.push_back(level.tightest());
+        report.largestStoredDifference.push_back(level.largestStoredDifference());
+    }
     return report;
 }
 

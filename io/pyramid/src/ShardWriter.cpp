@@ -72,7 +72,7 @@ struct ShardWriter::Impl {
     std::vector<shard::StoredInfo> infos;    // the patchInfo tile
     std::vector<std::uint32_t> codes;        // one patch's height codes
     std::vector<BlockErrors> lambdas;        // its block errors, rounded up to halves
-    VerticalTransform sourceUnits;
+    HeightUnits units;
     Imf::FrameBuffer heightsFrame, blockErrorsFrame;
 
     std::optional<Error> failure;
@@ -271,7 +271,7 @@ Result<ShardWriter> ShardWriter::create(const std::filesystem::path& finalPath,
     impl->layout = layout;
     impl->shard = shardId;
     impl->withMask = withMask;
-    impl->sourceUnits = options.sourceUnits;
+    impl->units = options.units;
     impl->cx = layout.shardCountX(shardId);
     impl->cy = layout.shardCountY(shardId);
     impl->tile = layout.tileSamples();
@@ -333,7 +333,7 @@ Status ShardWriter::writePatch(const PatchRecord& record) {
             w.lambdas[b][d] = roundUpToHalf(record.blockErrors[b][d]);
     info.crc32 = patchChecksum(record.heights, record.valid, w.lambdas, info);
     w.codes.resize(tile2);
-    const std::uint32_t divisor = encodeHeights(record.heights, w.tile, w.codes, w.sourceUnits);
+    const std::uint32_t divisor = encodeHeights(record.heights, w.tile, w.codes, w.units);
     w.infos[index] = shard::toStored(info, divisor);
     w.patchWritten[index] = 1;
     const int slot = w.acquireRow(ty);

@@ -2,6 +2,8 @@
 // the measures.
 #include "terrain/runtime/AccuracyProbe.h"
 
+#include "terrain/io/PyramidManifest.h"
+
 #include "terrain/runtime/ScreenProjection.h"
 #include "terrain/runtime/SurfaceRayCoverage.h"
 
@@ -62,9 +64,22 @@ AccuracyProbe::AccuracyProbe(FullResolutionSurface surface, ReferenceRenderer re
       m_referenceTarget(std::move(referenceTarget)),
       m_options(options) {}
 
-Result<std::unique_ptr<AccuracyProbe>> AccuracyProbe::create(const std::filesystem::path& pyramid,
-                                                             const AccuracyProbeOptions& options) {
-    auto surface = FullResolutionSurface::open(pyramid, options.surfaceBudgetBytes);
+Result<std::unique_ptr<AccuracyProbe>> AccuracyProbe::create(
+    const std::filesystem::path& pyramid, const AccuracyProbeOptions& options,
+    const std::filesystem::path& referencePyramid) {
+    if (!referencePyramid.empty()) {
+        auto measured = io::readManifest(pyramid);
+        if (!measured) return measured.error();
+        auto truth = io::readManifest(referencePyramid);
+        if (!truth) return truth.error();
+        if (!(truth.value().layout == measured.value().layout) ||
+            !(truth.value().georeference == measured.value().georeference) ||
+            truth.value().globe.has_value() != measured.value().globe.has_value())
+            return Error{referencePyramid.string() + ": the reference pyramid has not " +
+                         pyramid.string() + "'s layout and georeference"};
+    }
+    auto surface = FullResolutionSurface::open(
+        referencePyramid.empty() ? pyramid : referencePyramid, options.surfaceBudgetBytes);
     if (!surface) return surface.error();
     auto reference = ReferenceRenderer::create(surface.value().layout());
     if (!reference) return reference.error();

@@ -30,11 +30,11 @@ std::vector<float> tile(const std::function<float(int x, int y)>& height) {
 // comes back with the same bits.
 std::uint32_t roundTrip(const std::vector<float>& heights,
                         std::vector<std::uint32_t>* codesOut = nullptr,
-                        const VerticalTransform& source = {}) {
+                        const HeightUnits& units = {}) {
     std::vector<std::uint32_t> codes(heights.size());
-    const std::uint32_t divisor = encodeHeights(heights, kSide, codes, source);
+    const std::uint32_t divisor = encodeHeights(heights, kSide, codes, units);
     std::vector<float> decoded(heights.size());
-    decodeHeights(codes, kSide, divisor, decoded, source);
+    decodeHeights(codes, kSide, divisor, decoded, units);
     int differing = 0;
     for (std::size_t i = 0; i < heights.size(); ++i)
         if (std::bit_cast<std::uint32_t>(decoded[i]) != std::bit_cast<std::uint32_t>(heights[i])) {
@@ -79,8 +79,8 @@ TEST(HeightCodesTest, ScaledSourcesAreCodedInTheirOwnUnits) {
         return static_cast<float>(double(raw) * jpeg.scale + jpeg.offset);
     };
     std::vector<std::uint32_t> codes;
-    EXPECT_EQ(roundTrip(tile(scaled), &codes, jpeg), kSourceUnits);
-    EXPECT_LT(meanCode(codes), 4.0);         // a few units a sample
+    EXPECT_EQ(roundTrip(tile(scaled), &codes, {jpeg}), kSourceUnits);
+    EXPECT_LT(meanCode(codes), 4.0);  // a few units a sample
     // Without the units the tile is multiples of a finer step (25.7 m steps are also
     // decimetres), in codes hundreds of times larger.
     std::vector<std::uint32_t> finer;
@@ -88,12 +88,50 @@ TEST(HeightCodesTest, ScaledSourcesAreCodedInTheirOwnUnits) {
     EXPECT_GT(meanCode(finer), 100.0 * meanCode(codes));
     // A tile with a sample no unit makes (a filled hole's interpolation) falls back.
     EXPECT_NE(roundTrip(tile([&](int x, int y) { return x == 9 && y == 9 ? 1.0f : scaled(x, y); }),
-                        nullptr, jpeg),
+                        nullptr, {jpeg}),
               kSourceUnits);
     // Identity units are the divisor 1.
     EXPECT_EQ(roundTrip(tile([](int x, int y) { return std::round(hills(x, y)); }), nullptr,
-                        VerticalTransform{}),
+                        {VerticalTransform{}}),
               1U);
+}
+
+// Yusov & Shevtsov 2011, §4: every height within δ of the source, as (float)(q · 2δ), and the
+// codes count q so that the quantized heights come back bit for bit.
+TEST(HeightCodesTest, QuantizedHeightsStayWithinHalfAStepAndComeBackExactly) {
+    for (const double delta : {1.0, 0.25, 0.3, 7.5}) {
+        SCOPED_TRACE(delta);
+        const std::vector<float> exact = tile(hills);
+        std::vector<float> quantized = exact;
+        const double largest = quantizeHeights(quantized, delta);
+        double measured = 0.0;
+        for (std::size_t i = 0; i < exact.size(); ++i) {
+            // A whole number of steps, as a float.
+            const double q = std::round(double(quantized[i]) / (2.0 * delta));
+            EXPECT_EQ(quantized[i], static_cast<float>(q * 2.0 * delta)) << i;
+            measured = std::max(measured, std::abs(double(quantized[i]) - double(exact[i])));
+        }
+        EXPECT_EQ(largest, measured);
+        // Within δ up to half a float ulp of heights below 2048 m.
+        EXPECT_LE(largest, delta + 0x1p-13);
+        EXPECT_GT(largest, 0.9 * delta);  // hills cross every step's edge somewhere
+        std::vector<std::uint32_t> codes;
+        EXPECT_EQ(roundTrip(quantized, &codes, {.source = {}, .quantizerStep = 2.0 * delta}),
+                  kQuantizerSteps);
+        // Coarser than the lossless codes of the same tile (floats of 1/16384 m).
+        std::vector<std::uint32_t> lossless;
+        roundTrip(exact, &lossless);
+        EXPECT_LT(meanCode(codes) * 100.0, meanCode(lossless));
+    }
+    // The quantizer rounds half up, ⌊(h + δ)/2δ⌋: −1 → −2 and 1 → 2 for δ = 1, 0.999 → 0.
+    std::vector<float> edges = {-1.0f, 1.0f, 0.999f, -3.0f, 2.0f};
+    EXPECT_EQ(quantizeHeights(edges, 1.0), 1.0);
+    EXPECT_EQ(edges, (std::vector<float>{0.0f, 2.0f, 0.0f, -2.0f, 2.0f}));
+    // Heights past 2^30 steps are left exact, and the tile is coded by its bits.
+    std::vector<float> huge = tile([](int x, int) { return x == 5 ? 1e12f : 100.0f; });
+    EXPECT_EQ(quantizeHeights(huge, 1e-3), 0.0);
+    EXPECT_EQ(huge[5], 1e12f);
+    EXPECT_EQ(roundTrip(huge, nullptr, {.source = {}, .quantizerStep = 2e-3}), 0U);
 }
 
 TEST(HeightCodesTest, FloatsAreMultiplesOfTheirSpacing) {

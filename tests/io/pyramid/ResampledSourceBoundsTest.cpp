@@ -9,11 +9,10 @@
 #include "terrain/io/PyramidReader.h"
 #include "terrain/io/PyramidSourceCheck.h"
 
+#include "FloatGeoTiff.h"
 #include "TempFolder.h"
 
-#include <gdal_priv.h>
 #include <gtest/gtest.h>
-#include <ogr_spatialref.h>
 
 #include <array>
 #include <cmath>
@@ -39,21 +38,7 @@ float height(int x, int y) {
 std::string writeTiff(const std::string& path, const std::array<double, 6>& geoTransform, int width,
                       int height, const std::vector<float>& samples, std::optional<double> noData,
                       int epsg = 32610) {
-    GDALAllRegister();
-    GDALDriver* driver = GetGDALDriverManager()->GetDriverByName("GTiff");
-    GDALDataset* ds = driver->Create(path.c_str(), width, height, 1, GDT_Float32, nullptr);
-    std::array<double, 6> gt = geoTransform;
-    ds->SetGeoTransform(gt.data());
-    OGRSpatialReference srs;
-    srs.importFromEPSG(epsg);
-    ds->SetSpatialRef(&srs);
-    if (noData) ds->GetRasterBand(1)->SetNoDataValue(*noData);
-    EXPECT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, width, height,
-                                             const_cast<float*>(samples.data()), width, height,
-                                             GDT_Float32, 0, 0, nullptr),
-              CE_None);
-    GDALClose(ds);
-    return path;
+    return test::writeFloatGeoTiff(path, geoTransform, width, height, samples, noData, epsg);
 }
 
 std::unique_ptr<DemReader> open(const std::string& path) {

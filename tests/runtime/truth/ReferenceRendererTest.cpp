@@ -131,5 +131,46 @@ TEST_F(ReferenceRendererTest, FullResolutionLodMeasuresWithinTheTolerance) {
     }
 }
 
+// A lossy pyramid (terrain-build --max-error-m) is measured against its lossless build: the
+// probe's truth is then the source's own samples, not the lossy finest level, which lies up
+// to δ off them. A reference of another layout is refused.
+TEST_F(ReferenceRendererTest, ALossyPyramidIsMeasuredAgainstItsLosslessBuild) {
+    auto reader = io::openDem({"procedural:size=257,seed=3"});
+    ASSERT_TRUE(reader) << reader.error().message;
+    const std::filesystem::path lossy = buildScenePyramid(
+        *reader.value(), *folder(), "lossy", 65, io::PyramidLayout::kDefaultBlockQuads, 2.0);
+    auto measured =
+        runtime::AccuracyProbe::create(lossy, {.widthPx = kWidth, .heightPx = kHeight}, pyramid());
+    ASSERT_TRUE(measured) << measured.error().message;
+    auto own = runtime::AccuracyProbe::create(lossy, {.widthPx = kWidth, .heightPx = kHeight});
+    ASSERT_TRUE(own) << own.error().message;
+    auto exact =
+        runtime::AccuracyProbe::create(pyramid(), {.widthPx = kWidth, .heightPx = kHeight});
+    ASSERT_TRUE(exact) << exact.error().message;
+    const runtime::TerrainGeometry& geometry = exact.value()->surface().geometry();
+    double largestOwn = 0.0;
+    for (const double f : {0.13, 0.5, 0.77}) {
+        const glm::dvec2 at = geometry.worldOfSample(f * 256.0, (1.0 - f) * 256.0);
+        auto truth = exact.value()->surface().heightAt(at.x, at.y);
+        auto reference = measured.value()->surface().heightAt(at.x, at.y);
+        auto quantized = own.value()->surface().heightAt(at.x, at.y);
+        ASSERT_TRUE(truth && reference && quantized);
+        EXPECT_EQ(reference.value().referenceM, truth.value().referenceM);
+        largestOwn =
+            std::max(largestOwn, std::abs(quantized.value().referenceM - truth.value().referenceM));
+    }
+    EXPECT_GT(largestOwn, 0.0);  // the lossy finest level is not the truth
+    EXPECT_LE(largestOwn, 2.0 + 1e-3);
+
+    auto other = io::openDem({"procedural:size=129,seed=3"});
+    ASSERT_TRUE(other) << other.error().message;
+    const std::filesystem::path small = buildScenePyramid(*other.value(), *folder(), "small");
+    auto refused =
+        runtime::AccuracyProbe::create(lossy, {.widthPx = kWidth, .heightPx = kHeight}, small);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("layout and georeference"), std::string::npos)
+        << refused.error().message;
+}
+
 }  // namespace
 }  // namespace terrain::test

@@ -8,6 +8,7 @@
 #include "terrain/io/DemReader.h"
 #include "terrain/io/PyramidLayout.h"
 #include "terrain/io/PyramidManifest.h"
+#include "terrain/io/ShardWriter.h"
 
 #include <atomic>
 #include <cstdint>
@@ -29,9 +30,14 @@ struct PyramidBuildOptions {
     unsigned threads = 0;  ///< 0: one per hardware thread
     /// OpenEXR ZIP level of the tiles, 0 (stored uncompressed) … 9; lossless at every
     /// level. The heights are stored as height codes (HeightCodes.h), small integers that
-    /// zlib's fastest level shrinks several times over (docs/pyramid-format.md,
-    /// "Compression"); 0 stores them as large as floats.
-    int zipLevel = 1;
+    /// zlib shrinks several times over (docs/pyramid-format.md, "Compression"); 0 stores
+    /// them as large as floats.
+    int zipLevel = ShardWriterOptions::kDefaultZipLevel;
+    /// δ > 0: lossy storage (Yusov & Shevtsov 2011, §4). The finest level's heights are
+    /// rounded to whole multiples of 2δ, level l's to 2δ_l with δ_l = δ · 2^(finest − l);
+    /// every stored sample stays within δ_l of the source and Err(P) = Err_Appr(P) + δ_l,
+    /// so the screen-space bound still holds. 0: lossless.
+    double maxErrorM = 0.0;
     bool overwrite = false;  ///< replace an existing pyramid at the output path
     /// Called on the building thread after every band.
     std::function<void(const PyramidBuildProgress&)> progress;

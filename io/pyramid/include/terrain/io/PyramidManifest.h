@@ -94,6 +94,21 @@ struct ManifestSource {
     bool operator==(const ManifestSource&) const = default;
 };
 
+/// A lossy pyramid's quantizer (terrain-build --max-error-m; Yusov & Shevtsov 2011, §4):
+/// level l's heights are whole multiples of 2δ_l, δ_l = maxErrorM · 2^(finestLevel − l),
+/// each within δ_l of the source's sample (up to half a float ulp, which the patches'
+/// quantError counts).
+struct ManifestQuantization {
+    static constexpr std::string_view kRule = "yusov2011";  ///< δ_l doubles per coarser level
+    double maxErrorM = 0.0;  ///< δ of the finest level, metres (> 0)
+    /// The largest |stored − source| over the finest level's samples, metres (≤ maxErrorM
+    /// up to float rounding).
+    double finestLargestErrorM = 0.0;
+    /// δ_l.
+    double halfStep(int level, int finestLevel) const;
+    bool operator==(const ManifestQuantization&) const = default;
+};
+
 struct ManifestBuild {
     std::string tool;
     std::string version;
@@ -125,6 +140,8 @@ struct PyramidManifest {
     /// Set exactly for a globe pyramid (formatVersion 3); the georeference is then the
     /// source's (geographic), and the layout is globeLayout(globe->faceFinestLevel, …).
     std::optional<ManifestGlobe> globe;
+    /// Set for a lossy pyramid (optional in the file; planar pyramids only).
+    std::optional<ManifestQuantization> quantization;
 
     /// A manifest for `layout`: the layout and one level entry per level (patch and shard
     /// counts, sample step; presentPatches = all patches, maxError = 0), the rest default.

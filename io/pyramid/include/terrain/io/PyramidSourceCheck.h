@@ -20,6 +20,9 @@ struct ErrorBoundViolation {
     std::int64_t y = 0;
     double distanceM = 0.0;
     float boundM = 0.0f;
+    /// The stored sample at (x, y) differs from the source's by distanceM, more than the
+    /// patch's δ (boundM = quantError), rather than the surface passing beyond Err(P).
+    bool stored = false;
 };
 
 struct SourceCheckReport {
@@ -29,10 +32,17 @@ struct SourceCheckReport {
     /// Per level, the largest distance / Err(P) over patches with Err(P) > 0: how tight
     /// the bound is (≤ 1 when it holds).
     std::vector<double> tightestRatio;
+    /// The stored samples themselves (planar pyramids of an unresampled source): each
+    /// level's sample at a source sample must be within the patch's δ (quantError, 0 when
+    /// lossless) of it. (sample, level) pairs checked, and the largest difference per level.
+    std::int64_t storedSamplesChecked = 0;
+    std::int64_t storedViolationCount = 0;
+    std::vector<double> largestStoredDifference;
     static constexpr std::size_t kMaxListed = 20;
 };
 
-/// Streams the source once, row by row, keeping one row of patches per level. The source
+/// Streams the source once, row by row, keeping one row of patches per level, and checks
+/// both the surfaces (Err(P)) and the stored samples on each level's grid (δ). The source
 /// must have the pyramid's raster size. A resampled source (a rotated grid,
 /// DemInfo::resampledFrom) is checked by its own samples instead, each where it lies
 /// between the pyramid's (`x`, `y` of a violation are its stored column and row), reading

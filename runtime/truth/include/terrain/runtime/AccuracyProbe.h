@@ -83,8 +83,13 @@ ReferenceStyle referenceStyleOf(const TerrainStyle& style);
 class AccuracyProbe {
 public:
     /// Opens the pyramid's finest level and creates the renderers and framebuffers.
-    static Result<std::unique_ptr<AccuracyProbe>> create(const std::filesystem::path& pyramid,
-                                                         const AccuracyProbeOptions& options = {});
+    /// `referencePyramid`, when given, is the pyramid whose finest level is the ground truth
+    /// instead: the lossless build of a lossy pyramid (terrain-build --max-error-m), whose
+    /// own finest level is up to δ off the source. It must have `pyramid`'s layout and
+    /// georeference.
+    static Result<std::unique_ptr<AccuracyProbe>> create(
+        const std::filesystem::path& pyramid, const AccuracyProbeOptions& options = {},
+        const std::filesystem::path& referencePyramid = {});
 
     /// Draws and reads back the ground truth for `camera` (viewport = the options' size).
     Result<ReferenceCapture> renderReference(const Camera& camera, const ReferenceStyle& style);
