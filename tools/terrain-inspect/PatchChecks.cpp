@@ -80,13 +80,17 @@ void checkPatchContents(const io::PyramidManifest& manifest, bool hasMask,
         }
     }
 
+    // A globe's Err(P) is measured against its sources on the stored surface, so it holds the
+    // rounding already (docs/pyramid-format.md, "Lossy storage"); a planar one adds δ.
+    const double atLeast =
+        globe ? double(info.approxError)
+              : static_cast<double>(info.approxError) + static_cast<double>(info.quantError);
     if (!(info.approxError >= 0.0f) || !(info.quantError >= 0.0f) ||
-        !(static_cast<double>(info.error) >=
-          static_cast<double>(info.approxError) + static_cast<double>(info.quantError)))
+        !(static_cast<double>(info.error) >= atLeast))
         report(
-            fmt::format("bounds out of order: Err(P) {} m must be ≥ Err_Appr(P) {} m + δ {} m, "
-                        "both ≥ 0",
-                        info.error, info.approxError, info.quantError));
+            fmt::format("bounds out of order: Err(P) {} m must be ≥ Err_Appr(P) {} m{}, with "
+                        "Err_Appr(P) and δ {} m ≥ 0",
+                        info.error, info.approxError, globe ? "" : " + δ", info.quantError));
     // δ is the quantizer's (docs/pyramid-format.md, "Lossy storage"): at least δ_l in a lossy
     // pyramid, or 0 where it stored the patch exactly; 0 in a lossless one.
     const double halfStep = manifest.quantization

@@ -68,8 +68,8 @@ void printText(const io::PyramidReader& reader, const inspect::Inspection& inspe
     if (const auto& q = m.quantization)
         fmt::print(
             "storage: lossy, every stored height within δ_l = {} m · 2^({} − level) of "
-            "the source (Yusov 2011 §4; the finest level's largest difference {} m), and "
-            "δ_l added to Err(P)\n",
+            "its exact value (Yusov 2011 §4; the finest level's largest difference {} m), "
+            "and Err(P) covers it\n",
             q->maxErrorM, m.layout.finestLevel(), q->finestLargestErrorM);
     else
         fmt::print("storage: lossless\n");

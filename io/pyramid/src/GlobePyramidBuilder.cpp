@@ -12,6 +12,7 @@
 #include "terrain/io/GlobeLayout.h"
 #include "terrain/io/GlobePatchErrors.h"
 #include "terrain/io/GlobePatchSurface.h"
+#include "terrain/io/HeightCodes.h"
 #include "terrain/io/PatchErrors.h"
 #include "terrain/io/PatchRecord.h"
 #include "terrain/io/ShardWriter.h"
@@ -26,6 +27,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <unordered_map>
 #include <unordered_set>
@@ -88,6 +90,7 @@ struct LevelPatch {
     PatchRecord record;
     bool holdsSource = false;  // some source sample lies in it (else it only overlaps the extent)
     double measuredError = 0.0;
+    double quantized = 0.0;  // the largest difference the quantizer made (lossy builds)
 };
 
 class GlobeBuilder {
@@ -102,6 +105,7 @@ public:
           m_threads(options.threads != 0 ? options.threads
                                          : std::max(1u, std::thread::hardware_concurrency())) {
         m_shardOptions.zipLevel = options.zipLevel;
+        if (options.maxErrorM > 0.0) m_quantization = ManifestQuantization{options.maxErrorM};
         m_levelMaxError.assign(static_cast<std::size_t>(layout.levelCount()), 0.0);
         m_presentPatches.assign(m_levelMaxError.size(), 0);
         m_presentShards.resize(m_levelMaxError.size());
@@ -147,6 +151,8 @@ public:
     const std::vector<std::int64_t>& presentPatches() const { return m_presentPatches; }
     const std::vector<std::vector<ShardId>>& presentShards() const { return m_presentShards; }
     double rootError() const { return m_rootError; }
+    /// Set for a lossy build, with the largest difference the finest level's quantizer made.
+    const std::optional<ManifestQuantization>& quantization() const { return m_quantization; }
 
 private:
     // The level's patches: every patch holding a source sample, and those of their
@@ -194,6 +200,10 @@ private:
         parallelFor(std::ssize(keys), m_threads, [&](std::int64_t k) {
             const auto i = static_cast<std::size_t>(k);
             const bool insideAny = resample(idOf(keys[i], level), built[i].record, level);
+            // A lossy build rounds the resampled heights here (Yusov §4), before Err(P) is
+            // measured against the sources: the measured bound then covers the rounding.
+            if (m_quantization)
+                built[i].quantized = quantizeHeights(built[i].record.heights, halfStep(level));
             built[i].holdsSource = holding.contains(keys[i]);
             keep[i] = built[i].holdsSource || insideAny || level == 0 || parents.contains(keys[i]);
         });
@@ -298,8 +308,18 @@ private:
                 error = std::max(error, double(finerErrors.at(childKey)));
             }
         }
+        // Err(P) is measured against the sources on the stored (rounded) surface, so it already
+        // holds the rounding: approxError is that measured bound, and quantError says how much
+        // of it may be the rounding (δ_l), not something to add (docs/pyramid-format.md,
+        // "Lossy storage").
         info.approxError = roundUp(error);
         info.quantError = 0.0f;
+        if (m_quantization) {
+            info.quantError = roundUp(std::max(halfStep(level), patch.quantized));
+            if (level == m_finestFaceLevel)
+                m_quantization->finestLargestErrorM =
+                    std::max(m_quantization->finestLargestErrorM, patch.quantized);
+        }
         info.error = info.approxError;
         errors[key] = info.error;
 
@@ -327,7 +347,9 @@ private:
             if (ec)
                 return Error{path.parent_path().string() +
                              ": cannot create folder: " + ec.message()};
-            auto writer = ShardWriter::create(path, m_layout, shard, true, m_shardOptions);
+            ShardWriterOptions options = m_shardOptions;
+            if (m_quantization) options.units.quantizerStep = 2.0 * halfStep(faceLevel);
+            auto writer = ShardWriter::create(path, m_layout, shard, true, options);
             if (!writer) return writer.error();
             for (const PatchRecord* record : records) {
                 if (Status written = writer.value().writePatch(*record); !written) return written;
@@ -340,6 +362,12 @@ private:
         m_presentPatches[static_cast<std::size_t>(level)] = std::ssize(patches);
         m_patches += std::ssize(patches);
         return {};
+    }
+
+    // δ_l of a face level (layout level faceLevel + kLevelOffset).
+    double halfStep(int faceLevel) const {
+        return m_quantization->halfStep(faceLevel + ManifestGlobe::kLevelOffset,
+                                        m_layout.finestLevel());
     }
 
     const GlobeSources& m_sources;
@@ -356,6 +384,7 @@ private:
     std::vector<std::int64_t> m_presentPatches;
     std::vector<std::vector<ShardId>> m_presentShards;
     double m_rootError = 0.0;
+    std::optional<ManifestQuantization> m_quantization;  // a lossy build's
 };
 
 }  // namespace
@@ -389,10 +418,11 @@ Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> reader
     const auto start = Clock::now();
     if (readers.empty())
         return Error{output.string() + ": no source to build a globe pyramid from"};
-    if (options.maxErrorM != 0.0)
-        return Error{output.string() +
-                     ": lossy storage (a maximum storage error) is not implemented for globe "
-                     "pyramids yet; build it losslessly"};
+    if (!(options.maxErrorM >= 0.0) || !std::isfinite(options.maxErrorM))
+        return Error{
+            fmt::format("{}: the maximum storage error must be a finite number of "
+                        "metres ≥ 0 (0: lossless), not {}",
+                        output.string(), options.maxErrorM)};
     Result<GlobeSources> read =
         GlobeSources::read(readers, options.memoryBudgetBytes / 2, options.patchSamples - 1);
     if (!read) return read.error();
@@ -476,6 +506,7 @@ Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> reader
     m.source.bandCount = first.bandCount;
     m.source.rowsFlipped = first.rowsFlipped;
     m.source.columnsFlipped = first.columnsFlipped;
+    m.quantization = builder.quantization();
     m.build.tool = "terrain-build";
     m.build.version = TERRAIN_VERSION;
     summary.patches = builder.patches();

@@ -327,8 +327,6 @@ Status checkGlobe(const PyramidManifest& m, const std::string& name) {
 
 Status checkManifest(const PyramidManifest& m, const std::string& name) {
     if (Status globe = checkGlobe(m, name); !globe) return globe;
-    if (m.quantization && m.globe)
-        return Error{fmt::format("{}: quantization: a globe pyramid is stored losslessly", name)};
     if (m.quantization &&
         (!(m.quantization->maxErrorM > 0.0) || !std::isfinite(m.quantization->maxErrorM)))
         return Error{

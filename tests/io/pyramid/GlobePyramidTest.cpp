@@ -221,6 +221,56 @@ TEST(GlobePyramid, RegionalSourceAtHighLatitude) {
         << missing.error().message;
 }
 
+// A lossy globe pyramid (terrain-build --globe --max-error-m): the stored heights are
+// whole steps of 2δ_l, every patch's δ at least δ_l, and Err(P), measured on the stored
+// surface, holds every source sample; the pyramid is smaller than the lossless one.
+TEST(GlobePyramid, LossyRegionalSourceKeepsItsBounds) {
+    TempFolder temp;
+    GeographicFunctionDem source(10.0, 60.25, 100, 50, 0.005, 0.005, hills);
+    const Built lossless = build(source, temp, "lossless");
+    PyramidBuildOptions options = smallPatches();
+    options.maxErrorM = 2.0;
+    const std::filesystem::path out = temp.path() / "lossy.pyramid";
+    auto made = buildGlobePyramid(source, out, options);
+    ASSERT_TRUE(made) << made.error().message;
+    const Built lossy{out, made.value()};
+    const PyramidManifest& m = lossy.summary.manifest;
+    ASSERT_TRUE(m.quantization);
+    EXPECT_EQ(m.quantization->maxErrorM, 2.0);
+    EXPECT_GT(m.quantization->finestLargestErrorM, 1.0);
+    EXPECT_LE(m.quantization->finestLargestErrorM, 2.0 + 1e-3);
+    EXPECT_LT(lossy.summary.bytes, lossless.summary.bytes);
+    expectBoundsHold(lossy, source);
+    expectConsistentPatches(lossy);
+
+    auto reader = PyramidReader::open(out);
+    ASSERT_TRUE(reader) << reader.error().message;
+    const PyramidLayout& layout = reader.value().layout();
+    int patches = 0;
+    for (int level = ManifestGlobe::kLevelOffset; level <= layout.finestLevel(); ++level) {
+        const double halfStep = m.quantization->halfStep(level, layout.finestLevel());
+        for (std::int64_t y = 0; y < layout.patchesY(level); ++y)
+            for (std::int64_t x = 0; x < layout.patchesX(level); ++x) {
+                auto info = reader.value().patchInfo({level, x, y});
+                ASSERT_TRUE(info);
+                if (!info.value().present) continue;
+                auto patch = reader.value().readPatch({level, x, y});
+                ASSERT_TRUE(patch) << patch.error().message;
+                const PatchInfo& i = patch.value().info;
+                EXPECT_GE(double(i.quantError), halfStep);
+                EXPECT_GE(i.error, i.approxError);  // measured on the stored surface
+                int offGrid = 0;
+                for (const float h : patch.value().heights) {
+                    const double q = std::round(double(h) / (2.0 * halfStep));
+                    offGrid += h == static_cast<float>(q * 2.0 * halfStep) ? 0 : 1;
+                }
+                EXPECT_EQ(offGrid, 0) << "L" << level << " (" << x << ", " << y << ")";
+                ++patches;
+            }
+    }
+    EXPECT_GT(patches, 10);
+}
+
 TEST(GlobePyramid, CapOverTheNorthPole) {
     TempFolder temp;
     GeographicFunctionDem source(-180.0, 90.0, 360, 20, 1.0, 0.1,

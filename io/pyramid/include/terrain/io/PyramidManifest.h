@@ -140,7 +140,7 @@ struct PyramidManifest {
     /// Set exactly for a globe pyramid (formatVersion 3); the georeference is then the
     /// source's (geographic), and the layout is globeLayout(globe->faceFinestLevel, …).
     std::optional<ManifestGlobe> globe;
-    /// Set for a lossy pyramid (optional in the file; planar pyramids only).
+    /// Set for a lossy pyramid (optional in the file).
     std::optional<ManifestQuantization> quantization;
 
     /// A manifest for `layout`: the layout and one level entry per level (patch and shard
