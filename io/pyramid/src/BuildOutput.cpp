@@ -1,6 +1,9 @@
 #include "BuildOutput.h"
 
+#include <fmt/format.h>
 #include <unistd.h>
+
+#include <cmath>
 
 #include <string>
 #include <system_error>
@@ -66,6 +69,14 @@ Status PartialBuildFolder::commit() {
     m_done = true;
     if (replacing) fs::remove_all(old, ec);
     return {};
+}
+
+Status checkMaxErrorM(const fs::path& output, double maxErrorM) {
+    if (maxErrorM >= 0.0 && std::isfinite(maxErrorM)) return {};
+    return Error{
+        fmt::format("{}: the maximum storage error must be a finite number of metres "
+                    "≥ 0 (0: lossless), not {}",
+                    output.string(), maxErrorM)};
 }
 
 std::uint64_t folderBytes(const fs::path& folder) {

@@ -36,6 +36,10 @@ private:
     bool m_done = false;
 };
 
+/// Refuses a PyramidBuildOptions::maxErrorM that is negative, NaN or infinite, naming
+/// `output`; both builders call it before they create anything.
+Status checkMaxErrorM(const std::filesystem::path& output, double maxErrorM);
+
 /// Bytes of the regular files under `folder`.
 std::uint64_t folderBytes(const std::filesystem::path& folder);
 

@@ -348,7 +348,9 @@ private:
                 return Error{path.parent_path().string() +
                              ": cannot create folder: " + ec.message()};
             ShardWriterOptions options = m_shardOptions;
-            if (m_quantization) options.units.quantizerStep = 2.0 * halfStep(faceLevel);
+            if (m_quantization)
+                options.units.quantizerStep = m_quantization->step(
+                    faceLevel + ManifestGlobe::kLevelOffset, m_layout.finestLevel());
             auto writer = ShardWriter::create(path, m_layout, shard, true, options);
             if (!writer) return writer.error();
             for (const PatchRecord* record : records) {
@@ -418,11 +420,7 @@ Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> reader
     const auto start = Clock::now();
     if (readers.empty())
         return Error{output.string() + ": no source to build a globe pyramid from"};
-    if (!(options.maxErrorM >= 0.0) || !std::isfinite(options.maxErrorM))
-        return Error{
-            fmt::format("{}: the maximum storage error must be a finite number of "
-                        "metres ≥ 0 (0: lossless), not {}",
-                        output.string(), options.maxErrorM)};
+    if (Status delta = checkMaxErrorM(output, options.maxErrorM); !delta) return delta.error();
     Result<GlobeSources> read =
         GlobeSources::read(readers, options.memoryBudgetBytes / 2, options.patchSamples - 1);
     if (!read) return read.error();

@@ -595,7 +595,7 @@ private:
                 ShardWriterOptions options = m_shardOptions;
                 if (m_quantization)
                     options.units.quantizerStep =
-                        2.0 * m_quantization->halfStep(level, m_layout.finestLevel());
+                        m_quantization->step(level, m_layout.finestLevel());
                 auto writer = ShardWriter::create(path, m_layout, shard, m_withMask, options);
                 if (!writer) return writer.error();
                 it = writers.emplace(std::pair{shard.y, shard.x}, std::move(writer).value()).first;
@@ -680,11 +680,7 @@ Result<PyramidBuildSummary> buildPyramid(DemReader& reader, const fs::path& outp
                                          const PyramidBuildOptions& options) {
     const auto start = Clock::now();
     const DemInfo& dem = reader.info();
-    if (!(options.maxErrorM >= 0.0) || !std::isfinite(options.maxErrorM))
-        return Error{
-            fmt::format("{}: the maximum storage error must be a finite number of "
-                        "metres ≥ 0 (0: lossless), not {}",
-                        output.string(), options.maxErrorM)};
+    if (Status delta = checkMaxErrorM(output, options.maxErrorM); !delta) return delta.error();
     auto layout = PyramidLayout::create(dem.width, dem.height, options.patchSamples,
                                         options.blockQuads, options.shardPatches);
     if (!layout) return Error{dem.path + ": " + layout.error().message};

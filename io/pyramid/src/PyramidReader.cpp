@@ -272,8 +272,7 @@ struct PyramidReader::Impl {
         }
         HeightUnits units{manifest.vertical};
         if (manifest.quantization)
-            units.quantizerStep =
-                2.0 * manifest.quantization->halfStep(id.level, layout.finestLevel());
+            units.quantizerStep = manifest.quantization->step(id.level, layout.finestLevel());
         decodeHeights(codeScratch, tile, stored.heightDivisor, out.heights, units);
         for (std::size_t i = 0; i < maskScratch.size(); ++i) {
             const std::uint16_t bits = maskScratch[i];

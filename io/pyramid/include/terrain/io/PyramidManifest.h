@@ -106,6 +106,8 @@ struct ManifestQuantization {
     double finestLargestErrorM = 0.0;
     /// δ_l.
     double halfStep(int level, int finestLevel) const;
+    /// 2δ_l: what level l's heights are whole multiples of (HeightUnits::quantizerStep).
+    double step(int level, int finestLevel) const { return 2.0 * halfStep(level, finestLevel); }
     bool operator==(const ManifestQuantization&) const = default;
 };
 
