@@ -349,8 +349,7 @@ TEST_F(ViewerTool, FliesTheOtherStreamingLodMethodsAndRefusesTheInCoreOnes) {
         const ToolRun refused =
             run("env -u DISPLAY " + kViewer + " " + kPyramid + " --method " + inCore, m_folder);
         EXPECT_EQ(refused.status, 1) << describe(refused);
-        EXPECT_NE(refused.err.find(inCore + " streams nothing"), std::string::npos)
-            << refused.err;
+        EXPECT_NE(refused.err.find(inCore + " streams nothing"), std::string::npos) << refused.err;
     }
 }
 
@@ -367,7 +366,7 @@ TEST_F(ViewerTool, InvalidPyramidIsAClearError) {
     const fs::path broken = m_folder.path() / "broken.pyramid";
     fs::create_directories(broken);
     std::ofstream(broken / "manifest.json")
-        << "{\"format\": \"terrain-pyramid\", \"formatVersion\": 4";
+        << "{\"format\": \"terrain-pyramid\", \"formatVersion\": 6";
     const ToolRun r = run(kViewer + " " + broken.string(), m_folder);
     EXPECT_EQ(r.status, 1) << describe(r);
     EXPECT_NE(r.err.find("manifest.json"), std::string::npos) << r.err;

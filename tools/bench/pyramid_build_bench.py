@@ -3,8 +3,8 @@
 
 For every real DEM in ../shared/data and a 16,385² float32 procedural DEM written as a
 tiled GeoTIFF, runs (one at a time, same machine, same thread count)
-  terrain-build INPUT -o PYRAMID --threads 2                 (height codes, --zip-level 4)
-  terrain-build INPUT -o PYRAMID --threads 2 --zip-level 0   (the same, uncompressed)
+  terrain-build INPUT -o PYRAMID --threads 2                         (zstd level 3)
+  terrain-build INPUT -o PYRAMID --threads 2 --compression-level 0   (the same, uncompressed)
   terrain-build INPUT -o PYRAMID --threads 2 --max-error-m 1  (lossy, Yusov §4's quantizer)
   terrain-inspect PYRAMID --verify --source INPUT --json      (its bounds against the source)
   gdal_translate -of COG -co COMPRESS=DEFLATE -co PREDICTOR=YES -co NUM_THREADS=2 INPUT OUT.tif
@@ -63,8 +63,9 @@ def main():
     parser.add_argument("--scratch", default="/tmp/terrain-bench", help="big temporary files")
     parser.add_argument("--max-error-m", type=float, default=1.0,
                         help="δ of the lossy build and LERC's MAX_Z_ERROR")
-    parser.add_argument("--zip-level", type=int, default=4,
-                        help="terrain-build --zip-level of the compressed and lossy builds")
+    parser.add_argument("--compression-level", type=int, default=3,
+                        help="terrain-build --compression-level of the compressed and lossy "
+                             "builds")
     parser.add_argument("--no-procedural", action="store_true",
                         help="the shared DEMs only, without the procedural DEM")
     parser.add_argument("--no-verify", action="store_true",
@@ -89,7 +90,7 @@ def main():
             scratch / "generate.log")
     if not args.no_procedural:
         inputs.append((big, []))
-    zip_level = ["--zip-level", str(args.zip_level)]
+    level = ["--compression-level", str(args.compression_level)]
 
     rows = []
     for path, flags in inputs:
@@ -97,20 +98,20 @@ def main():
         cog = scratch / (path.stem + ".cog.tif")
         shutil.rmtree(pyramid, ignore_errors=True)
         ours_s, ours_rss, ours_json = run(
-            [terrain_build, path, "-o", pyramid, "--threads", "2", *zip_level, "--json", "--quiet",
+            [terrain_build, path, "-o", pyramid, "--threads", "2", *level, "--json", "--quiet",
              *flags],
             scratch / "terrain-build.log")
         summary = json.loads(ours_json)
         shutil.rmtree(pyramid, ignore_errors=True)
         raw_s, _, raw_json = run(
-            [terrain_build, path, "-o", pyramid, "--threads", "2", "--zip-level", "0", "--json",
+            [terrain_build, path, "-o", pyramid, "--threads", "2", "--compression-level", "0", "--json",
              "--quiet", *flags], scratch / "terrain-build.log")
         raw_bytes = json.loads(raw_json)["bytes"]
         shutil.rmtree(pyramid, ignore_errors=True)
         delta = str(args.max_error_m)
         lossy_s, _, lossy_json = run(
             [terrain_build, path, "-o", pyramid, "--threads", "2", "--max-error-m", delta,
-             *zip_level, "--json", "--quiet", *flags], scratch / "terrain-build.log")
+             *level, "--json", "--quiet", *flags], scratch / "terrain-build.log")
         lossy = json.loads(lossy_json)
         check = None
         if not args.no_verify:

@@ -100,11 +100,11 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--shard-patches", options.shardPatches, "Patches per shard side")
         ->capture_default_str();
-    app.add_option("--zip-level", options.zipLevel,
-                   "Tile compression, lossless: 1..9 zlib level of the height codes and "
+    app.add_option("--compression-level", options.compressionLevel,
+                   "Patch compression, lossless: 1..19 zstd level of the height codes and "
                    "bounds; 0 stores them uncompressed, as large as floats")
         ->capture_default_str()
-        ->check(CLI::Range(0, 9));
+        ->check(CLI::Range(0, 19));
     app.add_option("--max-error-m", options.maxErrorM,
                    "Lossy storage: each finest-level height within this many metres of the "
                    "source, level l's within 2^(finest - l) times it (Yusov 2011, section 4), "
@@ -217,7 +217,7 @@ int main(int argc, char** argv) {
               {"write", s.phases.writeSeconds}}},
             {"peakRssBytes", peakResidentBytes()},
             {"memoryBudgetBytes", options.memoryBudgetBytes},
-            {"zipLevel", options.zipLevel},
+            {"compressionLevel", options.compressionLevel},
             {"rootErrorM", s.manifest.statistics.rootError},
             {"noDataSamples", s.manifest.noData.samples},
             {"warnings", warnings},

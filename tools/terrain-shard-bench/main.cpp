@@ -99,8 +99,7 @@ int main(int argc, char** argv) {
     std::string dem = "procedural:size=4097";
     std::string output;
     std::int64_t size = 16385;
-    int zipLevel = terrain::io::ShardWriterOptions::kDefaultZipLevel;
-    int threads = 0;
+    int compressionLevel = terrain::io::ShardWriterOptions::kDefaultCompressionLevel;
     int poolSize = 64;
     bool withMask = false;
     bool keep = false;
@@ -111,9 +110,8 @@ int main(int argc, char** argv) {
     app.add_option("-o,--output", output, "Pyramid folder to write (replaced)")->required();
     app.add_option("--size", size, "Raster side of the pyramid written, samples")
         ->capture_default_str();
-    app.add_option("--zip-level", zipLevel, "zlib level of the shards, 1..9; 0: uncompressed")
-        ->capture_default_str();
-    app.add_option("--threads", threads, "OpenEXR compression threads (0: one per hardware thread)")
+    app.add_option("--compression-level", compressionLevel,
+                   "zstd level of the patch payloads, 1..19; 0: uncompressed")
         ->capture_default_str();
     app.add_option("--pool", poolSize, "Distinct patch tiles")->capture_default_str();
     app.add_flag("--mask", withMask, "Write the V mask (a pyramid with no-data)");
@@ -137,8 +135,6 @@ int main(int argc, char** argv) {
     if (!reader) return fail(reader.error().message);
     auto pool = patchPool(*reader.value(), L, poolSize, withMask, 1);
     if (!pool) return fail(pool.error().message);
-    const unsigned hardware = std::max(1U, std::thread::hardware_concurrency());
-    io::ShardWriter::setCompressionThreads(threads == 0 ? static_cast<int>(hardware) : threads);
 
     std::error_code ec;
     fs::remove_all(output, ec);
@@ -151,7 +147,7 @@ int main(int argc, char** argv) {
     manifest.build = {"terrain-shard-bench", "0.1.0", 0.0};
     // Err_Appr grows by 1 m a level from the finest up: nested as the spec requires.
     io::ShardWriterOptions options;
-    options.zipLevel = zipLevel;
+    options.compressionLevel = compressionLevel;
     std::int64_t patches = 0;
     double minHeight = std::numeric_limits<double>::infinity(), maxHeight = -minHeight;
     const auto writeStart = Clock::now();
@@ -220,8 +216,7 @@ int main(int argc, char** argv) {
         j["dem"] = dem;
         j["size"] = size;
         j["patches"] = patches;
-        j["zipLevel"] = zipLevel;
-        j["threads"] = threads == 0 ? static_cast<int>(hardware) : threads;
+        j["compressionLevel"] = compressionLevel;
         j["mask"] = withMask;
         j["bytes"] = bytes;
         j["compressionRatio"] = rawBytes / static_cast<double>(bytes);
@@ -238,9 +233,8 @@ int main(int argc, char** argv) {
             skipRead ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(readRate);
         std::printf("%s\n", j.dump(2).c_str());
     } else {
-        fmt::print("{} patches of {}² ({} × {} raster, {}), ZIP level {}, {} threads{}\n", patches,
-                   L.tileSamples(), size, size, dem, zipLevel,
-                   threads == 0 ? hardware : static_cast<unsigned>(threads),
+        fmt::print("{} patches of {}² ({} × {} raster, {}), compression level {}{}\n", patches,
+                   L.tileSamples(), size, size, dem, compressionLevel,
                    withMask ? ", with mask" : "");
         fmt::print(
             "write: {:.2f} s, {:.0f} patches/s, {:.3f} CPU ms/patch, {:.1f} MB on disk "

@@ -266,8 +266,14 @@ Status checkExrHeaderSizes(const std::filesystem::path& path) {
             } else if (type == "preview") {
                 std::int32_t w = 0, h = 0;
                 if (size < 8 || !walk.i32(w) || !walk.i32(h)) return wrongSize(8);
-                const std::int64_t pixels = 8 + 4 * std::int64_t{static_cast<std::uint32_t>(w)} *
-                                                    std::int64_t{static_cast<std::uint32_t>(h)};
+                // 4 · w · h of two unsigned 32-bit sides can pass 2^63: such a preview is
+                // larger than any attribute and is refused before it is multiplied out.
+                const std::uint64_t width = static_cast<std::uint32_t>(w);
+                const std::uint64_t height = static_cast<std::uint32_t>(h);
+                if (height != 0 && width > (std::uint64_t{1} << 60) / height)
+                    return corrupt(fmt::format("attribute '{}' (preview) claims {} × {} pixels",
+                                               name, width, height));
+                const auto pixels = static_cast<std::int64_t>(8 + 4 * width * height);
                 if (pixels != size) return wrongSize(pixels);
                 walk.skip(size - 8);
             } else if (type == "stringvector") {

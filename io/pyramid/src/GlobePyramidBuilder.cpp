@@ -104,7 +104,7 @@ public:
           m_folder(folder),
           m_threads(options.threads != 0 ? options.threads
                                          : std::max(1u, std::thread::hardware_concurrency())) {
-        m_shardOptions.zipLevel = options.zipLevel;
+        m_shardOptions.compressionLevel = options.compressionLevel;
         if (options.maxErrorM > 0.0) m_quantization = ManifestQuantization{options.maxErrorM};
         m_levelMaxError.assign(static_cast<std::size_t>(layout.levelCount()), 0.0);
         m_presentPatches.assign(m_levelMaxError.size(), 0);

@@ -2,11 +2,35 @@
 
 #include "terrain/base/Assert.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <string_view>
 
 namespace terrain::io {
+namespace {
 
-std::int64_t fillNoDataRow(std::span<float> row, std::span<std::uint8_t> valid) {
+// As the DEM readers convert a raw sample (DemSampleConversion.h).
+float toWholeUnits(double h, const VerticalTransform& units) {
+    const double v = std::nearbyint((h - units.offset) / units.scale);
+    return static_cast<float>(v * units.scale + units.offset);
+}
+
+}  // namespace
+
+std::optional<VerticalTransform> wholeSourceUnits(const DemInfo& info) {
+    constexpr std::array<std::string_view, 8> kIntegerTypes = {
+        "uint8", "int8", "uint16", "int16", "uint32", "int32", "uint64", "int64"};
+    const bool integer = std::find(kIntegerTypes.begin(), kIntegerTypes.end(), info.sampleType) !=
+                         kIntegerTypes.end();
+    if (!integer || info.resampledFrom || !(info.vertical.scale != 0.0) ||
+        !std::isfinite(info.vertical.scale) || !std::isfinite(info.vertical.offset))
+        return std::nullopt;
+    return info.vertical;
+}
+
+std::int64_t fillNoDataRow(std::span<float> row, std::span<std::uint8_t> valid,
+                           const std::optional<VerticalTransform>& units) {
     TERRAIN_ASSERT(row.size() == valid.size());
     const auto n = static_cast<std::int64_t>(row.size());
     std::int64_t filled = 0;
@@ -22,7 +46,8 @@ std::int64_t fillNoDataRow(std::span<float> row, std::span<std::uint8_t> valid) 
             for (std::int64_t k = runStart; k < i; ++k) {
                 if (previousValid >= 0 && i < n) {
                     const double t = double(k - previousValid) / double(i - previousValid);
-                    row[k] = static_cast<float>((1.0 - t) * row[previousValid] + t * row[i]);
+                    const double h = (1.0 - t) * row[previousValid] + t * row[i];
+                    row[k] = units ? toWholeUnits(h, *units) : static_cast<float>(h);
                 } else if (previousValid >= 0) {
                     row[k] = row[previousValid];
                 } else if (i < n) {

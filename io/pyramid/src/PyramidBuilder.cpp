@@ -82,7 +82,8 @@ public:
           m_h(reader.info().height),
           m_samplesX(samplesX),
           m_edges(edges),
-          m_stats(stats) {
+          m_stats(stats),
+          m_fillUnits(wholeSourceUnits(reader.info())) {
         m_edges.lastColumn.assign(static_cast<std::size_t>(m_h), 0.0f);
     }
 
@@ -101,7 +102,7 @@ public:
                 std::span<float> row(out + 1, static_cast<std::size_t>(m_w));
                 std::copy_n(m_scratch.data() + (r - first) * m_w, m_w, row.data());
                 const std::int64_t filled =
-                    fillNoDataRow(row, std::span<std::uint8_t>(valid + 1, row.size()));
+                    fillNoDataRow(row, std::span<std::uint8_t>(valid + 1, row.size()), m_fillUnits);
                 if (r >= m_nextStatisticsRow) {  // bands overlap by their apron rows
                     countStatistics(row, valid + 1, filled);
                     m_edges.lastColumn[static_cast<std::size_t>(r)] = row.back();
@@ -151,6 +152,7 @@ private:
     std::int64_t m_w, m_h, m_samplesX;
     DemEdges& m_edges;
     DemStatistics& m_stats;
+    std::optional<VerticalTransform> m_fillUnits;  // the fill's rounding (NoDataFill.h)
     std::vector<float> m_scratch;
     std::vector<float> m_lastRow;  // padded row H − 1 (with apron)
     std::int64_t m_nextStatisticsRow = 0;
@@ -306,10 +308,9 @@ public:
           m_withMask(withMask),
           m_threads(options.threads > 0 ? options.threads
                                         : std::max(1u, std::thread::hardware_concurrency())) {
-        m_shardOptions.zipLevel = options.zipLevel;
+        m_shardOptions.compressionLevel = options.compressionLevel;
         m_shardOptions.units.source = reader.info().vertical;  // the manifest's
         if (options.maxErrorM > 0.0) m_quantization = ManifestQuantization{options.maxErrorM};
-        ShardWriter::setCompressionThreads(static_cast<int>(m_threads));
         for (int l = 0; l < m_layout.levelCount(); ++l)
             m_totalSamples += double(m_layout.levelSamplesX(l)) * double(m_layout.levelSamplesY(l));
         m_levelMaxError.assign(static_cast<std::size_t>(m_layout.levelCount()), 0.0f);

@@ -1,5 +1,5 @@
 // Reading patches from a pyramid's shard files (docs/pyramid-format.md). Each open shard
-// keeps its OpenEXR file, its two tiled parts and its patchInfo tile; a least-recently-used
+// keeps its OpenEXR file, its deep patches part and its patchInfo tile; a least-recently-used
 // list caps how many stay open. Everything OpenEXR throws becomes an Error naming the
 // shard file and the patch, and the shard is closed so a damaged file is not reused.
 #include "terrain/io/PyramidReader.h"
@@ -8,8 +8,11 @@
 #include "terrain/io/ExrHeaderCheck.h"
 
 #include "PatchChecksum.h"
+#include "PatchPayload.h"
 #include "ShardFormat.h"
 
+#include <ImfDeepFrameBuffer.h>
+#include <ImfDeepTiledInputPart.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfMultiPartInputFile.h>
@@ -36,7 +39,7 @@ struct OpenShard {
     std::filesystem::path path;
     int countX = 0, countY = 0;
     std::unique_ptr<Imf::MultiPartInputFile> file;
-    std::unique_ptr<Imf::TiledInputPart> heights, blockErrors;
+    std::unique_ptr<Imf::DeepTiledInputPart> patches;
     std::vector<shard::StoredInfo> infos;  // the patchInfo tile, row-major
     std::uint64_t lastUse = 0;
 };
@@ -57,8 +60,8 @@ struct PyramidReader::Impl {
     std::vector<std::unique_ptr<OpenShard>> shards;  // ≤ maxOpen, any order
     std::uint64_t clock = 0;
     std::uint64_t openings = 0;
-    std::vector<std::uint16_t> maskScratch;  // one tile of HALF bits
-    std::vector<std::uint32_t> codeScratch;  // one tile of height codes
+    std::vector<std::uint32_t> payloadScratch;  // one patch's payload samples
+    std::vector<std::uint32_t> codeScratch;     // its height codes
 
     std::filesystem::path shardFile(const ShardId& s) const { return folder / layout.shardPath(s); }
 
@@ -133,7 +136,7 @@ struct PyramidReader::Impl {
             // 0 threads: a reader decodes on its own thread (one reader per thread).
             shard->file = std::make_unique<Imf::MultiPartInputFile>(path.c_str(), 0);
             const std::vector<Imf::Header> expected = shard::shardHeaders(layout, s, hasMask, 1);
-            int index[shard::kPartCount] = {-1, -1, -1};
+            int index[shard::kPartCount] = {-1, -1};
             for (int p = 0; p < shard->file->parts(); ++p) {
                 const Imf::Header& h = shard->file->header(p);
                 if (!h.hasName()) continue;
@@ -148,10 +151,8 @@ struct PyramidReader::Impl {
                 if (Status ok = shard::checkPartHeader(shard->file->header(index[e]), want); !ok)
                     return Error{"not a shard of this pyramid: " + ok.error().message};
             }
-            shard->heights =
-                std::make_unique<Imf::TiledInputPart>(*shard->file, index[shard::kHeightsIndex]);
-            shard->blockErrors = std::make_unique<Imf::TiledInputPart>(
-                *shard->file, index[shard::kBlockErrorsIndex]);
+            shard->patches = std::make_unique<Imf::DeepTiledInputPart>(*shard->file,
+                                                                       index[shard::kPatchesIndex]);
             if (Status read = readInfo(*shard, index[shard::kPatchInfoIndex]); !read)
                 return read.error();
         } catch (const std::exception& e) {
@@ -230,60 +231,39 @@ struct PyramidReader::Impl {
         if (stored.present == 0)
             return patchError(s.path, id, "the patch is absent (it does not overlap the DEM)");
 
-        const int tile = layout.tileSamples();
-        const int blocks = layout.blocksPerSide();
-        const auto tile2 = static_cast<std::size_t>(tile) * static_cast<std::size_t>(tile);
+        const shard::PayloadShape shape{layout.tileSamples(), layout.blocksPerSide(), hasMask};
         out.id = id;
         out.info = shard::fromStored(stored);
-        out.heights.resize(tile2);
-        out.valid.resize(hasMask ? tile2 : 0);
-        out.blockErrors.resize(static_cast<std::size_t>(blocks) * static_cast<std::size_t>(blocks));
-        maskScratch.resize(hasMask ? tile2 : 0);
         const int tx = static_cast<int>(id.x - layout.shardFirstX(s.id));
         const int ty = static_cast<int>(id.y - layout.shardFirstY(s.id));
         try {
-            Imf::FrameBuffer heights;
-            codeScratch.resize(tile2);
-            shard::insertHeightCodeSlices(heights, codeScratch.data(),
-                                          static_cast<std::size_t>(tile), true);
-            if (hasMask)
-                heights.insert(shard::kMaskChannel,
-                               Imf::Slice(Imf::HALF, reinterpret_cast<char*>(maskScratch.data()),
-                                          sizeof(std::uint16_t),
-                                          sizeof(std::uint16_t) * static_cast<std::size_t>(tile), 1,
-                                          1, 0.0, true, true));
-            s.heights->setFrameBuffer(heights);
-            s.heights->readTile(tx, ty);
-
-            Imf::FrameBuffer errors;
-            for (std::size_t d = 0; d < kMaxSimplification; ++d)
-                errors.insert(
-                    shard::kBlockErrorChannels[d],
-                    Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(&out.blockErrors[0][d]),
-                               sizeof(BlockErrors),
-                               sizeof(BlockErrors) * static_cast<std::size_t>(blocks), 1, 1, 0.0,
-                               true, true));
-            s.blockErrors->setFrameBuffer(errors);
-            s.blockErrors->readTile(tx, ty);
+            unsigned int count = 0;
+            char* samples = nullptr;
+            s.patches->setFrameBuffer(shard::payloadFrame(count, samples));
+            s.patches->readPixelSampleCounts(tx, tx, ty, ty);
+            // Checked before anything is allocated for it: the count is the file's word.
+            if (count > shard::maxPayloadWords(shape))
+                return patchError(s.path, id,
+                                  fmt::format("its payload claims {} samples, more than a patch "
+                                              "can take ({}): the shard is corrupt",
+                                              count, shard::maxPayloadWords(shape)));
+            payloadScratch.resize(count);
+            samples = reinterpret_cast<char*>(payloadScratch.data());
+            s.patches->readTile(tx, ty);
         } catch (const std::exception& e) {
             const std::filesystem::path path = s.path;
             close(&s);  // a shard that failed once is reopened (and rechecked) next time
-            return patchError(path, id, fmt::format("cannot read its tiles: {}", e.what()));
+            return patchError(path, id, fmt::format("cannot read its tile: {}", e.what()));
         }
+        if (Status unpacked = shard::unpackPatchPayload(payloadScratch, shape, codeScratch,
+                                                        out.valid, out.blockErrors);
+            !unpacked)
+            return patchError(s.path, id, unpacked.error().message + ": the shard is corrupt");
+        out.heights.resize(codeScratch.size());
         HeightUnits units{manifest.vertical};
         if (manifest.quantization)
             units.quantizerStep = manifest.quantization->step(id.level, layout.finestLevel());
-        decodeHeights(codeScratch, tile, stored.heightDivisor, out.heights, units);
-        for (std::size_t i = 0; i < maskScratch.size(); ++i) {
-            const std::uint16_t bits = maskScratch[i];
-            if (bits != shard::kHalfOne && bits != shard::kHalfZero)
-                return patchError(s.path, id,
-                                  fmt::format("mask sample ({}, {}) is neither 0 nor 1 (half bits "
-                                              "0x{:04x}): the shard is corrupt",
-                                              i % static_cast<std::size_t>(tile),
-                                              i / static_cast<std::size_t>(tile), bits));
-            out.valid[i] = bits == shard::kHalfOne ? 1 : 0;
-        }
+        decodeHeights(codeScratch, shape.tileSamples, stored.heightDivisor, out.heights, units);
         const std::uint32_t computed =
             patchChecksum(out.heights, out.valid, out.blockErrors, out.info);
         if (computed != stored.crc32)

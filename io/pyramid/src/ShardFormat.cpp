@@ -1,8 +1,6 @@
 // OpenEXR headers of a shard file and their check on reading (see ShardFormat.h).
 #include "ShardFormat.h"
 
-#include <bit>
-
 #include <ImfChannelList.h>
 #include <ImfCompression.h>
 #include <ImfIntAttribute.h>
@@ -62,35 +60,31 @@ PatchInfo fromStored(const StoredInfo& s) {
             s.noDataSamples, s.crc32,       static_cast<std::uint8_t>(s.present >> 1)};
 }
 
-void insertHeightCodeSlices(Imf::FrameBuffer& frame, std::uint32_t* codes, std::size_t rowCodes,
-                            bool xTileCoordinates) {
-    static_assert(std::endian::native == std::endian::little,
-                  "the code channels are the low and high halves of little-endian uint32s");
-    for (std::size_t k = 0; k < kHeightCodeChannels.size(); ++k)
-        frame.insert(
-            kHeightCodeChannels[k],
-            Imf::Slice(Imf::HALF, reinterpret_cast<char*>(codes) + 2 * k, sizeof(std::uint32_t),
-                       sizeof(std::uint32_t) * rowCodes, 1, 1, 0.0, xTileCoordinates, true));
+Imf::DeepFrameBuffer payloadFrame(unsigned int& count, char*& samples) {
+    Imf::DeepFrameBuffer frame;
+    frame.insertSampleCountSlice(
+        Imf::Slice(Imf::UINT, reinterpret_cast<char*>(&count), 0, 0, 1, 1, 0.0, true, true));
+    frame.insert(kPayloadChannel, Imf::DeepSlice(Imf::UINT, reinterpret_cast<char*>(&samples), 0, 0,
+                                                 sizeof(std::uint32_t), 1, 1, 0.0, true, true));
+    return frame;
 }
 
 std::vector<Imf::Header> shardHeaders(const PyramidLayout& layout, const ShardId& s, bool withMask,
-                                      int zipLevel) {
+                                      int compressionLevel) {
     const int cx = layout.shardCountX(s);
     const int cy = layout.shardCountY(s);
-    const int tile = layout.tileSamples();
-    const int blocks = layout.blocksPerSide();
-    // OpenEXR requires the parts of a multi-part file to share their display window; all
-    // use the heights part's data window.
-    const Imath::Box2i display = box(cx * tile, cy * tile);
+    // One pixel per patch in both parts (OpenEXR requires the parts of a multi-part file to
+    // share their display window).
+    const Imath::Box2i window = box(cx, cy);
 
-    const auto makeHeader = [&](const char* name, const Imath::Box2i& data, int tileW, int tileH) {
-        Imf::Header h(display, data);
+    const auto makeHeader = [&](const char* name, const std::string& type, int tileW, int tileH,
+                                Imf::Compression compression) {
+        Imf::Header h(window, window);
         h.setName(name);
-        h.setType(Imf::TILEDIMAGE);
+        h.setType(type);
         h.setTileDescription(Imf::TileDescription(static_cast<unsigned>(tileW),
                                                   static_cast<unsigned>(tileH), Imf::ONE_LEVEL));
-        h.compression() = zipLevel == 0 ? Imf::NO_COMPRESSION : Imf::ZIP_COMPRESSION;
-        if (zipLevel > 0) h.zipCompressionLevel() = zipLevel;
+        h.compression() = compression;
         h.lineOrder() = Imf::RANDOM_Y;
         h.insert(kFormatVersionAttribute, Imf::IntAttribute(kFormatVersion));
         h.insert(kLevelAttribute, Imf::IntAttribute(s.level));
@@ -100,16 +94,16 @@ std::vector<Imf::Header> shardHeaders(const PyramidLayout& layout, const ShardId
     };
 
     std::vector<Imf::Header> headers;
-    headers.push_back(makeHeader(kHeightsPart, box(cx * tile, cy * tile), tile, tile));
-    for (const char* name : kHeightCodeChannels)
-        headers.back().channels().insert(name, Imf::Channel(Imf::HALF));
-    if (withMask) headers.back().channels().insert(kMaskChannel, Imf::Channel(Imf::HALF));
+    // The payloads are compressed already (PatchPayload.h): OpenEXR stores them as they are.
+    headers.push_back(makeHeader(kPatchesPart, Imf::DEEPTILE, 1, 1, Imf::NO_COMPRESSION));
+    headers.back().channels().insert(kPayloadChannel, Imf::Channel(Imf::UINT));
+    headers.back().insert(kTileSamplesAttribute, Imf::IntAttribute(layout.tileSamples()));
+    headers.back().insert(kBlocksPerSideAttribute, Imf::IntAttribute(layout.blocksPerSide()));
+    headers.back().insert(kMaskAttribute, Imf::IntAttribute(withMask ? 1 : 0));
 
-    headers.push_back(makeHeader(kBlockErrorsPart, box(cx * blocks, cy * blocks), blocks, blocks));
-    for (const char* name : kBlockErrorChannels)
-        headers.back().channels().insert(name, Imf::Channel(Imf::HALF));
-
-    headers.push_back(makeHeader(kPatchInfoPart, box(cx, cy), cx, cy));
+    headers.push_back(
+        makeHeader(kPatchInfoPart, Imf::TILEDIMAGE, cx, cy,
+                   compressionLevel == 0 ? Imf::NO_COMPRESSION : Imf::ZIP_COMPRESSION));
     Imf::ChannelList& info = headers.back().channels();
     info.insert("present", Imf::Channel(Imf::UINT));
     info.insert("minHeight", Imf::Channel(Imf::FLOAT));
@@ -125,8 +119,10 @@ std::vector<Imf::Header> shardHeaders(const PyramidLayout& layout, const ShardId
 
 Status checkPartHeader(const Imf::Header& actual, const Imf::Header& expected) {
     const std::string part = expected.name();
-    if (!actual.hasType() || actual.type() != Imf::TILEDIMAGE)
-        return Error{fmt::format("part '{}' is not a tiled image", part)};
+    if (!actual.hasType() || actual.type() != expected.type())
+        return Error{
+            fmt::format("part '{}' is not a {}", part,
+                        expected.type() == Imf::DEEPTILE ? "deep tiled part" : "tiled image")};
     const Imf::TileDescription& t = actual.tileDescription();
     const Imf::TileDescription& e = expected.tileDescription();
     if (t.xSize != e.xSize || t.ySize != e.ySize || t.mode != Imf::ONE_LEVEL)
@@ -157,6 +153,15 @@ Status checkPartHeader(const Imf::Header& actual, const Imf::Header& expected) {
         return Error{fmt::format("part '{}' has {} {}, expected {}", part, kFormatVersionAttribute,
                                  version ? std::to_string(version->value()) : "missing",
                                  kFormatVersion)};
+    for (const char* name : {kTileSamplesAttribute, kBlocksPerSideAttribute, kMaskAttribute}) {
+        const auto* want = findAttribute<Imf::IntAttribute>(expected, name);
+        if (want == nullptr) continue;  // not an attribute of this part
+        const auto* have = findAttribute<Imf::IntAttribute>(actual, name);
+        if (have == nullptr || have->value() != want->value())
+            return Error{fmt::format("part '{}' has {} {}, expected {}", part, name,
+                                     have ? std::to_string(have->value()) : "missing",
+                                     want->value())};
+    }
     const auto* level = findAttribute<Imf::IntAttribute>(actual, kLevelAttribute);
     const auto* shard = findAttribute<Imf::V2iAttribute>(actual, kShardAttribute);
     const auto* eLevel = findAttribute<Imf::IntAttribute>(expected, kLevelAttribute);

@@ -7,7 +7,7 @@
 #include "terrain/io/PatchRecord.h"
 #include "terrain/io/PyramidLayout.h"
 
-#include <ImfFrameBuffer.h>
+#include <ImfDeepFrameBuffer.h>
 #include <ImfHeader.h>
 
 #include <array>
@@ -17,40 +17,28 @@
 
 namespace terrain::io::shard {
 
-/// 2: heights stored as height codes (HeightCodes.h) with a divisor per patch; 1 (pyramid
-/// versions 2 and 3) stored them as floats.
-inline constexpr int kFormatVersion = 2;
+/// 3: each patch one zstd-compressed payload (PatchPayload.h) in a deep part; 2 stored the
+/// height codes, mask and block errors in flat ZIP parts; 1 (pyramid versions 2 and 3)
+/// stored the heights as floats.
+inline constexpr int kFormatVersion = 3;
 
-inline constexpr const char* kHeightsPart = "heights";
-inline constexpr const char* kBlockErrorsPart = "blockErrors";
+inline constexpr const char* kPatchesPart = "patches";
 inline constexpr const char* kPatchInfoPart = "patchInfo";
-inline constexpr int kHeightsIndex = 0;  // part order as written; readers look parts up by name
-inline constexpr int kBlockErrorsIndex = 1;
-inline constexpr int kPatchInfoIndex = 2;
-inline constexpr int kPartCount = 3;
+inline constexpr int kPatchesIndex = 0;  // part order as written; readers look parts up by name
+inline constexpr int kPatchInfoIndex = 1;
+inline constexpr int kPartCount = 2;
 
-/// The height codes' low and high 16 bits, as HALF channels (the bits are not halves):
-/// OpenEXR's ZIP splits a chunk's bytes into even and odd ones, so the high halves of
-/// small codes, all zeros, end up apart from the low ones and cost nothing.
-inline constexpr std::array<const char*, 2> kHeightCodeChannels = {"H0", "H1"};
-inline constexpr const char* kMaskChannel = "V";
-/// HALF: λ(d) rounded up to a half (io::roundUpToHalf), so a bound stays a bound in half
-/// the bytes; the tessellation factors need no more than 11 bits of it.
-inline constexpr std::array<const char*, 4> kBlockErrorChannels = {"L1", "L2", "L3", "L4"};
+/// The one channel of the patches part: UINT samples, a patch's payload (PatchPayload.h).
+inline constexpr const char* kPayloadChannel = "payload";
 
 inline constexpr const char* kFormatVersionAttribute = "terrain:formatVersion";
 inline constexpr const char* kLevelAttribute = "terrain:level";
 inline constexpr const char* kShardAttribute = "terrain:shard";
-
-/// Mask samples as stored (HALF bits of 1.0 and 0.0).
-inline constexpr std::uint16_t kHalfOne = 0x3C00;
-inline constexpr std::uint16_t kHalfZero = 0x0000;
-
-/// The HALF slices of the height codes' channels over `codes` (uint32, row stride
-/// `rowCodes`, y relative to the tile, x too if `xTileCoordinates`): each code's low 16
-/// bits, then its high 16 bits, in place.
-void insertHeightCodeSlices(Imf::FrameBuffer& frame, std::uint32_t* codes, std::size_t rowCodes,
-                            bool xTileCoordinates);
+/// The patches part's shape of its payloads (PatchPayload.h), so that a reader tells a shard
+/// of another layout from a damaged one: tile samples N + 2, blocks per side, mask 0 or 1.
+inline constexpr const char* kTileSamplesAttribute = "terrain:tileSamples";
+inline constexpr const char* kBlocksPerSideAttribute = "terrain:blocksPerSide";
+inline constexpr const char* kMaskAttribute = "terrain:mask";
 
 /// One pixel of the patchInfo part, laid out for an OpenEXR frame buffer (xStride =
 /// sizeof(StoredInfo)).
@@ -76,10 +64,15 @@ inline constexpr std::uint32_t kMaxStoredPresentGlobe = 31;
 StoredInfo toStored(const PatchInfo& info, std::uint32_t heightDivisor);
 PatchInfo fromStored(const StoredInfo& stored);
 
-/// The three part headers of shard `s`, in part order. zipLevel is the writer's ephemeral
-/// setting (not stored in the file); 0 means NO_COMPRESSION.
+/// The frame buffer of one pixel of the patches part, the pixel of the tile being read or
+/// written (tile coordinates): its sample count in `count`, its samples at `samples` (the
+/// frame buffer refers to both variables, which must outlive its use).
+Imf::DeepFrameBuffer payloadFrame(unsigned int& count, char*& samples);
+
+/// The two part headers of shard `s`, in part order. compressionLevel is the writer's
+/// setting (not stored in the file): 0 stores the patchInfo tile uncompressed too.
 std::vector<Imf::Header> shardHeaders(const PyramidLayout& layout, const ShardId& s, bool withMask,
-                                      int zipLevel);
+                                      int compressionLevel);
 
 /// Checks that `actual` (one part's header, found by name) has the structure of
 /// `expected`: type, tiling, data window, channels and terrain attributes. The message

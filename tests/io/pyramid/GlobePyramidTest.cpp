@@ -44,7 +44,7 @@ PyramidBuildOptions smallPatches() {
     options.blockQuads = 4;
     options.shardPatches = 4;
     options.threads = 2;
-    options.zipLevel = 1;
+    options.compressionLevel = 1;
     return options;
 }
 

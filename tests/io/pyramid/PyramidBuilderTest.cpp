@@ -144,7 +144,8 @@ void checkRoundTrip(const Built& b, const fs::path& out) {
     std::vector<float> filled = b.truth;
     std::vector<std::uint8_t> valid(static_cast<std::size_t>(w));
     for (std::int64_t y = 0; y < h; ++y)
-        fillNoDataRow(std::span<float>(filled.data() + y * w, static_cast<std::size_t>(w)), valid);
+        fillNoDataRow(std::span<float>(filled.data() + y * w, static_cast<std::size_t>(w)), valid,
+                      wholeSourceUnits(b.reader->info()));
     const int level = layout.finestLevel(), q = layout.patchQuads(), t = layout.tileSamples();
     std::int64_t compared = 0;
     for (std::int64_t py = 0; py < layout.patchesY(level); ++py) {

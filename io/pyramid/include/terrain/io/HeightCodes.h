@@ -1,5 +1,6 @@
 // Lossless height codes for the shards (docs/pyramid-format.md, "Height codes"; issue 19).
-// A tile's float heights become small integers that OpenEXR's ZIP compresses well: heights
+// A tile's float heights become small integers that zstd compresses well (PatchPayload.h
+// stores them as byte planes): heights
 // that are whole multiples of 1/D metres for a D from a fixed list (int16 SRTM metres: D = 1;
 // the Puget Sound PNG's decimetres: D = 10; the procedural terrain's 1/1024 m: D = 1024)
 // are stored as those multiples, any other tile as its floats' bits in an order-preserving

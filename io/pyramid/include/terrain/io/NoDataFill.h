@@ -3,14 +3,25 @@
 // renderer never draws a raw no-data value and the fill depends on nothing but the row.
 #pragma once
 
+#include "terrain/io/DemReader.h"
+
 #include <cstdint>
+#include <optional>
 #include <span>
 
 namespace terrain::io {
 
 /// Replaces every NaN of `row` by the fill and writes 1 (valid) / 0 (filled) to `valid`
 /// (same length). Returns the number of filled samples. A row without a valid sample
-/// becomes 0 m.
-std::int64_t fillNoDataRow(std::span<float> row, std::span<std::uint8_t> valid);
+/// becomes 0 m. With `units` (a source that stores whole numbers, heights v · scale +
+/// offset), each interpolated value is rounded to the nearest whole number of them, as the
+/// source's own samples are: one fractional fill moves a tile of int16 metres from 1 m
+/// steps to 1/16384 m ones or to the float's bits (HeightCodes.h), 14 bits a sample or more.
+std::int64_t fillNoDataRow(std::span<float> row, std::span<std::uint8_t> valid,
+                           const std::optional<VerticalTransform>& units = std::nullopt);
+
+/// Whether a source of `info` stores whole numbers of its vertical units (an integer
+/// sample type, not resampled): the `units` fillNoDataRow rounds its fill to.
+std::optional<VerticalTransform> wholeSourceUnits(const DemInfo& info);
 
 }  // namespace terrain::io

@@ -28,11 +28,11 @@ struct PyramidBuildOptions {
     int shardPatches = PyramidLayout::kDefaultShardPatches;
     std::uint64_t memoryBudgetBytes = std::uint64_t{1} << 30;
     unsigned threads = 0;  ///< 0: one per hardware thread
-    /// OpenEXR ZIP level of the tiles, 0 (stored uncompressed) … 9; lossless at every
+    /// zstd level of the patch payloads, 0 (stored uncompressed) … 19; lossless at every
     /// level. The heights are stored as height codes (HeightCodes.h), small integers that
-    /// zlib shrinks several times over (docs/pyramid-format.md, "Compression"); 0 stores
+    /// zstd shrinks several times over (docs/pyramid-format.md, "Compression"); 0 stores
     /// them as large as floats.
-    int zipLevel = ShardWriterOptions::kDefaultZipLevel;
+    int compressionLevel = ShardWriterOptions::kDefaultCompressionLevel;
     /// δ > 0: lossy storage (Yusov & Shevtsov 2011, §4). The finest level's heights are
     /// rounded to whole multiples of 2δ, level l's to 2δ_l with δ_l = δ · 2^(finest − l);
     /// every stored sample stays within δ_l of the source and Err(P) = Err_Appr(P) + δ_l,

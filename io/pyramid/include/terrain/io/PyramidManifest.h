@@ -120,10 +120,13 @@ struct ManifestBuild {
 
 struct PyramidManifest {
     static constexpr std::string_view kFormatName = "terrain-pyramid";
-    /// Planar pyramids. Version 4 stores height codes (HeightCodes.h) where versions 2 and
-    /// 3 stored floats; 1 had weaker block errors.
-    static constexpr int kFormatVersion = 4;
-    static constexpr int kGlobeFormatVersion = 5;  ///< globe pyramids (`globe` is set)
+    /// Planar pyramids. Version 6 stores each patch as one zstd payload (shard format 3);
+    /// 4 stored height codes in ZIP parts (and 5 was the globe's), 2 and 3 floats; 1 had
+    /// weaker block errors.
+    static constexpr int kFormatVersion = 6;
+    /// Globe pyramids (`globe` is set): version 7, with the shards of version 6; 5 had those
+    /// of version 4.
+    static constexpr int kGlobeFormatVersion = 7;
     static constexpr std::string_view kFileName = "manifest.json";
     static constexpr std::string_view kVerticalUnits = "metre";
 
