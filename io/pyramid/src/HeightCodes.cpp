@@ -25,8 +25,8 @@ float fromMultiple(std::int32_t multiple, std::uint32_t divisor) {
 }
 
 // As the DEM readers convert a raw sample (DemSampleConversion.h).
-float fromSourceUnits(std::int32_t v, const VerticalTransform& source) {
-    return static_cast<float>(static_cast<double>(v) * source.scale + source.offset);
+float fromSourceUnits(double v, const VerticalTransform& source) {
+    return static_cast<float>(v * source.scale + source.offset);
 }
 
 float fromSteps(std::int32_t q, double step) { return static_cast<float>(double(q) * step); }
@@ -105,6 +105,10 @@ std::int32_t unzigzag(std::uint32_t z) {
 }  // namespace
 
 std::span<const std::uint32_t> heightDivisors() { return kDivisors; }
+
+float roundToSourceUnits(double h, const VerticalTransform& source) {
+    return fromSourceUnits(std::nearbyint((h - source.offset) / source.scale), source);
+}
 
 double quantizeHeights(std::span<float> heights, double halfStep) {
     TERRAIN_ASSERT(halfStep > 0.0 && std::isfinite(halfStep), "quantizeHeights: δ > 0");

@@ -1,6 +1,7 @@
 #include "terrain/io/NoDataFill.h"
 
 #include "terrain/base/Assert.h"
+#include "terrain/io/HeightCodes.h"
 
 #include <algorithm>
 #include <array>
@@ -8,16 +9,6 @@
 #include <string_view>
 
 namespace terrain::io {
-namespace {
-
-// As the DEM readers convert a raw sample (DemSampleConversion.h).
-float toWholeUnits(double h, const VerticalTransform& units) {
-    const double v = std::nearbyint((h - units.offset) / units.scale);
-    return static_cast<float>(v * units.scale + units.offset);
-}
-
-}  // namespace
-
 std::optional<VerticalTransform> wholeSourceUnits(const DemInfo& info) {
     constexpr std::array<std::string_view, 8> kIntegerTypes = {
         "uint8", "int8", "uint16", "int16", "uint32", "int32", "uint64", "int64"};
@@ -47,7 +38,7 @@ std::int64_t fillNoDataRow(std::span<float> row, std::span<std::uint8_t> valid,
                 if (previousValid >= 0 && i < n) {
                     const double t = double(k - previousValid) / double(i - previousValid);
                     const double h = (1.0 - t) * row[previousValid] + t * row[i];
-                    row[k] = units ? toWholeUnits(h, *units) : static_cast<float>(h);
+                    row[k] = units ? roundToSourceUnits(h, *units) : static_cast<float>(h);
                 } else if (previousValid >= 0) {
                     row[k] = row[previousValid];
                 } else if (i < n) {

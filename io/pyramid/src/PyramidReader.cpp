@@ -40,6 +40,10 @@ struct OpenShard {
     int countX = 0, countY = 0;
     std::unique_ptr<Imf::MultiPartInputFile> file;
     std::unique_ptr<Imf::DeepTiledInputPart> patches;
+    // What the patches part's frame buffer reads into, set once when the shard is opened
+    // (shard::payloadFrame): the pixel's sample count, then where its samples go.
+    unsigned int payloadCount = 0;
+    char* payloadSamples = nullptr;
     std::vector<shard::StoredInfo> infos;  // the patchInfo tile, row-major
     std::uint64_t lastUse = 0;
 };
@@ -153,6 +157,8 @@ struct PyramidReader::Impl {
             }
             shard->patches = std::make_unique<Imf::DeepTiledInputPart>(*shard->file,
                                                                        index[shard::kPatchesIndex]);
+            shard->patches->setFrameBuffer(
+                shard::payloadFrame(shard->payloadCount, shard->payloadSamples));
             if (Status read = readInfo(*shard, index[shard::kPatchInfoIndex]); !read)
                 return read.error();
         } catch (const std::exception& e) {
@@ -237,18 +243,15 @@ struct PyramidReader::Impl {
         const int tx = static_cast<int>(id.x - layout.shardFirstX(s.id));
         const int ty = static_cast<int>(id.y - layout.shardFirstY(s.id));
         try {
-            unsigned int count = 0;
-            char* samples = nullptr;
-            s.patches->setFrameBuffer(shard::payloadFrame(count, samples));
             s.patches->readPixelSampleCounts(tx, tx, ty, ty);
             // Checked before anything is allocated for it: the count is the file's word.
-            if (count > shard::maxPayloadWords(shape))
+            if (s.payloadCount > shard::maxPayloadWords(shape))
                 return patchError(s.path, id,
                                   fmt::format("its payload claims {} samples, more than a patch "
                                               "can take ({}): the shard is corrupt",
-                                              count, shard::maxPayloadWords(shape)));
-            payloadScratch.resize(count);
-            samples = reinterpret_cast<char*>(payloadScratch.data());
+                                              s.payloadCount, shard::maxPayloadWords(shape)));
+            payloadScratch.resize(s.payloadCount);
+            s.payloadSamples = reinterpret_cast<char*>(payloadScratch.data());
             s.patches->readTile(tx, ty);
         } catch (const std::exception& e) {
             const std::filesystem::path path = s.path;

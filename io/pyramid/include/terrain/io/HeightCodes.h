@@ -56,6 +56,11 @@ std::uint32_t encodeHeights(std::span<const float> heights, int side,
 void decodeHeights(std::span<const std::uint32_t> codes, int side, std::uint32_t divisor,
                    std::span<float> heights, const HeightUnits& units = {});
 
+/// `h` rounded to the nearest whole number of the source's units, (float)(v · scale +
+/// offset) as the DEM readers convert a raw sample: a height kSourceUnits codes exactly.
+/// `source.scale` must be finite and non-zero. Any thread.
+float roundToSourceUnits(double h, const VerticalTransform& source);
+
 /// The divisors encodeHeights tries, coarsest step first.
 std::span<const std::uint32_t> heightDivisors();
 
