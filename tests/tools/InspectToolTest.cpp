@@ -128,7 +128,7 @@ TEST_F(InspectTool, GoodPyramidVerifies) {
     ASSERT_EQ(run.status, 0) << run.output;
     const auto json = nlohmann::json::parse(run.stdoutOnly);
     EXPECT_EQ(json["ok"], true);
-    EXPECT_EQ(json["manifest"]["formatVersion"], 6);
+    EXPECT_EQ(json["manifest"]["formatVersion"], 8);
     ASSERT_EQ(json["levels"].size(), 4U);
     EXPECT_EQ(json["levels"][3]["presentPatches"], 19);
     EXPECT_EQ(json["levels"][0]["presentPatches"], 1);

@@ -366,7 +366,7 @@ TEST_F(ViewerTool, InvalidPyramidIsAClearError) {
     const fs::path broken = m_folder.path() / "broken.pyramid";
     fs::create_directories(broken);
     std::ofstream(broken / "manifest.json")
-        << "{\"format\": \"terrain-pyramid\", \"formatVersion\": 6";
+        << "{\"format\": \"terrain-pyramid\", \"formatVersion\": 8";
     const ToolRun r = run(kViewer + " " + broken.string(), m_folder);
     EXPECT_EQ(r.status, 1) << describe(r);
     EXPECT_NE(r.err.find("manifest.json"), std::string::npos) << r.err;

@@ -110,6 +110,10 @@ int main(int argc, char** argv) {
                    "source, level l's within 2^(finest - l) times it (Yusov 2011, section 4), "
                    "and added to the error bounds; 0 is lossless. Planar pyramids")
         ->capture_default_str();
+    bool independentPatches = false;
+    app.add_flag("--independent-patches", independentPatches,
+                 "Code every patch on its own, not from its parent's samples: each decodes "
+                 "without its parent, and the pyramid is larger. Planar pyramids");
     app.add_option("--threads", options.threads, "Worker threads (0: one per core)")
         ->capture_default_str();
     demFlags.addTo(app);
@@ -130,6 +134,7 @@ int main(int argc, char** argv) {
     const auto budget = parseBytes(memory);
     if (!budget) return fail("--memory '" + memory + "': expected a size such as 1GiB or 512MiB");
     options.memoryBudgetBytes = *budget;
+    options.parentPrediction = !independentPatches;
     // Several inputs are a mosaic on a plane; a globe composites them (finest valid sample
     // wins), so there each is a source of its own.
     std::vector<std::unique_ptr<io::DemReader>> sources;
@@ -218,6 +223,7 @@ int main(int argc, char** argv) {
             {"peakRssBytes", peakResidentBytes()},
             {"memoryBudgetBytes", options.memoryBudgetBytes},
             {"compressionLevel", options.compressionLevel},
+            {"parentPrediction", options.parentPrediction && !globe},
             {"rootErrorM", s.manifest.statistics.rootError},
             {"noDataSamples", s.manifest.noData.samples},
             {"warnings", warnings},

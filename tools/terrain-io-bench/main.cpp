@@ -28,8 +28,9 @@ int fail(const std::string& message) {
     return 1;
 }
 
-/// Every patch of the pyramid, shuffled (a flight asks for tiles all over the shards).
-std::vector<io::PatchId> allPatches(const io::PyramidLayout& layout, std::uint64_t seed) {
+/// Every patch of the pyramid, shuffled: a flight asks for tiles all over the shards, and a
+/// patch's parent, which its heights are predicted from, is rarely among the last read.
+std::vector<io::PatchId> shuffledPatches(const io::PyramidLayout& layout, std::uint64_t seed) {
     std::vector<io::PatchId> ids;
     for (int level = 0; level <= layout.finestLevel(); ++level) {
         for (std::int64_t y = 0; y < layout.patchesY(level); ++y) {
@@ -37,6 +38,29 @@ std::vector<io::PatchId> allPatches(const io::PyramidLayout& layout, std::uint64
         }
     }
     std::shuffle(ids.begin(), ids.end(), std::mt19937_64(seed));
+    return ids;
+}
+
+/// Every patch, each after its parent: depth first from the root, the four children in
+/// shuffled order, as the streaming refines (it splits only into children of a resident
+/// patch).
+void appendSubtree(const io::PyramidLayout& layout, const io::PatchId& id, std::mt19937_64& rng,
+                   std::vector<io::PatchId>& ids) {
+    ids.push_back(id);
+    if (id.level == layout.finestLevel()) return;
+    std::vector<io::PatchId> children;
+    for (int c = 0; c < 4; ++c) {
+        const io::PatchId child{id.level + 1, 2 * id.x + c % 2, 2 * id.y + c / 2};
+        if (layout.contains(child)) children.push_back(child);
+    }
+    std::shuffle(children.begin(), children.end(), rng);
+    for (const io::PatchId& child : children) appendSubtree(layout, child, rng, ids);
+}
+
+std::vector<io::PatchId> parentFirstPatches(const io::PyramidLayout& layout, std::uint64_t seed) {
+    std::vector<io::PatchId> ids;
+    std::mt19937_64 rng(seed);
+    appendSubtree(layout, io::PatchId{0, 0, 0}, rng, ids);
     return ids;
 }
 
@@ -52,7 +76,13 @@ int main(int argc, char** argv) {
     std::size_t inFlight = 64;
     int openShards = io::IoThreadOptions{}.maxOpenShards;
     bool json = false;
+    std::string order = "shuffled";
     app.add_option("pyramid", pyramid, "Pyramid folder")->required();
+    app.add_option("--order", order,
+                   "shuffled: every patch in a random order; parent-first: every patch after its "
+                   "parent, depth first, as the streaming refines")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"shuffled", "parent-first"}));
     app.add_option("--seconds", seconds, "Measure for at least this long")->capture_default_str();
     app.add_option("--max-patches", maxPatches, "Cycle over at most this many patches")
         ->capture_default_str();
@@ -68,15 +98,20 @@ int main(int argc, char** argv) {
 
     auto reader = io::PyramidReader::open(pyramid);
     if (!reader) return fail(reader.error().message);
-    std::vector<io::PatchId> ids = allPatches(reader.value().layout(), 1);
+    std::vector<io::PatchId> ids = order == "shuffled"
+                                       ? shuffledPatches(reader.value().layout(), 1)
+                                       : parentFirstPatches(reader.value().layout(), 1);
     if (ids.size() > maxPatches) ids.resize(maxPatches);
 
-    // Warm the page cache (and check every patch reads) with a plain reader.
+    // Warm the page cache (and check every patch reads) with a plain reader, in the same
+    // order, counting the parents it had to read again to decode a child.
     io::PatchRecord record;
     for (const io::PatchId& id : ids) {
         if (auto read = reader.value().readPatch(id, record); !read)
             return fail(read.error().message);
     }
+    const double parentReadsPerPatch =
+        static_cast<double>(reader.value().parentReads()) / static_cast<double>(ids.size());
     const std::size_t tileBytes = record.heights.size() * sizeof(float) + record.valid.size() +
                                   record.blockErrors.size() * sizeof(io::BlockErrors);
 
@@ -119,6 +154,8 @@ int main(int argc, char** argv) {
             {"patch_samples", layout.patchSamples()},
             {"tile_bytes", tileBytes},
             {"distinct_patches", ids.size()},
+            {"order", order},
+            {"parent_reads_per_patch", parentReadsPerPatch},
             {"io_threads", 1},
             {"open_shards", openShards},
             {"tiles", completed},
@@ -132,9 +169,10 @@ int main(int argc, char** argv) {
     }
     fmt::print(stderr,
                "terrain-io-bench: {} tiles of {}² in {:.2f} s on 1 I/O thread: {:.0f} tiles/s "
-               "({:.1f} MiB/s, {:.0f} µs per tile){}\n",
+               "({:.1f} MiB/s, {:.0f} µs per tile; {} order, {:.2f} parents read again per "
+               "patch){}\n",
                completed, layout.patchSamples() + 2, elapsed, tilesPerS,
                tilesPerS * static_cast<double>(tileBytes) / (1024.0 * 1024.0), 1e6 / tilesPerS,
-               failed > 0 ? fmt::format(", {} failed", failed) : "");
+               order, parentReadsPerPatch, failed > 0 ? fmt::format(", {} failed", failed) : "");
     return failed == 0 ? 0 : 1;
 }

@@ -6,6 +6,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace terrain::io {
@@ -102,6 +103,87 @@ std::int32_t unzigzag(std::uint32_t z) {
     return static_cast<std::int32_t>((z >> 1U) ^ (0U - (z & 1U)));
 }
 
+// The integer a float stands for under `divisor`, clamped to ±2^31 (a prediction only: a
+// parent sample need not be a whole number of the tile's units).
+std::int64_t integerOf(float h, std::uint32_t divisor, const HeightUnits& units) {
+    if (divisor == 0) return orderedBits(h);
+    constexpr double kClamp = 2147483648.0;
+    const double m = std::nearbyint(toReal(h, divisor, units));
+    return std::abs(m) <= kClamp ? static_cast<std::int64_t>(m) : 0;
+}
+
+// The parent samples whose mean predicts index i of a tile (one axis): its own parent
+// sample at an odd index, the two around it at an even one, the one inside at the edges.
+struct ParentSpan {
+    int first = 0, count = 1;
+};
+
+inline ParentSpan parentSpan(int i, int gridSide) {
+    if (i % 2 == 1) return {(i - 1) / 2, 1};
+    if (i == 0) return {0, 1};
+    if (i / 2 >= gridSide) return {gridSide - 1, 1};
+    return {i / 2 - 1, 2};
+}
+
+// The rounded mean of the parent integers over ys × xs (1, 2 or 4 of them).
+inline std::int64_t parentMean(const std::int64_t* grid, int gridSide, ParentSpan xs,
+                               ParentSpan ys) {
+    std::int64_t sum = 0;
+    for (int b = 0; b < ys.count; ++b)
+        for (int a = 0; a < xs.count; ++a) sum += grid[(ys.first + b) * gridSide + xs.first + a];
+    const int n = xs.count * ys.count;
+    return n == 1 ? sum : n == 2 ? (sum + 1) >> 1 : (sum + 2) >> 2;
+}
+
+inline bool isParentSample(int i, int j) { return i % 2 == 1 && j % 2 == 1; }
+
+// kFromParent's last pass: an interior sample with both indices even, from the mean of its
+// four neighbours, all of which the parent predicted.
+inline bool fromNeighbours(int i, int j, int side) {
+    return i % 2 == 0 && j % 2 == 0 && i > 0 && j > 0 && i < side - 1 && j < side - 1;
+}
+
+inline std::int64_t neighbourMean(const std::int32_t* v, int side, int i, int j) {
+    const std::int32_t* at = v + static_cast<std::ptrdiff_t>(j) * side + i;
+    return (std::int64_t{at[-1]} + at[1] + at[-side] + at[side] + 2) >> 2;
+}
+
+// The prediction of sample (i, j) under `prediction`: what the decoder can compute once the
+// samples it depends on are decoded (raster order for the first two; for kFromParent, every
+// sample but fromNeighbours ones first).
+inline std::int64_t predictWith(HeightPrediction prediction, const std::int32_t* v, int side,
+                                const std::int64_t* grid, int i, int j) {
+    const int gridSide = parentSamplesSide(side);
+    switch (prediction) {
+        case HeightPrediction::kWithinTile:
+            return predict(v, side, i, j);
+        case HeightPrediction::kParentThenEdges:
+            return isParentSample(i, j) ? grid[(j / 2) * gridSide + i / 2] : predict(v, side, i, j);
+        case HeightPrediction::kFromParent:
+            return fromNeighbours(i, j, side) ? neighbourMean(v, side, i, j)
+                                              : parentMean(grid, gridSide, parentSpan(i, gridSide),
+                                                           parentSpan(j, gridSide));
+    }
+    return 0;
+}
+
+std::uint32_t residualCode(std::int32_t value, std::int64_t prediction) {
+    return zigzag(static_cast<std::int32_t>(static_cast<std::uint32_t>(value) -
+                                            static_cast<std::uint32_t>(prediction)));
+}
+
+std::int32_t addResidual(std::int64_t prediction, std::uint32_t code) {
+    return static_cast<std::int32_t>(static_cast<std::uint32_t>(prediction) +
+                                     static_cast<std::uint32_t>(unzigzag(code)));
+}
+
+// What zstd will roughly pay for a tile's codes: the bits of each.
+std::uint64_t codeBits(std::span<const std::uint32_t> codes) {
+    std::uint64_t bits = 0;
+    for (const std::uint32_t c : codes) bits += static_cast<std::uint64_t>(std::bit_width(c));
+    return bits;
+}
+
 }  // namespace
 
 std::span<const std::uint32_t> heightDivisors() { return kDivisors; }
@@ -125,66 +207,155 @@ double quantizeHeights(std::span<float> heights, double halfStep) {
     return largest;
 }
 
-std::uint32_t encodeHeights(std::span<const float> heights, int side,
-                            std::span<std::uint32_t> codes, const HeightUnits& units) {
+void gatherParentSamples(std::span<const float> parentTile, int side, int childXParity,
+                         int childYParity, std::vector<float>& out) {
+    const int gridSide = parentSamplesSide(side);
+    const int half = (side - 3) / 2;  // a patch's quads over two
+    TERRAIN_ASSERT(parentTile.size() == static_cast<std::size_t>(side) * side,
+                   "gatherParentSamples: the parent's side × side heights");
+    out.resize(static_cast<std::size_t>(gridSide) * gridSide);
+    for (int b = 0; b < gridSide; ++b)
+        std::copy_n(parentTile.data() +
+                        static_cast<std::ptrdiff_t>(childYParity * half + 1 + b) * side +
+                        childXParity * half + 1,
+                    gridSide, out.data() + static_cast<std::ptrdiff_t>(b) * gridSide);
+}
+
+void oddIndexSamples(std::span<const float> tile, int side, std::vector<float>& out) {
+    const int gridSide = parentSamplesSide(side);
+    out.resize(static_cast<std::size_t>(gridSide) * gridSide);
+    for (int b = 0; b < gridSide; ++b)
+        for (int a = 0; a < gridSide; ++a)
+            out[static_cast<std::size_t>(b * gridSide + a)] =
+                tile[static_cast<std::size_t>((2 * b + 1) * side + 2 * a + 1)];
+}
+
+namespace {
+
+// encodeHeights, trying the predictions in [first, last] (those from the parent only with
+// its samples).
+HeightEncoding encodeTrying(std::span<const float> heights, int side,
+                            std::span<std::uint32_t> codes, const HeightUnits& units,
+                            std::span<const float> parentSamples, int first, int last) {
     const auto count = static_cast<std::size_t>(side) * static_cast<std::size_t>(side);
-    TERRAIN_ASSERT(heights.size() == count && codes.size() == count,
-                   "encodeHeights: side × side heights and codes");
-    // The integers first (in `codes`, as int32 bits), then their differences in place,
-    // from the last sample back, so each prediction still reads original integers.
-    auto* values = reinterpret_cast<std::int32_t*>(codes.data());
-    std::uint32_t divisor = 0;
+    const int gridSide = parentSamplesSide(side);
+    TERRAIN_ASSERT(side % 2 == 1 && heights.size() == count && codes.size() == count,
+                   "encodeHeights: side × side heights and codes, side odd");
+    TERRAIN_ASSERT(parentSamples.empty() ||
+                       parentSamples.size() == static_cast<std::size_t>(gridSide) * gridSide,
+                   "encodeHeights: parentSamplesSide(side)² parent samples");
+    thread_local std::vector<std::int32_t> integers;
+    integers.resize(count);
+    std::int32_t* values = integers.data();
+    HeightEncoding encoding;
     const VerticalTransform& source = units.source;
     const bool scaled = source.scale != 1.0 || source.offset != 0.0;
     const bool quantized = units.quantizerStep > 0.0 && std::isfinite(units.quantizerStep);
     if (quantized && toIntegers(heights, kQuantizerSteps, units, values)) {
-        divisor = kQuantizerSteps;
+        encoding.divisor = kQuantizerSteps;
     } else if (scaled && source.scale != 0.0 && toIntegers(heights, kSourceUnits, units, values)) {
-        divisor = kSourceUnits;
+        encoding.divisor = kSourceUnits;
     } else {
         const auto fits = std::find_if(kDivisors.begin(), kDivisors.end(), [&](std::uint32_t d) {
             return toIntegers(heights, d, units, values);
         });
         if (fits != kDivisors.end()) {
-            divisor = *fits;
+            encoding.divisor = *fits;
         } else {
             for (std::size_t i = 0; i < count; ++i) values[i] = orderedBits(heights[i]);
         }
     }
-    for (int y = side - 1; y >= 0; --y)
-        for (int x = side - 1; x >= 0; --x) {
-            const std::size_t i = static_cast<std::size_t>(y * side + x);
-            const auto p = static_cast<std::uint32_t>(predict(values, side, x, y));
-            const auto residual =
-                static_cast<std::int32_t>(static_cast<std::uint32_t>(values[i]) - p);
-            codes[i] = zigzag(residual);
+    thread_local std::vector<std::int64_t> grid;
+    grid.resize(parentSamples.size());
+    for (std::size_t k = 0; k < parentSamples.size(); ++k)
+        grid[k] = integerOf(parentSamples[k], encoding.divisor, units);
+
+    // Every prediction the tile may use, coded; the one with the fewest bits is kept.
+    thread_local std::vector<std::uint32_t> candidate;
+    candidate.resize(count);
+    std::uint64_t fewest = std::numeric_limits<std::uint64_t>::max();
+    if (parentSamples.empty()) last = 0;
+    for (int p = first; p <= last; ++p) {
+        const auto prediction = static_cast<HeightPrediction>(p);
+        for (int j = 0; j < side; ++j)
+            for (int i = 0; i < side; ++i) {
+                const std::size_t k = static_cast<std::size_t>(j) * side + i;
+                candidate[k] = residualCode(
+                    values[k], predictWith(prediction, values, side, grid.data(), i, j));
+            }
+        const std::uint64_t bits = codeBits(candidate);
+        if (bits < fewest) {
+            fewest = bits;
+            encoding.prediction = prediction;
+            std::copy(candidate.begin(), candidate.end(), codes.begin());
         }
-    return divisor;
+    }
+    return encoding;
 }
 
-void decodeHeights(std::span<const std::uint32_t> codes, int side, std::uint32_t divisor,
-                   std::span<float> heights, const HeightUnits& units) {
+}  // namespace
+
+HeightEncoding encodeHeights(std::span<const float> heights, int side,
+                             std::span<std::uint32_t> codes, const HeightUnits& units,
+                             std::span<const float> parentSamples) {
+    return encodeTrying(heights, side, codes, units, parentSamples, 0, kHeightPredictions - 1);
+}
+
+HeightEncoding encodeHeightsWith(HeightPrediction prediction, std::span<const float> heights,
+                                 int side, std::span<std::uint32_t> codes, const HeightUnits& units,
+                                 std::span<const float> parentSamples) {
+    TERRAIN_ASSERT(prediction == HeightPrediction::kWithinTile || !parentSamples.empty(),
+                   "encodeHeightsWith: a parent prediction needs the parent samples");
+    const int p = static_cast<int>(prediction);
+    return encodeTrying(heights, side, codes, units, parentSamples, p, p);
+}
+
+void decodeHeights(std::span<const std::uint32_t> codes, int side, const HeightEncoding& encoding,
+                   std::span<float> heights, const HeightUnits& units,
+                   std::span<const float> parentSamples) {
     const auto count = static_cast<std::size_t>(side) * static_cast<std::size_t>(side);
+    const int gridSide = parentSamplesSide(side);
     TERRAIN_ASSERT(heights.size() == count && codes.size() == count,
                    "decodeHeights: side × side codes and heights");
+    const HeightPrediction prediction = encoding.prediction;
+    TERRAIN_ASSERT(prediction == HeightPrediction::kWithinTile ||
+                       parentSamples.size() == static_cast<std::size_t>(gridSide) * gridSide,
+                   "decodeHeights: a parent prediction needs the parent samples");
+    const std::uint32_t divisor = encoding.divisor;
     // The integers first, then the heights they stand for.
     thread_local std::vector<std::int32_t> scratch;
     scratch.resize(count);
     std::int32_t* values = scratch.data();
-    const auto add = [](std::int64_t prediction, std::uint32_t code) {
-        return static_cast<std::int32_t>(static_cast<std::uint32_t>(prediction) +
-                                         static_cast<std::uint32_t>(unzigzag(code)));
-    };
-    // predict() unrolled by row, the decoder's hot loop.
-    values[0] = add(0, codes[0]);
-    for (int x = 1; x < side; ++x) values[x] = add(values[x - 1], codes[x]);
-    for (int y = 1; y < side; ++y) {
-        std::int32_t* row = values + static_cast<std::ptrdiff_t>(y) * side;
-        const std::int32_t* north = row - side;
-        const std::uint32_t* in = codes.data() + static_cast<std::ptrdiff_t>(y) * side;
-        row[0] = add(north[0], in[0]);
-        for (int x = 1; x < side; ++x)
-            row[x] = add(medianEdge(row[x - 1], north[x], north[x - 1]), in[x]);
+    if (prediction == HeightPrediction::kWithinTile) {
+        // predict() unrolled by row, the decoder's hot loop.
+        values[0] = addResidual(0, codes[0]);
+        for (int x = 1; x < side; ++x) values[x] = addResidual(values[x - 1], codes[x]);
+        for (int y = 1; y < side; ++y) {
+            std::int32_t* row = values + static_cast<std::ptrdiff_t>(y) * side;
+            const std::int32_t* north = row - side;
+            const std::uint32_t* in = codes.data() + static_cast<std::ptrdiff_t>(y) * side;
+            row[0] = addResidual(north[0], in[0]);
+            for (int x = 1; x < side; ++x)
+                row[x] = addResidual(medianEdge(row[x - 1], north[x], north[x - 1]), in[x]);
+        }
+    } else {
+        thread_local std::vector<std::int64_t> grid;
+        grid.resize(parentSamples.size());
+        for (std::size_t k = 0; k < parentSamples.size(); ++k)
+            grid[k] = integerOf(parentSamples[k], divisor, units);
+        const bool lastPass = prediction == HeightPrediction::kFromParent;
+        for (int j = 0; j < side; ++j)
+            for (int i = 0; i < side; ++i) {
+                if (lastPass && fromNeighbours(i, j, side)) continue;
+                const std::size_t k = static_cast<std::size_t>(j) * side + i;
+                values[k] =
+                    addResidual(predictWith(prediction, values, side, grid.data(), i, j), codes[k]);
+            }
+        for (int j = 2; lastPass && j < side - 1; j += 2)
+            for (int i = 2; i < side - 1; i += 2) {
+                const std::size_t k = static_cast<std::size_t>(j) * side + i;
+                values[k] = addResidual(neighbourMean(values, side, i, j), codes[k]);
+            }
     }
     if (divisor == 0) {
         for (std::size_t i = 0; i < count; ++i) heights[i] = fromOrderedBits(values[i]);

@@ -19,7 +19,8 @@ static_assert(std::endian::native == std::endian::little,
               "a payload's bytes are those of the little-endian words OpenEXR stores");
 
 // The first word of a payload: byte 0 the codec, byte 1 the bytes per height code (1 … 4),
-// bytes 2 and 3 zero. The second: the length in bytes of the data that follows.
+// byte 2 the height prediction, byte 3 zero. The second: the length in bytes of the data that
+// follows.
 constexpr std::uint8_t kStored = 0;
 constexpr std::uint8_t kZstd = 1;
 constexpr std::size_t kHeaderWords = 2;
@@ -67,7 +68,8 @@ std::size_t wordsFor(std::size_t bytes) { return kHeaderWords + (bytes + 3) / 4;
 
 }  // namespace
 
-void packPatchPayload(std::span<const std::uint32_t> codes, std::span<const std::uint8_t> valid,
+void packPatchPayload(std::span<const std::uint32_t> codes, HeightPrediction prediction,
+                      std::span<const std::uint8_t> valid,
                       std::span<const std::uint16_t> halfLambdas, int level,
                       std::vector<std::uint32_t>& words) {
     TERRAIN_ASSERT(level >= 0 && level <= kMaxCompressionLevel, "packPatchPayload: level");
@@ -81,8 +83,12 @@ void packPatchPayload(std::span<const std::uint32_t> codes, std::span<const std:
         for (const std::uint32_t code : codes) *out++ = static_cast<std::uint8_t>(code >> shift);
     }
     out = std::copy(valid.begin(), valid.end(), out);
-    for (const std::uint16_t bits : halfLambdas) *out++ = static_cast<std::uint8_t>(bits);
-    for (const std::uint16_t bits : halfLambdas) *out++ = static_cast<std::uint8_t>(bits >> 8);
+    // λ(1) of every block, then λ(2) …: neighbouring blocks' bounds are alike, one block's
+    // four are not.
+    for (int shift = 0; shift <= 8; shift += 8)
+        for (std::size_t d = 0; d < kMaxSimplification; ++d)
+            for (std::size_t k = d; k < halfLambdas.size(); k += kMaxSimplification)
+                *out++ = static_cast<std::uint8_t>(halfLambdas[k] >> shift);
 
     std::uint8_t codec = kStored;
     std::size_t length = planes.size();
@@ -102,19 +108,23 @@ void packPatchPayload(std::span<const std::uint32_t> codes, std::span<const std:
     words.resize(wordsFor(length));
     // Zero padding after the data, so equal patches give equal files.
     std::memset(data + length, 0, (words.size() - kHeaderWords) * 4 - length);
-    words[0] = std::uint32_t{codec} | (static_cast<std::uint32_t>(bytesPerCode) << 8);
+    words[0] = std::uint32_t{codec} | (static_cast<std::uint32_t>(bytesPerCode) << 8) |
+               (static_cast<std::uint32_t>(prediction) << 16);
     words[1] = static_cast<std::uint32_t>(length);
 }
 
 Status unpackPatchPayload(std::span<const std::uint32_t> words, const PayloadShape& shape,
-                          std::vector<std::uint32_t>& codes, std::vector<std::uint8_t>& valid,
-                          std::vector<BlockErrors>& blockErrors) {
+                          std::vector<std::uint32_t>& codes, HeightPrediction& prediction,
+                          std::vector<std::uint8_t>& valid, std::vector<BlockErrors>& blockErrors) {
     if (words.size() < kHeaderWords)
         return Error{fmt::format("payload of {} samples, shorter than its header", words.size())};
     const std::uint32_t codec = words[0] & 0xFFU;
     const std::uint32_t bytesPerCode = (words[0] >> 8) & 0xFFU;
-    if (codec > kZstd || bytesPerCode < 1 || bytesPerCode > 4 || (words[0] >> 16) != 0)
+    const std::uint32_t predictionByte = (words[0] >> 16) & 0xFFU;
+    if (codec > kZstd || bytesPerCode < 1 || bytesPerCode > 4 ||
+        predictionByte >= kHeightPredictions || (words[0] >> 24) != 0)
         return Error{fmt::format("payload header 0x{:08x} is not one a writer makes", words[0])};
+    prediction = static_cast<HeightPrediction>(predictionByte);
     const std::size_t length = words[1];
     if (wordsFor(length) != words.size())
         return Error{
@@ -158,11 +168,13 @@ Status unpackPatchPayload(std::span<const std::uint32_t> words, const PayloadSha
                         static_cast<std::size_t>(shape.blocksPerSide);
     const std::size_t halves = blocks * kMaxSimplification;
     blockErrors.resize(blocks);
-    for (std::size_t k = 0; k < halves; ++k) {
-        Imath::half value;
-        value.setBits(static_cast<std::uint16_t>(lambdas[k] | (lambdas[halves + k] << 8)));
-        blockErrors[k / kMaxSimplification][k % kMaxSimplification] = value;
-    }
+    for (std::size_t d = 0; d < kMaxSimplification; ++d)
+        for (std::size_t b = 0; b < blocks; ++b) {
+            const std::size_t k = d * blocks + b;
+            Imath::half value;
+            value.setBits(static_cast<std::uint16_t>(lambdas[k] | (lambdas[halves + k] << 8)));
+            blockErrors[b][d] = value;
+        }
     return {};
 }
 

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "terrain/base/Result.h"
+#include "terrain/io/HeightCodes.h"
 #include "terrain/io/PatchErrors.h"
 
 #include <cstdint>
@@ -26,21 +27,23 @@ struct PayloadShape {
     bool withMask = false;
 };
 
-/// One patch as packed: `codes` (tileSamples², HeightCodes.h), `valid` (tileSamples² flags,
-/// 0 or 1, or empty without a mask) and `halfLambdas` (blocksPerSide² × λ(1..4) as HALF
-/// bits). `level` 0 stores the bytes as they are, 1 … kMaxCompressionLevel compresses them
-/// with zstd at that level (stored anyway where zstd would not shrink them). Writes the
-/// payload's 32-bit samples to `words`. Any thread.
-void packPatchPayload(std::span<const std::uint32_t> codes, std::span<const std::uint8_t> valid,
+/// One patch as packed: `codes` (tileSamples², HeightCodes.h) and the prediction they use,
+/// `valid` (tileSamples² flags, 0 or 1, or empty without a mask) and `halfLambdas`
+/// (blocksPerSide² × λ(1..4) as HALF bits, block by block). `level` 0 stores the bytes as
+/// they are, 1 … kMaxCompressionLevel compresses them with zstd at that level (stored anyway
+/// where zstd would not shrink them). Writes the payload's 32-bit samples to `words`. Any
+/// thread.
+void packPatchPayload(std::span<const std::uint32_t> codes, HeightPrediction prediction,
+                      std::span<const std::uint8_t> valid,
                       std::span<const std::uint16_t> halfLambdas, int level,
                       std::vector<std::uint32_t>& words);
 
-/// The inverse: fills codes, valid (empty without a mask) and blockErrors (the halves as
-/// floats). A payload that is not one a writer makes for `shape` is an Error saying what
-/// is wrong with it (without a file name), never a crash. Any thread.
+/// The inverse: fills codes, prediction, valid (empty without a mask) and blockErrors (the
+/// halves as floats). A payload that is not one a writer makes for `shape` is an Error
+/// saying what is wrong with it (without a file name), never a crash. Any thread.
 Status unpackPatchPayload(std::span<const std::uint32_t> words, const PayloadShape& shape,
-                          std::vector<std::uint32_t>& codes, std::vector<std::uint8_t>& valid,
-                          std::vector<BlockErrors>& blockErrors);
+                          std::vector<std::uint32_t>& codes, HeightPrediction& prediction,
+                          std::vector<std::uint8_t>& valid, std::vector<BlockErrors>& blockErrors);
 
 /// The most 32-bit samples a payload of `shape` can take: a reader refuses a pixel that
 /// claims more before it allocates anything for it.

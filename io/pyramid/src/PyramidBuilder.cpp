@@ -30,6 +30,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <system_error>
 #include <vector>
 
@@ -394,10 +395,12 @@ private:
             // Patches of the band, in parallel.
             const std::int64_t count = patchRows * patchesX;
             m_quantized.assign(static_cast<std::size_t>(count), 0.0);
+            m_parentSamples.resize(static_cast<std::size_t>(count));
             parallelFor(count, m_threads, [&](std::int64_t i) {
                 m_quantized[static_cast<std::size_t>(i)] = makeRecord(
                     level, band, PatchId{level, i % patchesX, firstPatchRow + i / patchesX},
-                    records[static_cast<std::size_t>(i)]);
+                    records[static_cast<std::size_t>(i)],
+                    m_parentSamples[static_cast<std::size_t>(i)]);
             });
             if (m_quantization && level == m_layout.finestLevel())
                 for (const double d : m_quantized)
@@ -449,9 +452,26 @@ private:
         return {};
     }
 
+    // A lossy build's stored heights of `level`: Yusov's quantizer (§4) rounds them in place;
+    // returns the largest difference it made, or nothing where the level keeps the source's
+    // own units: a source whose units are at least the step (the Puget Sound JPEG's 25.7 m)
+    // is stored exactly, in its units, since rounding them to the step would only make codes
+    // larger.
+    std::optional<double> storeAtLevel(int level, std::span<float> heights) const {
+        const double halfStep = m_quantization->halfStep(level, m_layout.finestLevel());
+        const VerticalTransform& units = m_reader.info().vertical;
+        const bool coarseUnits =
+            units != VerticalTransform{} && std::abs(units.scale) >= 2.0 * halfStep;
+        if (coarseUnits) return std::nullopt;
+        return quantizeHeights(heights, halfStep);
+    }
+
     // Returns the largest difference the quantizer made to the patch's samples (0 when
-    // lossless).
-    double makeRecord(int level, Band& band, const PatchId& id, PatchRecord& record) {
+    // lossless). `parentSamples` become the heights the parent patch will be stored with at
+    // the patch's odd sample indices (HeightCodes.h): the level's even samples, which the
+    // coarser level keeps, stored as that level stores them.
+    double makeRecord(int level, Band& band, const PatchId& id, PatchRecord& record,
+                      std::vector<float>& parentSamples) {
         const int n = m_layout.patchSamples(), t = m_layout.tileSamples(),
                   q = m_layout.patchQuads();
         record.id = id;
@@ -465,22 +485,21 @@ private:
             std::copy_n(band.heightRow(row) + x0, t, record.heights.data() + j * t);
             std::copy_n(band.validRow(row) + x0, t, record.valid.data() + j * t);
         }
+        parentSamples.clear();
+        if (level > 0 && m_options.parentPrediction) {
+            oddIndexSamples(record.heights, t, parentSamples);
+            if (m_quantization) storeAtLevel(level - 1, parentSamples);
+        }
         // A lossy build stores the quantized heights (Yusov §4), so everything below that
         // describes what is drawn (min/max, λ(d), the checksum) describes them; Err_Appr
         // stays the exact heights' (from the band), and δ_l joins it in Err(P).
         double quantized = 0.0;
         float quantError = 0.0f;
-        // A source whose own units are at least the step (the Puget Sound JPEG's 25.7 m) is
-        // stored exactly, in its units: rounding them to the step would only make codes
-        // larger.
         if (m_quantization) {
-            const double halfStep = m_quantization->halfStep(level, m_layout.finestLevel());
-            const VerticalTransform& units = m_reader.info().vertical;
-            const bool coarseUnits =
-                units != VerticalTransform{} && std::abs(units.scale) >= 2.0 * halfStep;
-            if (!coarseUnits) {
-                quantized = quantizeHeights(record.heights, halfStep);
-                quantError = roundUpToFloat(std::max(halfStep, quantized));
+            if (const std::optional<double> largest = storeAtLevel(level, record.heights)) {
+                quantized = *largest;
+                quantError = roundUpToFloat(
+                    std::max(m_quantization->halfStep(level, m_layout.finestLevel()), quantized));
             }
         }
         PatchInfo& info = record.info;
@@ -601,7 +620,10 @@ private:
                 if (!writer) return writer.error();
                 it = writers.emplace(std::pair{shard.y, shard.x}, std::move(writer).value()).first;
             }
-            if (auto written = it->second.writePatch(record); !written) return written;
+            if (auto written =
+                    it->second.writePatch(record, m_parentSamples[static_cast<std::size_t>(i)]);
+                !written)
+                return written;
             float& levelMax = m_levelMaxError[static_cast<std::size_t>(level)];
             levelMax = std::max(levelMax, record.info.error);
             ++m_patches;
@@ -626,6 +648,7 @@ private:
     double m_originalFinestDistance = 0.0;
     std::optional<ManifestQuantization> m_quantization;  // a lossy build's
     std::vector<double> m_quantized;                     // per patch of the band
+    std::vector<std::vector<float>> m_parentSamples;     // per patch of the band
     std::vector<float> m_rowScratch;
     std::vector<std::uint8_t> m_validScratch;
     std::vector<float> m_levelMaxError;

@@ -5,8 +5,10 @@
 #include "terrain/io/PyramidReader.h"
 #include "terrain/io/HeightCodes.h"
 
+#include "terrain/base/Assert.h"
 #include "terrain/io/ExrHeaderCheck.h"
 
+#include "ParentTileCache.h"
 #include "PatchChecksum.h"
 #include "PatchPayload.h"
 #include "ShardFormat.h"
@@ -66,6 +68,20 @@ struct PyramidReader::Impl {
     std::uint64_t openings = 0;
     std::vector<std::uint32_t> payloadScratch;  // one patch's payload samples
     std::vector<std::uint32_t> codeScratch;     // its height codes
+    std::vector<float> parentScratch;           // its parent samples (HeightCodes.h)
+    std::unique_ptr<ParentTileCache> parents;
+    std::uint64_t parentReads = 0;
+
+    // The heights of a patch's parent: from the cache, else read (and verified) now.
+    Result<const std::vector<float>*> parentHeights(const PatchId& parent) {
+        if (const std::vector<float>* cached = parents->find(parent)) return cached;
+        PatchRecord record;
+        if (Status read = this->read(parent, record); !read) return read.error();
+        ++parentReads;
+        const std::vector<float>* kept = parents->find(parent);  // read() kept it
+        TERRAIN_ASSERT(kept != nullptr, "a parent read is kept for its children");
+        return kept;
+    }
 
     std::filesystem::path shardFile(const ShardId& s) const { return folder / layout.shardPath(s); }
 
@@ -258,21 +274,49 @@ struct PyramidReader::Impl {
             close(&s);  // a shard that failed once is reopened (and rechecked) next time
             return patchError(path, id, fmt::format("cannot read its tile: {}", e.what()));
         }
-        if (Status unpacked = shard::unpackPatchPayload(payloadScratch, shape, codeScratch,
-                                                        out.valid, out.blockErrors);
+        HeightEncoding encoding{stored.heightDivisor, HeightPrediction::kWithinTile};
+        if (Status unpacked =
+                shard::unpackPatchPayload(payloadScratch, shape, codeScratch, encoding.prediction,
+                                          out.valid, out.blockErrors);
             !unpacked)
             return patchError(s.path, id, unpacked.error().message + ": the shard is corrupt");
+        // `s` may be closed from here on: reading the parent can open other shards.
+        const std::filesystem::path path = s.path;
+        const std::uint32_t storedCrc = stored.crc32;
+        const bool fromParent = encoding.prediction != HeightPrediction::kWithinTile;
+        if (fromParent) {
+            if (id.level == 0 || manifest.globe)
+                return patchError(path, id,
+                                  "its heights are predicted from a parent patch it does not "
+                                  "have: the shard is corrupt");
+            // The parent's read reuses the scratch buffers: keep this patch's codes apart.
+            std::vector<std::uint32_t> codes;
+            codes.swap(codeScratch);
+            Result<const std::vector<float>*> parent =
+                parentHeights(PatchId{id.level - 1, id.x / 2, id.y / 2});
+            codes.swap(codeScratch);
+            if (!parent)
+                return patchError(path, id,
+                                  "its heights are predicted from its parent's, which cannot be "
+                                  "read: " +
+                                      parent.error().message);
+            gatherParentSamples(*parent.value(), shape.tileSamples, static_cast<int>(id.x % 2),
+                                static_cast<int>(id.y % 2), parentScratch);
+        }
         out.heights.resize(codeScratch.size());
         HeightUnits units{manifest.vertical};
         if (manifest.quantization)
             units.quantizerStep = manifest.quantization->step(id.level, layout.finestLevel());
-        decodeHeights(codeScratch, shape.tileSamples, stored.heightDivisor, out.heights, units);
+        decodeHeights(
+            codeScratch, shape.tileSamples, encoding, out.heights, units,
+            fromParent ? std::span<const float>(parentScratch) : std::span<const float>());
         const std::uint32_t computed =
             patchChecksum(out.heights, out.valid, out.blockErrors, out.info);
-        if (computed != stored.crc32)
-            return patchError(s.path, id,
+        if (computed != storedCrc)
+            return patchError(path, id,
                               fmt::format("checksum mismatch (stored 0x{:08x}, computed 0x{:08x})",
-                                          stored.crc32, computed));
+                                          storedCrc, computed));
+        if (id.level < layout.finestLevel() && !manifest.globe) parents->insert(id, out.heights);
         return {};
     }
 };
@@ -293,6 +337,8 @@ Result<PyramidReader> PyramidReader::open(const std::filesystem::path& pyramidDi
     impl->layout = impl->manifest.layout;
     impl->hasMask = impl->manifest.noData.present;
     impl->maxOpen = maxOpenShards;
+    impl->parents =
+        std::make_unique<ParentTileCache>(kParentCacheBytes, impl->layout.tileSamples());
     return PyramidReader(std::move(impl));
 }
 
@@ -327,5 +373,6 @@ std::filesystem::path PyramidReader::shardFile(const PatchId& id) const {
 
 int PyramidReader::openShards() const { return static_cast<int>(m_impl->shards.size()); }
 std::uint64_t PyramidReader::shardOpenings() const { return m_impl->openings; }
+std::uint64_t PyramidReader::parentReads() const { return m_impl->parentReads; }
 
 }  // namespace terrain::io

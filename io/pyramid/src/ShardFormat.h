@@ -17,10 +17,11 @@
 
 namespace terrain::io::shard {
 
-/// 3: each patch one zstd-compressed payload (PatchPayload.h) in a deep part; 2 stored the
-/// height codes, mask and block errors in flat ZIP parts; 1 (pyramid versions 2 and 3)
-/// stored the heights as floats.
-inline constexpr int kFormatVersion = 3;
+/// 4: each patch one zstd-compressed payload (PatchPayload.h) in a deep part, its heights
+/// possibly predicted from its parent's; 3 had the same payloads without that prediction and
+/// with the block errors block by block; 2 stored the height codes, mask and block errors in
+/// flat ZIP parts; 1 (pyramid versions 2 and 3) stored the heights as floats.
+inline constexpr int kFormatVersion = 4;
 
 inline constexpr const char* kPatchesPart = "patches";
 inline constexpr const char* kPatchInfoPart = "patchInfo";

@@ -184,7 +184,7 @@ Result<ShardWriter> ShardWriter::create(const std::filesystem::path& finalPath,
     return ShardWriter(std::move(impl));
 }
 
-Status ShardWriter::writePatch(const PatchRecord& record) {
+Status ShardWriter::writePatch(const PatchRecord& record, std::span<const float> parentSamples) {
     Impl& w = *m_impl;
     if (w.failure) return *w.failure;
     TERRAIN_ASSERT(!w.finished, "ShardWriter::writePatch after finish()");
@@ -213,13 +213,16 @@ Status ShardWriter::writePatch(const PatchRecord& record) {
             w.lambdas[b][d] = roundUpToHalf(record.blockErrors[b][d]);
     info.crc32 = patchChecksum(record.heights, record.valid, w.lambdas, info);
     w.codes.resize(tile2);
-    const std::uint32_t divisor = encodeHeights(record.heights, w.tile, w.codes, w.units);
+    TERRAIN_ASSERT(parentSamples.empty() || record.id.level > 0, "the root has no parent");
+    const HeightEncoding encoding =
+        encodeHeights(record.heights, w.tile, w.codes, w.units, parentSamples);
     w.halfLambdas.clear();
     for (const BlockErrors& block : w.lambdas)
         for (const float lambda : block)
             w.halfLambdas.push_back(Imath::half(lambda).bits());  // exact: already a half
-    shard::packPatchPayload(w.codes, record.valid, w.halfLambdas, w.compressionLevel, w.payload);
-    w.infos[index] = shard::toStored(info, divisor);
+    shard::packPatchPayload(w.codes, encoding.prediction, record.valid, w.halfLambdas,
+                            w.compressionLevel, w.payload);
+    w.infos[index] = shard::toStored(info, encoding.divisor);
     w.patchWritten[index] = 1;
     return w.writePayload(tx, ty);
 }

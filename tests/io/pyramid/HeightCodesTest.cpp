@@ -12,6 +12,7 @@
 #include <functional>
 #include <limits>
 #include <random>
+#include <span>
 #include <vector>
 
 namespace terrain::io {
@@ -26,15 +27,12 @@ std::vector<float> tile(const std::function<float(int x, int y)>& height) {
     return h;
 }
 
-// Encodes and decodes `heights`; returns the divisor, failing the test unless every float
-// comes back with the same bits.
-std::uint32_t roundTrip(const std::vector<float>& heights,
-                        std::vector<std::uint32_t>* codesOut = nullptr,
-                        const HeightUnits& units = {}) {
-    std::vector<std::uint32_t> codes(heights.size());
-    const std::uint32_t divisor = encodeHeights(heights, kSide, codes, units);
+// Decodes `codes` and counts the samples that do not come back with the same bits.
+int differingAfterDecoding(const std::vector<float>& heights,
+                           const std::vector<std::uint32_t>& codes, const HeightEncoding& encoding,
+                           const HeightUnits& units, std::span<const float> parent) {
     std::vector<float> decoded(heights.size());
-    decodeHeights(codes, kSide, divisor, decoded, units);
+    decodeHeights(codes, kSide, encoding, decoded, units, parent);
     int differing = 0;
     for (std::size_t i = 0; i < heights.size(); ++i)
         if (std::bit_cast<std::uint32_t>(decoded[i]) != std::bit_cast<std::uint32_t>(heights[i])) {
@@ -42,9 +40,40 @@ std::uint32_t roundTrip(const std::vector<float>& heights,
                 ADD_FAILURE() << "sample " << i << ": " << heights[i] << " came back as "
                               << decoded[i];
         }
-    EXPECT_EQ(differing, 0);
+    return differing;
+}
+
+// Encodes and decodes `heights`; returns the divisor, failing the test unless every float
+// comes back with the same bits. Every prediction from a parent is round-tripped too, with
+// the tile's own odd-index samples as the parent's (a lossless pyramid) and with a parent
+// whose samples are not the tile's (a lossy one's coarser steps, or anything).
+std::uint32_t roundTrip(const std::vector<float>& heights,
+                        std::vector<std::uint32_t>* codesOut = nullptr,
+                        const HeightUnits& units = {}) {
+    std::vector<std::uint32_t> codes(heights.size());
+    const HeightEncoding encoding = encodeHeights(heights, kSide, codes, units);
+    EXPECT_EQ(encoding.prediction, HeightPrediction::kWithinTile);  // no parent to use
+    EXPECT_EQ(differingAfterDecoding(heights, codes, encoding, units, {}), 0);
     if (codesOut != nullptr) *codesOut = codes;
-    return divisor;
+
+    std::vector<float> own, foreign;
+    oddIndexSamples(heights, kSide, own);
+    foreign = own;
+    for (std::size_t k = 0; k < foreign.size(); ++k)
+        foreign[k] = k % 3 == 0 ? std::nextafter(foreign[k] * 1.01f, 0.0f)
+                                : static_cast<float>(k % 7) - 3.0f;
+    for (const std::vector<float>* parent : {&own, &foreign})
+        for (int p = 0; p < kHeightPredictions; ++p) {
+            SCOPED_TRACE(::testing::Message()
+                         << "prediction " << p << ", " << (parent == &own ? "own" : "foreign")
+                         << " parent samples");
+            std::vector<std::uint32_t> predicted(heights.size());
+            const HeightEncoding with = encodeHeightsWith(static_cast<HeightPrediction>(p), heights,
+                                                          kSide, predicted, units, *parent);
+            EXPECT_EQ(with.divisor, encoding.divisor);
+            EXPECT_EQ(differingAfterDecoding(heights, predicted, with, units, *parent), 0);
+        }
+    return encoding.divisor;
 }
 
 double meanCode(const std::vector<std::uint32_t>& codes) {
@@ -182,6 +211,62 @@ TEST(HeightCodesTest, SmoothTerrainBecomesSmallCodes) {
     std::vector<std::uint32_t> plane;
     roundTrip(tile([](int x, int y) { return float(3 * x - 2 * y + 100); }), &plane);
     EXPECT_LT(meanCode(plane), 8.0);
+}
+
+// Below the root a tile's odd-index samples are its parent's (the coarser level keeps the
+// even samples): with them, a quarter of the codes are zeros and the rest are predicted
+// from both sides, so the tile costs fewer bits than predicted from itself.
+TEST(HeightCodesTest, AParentsSamplesMakeSmallerCodes) {
+    const std::vector<float> metres = tile([](int x, int y) { return std::round(hills(x, y)); });
+    std::vector<std::uint32_t> alone(metres.size()), withParent(metres.size());
+    encodeHeights(metres, kSide, alone, {});
+    std::vector<float> parent;
+    oddIndexSamples(metres, kSide, parent);
+    const HeightEncoding encoding = encodeHeights(metres, kSide, withParent, {}, parent);
+    EXPECT_NE(encoding.prediction, HeightPrediction::kWithinTile);
+    for (int j = 1; j < kSide; j += 2)
+        for (int i = 1; i < kSide; i += 2)
+            ASSERT_EQ(withParent[static_cast<std::size_t>(j * kSide + i)], 0U) << i << ", " << j;
+    const auto bits = [](const std::vector<std::uint32_t>& codes) {
+        double sum = 0.0;
+        for (const std::uint32_t c : codes) sum += std::bit_width(c);
+        return sum;
+    };
+    EXPECT_LT(bits(withParent), 0.8 * bits(alone));
+}
+
+// gatherParentSamples reads the parent's tile where the layout puts a child's even samples:
+// for a level raster and its coarser level (every other sample), each of the four children
+// of a parent gets exactly its own odd-index samples, apron and overhang included.
+TEST(HeightCodesTest, ParentSamplesFollowTheLayout) {
+    for (const int quads : {4, 8, 128}) {
+        SCOPED_TRACE(quads);
+        const int side = quads + 3;
+        const int levelSamples = 2 * quads + 1;  // two patches a side
+        // Samples beyond the raster take the nearest one, in finest coordinates.
+        const auto fine = [&](std::int64_t x, std::int64_t y) {
+            x = std::clamp<std::int64_t>(x, 0, levelSamples - 1);
+            y = std::clamp<std::int64_t>(y, 0, levelSamples - 1);
+            return static_cast<float>(x * 1000 + y);
+        };
+        const auto coarse = [&](std::int64_t x, std::int64_t y) { return fine(2 * x, 2 * y); };
+        const auto patchTile = [&](const auto& level, int px, int py) {
+            std::vector<float> t;
+            for (int j = 0; j < side; ++j)
+                for (int i = 0; i < side; ++i)
+                    t.push_back(
+                        level(std::int64_t{px} * quads - 1 + i, std::int64_t{py} * quads - 1 + j));
+            return t;
+        };
+        const std::vector<float> parent = patchTile(coarse, 0, 0);
+        for (int py = 0; py < 2; ++py)
+            for (int px = 0; px < 2; ++px) {
+                std::vector<float> gathered, own;
+                gatherParentSamples(parent, side, px, py, gathered);
+                oddIndexSamples(patchTile(fine, px, py), side, own);
+                EXPECT_EQ(gathered, own) << "child " << px << ", " << py;
+            }
+    }
 }
 
 }  // namespace

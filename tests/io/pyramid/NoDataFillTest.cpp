@@ -43,7 +43,7 @@ TEST(NoDataFill, RoundsToWholeSourceUnits) {
     std::vector<float> tile(9, step(12));
     tile[0] = row[1];
     std::vector<std::uint32_t> codes(tile.size());
-    EXPECT_EQ(encodeHeights(tile, 3, codes, HeightUnits{jpeg}), kSourceUnits);
+    EXPECT_EQ(encodeHeights(tile, 3, codes, HeightUnits{jpeg}).divisor, kSourceUnits);
 }
 
 TEST(NoDataFill, OnlyIntegerSourcesHaveWholeUnits) {

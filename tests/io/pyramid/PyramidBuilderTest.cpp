@@ -177,6 +177,75 @@ TEST(PyramidBuilder, ProceduralRoundTripAndErrorBounds) {
     checkPyramid(b, out, 1000);
 }
 
+// Below the root, patches are coded from their parents' samples (docs/pyramid-format.md,
+// "Height codes"): a reader decodes a patch's ancestors first, keeps them for their other
+// children, and names the parent when it is what cannot be read.
+TEST(PyramidBuilder, FinerLevelsArePredictedFromTheirParents) {
+    TempFolder tmp;
+    const fs::path out = tmp.path() / "procedural.pyramid";
+    const Built b = build({"procedural:size=1025,seed=3"}, out);
+    ASSERT_EQ(b.summary.manifest.layout.finestLevel(), 3);
+    {
+        auto reader = PyramidReader::open(out);
+        ASSERT_TRUE(reader.ok()) << reader.error().message;
+        ASSERT_TRUE(reader.value().readPatch({3, 5, 2}).ok());
+        EXPECT_EQ(reader.value().parentReads(), 3U);  // levels 2, 1 and 0
+        for (const PatchId sibling : {PatchId{3, 4, 2}, PatchId{3, 4, 3}, PatchId{3, 5, 3}})
+            ASSERT_TRUE(reader.value().readPatch(sibling).ok());
+        EXPECT_EQ(reader.value().parentReads(), 3U);  // their parent was kept
+    }
+    // The parent's shard gone: the child cannot be decoded, and the error says why.
+    const PyramidLayout layout = b.summary.manifest.layout;
+    const fs::path parentShard = out / layout.shardPath(layout.shardOf({2, 2, 1}));
+    fs::remove(parentShard);
+    auto reader = PyramidReader::open(out);
+    ASSERT_TRUE(reader.ok());
+    const auto child = reader.value().readPatch({3, 5, 2});
+    ASSERT_FALSE(child.ok());
+    const std::string& message = child.error().message;
+    EXPECT_NE(message.find("patch L3 (5, 2): its heights are predicted from its parent's, which "
+                           "cannot be read"),
+              std::string::npos)
+        << message;
+    EXPECT_NE(message.find(parentShard.string() + ": patch L2 (2, 1): the shard file is missing"),
+              std::string::npos)
+        << message;
+}
+
+// --independent-patches: every patch decodes without its parent, the same heights, in more
+// bytes.
+TEST(PyramidBuilder, IndependentPatchesDecodeAlone) {
+    TempFolder tmp;
+    const fs::path predicted = tmp.path() / "predicted.pyramid";
+    const fs::path independent = tmp.path() / "independent.pyramid";
+    build({"procedural:size=1025,seed=3"}, predicted);
+    PyramidBuildOptions options;
+    options.parentPrediction = false;
+    const Built b = build({"procedural:size=1025,seed=3"}, independent, {}, options);
+    checkRoundTrip(b, independent);
+    auto alone = PyramidReader::open(independent);
+    auto withParents = PyramidReader::open(predicted);
+    ASSERT_TRUE(alone.ok() && withParents.ok());
+    const PyramidLayout& layout = alone.value().layout();
+    for (int level = layout.finestLevel(); level >= 0; --level)
+        for (std::int64_t y = 0; y < layout.patchesY(level); ++y)
+            for (std::int64_t x = 0; x < layout.patchesX(level); ++x) {
+                auto a = alone.value().readPatch({level, x, y});
+                auto p = withParents.value().readPatch({level, x, y});
+                ASSERT_TRUE(a.ok() && p.ok());
+                ASSERT_EQ(a.value().heights, p.value().heights);
+            }
+    EXPECT_EQ(alone.value().parentReads(), 0U);
+    EXPECT_GT(withParents.value().parentReads(), 0U);
+    const auto bytes = [](const fs::path& folder) {
+        std::uintmax_t total = 0;
+        for (const auto& entry : fs::recursive_directory_iterator(folder))
+            if (entry.is_regular_file()) total += entry.file_size();
+        return total;
+    };
+    EXPECT_LT(bytes(predicted), bytes(independent));
+}
+
 TEST(PyramidBuilder, OddSizedProceduralWithSmallPatches) {
     TempFolder tmp;
     const fs::path out = tmp.path() / "odd.pyramid";

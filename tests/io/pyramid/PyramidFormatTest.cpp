@@ -198,7 +198,7 @@ TEST_F(PyramidFormat, ManifestRoundTrip) {
 TEST_F(PyramidFormat, ManifestJsonHasTheSpecsKeys) {
     const auto json = nlohmann::json::parse(toJson(sampleManifest()));
     EXPECT_EQ(json["format"], "terrain-pyramid");
-    EXPECT_EQ(json["formatVersion"], 6);
+    EXPECT_EQ(json["formatVersion"], 8);
     EXPECT_EQ(json["raster"]["width"], 1201);
     EXPECT_EQ(json["georeference"]["crsKind"], "geographic");
     EXPECT_EQ(json["georeference"]["epsg"], 4326);
@@ -247,17 +247,18 @@ TEST_F(PyramidFormat, ManifestErrors) {
     e = errorFor("[1, 2]");
     EXPECT_TRUE(contains(e, "not a pyramid manifest")) << e;
     // Version 1's block errors left out the tessellator's transition strips; versions 2
-    // and 3 stored heights as floats; 4 (planar) and 5 (globe) stored them in ZIP parts.
-    for (const int old : {1, 2, 3, 4, 5}) {
+    // and 3 stored heights as floats; 4 (planar) and 5 (globe) stored them in ZIP parts;
+    // 6 and 7 predicted no patch from its parent.
+    for (const int old : {1, 2, 3, 4, 5, 6, 7}) {
         e = errorFor(edited([&](auto& j) { j["formatVersion"] = old; }));
         EXPECT_TRUE(contains(e, fmt::format("unsupported formatVersion {} (this program reads "
-                                            "versions 6 (planar) and 7 (globe); rebuild the "
+                                            "versions 8 (planar) and 9 (globe); rebuild the "
                                             "pyramid with terrain-build)",
                                             old)))
             << e;
     }
     // A planar manifest that claims the globe's version lacks the globe it would need.
-    e = errorFor(edited([](auto& j) { j["formatVersion"] = 7; }));
+    e = errorFor(edited([](auto& j) { j["formatVersion"] = 9; }));
     EXPECT_TRUE(contains(e, "field \"levels[0].presentShards\" must be present")) << e;
     e = errorFor(edited([](auto& j) { j["levels"][3]["patchesX"] = 4; }));
     EXPECT_TRUE(contains(e, "inconsistent layout: levels[3].patchesX is 4")) << e;

@@ -120,13 +120,14 @@ struct ManifestBuild {
 
 struct PyramidManifest {
     static constexpr std::string_view kFormatName = "terrain-pyramid";
-    /// Planar pyramids. Version 6 stores each patch as one zstd payload (shard format 3);
-    /// 4 stored height codes in ZIP parts (and 5 was the globe's), 2 and 3 floats; 1 had
-    /// weaker block errors.
-    static constexpr int kFormatVersion = 6;
-    /// Globe pyramids (`globe` is set): version 7, with the shards of version 6; 5 had those
-    /// of version 4.
-    static constexpr int kGlobeFormatVersion = 7;
+    /// Planar pyramids. Version 8 stores each patch as one zstd payload whose heights may be
+    /// predicted from the parent patch's (shard format 4); 6 had payloads without that
+    /// (format 3); 4 stored height codes in ZIP parts (and 5 was the globe's), 2 and 3
+    /// floats; 1 had weaker block errors.
+    static constexpr int kFormatVersion = 8;
+    /// Globe pyramids (`globe` is set): version 9, with the shards of version 8 (their
+    /// patches predicted within themselves); 7 and 5 had those of versions 6 and 4.
+    static constexpr int kGlobeFormatVersion = 9;
     static constexpr std::string_view kFileName = "manifest.json";
     static constexpr std::string_view kVerticalUnits = "metre";
 

@@ -9,6 +9,7 @@
 #include "terrain/io/PyramidLayout.h"
 #include "terrain/io/PyramidManifest.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -27,6 +28,11 @@ public:
     /// memory the two readers of a stress run may still add after its warm-up, as their
     /// LRUs fill, stays near 1 % (64: 3,400 a second, and a 16K stress run grew 0.9 %).
     static constexpr int kDefaultOpenShards = 32;
+
+    /// Decoded heights of patches with children kept for their children (a patch's heights
+    /// may be predicted from its parent's, docs/pyramid-format.md, "Height codes"): 4 MiB,
+    /// 61 tiles of 129-sample patches.
+    static constexpr std::size_t kParentCacheBytes = std::size_t{4} << 20;
 
     /// Reads and checks the manifest (readManifest); shard files are opened on demand.
     static Result<PyramidReader> open(const std::filesystem::path& pyramidDir,
@@ -61,6 +67,9 @@ public:
 
     int openShards() const;               ///< shards open now, ≤ maxOpenShards
     std::uint64_t shardOpenings() const;  ///< shard files opened so far (LRU misses)
+    /// Parents read only to decode a child predicted from them (not among the patches
+    /// kept for that), so far.
+    std::uint64_t parentReads() const;
 
 private:
     struct Impl;

@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <span>
 
 namespace terrain::io {
 
@@ -48,9 +49,12 @@ public:
     /// and block errors as the spec defines it. Preconditions (asserted): the patch lies
     /// in this shard and was not written before, info.present, heights has
     /// tileSamples² values, valid tileSamples² (withMask) or none, blockErrors
-    /// blocksPerSide². An I/O error (e.g. a full disk) is an Error naming the file; after
-    /// one, every later call returns it again.
-    Status writePatch(const PatchRecord& record);
+    /// blocksPerSide². `parentSamples` (HeightCodes.h; empty: none, as at the root and in a
+    /// globe pyramid) must be exactly the heights the parent patch is stored with, at this
+    /// patch's odd sample indices: the reader predicts from the parent it reads. An I/O
+    /// error (e.g. a full disk) is an Error naming the file; after one, every later call
+    /// returns it again.
+    Status writePatch(const PatchRecord& record, std::span<const float> parentSamples = {});
 
     /// Writes empty payloads (present = 0) for the patches never written, the patchInfo
     /// tile, closes the file and renames it into place. Call once.
