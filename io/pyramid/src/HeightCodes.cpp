@@ -112,6 +112,16 @@ std::int64_t integerOf(float h, std::uint32_t divisor, const HeightUnits& units)
     return std::abs(m) <= kClamp ? static_cast<std::int64_t>(m) : 0;
 }
 
+// The parent samples as integers in the tile's units (integerOf), in a per-thread buffer.
+const std::int64_t* parentIntegers(std::span<const float> parentSamples, std::uint32_t divisor,
+                                   const HeightUnits& units) {
+    thread_local std::vector<std::int64_t> grid;
+    grid.resize(parentSamples.size());
+    for (std::size_t k = 0; k < parentSamples.size(); ++k)
+        grid[k] = integerOf(parentSamples[k], divisor, units);
+    return grid.data();
+}
+
 // The parent samples whose mean predicts index i of a tile (one axis): its own parent
 // sample at an odd index, the two around it at an even one, the one inside at the edges.
 struct ParentSpan {
@@ -265,10 +275,7 @@ HeightEncoding encodeTrying(std::span<const float> heights, int side,
             for (std::size_t i = 0; i < count; ++i) values[i] = orderedBits(heights[i]);
         }
     }
-    thread_local std::vector<std::int64_t> grid;
-    grid.resize(parentSamples.size());
-    for (std::size_t k = 0; k < parentSamples.size(); ++k)
-        grid[k] = integerOf(parentSamples[k], encoding.divisor, units);
+    const std::int64_t* grid = parentIntegers(parentSamples, encoding.divisor, units);
 
     // Every prediction the tile may use, coded; the one with the fewest bits is kept.
     thread_local std::vector<std::uint32_t> candidate;
@@ -280,8 +287,8 @@ HeightEncoding encodeTrying(std::span<const float> heights, int side,
         for (int j = 0; j < side; ++j)
             for (int i = 0; i < side; ++i) {
                 const std::size_t k = static_cast<std::size_t>(j) * side + i;
-                candidate[k] = residualCode(
-                    values[k], predictWith(prediction, values, side, grid.data(), i, j));
+                candidate[k] =
+                    residualCode(values[k], predictWith(prediction, values, side, grid, i, j));
             }
         const std::uint64_t bits = codeBits(candidate);
         if (bits < fewest) {
@@ -339,17 +346,14 @@ void decodeHeights(std::span<const std::uint32_t> codes, int side, const HeightE
                 row[x] = addResidual(medianEdge(row[x - 1], north[x], north[x - 1]), in[x]);
         }
     } else {
-        thread_local std::vector<std::int64_t> grid;
-        grid.resize(parentSamples.size());
-        for (std::size_t k = 0; k < parentSamples.size(); ++k)
-            grid[k] = integerOf(parentSamples[k], divisor, units);
+        const std::int64_t* grid = parentIntegers(parentSamples, divisor, units);
         const bool lastPass = prediction == HeightPrediction::kFromParent;
         for (int j = 0; j < side; ++j)
             for (int i = 0; i < side; ++i) {
                 if (lastPass && fromNeighbours(i, j, side)) continue;
                 const std::size_t k = static_cast<std::size_t>(j) * side + i;
                 values[k] =
-                    addResidual(predictWith(prediction, values, side, grid.data(), i, j), codes[k]);
+                    addResidual(predictWith(prediction, values, side, grid, i, j), codes[k]);
             }
         for (int j = 2; lastPass && j < side - 1; j += 2)
             for (int i = 2; i < side - 1; i += 2) {

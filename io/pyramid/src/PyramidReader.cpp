@@ -72,11 +72,16 @@ struct PyramidReader::Impl {
     std::unique_ptr<ParentTileCache> parents;
     std::uint64_t parentReads = 0;
 
-    // The heights of a patch's parent: from the cache, else read (and verified) now.
+    // The heights of a patch's parent: from the cache, else read (and verified) now. The
+    // parent's read reuses the scratch buffers, so the child's codes are kept apart meanwhile.
     Result<const std::vector<float>*> parentHeights(const PatchId& parent) {
         if (const std::vector<float>* cached = parents->find(parent)) return cached;
+        std::vector<std::uint32_t> childCodes;
+        childCodes.swap(codeScratch);
         PatchRecord record;
-        if (Status read = this->read(parent, record); !read) return read.error();
+        Status read = this->read(parent, record);
+        childCodes.swap(codeScratch);
+        if (!read) return read.error();
         ++parentReads;
         const std::vector<float>* kept = parents->find(parent);  // read() kept it
         TERRAIN_ASSERT(kept != nullptr, "a parent read is kept for its children");
@@ -289,12 +294,8 @@ struct PyramidReader::Impl {
                 return patchError(path, id,
                                   "its heights are predicted from a parent patch it does not "
                                   "have: the shard is corrupt");
-            // The parent's read reuses the scratch buffers: keep this patch's codes apart.
-            std::vector<std::uint32_t> codes;
-            codes.swap(codeScratch);
             Result<const std::vector<float>*> parent =
                 parentHeights(PatchId{id.level - 1, id.x / 2, id.y / 2});
-            codes.swap(codeScratch);
             if (!parent)
                 return patchError(path, id,
                                   "its heights are predicted from its parent's, which cannot be "
