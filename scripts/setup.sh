@@ -38,7 +38,7 @@ packages=(
   libgeographiclib-dev libgdal-dev gdal-bin
   libcli11-dev nlohmann-json3-dev libfmt-dev libimgui-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  xvfb xauth python3-matplotlib
+  xvfb xauth python3-matplotlib python3-distributed
   clang libclang-rt-14-dev
 )
 

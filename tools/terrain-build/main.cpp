@@ -9,6 +9,7 @@
 #include "terrain/io/GlobePyramidBuilder.h"
 #include "terrain/io/PyramidBuilder.h"
 #include "terrain/io/PyramidManifest.h"
+#include "terrain/io/PyramidShards.h"
 
 #include <fmt/core.h>
 #include <unistd.h>
@@ -123,6 +124,28 @@ int main(int argc, char** argv) {
         "the WGS84 cube-sphere, instead of a planar sheet around the centre; several "
         "inputs composite there, the finest valid sample winning");
     app.add_flag("--overwrite", options.overwrite, "Replace an existing pyramid");
+    // Region builds (docs/pyramid-format.md, "Region builds"): tools/cluster runs these.
+    bool plan = false, merge = false, byShards = false;
+    std::string shardText;
+    auto* planFlag = app.add_flag(
+        "--plan", plan,
+        "Region build, step 1: create OUTPUT.parts and print the shards of every level "
+        "(with --json)");
+    auto* shardOption = app.add_option(
+        "--shard", shardText,
+        "Region build, step 2: build shard LEVEL/X/Y into OUTPUT.parts; below the finest "
+        "level, the shards of level + 1 beneath it and beside it must be built");
+    auto* mergeFlag =
+        app.add_flag("--merge", merge,
+                     "Region build, step 3: once every shard is built, write the manifest and move "
+                     "OUTPUT.parts to OUTPUT");
+    auto* byShardsFlag = app.add_flag(
+        "--by-shards", byShards,
+        "Build one shard after another in this process (what a raster too wide for --memory "
+        "gets anyway); the files are the same as the whole build's");
+    planFlag->excludes(shardOption)->excludes(mergeFlag)->excludes(byShardsFlag);
+    shardOption->excludes(mergeFlag)->excludes(byShardsFlag);
+    mergeFlag->excludes(byShardsFlag);
     app.add_flag("--json", json, "Print a JSON summary on stdout");
     app.add_flag("-q,--quiet", quiet, "No progress bar");
     CLI11_PARSE(app, argc, argv);
@@ -135,6 +158,21 @@ int main(int argc, char** argv) {
     if (!budget) return fail("--memory '" + memory + "': expected a size such as 1GiB or 512MiB");
     options.memoryBudgetBytes = *budget;
     options.parentPrediction = !independentPatches;
+    const bool region = plan || merge || byShards || !shardText.empty();
+    if (region && globe)
+        return fail(
+            "--plan, --shard, --merge and --by-shards build planar pyramids; a globe "
+            "pyramid is not built by region yet");
+    std::optional<io::ShardId> shard;
+    if (!shardText.empty()) {
+        io::ShardId id;
+        char slash1 = 0, slash2 = 0, rest = 0;
+        if (std::sscanf(shardText.c_str(), "%d%c%ld%c%ld%c", &id.level, &slash1, &id.x, &slash2,
+                        &id.y, &rest) != 5 ||
+            slash1 != '/' || slash2 != '/')
+            return fail("--shard '" + shardText + "': expected LEVEL/X/Y, e.g. 5/3/2");
+        shard = id;
+    }
     // Several inputs are a mosaic on a plane; a globe composites them (finest valid sample
     // wins), so there each is a source of its own.
     std::vector<std::unique_ptr<io::DemReader>> sources;
@@ -152,6 +190,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> warnings;
     for (const auto& source : sources) {
         for (const std::string& warning : source->info().warnings) warnings.push_back(warning);
+        if (shard || merge) continue;  // said once, when the build was planned
         auto slopes = io::sampleSlopes(*source);
         if (!slopes) return fail(slopes.error().message);
         if (auto absurd = io::absurdReliefWarning(source->info(), slopes.value()))
@@ -168,8 +207,49 @@ int main(int argc, char** argv) {
         bar.emplace();
         options.progress = [&](const io::PyramidBuildProgress& p) { bar->update(p); };
     }
-    auto built = globe ? io::buildGlobePyramid(sourcePointers, output, options)
-                       : io::buildPyramid(*sources.front(), output, options);
+    if (plan) {
+        auto planned = io::planPyramidShards(*sources.front(), output, options);
+        if (!planned) return fail(planned.error().message);
+        const io::PyramidLayout& layout = planned.value().layout;
+        nlohmann::json levels = nlohmann::json::array();
+        for (int level = 0; level < layout.levelCount(); ++level)
+            levels.push_back({{"level", level},
+                              {"shardsX", layout.shardsX(level)},
+                              {"shardsY", layout.shardsY(level)}});
+        const nlohmann::json summary{{"tool", "terrain-build"},
+                                     {"output", output},
+                                     {"staging", planned.value().staging.string()},
+                                     {"finestLevel", layout.finestLevel()},
+                                     {"levels", levels},
+                                     {"shardBytes", io::planarShardBytes(layout)}};
+        if (json)
+            std::puts(summary.dump(2).c_str());
+        else if (!quiet)
+            fmt::print(stderr, "terrain-build: planned {} levels in {}\n", layout.levelCount(),
+                       planned.value().staging.string());
+        return 0;
+    }
+    if (shard) {
+        auto built = io::buildPyramidShard(*sources.front(), output, *shard, options);
+        if (!built)
+            return g_interrupted ? (fail(built.error().message), 130) : fail(built.error().message);
+        const io::ShardBuildSummary& s = built.value();
+        if (json)
+            std::puts(nlohmann::json{{"tool", "terrain-build"},
+                                     {"shard", shardText},
+                                     {"patches", s.patches},
+                                     {"bytes", s.bytes},
+                                     {"seconds", s.seconds},
+                                     {"peakRssBytes", peakResidentBytes()},
+                                     {"memoryBudgetBytes", options.memoryBudgetBytes}}
+                          .dump(2)
+                          .c_str());
+        return 0;
+    }
+    auto built = globe      ? io::buildGlobePyramid(sourcePointers, output, options)
+                 : merge    ? io::mergePyramidShards(*sources.front(), output, options)
+                 : byShards ? io::buildPyramidByShards(*sources.front(), output, options)
+                            : io::buildPyramid(*sources.front(), output, options);
     if (bar) bar->finish();
     if (!built)
         return g_interrupted ? (fail(built.error().message), 130) : fail(built.error().message);

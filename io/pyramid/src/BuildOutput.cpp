@@ -23,12 +23,13 @@ PartialBuildFolder::PartialBuildFolder(PartialBuildFolder&& other) noexcept
     : m_output(std::move(other.m_output)),
       m_absoluteOutput(std::move(other.m_absoluteOutput)),
       m_path(std::move(other.m_path)),
-      m_done(other.m_done) {
+      m_done(other.m_done),
+      m_keep(other.m_keep) {
     other.m_done = true;  // the moved-from folder owns nothing
 }
 
 PartialBuildFolder::~PartialBuildFolder() {
-    if (!m_done) {
+    if (!m_done && !m_keep) {
         std::error_code ec;
         fs::remove_all(m_path, ec);
     }
@@ -46,6 +47,16 @@ Result<PartialBuildFolder> PartialBuildFolder::create(const fs::path& output, bo
     if (ec)
         return Error{folder.path().string() + ": cannot create the output folder: " + ec.message()};
     return folder;
+}
+
+Result<PartialBuildFolder> PartialBuildFolder::adopt(const fs::path& output, const fs::path& folder,
+                                                     bool overwrite) {
+    std::error_code ec;
+    if (fs::exists(output, ec) && !overwrite)
+        return Error{output.string() + ": already exists (pass --overwrite to replace it)"};
+    PartialBuildFolder adopted(output, folder);
+    adopted.m_keep = true;
+    return adopted;
 }
 
 Status PartialBuildFolder::commit() {

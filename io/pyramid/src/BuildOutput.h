@@ -1,5 +1,6 @@
 // BuildOutput: how every pyramid build reaches the disk (docs/pyramid-format.md): into
-// "<output>.partial-<pid>", removed unless the build completes, then swapped into place so
+// "<output>.partial-<pid>" (a region build: "<output>.parts"), removed unless the build
+// completes, then swapped into place so
 // an interrupted or failed build never leaves a valid-looking pyramid or loses the old one.
 #pragma once
 
@@ -15,6 +16,11 @@ class PartialBuildFolder {
 public:
     /// Refuses an existing `output` unless `overwrite`; creates "<output>.partial-<pid>".
     static Result<PartialBuildFolder> create(const std::filesystem::path& output, bool overwrite);
+    /// A folder another process filled (a region build's staging folder): kept, not removed,
+    /// when commit() is never reached, so a failed merge loses no shard. Refuses an existing
+    /// `output` unless `overwrite`.
+    static Result<PartialBuildFolder> adopt(const std::filesystem::path& output,
+                                            const std::filesystem::path& folder, bool overwrite);
 
     PartialBuildFolder(PartialBuildFolder&& other) noexcept;
     PartialBuildFolder& operator=(PartialBuildFolder&&) = delete;
@@ -34,6 +40,7 @@ private:
     std::filesystem::path m_absoluteOutput;
     std::filesystem::path m_path;
     bool m_done = false;
+    bool m_keep = false;  // adopted: never removed here
 };
 
 /// Refuses a PyramidBuildOptions::maxErrorM that is negative, NaN or infinite, naming

@@ -22,33 +22,45 @@ std::optional<VerticalTransform> wholeSourceUnits(const DemInfo& info) {
 
 std::int64_t fillNoDataRow(std::span<float> row, std::span<std::uint8_t> valid,
                            const std::optional<VerticalTransform>& units) {
+    return fillNoDataWindow(row, valid, units, std::nullopt, std::nullopt);
+}
+
+std::int64_t fillNoDataWindow(std::span<float> row, std::span<std::uint8_t> valid,
+                              const std::optional<VerticalTransform>& units,
+                              std::optional<RowNeighbour> west, std::optional<RowNeighbour> east) {
     TERRAIN_ASSERT(row.size() == valid.size());
     const auto n = static_cast<std::int64_t>(row.size());
+    TERRAIN_ASSERT(!west || west->offset < 0);
+    TERRAIN_ASSERT(!east || east->offset >= n);
     std::int64_t filled = 0;
-    std::int64_t previousValid = -1;  // index of the last valid sample seen
+    std::optional<RowNeighbour> previous = west;  // the last valid sample seen
     for (std::int64_t i = 0; i <= n; ++i) {
         const bool isValid = i < n && !std::isnan(row[i]);
         if (i < n) valid[i] = isValid ? 1 : 0;
         if (!isValid && i < n) continue;
-        // Samples (previousValid, i) are a run of no-data between two valid ends (or an end).
-        const std::int64_t runStart = previousValid + 1;
+        // Samples (previous, next) are a run of no-data between two valid ends (or an end).
+        const std::optional<RowNeighbour> next =
+            i < n ? std::optional<RowNeighbour>{{i, row[i]}} : east;
+        const std::int64_t runStart =
+            previous ? std::max<std::int64_t>(previous->offset + 1, 0) : 0;
         if (i > runStart) {
             filled += i - runStart;
             for (std::int64_t k = runStart; k < i; ++k) {
-                if (previousValid >= 0 && i < n) {
-                    const double t = double(k - previousValid) / double(i - previousValid);
-                    const double h = (1.0 - t) * row[previousValid] + t * row[i];
+                if (previous && next) {
+                    const double t =
+                        double(k - previous->offset) / double(next->offset - previous->offset);
+                    const double h = (1.0 - t) * previous->value + t * next->value;
                     row[k] = units ? roundToSourceUnits(h, *units) : static_cast<float>(h);
-                } else if (previousValid >= 0) {
-                    row[k] = row[previousValid];
-                } else if (i < n) {
-                    row[k] = row[i];
+                } else if (previous) {
+                    row[k] = previous->value;
+                } else if (next) {
+                    row[k] = next->value;
                 } else {
                     row[k] = 0.0f;
                 }
             }
         }
-        previousValid = i;
+        if (i < n) previous = RowNeighbour{i, row[i]};
     }
     return filled;
 }

@@ -8,6 +8,8 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <random>
 #include <vector>
 
 using namespace terrain::io;
@@ -57,4 +59,46 @@ TEST(NoDataFill, OnlyIntegerSourcesHaveWholeUnits) {
     info.sampleType = "int16";
     info.resampledFrom = ResampledGrid{};  // warped: its samples are interpolations
     EXPECT_FALSE(wholeSourceUnits(info).has_value());
+}
+
+// A region build fills a window of a row (NoDataFill.h): with the row's nearest valid samples
+// beyond the window, every window of every row comes out bit for bit as in the whole row.
+TEST(NoDataFill, AWindowFillsAsTheWholeRow) {
+    std::mt19937 rng(11);
+    for (int trial = 0; trial < 200; ++trial) {
+        std::vector<float> row(40);
+        for (std::size_t i = 0; i < row.size(); ++i)
+            row[i] = rng() % 3 == 0 ? kNaN : static_cast<float>(rng() % 1000) * 0.25f;
+        if (trial % 10 == 0) std::fill(row.begin() + 5, row.end() - 3, kNaN);  // long runs
+        for (const bool units : {false, true}) {
+            const std::optional<VerticalTransform> whole =
+                units ? std::optional{VerticalTransform{0.5, 0.0}} : std::nullopt;
+            std::vector<float> filled = row;
+            std::vector<std::uint8_t> valid(row.size());
+            const std::int64_t count = fillNoDataRow(filled, valid, whole);
+            std::int64_t windowCount = 0;
+            for (std::size_t a = 0; a < row.size(); a += 7) {
+                const std::size_t b = std::min(row.size(), a + 7);
+                std::vector<float> window(row.begin() + a, row.begin() + b);
+                std::vector<std::uint8_t> windowValid(window.size());
+                std::optional<RowNeighbour> west, east;
+                for (std::size_t k = a; k-- > 0;)
+                    if (!std::isnan(row[k])) {
+                        west = RowNeighbour{std::int64_t(k) - std::int64_t(a), row[k]};
+                        break;
+                    }
+                for (std::size_t k = b; k < row.size(); ++k)
+                    if (!std::isnan(row[k])) {
+                        east = RowNeighbour{std::int64_t(k) - std::int64_t(a), row[k]};
+                        break;
+                    }
+                windowCount += fillNoDataWindow(window, windowValid, whole, west, east);
+                for (std::size_t i = a; i < b; ++i) {
+                    EXPECT_EQ(window[i - a], filled[i]) << "trial " << trial << " sample " << i;
+                    EXPECT_EQ(windowValid[i - a], valid[i]);
+                }
+            }
+            EXPECT_EQ(windowCount, count);
+        }
+    }
 }

@@ -328,18 +328,6 @@ TEST(PyramidBuilder, UnwritableOutputIsAClearError) {
     EXPECT_NE(result.error().message.find("a-file"), std::string::npos) << result.error().message;
 }
 
-TEST(PyramidBuilder, MemoryBudgetTooSmallForTheWidthIsAClearError) {
-    TempFolder tmp;
-    auto reader = openDem({"procedural:width=2000000,height=300"});
-    ASSERT_TRUE(reader.ok());
-    PyramidBuildOptions options;
-    options.memoryBudgetBytes = 256u << 20;
-    auto result = buildPyramid(*reader.value(), tmp.path() / "wide", options);
-    ASSERT_FALSE(result.ok());
-    EXPECT_NE(result.error().message.find("--memory"), std::string::npos) << result.error().message;
-    EXPECT_TRUE(fs::is_empty(tmp.path()));
-}
-
 // A float DEM whose samples left of column `validFrom` are NaN (no-data).
 class PartlyEmptyDem final : public DemReader {
 public:

@@ -20,6 +20,20 @@ namespace terrain::io {
 std::int64_t fillNoDataRow(std::span<float> row, std::span<std::uint8_t> valid,
                            const std::optional<VerticalTransform>& units = std::nullopt);
 
+/// The nearest valid sample of the same row outside a window of it: `offset` counts from
+/// the window's first sample (negative: west of the window; at least its size: east).
+struct RowNeighbour {
+    std::int64_t offset = 0;
+    float value = 0.0f;
+};
+
+/// The same fill for a window of a longer row (a region build): `west` and `east` are the
+/// row's nearest valid samples outside the window, or nothing where the row has none. The
+/// window's samples come out exactly as fillNoDataRow fills them in the whole row.
+std::int64_t fillNoDataWindow(std::span<float> window, std::span<std::uint8_t> valid,
+                              const std::optional<VerticalTransform>& units,
+                              std::optional<RowNeighbour> west, std::optional<RowNeighbour> east);
+
 /// Whether a source of `info` stores whole numbers of its vertical units (an integer
 /// sample type, not resampled): the `units` fillNoDataRow rounds its fill to.
 std::optional<VerticalTransform> wholeSourceUnits(const DemInfo& info);

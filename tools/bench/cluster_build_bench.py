@@ -1,0 +1,115 @@
+#!/usr/bin/python3
+"""Region build benchmark: one process against Dask workers on the 16K procedural terrain.
+
+Runs, one after another on this machine, the same pyramid of procedural:size=16385 (16,385²
+float32 samples, 2 cores' worth of work each):
+  terrain-build SRC -o P --threads 2                        (the whole build, in bands)
+  terrain-build SRC -o P --threads 2 --by-shards            (one shard after another)
+  terrain-build-cluster SRC -o P --workers 1 --threads-per-task 2   (Dask, 1 worker)
+  terrain-build-cluster SRC -o P --workers 2 --threads-per-task 1   (Dask, 2 workers)
+  terrain-build-cluster SRC -o P --workers 1 --threads-per-task 1   (1 worker, 1 core)
+recording wall seconds, CPU seconds of the whole process tree and its largest peak RSS
+(os.wait4), checks that every pyramid's shards are the whole build's byte for byte, and keeps
+the per-level shard task costs (the 2-worker run's) for the scale model in
+docs/planet-build-model.md. Writes OUT/cluster-build-bench.json and .md. Rerun with:
+  /usr/bin/python3 tools/bench/cluster_build_bench.py --build build --out out/bench
+"""
+import argparse
+import filecmp
+import json
+import os
+import platform
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def run(command, log):
+    """Runs command; returns (wall s, CPU s of the tree, peak RSS bytes, stdout)."""
+    start = time.monotonic()
+    with open(log, "w") as err:
+        process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=err, text=True)
+        stdout = process.stdout.read()
+        _, status, usage = os.wait4(process.pid, 0)
+    wall = time.monotonic() - start
+    if os.waitstatus_to_exitcode(status) != 0:
+        sys.exit(f"failed: {' '.join(command)}\n{Path(log).read_text()[-3000:]}")
+    return wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss * 1024, stdout
+
+
+def same_shards(a, b):
+    names = sorted(p.relative_to(a) for p in Path(a).rglob("*.exr"))
+    if names != sorted(p.relative_to(b) for p in Path(b).rglob("*.exr")):
+        return False
+    return all(filecmp.cmp(Path(a) / n, Path(b) / n, shallow=False) for n in names)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--build", default=str(REPO / "build"))
+    parser.add_argument("--out", default=str(REPO / "out" / "bench"))
+    parser.add_argument("--source", default="procedural:size=16385")
+    args = parser.parse_args()
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    work = out / "cluster-build-work"
+    shutil.rmtree(work, ignore_errors=True)
+    work.mkdir()
+    build = str(Path(args.build) / "tools" / "terrain-build" / "terrain-build")
+    driver = str(REPO / "tools" / "cluster" / "terrain-build-cluster")
+    runs = [
+        ("whole build, 2 threads", [build, "--threads", "2"]),
+        ("--by-shards, 2 threads", [build, "--threads", "2", "--by-shards"]),
+        ("Dask, 1 worker x 2 threads", ["/usr/bin/python3", driver, "--terrain-build", build,
+                                        "--workers", "1", "--threads-per-task", "2", "--json"]),
+        ("Dask, 2 workers x 1 thread", ["/usr/bin/python3", driver, "--terrain-build", build,
+                                        "--workers", "2", "--threads-per-task", "1", "--json"]),
+        ("Dask, 1 worker x 1 thread", ["/usr/bin/python3", driver, "--terrain-build", build,
+                                       "--workers", "1", "--threads-per-task", "1", "--json"]),
+    ]
+    results = []
+    for index, (name, command) in enumerate(runs):
+        pyramid = work / f"p{index}"
+        wall, cpu, rss, stdout = run([*command, args.source, "-o", str(pyramid), "-q"],
+                                     work / f"p{index}.log")
+        entry = {"run": name, "command": " ".join([*command, args.source, "-o", "P"]),
+                 "wallSeconds": wall, "cpuSeconds": cpu, "peakRssBytes": rss,
+                 "bytes": sum(p.stat().st_size for p in pyramid.rglob("*") if p.is_file())}
+        if "--json" in command:
+            summary = json.loads(stdout)
+            entry["tasks"] = summary["tasks"]
+            entry["largestTaskPeakRssBytes"] = summary["largestTaskPeakRssBytes"]
+            entry["levels"] = summary["levels"]
+        entry["shardsIdenticalToWholeBuild"] = index == 0 or same_shards(work / "p0", pyramid)
+        results.append(entry)
+        print(f"{name}: {wall:.1f} s wall, {cpu:.1f} s CPU, peak RSS {rss >> 20} MiB, "
+              f"identical {entry['shardsIdenticalToWholeBuild']}", flush=True)
+        if index > 0:
+            shutil.rmtree(pyramid)
+    shutil.rmtree(work / "p0")
+
+    report = {"tool": "cluster_build_bench", "source": args.source,
+              "machine": f"{platform.node()} ({os.cpu_count()} CPUs)",
+              "date": time.strftime("%Y-%m-%d %H:%M"), "runs": results}
+    (out / "cluster-build-bench.json").write_text(json.dumps(report, indent=2))
+    lines = [f"# Region build: one process against Dask workers ({args.source})", "",
+             f"{report['machine']}, {report['date']}.", "",
+             "| run | wall s | CPU s | peak RSS MiB | largest task RSS MiB | tasks | identical |",
+             "|---|---|---|---|---|---|---|"]
+    for r in results:
+        task_rss = r.get("largestTaskPeakRssBytes")
+        lines.append(f"| {r['run']} | {r['wallSeconds']:.1f} | {r['cpuSeconds']:.1f} | "
+                     f"{r['peakRssBytes'] >> 20} | "
+                     f"{task_rss >> 20 if task_rss else '-'} | {r.get('tasks', '-')} | "
+                     f"{'yes' if r['shardsIdenticalToWholeBuild'] else 'NO'} |")
+    (out / "cluster-build-bench.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
