@@ -261,6 +261,10 @@ int main(int argc, char** argv) {
         warnings.push_back(warning);
     }
     if (json) {
+        std::vector<std::string> inputFiles;  // every file read: folders and patterns expanded
+        for (const auto& source : sources)
+            inputFiles.insert(inputFiles.end(), source->info().inputs.begin(),
+                              source->info().inputs.end());
         nlohmann::json levels = nlohmann::json::array();
         for (const auto& level : s.manifest.levels)
             levels.push_back({{"level", level.level},
@@ -272,7 +276,7 @@ int main(int argc, char** argv) {
         const nlohmann::json summary{
             {"tool", "terrain-build"},
             {"output", output},
-            {"inputs", inputs},
+            {"inputs", inputFiles},
             {"reader", dem.readerName},
             {"raster",
              {{"width", dem.width},

@@ -1,5 +1,6 @@
 // terrain-generate: writes any window of the procedural DEM (io/ProceduralTerrain.h) as a
-// GeoTIFF, 16-bit PNG or OpenEXR file, streaming band by band so any size fits in memory.
+// GeoTIFF, 16-bit PNG, OpenEXR file or SRTM .hgt tile, streaming band by band so any size
+// fits in memory; or the whole DEM as a folder of SRTM tiles (--srtm-tiles).
 #include "terrain/base/AtomicFile.h"
 #include "terrain/io/HeightImageWriter.h"
 #include "terrain/io/ProceduralTerrain.h"
@@ -11,6 +12,8 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <thread>
@@ -61,6 +64,53 @@ nlohmann::ordered_json featuresJson(const ProceduralTerrain& terrain) {
     return features;
 }
 
+// The DEM as columns × rows SRTM 3" tiles in `folder`, each a 1201² window whose edges its
+// neighbours share; the tile `row` rows south of the northern ones covers latitudes
+// south + rows − 1 − row … + 1.
+int writeSrtmTiles(const ProceduralTerrain& terrain, const std::filesystem::path& folder,
+                   int columns, int rows, int south, int west, unsigned threads, bool json) {
+    std::error_code ec;
+    std::filesystem::create_directories(folder, ec);
+    if (ec) {
+        std::fprintf(stderr, "terrain-generate: %s: cannot create the folder: %s\n", folder.c_str(),
+                     ec.message().c_str());
+        return 1;
+    }
+    nlohmann::ordered_json tiles = nlohmann::ordered_json::array();
+    for (int row = 0; row < rows; ++row) {
+        for (int column = 0; column < columns; ++column) {
+            const int latitude = south + rows - 1 - row, longitude = west + column;
+            const std::string name =
+                fmt::format("{}{:02}{}{:03}.hgt", latitude < 0 ? 'S' : 'N', std::abs(latitude),
+                            longitude < 0 ? 'W' : 'E', std::abs(longitude));
+            const std::int64_t x0 = std::int64_t{column} * 1200, y0 = std::int64_t{row} * 1200;
+            auto written = terrain::io::writeHeightImage(
+                folder / name, 1201, 1201,
+                [&](std::int64_t firstRow, std::int64_t rowCount, std::span<float> out) {
+                    terrain.fillWindow(x0, y0 + firstRow, 1201, rowCount, out, threads);
+                });
+            if (!written) {
+                std::fprintf(stderr, "terrain-generate: %s\n", written.error().message.c_str());
+                return 1;
+            }
+            tiles.push_back(name);
+        }
+    }
+    if (json) {
+        nlohmann::ordered_json j;
+        j["output"] = folder.string();
+        j["format"] = "hgt";
+        j["tiles"] = tiles;
+        j["size"] = {{"width", terrain.width()}, {"height", terrain.height()}};
+        j["gl"] = nullptr;
+        std::printf("%s\n", j.dump(2).c_str());
+    } else {
+        fmt::print("wrote {} SRTM tiles of the {} × {} DEM into {}\n", tiles.size(),
+                   terrain.width(), terrain.height(), folder.string());
+    }
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -82,11 +132,29 @@ int main(int argc, char** argv) {
     unsigned threads = 0;
     bool json = false;
 
-    app.add_option("-o,--output", output, "Output file: .tif/.tiff, .png or .exr")->required();
+    app.add_option("-o,--output", output,
+                   "Output file: .tif/.tiff, .png, .exr or .hgt (an SRTM tile, 1201² or 3601²); "
+                   "with --srtm-tiles, a folder")
+        ->required();
+    std::vector<int> srtmTiles;
+    int south = 46, west = -122;
+    auto* tilesOption =
+        app.add_option("--srtm-tiles", srtmTiles,
+                       "Write the DEM as COLUMNS,ROWS SRTM 3\" .hgt tiles of 1201² samples "
+                       "(neighbours share their edge samples, as SRTM's do) into the output "
+                       "folder, the south-west one named by --south and --west; the DEM is "
+                       "sized to fit")
+            ->expected(2)
+            ->delimiter(',');
+    app.add_option("--south", south, "--srtm-tiles: latitude of the southern tiles' south edge")
+        ->capture_default_str();
+    app.add_option("--west", west, "--srtm-tiles: longitude of the western tiles' west edge")
+        ->capture_default_str();
     auto* sizeOption = app.add_option("--size", size, "Square DEM of N × N samples (default 1025)");
     auto* widthOption = app.add_option("--width", params.widthSamples, "DEM width in samples");
     auto* heightOption = app.add_option("--height", params.heightSamples, "DEM height in samples");
     sizeOption->excludes(widthOption)->excludes(heightOption);
+    tilesOption->excludes(sizeOption)->excludes(widthOption)->excludes(heightOption);
     app.add_option("--window", window,
                    "Part of the DEM to write: X,Y,W,H (north-west sample and size); default all")
         ->expected(4)
@@ -131,6 +199,21 @@ int main(int argc, char** argv) {
         return 1;
     };
     if (size != 0) params.widthSamples = params.heightSamples = size;
+    if (!srtmTiles.empty()) {
+        if (srtmTiles[0] < 1 || srtmTiles[1] < 1 || srtmTiles[0] > 360 || srtmTiles[1] > 180 ||
+            south < -90 || south + srtmTiles[1] > 90 || west < -180 || west + srtmTiles[0] > 180)
+            return fail(
+                fmt::format("--srtm-tiles {},{} from {}° N, {}° E: the tiles must lie on "
+                            "the globe",
+                            srtmTiles[0], srtmTiles[1], south, west));
+        params.widthSamples = std::int64_t{srtmTiles[0]} * 1200 + 1;
+        params.heightSamples = std::int64_t{srtmTiles[1]} * 1200 + 1;
+        auto tiled = ProceduralTerrain::create(params);
+        if (!tiled) return fail(tiled.error().message);
+        return writeSrtmTiles(
+            tiled.value(), output, srtmTiles[0], srtmTiles[1], south, west,
+            threads == 0 ? std::max(1U, std::thread::hardware_concurrency()) : threads, json);
+    }
     // Check the output name before the (possibly long) generation.
     const auto format = terrain::io::heightImageFormatFor(output);
     if (!format) return fail(format.error().message);

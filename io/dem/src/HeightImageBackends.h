@@ -47,4 +47,8 @@ Status writeExr(const std::filesystem::path& file, const std::filesystem::path& 
                 std::int64_t width, std::int64_t height, const HeightRowSource& source,
                 const HeightImageOptions& options, HeightImageSummary& summary);
 
+Status writeHgt(const std::filesystem::path& file, const std::filesystem::path& displayPath,
+                std::int64_t width, std::int64_t height, const HeightRowSource& source,
+                const HeightImageOptions& options, HeightImageSummary& summary);
+
 }  // namespace terrain::io::detail

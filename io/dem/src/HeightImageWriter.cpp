@@ -23,6 +23,8 @@ std::string_view formatName(HeightImageFormat format) {
             return "png16";
         case HeightImageFormat::Exr:
             return "exr";
+        case HeightImageFormat::Hgt:
+            return "hgt";
     }
     return "unknown";
 }
@@ -34,7 +36,8 @@ Result<HeightImageFormat> heightImageFormatFor(const std::filesystem::path& path
     if (extension == ".tif" || extension == ".tiff") return HeightImageFormat::GeoTiff;
     if (extension == ".png") return HeightImageFormat::Png16;
     if (extension == ".exr") return HeightImageFormat::Exr;
-    return Error{fmt::format("{}: unknown output format '{}': use .tif, .tiff, .png or .exr",
+    if (extension == ".hgt") return HeightImageFormat::Hgt;
+    return Error{fmt::format("{}: unknown output format '{}': use .tif, .tiff, .png, .exr or .hgt",
                              path.string(),
                              extension.empty() ? std::string("(no extension)") : extension)};
 }
@@ -52,6 +55,12 @@ Result<HeightImageSummary> writeHeightImage(const std::filesystem::path& path, s
         return Error{
             fmt::format("{}: cannot write a {} × {} raster as {} (each side must be 1 to {})",
                         path.string(), width, height, formatName(format.value()), limit)};
+    if (format.value() == HeightImageFormat::Hgt &&
+        !(width == height && (width == 1201 || width == 3601)))
+        return Error{
+            fmt::format("{}: an SRTM .hgt tile is 1201 × 1201 (3\") or 3601 × 3601 (1\") "
+                        "samples, not {} × {}",
+                        path.string(), width, height)};
     if (format.value() == HeightImageFormat::Png16 &&
         (!std::isfinite(options.pngScaleM) || options.pngScaleM <= 0.0 ||
          (options.pngOffsetM && !std::isfinite(*options.pngOffsetM))))
@@ -72,6 +81,8 @@ Result<HeightImageSummary> writeHeightImage(const std::filesystem::path& path, s
                 return detail::writePng16(file, path, width, height, source, options, summary);
             case HeightImageFormat::Exr:
                 return detail::writeExr(file, path, width, height, source, options, summary);
+            case HeightImageFormat::Hgt:
+                return detail::writeHgt(file, path, width, height, source, options, summary);
         }
         return Error{fmt::format("{}: unknown format", path.string())};
     });

@@ -1,7 +1,9 @@
 // openDem: picks the reader for the inputs. "procedural:" is the built-in terrain, GDAL
 // dataset names (subdatasets, /vsi… paths, inline VRT) GDAL, .hgt the SRTM reader, image
 // extensions OpenImageIO (GDAL when a band is chosen), anything else (netCDF, VRT, DTED, ...)
-// and every mosaic GDAL.
+// and every mosaic GDAL. A folder or a file pattern stands for the DEM files it names
+// (DemInputList.h).
+#include "DemInputList.h"
 #include "DemReaderFactories.h"
 
 #include <fmt/format.h>
@@ -37,9 +39,12 @@ bool isGdalDatasetName(const std::string& input) {
     return !input.starts_with(kProceduralPrefix);
 }
 
-Result<std::unique_ptr<DemReader>> openDem(const std::vector<std::string>& inputs,
+Result<std::unique_ptr<DemReader>> openDem(const std::vector<std::string>& given,
                                            const DemOpenOptions& options) {
-    if (inputs.empty()) return Error{"openDem: no input given"};
+    if (given.empty()) return Error{"openDem: no input given"};
+    Result<std::vector<std::string>> expanded = detail::expandDemInputs(given);
+    if (!expanded) return expanded.error();
+    const std::vector<std::string>& inputs = expanded.value();
     if (inputs.size() > 1) {
         for (const std::string& input : inputs)
             if (isProcedural(input))

@@ -76,7 +76,8 @@ TEST_F(DemReaderErrorsTest, MissingFiles) {
         const std::string path = m_dir.file(name);
         expectErrorStartingWithPath(path, "no such file");
     }
-    expectErrorStartingWithPath(m_dir.path().string(), "directory");
+    // A folder stands for its DEM files (DemInputList.h); this one has none.
+    expectErrorStartingWithPath(m_dir.path().string(), "a folder without DEM files");
     const auto none = openDem({});
     EXPECT_FALSE(none.ok());
 }

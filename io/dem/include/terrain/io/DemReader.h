@@ -106,7 +106,10 @@ struct DemOpenOptions {
 /// (`/vsizip/…`, `/vsicurl/…`) or a VRT document given inline (`<VRTDataset …`).
 bool isGdalDatasetName(const std::string& input);
 
-/// Opens one input, or several as a mosaic (same CRS and pixel size, aligned grids).
+/// Opens one input, or several as a mosaic (same CRS and pixel size, aligned grids). A
+/// folder stands for the DEM files in it (by extension: .hgt, .tif, .nc, …) and a pattern
+/// such as "tiles/N4*.hgt" for the files it matches, both sorted, so thousands of tiles
+/// need not pass through a command line.
 /// An input "procedural:size=16385,seed=7,spacing=10" (keys optional; also width=,
 /// height=) is the built-in procedural terrain. GDAL dataset names (isGdalDatasetName) go
 /// to GDAL. Otherwise the reader is chosen by extension: .hgt → SRTM reader;

@@ -1,6 +1,6 @@
-// HeightImageWriter: writes a height raster (metres, float) as a GeoTIFF, a 16-bit PNG or
-// an OpenEXR file, chosen by the extension, band by band so that rasters far larger than
-// memory (a 16,385² DEM) can be written. Every file goes through AtomicFile.
+// HeightImageWriter: writes a height raster (metres, float) as a GeoTIFF, a 16-bit PNG,
+// an OpenEXR file or an SRTM .hgt tile, chosen by the extension, band by band so that rasters far
+// larger than memory (a 16,385² DEM) can be written. Every file goes through AtomicFile.
 #pragma once
 
 #include "terrain/base/Result.h"
@@ -19,9 +19,12 @@ enum class HeightImageFormat {
     GeoTiff,  ///< .tif/.tiff: float32, 256×256 tiles, GeoTIFF tags, BigTIFF when needed.
     Png16,    ///< .png: uint16 grey = round((h − offset) / scale), clamped to [0, 65535].
     Exr,      ///< .exr: float32, one channel named "Y" (greyscale in every EXR viewer).
+    /// .hgt: an SRTM tile, 1201² (3″) or 3601² (1″) big-endian int16 whole metres, rounded
+    /// and clamped to ±32767 (−32768 is SRTM's void); the name gives the place (N46W122.hgt).
+    Hgt,
 };
 
-/// "geotiff", "png16" or "exr".
+/// "geotiff", "png16", "exr" or "hgt".
 std::string_view formatName(HeightImageFormat format);
 
 /// The format for path's extension (case-insensitive); an Error naming path otherwise.
