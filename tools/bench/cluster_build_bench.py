@@ -20,25 +20,12 @@ import json
 import os
 import platform
 import shutil
-import subprocess
-import sys
 import time
 from pathlib import Path
 
+from measured_run import run  # (wall s, CPU s, peak RSS bytes, stdout)
+
 REPO = Path(__file__).resolve().parents[2]
-
-
-def run(command, log):
-    """Runs command; returns (wall s, CPU s of the tree, peak RSS bytes, stdout)."""
-    start = time.monotonic()
-    with open(log, "w") as err:
-        process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=err, text=True)
-        stdout = process.stdout.read()
-        _, status, usage = os.wait4(process.pid, 0)
-    wall = time.monotonic() - start
-    if os.waitstatus_to_exitcode(status) != 0:
-        sys.exit(f"failed: {' '.join(command)}\n{Path(log).read_text()[-3000:]}")
-    return wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss * 1024, stdout
 
 
 def same_shards(a, b):

@@ -23,8 +23,9 @@ import platform
 import shutil
 import subprocess
 import sys
-import time
 from pathlib import Path
+
+from measured_run import run  # (wall s, CPU s, peak RSS bytes, stdout)
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -38,20 +39,6 @@ REAL_DEMS = [
     ("etopo20_global.nc", []),
     ("luxembourg_elev_30s.tif", []),
 ]
-
-
-def run(command, log):
-    """Runs command, returns (wall seconds, peak RSS bytes, stdout)."""
-    start = time.monotonic()
-    with open(log, "w") as err:
-        process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=err, text=True)
-        stdout = process.stdout.read()
-        _, status, usage = os.wait4(process.pid, 0)
-    seconds = time.monotonic() - start
-    code = os.waitstatus_to_exitcode(status)
-    if code != 0:
-        sys.exit(f"failed ({code}): {' '.join(map(str, command))}\n{Path(log).read_text()}")
-    return seconds, usage.ru_maxrss * 1024, stdout
 
 
 def main():
@@ -97,19 +84,19 @@ def main():
         pyramid = scratch / (path.stem + ".pyramid")
         cog = scratch / (path.stem + ".cog.tif")
         shutil.rmtree(pyramid, ignore_errors=True)
-        ours_s, ours_rss, ours_json = run(
+        ours_s, _, ours_rss, ours_json = run(
             [terrain_build, path, "-o", pyramid, "--threads", "2", *level, "--json", "--quiet",
              *flags],
             scratch / "terrain-build.log")
         summary = json.loads(ours_json)
         shutil.rmtree(pyramid, ignore_errors=True)
-        raw_s, _, raw_json = run(
+        raw_s, _, _, raw_json = run(
             [terrain_build, path, "-o", pyramid, "--threads", "2", "--compression-level", "0", "--json",
              "--quiet", *flags], scratch / "terrain-build.log")
         raw_bytes = json.loads(raw_json)["bytes"]
         shutil.rmtree(pyramid, ignore_errors=True)
         delta = str(args.max_error_m)
-        lossy_s, _, lossy_json = run(
+        lossy_s, _, _, lossy_json = run(
             [terrain_build, path, "-o", pyramid, "--threads", "2", "--max-error-m", delta,
              *level, "--json", "--quiet", *flags], scratch / "terrain-build.log")
         lossy = json.loads(lossy_json)
@@ -126,12 +113,12 @@ def main():
                      "storedViolations": source.get("storedViolations"),
                      "largestStoredDifferencePerLevelM": source.get("largestStoredDifferencePerLevelM")}
         shutil.rmtree(pyramid, ignore_errors=True)
-        gdal_s, gdal_rss, _ = run(
+        gdal_s, _, gdal_rss, _ = run(
             ["gdal_translate", "-q", "-of", "COG", "-co", "COMPRESS=DEFLATE", "-co", "PREDICTOR=YES",
              "-co", "NUM_THREADS=2", path, cog], scratch / "gdal.log")
         cog_bytes = cog.stat().st_size
         cog.unlink(missing_ok=True)
-        lerc_s, _, _ = run(
+        lerc_s, _, _, _ = run(
             ["gdal_translate", "-q", "-of", "COG", "-co", "COMPRESS=LERC", "-co", f"MAX_Z_ERROR={args.max_error_m:g}",
              "-co", "NUM_THREADS=2", path, cog], scratch / "gdal.log")
         lerc_bytes = cog.stat().st_size

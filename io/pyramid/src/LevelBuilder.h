@@ -81,15 +81,15 @@ public:
 /// What the finest pass keeps of the edges, for the samples of its rows and columns.
 struct DemEdges final : DemEdgeSamples {
     std::int64_t firstRow = 0;
-    std::vector<float> lastColumn_;  // rows firstRow …, where the pass reached x = W − 1
+    std::vector<float> lastColumnHeights;  // rows firstRow …, where the pass reached x = W − 1
     std::int64_t firstColumn = 0;
-    std::vector<float> lastRow_;  // columns firstColumn …, where the pass reached y = H − 1
+    std::vector<float> lastRowHeights;  // columns firstColumn …, where the pass reached y = H − 1
 
     Result<float> lastColumn(std::int64_t row) override {
-        return lastColumn_.at(static_cast<std::size_t>(row - firstRow));
+        return lastColumnHeights.at(static_cast<std::size_t>(row - firstRow));
     }
     Result<float> lastRow(std::int64_t column) override {
-        return lastRow_.at(static_cast<std::size_t>(column - firstColumn));
+        return lastRowHeights.at(static_cast<std::size_t>(column - firstColumn));
     }
 };
 
@@ -126,7 +126,7 @@ public:
           m_stats(stats),
           m_fillUnits(wholeSourceUnits(reader.info())) {
         m_edges.firstRow = owned.y0;
-        m_edges.lastColumn_.assign(static_cast<std::size_t>(owned.y1 - owned.y0), 0.0f);
+        m_edges.lastColumnHeights.assign(static_cast<std::size_t>(owned.y1 - owned.y0), 0.0f);
         m_nextStatisticsRow = owned.y0;
     }
 
@@ -155,14 +155,15 @@ public:
                 if (r >= m_nextStatisticsRow && r < m_owned.y1) {  // bands overlap by their aprons
                     countStatistics(a, row, rowValid);
                     if (b == m_w)
-                        m_edges.lastColumn_[static_cast<std::size_t>(r - m_owned.y0)] = row.back();
+                        m_edges.lastColumnHeights[static_cast<std::size_t>(r - m_owned.y0)] =
+                            row.back();
                     m_nextStatisticsRow = r + 1;
                 }
                 padRow(band, out, valid);
                 if (r == m_h - 1) {
                     m_lastRow.assign(out, out + band.width);
                     m_edges.firstColumn = a;
-                    m_edges.lastRow_.assign(row.begin(), row.end());
+                    m_edges.lastRowHeights.assign(row.begin(), row.end());
                 }
             } else if (r >= m_h) {
                 // Below the DEM: the nearest DEM row, H − 1.
@@ -491,19 +492,26 @@ public:
         return {};
     }
 
-    /// One rectangle of one level (a region build): `rows` gives its samples, `children`
-    /// the bounds of its children (unused at the finest level), and its even samples go to
-    /// `coarser` (null at level 0). bounds() then holds the rectangle's.
-    Status runRegion(int level, const PatchRect& rect, LevelRows& rows, ChildBounds children,
-                     EvenRows* coarser) {
+    /// The finest level's patches `rect` (a region build), from the source: the statistics
+    /// and edges() of the DEM samples it `owned`; its even samples go to `coarser` (null
+    /// when the finest level is the root). bounds() then holds the rectangle's.
+    Status runFinestRegion(const PatchRect& rect, const OwnedSamples& owned, EvenRows* coarser) {
+        TERRAIN_ASSERT(m_original == nullptr, "region builds of resampled sources are refused");
+        FinestRows rows(m_reader, owned, m_edges, m_statistics);
+        return runLevel(m_layout.finestLevel(), rect, rows, coarser);
+    }
+
+    /// A coarser level's patches `rect`: `rows` gives its samples, `children` the bounds of
+    /// its children, and its even samples go to `coarser` (null at level 0).
+    Status runCoarseRegion(int level, const PatchRect& rect, LevelRows& rows, ChildBounds children,
+                           EvenRows* coarser) {
         TERRAIN_ASSERT(m_original == nullptr, "region builds of resampled sources are refused");
         m_children = std::move(children);
         return runLevel(level, rect, rows, coarser);
     }
 
     const DemStatistics& statistics() const { return m_statistics; }
-    DemEdges& edges() { return m_edges; }
-    DemStatistics& mutableStatistics() { return m_statistics; }
+    const DemEdges& edges() const { return m_edges; }
     const ChildBounds& bounds() const { return m_bounds; }
     std::int64_t patches() const { return m_patches; }
     float rootError() const { return m_levelMaxError[0]; }

@@ -344,21 +344,20 @@ Result<ShardBuildSummary> buildPyramidShard(DemReader& reader, const fs::path& o
     const detail::OwnedSamples owned{rect.x0 * q, rect.y0 * q, lastX ? w : rect.x1 * q,
                                      lastY ? h : rect.y1 * q};
     if (finest) {
-        detail::FinestRows rows(reader, owned, builder.edges(), builder.mutableStatistics());
-        if (Status built = builder.runRegion(shard.level, rect, rows, {}, coarser); !built)
+        if (Status built = builder.runFinestRegion(rect, owned, coarser); !built)
             return built.error();
         // The DEM's last column and row, for the coarser levels' samples beyond the DEM.
-        detail::DemEdges& edges = builder.edges();
+        const detail::DemEdges& edges = builder.edges();
         if (lastX)
             if (Status written = detail::writeEdge(detail::edgePath(plan.staging, true, shard.y),
-                                                   {edges.firstRow, edges.lastColumn_});
+                                                   {edges.firstRow, edges.lastColumnHeights});
                 !written)
                 return written.error();
         if (lastY) {
             detail::EdgeRun south{owned.x0, {}};
             for (std::int64_t x = owned.x0; x < owned.x1; ++x)
                 south.values.push_back(
-                    edges.lastRow_.at(static_cast<std::size_t>(x - edges.firstColumn)));
+                    edges.lastRowHeights.at(static_cast<std::size_t>(x - edges.firstColumn)));
             if (Status written =
                     detail::writeEdge(detail::edgePath(plan.staging, false, shard.x), south);
                 !written)
@@ -371,7 +370,8 @@ Result<ShardBuildSummary> buildPyramidShard(DemReader& reader, const fs::path& o
         if (!inside) return inside.error();
         CarriedEdges edges(plan.staging, layout);
         detail::CoarseRows rows(*inside.value(), edges, layout.levelStep(shard.level), w);
-        if (Status built = builder.runRegion(shard.level, rect, rows, std::move(children), coarser);
+        if (Status built =
+                builder.runCoarseRegion(shard.level, rect, rows, std::move(children), coarser);
             !built)
             return built.error();
     }
