@@ -9,6 +9,7 @@
 #include "terrain/io/GlobeGroundHeight.h"
 #include "terrain/io/GlobeSourceSurface.h"
 #include "terrain/io/PyramidReader.h"
+#include "terrain/io/VirtualPlanetPyramid.h"
 #include "terrain/runtime/FrameImages.h"
 #include "terrain/runtime/GlobeCameraPath.h"
 #include "terrain/runtime/GlobeReferenceRenderer.h"
@@ -110,6 +111,14 @@ Result<std::optional<runtime::FrameImages>> drawReference(
 
 int runGlobeBench(const GlobeBenchOptions& o) {
     const auto start = Clock::now();
+    // Its reference render walks every present patch down to the deepest one in view, which
+    // for the virtual planet means generating tens of thousands of patches a frame.
+    if (io::isVirtualPlanetName(o.pyramid))
+        return fail(o.pyramid +
+                    ": the virtual planet is not measured here (its reference render would "
+                    "generate every patch of every level in view); build a box of it with "
+                    "terrain-build 'planet:level=L,west=…,south=…,east=…,north=…' --globe and "
+                    "measure that pyramid with the same name as --source");
     if (o.sources.empty())
         return fail(o.pyramid +
                     ": a globe pyramid is measured against the DEMs it was built from: "

@@ -4,6 +4,7 @@
 
 #include "terrain/io/PyramidManifest.h"
 #include "terrain/io/PyramidReader.h"
+#include "terrain/io/VirtualPlanetPyramid.h"
 
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
@@ -13,6 +14,7 @@
 #include "terrain/io/PyramidSourceCheck.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <string>
@@ -152,6 +154,52 @@ Json summaryJson(const io::PyramidReader& reader, const inspect::Inspection& ins
 
 }  // namespace
 
+// The virtual planet stores nothing: what it would hold, from its manifest, with each face
+// level's Err(P) (every patch of a level has the same bound). Its bounds are checked by
+// VirtualPlanetPyramidTest, not by reading patches back.
+int describeVirtualPlanet(const io::PyramidManifest& m, const std::string& name, bool json,
+                          bool verify) {
+    if (verify) {
+        std::fprintf(stderr,
+                     "terrain-inspect: %s: the virtual planet stores nothing to verify: its "
+                     "patches are generated when read (terrain-stress checks them streaming)\n",
+                     name.c_str());
+        return 1;
+    }
+    const int offset = io::ManifestGlobe::kLevelOffset;
+    if (json) {
+        Json levels = Json::array();
+        for (const io::ManifestLevel& level : m.levels) {
+            if (level.level < offset) continue;
+            levels.push_back({{"faceLevel", level.level - offset},
+                              {"patches", level.presentPatches},
+                              {"errorM", level.maxError}});
+        }
+        const Json j = {{"tool", "terrain-inspect"},
+                        {"pyramid", name},
+                        {"virtual", true},
+                        {"tiling", "globe"},
+                        {"faceFinestLevel", m.globe->faceFinestLevel},
+                        {"heightBoundM", m.statistics.maxHeight},
+                        {"levels", levels}};
+        std::printf("%s\n", j.dump(2).c_str());
+        return 0;
+    }
+    fmt::print(
+        "pyramid {}: the built-in planet, virtual: face levels 0 to {} generated when "
+        "read, nothing on disk; heights within ±{:.0f} m\n\n",
+        name, m.globe->faceFinestLevel, m.statistics.maxHeight);
+    fmt::print("face level   patches   mean spacing   Err(P), m\n");
+    for (const io::ManifestLevel& level : m.levels) {
+        if (level.level < offset) continue;
+        const int face = level.level - offset;
+        fmt::print("{:>10} {:>9} {:>12.1f} m {:>11.2f}\n", face, level.presentPatches,
+                   20037508.3 / 2.0 / std::ldexp(double(m.layout.patchQuads()), face),
+                   level.maxError);
+    }
+    return 0;
+}
+
 int main(int argc, char** argv) {
     CLI::App app{
         "terrain-inspect: describe a terrain pyramid (docs/pyramid-format.md): format version, "
@@ -181,6 +229,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "terrain-inspect: %s\n", reader.error().message.c_str());
         return 1;
     }
+    if (io::isVirtualPlanetName(folder))
+        return describeVirtualPlanet(reader.value().manifest(), folder, json, verify);
     inspect::InspectOptions options;
     options.verify = verify;
     const bool showProgress = isatty(STDERR_FILENO) == 1;

@@ -28,6 +28,9 @@ DemReaderResult openGdalMosaic(const std::vector<std::string>& paths,
                                const DemOpenOptions& options);
 /// "procedural:size=…,seed=…,spacing=…" (ProceduralDemReader.cpp).
 DemReaderResult openProceduralDem(const std::string& spec, const DemOpenOptions& options);
+/// "planet:seed=…,level=…,west=…,…": the procedural planet, geographic
+/// (ProceduralPlanetDemReader.cpp).
+DemReaderResult openProceduralPlanetDem(const std::string& spec, const DemOpenOptions& options);
 
 /// The most one block a reader decodes at once may take. Decoders allocate a block before
 /// they read it, so a damaged header that claims more would make them allocate it (8 GB for

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <limits>
 #include <optional>
+#include <span>
 
 namespace terrain::io::detail {
 
@@ -60,6 +61,14 @@ void convertDemSamples(const T* raw, std::size_t count, float* out,
             out[i] = static_cast<float>(static_cast<double>(r) * vertical.scale + vertical.offset);
         }
     }
+}
+
+/// For sources whose samples are metres already (the procedural terrain and planet): the
+/// vertical transform and no-data value the open options set, applied in place.
+inline void applyDemOverrides(const DemInfo& info, std::span<float> window) {
+    if (info.vertical != VerticalTransform{} || info.noDataValue)
+        convertDemSamples(window.data(), window.size(), window.data(), info.vertical,
+                          info.noDataValue);
 }
 
 }  // namespace terrain::io::detail

@@ -1,4 +1,5 @@
-// openDem: picks the reader for the inputs. "procedural:" is the built-in terrain, GDAL
+// openDem: picks the reader for the inputs. "procedural:" is the built-in terrain,
+// "planet:" the built-in planet (geographic), GDAL
 // dataset names (subdatasets, /vsi… paths, inline VRT) GDAL, .hgt the SRTM reader, image
 // extensions OpenImageIO (GDAL when a band is chosen), anything else (netCDF, VRT, DTED, ...)
 // and every mosaic GDAL. A folder or a file pattern stands for the DEM files it names
@@ -22,7 +23,11 @@ constexpr std::string_view kProceduralPrefix = "procedural:";
 constexpr std::array<std::string_view, 7> kOiioExtensions = {".tif", ".tiff", ".png", ".exr",
                                                              ".jpg", ".jpeg", ".jpe"};
 
-bool isProcedural(const std::string& input) { return input.starts_with(kProceduralPrefix); }
+constexpr std::string_view kPlanetPrefix = "planet:";
+
+bool isProcedural(const std::string& input) {
+    return input.starts_with(kProceduralPrefix) || input.starts_with(kPlanetPrefix);
+}
 
 }  // namespace
 
@@ -36,7 +41,7 @@ bool isGdalDatasetName(const std::string& input) {
         const char c = input[i];
         if (!(std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_')) return false;
     }
-    return !input.starts_with(kProceduralPrefix);
+    return !isProcedural(input);
 }
 
 Result<std::unique_ptr<DemReader>> openDem(const std::vector<std::string>& given,
@@ -57,7 +62,8 @@ Result<std::unique_ptr<DemReader>> openDem(const std::vector<std::string>& given
         if (options.band && *options.band != 1)
             return Error{fmt::format("{}: the procedural terrain has one band, not band {}", input,
                                      *options.band)};
-        return detail::openProceduralDem(input, options);
+        return input.starts_with(kPlanetPrefix) ? detail::openProceduralPlanetDem(input, options)
+                                                : detail::openProceduralDem(input, options);
     }
     // A file whose name only looks like one (a ':' in a folder name) is a file.
     std::error_code error;

@@ -45,6 +45,14 @@ Result<const PatchRecord*> GlobeGroundQuery::patch(const PatchId& id) {
     return &m_patches.emplace(id, std::move(record)).first->second;
 }
 
+Result<PatchInfo> GlobeGroundQuery::info(const PatchId& id) {
+    if (auto kept = m_infos.find(id); kept != m_infos.end()) return kept->second;
+    if (m_infos.size() >= kCachedInfos) m_infos.clear();
+    auto read = m_reader.patchInfo(id);
+    if (!read) return read.error();
+    return m_infos.emplace(id, read.value()).first->second;
+}
+
 Result<GlobeGroundQuery::CellHeights> GlobeGroundQuery::cellHeights(double latitudeDeg,
                                                                     double longitudeDeg) {
     PyramidReader& reader = m_reader;
@@ -52,7 +60,7 @@ Result<GlobeGroundQuery::CellHeights> GlobeGroundQuery::cellHeights(double latit
     const glm::dvec3 normal = globe::Wgs84::normalAt(latitudeDeg, longitudeDeg);
     const globe::FacePoint point = globe::facePointOf(normal);
     globe::GlobePatchId id{point.face, 0, 0, 0};
-    auto info = reader.patchInfo(layoutPatchOf(id));
+    auto info = this->info(layoutPatchOf(id));
     if (!info) return info.error();
     if (!info.value().present) return CellHeights{};
     for (;;) {
@@ -65,7 +73,7 @@ Result<GlobeGroundQuery::CellHeights> GlobeGroundQuery::cellHeights(double latit
         const globe::GlobePatchId child{point.face, level, cell(point.s), cell(point.t)};
         const int quadrant = static_cast<int>((child.x & 1) + 2 * (child.y & 1));
         if (((info.value().presentChildren >> quadrant) & 1) == 0) break;
-        auto childInfo = reader.patchInfo(layoutPatchOf(child));
+        auto childInfo = this->info(layoutPatchOf(child));
         if (!childInfo) return childInfo.error();
         if (!childInfo.value().present) break;
         id = child;

@@ -1,6 +1,7 @@
 // manifest.json of a pyramid (docs/pyramid-format.md): JSON through nlohmann, every field
 // checked on the way in so a damaged or foreign manifest is an Error that names the field.
 #include "terrain/io/PyramidManifest.h"
+#include "terrain/io/VirtualPlanetPyramid.h"
 
 #include "terrain/base/AtomicFile.h"
 #include "terrain/io/GlobeLayout.h"
@@ -556,6 +557,11 @@ Status writeManifest(const std::filesystem::path& pyramidDir, const PyramidManif
 }
 
 Result<PyramidManifest> readManifest(const std::filesystem::path& pyramidDir) {
+    if (isVirtualPlanetName(pyramidDir)) {
+        Result<VirtualPlanetPyramid> planet = VirtualPlanetPyramid::open(pyramidDir);
+        if (!planet) return planet.error();
+        return planet.value().manifest();
+    }
     const std::filesystem::path path = pyramidDir / PyramidManifest::kFileName;
     std::error_code ec;
     if (!std::filesystem::is_directory(pyramidDir, ec))

@@ -4,6 +4,7 @@
 // shard file and the patch, and the shard is closed so a damaged file is not reused.
 #include "terrain/io/PyramidReader.h"
 #include "terrain/io/HeightCodes.h"
+#include "terrain/io/VirtualPlanetPyramid.h"
 
 #include "terrain/base/Assert.h"
 #include "terrain/io/ExrHeaderCheck.h"
@@ -25,6 +26,7 @@
 #include <cstddef>
 #include <cstring>
 #include <exception>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -71,6 +73,8 @@ struct PyramidReader::Impl {
     std::vector<float> parentScratch;           // its parent samples (HeightCodes.h)
     std::unique_ptr<ParentTileCache> parents;
     std::uint64_t parentReads = 0;
+    // The virtual planet (VirtualPlanetPyramid.h): patches generated instead of read.
+    std::optional<VirtualPlanetPyramid> planet;
 
     // The heights of a patch's parent: from the cache, else read (and verified) now. The
     // parent's read reuses the scratch buffers, so the child's codes are kept apart meanwhile.
@@ -248,6 +252,7 @@ struct PyramidReader::Impl {
 
     Status read(const PatchId& id, PatchRecord& out) {
         if (Status inside = checkContains(id); !inside) return inside;
+        if (planet) return planet->generate(id, out);
         if (!shardListed(layout.shardOf(id)))
             return patchError(shardFile(layout.shardOf(id)), id,
                               "the patch is absent (the globe pyramid has no data there)");
@@ -330,6 +335,16 @@ PyramidReader::~PyramidReader() = default;
 Result<PyramidReader> PyramidReader::open(const std::filesystem::path& pyramidDir,
                                           int maxOpenShards) {
     TERRAIN_ASSERT(maxOpenShards >= 1, "a reader keeps at least one shard open");
+    if (isVirtualPlanetName(pyramidDir)) {
+        Result<VirtualPlanetPyramid> planet = VirtualPlanetPyramid::open(pyramidDir);
+        if (!planet) return planet.error();
+        auto impl = std::make_unique<Impl>();
+        impl->folder = pyramidDir;
+        impl->manifest = planet.value().manifest();
+        impl->layout = impl->manifest.layout;
+        impl->planet = std::move(planet).value();
+        return PyramidReader(std::move(impl));
+    }
     Result<PyramidManifest> manifest = readManifest(pyramidDir);
     if (!manifest) return manifest.error();
     auto impl = std::make_unique<Impl>();
@@ -361,6 +376,10 @@ Status PyramidReader::readPatch(const PatchId& id, PatchRecord& out) {
 Result<PatchInfo> PyramidReader::patchInfo(const PatchId& id) {
     Impl& r = *m_impl;
     if (Status inside = r.checkContains(id); !inside) return inside.error();
+    if (r.planet) {
+        if (id.level < ManifestGlobe::kLevelOffset) return PatchInfo{};
+        return r.planet->info(id);
+    }
     if (!r.shardListed(r.layout.shardOf(id))) return PatchInfo{};
     Result<OpenShard*> opened = r.shard(r.layout.shardOf(id), id);
     if (!opened) return opened.error();

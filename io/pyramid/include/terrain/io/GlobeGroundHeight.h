@@ -53,12 +53,17 @@ private:
     explicit GlobeGroundQuery(PyramidReader reader) : m_reader(std::move(reader)) {}
     Result<CellHeights> cellHeights(double latitudeDeg, double longitudeDeg);
     Result<const PatchRecord*> patch(const PatchId& id);
+    Result<PatchInfo> info(const PatchId& id);
 
     /// Patches kept before the cache starts over: a 1080p frame's finest patches in view.
     static constexpr std::size_t kCachedPatches = 256;
 
     PyramidReader m_reader;
     std::unordered_map<PatchId, PatchRecord, PatchIdHash> m_patches;
+    /// The infos of the patches on the way down (a query walks from a face root), kept
+    /// apart from the patches: a camera moving over one face reads each ancestor once.
+    static constexpr std::size_t kCachedInfos = 4096;
+    std::unordered_map<PatchId, PatchInfo, PatchIdHash> m_infos;
 };
 
 }  // namespace terrain::io

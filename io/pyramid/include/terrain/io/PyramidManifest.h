@@ -170,7 +170,8 @@ Result<PyramidManifest> fromJson(std::string_view json, const std::string& sourc
 /// an AtomicFile. The folder must exist.
 Status writeManifest(const std::filesystem::path& pyramidDir, const PyramidManifest& manifest);
 
-/// Reads `<pyramidDir>/manifest.json`. A folder without one is "not a pyramid".
+/// Reads `<pyramidDir>/manifest.json`. A folder without one is "not a pyramid". The virtual
+/// planet's name ("planet:…", VirtualPlanetPyramid.h) gives its manifest instead.
 Result<PyramidManifest> readManifest(const std::filesystem::path& pyramidDir);
 
 }  // namespace terrain::io

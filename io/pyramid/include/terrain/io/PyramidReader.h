@@ -34,7 +34,9 @@ public:
     /// 61 tiles of 129-sample patches.
     static constexpr std::size_t kParentCacheBytes = std::size_t{4} << 20;
 
-    /// Reads and checks the manifest (readManifest); shard files are opened on demand.
+    /// Reads and checks the manifest (readManifest); shard files are opened on demand. The
+    /// virtual planet's name ("planet:…", VirtualPlanetPyramid.h) opens a reader that
+    /// generates each patch instead of reading it (it has no shard files).
     static Result<PyramidReader> open(const std::filesystem::path& pyramidDir,
                                       int maxOpenShards = kDefaultOpenShards);
 
