@@ -27,8 +27,9 @@ struct Summit {
     double latitude = 0.0, longitude = 0.0, height = -std::numeric_limits<double>::infinity();
 };
 
-// The highest summit a search finds: the best of a 1° grid, climbed by a pattern search
-// whose step halves down to about 10 m. A view target, not a global maximum.
+// The highest summit a search finds: the best of a grid 0.8° by 1° between 70° S and 70° N,
+// climbed by a pattern search whose step halves down to about 10 m. A view target, not the
+// planet's highest point.
 Summit findSummit(const ProceduralPlanet& planet) {
     Summit best;
     for (int row = 0; row < 179; ++row) {
