@@ -5,6 +5,7 @@
 #include "terrain/io/GlobeLayout.h"
 #include "terrain/io/GlobePatchErrors.h"
 #include "terrain/io/KeyValueSpec.h"
+#include "terrain/io/PatchErrors.h"
 
 #include <fmt/format.h>
 
@@ -16,12 +17,6 @@
 namespace terrain::io {
 
 namespace {
-
-float roundUp(double value) {
-    auto f = static_cast<float>(value);
-    if (double(f) < value) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-    return f;
-}
 
 struct Summit {
     double latitude = 0.0, longitude = 0.0, height = -std::numeric_limits<double>::infinity();
@@ -161,7 +156,9 @@ Status VirtualPlanetPyramid::generateHeights(const PatchId& id, PatchRecord& out
     info = PatchInfo{};
     info.present = true;
     summariseDrawnSamples(layout, out.heights, {}, info);
-    info.approxError = roundUp(levelError(patch.level));
+    // The level's bound, computed once when the planet was opened (the manifest's maxError).
+    info.approxError =
+        roundUpToFloat(m_manifest.levels[static_cast<std::size_t>(id.level)].maxError);
     info.error = info.approxError;
     info.presentChildren = patch.level < m_manifest.globe->faceFinestLevel ? 0xF : 0;
     return {};
