@@ -6,7 +6,8 @@
 // name; .nc: GDAL plus our netCDF classic extent check; .asc: GDAL's ASCII grid driver, a
 // fast text format through the same GDAL boundary of ours: georeference, no-data, sizes,
 // windows). A file openDem accepts must read:
-// every window is either its samples or an Error, never a crash or a hang.
+// every window is either its samples or an Error, never a crash or a hang; a projected one
+// is opened again as a globe build opens it (onto a longitude/latitude grid) and read too.
 #include "FuzzScratch.h"
 #include "terrain/io/DemReader.h"
 #include "terrain/io/HeightImageWriter.h"
@@ -228,16 +229,11 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
     return 0;
 }
 
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    using namespace terrain;
-    const fs::path file = fuzz::scratch() / kInputFile;
-    fuzz::writeFile(file, std::span(data, size));
-    auto opened = io::openDem({file.string()});
-    if (!opened) return 0;
-    io::DemReader& dem = *opened.value();
-    const io::DemInfo& info = dem.info();
-    fuzz::require(info.width > 0 && info.height > 0, "an opened DEM has samples");
-    // The windows a build starts with: the first rows, the last rows, a block in the middle.
+namespace {
+
+// The windows a build starts with: the first rows, the last rows, a block in the middle.
+void readFirstWindows(terrain::io::DemReader& dem) {
+    const terrain::io::DemInfo& info = dem.info();
     constexpr std::int64_t kMaxColumns = 256, kMaxRows = 16;
     const std::int64_t columns = std::min(info.width, kMaxColumns);
     const std::int64_t rows = std::min(info.height, kMaxRows);
@@ -249,6 +245,39 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }};
     for (const auto& [x0, y0] : corners) {
         if (!dem.readWindow(x0, y0, columns, rows, window)) break;
+    }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    using namespace terrain;
+    const fs::path file = fuzz::scratch() / kInputFile;
+    fuzz::writeFile(file, std::span(data, size));
+    auto opened = io::openDem({file.string()});
+    if (!opened) return 0;
+    io::DemReader& dem = *opened.value();
+    const io::DemInfo& info = dem.info();
+    fuzz::require(info.width > 0 && info.height > 0, "an opened DEM has samples");
+    readFirstWindows(dem);
+    // As a globe build opens it: a projected one onto a longitude/latitude grid, its own
+    // samples placed through the CRS.
+    if (info.georeference.crsKind != io::CrsKind::Projected &&
+        !(info.georeference.crsKind == io::CrsKind::Geographic && info.resampledFrom))
+        return 0;
+    io::DemOpenOptions onTheGlobe;
+    onTheGlobe.geographicGrid = true;
+    opened.value().reset();
+    auto globe = io::openDem({file.string()}, onTheGlobe);
+    if (!globe) return 0;
+    io::DemReader& geographic = *globe.value();
+    fuzz::require(geographic.info().width > 0 && geographic.info().height > 0,
+                  "an opened DEM has samples");
+    readFirstWindows(geographic);
+    if (io::DemReader* own = geographic.originalSamples(); own != nullptr) {
+        const std::int64_t columns = std::min<std::int64_t>(own->info().width, 256);
+        std::vector<double> x(static_cast<std::size_t>(columns)), y(x.size());
+        (void)geographic.placeOriginalSamples(0, 0, x, y);
     }
     return 0;
 }

@@ -125,8 +125,12 @@ int runGlobeBench(const GlobeBenchOptions& o) {
                     "give them with --source");
     std::vector<std::unique_ptr<io::DemReader>> readers;
     std::vector<io::DemReader*> pointers;
+    // Opened as the build opened them. A projected source's reference surface is then the
+    // longitude/latitude grid it was resampled onto, not its own samples' triangles.
+    io::DemOpenOptions sourceOptions = o.sourceOptions;
+    sourceOptions.geographicGrid = true;
     for (const std::string& source : o.sources) {
-        auto opened = io::openDem({source}, o.sourceOptions);
+        auto opened = io::openDem({source}, sourceOptions);
         if (!opened) return fail(opened.error().message);
         pointers.push_back(opened.value().get());
         readers.push_back(std::move(opened).value());

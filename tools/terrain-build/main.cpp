@@ -120,9 +120,10 @@ int main(int argc, char** argv) {
     demFlags.addTo(app);
     app.add_flag(
         "--globe", globe,
-        "Build a globe pyramid: the geographic (longitude/latitude) sources resampled onto "
-        "the WGS84 cube-sphere, instead of a planar sheet around the centre; several "
-        "inputs composite there, the finest valid sample winning");
+        "Build a globe pyramid: the sources resampled onto the WGS84 cube-sphere, instead of "
+        "a planar sheet around the centre (projected ones, e.g. UTM, first onto a "
+        "longitude/latitude grid by GDAL's warper, the bounds still made against their own "
+        "samples); several inputs composite there, the finest valid sample winning");
     app.add_flag("--overwrite", options.overwrite, "Replace an existing pyramid");
     // Region builds (docs/pyramid-format.md, "Region builds"): tools/cluster runs these.
     bool plan = false, merge = false, byShards = false;
@@ -178,9 +179,12 @@ int main(int argc, char** argv) {
     std::vector<std::unique_ptr<io::DemReader>> sources;
     std::vector<io::DemReader*> sourcePointers;
     const bool composite = globe && inputs.size() > 1;
+    // A globe takes projected sources resampled onto longitude/latitude grids.
+    io::DemOpenOptions openOptions = demFlags.options();
+    openOptions.geographicGrid = globe;
     for (std::size_t i = 0; i < (composite ? inputs.size() : 1); ++i) {
-        auto opened = composite ? io::openDem({inputs[i]}, demFlags.options())
-                                : io::openDem(inputs, demFlags.options());
+        auto opened =
+            composite ? io::openDem({inputs[i]}, openOptions) : io::openDem(inputs, openOptions);
         if (!opened) return fail(opened.error().message);
         sourcePointers.push_back(opened.value().get());
         sources.push_back(std::move(opened).value());

@@ -255,9 +255,12 @@ int main(int argc, char** argv) {
         // A globe's sources were composited, each one on its own; a plane's form a mosaic.
         std::vector<std::unique_ptr<io::DemReader>> opened;
         std::vector<io::DemReader*> openedPointers;
+        // Opened as the build opened them: projected ones onto longitude/latitude grids.
+        io::DemOpenOptions openOptions = demFlags.options();
+        openOptions.geographicGrid = globe;
         for (std::size_t i = 0; i < (globe ? sources.size() : 1); ++i) {
-            auto one = globe ? io::openDem({sources[i]}, demFlags.options())
-                             : io::openDem(sources, demFlags.options());
+            auto one =
+                globe ? io::openDem({sources[i]}, openOptions) : io::openDem(sources, openOptions);
             if (!one) {
                 std::fprintf(stderr, "terrain-inspect: %s\n", one.error().message.c_str());
                 return 1;

@@ -69,6 +69,14 @@ private:
 DemReaderResult openResampledGdalDem(DemInfo info, GdalDataset dataset,
                                      const DemOpenOptions& options);
 
+/// For a globe pyramid (DemOpenOptions::geographicGrid): a projected (or rotated) dataset,
+/// resampled by GDAL's warper (bilinear) onto a longitude/latitude grid on WGS84 whose sample
+/// centres span its own sample centres, at its finest ground spacing; originalSamples() reads
+/// its own grid and placeOriginalSamples() places those samples on the new one through PROJ.
+/// Errors name `path`: no CRS or geotransform, a footprint across the antimeridian, over a
+/// pole or wider than a hemisphere, options that place the raster (its geotransform does).
+DemReaderResult openGeographicGdalDem(const std::string& path, const DemOpenOptions& options);
+
 /// Opens `path` (a file checked first: exists, not empty, not a truncated netCDF classic
 /// file; a GDAL dataset name as GDAL takes it) for reading. Errors start with the path and
 /// carry GDAL's message.

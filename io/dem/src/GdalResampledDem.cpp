@@ -3,9 +3,9 @@
 // so that the pyramid's error bounds are made and checked against them, not against the
 // resampled grid (PyramidBuilder, PyramidSourceCheck).
 #include "GdalDemReader.h"
+#include "GdalWarp.h"
 
 #include <fmt/format.h>
-#include <gdal_utils.h>
 
 #include <algorithm>
 #include <array>
@@ -76,79 +76,6 @@ Result<NorthUpGrid> northUpGridFor(const DemInfo& info) {
     grid.toGrid = {(gt[0] + 0.5 * gt[1] + 0.5 * gt[2] - minX) / p, gt[1] / p,  gt[2] / p,
                    (maxY - gt[3] - 0.5 * gt[4] - 0.5 * gt[5]) / p, -gt[4] / p, -gt[5] / p};
     return grid;
-}
-
-// Runs one of GDAL's command-line utilities' library forms on an argument list.
-template <typename Options, typename New, typename Free>
-std::unique_ptr<Options, Free> utilityOptions(const std::vector<std::string>& args, New make,
-                                              Free free) {
-    std::vector<char*> argv;
-    for (const std::string& arg : args) argv.push_back(const_cast<char*>(arg.c_str()));
-    argv.push_back(nullptr);
-    return std::unique_ptr<Options, Free>(make(argv.data(), nullptr), free);
-}
-
-// The one band to warp as a dataset of its own, so the warper reads no other band.
-Result<GdalDataset> singleBand(GDALDataset& source, int band, const std::string& path) {
-    GdalErrorCapture errors;
-    auto options =
-        utilityOptions<GDALTranslateOptions>({"-of", "VRT", "-b", std::to_string(band)},
-                                             GDALTranslateOptionsNew, &GDALTranslateOptionsFree);
-    int usageError = 0;
-    GdalDataset vrt(GDALDataset::FromHandle(
-        GDALTranslate("", GDALDataset::ToHandle(&source), options.get(), &usageError)));
-    if (!vrt)
-        return Error{fmt::format("{}: GDAL cannot select band {}: {}", path, band,
-                                 errors.message("GDALTranslate failed"))};
-    return vrt;
-}
-
-Result<GdalDataset> warpNorthUp(GDALDataset& source, const DemInfo& info, const NorthUpGrid& grid,
-                                bool wide) {
-    const double p = grid.pixelSize;
-    std::vector<std::string> args = {
-        // XSCALE/YSCALE 1: bilinear interpolation of the four nearest samples. Left to
-        // itself the warper widens its kernel along a rotated grid's axes, smoothing the
-        // surface (0.94 m off a plane of 3 m per sample).
-        "-of",
-        "VRT",
-        "-r",
-        "bilinear",
-        "-wo",
-        "XSCALE=1",
-        "-wo",
-        "YSCALE=1",
-        "-et",
-        "0",
-        "-ot",
-        wide ? "Float64" : "Float32",
-        "-te",
-        fmt::format("{:.17g}", grid.originX),
-        fmt::format("{:.17g}", grid.originY - double(grid.height) * p),
-        fmt::format("{:.17g}", grid.originX + double(grid.width) * p),
-        fmt::format("{:.17g}", grid.originY),
-        "-ts",
-        std::to_string(grid.width),
-        std::to_string(grid.height),
-        "-dstnodata",
-        "nan"};
-    if (info.noDataValue) {
-        args.push_back("-srcnodata");
-        args.push_back(fmt::format("{:.17g}", *info.noDataValue));
-    }
-    GdalErrorCapture errors;
-    auto options =
-        utilityOptions<GDALWarpAppOptions>(args, GDALWarpAppOptionsNew, &GDALWarpAppOptionsFree);
-    if (!options)
-        return Error{fmt::format("{}: {}", info.path, errors.message("bad GDAL warp options"))};
-    GDALDatasetH sources[] = {GDALDataset::ToHandle(&source)};
-    int usageError = 0;
-    GdalDataset warped(
-        GDALDataset::FromHandle(GDALWarp("", nullptr, 1, sources, options.get(), &usageError)));
-    if (!warped)
-        return Error{fmt::format("{}: GDAL's warper cannot resample it onto a north-up grid: {}",
-                                 info.path, errors.message("GDALWarp failed"))};
-    return warped;
 }
 
 // The rim of the resampled grid. A source sample on the source's edge lies in a cell of
@@ -250,6 +177,16 @@ public:
         return {};
     }
     DemReader* originalSamples() override { return m_original.get(); }
+    Status placeOriginalSamples(std::int64_t firstColumn, std::int64_t row, std::span<double> x,
+                                std::span<double> y) override {
+        const std::array<double, 6>& a = m_info.resampledFrom->toGrid;
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            const double c = double(firstColumn + std::int64_t(i)), r = double(row);
+            x[i] = a[0] + a[1] * c + a[2] * r;
+            y[i] = a[3] + a[4] * c + a[5] * r;
+        }
+        return {};
+    }
 
 private:
     DemInfo m_info;
@@ -292,21 +229,22 @@ DemReaderResult openResampledGdalDem(DemInfo info, GdalDataset dataset,
     own.warnings.clear();
     GDALDataset& source = *dataset;
     const GDALDataType type = source.GetRasterBand(info.band)->GetRasterDataType();
-    const bool wide = type == GDT_Float64 || type == GDT_Int32 || type == GDT_UInt32 ||
-                      type == GDT_Int64 || type == GDT_UInt64;
+    const bool wide = isWideSampleType(type);
     auto original = std::make_unique<GdalDemReader>(std::move(own), std::move(dataset));
     Result<SourceEdgeExtension> edges = SourceEdgeExtension::read(*original, *info.resampledFrom);
     if (!edges) return edges.error();
 
-    GdalDataset band;
-    GDALDataset* warpFrom = &source;
-    if (info.bandCount > 1) {
-        Result<GdalDataset> selected = singleBand(source, info.band, info.path);
-        if (!selected) return selected.error();
-        band = std::move(selected).value();
-        warpFrom = band.get();
-    }
-    Result<GdalDataset> warped = warpNorthUp(*warpFrom, info, grid, wide);
+    const double p = grid.pixelSize;
+    Result<WarpedDataset> warped = warpBilinear(source, info,
+                                                {.west = grid.originX,
+                                                 .south = grid.originY - double(grid.height) * p,
+                                                 .east = grid.originX + double(grid.width) * p,
+                                                 .north = grid.originY,
+                                                 .width = grid.width,
+                                                 .height = grid.height,
+                                                 .targetCrs = {},
+                                                 .sourceCrs = {}},
+                                                wide, "a north-up grid");
     if (!warped) return warped.error();
 
     const ResampledGrid& from = *info.resampledFrom;
@@ -323,9 +261,9 @@ DemReaderResult openResampledGdalDem(DemInfo info, GdalDataset dataset,
     resampledInfo.noDataValue.reset();
     resampledInfo.rowsFlipped = resampledInfo.columnsFlipped = false;
     auto resampled = std::make_unique<GdalDemReader>(
-        std::move(resampledInfo), std::move(warped).value(), std::vector<PixelRect>{}, 1);
+        std::move(resampledInfo), std::move(warped.value().warped), std::vector<PixelRect>{}, 1);
     return std::unique_ptr<DemReader>(std::make_unique<ResampledGdalDemReader>(
-        std::move(info), std::move(original), std::move(band), std::move(resampled),
+        std::move(info), std::move(original), std::move(warped.value().band), std::move(resampled),
         std::move(edges).value()));
 }
 

@@ -6,6 +6,7 @@
 // (DemInputList.h).
 #include "DemInputList.h"
 #include "DemReaderFactories.h"
+#include "GdalDemReader.h"
 
 #include <fmt/format.h>
 
@@ -44,6 +45,20 @@ bool isGdalDatasetName(const std::string& input) {
     return !isProcedural(input);
 }
 
+namespace {
+
+// A source a globe cannot take as it is, but GDAL's warper can put onto a longitude/latitude
+// grid: a projected one whose CRS is named, or a rotated geographic one.
+bool needsGeographicGrid(const DemInfo& info) {
+    const Georeference& g = info.georeference;
+    if (g.crsKind == CrsKind::Geographic) return info.resampledFrom.has_value();
+    return g.crsKind == CrsKind::Projected && (!g.wkt.empty() || g.epsg != 0);
+}
+
+Result<std::unique_ptr<DemReader>> openOne(const std::string& input, const DemOpenOptions& options);
+
+}  // namespace
+
 Result<std::unique_ptr<DemReader>> openDem(const std::vector<std::string>& given,
                                            const DemOpenOptions& options) {
     if (given.empty()) return Error{"openDem: no input given"};
@@ -55,9 +70,28 @@ Result<std::unique_ptr<DemReader>> openDem(const std::vector<std::string>& given
             if (isProcedural(input))
                 return Error{
                     fmt::format("{}: the procedural terrain cannot be part of a mosaic", input)};
-        return detail::openGdalMosaic(inputs, options);
+        auto mosaic = detail::openGdalMosaic(inputs, options);
+        if (mosaic && options.geographicGrid && needsGeographicGrid(mosaic.value()->info()))
+            return Error{fmt::format(
+                "{}: a mosaic of projected tiles cannot go onto the globe yet; make one "
+                "raster of them first (gdalbuildvrt tiles.vrt …) and give that",
+                inputs.front())};
+        return mosaic;
     }
     const std::string& input = inputs.front();
+    auto opened = openOne(input, options);
+    if (opened && options.geographicGrid && !isProcedural(input) &&
+        needsGeographicGrid(opened.value()->info())) {
+        opened.value().reset();  // the file is opened again, through GDAL
+        return detail::openGeographicGdalDem(input, options);
+    }
+    return opened;
+}
+
+namespace {
+
+Result<std::unique_ptr<DemReader>> openOne(const std::string& input,
+                                           const DemOpenOptions& options) {
     if (isProcedural(input)) {
         if (options.band && *options.band != 1)
             return Error{fmt::format("{}: the procedural terrain has one band, not band {}", input,
@@ -88,5 +122,7 @@ Result<std::unique_ptr<DemReader>> openDem(const std::vector<std::string>& given
     }
     return detail::openGdalDem(input, options);
 }
+
+}  // namespace
 
 }  // namespace terrain::io

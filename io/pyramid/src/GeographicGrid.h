@@ -52,6 +52,10 @@ public:
     /// Latitude and longitude of pixel (col, row)'s centre.
     double latitudeOf(std::int64_t row) const { return m_north - (double(row) + 0.5) * m_pixelLat; }
     double longitudeOf(std::int64_t col) const { return m_west + (double(col) + 0.5) * m_pixelLon; }
+    /// Latitude and longitude of a place between pixel centres: y and x in pixels, the
+    /// centre of pixel (0, 0) at (0, 0).
+    double latitudeAt(double y) const { return m_north - (y + 0.5) * m_pixelLat; }
+    double longitudeAt(double x) const { return m_west + (x + 0.5) * m_pixelLon; }
     float heightAt(std::int64_t col, std::int64_t row) const { return m_heights[index(col, row)]; }
     bool validAt(std::int64_t col, std::int64_t row) const { return m_valid[index(col, row)] != 0; }
 

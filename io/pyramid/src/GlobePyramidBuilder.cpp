@@ -62,6 +62,26 @@ struct SamplePlaces {
     std::vector<double> s, t;
 };
 
+// A resampled source's own samples' places on the cube, from their latitudes and longitudes.
+SamplePlaces placeOwnSamples(const GlobeSources::OwnSamples& own, unsigned threads) {
+    SamplePlaces places;
+    const auto count = static_cast<std::size_t>(own.width * own.height);
+    places.face.resize(count);
+    places.s.resize(count);
+    places.t.resize(count);
+    parallelFor(own.height, threads, [&](std::int64_t row) {
+        for (std::int64_t col = 0; col < own.width; ++col) {
+            const auto i = static_cast<std::size_t>(row * own.width + col);
+            const globe::FacePoint p =
+                globe::facePointOf(globe::Wgs84::normalAt(own.latitudes[i], own.longitudes[i]));
+            places.face[i] = static_cast<std::uint8_t>(p.face);
+            places.s[i] = p.s;
+            places.t[i] = p.t;
+        }
+    });
+    return places;
+}
+
 SamplePlaces placeSamples(const GeographicGrid& grid, unsigned threads) {
     SamplePlaces places;
     const auto count = static_cast<std::size_t>(grid.width() * grid.height());
@@ -113,8 +133,11 @@ public:
 
     Status run() {
         auto start = Clock::now();
-        for (const GlobeSources::Source& source : m_sources.sources())
+        for (const GlobeSources::Source& source : m_sources.sources()) {
             m_places.push_back(placeSamples(source.grid, m_threads));
+            m_ownPlaces.push_back(
+                source.own ? std::optional(placeOwnSamples(*source.own, m_threads)) : std::nullopt);
+        }
         m_phases.readSeconds += secondsSince(start);
         std::unordered_map<PatchKey, float> finerErrors;
         std::unordered_set<PatchKey> finerKeys;
@@ -235,32 +258,35 @@ private:
         return insideAny;
     }
 
-    // Err(P) measured at every source sample the composite shows (GlobeSources::wins): the
-    // distance along its normal to the patch's triangles, whichever diagonal the tessellator
-    // draws. A sample whose patch of this level does not exist (a coarse source, finer than
-    // its own finest level) is drawn by an ancestor there, whose bound already holds it.
+    // Err(P) measured at every source sample the composite shows (GlobeSources::measuredSample:
+    // a resampled source's own samples, not its grid's): the distance along its normal to the
+    // patch's triangles, whichever diagonal the tessellator draws. A sample whose patch of
+    // this level does not exist (a coarse source, finer than its own finest level) is drawn
+    // by an ancestor there, whose bound already holds it.
     void measureErrors(int level, std::map<PatchKey, LevelPatch>& patches) const {
         for (std::size_t k = 0; k < m_places.size(); ++k) measureErrors(level, k, patches);
     }
 
     void measureErrors(int level, std::size_t k, std::map<PatchKey, LevelPatch>& patches) const {
-        const GeographicGrid& grid = m_sources.sources()[k].grid;
-        const SamplePlaces& places = m_places[k];
+        const SamplePlaces& places = m_ownPlaces[k] ? *m_ownPlaces[k] : m_places[k];
+        const std::int64_t width = m_sources.measuredWidth(k);
+        const std::int64_t height = m_sources.measuredHeight(k);
         const std::int64_t n = globe::patchesPerFaceSide(level);
         const int quads = m_layout.patchQuads();
         const std::int64_t rowsPerTask = 16;
-        const std::int64_t tasks = (grid.height() + rowsPerTask - 1) / rowsPerTask;
+        const std::int64_t tasks = (height + rowsPerTask - 1) / rowsPerTask;
         std::mutex merge;
         parallelFor(tasks, m_threads, [&](std::int64_t task) {
             std::unordered_map<PatchKey, std::unique_ptr<GlobePatchSurface>> surfaces;
             std::unordered_map<PatchKey, double> worst;
             const std::int64_t firstRow = task * rowsPerTask;
-            for (std::int64_t row = firstRow; row < std::min(firstRow + rowsPerTask, grid.height());
+            for (std::int64_t row = firstRow; row < std::min(firstRow + rowsPerTask, height);
                  ++row) {
-                const double latitude = grid.latitudeOf(row);
-                for (std::int64_t col = 0; col < grid.width(); ++col) {
-                    if (!m_sources.wins(k, col, row)) continue;
-                    const auto i = static_cast<std::size_t>(row * grid.width() + col);
+                for (std::int64_t col = 0; col < width; ++col) {
+                    const std::optional<GlobeSources::MeasuredSample> sample =
+                        m_sources.measuredSample(k, col, row);
+                    if (!sample) continue;
+                    const auto i = static_cast<std::size_t>(row * width + col);
                     const PatchKey key = keyOf(places.face[i], patchIndex(places.s[i], n),
                                                patchIndex(places.t[i], n));
                     auto& surface = surfaces[key];
@@ -271,12 +297,11 @@ private:
                                                                       patch->second.record.heights);
                     }
                     const glm::dvec3 normal =
-                        globe::Wgs84::normalAt(latitude, grid.longitudeOf(col));
+                        globe::Wgs84::normalAt(sample->latitudeDeg, sample->longitudeDeg);
                     const auto [alongAD, alongBC] = surface->drawnHeights(normal);
-                    const double h = m_sources.shownHeightOfSample(k, col, row);
                     double& patchWorst = worst[key];
-                    patchWorst =
-                        std::max({patchWorst, std::abs(h - alongAD), std::abs(h - alongBC)});
+                    patchWorst = std::max({patchWorst, std::abs(sample->height - alongAD),
+                                           std::abs(sample->height - alongBC)});
                 }
             }
             const std::scoped_lock lock(merge);
@@ -380,6 +405,8 @@ private:
     unsigned m_threads;
     ShardWriterOptions m_shardOptions;
     std::vector<SamplePlaces> m_places;  // one per source, in GlobeSources' order
+    // A resampled source's own samples' places, where Err(P) is measured for it.
+    std::vector<std::optional<SamplePlaces>> m_ownPlaces;
     PyramidBuildPhases m_phases;
     std::int64_t m_patches = 0;
     std::vector<double> m_levelMaxError;
@@ -475,12 +502,19 @@ Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> reader
     double minHeight = 0.0, maxHeight = 0.0;
     bool any = false;
     for (std::size_t k = 0; k < composite.sources().size(); ++k) {
-        const GeographicGrid& g = composite.sources()[k].grid;
-        m.noData.samples += g.width() * g.height() - g.validSamples();
-        m.statistics.validSamples += g.validSamples();
-        if (g.validSamples() == 0) continue;
-        minHeight = any ? std::min(minHeight, g.minHeight()) : g.minHeight();
-        maxHeight = any ? std::max(maxHeight, g.maxHeight()) : g.maxHeight();
+        // A resampled source's samples are its own, not its grid's.
+        const GlobeSources::Source& source = composite.sources()[k];
+        const GeographicGrid& g = source.grid;
+        const std::int64_t samples =
+            source.own ? source.own->width * source.own->height : g.width() * g.height();
+        const std::int64_t valid = source.own ? source.own->validSamples : g.validSamples();
+        const double low = source.own ? source.own->minHeight : g.minHeight();
+        const double high = source.own ? source.own->maxHeight : g.maxHeight();
+        m.noData.samples += samples - valid;
+        m.statistics.validSamples += valid;
+        if (valid == 0) continue;
+        minHeight = any ? std::min(minHeight, low) : low;
+        maxHeight = any ? std::max(maxHeight, high) : high;
         any = true;
     }
     m.statistics.minHeight = minHeight;

@@ -1,8 +1,9 @@
 // terrain-inspect --verify --source on a globe pyramid: every source sample the composite
-// shows (GlobeSources::wins), at every face level whose patch holding it exists, against that
-// patch's drawn triangles along the sample's normal (GlobePatchSurface, both diagonals).
-// Independent of the builder's bookkeeping: it reads the source files again and every patch
-// back from the shards. A sample whose patch of some level does not exist (a coarse source
+// shows (GlobeSources::measuredSample: a projected source's own samples, each placed through
+// its CRS, not the grid it was resampled onto), at every face level whose patch holding it exists,
+// against that patch's drawn triangles along the sample's normal (GlobePatchSurface, both
+// diagonals). Independent of the builder's bookkeeping: it reads the source files again and every
+// patch back from the shards. A sample whose patch of some level does not exist (a coarse source
 // past its finest level) is drawn there by the ancestor, whose level checks it.
 #include "GlobeSourceCheck.h"
 
@@ -41,7 +42,7 @@ Result<SourceCheckReport> checkGlobeErrorBoundsAgainstSources(
         if (source->info().georeference.crsKind != CrsKind::Geographic)
             return Error{
                 fmt::format("{}: not a geographic source; the globe pyramid {} was built "
-                            "from geographic ones",
+                            "from geographic ones, or projected ones with a known CRS",
                             source->info().path, reader.folder().string())};
     Result<GlobeSources> read =
         GlobeSources::read(sources, std::uint64_t{8} << 30, layout.patchQuads());
@@ -53,16 +54,18 @@ Result<SourceCheckReport> checkGlobeErrorBoundsAgainstSources(
     std::map<std::tuple<int, std::int64_t, std::int64_t, int>, LoadedPatch> loaded;
     constexpr std::size_t kMaxLoaded = 256;
     std::int64_t rowsDone = 0, rowsTotal = 0;
-    for (const GlobeSources::Source& source : composite.sources())
-        rowsTotal += source.grid.height();
+    for (std::size_t k = 0; k < composite.sources().size(); ++k)
+        rowsTotal += composite.measuredHeight(k);
     for (std::size_t k = 0; k < composite.sources().size(); ++k) {
-        const GeographicGrid& grid = composite.sources()[k].grid;
-        for (std::int64_t row = 0; row < grid.height(); ++row) {
-            const double latitude = grid.latitudeOf(row);
-            for (std::int64_t col = 0; col < grid.width(); ++col) {
-                if (!composite.wins(k, col, row)) continue;
-                const double h = composite.shownHeightOfSample(k, col, row);
-                const glm::dvec3 normal = globe::Wgs84::normalAt(latitude, grid.longitudeOf(col));
+        const std::int64_t width = composite.measuredWidth(k);
+        for (std::int64_t row = 0; row < composite.measuredHeight(k); ++row) {
+            for (std::int64_t col = 0; col < width; ++col) {
+                const std::optional<GlobeSources::MeasuredSample> sample =
+                    composite.measuredSample(k, col, row);
+                if (!sample) continue;
+                const double h = sample->height;
+                const glm::dvec3 normal =
+                    globe::Wgs84::normalAt(sample->latitudeDeg, sample->longitudeDeg);
                 const globe::FacePoint p = globe::facePointOf(normal);
                 for (int level = 0; level < faceLevels; ++level) {
                     const std::int64_t n = globe::patchesPerFaceSide(level);

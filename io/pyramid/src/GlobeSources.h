@@ -26,16 +26,28 @@ namespace terrain::io {
 
 class GlobeSources {
 public:
+    /// A resampled source's own samples (a projected DEM put onto `grid` by GDAL's warper,
+    /// DemInfo::resampledFrom), each at its place: what Err(P) bounds for it, not the grid.
+    struct OwnSamples {
+        std::int64_t width = 0, height = 0;
+        std::vector<float> heights;  ///< row-major; NaN: no data
+        std::vector<double> latitudes, longitudes;
+        std::int64_t validSamples = 0;
+        double minHeight = 0.0, maxHeight = 0.0;  ///< over valid samples (0 if none)
+    };
+
     struct Source {
         GeographicGrid grid;
         int finestFaceLevel = 0;
         std::string path;
+        std::optional<OwnSamples> own;
     };
 
     /// `sources` in any order; kept finest first.
     explicit GlobeSources(std::vector<Source> sources);
 
-    /// Reads every reader whole (each within memoryBudgetBytes / count) and gives each its
+    /// Reads every reader whole (each within memoryBudgetBytes / count), a resampled one's
+    /// own samples too (placed by DemReader::placeOriginalSamples), and gives each its
     /// finest face level for patches of `quads` quads (globeFinestLevelFor at its centre):
     /// what the builder does, and what the source check must do the same way.
     static Result<GlobeSources> read(std::span<DemReader* const> readers,
@@ -64,15 +76,31 @@ public:
     /// Whether sample (col, row) of source `k` is the one the composite shows at its place.
     bool wins(std::size_t k, std::int64_t col, std::int64_t row) const;
 
+    /// The samples Err(P) bounds for source `k`: its own samples when it was resampled
+    /// (OwnSamples), else its grid's; `measuredWidth` × `measuredHeight` of them.
+    std::int64_t measuredWidth(std::size_t k) const;
+    std::int64_t measuredHeight(std::size_t k) const;
+    struct MeasuredSample {
+        double latitudeDeg = 0.0, longitudeDeg = 0.0;
+        double height = 0.0;  ///< the composite's there: the sample, or feathered at an edge
+    };
+    /// Measured sample (col, row) of source `k`, where the composite shows it: nothing for a
+    /// no-data sample or one where another source shows.
+    std::optional<MeasuredSample> measuredSample(std::size_t k, std::int64_t col,
+                                                 std::int64_t row) const;
+
     /// A void falls through to a source at most this many times coarser.
     static constexpr double kVoidFillRatio = 4.0;
 
 private:
+    static Result<OwnSamples> readOwnSamples(DemReader& reader, const GeographicGrid& grid,
+                                             std::uint64_t memoryBudgetBytes);
     struct Shown {
         int source = -1;  ///< the source whose value shows, or −1
         GeographicGrid::Resampled value;
         double feather = 1.0;  ///< the shown source's weight against the next coarser valid one
         bool blended = false;  ///< value is feathered into a coarser source's
+        double under = 0.0;    ///< that coarser source's value, when blended
     };
     Shown shownAt(double latitudeDeg, double longitudeDeg, int level) const;
 

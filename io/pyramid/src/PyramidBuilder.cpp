@@ -98,6 +98,11 @@ Result<PyramidBuildSummary> buildPyramid(DemReader& reader, const fs::path& outp
     const auto start = Clock::now();
     const DemInfo& dem = reader.info();
     if (Status delta = checkMaxErrorM(output, options.maxErrorM); !delta) return delta.error();
+    // Its own samples are placed by a CRS transform, which the planar bounds do not follow.
+    if (dem.resampledFrom && !dem.resampledFrom->fromCrs.empty())
+        return Error{dem.path +
+                     ": reprojected onto a longitude/latitude grid, which only a globe pyramid "
+                     "takes; build a planar pyramid from it in its own CRS"};
     auto layout = PyramidLayout::create(dem.width, dem.height, options.patchSamples,
                                         options.blockQuads, options.shardPatches);
     if (!layout) return Error{dem.path + ": " + layout.error().message};

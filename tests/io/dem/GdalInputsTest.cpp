@@ -353,6 +353,137 @@ TEST_F(GdalInputsTest, RotatedGridRefusesAPlacementFromTheCommandLine) {
     EXPECT_EQ(reader.error().message.rfind(path, 0), 0U);
 }
 
+// A projected grid going into a globe pyramid (issue 20): GDAL's warper puts it onto a
+// longitude/latitude grid on WGS84 at its ground spacing, every one of its samples inside,
+// each placed where PROJ says. Bilinear interpolation in the source is exact on a plane
+// (storedValue), so every resampled sample inside the source's hull is the plane at its
+// place in the source.
+TEST_F(GdalInputsTest, ProjectedGridIsResampledOntoLongitudeLatitudeForTheGlobe) {
+    const std::string path = copyTo(memoryDataset(1, kNorthUp), "GTiff", "utm.tif");
+    DemOpenOptions options;
+    options.geographicGrid = true;
+    const auto reader = test::openOne(path, options);
+    ASSERT_TRUE(reader) << reader.error().message;
+    DemReader& dem = *reader.value();
+    const DemInfo& info = dem.info();
+    const Georeference& geo = info.georeference;
+    EXPECT_EQ(geo.crsKind, CrsKind::Geographic);
+    EXPECT_EQ(geo.epsg, Georeference::kWgs84Geographic);
+    ASSERT_TRUE(info.resampledFrom);
+    EXPECT_NE(info.resampledFrom->fromCrs.find("UTM zone 10N"), std::string::npos);
+    EXPECT_EQ(info.resampledFrom->width, kWidth);
+    EXPECT_EQ(info.resampledFrom->height, kHeight);
+    ASSERT_FALSE(info.warnings.empty());
+    EXPECT_NE(info.warnings.back().find("longitude/latitude grid on WGS84"), std::string::npos)
+        << info.warnings.back();
+    ASSERT_NE(dem.originalSamples(), nullptr);
+    const std::vector<float> own = readAll(*dem.originalSamples());
+    for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x)
+            EXPECT_EQ(own[static_cast<std::size_t>(y * kWidth + x)], storedValue(1, x, y));
+
+    // The grid's spacing on the ground: as fine as the source's, and not much finer. On
+    // the central meridian UTM's scale is 0.9996, so 10 m of the grid are 10.004 m.
+    const double latitude = (geo.originY - 0.5 * double(info.height) * geo.pixelSizeY) * M_PI / 180;
+    const double a = 6378137.0, e2 = 0.00669437999014, w = 1 - e2 * std::pow(std::sin(latitude), 2);
+    const double metresNorth = geo.pixelSizeY * M_PI / 180 * a * (1 - e2) / std::pow(w, 1.5);
+    const double metresEast = geo.pixelSizeX * M_PI / 180 * a / std::sqrt(w) * std::cos(latitude);
+    const double ground = 10.0 / 0.9996;
+    EXPECT_LE(metresNorth, ground + 1e-3);
+    EXPECT_LE(metresEast, ground + 1e-3);
+    EXPECT_GT(metresNorth, 9.9);
+    EXPECT_GT(metresEast, 9.9);
+
+    // Every own sample lies inside the grid, where PROJ (asked here on its own) places it.
+    OGRSpatialReference utm, wgs84;
+    utm.importFromEPSG(32610);
+    wgs84.importFromEPSG(4326);
+    utm.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    const std::unique_ptr<OGRCoordinateTransformation> toWgs84(
+        OGRCreateCoordinateTransformation(&utm, &wgs84));
+    const std::unique_ptr<OGRCoordinateTransformation> toUtm(
+        OGRCreateCoordinateTransformation(&wgs84, &utm));
+    ASSERT_TRUE(toWgs84 && toUtm);
+    for (int r = 0; r < kHeight; ++r) {
+        std::vector<double> x(kWidth), y(kWidth);
+        ASSERT_TRUE(dem.placeOriginalSamples(0, r, x, y));
+        for (int col = 0; col < kWidth; ++col) {
+            const auto i = static_cast<std::size_t>(col);
+            EXPECT_GE(x[i], -1e-9);
+            EXPECT_LE(x[i], double(info.width - 1) + 1e-9);
+            EXPECT_GE(y[i], -1e-9);
+            EXPECT_LE(y[i], double(info.height - 1) + 1e-9);
+            double lon = kNorthUp[0] + (col + 0.5) * kNorthUp[1];
+            double lat = kNorthUp[3] + (r + 0.5) * kNorthUp[5];
+            ASSERT_TRUE(toWgs84->Transform(1, &lon, &lat));
+            EXPECT_NEAR(geo.originX + (x[i] + 0.5) * geo.pixelSizeX, lon, 1e-9);
+            EXPECT_NEAR(geo.originY - (y[i] + 0.5) * geo.pixelSizeY, lat, 1e-9);
+        }
+    }
+
+    // The resampled samples: the plane wherever the source's hull reaches.
+    const std::vector<float> resampled = readAll(dem);
+    int inside = 0;
+    for (std::int64_t gy = 0; gy < info.height; ++gy)
+        for (std::int64_t gx = 0; gx < info.width; ++gx) {
+            double east = geo.originX + (double(gx) + 0.5) * geo.pixelSizeX;
+            double north = geo.originY - (double(gy) + 0.5) * geo.pixelSizeY;
+            ASSERT_TRUE(toUtm->Transform(1, &east, &north));
+            const double col = (east - kNorthUp[0]) / kNorthUp[1] - 0.5;
+            const double row = (north - kNorthUp[3]) / kNorthUp[5] - 0.5;
+            if (col < 0 || col > kWidth - 1 || row < 0 || row > kHeight - 1) continue;
+            ++inside;
+            const float value = resampled[static_cast<std::size_t>(gy * info.width + gx)];
+            EXPECT_NEAR(value, 50.0 + 10.0 * row + col, 1e-3) << gx << ", " << gy;
+        }
+    EXPECT_GT(inside, kWidth * kHeight / 2);
+
+    // Without the option it opens in its own CRS, as a planar pyramid takes it.
+    const auto planar = test::openOne(path);
+    ASSERT_TRUE(planar) << planar.error().message;
+    EXPECT_EQ(planar.value()->info().georeference.crsKind, CrsKind::Projected);
+    EXPECT_FALSE(planar.value()->info().resampledFrom);
+}
+
+TEST_F(GdalInputsTest, ProjectedGridForTheGlobeRefusesWhatItCannotPlace) {
+    DemOpenOptions options;
+    options.geographicGrid = true;
+    const std::string west = copyTo(memoryDataset(1, kNorthUp), "GTiff", "west.tif");
+    {
+        DemOpenOptions placed = options;
+        placed.pixelSize = 5.0;
+        const auto reader = test::openOne(west, placed);
+        ASSERT_FALSE(reader);
+        EXPECT_EQ(reader.error().message.rfind(west, 0), 0U);
+        EXPECT_NE(reader.error().message.find("--spacing"), std::string::npos)
+            << reader.error().message;
+    }
+    {
+        std::array<double, 6> east = kNorthUp;
+        east[0] += kWidth * kNorthUp[1];
+        const std::string eastPath = copyTo(memoryDataset(1, east), "GTiff", "east.tif");
+        const auto reader = openDem({west, eastPath}, options);
+        ASSERT_FALSE(reader);
+        EXPECT_NE(reader.error().message.find("gdalbuildvrt"), std::string::npos)
+            << reader.error().message;
+    }
+    {
+        // UTM zone 60 (central meridian 177° E) 300 to 340 km east of it, at 0.9° N: the
+        // samples lie on both sides of 180°.
+        GDALDataset* ds = memoryDataset(1, {830000.0, 2000.0, 0.0, 100000.0, 0.0, -2000.0});
+        OGRSpatialReference zone60;
+        zone60.importFromEPSG(32660);
+        ds->SetSpatialRef(&zone60);
+        const std::string path = copyTo(ds, "GTiff", "antimeridian.tif");
+        const auto reader = test::openOne(path, options);
+        ASSERT_FALSE(reader);
+        EXPECT_EQ(reader.error().message.rfind(path, 0), 0U);
+        EXPECT_NE(reader.error().message.find("antimeridian"), std::string::npos)
+            << reader.error().message;
+    }
+}
+
 TEST_F(GdalInputsTest, NorthUpGridsAreNotResampled) {
     const auto reader = test::openOne(copyTo(memoryDataset(1, kNorthUp), "GTiff", "plain.tif"));
     ASSERT_TRUE(reader) << reader.error().message;

@@ -13,6 +13,7 @@
 #include "terrain/io/PyramidSourceCheck.h"
 
 #include "GeographicFunctionDem.h"
+#include "SharedData.h"
 #include "TempFolder.h"
 
 #include <fmt/format.h>
@@ -424,6 +425,60 @@ TEST(GlobeGroundHeight, BareEllipsoidWhereThereIsNoData) {
     // The same patch again comes from the one it kept; a neighbouring place too.
     EXPECT_EQ(query.value().at(60.1, 10.3).value().heightM, inside.value().heightM);
     EXPECT_NEAR(query.value().at(60.1001, 10.3).value().heightM, hills(60.1001, 10.3), 5.0);
+}
+
+// A projected DEM on the globe (issue 20): Kilauea's 30 m UTM grid, resampled onto a
+// longitude/latitude grid by GDAL's warper, composited over ETOPO's 20′ global grid. Err(P)
+// is measured against the UTM samples themselves, each placed through PROJ, so every one
+// of them (not only the resampled grid's) is within the bound at every level, the finest
+// levels' bounds are set by them (the tightest ratio is 1), and a metre of difference in
+// them shows: the same pyramid checked against the source raised by 1 m fails.
+TEST(GlobePyramid, ProjectedSourceIsBoundedAtItsOwnSamples) {
+    TERRAIN_SHARED_DATA_OR_SKIP(kilauea, "kilauea_utm5n_30m.nc");
+    TERRAIN_SHARED_DATA_OR_SKIP(etopo, "etopo20_global.nc");
+    TempFolder temp;
+    DemOpenOptions onTheGlobe;
+    onTheGlobe.geographicGrid = true;
+    const auto open = [&](const std::filesystem::path& path, const DemOpenOptions& options) {
+        auto reader = openDem({path.string()}, options);
+        EXPECT_TRUE(reader) << (reader ? "" : reader.error().message);
+        return reader ? std::move(reader).value() : nullptr;
+    };
+    const auto utm = open(kilauea, onTheGlobe), global = open(etopo, onTheGlobe);
+    ASSERT_TRUE(utm && global);
+    ASSERT_TRUE(utm->info().resampledFrom);
+    EXPECT_FALSE(global->info().resampledFrom);  // geographic already: read as it is
+    const std::filesystem::path out = temp.path() / "kilauea.pyramid";
+    PyramidBuildOptions options;
+    options.threads = 2;
+    options.compressionLevel = 1;
+    DemReader* const sources[] = {utm.get(), global.get()};
+    auto built = buildGlobePyramid(sources, out, options);
+    ASSERT_TRUE(built) << built.error().message;
+    const PyramidManifest& manifest = built.value().manifest;
+    const int faceLevels = manifest.globe->faceFinestLevel + 1;
+    EXPECT_EQ(faceLevels, 13);  // 30 m: face level 12 (19 m samples)
+
+    auto report = checkErrorBoundsAgainstSources(out, sources);
+    ASSERT_TRUE(report) << report.error().message;
+    EXPECT_EQ(report.value().violationCount, 0);
+    for (const ErrorBoundViolation& v : report.value().violations)
+        ADD_FAILURE() << "sample (" << v.x << ", " << v.y << ") is " << v.distanceM
+                      << " m from patch L" << v.patch.level << ", Err(P) " << v.boundM;
+    // Kilauea's 658,945 valid UTM samples (857 × 793 less 20,656 voids) at 13 levels, and
+    // ETOPO's where it shows, at levels 0 to its own finest.
+    EXPECT_GT(report.value().samplesChecked, std::int64_t{658945} * faceLevels);
+    const std::vector<double>& ratio = report.value().tightestRatio;
+    EXPECT_GT(ratio.back(), 0.999);  // the finest bound is the worst UTM sample's distance
+
+    DemOpenOptions raised = onTheGlobe;
+    raised.verticalOffset = 1.0;
+    const auto higher = open(kilauea, raised);
+    ASSERT_TRUE(higher);
+    DemReader* const higherSources[] = {higher.get(), global.get()};
+    auto off = checkErrorBoundsAgainstSources(out, higherSources);
+    ASSERT_TRUE(off) << off.error().message;
+    EXPECT_GT(off.value().violationCount, 0);
 }
 
 TEST(GlobePyramid, RefusesSourcesThatAreNotGeographic) {

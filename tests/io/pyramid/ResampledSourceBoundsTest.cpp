@@ -2,7 +2,7 @@
 // error bounds are the source's: every sample the user gave lies within Err(P) of every
 // level's surface where it lies (terrain-inspect --verify --source), holes included; and
 // the same check run against a pyramid of the resampled grid alone, whose bounds know
-// nothing of the source, finds the samples it misses.
+// nothing of the source, finds the samples it misses. On a globe the same holds.
 #include "terrain/io/DemReader.h"
 #include "terrain/io/GlobePyramidBuilder.h"
 #include "terrain/io/PyramidBuilder.h"
@@ -114,21 +114,46 @@ TEST_P(ResampledSourceBoundsTest, EveryLevelBoundsTheSourcesOwnSamples) {
     EXPECT_GT(missed.value().violationCount, 0);
 }
 
-// A globe pyramid's bounds are checked against its sources' grids, so a resampled one is
-// refused there, with the way out.
-TEST(ResampledSourceGlobeTest, IsRefusedWithTheWayOut) {
+// A rotated geographic grid on the globe (issue 20): resampled north-up in degrees (as it
+// opens by default) or onto the globe's longitude/latitude grid (as terrain-build --globe
+// opens it), its own samples are placed on that grid and every one of them is within Err(P)
+// at every level.
+TEST(ResampledSourceGlobeTest, IsBoundedAtItsOwnSamples) {
     TempFolder dir;
-    std::vector<float> samples(64 * 64, 100.0f);
+    constexpr int kSide = 64;
+    std::vector<float> samples;
+    for (int y = 0; y < kSide; ++y)
+        for (int x = 0; x < kSide; ++x)
+            samples.push_back(
+                static_cast<float>(100.0 + 3.0 * x + 40.0 * std::sin(0.3 * y) * std::cos(0.2 * x)));
     const std::string tiff =
-        writeTiff(dir.file("tilted-degrees.tif"), {-122.0, 0.001, 0.0005, 47.0, 0.0005, -0.001}, 64,
-                  64, samples, std::nullopt, 4326);
-    const auto source = open(tiff);
-    ASSERT_TRUE(source);
-    const auto built = buildGlobePyramid(*source, dir.path() / "globe.pyramid");
-    ASSERT_FALSE(built);
-    EXPECT_TRUE(built.error().message.starts_with(tiff + ":")) << built.error().message;
-    EXPECT_NE(built.error().message.find("gdalwarp"), std::string::npos);
-    EXPECT_FALSE(std::filesystem::exists(dir.path() / "globe.pyramid"));
+        writeTiff(dir.file("tilted-degrees.tif"), {-122.0, 0.001, 0.0005, 47.0, 0.0005, -0.001},
+                  kSide, kSide, samples, std::nullopt, 4326);
+    for (const bool geographicGrid : {false, true}) {
+        SCOPED_TRACE(geographicGrid ? "onto the globe's grid" : "north-up in degrees");
+        DemOpenOptions options;
+        options.geographicGrid = geographicGrid;
+        auto source = openDem({tiff}, options);
+        ASSERT_TRUE(source) << source.error().message;
+        ASSERT_TRUE(source.value()->info().resampledFrom);
+        EXPECT_EQ(source.value()->info().resampledFrom->fromCrs.empty(), !geographicGrid);
+        const std::filesystem::path out =
+            dir.path() / (geographicGrid ? "globe-grid.pyramid" : "north-up.pyramid");
+        PyramidBuildOptions build;
+        build.patchSamples = 17;
+        build.blockQuads = 4;
+        build.threads = 2;
+        const auto built = buildGlobePyramid(*source.value(), out, build);
+        ASSERT_TRUE(built) << built.error().message;
+        EXPECT_EQ(built.value().manifest.statistics.validSamples, kSide * kSide);
+        const auto report = checkErrorBoundsAgainstSource(out, *source.value());
+        ASSERT_TRUE(report) << report.error().message;
+        EXPECT_EQ(report.value().violationCount, 0);
+        EXPECT_EQ(
+            report.value().samplesChecked,
+            std::int64_t{kSide} * kSide * (built.value().manifest.globe->faceFinestLevel + 1));
+        EXPECT_GT(report.value().tightestRatio.back(), 0.999);
+    }
 }
 
 // 30° rotated; sheared (rows slanting east); rotated with rows running north.

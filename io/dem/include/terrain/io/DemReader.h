@@ -23,8 +23,10 @@ struct VerticalTransform {
     bool operator==(const VerticalTransform&) const = default;
 };
 
-/// A rotated or sheared source, resampled onto a north-up grid by GDAL's warper: where its
-/// own samples lie on that grid, so error bounds are made and checked against them.
+/// A source resampled by GDAL's warper: a rotated or sheared one onto a north-up grid in its
+/// own CRS, or (DemOpenOptions::geographicGrid) a projected one onto a longitude/latitude grid
+/// on WGS84. Where its own samples lie on that grid, so error bounds are made and checked
+/// against them.
 struct ResampledGrid {
     std::int64_t width = 0;  ///< the source's own columns and rows
     std::int64_t height = 0;
@@ -32,8 +34,12 @@ struct ResampledGrid {
     /// Source sample (column c, row r) lies at x = toGrid[0] + toGrid[1]·c + toGrid[2]·r,
     /// y = toGrid[3] + toGrid[4]·c + toGrid[5]·r on the resampled grid, in its samples
     /// (column 0 at x = 0, row 0 at y = 0); every sample lies inside that grid.
+    /// Zero when `fromCrs` is set: a reprojection places no sample affinely.
     std::array<double, 6> toGrid{};
     std::string method = "bilinear";  ///< GDAL's resampling
+    /// The source's own CRS (WKT) when it was reprojected onto a geographic grid; empty
+    /// when only rotated or sheared within its CRS.
+    std::string fromCrs{};
 };
 
 struct DemInfo {
@@ -63,8 +69,9 @@ struct DemInfo {
     /// so row 0 is still the north edge and column 0 the west edge.
     bool rowsFlipped = false;
     bool columnsFlipped = false;
-    /// Set when the source is rotated or sheared: this grid is its bilinear resampling and
-    /// DemReader::originalSamples reads the source's own samples.
+    /// Set when the source is rotated or sheared, or reprojected (geographicGrid): this grid
+    /// is its bilinear resampling and DemReader::originalSamples reads the source's own
+    /// samples, which DemReader::placeOriginalSamples places on it.
     std::optional<ResampledGrid> resampledFrom;
 };
 
@@ -85,6 +92,15 @@ public:
     /// info().resampledFrom places on this grid. Null for every other source. Same thread
     /// rules; owned by this reader.
     virtual DemReader* originalSamples() { return nullptr; }
+
+    /// For a resampled source: where own samples (firstColumn + i, row), i < x.size(), lie on
+    /// this grid, in its samples (column 0's centre at x = 0, row 0's at y = 0); through
+    /// ResampledGrid::toGrid, or the CRS transform of a reprojection. An Error for any other
+    /// source, or a sample the transform cannot place. Same thread rules.
+    virtual Status placeOriginalSamples(std::int64_t /*firstColumn*/, std::int64_t /*row*/,
+                                        std::span<double> /*x*/, std::span<double> /*y*/) {
+        return Error{info().path + ": not a resampled source; its samples are the grid's"};
+    }
 };
 
 /// What the command line may say about the inputs; each set field overrides the file.
@@ -99,6 +115,11 @@ struct DemOpenOptions {
     /// The raster band to read, 1-based (GDAL's -b); unset: band 1, with a warning when the
     /// input has several.
     std::optional<int> band;
+    /// For globe pyramids: a projected source (UTM, Lambert, …), or a rotated geographic one,
+    /// is resampled by GDAL's warper (bilinear) onto a longitude/latitude grid on WGS84 that
+    /// holds every sample of it, at its finest spacing (DemInfo::resampledFrom). Geographic
+    /// north-up sources and sources without a CRS open as they are.
+    bool geographicGrid = false;
 };
 
 /// Whether `input` is a GDAL dataset name rather than a file: a subdataset

@@ -6,7 +6,9 @@
 // ellipsoid. Err(P) is measured, not modelled: for every source sample the composite shows,
 // the distance along its ellipsoid normal from its composite height to the patch's drawn
 // triangles, both diagonals (GlobePatchSurface), maxed with the children's so it never grows
-// with depth.
+// with depth. A source resampled onto its grid (a projected DEM opened with
+// DemOpenOptions::geographicGrid, a rotated one) is measured at its own samples instead,
+// each placed by DemReader::placeOriginalSamples.
 //
 // Several sources composite into one pyramid (GlobeSources.h): where they overlap the finest
 // valid sample wins, no-data falls through to coarser sources of comparable resolution, and a

@@ -47,10 +47,12 @@ struct SourceCheckReport {
 /// DemInfo::resampledFrom) is checked by its own samples instead, each where it lies
 /// between the pyramid's (`x`, `y` of a violation are its stored column and row), reading
 /// the rows that cross each patch row. Calling thread (plus one worker per level).
-/// For a globe pyramid (version 3) the source is any geographic DEM it was built from: each
-/// valid sample is checked at every face level along its ellipsoid normal against the
-/// drawn triangles of the patch holding it (GlobePatchSurface); `x`, `y` of a violation are
-/// the source sample, and levels above the faces report a ratio of 0.
+/// For a globe pyramid (version 3) the source is any DEM it was built from, opened as the
+/// build opened it (DemOpenOptions::geographicGrid): each valid sample is checked at every
+/// face level along its ellipsoid normal against the drawn triangles of the patch holding it
+/// (GlobePatchSurface); a projected source by its own samples, each placed through its CRS;
+/// `x`, `y` of a violation are the source sample, and levels above the faces report a ratio
+/// of 0.
 Result<SourceCheckReport> checkErrorBoundsAgainstSource(
     const std::filesystem::path& pyramidDir, DemReader& source,
     const std::function<void(double fraction)>& progress = {});
