@@ -4,9 +4,9 @@ the driver, as a user runs it (tools/cluster/terrain-build-cluster):
 
   - the pyramid it builds is the single-process build's, file for file, byte for byte (the
     manifest's build.seconds aside);
-  - a worker process killed while it runs a shard task (TERRAIN_CLUSTER_FAULT=kill: the task
-    kills its own worker the first time, as a lost machine would) is recovered by Dask, and
-    the pyramid is still identical;
+  - a worker process killed while it runs a task of 4 shards (TERRAIN_CLUSTER_FAULT=kill: the
+    task kills its own worker the first time, as a lost machine would) is recovered by Dask,
+    and the pyramid is still identical: tasks of several shards build the same files;
   - a task that fails (a source the worker cannot open) fails the build with terrain-build's
     message naming the shard and the file, exit status 1, and no pyramid or manifest;
   - a finest shard of the built-in planet (planet:, 2^21 + 1 × 2^20 + 1 samples) stays within
@@ -76,7 +76,7 @@ def main():
     subprocess.run([args.terrain_build, SOURCE, "-o", str(work / "single"), "-q", *OPTIONS],
                    check=True)
 
-    run = driver("cluster")
+    run = driver("cluster", extra=["--shards-per-task", "1"])
     if run.returncode != 0:
         failures.append(f"cluster build failed: {run.stderr[-2000:]}")
     else:
@@ -88,15 +88,20 @@ def main():
     marker = work / "killed-once"
     # The finest level of 1100 x 900 samples in 65-sample patches is 5 (18 x 15 patches);
     # shard 5/2/2 is in the middle of its 6 x 5 shards.
-    run = driver("recovered", {"TERRAIN_CLUSTER_FAULT": f"kill:5/2/2:{marker}"})
+    run = driver("recovered", {"TERRAIN_CLUSTER_FAULT": f"kill:5/2/2:{marker}"},
+                 ["--shards-per-task", "4"])
     if not marker.exists():
         failures.append("the kill fault never fired (shard 5/2/2 not run?)")
     if run.returncode != 0:
         failures.append(f"a killed worker was not recovered: {run.stderr[-2000:]}")
     else:
-        expect_same(work / "single", work / "recovered", failures, "a worker killed mid-build")
+        summary = json.loads(run.stdout)
+        if summary["tasks"] >= summary["shards"]:
+            failures.append(f"{summary['tasks']} tasks for {summary['shards']} shards: not batched")
+        expect_same(work / "single", work / "recovered", failures,
+                    "a worker killed mid-build, 4 shards a task")
 
-    run = driver("failed", {"TERRAIN_CLUSTER_FAULT": "fail:5/1/1"})
+    run = driver("failed", {"TERRAIN_CLUSTER_FAULT": "fail:5/1/1"}, ["--shards-per-task", "1"])
     message = run.stderr
     if run.returncode != 1:
         failures.append(f"a failed task gave exit status {run.returncode}, not 1")

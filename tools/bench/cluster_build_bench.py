@@ -8,11 +8,15 @@ float32 samples, 2 cores' worth of work each):
   terrain-build-cluster SRC -o P --workers 1 --threads-per-task 2   (Dask, 1 worker)
   terrain-build-cluster SRC -o P --workers 2 --threads-per-task 1   (Dask, 2 workers)
   terrain-build-cluster SRC -o P --workers 1 --threads-per-task 1   (1 worker, 1 core)
-recording wall seconds, CPU seconds of the whole process tree and its largest peak RSS
+  terrain-build-cluster SRC -o P --workers 2 --shards-per-task 4    (tasks of 4 shards)
+  terrain-build-cluster SRC -o P --workers 2 --shards-per-task 16   (tasks of 16 shards)
+(the Dask runs above the last two at one shard a task), recording wall seconds, CPU seconds of the whole process tree and its largest peak RSS
 (os.wait4), checks that every pyramid's shards are the whole build's byte for byte, and keeps
 the per-level shard task costs (the 2-worker run's) for the scale model in
 docs/planet-build-model.md. Writes OUT/cluster-build-bench.json and .md. Rerun with:
   /usr/bin/python3 tools/bench/cluster_build_bench.py --build build --out out/bench
+--runs 1,3,5 runs only those (0-based, in the order above; the whole build, run 0, always
+runs: it is the reference the others must equal).
 """
 import argparse
 import filecmp
@@ -41,6 +45,8 @@ def main():
     parser.add_argument("--build", default=str(REPO / "build"))
     parser.add_argument("--out", default=str(REPO / "out" / "bench"))
     parser.add_argument("--source", default="procedural:size=16385")
+    parser.add_argument("--runs", default=None,
+                        help="comma-separated run indices to run besides run 0 (default: all)")
     args = parser.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -49,16 +55,25 @@ def main():
     work.mkdir()
     build = str(Path(args.build) / "tools" / "terrain-build" / "terrain-build")
     driver = str(REPO / "tools" / "cluster" / "terrain-build-cluster")
+    dask = ["/usr/bin/python3", driver, "--terrain-build", build]
     runs = [
         ("whole build, 2 threads", [build, "--threads", "2"]),
         ("--by-shards, 2 threads", [build, "--threads", "2", "--by-shards"]),
-        ("Dask, 1 worker x 2 threads", ["/usr/bin/python3", driver, "--terrain-build", build,
-                                        "--workers", "1", "--threads-per-task", "2", "--json"]),
-        ("Dask, 2 workers x 1 thread", ["/usr/bin/python3", driver, "--terrain-build", build,
-                                        "--workers", "2", "--threads-per-task", "1", "--json"]),
-        ("Dask, 1 worker x 1 thread", ["/usr/bin/python3", driver, "--terrain-build", build,
-                                       "--workers", "1", "--threads-per-task", "1", "--json"]),
+        ("Dask, 1 worker x 2 threads", [*dask, "--workers", "1", "--threads-per-task", "2",
+                                        "--shards-per-task", "1", "--json"]),
+        ("Dask, 2 workers x 1 thread", [*dask, "--workers", "2", "--threads-per-task", "1",
+                                        "--shards-per-task", "1", "--json"]),
+        ("Dask, 1 worker x 1 thread", [*dask, "--workers", "1", "--threads-per-task", "1",
+                                       "--shards-per-task", "1", "--json"]),
+        ("Dask, 2 workers x 1 thread, 4 shards a task",
+         [*dask, "--workers", "2", "--threads-per-task", "1", "--shards-per-task", "4", "--json"]),
+        ("Dask, 2 workers x 1 thread, 16 shards a task",
+         [*dask, "--workers", "2", "--threads-per-task", "1", "--shards-per-task", "16",
+          "--json"]),
     ]
+    if args.runs is not None:
+        chosen = {0, *(int(i) for i in args.runs.split(","))}
+        runs = [entry for i, entry in enumerate(runs) if i in chosen]
     results = []
     for index, (name, command) in enumerate(runs):
         pyramid = work / f"p{index}"
@@ -70,6 +85,7 @@ def main():
         if "--json" in command:
             summary = json.loads(stdout)
             entry["tasks"] = summary["tasks"]
+            entry["shards"] = summary["shards"]
             entry["largestTaskPeakRssBytes"] = summary["largestTaskPeakRssBytes"]
             entry["levels"] = summary["levels"]
         entry["shardsIdenticalToWholeBuild"] = index == 0 or same_shards(work / "p0", pyramid)
@@ -86,13 +102,15 @@ def main():
     (out / "cluster-build-bench.json").write_text(json.dumps(report, indent=2))
     lines = [f"# Region build: one process against Dask workers ({args.source})", "",
              f"{report['machine']}, {report['date']}.", "",
-             "| run | wall s | CPU s | peak RSS MiB | largest task RSS MiB | tasks | identical |",
-             "|---|---|---|---|---|---|---|"]
+             "| run | wall s | CPU s | peak RSS MiB | largest task RSS MiB | tasks | shards | "
+             "identical |",
+             "|---|---|---|---|---|---|---|---|"]
     for r in results:
         task_rss = r.get("largestTaskPeakRssBytes")
         lines.append(f"| {r['run']} | {r['wallSeconds']:.1f} | {r['cpuSeconds']:.1f} | "
                      f"{r['peakRssBytes'] >> 20} | "
                      f"{task_rss >> 20 if task_rss else '-'} | {r.get('tasks', '-')} | "
+                     f"{r.get('shards', '-')} | "
                      f"{'yes' if r['shardsIdenticalToWholeBuild'] else 'NO'} |")
     (out / "cluster-build-bench.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))

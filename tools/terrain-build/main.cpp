@@ -127,15 +127,18 @@ int main(int argc, char** argv) {
     app.add_flag("--overwrite", options.overwrite, "Replace an existing pyramid");
     // Region builds (docs/pyramid-format.md, "Region builds"): tools/cluster runs these.
     bool plan = false, merge = false, byShards = false;
-    std::string shardText;
+    std::vector<std::string> shardTexts;
     auto* planFlag = app.add_flag(
         "--plan", plan,
         "Region build, step 1: create OUTPUT.parts and print the shards of every level "
         "(with --json)");
-    auto* shardOption = app.add_option(
-        "--shard", shardText,
-        "Region build, step 2: build shard LEVEL/X/Y into OUTPUT.parts; below the finest "
-        "level, the shards of level + 1 beneath it and beside it must be built");
+    auto* shardOption =
+        app.add_option(
+               "--shard", shardTexts,
+               "Region build, step 2: build shard LEVEL/X/Y into OUTPUT.parts; below the finest "
+               "level, the shards of level + 1 beneath it and beside it must be built. Several "
+               "(repeated, or LEVEL/X/Y,LEVEL/X/Y,…) are built one after another in this process")
+            ->delimiter(',');
     auto* mergeFlag =
         app.add_flag("--merge", merge,
                      "Region build, step 3: once every shard is built, write the manifest and move "
@@ -159,20 +162,20 @@ int main(int argc, char** argv) {
     if (!budget) return fail("--memory '" + memory + "': expected a size such as 1GiB or 512MiB");
     options.memoryBudgetBytes = *budget;
     options.parentPrediction = !independentPatches;
-    const bool region = plan || merge || byShards || !shardText.empty();
+    const bool region = plan || merge || byShards || !shardTexts.empty();
     if (region && globe)
         return fail(
             "--plan, --shard, --merge and --by-shards build planar pyramids; a globe "
             "pyramid is not built by region yet");
-    std::optional<io::ShardId> shard;
-    if (!shardText.empty()) {
+    std::vector<io::ShardId> shards;
+    for (const std::string& shardText : shardTexts) {
         io::ShardId id;
         char slash1 = 0, slash2 = 0, rest = 0;
         if (std::sscanf(shardText.c_str(), "%d%c%ld%c%ld%c", &id.level, &slash1, &id.x, &slash2,
                         &id.y, &rest) != 5 ||
             slash1 != '/' || slash2 != '/')
             return fail("--shard '" + shardText + "': expected LEVEL/X/Y, e.g. 5/3/2");
-        shard = id;
+        shards.push_back(id);
     }
     // Several inputs are a mosaic on a plane; a globe composites them (finest valid sample
     // wins), so there each is a source of its own.
@@ -194,7 +197,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> warnings;
     for (const auto& source : sources) {
         for (const std::string& warning : source->info().warnings) warnings.push_back(warning);
-        if (shard || merge) continue;  // said once, when the build was planned
+        if (!shards.empty() || merge) continue;  // said once, when the build was planned
         auto slopes = io::sampleSlopes(*source);
         if (!slopes) return fail(slopes.error().message);
         if (auto absurd = io::absurdReliefWarning(source->info(), slopes.value()))
@@ -233,21 +236,37 @@ int main(int argc, char** argv) {
                        planned.value().staging.string());
         return 0;
     }
-    if (shard) {
-        auto built = io::buildPyramidShard(*sources.front(), output, *shard, options);
-        if (!built)
-            return g_interrupted ? (fail(built.error().message), 130) : fail(built.error().message);
-        const io::ShardBuildSummary& s = built.value();
-        if (json)
-            std::puts(nlohmann::json{{"tool", "terrain-build"},
-                                     {"shard", shardText},
-                                     {"patches", s.patches},
-                                     {"bytes", s.bytes},
-                                     {"seconds", s.seconds},
-                                     {"peakRssBytes", peakResidentBytes()},
-                                     {"memoryBudgetBytes", options.memoryBudgetBytes}}
-                          .dump(2)
-                          .c_str());
+    if (!shards.empty()) {
+        // One process for several shards saves each its start (libraries, the source's
+        // header) and its share of a cluster's scheduling: tools/cluster batches them.
+        nlohmann::json each = nlohmann::json::array();
+        std::int64_t patches = 0, bytes = 0;
+        double seconds = 0.0;
+        for (std::size_t i = 0; i < shards.size(); ++i) {
+            auto built = io::buildPyramidShard(*sources.front(), output, shards[i], options);
+            if (!built)
+                return g_interrupted ? (fail(built.error().message), 130)
+                                     : fail(built.error().message);
+            const io::ShardBuildSummary& s = built.value();
+            each.push_back({{"shard", shardTexts[i]},
+                            {"patches", s.patches},
+                            {"bytes", s.bytes},
+                            {"seconds", s.seconds}});
+            patches += s.patches;
+            bytes += static_cast<std::int64_t>(s.bytes);
+            seconds += s.seconds;
+        }
+        if (json) {
+            nlohmann::json summary{{"tool", "terrain-build"},
+                                   {"shards", each},
+                                   {"patches", patches},
+                                   {"bytes", bytes},
+                                   {"seconds", seconds},
+                                   {"peakRssBytes", peakResidentBytes()},
+                                   {"memoryBudgetBytes", options.memoryBudgetBytes}};
+            if (shards.size() == 1) summary["shard"] = shardTexts.front();
+            std::puts(summary.dump(2).c_str());
+        }
         return 0;
     }
     auto built = globe      ? io::buildGlobePyramid(sourcePointers, output, options)

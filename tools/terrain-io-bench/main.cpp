@@ -1,7 +1,11 @@
 // terrain-io-bench: how many tiles per second one streaming I/O thread reads and decodes
 // from a pyramid, through the same IoThread the runtime uses (queue, read, CRC check,
 // completion hand-over, record recycling). Shard files are read once first, so the figure
-// is from the page cache: the cost of the format and the thread, not of the disk.
+// is from the page cache: the cost of the format and the thread, not of the disk. On a
+// globe pyramid the patches are its present ones, from the six faces down (the virtual
+// planet's are generated: the figure is then the planet's cost a tile).
+#include "terrain/globe/CubeSphere.h"
+#include "terrain/io/GlobeLayout.h"
 #include "terrain/io/IoThread.h"
 #include "terrain/io/PyramidReader.h"
 
@@ -64,6 +68,24 @@ std::vector<io::PatchId> parentFirstPatches(const io::PyramidLayout& layout, std
     return ids;
 }
 
+/// A globe's present patches, level by level from the six faces (each after its parent), at
+/// most `most` of them: a globe is sparse, and the virtual planet has 10^8 patches.
+Result<std::vector<io::PatchId>> presentGlobePatches(io::PyramidReader& reader, std::size_t most) {
+    std::vector<io::PatchId> ids;
+    for (int face = 0; face < globe::kCubeFaces && ids.size() < most; ++face)
+        ids.push_back(io::layoutPatchOf({face, 0, 0, 0}));
+    for (std::size_t next = 0; next < ids.size() && ids.size() < most; ++next) {
+        auto info = reader.patchInfo(ids[next]);
+        if (!info) return info.error();
+        const globe::GlobePatchId id = io::globePatchOf(ids[next]);
+        for (int c = 0; c < 4 && ids.size() < most; ++c)
+            if ((info.value().presentChildren >> c) & 1)
+                ids.push_back(io::layoutPatchOf(
+                    {id.face, id.level + 1, 2 * id.x + (c & 1), 2 * id.y + (c >> 1)}));
+    }
+    return ids;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -98,9 +120,16 @@ int main(int argc, char** argv) {
 
     auto reader = io::PyramidReader::open(pyramid);
     if (!reader) return fail(reader.error().message);
-    std::vector<io::PatchId> ids = order == "shuffled"
-                                       ? shuffledPatches(reader.value().layout(), 1)
-                                       : parentFirstPatches(reader.value().layout(), 1);
+    std::vector<io::PatchId> ids;
+    if (reader.value().manifest().globe) {
+        auto present = presentGlobePatches(reader.value(), maxPatches);
+        if (!present) return fail(present.error().message);
+        ids = std::move(present).value();
+        if (order == "shuffled") std::shuffle(ids.begin(), ids.end(), std::mt19937_64(1));
+    } else {
+        ids = order == "shuffled" ? shuffledPatches(reader.value().layout(), 1)
+                                  : parentFirstPatches(reader.value().layout(), 1);
+    }
     if (ids.size() > maxPatches) ids.resize(maxPatches);
 
     // Warm the page cache (and check every patch reads) with a plain reader, in the same
