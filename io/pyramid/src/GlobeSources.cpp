@@ -154,11 +154,6 @@ std::optional<std::pair<double, double>> GlobeSources::surfaceHeightsAt(double l
                               cell->u, cell->v);
 }
 
-double GlobeSources::shownHeightOfSample(std::size_t k, std::int64_t col, std::int64_t row) const {
-    const GeographicGrid& grid = m_sources[k].grid;
-    return shownAt(grid.latitudeOf(row), grid.longitudeOf(col), 0).value.height;
-}
-
 std::int64_t GlobeSources::measuredWidth(std::size_t k) const {
     const Source& s = m_sources[k];
     return s.own ? s.own->width : s.grid.width();
@@ -191,12 +186,6 @@ std::optional<GlobeSources::MeasuredSample> GlobeSources::measuredSample(std::si
     const double height =
         shown.blended ? shown.under + shown.feather * (double(own) - shown.under) : double(own);
     return MeasuredSample{latitude, longitude, height};
-}
-
-bool GlobeSources::wins(std::size_t k, std::int64_t col, std::int64_t row) const {
-    const GeographicGrid& grid = m_sources[k].grid;
-    if (!grid.validAt(col, row)) return false;
-    return shownAt(grid.latitudeOf(row), grid.longitudeOf(col), 0).source == static_cast<int>(k);
 }
 
 }  // namespace terrain::io

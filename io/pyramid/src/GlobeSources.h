@@ -69,13 +69,6 @@ public:
     std::optional<std::pair<double, double>> surfaceHeightsAt(double latitudeDeg,
                                                               double longitudeDeg) const;
 
-    /// The composite's height at sample (col, row) of source `k`: the sample itself, or within
-    /// the feather at its source's edge, blended with the next coarser source.
-    double shownHeightOfSample(std::size_t k, std::int64_t col, std::int64_t row) const;
-
-    /// Whether sample (col, row) of source `k` is the one the composite shows at its place.
-    bool wins(std::size_t k, std::int64_t col, std::int64_t row) const;
-
     /// The samples Err(P) bounds for source `k`: its own samples when it was resampled
     /// (OwnSamples), else its grid's; `measuredWidth` × `measuredHeight` of them.
     std::int64_t measuredWidth(std::size_t k) const;
