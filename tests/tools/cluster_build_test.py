@@ -10,7 +10,9 @@ the driver, as a user runs it (tools/cluster/terrain-build-cluster):
   - a task that fails (a source the worker cannot open) fails the build with terrain-build's
     message naming the shard and the file, exit status 1, and no pyramid or manifest;
   - a finest shard of the built-in planet (planet:, 2^21 + 1 × 2^20 + 1 samples) stays within
-    --memory (peak RSS).
+    --memory (peak RSS), as a planar pyramid and as a globe;
+  - a globe pyramid of a region of the planet, built on the cluster, is the single-process
+    region build's (terrain-build --globe --by-shards), file for file.
 
 Deterministic: the faults are injected by shard, not by timing. Needs Debian's
 python3-distributed (scripts/setup.sh). Usage:
@@ -27,6 +29,8 @@ from pathlib import Path
 
 SOURCE = "procedural:width=1100,height=900,seed=7"
 OPTIONS = ["--shard-patches", "3", "--patch-size", "65"]
+GLOBE_SOURCE = "planet:seed=4,level=9,west=10,south=45,east=11,north=46"
+GLOBE_OPTIONS = ["--globe", "--shard-patches", "4", "--patch-size", "65"]
 
 
 def pyramid_files(folder):
@@ -66,10 +70,10 @@ def main():
     work.mkdir(parents=True)
     failures = []
 
-    def driver(output, env=None, extra=()):
-        command = ["/usr/bin/python3", args.driver, SOURCE, "-o", str(work / output),
+    def driver(output, env=None, extra=(), source=SOURCE, options=OPTIONS):
+        command = ["/usr/bin/python3", args.driver, source, "-o", str(work / output),
                    "--workers", "2", "--terrain-build", args.terrain_build, "--json",
-                   *OPTIONS, *extra]
+                   *options, *extra]
         return subprocess.run(command, capture_output=True, text=True,
                               env={**os.environ, **(env or {})}, timeout=600)
 
@@ -112,6 +116,20 @@ def main():
     if not failures:
         print("ok: a failed task fails the build, names the shard, writes no manifest")
 
+    # A globe: the shards of the cube-sphere near a 1° region of the planet, their children
+    # before them, on the cluster, against one process building them in order.
+    subprocess.run([args.terrain_build, GLOBE_SOURCE, "-o", str(work / "globe-single"), "-q",
+                    "--by-shards", *GLOBE_OPTIONS], check=True)
+    run = driver("globe-cluster", extra=["--shards-per-task", "2"], source=GLOBE_SOURCE,
+                 options=GLOBE_OPTIONS)
+    if run.returncode != 0:
+        failures.append(f"globe cluster build failed: {run.stderr[-2000:]}")
+    else:
+        summary = json.loads(run.stdout)
+        if summary["tiling"] != "globe" or summary["tasks"] < 10:
+            failures.append(f"a globe build of {summary['tasks']} tasks: the test wants a graph")
+        expect_same(work / "globe-single", work / "globe-cluster", failures, "a globe, 2 workers")
+
     # Bounded memory at any size: one finest shard of the planet, 2^21 + 1 × 2^20 + 1 samples.
     budget = 256 << 20
     wide = "planet:seed=1"
@@ -134,6 +152,24 @@ def main():
             else:
                 print(f"ok: a shard of the 2^21 + 1 × 2^20 + 1 planet peaked at {rss >> 20} MiB "
                       f"(--memory {budget >> 20} MiB)")
+
+    # The same as a globe: a finest shard at 27° N (face 0, 8 × 8 patches of face level 13)
+    # reads the planet's samples around it block by block, within --memory.
+    globe_budget = 256 << 20
+    shard = subprocess.run([args.terrain_build, wide, "--globe", "-o", str(work / "wide-globe"),
+                            "--shard", "16/512/256", "--shard-patches", "8", "--memory",
+                            str(globe_budget), "--json"], capture_output=True, text=True)
+    if shard.returncode != 0:
+        failures.append(f"a globe shard of the planet failed: {shard.stderr}")
+    else:
+        summary = json.loads(shard.stdout)
+        rss = summary["peakRssBytes"]
+        if rss > globe_budget or summary["patches"] != 64:
+            failures.append(f"a globe shard of the planet: {summary['patches']} patches, peak "
+                            f"{rss >> 20} MiB against --memory {globe_budget >> 20} MiB")
+        else:
+            print(f"ok: a globe shard of the planet (64 patches) peaked at {rss >> 20} MiB "
+                  f"(--memory {globe_budget >> 20} MiB)")
 
     for failure in failures:
         print(f"FAILED: {failure}", file=sys.stderr)

@@ -7,6 +7,7 @@
 #include "terrain/io/DemReader.h"
 #include "terrain/io/DemSlope.h"
 #include "terrain/io/GlobePyramidBuilder.h"
+#include "terrain/io/GlobeShards.h"
 #include "terrain/io/PyramidBuilder.h"
 #include "terrain/io/PyramidManifest.h"
 #include "terrain/io/PyramidShards.h"
@@ -146,7 +147,8 @@ int main(int argc, char** argv) {
     auto* byShardsFlag = app.add_flag(
         "--by-shards", byShards,
         "Build one shard after another in this process (what a raster too wide for --memory "
-        "gets anyway); the files are the same as the whole build's");
+        "gets anyway); planar: the files are the same as the whole build's; globe: the same "
+        "patches and heights, with nested bounds above the finest level");
     planFlag->excludes(shardOption)->excludes(mergeFlag)->excludes(byShardsFlag);
     shardOption->excludes(mergeFlag)->excludes(byShardsFlag);
     mergeFlag->excludes(byShardsFlag);
@@ -163,10 +165,11 @@ int main(int argc, char** argv) {
     options.memoryBudgetBytes = *budget;
     options.parentPrediction = !independentPatches;
     const bool region = plan || merge || byShards || !shardTexts.empty();
-    if (region && globe)
+    if (region && globe && inputs.size() > 1)
         return fail(
-            "--plan, --shard, --merge and --by-shards build planar pyramids; a globe "
-            "pyramid is not built by region yet");
+            "--plan, --shard, --merge and --by-shards build a globe pyramid of one source; "
+            "several are composited whole (give them as one mosaic, or build without a region "
+            "option)");
     std::vector<io::ShardId> shards;
     for (const std::string& shardText : shardTexts) {
         io::ShardId id;
@@ -214,6 +217,41 @@ int main(int argc, char** argv) {
         bar.emplace();
         options.progress = [&](const io::PyramidBuildProgress& p) { bar->update(p); };
     }
+    if (plan && globe) {
+        auto planned = io::planGlobeShards(*sources.front(), output, options);
+        if (!planned) return fail(planned.error().message);
+        const io::GlobeShardPlan& p = planned.value();
+        nlohmann::json levels = nlohmann::json::array();
+        std::size_t count = 0;
+        for (int level = 0; level < p.layout.levelCount(); ++level) {
+            const auto& levelShards = p.shards[static_cast<std::size_t>(level)];
+            if (levelShards.empty()) continue;
+            // x0, y0, x1, y1, …: a planet's finest level has 1.6 million. A shard is built
+            // from its children (2x + 0|1, 2y + 0|1) that the finer level lists.
+            std::vector<std::int64_t> flat;
+            flat.reserve(2 * levelShards.size());
+            for (const io::ShardId& shard : levelShards) {
+                flat.push_back(shard.x);
+                flat.push_back(shard.y);
+            }
+            count += levelShards.size();
+            levels.push_back({{"level", level}, {"shards", std::move(flat)}});
+        }
+        const nlohmann::json summary{{"tool", "terrain-build"},
+                                     {"tiling", "globe"},
+                                     {"output", output},
+                                     {"staging", p.staging.string()},
+                                     {"finestLevel", p.layout.finestLevel()},
+                                     {"faceFinestLevel", p.faceFinestLevel},
+                                     {"levels", levels},
+                                     {"shardBytes", 2 * io::globeShardBytes(p.layout)}};
+        if (json)
+            std::puts(summary.dump().c_str());  // compact: a planet lists millions of shards
+        else if (!quiet)
+            fmt::print(stderr, "terrain-build: planned {} globe shards in {}\n", count,
+                       p.staging.string());
+        return 0;
+    }
     if (plan) {
         auto planned = io::planPyramidShards(*sources.front(), output, options);
         if (!planned) return fail(planned.error().message);
@@ -224,6 +262,7 @@ int main(int argc, char** argv) {
                               {"shardsX", layout.shardsX(level)},
                               {"shardsY", layout.shardsY(level)}});
         const nlohmann::json summary{{"tool", "terrain-build"},
+                                     {"tiling", "planar"},
                                      {"output", output},
                                      {"staging", planned.value().staging.string()},
                                      {"finestLevel", layout.finestLevel()},
@@ -243,7 +282,9 @@ int main(int argc, char** argv) {
         std::int64_t patches = 0, bytes = 0;
         double seconds = 0.0;
         for (std::size_t i = 0; i < shards.size(); ++i) {
-            auto built = io::buildPyramidShard(*sources.front(), output, shards[i], options);
+            auto built = globe
+                             ? io::buildGlobeShard(*sources.front(), output, shards[i], options)
+                             : io::buildPyramidShard(*sources.front(), output, shards[i], options);
             if (!built)
                 return g_interrupted ? (fail(built.error().message), 130)
                                      : fail(built.error().message);
@@ -269,7 +310,10 @@ int main(int argc, char** argv) {
         }
         return 0;
     }
-    auto built = globe      ? io::buildGlobePyramid(sourcePointers, output, options)
+    auto built = globe && merge ? io::mergeGlobeShards(*sources.front(), output, options)
+                 : globe && byShards
+                     ? io::buildGlobePyramidByShards(*sources.front(), output, options)
+                 : globe    ? io::buildGlobePyramid(sourcePointers, output, options)
                  : merge    ? io::mergePyramidShards(*sources.front(), output, options)
                  : byShards ? io::buildPyramidByShards(*sources.front(), output, options)
                             : io::buildPyramid(*sources.front(), output, options);

@@ -34,30 +34,24 @@ Axis clampedAxis(double centre, std::int64_t count) {
 
 }  // namespace
 
-Result<GeographicGrid> GeographicGrid::read(DemReader& reader, std::uint64_t memoryBudgetBytes) {
-    const DemInfo& dem = reader.info();
+Result<GeographicGrid> GeographicGrid::describe(const DemInfo& dem) {
     const Georeference& g = dem.georeference;
     if (g.crsKind != CrsKind::Geographic)
         return Error{
             fmt::format("{}: a globe pyramid needs a geographic (longitude/latitude) "
                         "source, and this one is {}",
                         dem.path, crsKindName(g.crsKind))};
-    const double bytes = double(dem.width) * double(dem.height) * 5.0;
-    if (bytes > double(memoryBudgetBytes))
-        return Error{
-            fmt::format("{}: {} × {} samples need {} MiB in the globe builder, more than "
-                        "the memory budget of {} MiB (raise --memory; sharded globe "
-                        "builds are not implemented yet)",
-                        dem.path, dem.width, dem.height, static_cast<std::uint64_t>(bytes) >> 20,
-                        memoryBudgetBytes >> 20)};
     // A global grid may repeat its first column(s) after 360° (ETOPO's −180 and +180): those
     // columns are the same longitudes, and the grid wraps after the first 360°.
     const double span = double(dem.width) * g.pixelSizeX;
     const double tolerance = 1e-3 * g.pixelSizeX;
     const auto repeated =
         static_cast<std::int64_t>(std::floor((span - 360.0 + tolerance) / g.pixelSizeX));
-    if (g.originY > 90.0 + tolerance ||
-        g.originY - double(dem.height) * g.pixelSizeY < -90.0 - tolerance || repeated > 1 ||
+    // A grid whose first or last row is centred on a pole (grid-registered, like the built-in
+    // planet's) reaches half a pixel beyond it.
+    const double poleReach = 0.5 * g.pixelSizeY + tolerance;
+    if (g.originY > 90.0 + poleReach ||
+        g.originY - double(dem.height) * g.pixelSizeY < -90.0 - poleReach || repeated > 1 ||
         (repeated == 1 && std::abs(span - g.pixelSizeX - 360.0) > tolerance) ||
         (repeated == 0 && span > 360.0 + tolerance))
         return Error{fmt::format(
@@ -74,6 +68,22 @@ Result<GeographicGrid> GeographicGrid::read(DemReader& reader, std::uint64_t mem
     grid.m_pixelLat = g.pixelSizeY;
     grid.m_wraps = span >= 360.0 - tolerance;
     grid.m_wrapColumns = dem.width - std::max<std::int64_t>(repeated, 0);
+    return grid;
+}
+
+Result<GeographicGrid> GeographicGrid::read(DemReader& reader, std::uint64_t memoryBudgetBytes) {
+    const DemInfo& dem = reader.info();
+    Result<GeographicGrid> described = describe(dem);
+    if (!described) return described.error();
+    const double bytes = double(dem.width) * double(dem.height) * 5.0;
+    if (bytes > double(memoryBudgetBytes))
+        return Error{
+            fmt::format("{}: {} × {} samples need {} MiB in the globe builder, more than "
+                        "the memory budget of {} MiB (raise --memory, or build one geographic "
+                        "source by shards: --by-shards)",
+                        dem.path, dem.width, dem.height, static_cast<std::uint64_t>(bytes) >> 20,
+                        memoryBudgetBytes >> 20)};
+    GeographicGrid grid = std::move(described).value();
     const auto samples = static_cast<std::size_t>(dem.width * dem.height);
     grid.m_heights.resize(samples);
     grid.m_valid.resize(samples);
@@ -106,23 +116,24 @@ Result<GeographicGrid> GeographicGrid::read(DemReader& reader, std::uint64_t mem
     return grid;
 }
 
-GeographicGrid::Resampled GeographicGrid::at(double latitudeDeg, double longitudeDeg) const {
+std::optional<GeographicGrid::Location> GeographicGrid::locate(double latitudeDeg,
+                                                               double longitudeDeg) const {
     // Within one pixel beyond the extent the edge pixels are extended (not valid, not
     // inside): the face grid is at least as fine as a pixel, so the drop to the bare
     // ellipsoid happens outside every cell that holds a source sample, and Err(P) measures
     // the source, not the cliff at its border.
     const double y = m_north - latitudeDeg;
     const double height = double(m_height) * m_pixelLat;
-    if (y < -m_pixelLat || y > height + m_pixelLat) return {};
+    if (y < -m_pixelLat || y > height + m_pixelLat) return std::nullopt;
     double x = std::fmod(longitudeDeg - m_west, 360.0);
     if (x < 0.0) x += 360.0;
     const double width = double(m_width) * m_pixelLon;
     if (!m_wraps && x > width + m_pixelLon) {
-        if (x < 360.0 - m_pixelLon) return {};
+        if (x < 360.0 - m_pixelLon) return std::nullopt;
         x -= 360.0;  // just west of the grid
     }
-    const bool inside = y >= 0.0 && y <= height && (m_wraps || (x >= 0.0 && x <= width));
-
+    Location where;
+    where.inside = y >= 0.0 && y <= height && (m_wraps || (x >= 0.0 && x <= width));
     const Axis rows = clampedAxis(y / m_pixelLat - 0.5, m_height);
     Axis columns;
     if (m_wraps) {
@@ -136,30 +147,53 @@ GeographicGrid::Resampled GeographicGrid::at(double latitudeDeg, double longitud
     } else {
         columns = clampedAxis(x / m_pixelLon - 0.5, m_width);
     }
+    where.rows[0] = rows.first;
+    where.rows[1] = rows.second;
+    where.rowWeight = rows.weight;
+    where.columns[0] = columns.first;
+    where.columns[1] = columns.second;
+    where.columnWeight = columns.weight;
+    return where;
+}
+
+GeographicGrid::Resampled GeographicGrid::interpolate(const Location& where,
+                                                      const float corner[2][2],
+                                                      const bool valid[2][2]) {
     Resampled out;
-    out.inside = inside;
-    out.valid = inside;
+    out.inside = where.inside;
+    out.valid = where.inside;
     out.covered = true;
     // On the source's own triangles (each cell split along its north-west – south-east
     // diagonal), not bilinear: between its pixel centres the DEM is the mesh the reference
     // measures against, and a bilinear patch departs from it by a quarter of the cell's twist
     // (hundreds of metres in a 37 km cell of a global grid).
-    const std::int64_t rowIndex[2] = {rows.first, rows.second};
-    const std::int64_t columnIndex[2] = {columns.first, columns.second};
-    double corner[2][2] = {};
     for (int r = 0; r < 2; ++r) {
         for (int c = 0; c < 2; ++c) {
-            const std::size_t i = index(columnIndex[c], rowIndex[r]);
-            corner[r][c] = double(m_heights[i]);
-            const double w = (r == 0 ? 1.0 - rows.weight : rows.weight) *
-                             (c == 0 ? 1.0 - columns.weight : columns.weight);
-            if (w > 0.0) out.valid = out.valid && m_valid[i] != 0;
+            const double w = (r == 0 ? 1.0 - where.rowWeight : where.rowWeight) *
+                             (c == 0 ? 1.0 - where.columnWeight : where.columnWeight);
+            if (w > 0.0) out.valid = out.valid && valid[r][c];
         }
     }
-    out.height = static_cast<float>(cellSurfaceHeights(corner[0][0], corner[0][1], corner[1][0],
-                                                       corner[1][1], columns.weight, rows.weight)
-                                        .first);
+    out.height =
+        static_cast<float>(cellSurfaceHeights(corner[0][0], corner[0][1], corner[1][0],
+                                              corner[1][1], where.columnWeight, where.rowWeight)
+                               .first);
     return out;
+}
+
+GeographicGrid::Resampled GeographicGrid::at(double latitudeDeg, double longitudeDeg) const {
+    const std::optional<Location> where = locate(latitudeDeg, longitudeDeg);
+    if (!where) return {};
+    float corner[2][2] = {};
+    bool valid[2][2] = {};
+    for (int r = 0; r < 2; ++r) {
+        for (int c = 0; c < 2; ++c) {
+            const std::size_t i = index(where->columns[c], where->rows[r]);
+            corner[r][c] = m_heights[i];
+            valid[r][c] = m_valid[i] != 0;
+        }
+    }
+    return interpolate(*where, corner, valid);
 }
 
 std::optional<GeographicGrid::Cell> GeographicGrid::cellAt(double latitudeDeg,

@@ -18,6 +18,10 @@ class GeographicGrid {
 public:
     /// Reads the whole source. Errors: not geographic, more than `memoryBudgetBytes` to hold.
     static Result<GeographicGrid> read(DemReader& reader, std::uint64_t memoryBudgetBytes);
+    /// The source's grid without its samples (a region build reads them block by block,
+    /// GeographicBlocks.h): every geometric accessor works, heightAt, validAt, at and cellAt
+    /// do not. Errors: not geographic, not on the globe.
+    static Result<GeographicGrid> describe(const DemInfo& dem);
 
     struct Resampled {
         float height = 0.0f;   ///< metres; 0 more than a pixel beyond the source
@@ -29,6 +33,20 @@ public:
     /// north-west – south-east diagonal), clamped to the edge pixels up to one pixel beyond the
     /// extent; across the antimeridian when the grid spans 360°.
     Resampled at(double latitudeDeg, double longitudeDeg) const;
+
+    /// Where `at` reads: the two rows and two columns of pixel centres around the point (the
+    /// same one twice where clamped to an edge) and the point's weights between them.
+    struct Location {
+        std::int64_t rows[2] = {0, 0};
+        std::int64_t columns[2] = {0, 0};
+        double rowWeight = 0.0, columnWeight = 0.0;  ///< of rows[1] and columns[1]
+        bool inside = false;
+    };
+    /// Nothing more than a pixel beyond the extent (where `at` gives height 0, not covered).
+    std::optional<Location> locate(double latitudeDeg, double longitudeDeg) const;
+    /// `at`'s value from the location's corner samples: [r][c] of rows[r], columns[c].
+    static Resampled interpolate(const Location& where, const float corner[2][2],
+                                 const bool valid[2][2]);
 
     /// The cell of pixel centres around a point inside (or within a pixel of) the extent:
     /// its corner heights (filled values) a north-west, b north-east, c south-west, d

@@ -3,6 +3,7 @@
 #include "BuildClock.h"
 #include "BuildOutput.h"
 #include "GeographicGrid.h"
+#include "GlobePatchBuild.h"
 #include "GlobeSources.h"
 #include "ParallelFor.h"
 #include "SourceCoverage.h"
@@ -12,6 +13,7 @@
 #include "terrain/io/GlobeLayout.h"
 #include "terrain/io/GlobePatchErrors.h"
 #include "terrain/io/GlobePatchSurface.h"
+#include "terrain/io/GlobeShards.h"
 #include "terrain/io/HeightCodes.h"
 #include "terrain/io/PatchErrors.h"
 #include "terrain/io/PatchRecord.h"
@@ -40,21 +42,10 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using globe::GlobePatchId;
 
-float roundUp(double value) {
-    auto f = static_cast<float>(value);
-    if (double(f) < value) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-    return f;
-}
-
-// A patch of one level, as a hash key: face, x and y (each < 2^29 up to face level 28).
-using PatchKey = std::uint64_t;
-PatchKey keyOf(int face, std::int64_t x, std::int64_t y) {
-    return (std::uint64_t(face) << 58) | (std::uint64_t(y) << 29) | std::uint64_t(x);
-}
-GlobePatchId idOf(PatchKey key, int level) {
-    return {static_cast<int>(key >> 58), level, static_cast<std::int64_t>(key & ((1u << 29) - 1)),
-            static_cast<std::int64_t>((key >> 29) & ((1u << 29) - 1))};
-}
+using detail::idOf;
+using detail::keyOf;
+using detail::patchIndex;
+using detail::PatchKey;
 
 // Every source sample's place on the cube, computed once: the face and its coordinates.
 struct SamplePlaces {
@@ -100,10 +91,6 @@ SamplePlaces placeSamples(const GeographicGrid& grid, unsigned threads) {
         }
     });
     return places;
-}
-
-std::int64_t patchIndex(double coordinate, std::int64_t n) {
-    return std::clamp<std::int64_t>(static_cast<std::int64_t>(coordinate * double(n)), 0, n - 1);
 }
 
 struct LevelPatch {
@@ -192,20 +179,8 @@ private:
                 holding.insert(
                     keyOf(places.face[i], patchIndex(places.s[i], n), patchIndex(places.t[i], n)));
         }
-        // Edge neighbours, and theirs (which covers the diagonal ones, across cube corners too).
         std::unordered_set<PatchKey> candidates = holding;
-        constexpr globe::PatchSide kSides[] = {globe::PatchSide::Left, globe::PatchSide::Right,
-                                               globe::PatchSide::Top, globe::PatchSide::Bottom};
-        for (const PatchKey key : holding) {
-            for (const globe::PatchSide side : kSides) {
-                const GlobePatchId edge = globe::neighbourOf(idOf(key, level), side).id;
-                candidates.insert(keyOf(edge.face, edge.x, edge.y));
-                for (const globe::PatchSide next : kSides) {
-                    const GlobePatchId beyond = globe::neighbourOf(edge, next).id;
-                    candidates.insert(keyOf(beyond.face, beyond.x, beyond.y));
-                }
-            }
-        }
+        for (const PatchKey key : holding) detail::addPatchesAround(key, level, candidates);
         if (level == 0)
             for (int face = 0; face < globe::kCubeFaces; ++face)
                 candidates.insert(keyOf(face, 0, 0));
@@ -316,44 +291,25 @@ private:
                      const std::unordered_set<PatchKey>& finerKeys,
                      const std::unordered_map<PatchKey, float>& finerErrors,
                      std::unordered_map<PatchKey, float>& errors) {
-        PatchRecord& record = patch.record;
-        PatchInfo& info = record.info;
-        info = PatchInfo{};
-        info.present = true;
-        summariseDrawnSamples(m_layout, record.heights, record.valid, info);
         const GlobePatchId id = idOf(key, level);
         double error = patch.measuredError;
+        std::uint8_t presentChildren = 0;
         if (level < m_finestFaceLevel) {
             for (int child = 0; child < 4; ++child) {
                 const PatchKey childKey =
                     keyOf(id.face, 2 * id.x + (child & 1), 2 * id.y + (child >> 1));
                 if (!finerKeys.contains(childKey)) continue;
-                info.presentChildren =
-                    static_cast<std::uint8_t>(info.presentChildren | (1u << child));
+                presentChildren = static_cast<std::uint8_t>(presentChildren | (1u << child));
                 error = std::max(error, double(finerErrors.at(childKey)));
             }
         }
-        // Err(P) is measured against the sources on the stored (rounded) surface, so it already
-        // holds the rounding: approxError is that measured bound, and quantError says how much
-        // of it may be the rounding (δ_l), not something to add (docs/pyramid-format.md,
-        // "Lossy storage").
-        info.approxError = roundUp(error);
-        info.quantError = 0.0f;
-        if (m_quantization) {
-            info.quantError = roundUp(std::max(halfStep(level), patch.quantized));
-            if (level == m_finestFaceLevel)
-                m_quantization->finestLargestErrorM =
-                    std::max(m_quantization->finestLargestErrorM, patch.quantized);
-        }
-        info.error = info.approxError;
+        detail::finishGlobePatch(m_layout, level, error, presentChildren, m_quantization,
+                                 patch.quantized, patch.record);
+        if (m_quantization && level == m_finestFaceLevel)
+            m_quantization->finestLargestErrorM =
+                std::max(m_quantization->finestLargestErrorM, patch.quantized);
+        const PatchInfo& info = patch.record.info;
         errors[key] = info.error;
-
-        const int tile = m_layout.tileSamples();
-        const GridView interior{record.heights.data() + tile + 1, m_layout.patchSamples(), tile};
-        record.blockErrors.resize(
-            static_cast<std::size_t>(m_layout.blocksPerSide() * m_layout.blocksPerSide()));
-        globePatchBlockErrors(interior, m_layout.blockQuads(), level, info.minHeight,
-                              record.blockErrors);
         if (level == 0) m_rootError = std::max(m_rootError, double(info.error));
     }
 
@@ -366,24 +322,13 @@ private:
         }
         for (const auto& [yx, records] : byShard) {
             const ShardId shard{level, yx.second, yx.first};
-            const fs::path path = m_folder / m_layout.shardPath(shard);
-            std::error_code ec;
-            fs::create_directories(path.parent_path(), ec);
-            if (ec)
-                return Error{path.parent_path().string() +
-                             ": cannot create folder: " + ec.message()};
-            ShardWriterOptions options = m_shardOptions;
-            if (m_quantization)
-                options.units.quantizerStep = m_quantization->step(
-                    faceLevel + ManifestGlobe::kLevelOffset, m_layout.finestLevel());
-            auto writer = ShardWriter::create(path, m_layout, shard, true, options);
-            if (!writer) return writer.error();
-            for (const PatchRecord* record : records) {
-                if (Status written = writer.value().writePatch(*record); !written) return written;
+            if (Status written = detail::writeGlobeShard(m_folder, m_layout, shard, records,
+                                                         m_shardOptions, m_quantization);
+                !written)
+                return written;
+            for (const PatchRecord* record : records)
                 m_levelMaxError[static_cast<std::size_t>(level)] = std::max(
                     m_levelMaxError[static_cast<std::size_t>(level)], double(record->info.error));
-            }
-            if (Status finished = writer.value().finish(); !finished) return finished;
             m_presentShards[static_cast<std::size_t>(level)].push_back(shard);
         }
         m_presentPatches[static_cast<std::size_t>(level)] = std::ssize(patches);
@@ -393,8 +338,7 @@ private:
 
     // δ_l of a face level (layout level faceLevel + kLevelOffset).
     double halfStep(int faceLevel) const {
-        return m_quantization->halfStep(faceLevel + ManifestGlobe::kLevelOffset,
-                                        m_layout.finestLevel());
+        return detail::globeHalfStep(*m_quantization, m_layout, faceLevel);
     }
 
     const GlobeSources& m_sources;
@@ -448,6 +392,13 @@ Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> reader
     if (readers.empty())
         return Error{output.string() + ": no source to build a globe pyramid from"};
     if (Status delta = checkMaxErrorM(output, options.maxErrorM); !delta) return delta.error();
+    // One geographic source too large to hold is built shard by shard (GlobeShards.h), in
+    // memory bounded whatever its size.
+    const DemInfo& only = readers.front()->info();
+    if (readers.size() == 1 && !only.resampledFrom &&
+        only.georeference.crsKind == CrsKind::Geographic &&
+        double(only.width) * double(only.height) * 5.0 > double(options.memoryBudgetBytes / 2))
+        return buildGlobePyramidByShards(*readers.front(), output, options);
     Result<GlobeSources> read =
         GlobeSources::read(readers, options.memoryBudgetBytes / 2, options.patchSamples - 1);
     if (!read) return read.error();
@@ -484,21 +435,8 @@ Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> reader
     PyramidBuildSummary summary;
     summary.warnings = std::move(warnings);
     PyramidManifest& m = summary.manifest;
-    m = PyramidManifest::forLayout(l);
-    m.formatVersion = PyramidManifest::kGlobeFormatVersion;
     // "Go to the data" goes to the finest source.
-    const GeographicGrid& finest = composite.sources().front().grid;
-    const double east = finest.eastDeg() > 180.0 ? finest.eastDeg() - 360.0 : finest.eastDeg();
-    m.globe = ManifestGlobe{.faceFinestLevel = faceLevel,
-                            .west = finest.wrapsLongitude() ? -180.0 : finest.westDeg(),
-                            .south = finest.southDeg(),
-                            .east = finest.wrapsLongitude() ? 180.0 : east,
-                            .north = finest.northDeg()};
-    m.georeference = first.georeference;
-    m.vertical = first.vertical;
-    // The mask always: samples beyond the sources are not data on a globe.
-    m.noData.present = true;
-    m.noData.sourceValue = first.noDataValue;
+    m = detail::globeManifest(l, faceLevel, composite.sources().front().grid, readers);
     double minHeight = 0.0, maxHeight = 0.0;
     bool any = false;
     for (std::size_t k = 0; k < composite.sources().size(); ++k) {
@@ -530,17 +468,7 @@ Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> reader
                       return std::pair(a.y, a.x) < std::pair(b.y, b.x);
                   });
     }
-    for (DemReader* reader : readers)
-        for (const std::string& input : reader->info().inputs) m.source.inputs.push_back(input);
-    m.source.reader = first.readerName;
-    m.source.sampleType = first.sampleType;
-    m.source.band = first.band;
-    m.source.bandCount = first.bandCount;
-    m.source.rowsFlipped = first.rowsFlipped;
-    m.source.columnsFlipped = first.columnsFlipped;
     m.quantization = builder.quantization();
-    m.build.tool = "terrain-build";
-    m.build.version = TERRAIN_VERSION;
     summary.patches = builder.patches();
     summary.phases = builder.phases();
     summary.seconds = secondsSince(start);

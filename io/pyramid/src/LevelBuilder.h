@@ -15,6 +15,7 @@
 #include "BuildClock.h"
 #include "OriginalSampleDistances.h"
 #include "ParallelFor.h"
+#include "RowFill.h"
 #include "terrain/base/Assert.h"
 #include "terrain/io/HeightCodes.h"
 #include "terrain/io/NoDataFill.h"
@@ -124,7 +125,7 @@ public:
           m_owned(owned),
           m_edges(edges),
           m_stats(stats),
-          m_fillUnits(wholeSourceUnits(reader.info())) {
+          m_fill(reader, wholeSourceUnits(reader.info())) {
         m_edges.firstRow = owned.y0;
         m_edges.lastColumnHeights.assign(static_cast<std::size_t>(owned.y1 - owned.y0), 0.0f);
         m_nextStatisticsRow = owned.y0;
@@ -150,7 +151,7 @@ public:
                                      static_cast<std::size_t>(columns));
                 std::span<std::uint8_t> rowValid(valid + (a - band.firstColumn), row.size());
                 std::copy_n(m_scratch.data() + (r - first) * columns, columns, row.data());
-                Result<std::int64_t> filled = fillRow(r, a, b, row, rowValid);
+                Result<std::int64_t> filled = m_fill.fill(r, a, b, row, rowValid);
                 if (!filled) return filled.error();
                 if (r >= m_nextStatisticsRow && r < m_owned.y1) {  // bands overlap by their aprons
                     countStatistics(a, row, rowValid);
@@ -180,49 +181,6 @@ public:
     }
 
 private:
-    // The documented fill (NoDataFill.h) of DEM row r's columns [a, b): where a run of
-    // no-data reaches past the band, the row's nearest valid samples beyond it are looked up,
-    // so a region build fills exactly as the whole build does.
-    Result<std::int64_t> fillRow(std::int64_t r, std::int64_t a, std::int64_t b,
-                                 std::span<float> row, std::span<std::uint8_t> valid) {
-        std::optional<RowNeighbour> west, east;
-        if (a > 0 && std::isnan(row.front())) {
-            auto found = nearestValid(r, a - 1, -1);
-            if (!found) return found.error();
-            if (found.value()) west = RowNeighbour{found.value()->first - a, found.value()->second};
-        }
-        if (b < m_w && std::isnan(row.back())) {
-            auto found = nearestValid(r, b, +1);
-            if (!found) return found.error();
-            if (found.value()) east = RowNeighbour{found.value()->first - a, found.value()->second};
-        }
-        return fillNoDataWindow(row, valid, m_fillUnits, west, east);
-    }
-
-    // The first valid sample of row r from column `from` on, walking in `direction` (±1),
-    // read in growing chunks: (column, height), or nothing when the row has none that way.
-    Result<std::optional<std::pair<std::int64_t, float>>> nearestValid(std::int64_t r,
-                                                                       std::int64_t from,
-                                                                       int direction) {
-        std::int64_t chunk = 1024;
-        std::vector<float>& samples = m_neighbourScratch;
-        for (std::int64_t x = from; x >= 0 && x < m_w;) {
-            const std::int64_t x0 = direction < 0 ? std::max<std::int64_t>(0, x - chunk + 1) : x;
-            const std::int64_t count = direction < 0 ? x - x0 + 1 : std::min(chunk, m_w - x);
-            samples.resize(static_cast<std::size_t>(count));
-            if (auto read = m_reader.readWindow(x0, r, count, 1, samples); !read)
-                return read.error();
-            for (std::int64_t k = 0; k < count; ++k) {
-                const std::int64_t i = direction < 0 ? count - 1 - k : k;
-                if (!std::isnan(samples[static_cast<std::size_t>(i)]))
-                    return std::optional{std::pair{x0 + i, samples[static_cast<std::size_t>(i)]}};
-            }
-            x = direction < 0 ? x0 - 1 : x + count;
-            chunk = std::min<std::int64_t>(chunk * 2, std::int64_t{1} << 16);
-        }
-        return std::optional<std::pair<std::int64_t, float>>{};
-    }
-
     // Columns west of the DEM copy x = 0, those east of it x = W − 1.
     void padRow(const Band& band, float* out, std::uint8_t* valid) const {
         for (std::int64_t c = 0; c < band.width; ++c) {
@@ -254,9 +212,10 @@ private:
     OwnedSamples m_owned;
     DemEdges& m_edges;
     DemStatistics& m_stats;
-    std::optional<VerticalTransform> m_fillUnits;  // the fill's rounding (NoDataFill.h)
+    // The documented fill, exactly as the whole row's where a run of no-data reaches past
+    // the band (a region build).
+    RowFill m_fill;
     std::vector<float> m_scratch;
-    std::vector<float> m_neighbourScratch;
     std::vector<float> m_lastRow;  // padded row H − 1 (with apron)
     std::int64_t m_nextStatisticsRow = 0;
 };

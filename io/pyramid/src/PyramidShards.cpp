@@ -4,6 +4,7 @@
 #include "BuildOutput.h"
 #include "LevelBuilder.h"
 #include "PlanarBuildTotals.h"
+#include "RegionStaging.h"
 #include "ShardCarry.h"
 
 #include <fmt/core.h>
@@ -25,26 +26,10 @@ using detail::PatchRect;
 // What decides the shards' bytes: the source as read and the build options.
 std::string fingerprintOf(const DemInfo& dem, const PyramidLayout& layout,
                           const PyramidBuildOptions& options) {
-    const nlohmann::json j{
-        {"tiling", "planar"},
-        {"formatVersion", PyramidManifest::kFormatVersion},
-        {"inputs", dem.inputs},
-        {"reader", dem.readerName},
-        {"width", dem.width},
-        {"height", dem.height},
-        {"sampleType", dem.sampleType},
-        {"band", dem.band},
-        {"vertical", {dem.vertical.scale, dem.vertical.offset}},
-        {"noDataValue", dem.noDataValue ? nlohmann::json(*dem.noDataValue) : nlohmann::json()},
-        {"flipped", {dem.rowsFlipped, dem.columnsFlipped}},
-        {"patchSamples", layout.patchSamples()},
-        {"blockQuads", layout.blockQuads()},
-        {"shardPatches", layout.shardPatches()},
-        {"compressionLevel", options.compressionLevel},
-        {"maxErrorM", options.maxErrorM},
-        {"parentPrediction", options.parentPrediction},
-    };
-    return j.dump();
+    return detail::regionFingerprint(dem, layout, options,
+                                     {{"tiling", "planar"},
+                                      {"formatVersion", PyramidManifest::kFormatVersion},
+                                      {"parentPrediction", options.parentPrediction}});
 }
 
 PatchRect patchesOf(const PyramidLayout& layout, const ShardId& s) {
@@ -115,12 +100,10 @@ Result<detail::ShardCarry> readChildCarry(const fs::path& staging, const ShardId
     const fs::path path = detail::carryPath(staging, child);
     auto carry = detail::readCarry(path, whole);
     if (!carry) return carry.error();
-    if (carry.value().fingerprint != fingerprint)
-        return Error{path.string() +
-                     ": built for another source or other options than this "
-                     "build's plan (remove the staging folder and start again)"};
-    if (!(carry.value().shard == child))
-        return Error{path.string() + ": holds another shard's carry"};
+    if (Status origin = detail::checkCarryOrigin(path, fingerprint, carry.value().fingerprint,
+                                                 child, carry.value().shard);
+        !origin)
+        return origin.error();
     return carry;
 }
 
@@ -259,22 +242,8 @@ Result<ShardPlan> openPlan(DemReader& reader, const fs::path& output,
                         "memory budget of {} MiB (lower --shard-patches or raise --memory)",
                         dem.path, options.shardPatches, options.shardPatches, needed >> 20,
                         options.memoryBudgetBytes >> 20)};
-    const fs::path planPath = plan.staging / "plan.json";
-    std::ifstream in(planPath);
-    if (in) {
-        std::stringstream existing;
-        existing << in.rdbuf();
-        if (existing.str() != plan.fingerprint + "\n")
-            return Error{plan.staging.string() +
-                         ": a region build of another source or with other options is under way "
-                         "there (remove the folder, or build with the same source and options)"};
-        return plan;
-    }
-    if (!create)
-        return Error{plan.staging.string() +
-                     ": no region build there (plan it, then build its shards, before merging)"};
-    if (Status written = detail::writeFileAtomically(planPath, plan.fingerprint + "\n"); !written)
-        return written.error();
+    if (Status opened = detail::openStagingPlan(plan.staging, plan.fingerprint, create); !opened)
+        return opened.error();
     return plan;
 }
 
@@ -446,9 +415,7 @@ Result<PyramidBuildSummary> mergePyramidShards(DemReader& reader, const fs::path
     if (!adopted) return adopted.error();
     auto summary = detail::finishPlanarBuild(reader, layout, totals, plan.staging);
     if (!summary) return summary.error();
-    std::error_code ec;
-    fs::remove_all(plan.staging / "tmp", ec);
-    fs::remove(plan.staging / "plan.json", ec);
+    detail::removeStagingFiles(plan.staging);
     summary.value().bytes = folderBytes(plan.staging);
     if (Status committed = adopted.value().commit(); !committed) return committed.error();
     return summary;
@@ -463,14 +430,7 @@ Result<PyramidBuildSummary> buildPyramidByShards(DemReader& reader, const fs::pa
     if (!planned) return planned.error();
     const ShardPlan& plan = planned.value();
     const PyramidLayout& layout = plan.layout;
-    // This build's own staging folder: removed unless the merge moved it into place.
-    struct RemoveUnlessMerged {
-        fs::path folder;
-        ~RemoveUnlessMerged() {
-            std::error_code ignored;
-            if (!folder.empty()) fs::remove_all(folder, ignored);
-        }
-    } cleanup{plan.staging};
+    detail::StagingCleanup cleanup(plan.staging);
 
     double total = 0.0, done = 0.0;
     for (int level = 0; level < layout.levelCount(); ++level)
@@ -484,7 +444,7 @@ Result<PyramidBuildSummary> buildPyramidByShards(DemReader& reader, const fs::pa
                 if (options.progress) options.progress({level, std::min(1.0, done / total)});
             }
     auto merged = mergePyramidShards(reader, output, options);
-    if (merged) cleanup.folder.clear();
+    if (merged) cleanup.merged();
     return merged;
 }
 

@@ -1,5 +1,7 @@
 #include "ShardCarry.h"
 
+#include "CarryArchive.h"
+
 #include "terrain/base/AtomicFile.h"
 
 #include <fmt/core.h>
@@ -16,67 +18,6 @@ namespace fs = std::filesystem;
 
 constexpr char kCarryMagic[8] = {'T', 'R', 'C', 'A', 'R', 'R', 'Y', '1'};
 constexpr char kEdgeMagic[8] = {'T', 'R', 'E', 'D', 'G', 'E', '0', '1'};
-
-// Writer and Reader visit the same fields in the same order (carryFields below): one list
-// of what a carry holds, for both directions.
-class Writer {
-public:
-    template <typename T>
-    void field(const T& value) {
-        m_bytes.append(reinterpret_cast<const char*>(&value), sizeof(T));
-    }
-    template <typename T>
-    void values(const std::vector<T>& values) {
-        field(static_cast<std::uint64_t>(values.size()));
-        m_bytes.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
-    }
-    void text(const std::string& s) {
-        field(static_cast<std::uint64_t>(s.size()));
-        m_bytes.append(s);
-    }
-    const std::string& bytes() const { return m_bytes; }
-
-private:
-    std::string m_bytes;
-};
-
-class Reader {
-public:
-    explicit Reader(std::ifstream& in) : m_in(in) {}
-    template <typename T>
-    void field(T& value) {
-        if (!m_failed && !m_in.read(reinterpret_cast<char*>(&value), sizeof(T))) m_failed = true;
-    }
-    template <typename T>
-    void values(std::vector<T>& values) {
-        std::uint64_t count = 0;
-        field(count);
-        if (m_failed || count > kMaxValues) {
-            m_failed = true;
-            return;
-        }
-        values.resize(static_cast<std::size_t>(count));
-        if (!m_in.read(reinterpret_cast<char*>(values.data()),
-                       static_cast<std::streamsize>(count * sizeof(T))))
-            m_failed = true;
-    }
-    void text(std::string& s) {
-        std::uint64_t count = 0;
-        field(count);
-        if (m_failed || count > (1u << 20)) {
-            m_failed = true;
-            return;
-        }
-        s.resize(static_cast<std::size_t>(count));
-        if (!m_in.read(s.data(), static_cast<std::streamsize>(count))) m_failed = true;
-    }
-    bool failed() const { return m_failed; }
-
-private:
-    static constexpr std::uint64_t kMaxValues = std::uint64_t{1} << 32;
-    std::ifstream& m_in;
-    bool m_failed = false;
-};
 
 // The summary, which the merge reads alone.
 template <typename Archive, typename Carry>
@@ -139,7 +80,7 @@ fs::path carryPath(const fs::path& staging, const ShardId& s) {
 }
 
 Status writeCarry(const fs::path& path, const ShardCarry& carry) {
-    Writer w;
+    CarryWriter w;
     w.field(kCarryMagic);
     summaryFields(w, carry);
     boundsAndSampleFields(w, carry);
@@ -149,7 +90,7 @@ Status writeCarry(const fs::path& path, const ShardCarry& carry) {
 Result<ShardCarry> readCarry(const fs::path& path, bool whole) {
     std::ifstream in(path, std::ios::binary);
     if (!in) return Error{path.string() + ": missing (the shard's task has not finished)"};
-    Reader r(in);
+    CarryReader r(in);
     char magic[8] = {};
     r.field(magic);
     if (r.failed() || std::memcmp(magic, kCarryMagic, sizeof magic) != 0)
@@ -177,7 +118,7 @@ fs::path edgePath(const fs::path& staging, bool east, std::int64_t index) {
 }
 
 Status writeEdge(const fs::path& path, const EdgeRun& run) {
-    Writer w;
+    CarryWriter w;
     w.field(kEdgeMagic);
     w.field(run.first);
     w.values(run.values);
@@ -187,7 +128,7 @@ Status writeEdge(const fs::path& path, const EdgeRun& run) {
 Result<EdgeRun> readEdge(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) return Error{path.string() + ": missing (the edge shard's task has not finished)"};
-    Reader r(in);
+    CarryReader r(in);
     char magic[8] = {};
     r.field(magic);
     EdgeRun run;

@@ -13,6 +13,7 @@
 #include "terrain/io/PyramidSourceCheck.h"
 
 #include "GeographicFunctionDem.h"
+#include "GlobeTestSources.h"
 #include "SharedData.h"
 #include "TempFolder.h"
 
@@ -32,22 +33,10 @@ namespace {
 using globe::GlobePatchId;
 using globe::PatchSide;
 using test::GeographicFunctionDem;
+using test::hills;
 using test::TempFolder;
 
-float hills(double latitude, double longitude) {
-    return static_cast<float>(800.0 + 600.0 * std::sin(latitude * 7.0) * std::cos(longitude * 5.0) +
-                              150.0 * std::sin(longitude * 31.0 + latitude * 17.0));
-}
-
-PyramidBuildOptions smallPatches() {
-    PyramidBuildOptions options;
-    options.patchSamples = 17;
-    options.blockQuads = 4;
-    options.shardPatches = 4;
-    options.threads = 2;
-    options.compressionLevel = 1;
-    return options;
-}
+PyramidBuildOptions smallPatches() { return test::smallGlobePatches(); }
 
 struct Built {
     std::filesystem::path folder;

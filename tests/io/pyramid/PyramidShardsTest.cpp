@@ -8,6 +8,7 @@
 #include "terrain/io/PyramidReader.h"
 #include "terrain/io/PyramidShards.h"
 
+#include "PyramidFiles.h"
 #include "SharedData.h"
 #include "TempFolder.h"
 
@@ -28,31 +29,9 @@ namespace terrain::io {
 namespace {
 
 namespace fs = std::filesystem;
+using test::fileBytes;
+using test::pyramidFiles;
 using test::TempFolder;
-
-std::string fileBytes(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::stringstream bytes;
-    bytes << in.rdbuf();
-    return bytes.str();
-}
-
-// Every file of a pyramid folder by relative path; the manifest without build.seconds,
-// which is the build's wall time.
-std::map<std::string, std::string> pyramidFiles(const fs::path& folder) {
-    std::map<std::string, std::string> files;
-    for (const auto& entry : fs::recursive_directory_iterator(folder)) {
-        if (!entry.is_regular_file()) continue;
-        std::string bytes = fileBytes(entry.path());
-        if (entry.path().filename() == "manifest.json") {
-            auto manifest = nlohmann::json::parse(bytes);
-            manifest["build"].erase("seconds");
-            bytes = manifest.dump(1);
-        }
-        files[fs::relative(entry.path(), folder).string()] = std::move(bytes);
-    }
-    return files;
-}
 
 void expectSameFiles(const fs::path& whole, const fs::path& merged) {
     const auto a = pyramidFiles(whole), b = pyramidFiles(merged);

@@ -16,8 +16,9 @@
 // to its own finest level, so a 90 m tile over a 37 km global grid adds deep levels only
 // where it lies.
 //
-// Not yet: sources bigger than memory (each is read whole; the build refuses what exceeds
-// the memory budget).
+// Each source is read whole; one geographic source too large for the memory budget is built
+// shard by shard instead (GlobeShards.h), with the nested bound above its finest level.
+// Several sources, or a projected one, that exceed the budget are refused.
 #pragma once
 
 #include "terrain/base/Result.h"
