@@ -125,6 +125,12 @@ int main(int argc, char** argv) {
         "a planar sheet around the centre (projected ones, e.g. UTM, first onto a "
         "longitude/latitude grid by GDAL's warper, the bounds still made against their own "
         "samples); several inputs composite there, the finest valid sample winning");
+    app.add_option("--measured-levels", options.globeMeasuredLevels,
+                   "Globe region builds: the levels above the finest whose error bounds are "
+                   "measured at the source's samples (each a pass over the source) before the "
+                   "nested bound, looser, takes over (default: 2, and every level of a shard "
+                   "whose surroundings hold at most 2^24 samples)")
+        ->check(CLI::Range(0, 40));
     app.add_flag("--overwrite", options.overwrite, "Replace an existing pyramid");
     // Region builds (docs/pyramid-format.md, "Region builds"): tools/cluster runs these.
     bool plan = false, merge = false, byShards = false;

@@ -1,8 +1,8 @@
 // GlobeShardCarry: what a globe region build's shard task hands to its parent shard's task and
-// to the merge (GlobeShards.h): for each of its patches, the patch's key, its share of its
-// parent's Err(P) (Yusov & Shevtsov 2011, §4, nested: the child's Err(P) plus how far the
-// parent's surface lies from the child's) and its even samples, which are the parent's samples
-// there; and the shard's summary (patches, largest Err(P), a finest shard's statistics of its
+// to the merge (GlobeShards.h): for each of its patches, the patch's key, its Err(P), its even
+// samples, which are the parent's samples there, and per parent quad over it the interval of
+// parent − source (the nested bound, Yusov & Shevtsov 2011, §4, signed and per quad); and the
+// shard's summary (patches, largest Err(P), a finest shard's statistics of its
 // source samples, the children shards it was built from). A temporary file of the staging
 // folder (where ShardCarry.h's carryPath puts it), written to a temporary name and renamed.
 #pragma once
@@ -33,14 +33,15 @@ struct GlobeShardCarry {
     PyramidBuildPhases phases;
     double seconds = 0.0;
     std::vector<std::int64_t> childShards;  // x, y pairs of the finer shards it was built from
-    // For the parent shard's task: per patch (its face-level key), its share of the parent's
-    // Err(P), its even samples ((q/2 + 1)² of them, row-major, unrounded) and which of the
-    // parent's quads over it hold source samples ((q/2)², row-major).
+    // For the parent shard's task: per patch (its face-level key), its Err(P), its even samples
+    // ((q/2 + 1)² of them, row-major, unrounded), and for each of the parent's quads over it
+    // ((q/2)², row-major) the interval of parent − source over the samples there (low > high:
+    // none), GlobeShards.cpp's carryToParents.
     std::vector<std::uint64_t> keys;
-    std::vector<float> parentErrors;
+    std::vector<float> errors;
     std::vector<float> evenHeights;
     std::vector<std::uint8_t> evenValid;
-    std::vector<std::uint8_t> parentQuadsWithSamples;
+    std::vector<float> parentLow, parentHigh;
 };
 
 Status writeGlobeCarry(const std::filesystem::path& path, const GlobeShardCarry& carry);

@@ -62,11 +62,11 @@ constexpr double kMarginPatches = 3.0;
 std::string fingerprintOf(const DemInfo& dem, const PyramidLayout& layout,
                           const PyramidBuildOptions& options) {
     const Georeference& g = dem.georeference;
-    return detail::regionFingerprint(
-        dem, layout, options,
-        {{"tiling", "globe"},
-         {"formatVersion", PyramidManifest::kGlobeFormatVersion},
-         {"grid", {g.originX, g.originY, g.pixelSizeX, g.pixelSizeY}}});
+    return detail::regionFingerprint(dem, layout, options,
+                                     {{"tiling", "globe"},
+                                      {"formatVersion", PyramidManifest::kGlobeFormatVersion},
+                                      {"grid", {g.originX, g.originY, g.pixelSizeX, g.pixelSizeY}},
+                                      {"measuredLevels", options.globeMeasuredLevels}});
 }
 
 // ---------------------------------------------------------------------------------------
@@ -354,14 +354,62 @@ Result<OpenedPlan> openPlan(DemReader& reader, const fs::path& output,
 // ---------------------------------------------------------------------------------------
 // Building a shard.
 
+// Levels above the finest whose Err(P) is measured at the source's samples, as the whole build
+// measures every level, before the nested bound takes over: each costs a pass over the source
+// as the finest level's does, and they are the levels a flight draws most of its patches
+// from between orbit and the ground, where the nested bound would cost triangles.
+constexpr int kMeasuredLevelsAboveFinest = 2;  // PyramidBuildOptions::globeMeasuredLevels
+// And any shard whose surroundings hold this many samples or fewer (a small source: every
+// level).
+constexpr std::int64_t kMeasuredWindowSamples = std::int64_t{1} << 24;
+
+std::int64_t samplesIn(const SourceWindow& window) {
+    std::int64_t columns = 0;
+    for (const ColumnRange& c : window.columns) columns += c.end - c.first;
+    return columns * (window.row1 - window.row0);
+}
+
+bool measuredAtSamples(int faceLevel, int faceFinestLevel, const SourceWindow& window,
+                       const PyramidBuildOptions& options) {
+    if (options.globeMeasuredLevels >= 0)
+        return faceLevel >= faceFinestLevel - options.globeMeasuredLevels;
+    return faceLevel >= faceFinestLevel - kMeasuredLevelsAboveFinest ||
+           samplesIn(window) <= kMeasuredWindowSamples;
+}
+
+// Signed intervals per quad, rounded outwards to floats.
+struct QuadIntervals {
+    std::vector<float> low, high;
+    void reset(std::size_t count) {
+        low.assign(count, std::numeric_limits<float>::infinity());
+        high.assign(count, -std::numeric_limits<float>::infinity());
+    }
+    void widen(std::size_t quad, double lowest, double highest) {
+        low[quad] = std::min(low[quad], roundDown(lowest));
+        high[quad] = std::max(high[quad], roundUpToFloat(highest));
+    }
+    bool holds(std::size_t quad) const { return low[quad] <= high[quad]; }
+    double largest() const {
+        double error = 0.0;
+        for (std::size_t q = 0; q < low.size(); ++q)
+            if (holds(q))
+                error = std::max({error, std::abs(double(low[q])), std::abs(double(high[q]))});
+        return error;
+    }
+    static float roundDown(double value) { return -roundUpToFloat(-value); }
+};
+
 struct Patch {
     PatchRecord record;
     std::vector<float> evens;  // unrounded even samples, (q/2 + 1)², row-major
     std::vector<std::uint8_t> evenValid;
-    // Which of its quads hold a valid source sample (q², row-major): where its Err(P) is
-    // made, and so where its parent's surface must stay near its own.
-    std::vector<std::uint8_t> quadsWithSamples;
+    // Per quad (q², row-major): how far its drawn surface lies above (+) or below (−) the
+    // source samples in the quad, the lowest and highest (either diagonal); low > high where
+    // the quad holds no valid sample. Err(P) is the largest |·| of them, and the parent's
+    // intervals are made from them (carryToParents).
+    QuadIntervals quads;
     double error = 0.0;
+    double childrenError = 0.0;  // the largest of its children's
     double quantized = 0.0;
     std::uint8_t presentChildren = 0;
 };
@@ -390,14 +438,15 @@ public:
         const std::uint64_t fixed = globeShardBytes(m_layout);
         const std::uint64_t cache =
             m_options.memoryBudgetBytes > fixed ? m_options.memoryBudgetBytes - fixed : 0;
-        // A finest shard reads its whole neighbourhood, in blocks of up to half of it (so
-        // that the blocks straddling its edges read little beyond it); a coarse one only its
-        // patches' edges, in small blocks.
+        // A shard measured at the source's samples reads its whole neighbourhood, in blocks of
+        // up to half of it (so that the blocks straddling its edges read little beyond it); a
+        // nested one only its patches' edges, in small blocks.
         const bool finest = m_level == m_plan.faceFinestLevel;
         std::int64_t blockRows = 32, blockColumns = 128;
-        SourceWindow window;
-        if (finest) {
-            window = windowOf(boxOfShard(m_layout, m_shard, m_plan.faceFinestLevel), m_source.grid);
+        const SourceWindow window =
+            windowOf(boxOfShard(m_layout, m_shard, m_plan.faceFinestLevel), m_source.grid);
+        const bool measured = measuredAtSamples(m_level, m_plan.faceFinestLevel, window, m_options);
+        if (measured) {
             std::int64_t widest = 0;
             for (const ColumnRange& c : window.columns) widest = std::max(widest, c.end - c.first);
             const auto halfOf = [](std::int64_t span, std::int64_t low, std::int64_t high) {
@@ -412,6 +461,8 @@ public:
                                                               blockRows, blockColumns);
         auto start = Clock::now();
         if (Status built = finest ? buildFinest(window) : buildCoarse(); !built) return built;
+        if (measured)
+            if (Status made = measureAtSamples(window); !made) return made;
         m_carry.phases.readSeconds += secondsSince(start);
         start = Clock::now();
         std::vector<const PatchRecord*> records;
@@ -624,12 +675,12 @@ private:
             if (!(holding.contains(keys[k]) || inside.value()[k] || m_level == 0))
                 m_patches.erase(keys[k]);
         for (auto& [key, patch] : m_patches) keepEvensAndRound(patch);
-        return measureFinest(window);
+        return {};
     }
 
     // Err(P) at every valid source sample in a patch of the shard (a single source shows all
     // of its valid samples: GlobeSources::measuredSample).
-    Status measureFinest(const SourceWindow& window) {
+    Status measureAtSamples(const SourceWindow& window) {
         std::unordered_map<PatchKey, std::unique_ptr<GlobePatchSurface>> surfaces;
         for (auto& [key, patch] : m_patches) surfaces[key] = nullptr;
         std::vector<PatchKey> keys;
@@ -642,11 +693,11 @@ private:
         });
         const double n = double(globe::patchesPerFaceSide(m_level));
         for (auto& [key, patch] : m_patches)
-            patch.quadsWithSamples.assign(static_cast<std::size_t>(m_quads * m_quads), 0);
+            patch.quads.reset(static_cast<std::size_t>(m_quads * m_quads));
         std::mutex merge;
-        return forEachRow(window, [&](const SampleRow& r) {
-            std::unordered_map<PatchKey, double> worst;   // this row's
-            std::vector<std::pair<PatchKey, int>> quads;  // and the quads its samples are in
+        Status measured = forEachRow(window, [&](const SampleRow& r) {
+            // This row's (patch, quad) → lowest and highest surface − sample.
+            std::map<std::pair<PatchKey, int>, std::pair<double, double>> found;
             for (std::int64_t c = 0; c < r.count; ++c) {
                 if (!r.valid[c]) continue;
                 const auto surface = surfaces.find(r.keys[c]);
@@ -660,31 +711,37 @@ private:
                 };
                 const int quad =
                     quadOf(r.points[c].t, id.y) * m_quads + quadOf(r.points[c].s, id.x);
-                if (quads.empty() || quads.back() != std::pair(r.keys[c], quad))
-                    quads.emplace_back(r.keys[c], quad);
                 const auto [alongAD, alongBC] = surface->second->drawnHeights(r.normals[c]);
                 const double height = double(r.heights[c]);
-                double& largest = worst[r.keys[c]];
-                largest =
-                    std::max({largest, std::abs(height - alongAD), std::abs(height - alongBC)});
+                const double lowest = std::min(alongAD, alongBC) - height;
+                const double highest = std::max(alongAD, alongBC) - height;
+                auto [at, added] = found.try_emplace({r.keys[c], quad}, lowest, highest);
+                if (!added) {
+                    at->second.first = std::min(at->second.first, lowest);
+                    at->second.second = std::max(at->second.second, highest);
+                }
             }
             const std::scoped_lock lock(merge);
-            for (const auto& [key, error] : worst) {
-                Patch& patch = m_patches.at(key);
-                patch.error = std::max(patch.error, error);
-            }
-            for (const auto& [key, quad] : quads)
-                m_patches.at(key).quadsWithSamples[static_cast<std::size_t>(quad)] = 1;
+            for (const auto& [where, range] : found)
+                m_patches.at(where.first)
+                    .quads.widen(static_cast<std::size_t>(where.second), range.first, range.second);
         });
+        if (!measured) return measured;
+        // Err(P) at every valid sample, both diagonals, never below a child's: as the whole
+        // build makes it.
+        for (auto& [key, patch] : m_patches)
+            patch.error = std::max(patch.childrenError, patch.quads.largest());
+        return {};
     }
 
     // A coarser level: from the carries of the shards beneath.
     Status buildCoarse() {
         struct Child {
-            float parentError = 0.0f;
+            float error = 0.0f;  // its Err(P)
             const float* evens = nullptr;
             const std::uint8_t* valid = nullptr;
-            const std::uint8_t* quads = nullptr;  // this level's quads over it with samples
+            const float* low = nullptr;  // this level's quads over it: intervals
+            const float* high = nullptr;
         };
         const int half = m_quads / 2;
         const auto evenCount = static_cast<std::size_t>((half + 1) * (half + 1));
@@ -707,9 +764,10 @@ private:
         }
         for (const detail::GlobeShardCarry& c : carries)
             for (std::size_t k = 0; k < c.keys.size(); ++k)
-                children[c.keys[k]] = {c.parentErrors[k], c.evenHeights.data() + k * evenCount,
+                children[c.keys[k]] = {c.errors[k], c.evenHeights.data() + k * evenCount,
                                        c.evenValid.data() + k * evenCount,
-                                       c.parentQuadsWithSamples.data() + k * quadCount};
+                                       c.parentLow.data() + k * quadCount,
+                                       c.parentHigh.data() + k * quadCount};
         for (const auto& [childKey, child] : children) {
             const GlobePatchId id = idOf(childKey, m_level + 1);
             addPatch(keyOf(id.face, id.x / 2, id.y / 2));
@@ -724,7 +782,7 @@ private:
         for (std::size_t k = 0; k < keys.size(); ++k) {
             const GlobePatchId id = idOf(keys[k], m_level);
             Patch& patch = m_patches.at(keys[k]);
-            patch.quadsWithSamples.assign(static_cast<std::size_t>(m_quads * m_quads), 0);
+            patch.quads.reset(static_cast<std::size_t>(m_quads * m_quads));
             for (int c = 0; c < 4; ++c) {
                 const auto found =
                     children.find(keyOf(id.face, 2 * id.x + (c & 1), 2 * id.y + (c >> 1)));
@@ -733,13 +791,18 @@ private:
                 if (found == children.end()) continue;
                 patch.presentChildren =
                     static_cast<std::uint8_t>(patch.presentChildren | (1u << c));
-                patch.error = std::max(patch.error, double(found->second.parentError));
+                // Never below a child's: Err(P) does not grow with depth.
+                patch.childrenError = std::max(patch.childrenError, double(found->second.error));
                 for (int b = 0; b < half; ++b)
-                    for (int a = 0; a < half; ++a)
-                        patch.quadsWithSamples[static_cast<std::size_t>(
-                            ((c >> 1) * half + b) * m_quads + (c & 1) * half + a)] =
-                            found->second.quads[static_cast<std::size_t>(b * half + a)];
+                    for (int a = 0; a < half; ++a) {
+                        const auto from = static_cast<std::size_t>(b * half + a);
+                        const auto to = static_cast<std::size_t>(((c >> 1) * half + b) * m_quads +
+                                                                 (c & 1) * half + a);
+                        patch.quads.low[to] = found->second.low[from];
+                        patch.quads.high[to] = found->second.high[from];
+                    }
             }
+            patch.error = std::max(patch.childrenError, patch.quads.largest());
         }
         // The child holding sample (i, j) of the patch, and the sample's index among its evens.
         const auto childSample = [&](std::size_t k, int i, int j) -> std::pair<const Child*, int> {
@@ -771,18 +834,23 @@ private:
         return {};
     }
 
-    // Each patch's share of its parent's Err(P) (Yusov & Shevtsov 2011, §4, nested): its own
-    // Err(P) plus the largest distance between the parent's surface there (made of this
-    // patch's even samples, rounded as the parent rounds them) and this patch's, at this
-    // patch's vertices and quad centres, every diagonal either surface may be drawn with. On
-    // one quad both are linear on the triangles of their diagonals, so their difference is
-    // largest at a corner or, where the diagonals cross, the centre.
+    // What this patch tells its parent about the source samples under it (Yusov & Shevtsov
+    // 2011, §4, nested, here signed and per quad): for a sample s in one of this patch's quads,
+    // parent(s) − s = (parent − this)(s) + (this − s). The second term lies in the quad's
+    // interval; the first, on one quad, is linear on the triangles of the diagonals either
+    // surface is drawn with, so it lies between its values at the quad's corners and, where
+    // the diagonals cross, its centre, every diagonal of both taken. The parent's surface here
+    // is made of this patch's even samples, rounded as the parent rounds them. Each parent
+    // quad (2 × 2 of this patch's) gets the union of its quads' sums: where the two terms
+    // differ in sign they cancel, as they do in the samples, and the bound does not add the
+    // levels' largest differences wherever they lie.
     void carryToParents() {
         const int half = m_quads / 2;
         const std::int64_t n = globe::patchesPerFaceSide(m_level);
         std::vector<PatchKey> keys;
         for (const auto& [key, patch] : m_patches) keys.push_back(key);
-        std::vector<float> shares(keys.size());
+        const auto perPatch = static_cast<std::size_t>(half * half);
+        std::vector<float> parentLow(keys.size() * perPatch), parentHigh(parentLow.size());
         parallelFor(std::ssize(keys), m_threads, [&](std::int64_t k) {
             const PatchKey key = keys[static_cast<std::size_t>(k)];
             const Patch& patch = m_patches.at(key);
@@ -805,53 +873,65 @@ private:
             const GlobePatchSurface parentSurface(parent, m_quads, parentTile);
             const GlobePatchSurface surface(id, m_quads, patch.record.heights);
             const double denominator = double(n) * m_quads;
-            double largest = 0.0;
-            const auto measure = [&](double i, double j) {
+            // parent − this at a point, its lowest and highest over the diagonals.
+            const auto difference = [&](double i, double j) {
                 const glm::dvec3 normal =
                     globe::directionOf(id.face, (double(id.x) * m_quads + i) / denominator,
                                        (double(id.y) * m_quads + j) / denominator);
                 const auto [parentAD, parentBC] = parentSurface.drawnHeights(normal);
                 const auto [childAD, childBC] = surface.drawnHeights(normal);
-                largest =
-                    std::max({largest, std::abs(parentAD - childAD), std::abs(parentAD - childBC),
-                              std::abs(parentBC - childAD), std::abs(parentBC - childBC)});
+                return std::pair(std::min(parentAD, parentBC) - std::max(childAD, childBC),
+                                 std::max(parentAD, parentBC) - std::min(childAD, childBC));
             };
-            // Only over quads holding source samples: elsewhere no sample is drawn by either
-            // (beyond the source's edge the two may differ by its cliff to the ellipsoid).
-            std::vector<std::uint8_t> vertex(
-                static_cast<std::size_t>((m_quads + 1) * (m_quads + 1)), 0);
+            // At the vertices of quads holding samples only: elsewhere no sample is drawn by
+            // either (beyond the source's edge the two may differ by its cliff).
+            const auto vertexIndex = [&](int i, int j) {
+                return static_cast<std::size_t>(j * (m_quads + 1) + i);
+            };
+            std::vector<std::pair<double, double>> atVertex(
+                static_cast<std::size_t>((m_quads + 1) * (m_quads + 1)));
+            std::vector<std::uint8_t> needed(atVertex.size(), 0);
             for (int j = 0; j < m_quads; ++j)
-                for (int i = 0; i < m_quads; ++i) {
-                    if (!patch.quadsWithSamples[static_cast<std::size_t>(j * m_quads + i)])
-                        continue;
-                    measure(i + 0.5, j + 0.5);
-                    for (int corner = 0; corner < 4; ++corner)
-                        vertex[static_cast<std::size_t>((j + (corner >> 1)) * (m_quads + 1) + i +
-                                                        (corner & 1))] = 1;
-                }
+                for (int i = 0; i < m_quads; ++i)
+                    if (patch.quads.holds(static_cast<std::size_t>(j * m_quads + i)))
+                        for (int corner = 0; corner < 4; ++corner)
+                            needed[vertexIndex(i + (corner & 1), j + (corner >> 1))] = 1;
             for (int j = 0; j <= m_quads; ++j)
                 for (int i = 0; i <= m_quads; ++i)
-                    if (vertex[static_cast<std::size_t>(j * (m_quads + 1) + i)]) measure(i, j);
-            shares[static_cast<std::size_t>(k)] = roundUpToFloat(patch.error + largest);
+                    if (needed[vertexIndex(i, j)]) atVertex[vertexIndex(i, j)] = difference(i, j);
+            const std::size_t first = static_cast<std::size_t>(k) * perPatch;
+            std::fill_n(parentLow.begin() + std::ptrdiff_t(first), perPatch,
+                        std::numeric_limits<float>::infinity());
+            std::fill_n(parentHigh.begin() + std::ptrdiff_t(first), perPatch,
+                        -std::numeric_limits<float>::infinity());
+            for (int j = 0; j < m_quads; ++j)
+                for (int i = 0; i < m_quads; ++i) {
+                    const auto quad = static_cast<std::size_t>(j * m_quads + i);
+                    if (!patch.quads.holds(quad)) continue;
+                    auto [low, high] = difference(i + 0.5, j + 0.5);
+                    for (int corner = 0; corner < 4; ++corner) {
+                        const auto& v = atVertex[vertexIndex(i + (corner & 1), j + (corner >> 1))];
+                        low = std::min(low, v.first);
+                        high = std::max(high, v.second);
+                    }
+                    const std::size_t to = first + static_cast<std::size_t>((j / 2) * half + i / 2);
+                    parentLow[to] = std::min(parentLow[to],
+                                             QuadIntervals::roundDown(low + patch.quads.low[quad]));
+                    parentHigh[to] =
+                        std::max(parentHigh[to], roundUpToFloat(high + patch.quads.high[quad]));
+                }
         });
         for (std::size_t k = 0; k < keys.size(); ++k) {
             const Patch& patch = m_patches.at(keys[k]);
             m_carry.keys.push_back(keys[k]);
-            m_carry.parentErrors.push_back(shares[k]);
+            m_carry.errors.push_back(roundUpToFloat(patch.error));
             m_carry.evenHeights.insert(m_carry.evenHeights.end(), patch.evens.begin(),
                                        patch.evens.end());
             m_carry.evenValid.insert(m_carry.evenValid.end(), patch.evenValid.begin(),
                                      patch.evenValid.end());
-            // The parent's quads over this patch: each covers 2 × 2 of its own.
-            for (int b = 0; b < half; ++b)
-                for (int a = 0; a < half; ++a) {
-                    std::uint8_t any = 0;
-                    for (int corner = 0; corner < 4; ++corner)
-                        any |= patch.quadsWithSamples[static_cast<std::size_t>(
-                            (2 * b + (corner >> 1)) * m_quads + 2 * a + (corner & 1))];
-                    m_carry.parentQuadsWithSamples.push_back(any);
-                }
         }
+        m_carry.parentLow = std::move(parentLow);
+        m_carry.parentHigh = std::move(parentHigh);
     }
 
     DemReader& m_reader;

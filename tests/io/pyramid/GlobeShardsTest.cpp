@@ -40,12 +40,16 @@ PyramidBuildOptions smallPatches() { return test::smallGlobePatches(); }
 // The region build against the whole build of the same source: the same patches with the same
 // tiles and children; Err(P) equal at the finest level, never smaller above; the manifests'
 // statistics equal; and the region build's bounds hold at every valid source sample.
-void expectRegionBuildMatchesWholeBuild(DemReader& source, const PyramidBuildOptions& options) {
+void expectRegionBuildMatchesWholeBuild(DemReader& source, PyramidBuildOptions options) {
     TempFolder temp;
     const fs::path whole = temp.path() / "whole.pyramid";
     const fs::path region = temp.path() / "region.pyramid";
     auto w = buildGlobePyramid(source, whole, options);
     ASSERT_TRUE(w) << w.error().message;
+    // Every level above the finest nested (the default measures these small sources at their
+    // samples at every level, and so builds the whole build's bounds, which the last test
+    // checks).
+    options.globeMeasuredLevels = 0;
     auto r = buildGlobePyramidByShards(source, region, options);
     ASSERT_TRUE(r) << r.error().message;
     EXPECT_FALSE(fs::exists(shardStagingFolder(region)));
@@ -239,6 +243,18 @@ TEST(GlobeShards, ASourceOverTheBudgetIsBuiltByShards) {
     const fs::path expected = temp.path() / "expected.pyramid";
     ASSERT_TRUE(buildGlobePyramidByShards(source, expected, options));
     EXPECT_EQ(pyramidFiles(small), pyramidFiles(expected));
+}
+
+// Measured at the source's samples (the default for a source this small, and for the two
+// levels above the finest of any): the whole build's files, byte for byte.
+TEST(GlobeShards, MeasuredLevelsAreTheWholeBuildsBytes) {
+    TempFolder temp;
+    GeographicFunctionDem source(8.0, 61.0, 300, 200, 0.01, 0.005, hills);
+    const fs::path whole = temp.path() / "whole.pyramid";
+    ASSERT_TRUE(buildGlobePyramid(source, whole, smallPatches()));
+    const fs::path region = temp.path() / "region.pyramid";
+    ASSERT_TRUE(buildGlobePyramidByShards(source, region, smallPatches()));
+    EXPECT_EQ(pyramidFiles(whole), pyramidFiles(region));
 }
 
 TEST(GlobeShards, ShardsOfAnotherPlanAndForeignShardsAreRefused) {

@@ -8,12 +8,16 @@
 // patches, the same heights to the bit, Err(P) measured at every source sample in the patch.
 // A coarser shard is built from the shards beneath it: a patch's samples are its children's
 // even samples (the same directions, so the same heights as the whole build's; its apron and
-// any part no child covers are resampled from the source), and its Err(P) is the nested bound
-// of Yusov & Shevtsov 2011, §4: the largest over its children of the child's Err(P) plus how
-// far the patch's surface lies from the child's, measured at the child's vertices and quad
-// centres, where the largest difference between two such triangulations lies. That bound is
-// looser than the whole build's, which measures every level against the source; the heights,
-// the patches and the shards present are the same.
+// any part no child covers are resampled from the source). Its Err(P) is measured at the
+// source's samples too, as the whole build's, on the two levels above the finest
+// (PyramidBuildOptions::globeMeasuredLevels) and on every level of a shard whose
+// surroundings hold at most 2^24 samples: a small source's region build is its whole build,
+// byte for byte. Above them it is the nested bound of Yusov & Shevtsov 2011, §4, signed and
+// per quad: for each quad, the interval of the child's surface minus the samples in it, plus
+// that of the parent's surface minus the child's, whose extremes on a quad lie at its corners
+// and centre (GlobeShards.cpp, carryToParents). That bound is looser than the measured one
+// (docs/globe.md, "Region builds"); the heights, the patches and the shards present are the
+// same.
 //
 // Each task writes its shard and a carry (GlobeShardCarry.h) into "<output>.parts", each to a
 // temporary name renamed into place, so a task run again, or twice at once, writes the same

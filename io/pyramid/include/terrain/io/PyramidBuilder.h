@@ -42,6 +42,10 @@ struct PyramidBuildOptions {
     /// (docs/pyramid-format.md, "Height codes"); false makes every patch decodable on its
     /// own, at 10–20 % more bytes (a server handing out single patches). Planar pyramids.
     bool parentPrediction = true;
+    /// A globe region build (GlobeShards.h): the levels above the finest whose Err(P) is
+    /// measured at the source's samples before the nested bound takes over; −1 is 2, and every
+    /// level of a shard whose surroundings hold at most 2^24 samples.
+    int globeMeasuredLevels = -1;
     bool overwrite = false;  ///< replace an existing pyramid at the output path
     /// Called on the building thread after every band.
     std::function<void(const PyramidBuildProgress&)> progress;
