@@ -70,10 +70,10 @@ Result<GlobeShardCarry> readGlobeCarry(const fs::path& path, bool whole, int qua
         const std::size_t patches = c.keys.size();
         const auto half = static_cast<std::size_t>(quads / 2);
         const std::size_t samples = patches * (half + 1) * (half + 1);
-        if (!r.failed() &&
-            (c.errors.size() != patches || c.evenHeights.size() != samples ||
-             c.evenValid.size() != samples || c.parentLow.size() != patches * half * half ||
-             c.parentHigh.size() != c.parentLow.size()))
+        if (!r.failed() && (c.errors.size() != patches || c.evenHeights.size() != samples ||
+                            c.evenValid.size() != samples ||
+                            (!c.parentLow.empty() && c.parentLow.size() != patches * half * half) ||
+                            c.parentHigh.size() != c.parentLow.size()))
             return Error{path.string() + ": inconsistent globe shard carry file"};
     }
     if (r.failed() || c.childShards.size() % 2 != 0)

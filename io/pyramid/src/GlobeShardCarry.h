@@ -36,7 +36,8 @@ struct GlobeShardCarry {
     // For the parent shard's task: per patch (its face-level key), its Err(P), its even samples
     // ((q/2 + 1)² of them, row-major, unrounded), and for each of the parent's quads over it
     // ((q/2)², row-major) the interval of parent − source over the samples there (low > high:
-    // none), GlobeShards.cpp's carryToParents.
+    // none; none at all where the parent is measured at the samples), GlobeShards.cpp's
+    // carryToParents.
     std::vector<std::uint64_t> keys;
     std::vector<float> errors;
     std::vector<float> evenHeights;

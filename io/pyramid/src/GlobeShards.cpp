@@ -475,7 +475,15 @@ public:
                     std::max(m_carry.finestLargestQuantErrorM, patch.quantized);
             records.push_back(&patch.record);
         }
-        if (m_level > 0) carryToParents();
+        if (m_level > 0) {
+            // A parent measured at the samples needs no intervals from its children.
+            const ShardId parent{m_shard.level - 1, m_shard.x / 2, m_shard.y / 2};
+            const bool parentNested = !measuredAtSamples(
+                m_level - 1, m_plan.faceFinestLevel,
+                windowOf(boxOfShard(m_layout, parent, m_plan.faceFinestLevel), m_source.grid),
+                m_options);
+            carryToParents(parentNested);
+        }
         m_carry.phases.boundsSeconds += secondsSince(start);
         start = Clock::now();
         m_carry.patches = std::ssize(records);
@@ -764,10 +772,11 @@ private:
         }
         for (const detail::GlobeShardCarry& c : carries)
             for (std::size_t k = 0; k < c.keys.size(); ++k)
-                children[c.keys[k]] = {c.errors[k], c.evenHeights.data() + k * evenCount,
-                                       c.evenValid.data() + k * evenCount,
-                                       c.parentLow.data() + k * quadCount,
-                                       c.parentHigh.data() + k * quadCount};
+                children[c.keys[k]] = {
+                    c.errors[k], c.evenHeights.data() + k * evenCount,
+                    c.evenValid.data() + k * evenCount,
+                    c.parentLow.empty() ? nullptr : c.parentLow.data() + k * quadCount,
+                    c.parentHigh.empty() ? nullptr : c.parentHigh.data() + k * quadCount};
         for (const auto& [childKey, child] : children) {
             const GlobePatchId id = idOf(childKey, m_level + 1);
             addPatch(keyOf(id.face, id.x / 2, id.y / 2));
@@ -793,6 +802,7 @@ private:
                     static_cast<std::uint8_t>(patch.presentChildren | (1u << c));
                 // Never below a child's: Err(P) does not grow with depth.
                 patch.childrenError = std::max(patch.childrenError, double(found->second.error));
+                if (found->second.low == nullptr) continue;  // this shard is measured
                 for (int b = 0; b < half; ++b)
                     for (int a = 0; a < half; ++a) {
                         const auto from = static_cast<std::size_t>(b * half + a);
@@ -843,15 +853,17 @@ private:
     // is made of this patch's even samples, rounded as the parent rounds them. Each parent
     // quad (2 × 2 of this patch's) gets the union of its quads' sums: where the two terms
     // differ in sign they cancel, as they do in the samples, and the bound does not add the
-    // levels' largest differences wherever they lie.
-    void carryToParents() {
+    // levels' largest differences wherever they lie. Only for a nested parent: one measured at
+    // the samples needs the evens alone.
+    void carryToParents(bool parentNested) {
         const int half = m_quads / 2;
         const std::int64_t n = globe::patchesPerFaceSide(m_level);
         std::vector<PatchKey> keys;
         for (const auto& [key, patch] : m_patches) keys.push_back(key);
         const auto perPatch = static_cast<std::size_t>(half * half);
-        std::vector<float> parentLow(keys.size() * perPatch), parentHigh(parentLow.size());
-        parallelFor(std::ssize(keys), m_threads, [&](std::int64_t k) {
+        std::vector<float> parentLow(parentNested ? keys.size() * perPatch : 0);
+        std::vector<float> parentHigh(parentLow.size());
+        parallelFor(parentNested ? std::ssize(keys) : 0, m_threads, [&](std::int64_t k) {
             const PatchKey key = keys[static_cast<std::size_t>(k)];
             const Patch& patch = m_patches.at(key);
             const GlobePatchId id = idOf(key, m_level);
