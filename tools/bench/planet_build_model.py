@@ -70,8 +70,15 @@ def globe_model(args):
     all_patches = sum(r[1] for r in rows)
     all_tasks = sum(r[2] for r in rows)
     all_cpu = sum(r[3] for r in rows)
+    # Carries: every patch below the faces' hands its parent its even samples; the per-quad
+    # intervals only where the parent is nested (face levels up to face_finest - 2).
     half = args.patch_quads // 2
-    carry_per_patch = (half + 1) ** 2 * 5 + half * half * 8 + 16
+    evens_per_patch = (half + 1) ** 2 * 5 + 16
+    intervals_per_patch = half * half * 8
+    carry_bytes = sum(level_patches * (evens_per_patch + (intervals_per_patch
+                                                         if face_level <= face_finest - 3 + 1
+                                                         else 0))
+                      for face_level, level_patches, _, _ in rows if face_level > 0)
 
     print(f"Measured ({bench['source']}, {bench['machine']}, {bench['date']}): a finest patch "
           f"{cpu_per_finest_patch:.3f} CPU s, a nested one {cpu_per_nested_patch:.4f} CPU s "
@@ -93,8 +100,9 @@ def globe_model(args):
     print(f"| core-hours | {all_cpu / 3600:,.0f} |")
     print(f"| bytes written at {bytes_per_patch / 1024:.1f} KiB per patch | "
           f"{bytes_per_patch * all_patches / 1e12:,.2f} TB |")
-    print(f"| carries (temporary), {carry_per_patch / 1024:.1f} KiB per patch below the faces' | "
-          f"{carry_per_patch * (all_patches - 6) / 1e12:,.2f} TB |")
+    print(f"| carries (temporary): {evens_per_patch / 1024:.1f} KiB per patch below the faces', "
+          f"{intervals_per_patch / 1024:.1f} KiB more under a nested parent | "
+          f"{carry_bytes / 1e12:,.2f} TB |")
     for workers in (1, 64, 1024):
         wall = 0.0
         for face_level, level_patches, shards, cpu in rows:
