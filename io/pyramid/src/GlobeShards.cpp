@@ -981,7 +981,7 @@ std::uint64_t globeShardBytes(const PyramidLayout& layout) {
     const auto drawn = std::uint64_t(layout.patchSamples()) * std::uint64_t(layout.patchSamples());
     // Per patch: its record and the places of its samples while resampling (tile · 45 bytes),
     // its surface (drawn · 24), its evens and its children's (drawn · 5 / 4 · 5).
-    return patches * (tile * 45 + drawn * 24 + drawn * 7) + (std::uint64_t{4} << 20);
+    return patches * (tile * 45 + drawn * 24 + drawn * 7) + (std::uint64_t{1} << 19);
 }
 
 std::vector<ShardId> globeShardInputs(const GlobeShardPlan& plan, const ShardId& shard) {

@@ -35,7 +35,13 @@ using test::hills;
 using test::pyramidFiles;
 using test::TempFolder;
 
-PyramidBuildOptions smallPatches() { return test::smallGlobePatches(); }
+// One thread: these builds are many small shards, and the suite runs under sanitizers too;
+// RegionalSourceAtHighLatitude builds with two.
+PyramidBuildOptions smallPatches() {
+    PyramidBuildOptions options = test::smallGlobePatches();
+    options.threads = 1;
+    return options;
+}
 
 // The region build against the whole build of the same source: the same patches with the same
 // tiles and children; Err(P) equal at the finest level, never smaller above; the manifests'
@@ -74,21 +80,24 @@ void expectRegionBuildMatchesWholeBuild(DemReader& source, PyramidBuildOptions o
     auto rr = PyramidReader::open(region);
     ASSERT_TRUE(wr && rr);
     const int finest = wm.globe->faceFinestLevel;
+    const PyramidLayout& layout = wr.value().layout();
     std::int64_t compared = 0;
-    for (int level = 0; level <= finest; ++level) {
-        const std::int64_t n = globe::patchesPerFaceSide(level);
-        for (int face = 0; face < globe::kCubeFaces; ++face)
-            for (std::int64_t y = 0; y < n; ++y)
-                for (std::int64_t x = 0; x < n; ++x) {
-                    const PatchId id = layoutPatchOf(GlobePatchId{face, level, x, y});
+    // Every patch of every shard either build holds (their shard lists are equal, above).
+    for (const ManifestLevel& level : wm.levels)
+        for (const ShardId& shard : level.presentShards)
+            for (std::int64_t y = layout.shardFirstY(shard);
+                 y < layout.shardFirstY(shard) + layout.shardCountY(shard); ++y)
+                for (std::int64_t x = layout.shardFirstX(shard);
+                     x < layout.shardFirstX(shard) + layout.shardCountX(shard); ++x) {
+                    const PatchId id{level.level, x, y};
                     auto a = wr.value().patchInfo(id);
                     auto b = rr.value().patchInfo(id);
                     ASSERT_TRUE(a && b);
                     ASSERT_EQ(a.value().present, b.value().present)
-                        << "face " << face << " level " << level << " (" << x << ", " << y << ")";
+                        << "level " << level.level << " (" << x << ", " << y << ")";
                     if (!a.value().present) continue;
                     EXPECT_EQ(a.value().presentChildren, b.value().presentChildren);
-                    if (level == finest)
+                    if (level.level == layout.finestLevel())
                         EXPECT_EQ(a.value().error, b.value().error);
                     else
                         EXPECT_GE(b.value().error, a.value().error);
@@ -96,12 +105,11 @@ void expectRegionBuildMatchesWholeBuild(DemReader& source, PyramidBuildOptions o
                     auto hb = rr.value().readPatch(id);
                     ASSERT_TRUE(ha && hb);
                     ASSERT_EQ(ha.value().heights, hb.value().heights)
-                        << "face " << face << " level " << level << " (" << x << ", " << y << ")";
+                        << "level " << level.level << " (" << x << ", " << y << ")";
                     EXPECT_EQ(ha.value().valid, hb.value().valid);
                     ++compared;
                 }
-    }
-    EXPECT_GT(compared, 0);
+    EXPECT_EQ(compared, r.value().patches);
     ::testing::Test::RecordProperty("patchesCompared", static_cast<int>(compared));
 
     auto report = checkErrorBoundsAgainstSource(region, source);
@@ -111,8 +119,10 @@ void expectRegionBuildMatchesWholeBuild(DemReader& source, PyramidBuildOptions o
 }
 
 TEST(GlobeShards, RegionalSourceAtHighLatitude) {
-    GeographicFunctionDem source(8.0, 61.0, 300, 200, 0.01, 0.005, hills);
-    expectRegionBuildMatchesWholeBuild(source, smallPatches());
+    GeographicFunctionDem source(8.0, 61.0, 200, 120, 0.01, 0.005, hills);
+    PyramidBuildOptions options = smallPatches();
+    options.threads = 2;  // the samples' rows and the patches in parallel
+    expectRegionBuildMatchesWholeBuild(source, options);
 }
 
 TEST(GlobeShards, CapOverTheNorthPole) {
@@ -140,18 +150,18 @@ TEST(GlobeShards, GridRegisteredWholeEarth) {
 // Voids longer than a block and a shard: each is filled from the row's valid samples beyond
 // it, as the whole build fills the row.
 TEST(GlobeShards, VoidsFillAcrossBlocksAndShards) {
-    // Blocks of a finest shard are 512 columns wide, a shard here 64 face samples (~0.6 km):
-    // the long void crosses both, at 0.002° (~150 m) samples.
-    GeographicFunctionDem source(10.0, 47.0, 800, 120, 0.002, 0.002, [](double lat, double lon) {
-        const bool voidRun = lat > 46.85 && lat < 46.9 && lon > 10.1 && lon < 11.5;
-        const bool voidBlock = lat > 46.8 && lat < 46.83 && lon > 10.5 && lon < 10.6;
+    // A shard here is 64 face samples (~2.5 km), its blocks at most half its surroundings:
+    // the long void crosses both, at 0.008° (~600 m) samples.
+    GeographicFunctionDem source(10.0, 47.0, 250, 40, 0.008, 0.008, [](double lat, double lon) {
+        const bool voidRun = lat > 46.85 && lat < 46.9 && lon > 10.1 && lon < 11.9;
+        const bool voidBlock = lat > 46.75 && lat < 46.8 && lon > 10.5 && lon < 10.7;
         return voidRun || voidBlock ? std::numeric_limits<float>::quiet_NaN() : hills(lat, lon);
     });
     expectRegionBuildMatchesWholeBuild(source, smallPatches());
 }
 
 TEST(GlobeShards, LossyRegionBuildKeepsItsBounds) {
-    GeographicFunctionDem source(8.0, 61.0, 300, 200, 0.01, 0.005, hills);
+    GeographicFunctionDem source(8.0, 61.0, 200, 120, 0.01, 0.005, hills);
     PyramidBuildOptions options = smallPatches();
     options.maxErrorM = 2.0;
     expectRegionBuildMatchesWholeBuild(source, options);
@@ -232,13 +242,14 @@ TEST(GlobeShards, MergeRefusesAMissingOrStaleShardAndWritesNothing) {
 
 TEST(GlobeShards, ASourceOverTheBudgetIsBuiltByShards) {
     TempFolder temp;
-    GeographicFunctionDem source(-100.0, 50.0, 1200, 1000, 0.2, 0.1, hills);
+    GeographicFunctionDem source(-100.0, 88.0, 460, 440, 0.4, 0.4, hills);
     PyramidBuildOptions options = smallPatches();
+    options.globeMeasuredLevels = 0;  // no level but the finest reads the source again
     auto plan = planGlobeShards(source, temp.path() / "plan.pyramid", options);
     ASSERT_TRUE(plan) << plan.error().message;
-    // 1200 × 1000 samples need 5.7 MiB held whole: over half the budget, which a shard fits.
-    options.memoryBudgetBytes = 2 * globeShardBytes(plan.value().layout) + (1 << 20);
-    ASSERT_LT(options.memoryBudgetBytes / 2, 1200u * 1000u * 5u);
+    // 460 × 440 samples need 1 MiB held whole: over half the budget, which a shard fits.
+    options.memoryBudgetBytes = 2 * globeShardBytes(plan.value().layout) + (64 << 10);
+    ASSERT_LT(options.memoryBudgetBytes / 2, 460u * 440u * 5u);
     const fs::path small = temp.path() / "small.pyramid";
     auto built = buildGlobePyramid(source, small, options);
     ASSERT_TRUE(built) << built.error().message;
