@@ -68,8 +68,8 @@ public:
     std::int64_t width() const { return m_width; }
     std::int64_t height() const { return m_height; }
     /// Latitude and longitude of pixel (col, row)'s centre.
-    double latitudeOf(std::int64_t row) const { return m_north - (double(row) + 0.5) * m_pixelLat; }
-    double longitudeOf(std::int64_t col) const { return m_west + (double(col) + 0.5) * m_pixelLon; }
+    double latitudeOf(std::int64_t row) const { return latitudeAt(double(row)); }
+    double longitudeOf(std::int64_t col) const { return longitudeAt(double(col)); }
     /// Latitude and longitude of a place between pixel centres: y and x in pixels, the
     /// centre of pixel (0, 0) at (0, 0).
     double latitudeAt(double y) const { return m_north - (y + 0.5) * m_pixelLat; }
@@ -85,6 +85,9 @@ public:
     double eastDeg() const { return m_west + double(m_width) * m_pixelLon; }
     double southDeg() const { return m_north - double(m_height) * m_pixelLat; }
     bool wrapsLongitude() const { return m_wraps; }
+    /// A pixel's size, degrees of latitude and of longitude.
+    double pixelLatDeg() const { return m_pixelLat; }
+    double pixelLonDeg() const { return m_pixelLon; }
 
     std::int64_t validSamples() const { return m_validSamples; }
     double minHeight() const { return m_minHeight; }  ///< over valid samples (0 if none)

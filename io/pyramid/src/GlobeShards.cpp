@@ -176,11 +176,11 @@ struct ColumnRange {
 };
 
 bool reachesSource(const LonLatBox& box, const GeographicGrid& grid) {
-    const double pixelLat = (grid.northDeg() - grid.southDeg()) / double(grid.height());
+    const double pixelLat = grid.pixelLatDeg();
     if (box.south > grid.northDeg() + pixelLat || box.north < grid.southDeg() - pixelLat)
         return false;
     if (box.allLongitudes || grid.wrapsLongitude()) return true;
-    const double pixelLon = (grid.eastDeg() - grid.westDeg()) / double(grid.width());
+    const double pixelLon = grid.pixelLonDeg();
     for (const double shift : {-360.0, 0.0, 360.0})
         if (box.west + shift <= grid.eastDeg() + pixelLon &&
             box.east + shift >= grid.westDeg() - pixelLon)
@@ -195,8 +195,8 @@ struct SourceWindow {
 
 SourceWindow windowOf(const LonLatBox& box, const GeographicGrid& grid) {
     SourceWindow w;
-    const double pixelLat = (grid.northDeg() - grid.southDeg()) / double(grid.height());
-    const double pixelLon = (grid.eastDeg() - grid.westDeg()) / double(grid.width());
+    const double pixelLat = grid.pixelLatDeg();
+    const double pixelLon = grid.pixelLonDeg();
     const auto row = [&](double latitude) { return (grid.northDeg() - latitude) / pixelLat - 0.5; };
     w.row0 = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(row(box.north))) - 1, 0,
                                       grid.height());
@@ -255,7 +255,7 @@ Result<Source> describeSource(DemReader& reader, int quads) {
 
 // A source around the whole globe, from pole to pole: every shard's box reaches it.
 bool coversTheGlobe(const GeographicGrid& grid) {
-    const double pixelLat = (grid.northDeg() - grid.southDeg()) / double(grid.height());
+    const double pixelLat = grid.pixelLatDeg();
     return grid.wrapsLongitude() && grid.northDeg() >= 90.0 - pixelLat &&
            grid.southDeg() <= -90.0 + pixelLat;
 }
