@@ -3,7 +3,7 @@
 
 #include "terrain/base/Assert.h"
 #include "terrain/gl/PixelStoreScope.h"
-#include "terrain/io/CoarseCellErrors.h"
+#include "terrain/pyramid/CoarseCellErrors.h"
 
 #include <algorithm>
 #include <cstdint>

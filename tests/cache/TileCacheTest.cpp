@@ -3,7 +3,7 @@
 // LRU model.
 #include "terrain/cache/TileCache.h"
 
-#include "terrain/io/PatchIdHash.h"
+#include "terrain/pyramid/PatchIdHash.h"
 
 #include "AllocationCounter.h"
 

@@ -4,9 +4,9 @@
 #pragma once
 
 #include "TempFolder.h"
-#include "terrain/io/DemReader.h"
-#include "terrain/io/PyramidBuilder.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/source/DemReader.h"
+#include "terrain/build/PyramidBuilder.h"
+#include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/AccuracyProbe.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/EdgeTessellation.h"

@@ -2,7 +2,8 @@
 // statistics of a raster, and the check that random windows agree with a whole read.
 #pragma once
 
-#include "terrain/io/DemReader.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/source/DemReader.h"
 
 #include <gtest/gtest.h>
 

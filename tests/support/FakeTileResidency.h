@@ -9,10 +9,10 @@
 // (fromPyramid), so the LOD sees the bounds and errors the builder wrote.
 #pragma once
 
-#include "terrain/io/PatchIdHash.h"
-#include "terrain/io/PatchRecord.h"
-#include "terrain/io/PyramidLayout.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PatchIdHash.h"
+#include "terrain/pyramid/PatchRecord.h"
+#include "terrain/pyramid/PyramidLayout.h"
+#include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/TileResidency.h"
 
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 // pole, a strip across the antimeridian, a whole planet. NaN heights are no-data.
 #pragma once
 
-#include "terrain/io/DemReader.h"
+#include "terrain/source/DemReader.h"
 
 #include <cstdint>
 #include <functional>

@@ -4,7 +4,7 @@
 // and shards.
 #pragma once
 
-#include "terrain/io/PyramidBuilder.h"
+#include "terrain/build/PyramidBuilder.h"
 
 #include <cmath>
 

@@ -3,7 +3,7 @@
 // samples, unknown CRS); a camera above its centre.
 #pragma once
 
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/TerrainGeometry.h"
 

@@ -4,9 +4,10 @@
 #pragma once
 
 #include "TempFolder.h"
-#include "terrain/io/DemReader.h"
-#include "terrain/io/PyramidBuilder.h"
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/source/ProceduralDems.h"
+#include "terrain/source/DemReader.h"
+#include "terrain/build/PyramidBuilder.h"
+#include "terrain/pyramid/PyramidManifest.h"
 
 #include <gtest/gtest.h>
 
@@ -18,7 +19,7 @@ namespace terrain::test {
 inline const std::filesystem::path& streamingTestPyramid() {
     static const std::unique_ptr<TempFolder> folder = [] {
         auto f = std::make_unique<TempFolder>();
-        auto reader = io::openDem({"procedural:size=513,seed=5"});
+        auto reader = io::openProceduralDem("procedural:size=513,seed=5");
         EXPECT_TRUE(reader) << reader.error().message;
         io::PyramidBuildOptions options;
         options.patchSamples = 33;

@@ -3,11 +3,11 @@
 // seeded noise, so error bounds and block errors are real and nest as the spec says.
 #pragma once
 
-#include "terrain/io/PatchErrors.h"
-#include "terrain/io/PatchRecord.h"
-#include "terrain/io/PyramidLayout.h"
-#include "terrain/io/PyramidManifest.h"
-#include "terrain/io/ShardWriter.h"
+#include "terrain/pyramid/PatchErrors.h"
+#include "terrain/pyramid/PatchRecord.h"
+#include "terrain/pyramid/PyramidLayout.h"
+#include "terrain/pyramid/PyramidManifest.h"
+#include "terrain/pyramid/ShardWriter.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,8 +1,8 @@
 // terrain-inspect as a user runs it, on tiny pyramids the test writes itself (shards and a
 // manifest, no builder): the exit status, the problems it names, its JSON summary.
-#include "terrain/io/PyramidLayout.h"
-#include "terrain/io/PyramidReader.h"
-#include "terrain/io/ShardWriter.h"
+#include "terrain/pyramid/PyramidLayout.h"
+#include "terrain/pyramid/PyramidReader.h"
+#include "terrain/pyramid/ShardWriter.h"
 
 #include "TinyPyramid.h"
 

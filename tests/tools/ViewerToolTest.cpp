@@ -3,8 +3,8 @@
 // terrain and the overlay can both be found; its telemetry log and JSON summary are right;
 // and a missing or broken pyramid, a missing path file, an unwritable output folder, no
 // display and no OpenGL 4.5 each give a message and exit status 1, never a crash.
-#include "terrain/io/GlobePyramidBuilder.h"
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/build/GlobePyramidBuilder.h"
+#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/CameraPath.h"
 #include "terrain/runtime/TerrainGeometry.h"
 

@@ -2,7 +2,8 @@
 // georeference, no-data), shared by every program that opens a DEM.
 #pragma once
 
-#include "terrain/io/DemReader.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/source/DemReader.h"
 
 #include <CLI/CLI.hpp>
 

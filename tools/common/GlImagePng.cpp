@@ -2,7 +2,7 @@
 #include "GlImagePng.h"
 
 #include "terrain/base/Assert.h"
-#include "terrain/io/RgbaImageWriter.h"
+#include "terrain/dem/RgbaImageWriter.h"
 
 #include <cstring>
 #include <vector>

@@ -1,6 +1,6 @@
 #include "GlobeFlight.h"
 
-#include "terrain/io/GlobeGroundHeight.h"
+#include "terrain/pyramid/GlobeGroundHeight.h"
 
 #include <cmath>
 

@@ -5,7 +5,7 @@
 #pragma once
 
 #include "terrain/base/Result.h"
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/GlobeCameraPath.h"
 
 #include <filesystem>

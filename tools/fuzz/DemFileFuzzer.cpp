@@ -9,8 +9,9 @@
 // every window is either its samples or an Error, never a crash or a hang; a projected one
 // is opened again as a globe build opens it (onto a longitude/latitude grid) and read too.
 #include "FuzzScratch.h"
-#include "terrain/io/DemReader.h"
-#include "terrain/io/HeightImageWriter.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/source/DemReader.h"
+#include "terrain/dem/HeightImageWriter.h"
 
 #include <algorithm>
 #include <array>

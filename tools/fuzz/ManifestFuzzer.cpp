@@ -3,7 +3,7 @@
 // later step can use: the layout's arithmetic (levels, patches, shards, shard paths) is
 // run over it as a reader would.
 #include "TinyPyramids.h"
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/pyramid/PyramidManifest.h"
 
 #include <algorithm>
 #include <cstdint>

@@ -4,7 +4,7 @@
 // damaged shard must be an Error naming the shard file, never a crash, a hang or a patch
 // whose arrays do not match the layout.
 #include "TinyPyramids.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 
 #include <cstdint>
 #include <span>

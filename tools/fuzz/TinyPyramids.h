@@ -4,9 +4,10 @@
 #pragma once
 
 #include "FuzzScratch.h"
-#include "terrain/io/DemReader.h"
-#include "terrain/io/GlobePyramidBuilder.h"
-#include "terrain/io/PyramidBuilder.h"
+#include "terrain/build/GlobePyramidBuilder.h"
+#include "terrain/build/PyramidBuilder.h"
+#include "terrain/source/DemReader.h"
+#include "terrain/source/ProceduralDems.h"
 
 #include <filesystem>
 
@@ -25,7 +26,7 @@ inline io::PyramidBuildOptions tinyBuildOptions() {
 inline const fs::path& tinyPlanarPyramid() {
     static const fs::path pyramid = [] {
         const fs::path out = scratch() / "planar.pyramid";
-        auto dem = io::openDem({"procedural:size=65,seed=7,spacing=10"});
+        auto dem = io::openProceduralDem("procedural:size=65,seed=7,spacing=10");
         if (!dem) harnessFailure(dem.error().message);
         auto built = io::buildPyramid(*dem.value(), out, tinyBuildOptions());
         if (!built) harnessFailure(built.error().message);
@@ -39,12 +40,17 @@ inline const fs::path& tinyPlanarPyramid() {
 inline const fs::path& tinyGlobePyramid() {
     static const fs::path pyramid = [] {
         const fs::path out = scratch() / "globe.pyramid";
-        io::DemOpenOptions geographic;
-        geographic.epsg = 4326;
-        geographic.pixelSize = 0.25;
-        geographic.originX = 10.0;
-        geographic.originY = 50.0;
-        auto dem = io::openDem({"procedural:size=65,seed=7,spacing=10"}, geographic);
+        // As terrain-build --epsg 4326 --spacing 0.25 --origin 10,50 places it.
+        auto dem = io::openProceduralDem(
+            "procedural:size=65,seed=7,spacing=10", [](io::DemInfo& info) -> Status {
+                info.georeference = {.originX = 10.0,
+                                     .originY = 50.0,
+                                     .pixelSizeX = 0.25,
+                                     .pixelSizeY = 0.25,
+                                     .epsg = io::Georeference::kWgs84Geographic,
+                                     .crsKind = io::CrsKind::Geographic};
+                return {};
+            });
         if (!dem) harnessFailure(dem.error().message);
         auto built = io::buildGlobePyramid(*dem.value(), out, tinyBuildOptions());
         if (!built) harnessFailure(built.error().message);

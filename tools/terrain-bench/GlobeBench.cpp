@@ -3,13 +3,13 @@
 #include "GlInfoJson.h"
 #include "GlobeFlight.h"
 #include "terrain/base/AtomicFile.h"
+#include "terrain/build/GlobeSourceSurface.h"
+#include "terrain/dem/OpenDem.h"
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/gl/HeadlessGlContext.h"
-#include "terrain/io/DemReader.h"
-#include "terrain/io/GlobeGroundHeight.h"
-#include "terrain/io/GlobeSourceSurface.h"
-#include "terrain/io/PyramidReader.h"
-#include "terrain/io/VirtualPlanetPyramid.h"
+#include "terrain/pyramid/GlobeGroundHeight.h"
+#include "terrain/pyramid/PyramidReader.h"
+#include "terrain/pyramid/VirtualPlanetPyramid.h"
 #include "terrain/runtime/FrameImages.h"
 #include "terrain/runtime/GlobeCameraPath.h"
 #include "terrain/runtime/GlobeReferenceRenderer.h"
@@ -17,6 +17,7 @@
 #include "terrain/runtime/GlobeSession.h"
 #include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/LatencyHistogram.h"
+#include "terrain/source/DemReader.h"
 
 #include <epoxy/gl.h>
 #include <fmt/core.h>
@@ -140,6 +141,10 @@ int runGlobeBench(const GlobeBenchOptions& o) {
     auto surface = io::GlobeSourceSurface::read(pointers, std::uint64_t{8} << 30,
                                                 manifest.value().layout.patchQuads());
     if (!surface) return fail(surface.error().message);
+    const runtime::GlobeReferenceHeights sourceHeights = [&surface](double latitude,
+                                                                    double longitude) {
+        return surface.value().heightsAt(latitude, longitude);
+    };
     auto finest = io::GlobeGroundQuery::open(o.pyramid);
     if (!finest) return fail(finest.error().message);
     std::optional<Error> finestProblem;
@@ -250,7 +255,7 @@ int runGlobeBench(const GlobeBenchOptions& o) {
             }
             lodPrevious = std::move(lod.rgba);
             const runtime::ScreenSpaceErrorStats error = runtime::measureGlobeScreenSpaceError(
-                camera, lod.depth, depthNoSkirts, surface.value(), errorPx);
+                camera, lod.depth, depthNoSkirts, sourceHeights, errorPx);
             const runtime::ScreenSpaceErrorStats lodError = runtime::measureGlobeScreenSpaceError(
                 camera, lod.depth, depthNoSkirts, finestHeights, errorPx);
             if (finestProblem) return fail(finestProblem->message);

@@ -12,7 +12,8 @@
 
 #include "ChartScript.h"
 #include "StreamingBudgetFlags.h"
-#include "terrain/io/DemReader.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/source/DemReader.h"
 
 #include <optional>
 #include <string>

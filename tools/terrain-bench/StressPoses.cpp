@@ -3,7 +3,7 @@
 // full-resolution surface.
 #include "StressPoses.h"
 
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/FullResolutionSurface.h"
 #include "terrain/runtime/TerrainGeometry.h"
 

@@ -19,7 +19,7 @@
 #include "terrain/base/AtomicFile.h"
 #include "terrain/cache/GpuTilePool.h"
 #include "terrain/gl/HeadlessGlContext.h"
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/AccuracyProbe.h"
 #include "terrain/runtime/CameraPath.h"
 #include "terrain/runtime/ImageComparison.h"

@@ -3,14 +3,15 @@
 // memory stays under --memory whatever the input size.
 #include "DemOpenFlags.h"
 
+#include "terrain/dem/OpenDem.h"
 #include "terrain/base/PeakMemory.h"
-#include "terrain/io/DemReader.h"
-#include "terrain/io/DemSlope.h"
-#include "terrain/io/GlobePyramidBuilder.h"
-#include "terrain/io/GlobeShards.h"
-#include "terrain/io/PyramidBuilder.h"
-#include "terrain/io/PyramidManifest.h"
-#include "terrain/io/PyramidShards.h"
+#include "terrain/source/DemReader.h"
+#include "terrain/source/DemSlope.h"
+#include "terrain/build/GlobePyramidBuilder.h"
+#include "terrain/build/GlobeShards.h"
+#include "terrain/build/PyramidBuilder.h"
+#include "terrain/pyramid/PyramidManifest.h"
+#include "terrain/build/PyramidShards.h"
 
 #include <fmt/core.h>
 #include <unistd.h>

@@ -2,8 +2,8 @@
 // GeoTIFF, 16-bit PNG, OpenEXR file or SRTM .hgt tile, streaming band by band so any size
 // fits in memory; or the whole DEM as a folder of SRTM tiles (--srtm-tiles).
 #include "terrain/base/AtomicFile.h"
-#include "terrain/io/HeightImageWriter.h"
-#include "terrain/io/ProceduralTerrain.h"
+#include "terrain/dem/HeightImageWriter.h"
+#include "terrain/source/ProceduralTerrain.h"
 
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>

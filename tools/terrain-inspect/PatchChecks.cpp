@@ -3,8 +3,8 @@
 // this check run the same functions (io::patchBlockErrors) on the same floats.
 #include "PatchChecks.h"
 
-#include "terrain/io/GlobePatchErrors.h"
-#include "terrain/io/PatchErrors.h"
+#include "terrain/pyramid/GlobePatchErrors.h"
+#include "terrain/pyramid/PatchErrors.h"
 
 #include <fmt/format.h>
 

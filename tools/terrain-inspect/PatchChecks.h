@@ -3,9 +3,9 @@
 // no-data count and mask. Each failed check is one Problem naming the file and the patch.
 #pragma once
 
-#include "terrain/io/PatchRecord.h"
-#include "terrain/io/PyramidLayout.h"
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/pyramid/PatchRecord.h"
+#include "terrain/pyramid/PyramidLayout.h"
+#include "terrain/pyramid/PyramidManifest.h"
 
 #include <optional>
 #include <string>

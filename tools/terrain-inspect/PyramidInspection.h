@@ -5,7 +5,7 @@
 
 #include "PatchChecks.h"
 
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 
 #include <cstdint>
 #include <functional>

@@ -2,16 +2,17 @@
 // whether every stored patch is intact and self-consistent.
 #include "PyramidInspection.h"
 
-#include "terrain/io/PyramidManifest.h"
-#include "terrain/io/PyramidReader.h"
-#include "terrain/io/VirtualPlanetPyramid.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/pyramid/PyramidManifest.h"
+#include "terrain/pyramid/PyramidReader.h"
+#include "terrain/pyramid/VirtualPlanetPyramid.h"
 
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include "DemOpenFlags.h"
-#include "terrain/io/PyramidSourceCheck.h"
+#include "terrain/build/PyramidSourceCheck.h"
 
 #include <chrono>
 #include <cmath>

@@ -5,9 +5,9 @@
 // globe pyramid the patches are its present ones, from the six faces down (the virtual
 // planet's are generated: the figure is then the planet's cost a tile).
 #include "terrain/globe/CubeSphere.h"
-#include "terrain/io/GlobeLayout.h"
-#include "terrain/io/IoThread.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/GlobeLayout.h"
+#include "terrain/iothread/IoThread.h"
+#include "terrain/pyramid/PyramidReader.h"
 
 #include <fmt/core.h>
 #include <CLI/CLI.hpp>

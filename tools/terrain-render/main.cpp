@@ -13,7 +13,7 @@
 
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/gl/HeadlessGlContext.h"
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/CameraPath.h"
 #include "terrain/runtime/GlobeCamera.h"
 #include "terrain/runtime/GlobeCameraPath.h"

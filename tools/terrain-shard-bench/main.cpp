@@ -2,12 +2,13 @@
 // the requested size (every level, every shard) from a pool of real patch tiles cut from a
 // DEM, then reads every patch back; prints patches/s and bytes. No error bounds are
 // computed beyond the block errors of the pool, so the numbers are the format's own cost.
-#include "terrain/io/DemReader.h"
-#include "terrain/io/NoDataFill.h"
-#include "terrain/io/PatchErrors.h"
-#include "terrain/io/PyramidManifest.h"
-#include "terrain/io/PyramidReader.h"
-#include "terrain/io/ShardWriter.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/source/DemReader.h"
+#include "terrain/build/NoDataFill.h"
+#include "terrain/pyramid/PatchErrors.h"
+#include "terrain/pyramid/PyramidManifest.h"
+#include "terrain/pyramid/PyramidReader.h"
+#include "terrain/pyramid/ShardWriter.h"
 
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>

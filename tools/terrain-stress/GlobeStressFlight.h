@@ -8,7 +8,7 @@
 
 #include "StressFlight.h"
 
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/GlobeCamera.h"
 

@@ -1,7 +1,7 @@
 // StressChecks: layer and coverage checks over the frame's draw list.
 #include "StressChecks.h"
 
-#include "terrain/io/GlobeLayout.h"
+#include "terrain/pyramid/GlobeLayout.h"
 
 #include <fmt/format.h>
 

@@ -2,7 +2,7 @@
 // returns the first violation it finds, described for a user, or nullopt.
 #pragma once
 
-#include "terrain/io/PatchIdHash.h"
+#include "terrain/pyramid/PatchIdHash.h"
 #include "terrain/runtime/GlobeLod.h"
 #include "terrain/runtime/LodQuadtree.h"
 #include "terrain/runtime/PatchSelection.h"

@@ -16,7 +16,7 @@
 #include "terrain/base/ProcessResources.h"
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/gl/HeadlessGlContext.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
 

@@ -3,8 +3,8 @@
 #include "KeyBindings.h"
 #include "Screenshot.h"
 #include "terrain/globe/Wgs84.h"
-#include "terrain/io/GlobeLayout.h"
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/pyramid/GlobeLayout.h"
+#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/GlobeDrawnGround.h"
 #include "terrain/runtime/ScreenProjection.h"
 

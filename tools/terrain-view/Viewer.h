@@ -17,7 +17,7 @@
 
 #include "terrain/base/Result.h"
 #include "terrain/gl/GlfwWindowContext.h"
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/CameraController.h"
 #include "terrain/runtime/CameraPath.h"

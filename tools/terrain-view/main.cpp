@@ -6,7 +6,7 @@
 #include "KeyBindings.h"
 #include "Viewer.h"
 #include "ViewerOptions.h"
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/LodMethod.h"
 
 #include <fmt/core.h>

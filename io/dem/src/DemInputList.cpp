@@ -1,6 +1,7 @@
 #include "DemInputList.h"
 
-#include "terrain/io/DemReader.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/source/DemReader.h"
 
 #include <fmt/format.h>
 #include <glob.h>

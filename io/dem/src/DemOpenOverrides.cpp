@@ -1,4 +1,5 @@
 // DemOpenOptions applied to a DemInfo: what the command line says wins over the file.
+#include "terrain/dem/OpenDem.h"
 #include "DemReaderFactories.h"
 #include "GdalSession.h"
 

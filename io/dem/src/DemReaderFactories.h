@@ -3,7 +3,8 @@
 // builds, so its reader converts samples with the final vertical transform and no-data.
 #pragma once
 
-#include "terrain/io/DemReader.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/source/DemReader.h"
 
 #include <cctype>
 #include <cstdint>
@@ -26,12 +27,6 @@ DemReaderResult openGdalDem(const std::string& path, const DemOpenOptions& optio
 /// Several GDAL inputs as one raster through an in-memory VRT (GdalDemMosaic.cpp).
 DemReaderResult openGdalMosaic(const std::vector<std::string>& paths,
                                const DemOpenOptions& options);
-/// "procedural:size=…,seed=…,spacing=…" (ProceduralDemReader.cpp).
-DemReaderResult openProceduralDem(const std::string& spec, const DemOpenOptions& options);
-/// "planet:seed=…,level=…,west=…,…": the procedural planet, geographic
-/// (ProceduralPlanetDemReader.cpp).
-DemReaderResult openProceduralPlanetDem(const std::string& spec, const DemOpenOptions& options);
-
 /// The most one block a reader decodes at once may take. Decoders allocate a block before
 /// they read it, so a damaged header that claims more would make them allocate it (8 GB for
 /// a 232-byte EXR claiming 8.4M columns, found by fuzz-dem-exr; 5.1 GB for a 300-byte file
@@ -64,16 +59,6 @@ inline std::string libraryMessage(std::string message, const std::string& path) 
     for (const std::string& prefix : {path + ": ", "\"" + path + "\": ", "`" + path + "': "})
         if (message.starts_with(prefix)) message.erase(0, prefix.size());
     return message;
-}
-
-/// The readWindow precondition (a programmer error when broken, hence an assert).
-inline void assertDemWindow(const DemInfo& info, std::int64_t x0, std::int64_t y0,
-                            std::int64_t width, std::int64_t rows, std::span<float> out) {
-    TERRAIN_ASSERT(x0 >= 0 && y0 >= 0 && width >= 0 && rows >= 0 && x0 + width <= info.width &&
-                       y0 + rows <= info.height,
-                   "DemReader::readWindow: the window is outside the raster");
-    TERRAIN_ASSERT(out.size() >= static_cast<std::size_t>(width * rows),
-                   "DemReader::readWindow: out is smaller than the window");
 }
 
 }  // namespace terrain::io::detail

@@ -2,6 +2,7 @@
 // one's CRS, pixel size and grid, GDALBuildVRT makes an in-memory VRT over them and the
 // GDAL reader reads it. Inputs may overlap (SRTM tiles share their edge rows); samples
 // no input covers read as NaN.
+#include "terrain/dem/OpenDem.h"
 #include "GdalDemReader.h"
 
 #include <fmt/format.h>

@@ -4,7 +4,8 @@
 // from the band, the placement from the geotransform and the CRS from the dataset's spatial
 // reference.
 #include "GdalDemReader.h"
-#include "DemSampleConversion.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/source/DemSampleConversion.h"
 #include "NetCdfClassicExtent.h"
 
 #include <cpl_string.h>

@@ -3,6 +3,7 @@
 // cache keeps decoded blocks between the builder's bands).
 #pragma once
 
+#include "terrain/dem/OpenDem.h"
 #include <optional>
 #include <string_view>
 

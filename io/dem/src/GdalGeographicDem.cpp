@@ -5,6 +5,7 @@
 // (GdalResampledDem.cpp), the source's own samples stay readable and each is placed on the
 // new grid through the CRS transform (PROJ, through OGR), so the pyramid's Err(P) is made
 // and checked against the samples the user gave, not against the resampled grid.
+#include "terrain/dem/OpenDem.h"
 #include "GdalDemReader.h"
 #include "GdalWarp.h"
 

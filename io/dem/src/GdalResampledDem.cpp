@@ -2,6 +2,7 @@
 // window, onto a north-up grid in their own CRS, and the source's own samples stay readable
 // so that the pyramid's error bounds are made and checked against them, not against the
 // resampled grid (PyramidBuilder, PyramidSourceCheck).
+#include "terrain/dem/OpenDem.h"
 #include "GdalDemReader.h"
 #include "GdalWarp.h"
 

@@ -6,7 +6,7 @@
 
 #include "GdalSession.h"
 #include "terrain/base/Result.h"
-#include "terrain/io/DemReader.h"
+#include "terrain/source/DemReader.h"
 
 #include <cstdint>
 #include <string>

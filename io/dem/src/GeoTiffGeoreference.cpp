@@ -1,5 +1,5 @@
 // GeoTIFF georeference reader through libtiff (GeoTIFF 1.1, OGC 19-008r4, §7).
-#include "terrain/io/GeoTiffGeoreference.h"
+#include "terrain/dem/GeoTiffGeoreference.h"
 
 #include "GeoTiffGeoreferenceTags.h"
 #include "GeoTiffTags.h"

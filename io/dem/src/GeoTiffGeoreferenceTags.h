@@ -4,7 +4,7 @@
 #pragma once
 
 #include "terrain/base/Result.h"
-#include "terrain/io/Georeference.h"
+#include "terrain/source/Georeference.h"
 
 #include <tiffio.h>
 

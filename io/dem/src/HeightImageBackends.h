@@ -3,7 +3,7 @@
 // errors, and fills in the summary's statistics.
 #pragma once
 
-#include "terrain/io/HeightImageWriter.h"
+#include "terrain/dem/HeightImageWriter.h"
 
 #include <algorithm>
 #include <cmath>

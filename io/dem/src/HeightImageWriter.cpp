@@ -1,6 +1,6 @@
 // writeHeightImage: picks the format from the extension, checks the request, and runs the
 // format's writer through an AtomicFile.
-#include "terrain/io/HeightImageWriter.h"
+#include "terrain/dem/HeightImageWriter.h"
 
 #include "HeightImageBackends.h"
 #include "terrain/base/AtomicFile.h"

@@ -3,7 +3,8 @@
 // place (N57E011: the south-west corner at 57° N, 11° E). Windows are read with pread, a
 // row segment at a time, so a reader holds no more than the window.
 #include "DemReaderFactories.h"
-#include "DemSampleConversion.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/source/DemSampleConversion.h"
 
 #include <fmt/format.h>
 

@@ -5,11 +5,12 @@
 // are first checked with libtiff (TiffDemInspection.h), which also gives the GeoTIFF
 // georeference, GDAL no-data value and scale/offset that OpenImageIO 2.4 does not read;
 // PNG and JPEG files are checked for truncation (ImageFileTruncation.h).
-#include "terrain/io/ExrHeaderCheck.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/pyramid/ExrHeaderCheck.h"
 
 #include "DemBlockCache.h"
 #include "DemReaderFactories.h"
-#include "DemSampleConversion.h"
+#include "terrain/source/DemSampleConversion.h"
 #include "GdalSession.h"
 #include "ImageFileTruncation.h"
 #include "TiffDemInspection.h"

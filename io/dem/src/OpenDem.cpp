@@ -4,9 +4,11 @@
 // extensions OpenImageIO (GDAL when a band is chosen), anything else (netCDF, VRT, DTED, ...)
 // and every mosaic GDAL. A folder or a file pattern stands for the DEM files it names
 // (DemInputList.h).
+#include "terrain/dem/OpenDem.h"
 #include "DemInputList.h"
 #include "DemReaderFactories.h"
 #include "GdalDemReader.h"
+#include "terrain/source/ProceduralDems.h"
 
 #include <fmt/format.h>
 
@@ -20,15 +22,8 @@ namespace terrain::io {
 
 namespace {
 
-constexpr std::string_view kProceduralPrefix = "procedural:";
 constexpr std::array<std::string_view, 7> kOiioExtensions = {".tif", ".tiff", ".png", ".exr",
                                                              ".jpg", ".jpeg", ".jpe"};
-
-constexpr std::string_view kPlanetPrefix = "planet:";
-
-bool isProcedural(const std::string& input) {
-    return input.starts_with(kProceduralPrefix) || input.starts_with(kPlanetPrefix);
-}
 
 }  // namespace
 
@@ -42,7 +37,7 @@ bool isGdalDatasetName(const std::string& input) {
         const char c = input[i];
         if (!(std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_')) return false;
     }
-    return !isProcedural(input);
+    return !isProceduralDemName(input);
 }
 
 namespace {
@@ -67,7 +62,7 @@ Result<std::unique_ptr<DemReader>> openDem(const std::vector<std::string>& given
     const std::vector<std::string>& inputs = expanded.value();
     if (inputs.size() > 1) {
         for (const std::string& input : inputs)
-            if (isProcedural(input))
+            if (isProceduralDemName(input))
                 return Error{
                     fmt::format("{}: the procedural terrain cannot be part of a mosaic", input)};
         auto mosaic = detail::openGdalMosaic(inputs, options);
@@ -80,7 +75,7 @@ Result<std::unique_ptr<DemReader>> openDem(const std::vector<std::string>& given
     }
     const std::string& input = inputs.front();
     auto opened = openOne(input, options);
-    if (opened && options.geographicGrid && !isProcedural(input) &&
+    if (opened && options.geographicGrid && !isProceduralDemName(input) &&
         needsGeographicGrid(opened.value()->info())) {
         opened.value().reset();  // the file is opened again, through GDAL
         return detail::openGeographicGdalDem(input, options);
@@ -92,12 +87,13 @@ namespace {
 
 Result<std::unique_ptr<DemReader>> openOne(const std::string& input,
                                            const DemOpenOptions& options) {
-    if (isProcedural(input)) {
+    if (isProceduralDemName(input)) {
         if (options.band && *options.band != 1)
             return Error{fmt::format("{}: the procedural terrain has one band, not band {}", input,
                                      *options.band)};
-        return input.starts_with(kPlanetPrefix) ? detail::openProceduralPlanetDem(input, options)
-                                                : detail::openProceduralDem(input, options);
+        return openProceduralDem(input, [&options](DemInfo& info) {
+            return detail::applyDemOpenOptions(info, options);
+        });
     }
     // A file whose name only looks like one (a ':' in a folder name) is a file.
     std::error_code error;

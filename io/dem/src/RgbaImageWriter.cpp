@@ -1,5 +1,5 @@
 // 8-bit RGBA PNG frames through OpenImageIO and an AtomicFile.
-#include "terrain/io/RgbaImageWriter.h"
+#include "terrain/dem/RgbaImageWriter.h"
 
 #include "terrain/base/AtomicFile.h"
 

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "terrain/base/Result.h"
-#include "terrain/io/Georeference.h"
+#include "terrain/source/Georeference.h"
 
 #include <cstdint>
 #include <optional>

@@ -1,7 +1,7 @@
 // FaultInjection: the fault decision hashes (seed, patch) with SplitMix64.
-#include "terrain/io/FaultInjection.h"
+#include "terrain/iothread/FaultInjection.h"
 
-#include "terrain/io/SplitMix64.h"
+#include "terrain/source/SplitMix64.h"
 
 namespace terrain::io {
 

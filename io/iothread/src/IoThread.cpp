@@ -1,6 +1,6 @@
 // IoThread: one loop that pops the highest-priority request under the mutex, reads it with
 // the mutex released, and files the outcome for poll().
-#include "terrain/io/IoThread.h"
+#include "terrain/iothread/IoThread.h"
 
 #include "terrain/base/Assert.h"
 

@@ -1,7 +1,7 @@
 // TileRequestQueue: an ordered set of (priority desc, arrival) plus an id → entry index.
 // Leaving requests park their nodes (node handles) for the next new request, and a
 // re-prioritised request is re-keyed in place, so a warm queue allocates nothing.
-#include "terrain/io/TileRequestQueue.h"
+#include "terrain/iothread/TileRequestQueue.h"
 
 #include "terrain/base/Assert.h"
 

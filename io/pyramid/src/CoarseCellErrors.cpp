@@ -1,6 +1,6 @@
 // CoarseCellErrors: the block-corner grid's simplification error plus the blocks' own λ at
 // factor 1, cell by cell (the header derives the bound).
-#include "terrain/io/CoarseCellErrors.h"
+#include "terrain/pyramid/CoarseCellErrors.h"
 
 #include "terrain/base/Assert.h"
 

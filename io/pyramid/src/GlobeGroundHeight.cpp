@@ -1,10 +1,10 @@
 // GlobeGroundHeight: down the face quadtree through present children, then the heights of the
 // last patch's cell under the point.
-#include "terrain/io/GlobeGroundHeight.h"
+#include "terrain/pyramid/GlobeGroundHeight.h"
 
 #include "terrain/globe/GlobePatch.h"
 #include "terrain/globe/Wgs84.h"
-#include "terrain/io/GlobeLayout.h"
+#include "terrain/pyramid/GlobeLayout.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "terrain/io/GlobePatchErrors.h"
+#include "terrain/pyramid/GlobePatchErrors.h"
 
 #include "terrain/globe/GlobePatch.h"
 

@@ -1,4 +1,4 @@
-#include "terrain/io/HeightCodes.h"
+#include "terrain/pyramid/HeightCodes.h"
 
 #include "terrain/base/Assert.h"
 

@@ -5,7 +5,7 @@
 // read of the parent, and perhaps of its own parent.
 #pragma once
 
-#include "terrain/io/PyramidLayout.h"
+#include "terrain/pyramid/PyramidLayout.h"
 
 #include <algorithm>
 #include <cstddef>

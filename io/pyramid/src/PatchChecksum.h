@@ -2,8 +2,8 @@
 // shard writer stores and the reader verifies, defined once.
 #pragma once
 
-#include "terrain/io/PatchErrors.h"
-#include "terrain/io/PatchRecord.h"
+#include "terrain/pyramid/PatchErrors.h"
+#include "terrain/pyramid/PatchRecord.h"
 
 #include <cstdint>
 #include <span>

@@ -1,6 +1,6 @@
 // Error bounds of the patch quadtree: Yusov & Shevtsov 2011, §4 (Err_Int, nested like
 // ROAM's wedgies) and §5 (tessellation-block errors λ(d)).
-#include "terrain/io/PatchErrors.h"
+#include "terrain/pyramid/PatchErrors.h"
 
 #include <half.h>
 

@@ -7,8 +7,8 @@
 #pragma once
 
 #include "terrain/base/Result.h"
-#include "terrain/io/HeightCodes.h"
-#include "terrain/io/PatchErrors.h"
+#include "terrain/pyramid/HeightCodes.h"
+#include "terrain/pyramid/PatchErrors.h"
 
 #include <cstdint>
 #include <span>

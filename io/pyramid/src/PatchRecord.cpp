@@ -1,5 +1,5 @@
 // PatchRecord: the per-patch summary of its drawn samples, one loop for every writer.
-#include "terrain/io/PatchRecord.h"
+#include "terrain/pyramid/PatchRecord.h"
 
 #include "terrain/base/Assert.h"
 

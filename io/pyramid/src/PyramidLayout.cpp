@@ -1,6 +1,6 @@
 // The addressing arithmetic of the pyramid (docs/pyramid-format.md, "Levels, patches and
 // samples" and "Shard files"). Everything is closed-form, so any patch is found in O(1).
-#include "terrain/io/PyramidLayout.h"
+#include "terrain/pyramid/PyramidLayout.h"
 
 #include <fmt/format.h>
 

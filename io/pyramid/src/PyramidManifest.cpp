@@ -1,10 +1,10 @@
 // manifest.json of a pyramid (docs/pyramid-format.md): JSON through nlohmann, every field
 // checked on the way in so a damaged or foreign manifest is an Error that names the field.
-#include "terrain/io/PyramidManifest.h"
-#include "terrain/io/VirtualPlanetPyramid.h"
+#include "terrain/pyramid/PyramidManifest.h"
+#include "terrain/pyramid/VirtualPlanetPyramid.h"
 
 #include "terrain/base/AtomicFile.h"
-#include "terrain/io/GlobeLayout.h"
+#include "terrain/pyramid/GlobeLayout.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>

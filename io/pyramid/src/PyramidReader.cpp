@@ -2,12 +2,12 @@
 // keeps its OpenEXR file, its deep patches part and its patchInfo tile; a least-recently-used
 // list caps how many stay open. Everything OpenEXR throws becomes an Error naming the
 // shard file and the patch, and the shard is closed so a damaged file is not reused.
-#include "terrain/io/PyramidReader.h"
-#include "terrain/io/HeightCodes.h"
-#include "terrain/io/VirtualPlanetPyramid.h"
+#include "terrain/pyramid/PyramidReader.h"
+#include "terrain/pyramid/HeightCodes.h"
+#include "terrain/pyramid/VirtualPlanetPyramid.h"
 
 #include "terrain/base/Assert.h"
-#include "terrain/io/ExrHeaderCheck.h"
+#include "terrain/pyramid/ExrHeaderCheck.h"
 
 #include "ParentTileCache.h"
 #include "PatchChecksum.h"

@@ -4,8 +4,8 @@
 #pragma once
 
 #include "terrain/base/Result.h"
-#include "terrain/io/PatchRecord.h"
-#include "terrain/io/PyramidLayout.h"
+#include "terrain/pyramid/PatchRecord.h"
+#include "terrain/pyramid/PyramidLayout.h"
 
 #include <ImfDeepFrameBuffer.h>
 #include <ImfHeader.h>

@@ -1,15 +1,15 @@
 // Writing one shard file (docs/pyramid-format.md, "Shard files"). Each patch is coded,
 // packed and compressed (PatchPayload.h) as it arrives and written at once as one deep
 // pixel; OpenEXR only copies it, so nothing is staged beyond the patch at hand.
-#include "terrain/io/ShardWriter.h"
+#include "terrain/pyramid/ShardWriter.h"
 
 #include "ExrFileStream.h"
 #include "PatchChecksum.h"
 #include "PatchPayload.h"
 #include "ShardFormat.h"
 #include "terrain/base/AtomicFile.h"
-#include "terrain/io/HeightCodes.h"
-#include "terrain/io/PatchErrors.h"
+#include "terrain/pyramid/HeightCodes.h"
+#include "terrain/pyramid/PatchErrors.h"
 
 #include <ImfDeepFrameBuffer.h>
 #include <ImfDeepTiledOutputPart.h>

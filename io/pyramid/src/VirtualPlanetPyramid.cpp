@@ -1,11 +1,11 @@
-#include "terrain/io/VirtualPlanetPyramid.h"
+#include "terrain/pyramid/VirtualPlanetPyramid.h"
 
 #include "terrain/globe/GlobePatch.h"
 #include "terrain/globe/Wgs84.h"
-#include "terrain/io/GlobeLayout.h"
-#include "terrain/io/GlobePatchErrors.h"
-#include "terrain/io/KeyValueSpec.h"
-#include "terrain/io/PatchErrors.h"
+#include "terrain/pyramid/GlobeLayout.h"
+#include "terrain/pyramid/GlobePatchErrors.h"
+#include "terrain/source/KeyValueSpec.h"
+#include "terrain/pyramid/PatchErrors.h"
 
 #include <fmt/format.h>
 

@@ -3,7 +3,7 @@
 #include "InstancedPatchDraw.h"
 #include "terrain/base/Assert.h"
 #include "terrain/globe/Wgs84.h"
-#include "terrain/io/GlobeLayout.h"
+#include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/runtime/ProgramBuilder.h"
 
 #include <epoxy/gl.h>

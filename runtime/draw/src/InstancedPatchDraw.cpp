@@ -4,7 +4,7 @@
 #include "terrain/gl/PolygonModeScope.h"
 #include "terrain/gl/ReversedZScope.h"
 
-#include "terrain/io/PatchErrors.h"
+#include "terrain/pyramid/PatchErrors.h"
 
 #include <epoxy/gl.h>
 #include <glm/geometric.hpp>

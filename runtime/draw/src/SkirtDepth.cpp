@@ -2,7 +2,7 @@
 #include "terrain/runtime/SkirtDepth.h"
 
 #include "terrain/base/Assert.h"
-#include "terrain/io/GlobeLayout.h"
+#include "terrain/pyramid/GlobeLayout.h"
 
 #include <algorithm>
 #include <optional>

@@ -5,7 +5,7 @@
 
 #include "InstancedPatchDraw.h"
 #include "terrain/base/Assert.h"
-#include "terrain/io/PatchErrors.h"
+#include "terrain/pyramid/PatchErrors.h"
 #include "terrain/runtime/CoarseCells.h"
 #include "terrain/runtime/ProgramBuilder.h"
 #include "terrain/runtime/TerrainFrameUniforms.h"

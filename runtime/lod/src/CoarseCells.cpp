@@ -2,7 +2,7 @@
 // at its first cell over ε.
 #include "terrain/runtime/CoarseCells.h"
 
-#include "terrain/io/CoarseCellErrors.h"
+#include "terrain/pyramid/CoarseCellErrors.h"
 #include "terrain/runtime/EdgeTessellation.h"
 
 #include <algorithm>

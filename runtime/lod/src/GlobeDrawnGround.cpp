@@ -1,7 +1,7 @@
 #include "terrain/runtime/GlobeDrawnGround.h"
 
 #include "terrain/globe/Wgs84.h"
-#include "terrain/io/GlobeLayout.h"
+#include "terrain/pyramid/GlobeLayout.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 #include "terrain/runtime/GlobeLod.h"
 
 #include "terrain/base/Assert.h"
-#include "terrain/io/GlobeLayout.h"
+#include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/runtime/GlobeFrustum.h"
 
 #include <glm/geometric.hpp>

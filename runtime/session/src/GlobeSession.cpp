@@ -1,7 +1,7 @@
 #include "terrain/runtime/GlobeSession.h"
 
 #include "terrain/globe/CubeSphere.h"
-#include "terrain/io/GlobeLayout.h"
+#include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/runtime/SkirtDepth.h"
 
 #include <optional>

@@ -2,7 +2,7 @@
 #include "terrain/runtime/TerrainSession.h"
 
 #include "terrain/base/Assert.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/CdlodRenderer.h"
 #include "terrain/runtime/LivnyRenderer.h"
 #include "terrain/runtime/SkirtDepth.h"

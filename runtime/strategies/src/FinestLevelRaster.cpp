@@ -2,7 +2,7 @@
 // place in the raster; the patches overhanging the raster's last column and row are cut.
 #include "terrain/runtime/FinestLevelRaster.h"
 
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 
 #include <algorithm>
 #include <cstring>

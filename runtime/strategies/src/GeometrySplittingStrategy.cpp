@@ -2,7 +2,7 @@
 // draw of what they wrote.
 #include "terrain/runtime/GeometrySplittingStrategy.h"
 
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/FinestLevelRaster.h"
 #include "terrain/runtime/FrustumUniform.h"
 #include "terrain/runtime/IndirectTriangleDraw.h"

@@ -3,7 +3,7 @@
 #include "terrain/runtime/RipollesStrategy.h"
 
 #include "terrain/gl/Framebuffer.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/FinestLevelRaster.h"
 #include "terrain/runtime/FrustumUniform.h"
 #include "terrain/runtime/IndirectTriangleDraw.h"

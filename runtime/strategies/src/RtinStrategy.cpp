@@ -3,7 +3,7 @@
 #include "terrain/runtime/RtinStrategy.h"
 
 #include "terrain/gl/ReversedZScope.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/FinestLevelRaster.h"
 #include "terrain/runtime/ProgramBuilder.h"
 #include "terrain/runtime/TerrainFrameUniforms.h"

@@ -2,7 +2,7 @@
 // the measures.
 #include "terrain/runtime/AccuracyProbe.h"
 
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/pyramid/PyramidManifest.h"
 
 #include "terrain/runtime/ScreenProjection.h"
 #include "terrain/runtime/SurfaceRayCoverage.h"

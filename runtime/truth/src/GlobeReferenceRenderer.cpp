@@ -7,7 +7,7 @@
 #include "terrain/gl/ReversedZScope.h"
 #include "terrain/globe/PatchBounds.h"
 #include "terrain/globe/Wgs84.h"
-#include "terrain/io/GlobeLayout.h"
+#include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/runtime/GlobeFrustum.h"
 #include "terrain/runtime/GlobeRenderer.h"
 #include "terrain/runtime/ProgramBuilder.h"

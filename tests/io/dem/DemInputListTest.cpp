@@ -4,8 +4,9 @@
 // matching nothing are Errors naming them; the writer keeps SRTM's sizes and voids.
 #include "DemTestSupport.h"
 
-#include "terrain/io/DemReader.h"
-#include "terrain/io/HeightImageWriter.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/source/DemReader.h"
+#include "terrain/dem/HeightImageWriter.h"
 
 #include <gtest/gtest.h>
 

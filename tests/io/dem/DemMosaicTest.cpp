@@ -4,9 +4,10 @@
 #include "DemTestSupport.h"
 #include "SharedData.h"
 
-#include "terrain/io/DemReader.h"
-#include "terrain/io/HeightImageWriter.h"
-#include "terrain/io/ProceduralTerrain.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/source/DemReader.h"
+#include "terrain/dem/HeightImageWriter.h"
+#include "terrain/source/ProceduralTerrain.h"
 
 #include <gdal_priv.h>
 #include <gdal_utils.h>

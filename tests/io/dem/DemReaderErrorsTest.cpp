@@ -5,8 +5,9 @@
 #include "DemTestSupport.h"
 #include "SharedData.h"
 
-#include "terrain/io/DemReader.h"
-#include "terrain/io/HeightImageWriter.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/source/DemReader.h"
+#include "terrain/dem/HeightImageWriter.h"
 
 #include <gdal_priv.h>
 

@@ -5,8 +5,9 @@
 #include "GeographicFunctionDem.h"
 #include "SharedData.h"
 
-#include "terrain/io/DemSlope.h"
-#include "terrain/io/ProceduralTerrain.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/source/DemSlope.h"
+#include "terrain/source/ProceduralTerrain.h"
 
 #include <gtest/gtest.h>
 

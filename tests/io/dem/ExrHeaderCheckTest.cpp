@@ -4,8 +4,8 @@
 // before OpenEXR allocates what the header declares.
 #include "DemTestSupport.h"
 
-#include "terrain/io/ExrHeaderCheck.h"
-#include "terrain/io/HeightImageWriter.h"
+#include "terrain/pyramid/ExrHeaderCheck.h"
+#include "terrain/dem/HeightImageWriter.h"
 
 #include <gtest/gtest.h>
 

@@ -5,7 +5,8 @@
 // written here with GDAL's own API.
 #include "DemTestSupport.h"
 
-#include "terrain/io/DemReader.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/source/DemReader.h"
 
 #include <cpl_vsi.h>
 #include <gdal_priv.h>

@@ -2,10 +2,10 @@
 // OpenImageIO; the GeoTIFF georeference read back with libtiff (readGeoTiffGeoreference)
 // and, where gdal-bin is installed, with gdalinfo. Failures leave no file behind.
 #include "terrain/base/AtomicFile.h"
-#include "terrain/io/GeoTiffGeoreference.h"
-#include "terrain/io/HeightImageWriter.h"
-#include "terrain/io/ProceduralTerrain.h"
-#include "terrain/io/RgbaImageWriter.h"
+#include "terrain/dem/GeoTiffGeoreference.h"
+#include "terrain/dem/HeightImageWriter.h"
+#include "terrain/source/ProceduralTerrain.h"
+#include "terrain/dem/RgbaImageWriter.h"
 
 #include <OpenImageIO/imageio.h>
 #include "TempFolder.h"

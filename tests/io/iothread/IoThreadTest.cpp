@@ -3,11 +3,11 @@
 // injected faults, a missing shard, buffer reuse, no allocation on the owner thread once
 // warm, and prompt shutdown. Deterministic: the tests wait for states (bounded by a timeout
 // that fails the test), never for time.
-#include "terrain/io/IoThread.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/iothread/IoThread.h"
+#include "terrain/pyramid/PyramidReader.h"
 
 #include "AllocationCounter.h"
-#include "DemTestSupport.h"
+#include "TempFolder.h"
 #include "TinyPyramid.h"
 
 #include <gtest/gtest.h>
@@ -24,7 +24,7 @@
 namespace terrain::io {
 namespace {
 
-using test::TempDir;
+using TempDir = terrain::test::TempFolder;
 using namespace std::chrono_literals;
 
 constexpr auto kTimeout = 20s;  // only a hung thread reaches it

@@ -1,7 +1,7 @@
 // TileRequestQueue: highest priority first, ties first come first served, re-prioritising,
 // cancelling, no allocation once warm, and agreement with a brute-force model under a
 // seeded random sequence.
-#include "terrain/io/TileRequestQueue.h"
+#include "terrain/iothread/TileRequestQueue.h"
 
 #include "AllocationCounter.h"
 

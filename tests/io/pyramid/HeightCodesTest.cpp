@@ -1,7 +1,7 @@
 // Height codes (issue 19): every tile decodes to its floats bit for bit, whatever they are;
 // the divisor is the coarsest step the heights are whole multiples of; and smooth terrain
 // becomes small codes, which is what makes the shards compress.
-#include "terrain/io/HeightCodes.h"
+#include "terrain/pyramid/HeightCodes.h"
 
 #include <gtest/gtest.h>
 

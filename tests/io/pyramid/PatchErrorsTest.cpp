@@ -2,9 +2,9 @@
 // point of the half-sample lattice (which holds every vertex of the common refinement of
 // a fine and a coarse triangulation) under every diagonal choice, by barycentric
 // interpolation.
-#include "terrain/io/PatchErrors.h"
+#include "terrain/pyramid/PatchErrors.h"
 
-#include "terrain/io/CoarseCellErrors.h"
+#include "terrain/pyramid/CoarseCellErrors.h"
 
 #include "TriangulationOracle.h"
 

@@ -2,10 +2,10 @@
 // shards written and read back bit for bit, absent and missing patches, damaged files
 // (every flipped byte and every truncation of a small shard), failed writes, the reader's
 // LRU of open shards.
-#include "terrain/io/PatchErrors.h"
-#include "terrain/io/PyramidManifest.h"
-#include "terrain/io/PyramidReader.h"
-#include "terrain/io/ShardWriter.h"
+#include "terrain/pyramid/PatchErrors.h"
+#include "terrain/pyramid/PyramidManifest.h"
+#include "terrain/pyramid/PyramidReader.h"
+#include "terrain/pyramid/ShardWriter.h"
 
 #include "TinyPyramid.h"
 

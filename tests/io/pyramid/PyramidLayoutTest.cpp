@@ -1,7 +1,7 @@
 // The pyramid's addressing arithmetic (docs/pyramid-format.md): levels, patch and shard
 // counts, shard membership and paths, checked against the spec's definitions on every
 // small case and on the sizes that matter (SRTM 1201, 16385, a 1.3 M × 600 k planet grid).
-#include "terrain/io/PyramidLayout.h"
+#include "terrain/pyramid/PyramidLayout.h"
 
 #include <gtest/gtest.h>
 

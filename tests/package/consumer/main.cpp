@@ -1,7 +1,7 @@
 // An application that embeds the installed runtime: evaluates the procedural terrain,
 // opens a headless OpenGL 4.5 context and builds an embedded shader program.
 #include <terrain/gl/HeadlessGlContext.h>
-#include <terrain/io/ProceduralTerrain.h>
+#include <terrain/source/ProceduralTerrain.h>
 #include <terrain/runtime/ProgramBuilder.h>
 
 #include <cmath>

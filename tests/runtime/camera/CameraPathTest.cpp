@@ -6,8 +6,8 @@
 
 #include "TempFolder.h"
 
-#include "terrain/io/PyramidLayout.h"
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/pyramid/PyramidLayout.h"
+#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/TerrainGeometry.h"
 

@@ -9,8 +9,9 @@
 #include "GlTestFixture.h"
 #include "TempFolder.h"
 #include "TerrainViewChecks.h"
-#include "terrain/io/DemReader.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/source/ProceduralDems.h"
+#include "terrain/source/DemReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/EdgeTessellation.h"
 #include "terrain/runtime/TerrainSession.h"
 
@@ -100,7 +101,7 @@ class LodTriangleBudgetTest : public GlTest {};
 
 TEST_F(LodTriangleBudgetTest, TrianglesDropMonotonicallyAsTheThresholdGrows) {
     const TempFolder folder;
-    auto reader = io::openDem({"procedural:size=513,seed=3"});
+    auto reader = io::openProceduralDem("procedural:size=513,seed=3");
     ASSERT_TRUE(reader) << reader.error().message;
     const std::filesystem::path pyramid = buildScenePyramid(*reader.value(), folder, "procedural");
     auto surface = runtime::FullResolutionSurface::open(pyramid);

@@ -10,7 +10,7 @@
 #include "terrain/gl/Buffer.h"
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/gl/VertexArray.h"
-#include "terrain/io/PatchErrors.h"
+#include "terrain/pyramid/PatchErrors.h"
 #include "terrain/runtime/ProgramBuilder.h"
 
 #include "Bindings.h"

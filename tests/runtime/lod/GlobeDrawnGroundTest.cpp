@@ -7,7 +7,7 @@
 
 #include "terrain/globe/CubeSphere.h"
 #include "terrain/globe/Wgs84.h"
-#include "terrain/io/GlobeLayout.h"
+#include "terrain/pyramid/GlobeLayout.h"
 
 #include <gtest/gtest.h>
 

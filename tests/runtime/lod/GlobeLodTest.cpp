@@ -7,7 +7,7 @@
 #include "terrain/runtime/GlobeLod.h"
 
 #include "FakeTileResidency.h"
-#include "terrain/io/GlobeLayout.h"
+#include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/runtime/GlobeCamera.h"
 
 #include <gtest/gtest.h>

@@ -7,7 +7,7 @@
 #include "FakeTileResidency.h"
 #include "StreamingTestPyramid.h"
 #include "TestCameras.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/LodQuadtree.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TerrainGeometry.h"

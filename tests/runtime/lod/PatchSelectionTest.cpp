@@ -6,7 +6,7 @@
 #include "FakeTileResidency.h"
 #include "StreamingTestPyramid.h"
 #include "TestCameras.h"
-#include "terrain/io/PatchIdHash.h"
+#include "terrain/pyramid/PatchIdHash.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TerrainGeometry.h"
 

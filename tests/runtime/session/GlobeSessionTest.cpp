@@ -11,9 +11,10 @@
 #include "GeographicFunctionDem.h"
 #include "GlTestFixture.h"
 #include "TempFolder.h"
+#include "terrain/build/GlobePyramidBuilder.h"
+#include "terrain/build/GlobeSourceSurface.h"
 #include "terrain/gl/Framebuffer.h"
-#include "terrain/io/GlobePyramidBuilder.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/FrameImages.h"
 #include "terrain/runtime/GlobeCamera.h"
 #include "terrain/runtime/GlobeReferenceRenderer.h"
@@ -227,6 +228,9 @@ TEST_F(GlobeSessionTest, MeasuredErrorStaysWithinEpsilonOnEveryStabilityCase) {
     io::DemReader* const sources[] = {&source};
     auto surface = io::GlobeSourceSurface::read(sources, std::uint64_t{1} << 30, 32);
     ASSERT_TRUE(surface) << surface.error().message;
+    const GlobeReferenceHeights sourceHeights = [&surface](double latitude, double longitude) {
+        return surface.value().heightsAt(latitude, longitude);
+    };
     auto opened = GlobeSession::open(s_pyramid, sessionOptions());
     ASSERT_TRUE(opened) << opened.error().message;
     GlobeSession& session = *opened.value();
@@ -246,7 +250,7 @@ TEST_F(GlobeSessionTest, MeasuredErrorStaysWithinEpsilonOnEveryStabilityCase) {
             render(session, framebuffer.value(), camera, nullptr, nullptr, errorPx, false,
                    &withoutSkirts);
             const ScreenSpaceErrorStats stats = measureGlobeScreenSpaceError(
-                camera, withSkirts, withoutSkirts, surface.value(), errorPx);
+                camera, withSkirts, withoutSkirts, sourceHeights, errorPx);
             std::cout << "ε = " << errorPx << ", " << p.name << ": " << stats.pixels
                       << " pixels, max " << stats.maxPx << " px, p99 " << stats.p99Px
                       << " px, mean " << stats.meanPx << " px\n";

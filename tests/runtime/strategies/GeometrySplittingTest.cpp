@@ -9,7 +9,7 @@
 #include "GlTestFixture.h"
 #include "GpuStrategyScenes.h"
 
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/GeometrySplittingStrategy.h"
 
 #include <gtest/gtest.h>

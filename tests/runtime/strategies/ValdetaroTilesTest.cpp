@@ -5,7 +5,7 @@
 // the terrain bends (a spike) than where it is a plane.
 #include "AccuracyScenes.h"
 #include "TempFolder.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/ValdetaroTiles.h"
 
 #include <gtest/gtest.h>

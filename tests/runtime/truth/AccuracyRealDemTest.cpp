@@ -8,7 +8,8 @@
 #include "GlTestFixture.h"
 #include "SharedData.h"
 #include "TempFolder.h"
-#include "terrain/io/DemReader.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/source/DemReader.h"
 #include "terrain/runtime/CameraPath.h"
 
 namespace terrain::test {

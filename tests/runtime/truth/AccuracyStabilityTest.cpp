@@ -11,10 +11,11 @@
 #include "MethodSweep.h"
 #include "TempFolder.h"
 #include "TerrainViewChecks.h"
-#include "terrain/io/DemReader.h"
-#include "terrain/io/ProceduralTerrain.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/AccuracyProbe.h"
+#include "terrain/source/DemReader.h"
+#include "terrain/source/ProceduralDems.h"
+#include "terrain/source/ProceduralTerrain.h"
 
 #include <cmath>
 #include <iostream>
@@ -35,7 +36,7 @@ TEST_F(AccuracyStabilityTest, ProceduralCliffSpikesLakeAndGrazingViews) {
     const TempFolder folder;
     const std::string spec = "procedural:size=" + std::to_string(kProceduralSize) +
                              ",seed=" + std::to_string(kProceduralSeed);
-    auto reader = io::openDem({spec});
+    auto reader = io::openProceduralDem(spec);
     ASSERT_TRUE(reader) << reader.error().message;
     const std::filesystem::path pyramid = buildScenePyramid(*reader.value(), folder, "procedural");
     io::ProceduralTerrainParameters parameters;
@@ -219,12 +220,14 @@ TEST_F(AccuracyStabilityTest, TenThousandKilometresFromTheOrigin) {
     // same place relative to the DEM must see the same picture — no float precision lost to
     // the far placement, no jitter at 1 m — and the far one is as accurate as the near one.
     const TempFolder folder;
-    auto nearReader = io::openDem({"procedural:size=257,seed=9"});
+    auto nearReader = io::openProceduralDem("procedural:size=257,seed=9");
     ASSERT_TRUE(nearReader) << nearReader.error().message;
-    io::DemOpenOptions far;
-    far.originX = 1.0e7;
-    far.originY = 1.0e7;
-    auto farReader = io::openDem({"procedural:size=257,seed=9"}, far);
+    auto farReader =
+        io::openProceduralDem("procedural:size=257,seed=9", [](io::DemInfo& info) -> Status {
+            info.georeference.originX = 1.0e7;  // as terrain-build --origin 1e7,1e7
+            info.georeference.originY = 1.0e7;
+            return {};
+        });
     ASSERT_TRUE(farReader) << farReader.error().message;
     const std::filesystem::path nearPyramid =
         buildScenePyramid(*nearReader.value(), folder, "near");
@@ -289,7 +292,7 @@ TEST_F(AccuracyStabilityTest, TeleportsFasterThanStreaming) {
     // leave a hole inside the reference's footprint, and never produce NaN. Once streaming
     // catches up the error bound holds again.
     const TempFolder folder;
-    auto dem = io::openDem({"procedural:size=513,seed=4"});
+    auto dem = io::openProceduralDem("procedural:size=513,seed=4");
     ASSERT_TRUE(dem) << dem.error().message;
     const std::filesystem::path pyramid = buildScenePyramid(*dem.value(), folder, "teleports");
     runtime::TerrainSessionOptions options = roomySessionOptions(2.0);

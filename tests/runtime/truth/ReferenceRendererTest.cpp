@@ -10,7 +10,8 @@
 #include "GlTestFixture.h"
 #include "TempFolder.h"
 #include "TerrainViewChecks.h"
-#include "terrain/io/DemReader.h"
+#include "terrain/source/ProceduralDems.h"
+#include "terrain/source/DemReader.h"
 #include "terrain/runtime/AccuracyProbe.h"
 #include "terrain/runtime/ScreenSpaceError.h"
 
@@ -31,7 +32,7 @@ protected:
     static void SetUpTestSuite() {
         GlTest::SetUpTestSuite();
         folder() = std::make_unique<TempFolder>();
-        auto reader = io::openDem({"procedural:size=257,seed=3"});
+        auto reader = io::openProceduralDem("procedural:size=257,seed=3");
         ASSERT_TRUE(reader) << reader.error().message;
         pyramid() = buildScenePyramid(*reader.value(), *folder(), "procedural");
     }
@@ -135,7 +136,7 @@ TEST_F(ReferenceRendererTest, FullResolutionLodMeasuresWithinTheTolerance) {
 // probe's truth is then the source's own samples, not the lossy finest level, which lies up
 // to δ off them. A reference of another layout is refused.
 TEST_F(ReferenceRendererTest, ALossyPyramidIsMeasuredAgainstItsLosslessBuild) {
-    auto reader = io::openDem({"procedural:size=257,seed=3"});
+    auto reader = io::openProceduralDem("procedural:size=257,seed=3");
     ASSERT_TRUE(reader) << reader.error().message;
     const std::filesystem::path lossy = buildScenePyramid(
         *reader.value(), *folder(), "lossy", 65, io::PyramidLayout::kDefaultBlockQuads, 2.0);
@@ -162,7 +163,7 @@ TEST_F(ReferenceRendererTest, ALossyPyramidIsMeasuredAgainstItsLosslessBuild) {
     EXPECT_GT(largestOwn, 0.0);  // the lossy finest level is not the truth
     EXPECT_LE(largestOwn, 2.0 + 1e-3);
 
-    auto other = io::openDem({"procedural:size=129,seed=3"});
+    auto other = io::openProceduralDem("procedural:size=129,seed=3");
     ASSERT_TRUE(other) << other.error().message;
     const std::filesystem::path small = buildScenePyramid(*other.value(), *folder(), "small");
     auto refused =

@@ -10,9 +10,9 @@
 #include "terrain/gl/Buffer.h"
 #include "terrain/gl/Fence.h"
 #include "terrain/gl/Texture.h"
-#include "terrain/io/PatchIdHash.h"
-#include "terrain/io/PatchRecord.h"
-#include "terrain/io/PyramidLayout.h"
+#include "terrain/pyramid/PatchIdHash.h"
+#include "terrain/pyramid/PatchRecord.h"
+#include "terrain/pyramid/PyramidLayout.h"
 
 #include <array>
 #include <cstddef>

@@ -3,8 +3,8 @@
 // caches").
 #pragma once
 
-#include "terrain/io/PatchIdHash.h"
-#include "terrain/io/PatchRecord.h"
+#include "terrain/pyramid/PatchIdHash.h"
+#include "terrain/pyramid/PatchRecord.h"
 
 #include <cstddef>
 #include <cstdint>

@@ -14,9 +14,9 @@
 // with world boxes and never with sample spacings directly.
 #pragma once
 
-#include "terrain/io/PatchRecord.h"
-#include "terrain/io/PyramidLayout.h"
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/pyramid/PatchRecord.h"
+#include "terrain/pyramid/PyramidLayout.h"
+#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/Aabb.h"
 
 #include <glm/vec2.hpp>

@@ -12,7 +12,7 @@
 #include "terrain/gl/Program.h"
 #include "terrain/gl/Query.h"
 #include "terrain/gl/VertexArray.h"
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/GlobeInstance.h"
 #include "terrain/runtime/GlobeLod.h"

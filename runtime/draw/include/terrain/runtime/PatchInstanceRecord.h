@@ -5,7 +5,7 @@
 #pragma once
 
 #include "terrain/cache/GpuTilePool.h"
-#include "terrain/io/PyramidLayout.h"
+#include "terrain/pyramid/PyramidLayout.h"
 #include "terrain/runtime/PatchSelection.h"
 
 #include <glm/vec2.hpp>

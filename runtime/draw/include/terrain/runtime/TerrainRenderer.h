@@ -13,7 +13,7 @@
 #include "terrain/gl/Program.h"
 #include "terrain/gl/Query.h"
 #include "terrain/gl/VertexArray.h"
-#include "terrain/io/PyramidLayout.h"
+#include "terrain/pyramid/PyramidLayout.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/PatchInstanceRecord.h"
 #include "terrain/runtime/PatchSelection.h"

@@ -11,7 +11,7 @@
 // holds for every pixel of it, as it does for blocks.
 #pragma once
 
-#include "terrain/io/PatchRecord.h"
+#include "terrain/pyramid/PatchRecord.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/TerrainGeometry.h"
 

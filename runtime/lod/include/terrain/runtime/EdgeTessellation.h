@@ -18,8 +18,8 @@
 // [0] the west edge (u = 0), [1] north (v = 0), [2] east (u = 1), [3] south (v = 1).
 #pragma once
 
-#include "terrain/io/PatchErrors.h"
-#include "terrain/io/PatchRecord.h"
+#include "terrain/pyramid/PatchErrors.h"
+#include "terrain/pyramid/PatchRecord.h"
 #include "terrain/runtime/Aabb.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/TerrainGeometry.h"

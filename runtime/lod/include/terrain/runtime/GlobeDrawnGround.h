@@ -4,8 +4,8 @@
 #pragma once
 
 #include "terrain/globe/GlobePatch.h"
-#include "terrain/io/PatchRecord.h"
-#include "terrain/io/PyramidLayout.h"
+#include "terrain/pyramid/PatchRecord.h"
+#include "terrain/pyramid/PyramidLayout.h"
 #include "terrain/runtime/GlobeLod.h"
 
 #include <glm/vec3.hpp>

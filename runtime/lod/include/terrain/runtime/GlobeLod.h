@@ -26,7 +26,7 @@
 
 #include "terrain/globe/GlobePatch.h"
 #include "terrain/globe/PatchBounds.h"
-#include "terrain/io/PyramidManifest.h"
+#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/HorizonCulling.h"
 #include "terrain/runtime/TileResidency.h"

@@ -22,7 +22,7 @@
 // TileResidency: no GL, no thread of its own.
 #pragma once
 
-#include "terrain/io/PyramidLayout.h"
+#include "terrain/pyramid/PyramidLayout.h"
 #include "terrain/runtime/Aabb.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/PatchSelection.h"

@@ -10,7 +10,7 @@
 // frame-coherent quadtree is measured against; it visits every patch it keeps or splits.
 #pragma once
 
-#include "terrain/io/PyramidLayout.h"
+#include "terrain/pyramid/PyramidLayout.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TileResidency.h"

@@ -8,8 +8,8 @@
 // "Resident" is the implementation's word for that; the LOD only asks and pins.
 #pragma once
 
-#include "terrain/io/PatchRecord.h"
-#include "terrain/io/PyramidLayout.h"
+#include "terrain/pyramid/PatchRecord.h"
+#include "terrain/pyramid/PyramidLayout.h"
 
 namespace terrain::runtime {
 

@@ -11,7 +11,7 @@
 #pragma once
 
 #include "terrain/base/Result.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 
 #include <span>
 #include <vector>

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "terrain/base/Result.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 
 #include <filesystem>
 #include <string_view>

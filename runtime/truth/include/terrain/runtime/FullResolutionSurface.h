@@ -8,10 +8,10 @@
 #pragma once
 
 #include "terrain/base/Result.h"
-#include "terrain/io/PatchIdHash.h"
-#include "terrain/io/PatchRecord.h"
-#include "terrain/io/PyramidLayout.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PatchIdHash.h"
+#include "terrain/pyramid/PatchRecord.h"
+#include "terrain/pyramid/PyramidLayout.h"
+#include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/TerrainGeometry.h"
 
 #include <cstddef>

@@ -22,7 +22,7 @@
 #include "terrain/gl/Program.h"
 #include "terrain/gl/Texture.h"
 #include "terrain/globe/GlobePatch.h"
-#include "terrain/io/PyramidReader.h"
+#include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/GlobeInstance.h"
 #include "terrain/runtime/ReferenceRenderer.h"

@@ -2,7 +2,7 @@
 // per pixel as ScreenSpaceError.h measures a plane, with the ellipsoid's normal as the
 // vertical: the LOD's depth is unprojected in double to W_lod, whose geodetic latitude,
 // longitude and height follow exactly (GeographicLib); the full-resolution surface of the
-// sources (io::GlobeSourceSurface) gives the height of the reference point W_ref on the same
+// sources (io::GlobeSourceSurface, through a GlobeReferenceHeights) gives the height of the reference point W_ref on the same
 // normal; both are projected, and their distance in pixels is the pixel's error (the nearer
 // of the source cell's two diagonals, 0 between them).
 //
@@ -12,7 +12,6 @@
 // shows on screen once the camera is close enough to the ground).
 #pragma once
 
-#include "terrain/io/GlobeSourceSurface.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/ScreenSpaceError.h"
 
@@ -33,19 +32,5 @@ ScreenSpaceErrorStats measureGlobeScreenSpaceError(const Camera& camera,
                                                    std::span<const float> lodDepthNoSkirts,
                                                    const GlobeReferenceHeights& reference,
                                                    double thresholdPx);
-
-/// Against the sources: the ground truth.
-inline ScreenSpaceErrorStats measureGlobeScreenSpaceError(const Camera& camera,
-                                                          std::span<const float> lodDepth,
-                                                          std::span<const float> lodDepthNoSkirts,
-                                                          const io::GlobeSourceSurface& surface,
-                                                          double thresholdPx) {
-    return measureGlobeScreenSpaceError(
-        camera, lodDepth, lodDepthNoSkirts,
-        [&surface](double latitudeDeg, double longitudeDeg) {
-            return surface.heightsAt(latitudeDeg, longitudeDeg);
-        },
-        thresholdPx);
-}
 
 }  // namespace terrain::runtime

@@ -1,0 +1,82 @@
+// PyramidBuilder: turns a DEM of any size into the on-disk pyramid
+// (docs/pyramid-format.md), streaming: it holds a band of two patch rows of one level at
+// a time, never the raster, and computes every patch's error bounds on the way
+// (Yusov & Shevtsov 2011, §4 and §5).
+#pragma once
+
+#include "terrain/base/Result.h"
+#include "terrain/source/DemReader.h"
+#include "terrain/pyramid/PyramidLayout.h"
+#include "terrain/pyramid/PyramidManifest.h"
+#include "terrain/pyramid/ShardWriter.h"
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+
+namespace terrain::io {
+
+struct PyramidBuildProgress {
+    int level = 0;          ///< level being written
+    double fraction = 0.0;  ///< of the whole build, by samples
+};
+
+struct PyramidBuildOptions {
+    int patchSamples = PyramidLayout::kDefaultPatchSamples;
+    int blockQuads = PyramidLayout::kDefaultBlockQuads;
+    int shardPatches = PyramidLayout::kDefaultShardPatches;
+    std::uint64_t memoryBudgetBytes = std::uint64_t{1} << 30;
+    unsigned threads = 0;  ///< 0: one per hardware thread
+    /// zstd level of the patch payloads, 0 (stored uncompressed) … 19; lossless at every
+    /// level. The heights are stored as height codes (HeightCodes.h), small integers that
+    /// zstd shrinks several times over (docs/pyramid-format.md, "Compression"); 0 stores
+    /// them as large as floats.
+    int compressionLevel = ShardWriterOptions::kDefaultCompressionLevel;
+    /// δ > 0: lossy storage (Yusov & Shevtsov 2011, §4). The finest level's heights are
+    /// rounded to whole multiples of 2δ, level l's to 2δ_l with δ_l = δ · 2^(finest − l);
+    /// every stored sample stays within δ_l of the source and Err(P) = Err_Appr(P) + δ_l,
+    /// so the screen-space bound still holds. 0: lossless.
+    double maxErrorM = 0.0;
+    /// Below the root, code each patch's heights from its parent's where that is smaller
+    /// (docs/pyramid-format.md, "Height codes"); false makes every patch decodable on its
+    /// own, at 10–20 % more bytes (a server handing out single patches). Planar pyramids.
+    bool parentPrediction = true;
+    /// A globe region build (GlobeShards.h): the levels above the finest whose Err(P) is
+    /// measured at the source's samples before the nested bound takes over; −1 is 2, and every
+    /// level of a shard whose surroundings hold at most 2^24 samples.
+    int globeMeasuredLevels = -1;
+    bool overwrite = false;  ///< replace an existing pyramid at the output path
+    /// Called on the building thread after every band.
+    std::function<void(const PyramidBuildProgress&)> progress;
+    /// Polled between bands; when it becomes true the build stops, removes its partial
+    /// output and returns an Error.
+    const std::atomic<bool>* cancel = nullptr;
+};
+
+/// Where the time went, summed over all levels (seconds of the building thread).
+struct PyramidBuildPhases {
+    double readSeconds = 0.0;    ///< source reads and no-data fill (or level rasters)
+    double boundsSeconds = 0.0;  ///< min/max, λ(d), Err_Int, coarser level rasters
+    double writeSeconds = 0.0;   ///< tile compression and shard files
+};
+
+struct PyramidBuildSummary {
+    PyramidManifest manifest;
+    std::int64_t patches = 0;
+    std::uint64_t bytes = 0;  ///< shard files and manifest on disk
+    double seconds = 0.0;
+    PyramidBuildPhases phases;
+    /// What the user should know about the sources (most of a source is no-data), each
+    /// naming the file.
+    std::vector<std::string> warnings;
+};
+
+/// Builds the pyramid of `reader`'s DEM at `output` (a folder). The folder is built as
+/// "<output>.partial-<pid>" and renamed into place only when complete, so an interrupted
+/// or failed build never leaves a valid-looking pyramid. Errors name the file and the
+/// problem; a source without a valid sample is one. Calling thread (plus worker threads it owns).
+Result<PyramidBuildSummary> buildPyramid(DemReader& reader, const std::filesystem::path& output,
+                                         const PyramidBuildOptions& options = {});
+
+}  // namespace terrain::io

@@ -1,0 +1,268 @@
+#include "GeographicGrid.h"
+
+#include "terrain/globe/Wgs84.h"
+#include "terrain/build/NoDataFill.h"
+#include "terrain/pyramid/PatchErrors.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <span>
+
+namespace terrain::io {
+
+namespace {
+
+// Integer pixel and weight of a fractional centre coordinate, clamped to [0, count − 1].
+struct Axis {
+    std::int64_t first = 0, second = 0;
+    double weight = 0.0;  // of `second`
+};
+
+Axis clampedAxis(double centre, std::int64_t count) {
+    if (centre <= 0.0) return {0, 0, 0.0};
+    const double last = double(count - 1);
+    if (centre >= last) return {count - 1, count - 1, 0.0};
+    const auto first = static_cast<std::int64_t>(centre);
+    return {first, first + 1, centre - double(first)};
+}
+
+}  // namespace
+
+Result<GeographicGrid> GeographicGrid::describe(const DemInfo& dem) {
+    const Georeference& g = dem.georeference;
+    if (g.crsKind != CrsKind::Geographic)
+        return Error{
+            fmt::format("{}: a globe pyramid needs a geographic (longitude/latitude) "
+                        "source, and this one is {}",
+                        dem.path, crsKindName(g.crsKind))};
+    // A global grid may repeat its first column(s) after 360° (ETOPO's −180 and +180): those
+    // columns are the same longitudes, and the grid wraps after the first 360°.
+    const double span = double(dem.width) * g.pixelSizeX;
+    const double tolerance = 1e-3 * g.pixelSizeX;
+    const auto repeated =
+        static_cast<std::int64_t>(std::floor((span - 360.0 + tolerance) / g.pixelSizeX));
+    // A grid whose first or last row is centred on a pole (grid-registered, like the built-in
+    // planet's) reaches half a pixel beyond it.
+    const double poleReach = 0.5 * g.pixelSizeY + tolerance;
+    if (g.originY > 90.0 + poleReach ||
+        g.originY - double(dem.height) * g.pixelSizeY < -90.0 - poleReach || repeated > 1 ||
+        (repeated == 1 && std::abs(span - g.pixelSizeX - 360.0) > tolerance) ||
+        (repeated == 0 && span > 360.0 + tolerance))
+        return Error{fmt::format(
+            "{}: the geographic extent (west {}, north {}, {} × {} pixels of "
+            "{}° × {}°) is not on the globe",
+            dem.path, g.originX, g.originY, dem.width, dem.height, g.pixelSizeX, g.pixelSizeY)};
+
+    GeographicGrid grid;
+    grid.m_width = dem.width;
+    grid.m_height = dem.height;
+    grid.m_west = g.originX;
+    grid.m_north = g.originY;
+    grid.m_pixelLon = g.pixelSizeX;
+    grid.m_pixelLat = g.pixelSizeY;
+    grid.m_wraps = span >= 360.0 - tolerance;
+    grid.m_wrapColumns = dem.width - std::max<std::int64_t>(repeated, 0);
+    return grid;
+}
+
+Result<GeographicGrid> GeographicGrid::read(DemReader& reader, std::uint64_t memoryBudgetBytes) {
+    const DemInfo& dem = reader.info();
+    Result<GeographicGrid> described = describe(dem);
+    if (!described) return described.error();
+    const double bytes = double(dem.width) * double(dem.height) * 5.0;
+    if (bytes > double(memoryBudgetBytes))
+        return Error{
+            fmt::format("{}: {} × {} samples need {} MiB in the globe builder, more than "
+                        "the memory budget of {} MiB (raise --memory, or build one geographic "
+                        "source by shards: --by-shards)",
+                        dem.path, dem.width, dem.height, static_cast<std::uint64_t>(bytes) >> 20,
+                        memoryBudgetBytes >> 20)};
+    GeographicGrid grid = std::move(described).value();
+    const auto samples = static_cast<std::size_t>(dem.width * dem.height);
+    grid.m_heights.resize(samples);
+    grid.m_valid.resize(samples);
+    // Row bands keep the reader's calls large without a second copy of the raster.
+    const std::int64_t bandRows = std::max<std::int64_t>(1, (std::int64_t{1} << 22) / dem.width);
+    double minHeight = std::numeric_limits<double>::infinity();
+    double maxHeight = -minHeight;
+    for (std::int64_t row = 0; row < dem.height; row += bandRows) {
+        const std::int64_t rows = std::min(bandRows, dem.height - row);
+        std::span<float> band(grid.m_heights.data() + row * dem.width,
+                              static_cast<std::size_t>(rows * dem.width));
+        if (Status read = reader.readWindow(0, row, dem.width, rows, band); !read)
+            return read.error();
+        for (std::int64_t r = 0; r < rows; ++r) {
+            const auto offset = static_cast<std::size_t>((row + r) * dem.width);
+            std::span<float> heights(grid.m_heights.data() + offset,
+                                     static_cast<std::size_t>(dem.width));
+            std::span<std::uint8_t> valid(grid.m_valid.data() + offset, heights.size());
+            fillNoDataRow(heights, valid);
+            for (std::size_t i = 0; i < heights.size(); ++i) {
+                if (!valid[i]) continue;
+                ++grid.m_validSamples;
+                minHeight = std::min(minHeight, double(heights[i]));
+                maxHeight = std::max(maxHeight, double(heights[i]));
+            }
+        }
+    }
+    grid.m_minHeight = grid.m_validSamples > 0 ? minHeight : 0.0;
+    grid.m_maxHeight = grid.m_validSamples > 0 ? maxHeight : 0.0;
+    return grid;
+}
+
+std::optional<GeographicGrid::Location> GeographicGrid::locate(double latitudeDeg,
+                                                               double longitudeDeg) const {
+    // Within one pixel beyond the extent the edge pixels are extended (not valid, not
+    // inside): the face grid is at least as fine as a pixel, so the drop to the bare
+    // ellipsoid happens outside every cell that holds a source sample, and Err(P) measures
+    // the source, not the cliff at its border.
+    const double y = m_north - latitudeDeg;
+    const double height = double(m_height) * m_pixelLat;
+    if (y < -m_pixelLat || y > height + m_pixelLat) return std::nullopt;
+    double x = std::fmod(longitudeDeg - m_west, 360.0);
+    if (x < 0.0) x += 360.0;
+    const double width = double(m_width) * m_pixelLon;
+    if (!m_wraps && x > width + m_pixelLon) {
+        if (x < 360.0 - m_pixelLon) return std::nullopt;
+        x -= 360.0;  // just west of the grid
+    }
+    Location where;
+    where.inside = y >= 0.0 && y <= height && (m_wraps || (x >= 0.0 && x <= width));
+    const Axis rows = clampedAxis(y / m_pixelLat - 0.5, m_height);
+    Axis columns;
+    if (m_wraps) {
+        // Between the last and the first column across the seam of a 360° grid.
+        const double centre = x / m_pixelLon - 0.5;
+        const double first = std::floor(centre);
+        columns.weight = centre - first;
+        columns.first =
+            (static_cast<std::int64_t>(first) % m_wrapColumns + m_wrapColumns) % m_wrapColumns;
+        columns.second = (columns.first + 1) % m_wrapColumns;
+    } else {
+        columns = clampedAxis(x / m_pixelLon - 0.5, m_width);
+    }
+    where.rows[0] = rows.first;
+    where.rows[1] = rows.second;
+    where.rowWeight = rows.weight;
+    where.columns[0] = columns.first;
+    where.columns[1] = columns.second;
+    where.columnWeight = columns.weight;
+    return where;
+}
+
+GeographicGrid::Resampled GeographicGrid::interpolate(const Location& where,
+                                                      const float corner[2][2],
+                                                      const bool valid[2][2]) {
+    Resampled out;
+    out.inside = where.inside;
+    out.valid = where.inside;
+    out.covered = true;
+    // On the source's own triangles (each cell split along its north-west – south-east
+    // diagonal), not bilinear: between its pixel centres the DEM is the mesh the reference
+    // measures against, and a bilinear patch departs from it by a quarter of the cell's twist
+    // (hundreds of metres in a 37 km cell of a global grid).
+    for (int r = 0; r < 2; ++r) {
+        for (int c = 0; c < 2; ++c) {
+            const double w = (r == 0 ? 1.0 - where.rowWeight : where.rowWeight) *
+                             (c == 0 ? 1.0 - where.columnWeight : where.columnWeight);
+            if (w > 0.0) out.valid = out.valid && valid[r][c];
+        }
+    }
+    out.height =
+        static_cast<float>(cellSurfaceHeights(corner[0][0], corner[0][1], corner[1][0],
+                                              corner[1][1], where.columnWeight, where.rowWeight)
+                               .first);
+    return out;
+}
+
+GeographicGrid::Resampled GeographicGrid::at(double latitudeDeg, double longitudeDeg) const {
+    const std::optional<Location> where = locate(latitudeDeg, longitudeDeg);
+    if (!where) return {};
+    float corner[2][2] = {};
+    bool valid[2][2] = {};
+    for (int r = 0; r < 2; ++r) {
+        for (int c = 0; c < 2; ++c) {
+            const std::size_t i = index(where->columns[c], where->rows[r]);
+            corner[r][c] = m_heights[i];
+            valid[r][c] = m_valid[i] != 0;
+        }
+    }
+    return interpolate(*where, corner, valid);
+}
+
+std::optional<GeographicGrid::Cell> GeographicGrid::cellAt(double latitudeDeg,
+                                                           double longitudeDeg) const {
+    const double y = m_north - latitudeDeg;
+    if (y < -m_pixelLat || y > double(m_height) * m_pixelLat + m_pixelLat) return std::nullopt;
+    double x = std::fmod(longitudeDeg - m_west, 360.0);
+    if (x < 0.0) x += 360.0;
+    const double width = double(m_width) * m_pixelLon;
+    if (!m_wraps && x > width + m_pixelLon) {
+        if (x < 360.0 - m_pixelLon) return std::nullopt;
+        x -= 360.0;
+    }
+    const double row = std::clamp(y / m_pixelLat - 0.5, 0.0, double(m_height - 1));
+    const auto row0 =
+        std::min(static_cast<std::int64_t>(row), std::max<std::int64_t>(m_height - 2, 0));
+    const std::int64_t row1 = std::min(row0 + 1, m_height - 1);
+    std::int64_t col0 = 0, col1 = 0;
+    double u = 0.0;
+    if (m_wraps) {
+        const double centre = x / m_pixelLon - 0.5;
+        const double first = std::floor(centre);
+        u = centre - first;
+        col0 = (static_cast<std::int64_t>(first) % m_wrapColumns + m_wrapColumns) % m_wrapColumns;
+        col1 = (col0 + 1) % m_wrapColumns;
+    } else {
+        const double col = std::clamp(x / m_pixelLon - 0.5, 0.0, double(m_width - 1));
+        col0 = std::min(static_cast<std::int64_t>(col), std::max<std::int64_t>(m_width - 2, 0));
+        col1 = std::min(col0 + 1, m_width - 1);
+        u = col1 > col0 ? col - double(col0) : 0.0;
+    }
+    Cell cell;
+    cell.latitude[0] = latitudeOf(row0);
+    cell.latitude[1] = latitudeOf(row1);
+    cell.longitude[0] = longitudeOf(col0);
+    cell.longitude[1] = longitudeOf(col1);
+    cell.a = m_heights[index(col0, row0)];
+    cell.b = m_heights[index(col1, row0)];
+    cell.c = m_heights[index(col0, row1)];
+    cell.d = m_heights[index(col1, row1)];
+    cell.u = std::clamp(u, 0.0, 1.0);
+    cell.v = row1 > row0 ? std::clamp(row - double(row0), 0.0, 1.0) : 0.0;
+    return cell;
+}
+
+double GeographicGrid::featherAt(double latitudeDeg, double longitudeDeg) const {
+    // Distance inside the extent, in pixels, to the nearest edge that is an edge: a pole is a
+    // point of a grid reaching it, and a grid wrapping the globe has no east or west edge.
+    const double y = m_north - latitudeDeg;
+    double inside = std::numeric_limits<double>::infinity();
+    if (m_north < 90.0 - 1e-6) inside = std::min(inside, y / m_pixelLat);
+    if (southDeg() > -90.0 + 1e-6)
+        inside = std::min(inside, (double(m_height) * m_pixelLat - y) / m_pixelLat);
+    if (!m_wraps) {
+        double x = std::fmod(longitudeDeg - m_west, 360.0);
+        if (x < 0.0) x += 360.0;
+        inside = std::min(inside, std::min(x, double(m_width) * m_pixelLon - x) / m_pixelLon);
+    }
+    const double t = std::clamp(inside / kFeatherPixels, 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+double GeographicGrid::finestSpacingMetres() const {
+    const double south = southDeg();
+    const double closestToEquator =
+        (south <= 0.0 && m_north >= 0.0) ? 0.0 : std::min(std::abs(south), std::abs(m_north));
+    // The meridian's radius of curvature is smallest (b²/a) at the equator.
+    const double alongMeridian = m_pixelLat * kDegree * globe::Wgs84::kMinCurvatureRadius;
+    const double alongParallel = m_pixelLon * globe::Wgs84::kEquatorialRadius * kDegree *
+                                 std::cos(closestToEquator * kDegree);
+    return std::min(alongMeridian, alongParallel);
+}
+
+}  // namespace terrain::io

@@ -1,0 +1,115 @@
+// GeographicGrid: a geographic (longitude/latitude) source DEM held in memory, resampled at
+// any latitude and longitude for the globe builder. No-data samples are filled by the
+// pyramid's row-linear rule (docs/pyramid-format.md, "No-data") and remembered as invalid, so
+// a void is drawn as its fill, never as a hole to the ellipsoid. Samples are pixel areas
+// (Georeference.h): sample (col, row) is the value at the pixel's centre.
+#pragma once
+
+#include "terrain/base/Result.h"
+#include "terrain/source/DemReader.h"
+
+#include <cstdint>
+#include <numbers>
+#include <optional>
+#include <vector>
+
+namespace terrain::io {
+
+/// Radians per degree.
+inline constexpr double kDegree = std::numbers::pi / 180.0;
+
+class GeographicGrid {
+public:
+    /// Reads the whole source. Errors: not geographic, more than `memoryBudgetBytes` to hold.
+    static Result<GeographicGrid> read(DemReader& reader, std::uint64_t memoryBudgetBytes);
+    /// The source's grid without its samples (a region build reads them block by block,
+    /// GeographicBlocks.h): every geometric accessor works, heightAt, validAt, at and cellAt
+    /// do not. Errors: not geographic, not on the globe.
+    static Result<GeographicGrid> describe(const DemInfo& dem);
+
+    struct Resampled {
+        float height = 0.0f;   ///< metres; 0 more than a pixel beyond the source
+        bool inside = false;   ///< within the source's extent (pixel areas)
+        bool valid = false;    ///< inside, and every sample it interpolates is valid
+        bool covered = false;  ///< inside, or within the one pixel its edge pixels extend to
+    };
+    /// On the triangles between the pixel centres around the point (each cell split along its
+    /// north-west – south-east diagonal), clamped to the edge pixels up to one pixel beyond the
+    /// extent; across the antimeridian when the grid spans 360°.
+    Resampled at(double latitudeDeg, double longitudeDeg) const;
+
+    /// Where `at` reads: the two rows and two columns of pixel centres around the point (the
+    /// same one twice where clamped to an edge) and the point's weights between them.
+    struct Location {
+        std::int64_t rows[2] = {0, 0};
+        std::int64_t columns[2] = {0, 0};
+        double rowWeight = 0.0, columnWeight = 0.0;  ///< of rows[1] and columns[1]
+        bool inside = false;
+    };
+    /// Nothing more than a pixel beyond the extent (where `at` gives height 0, not covered).
+    std::optional<Location> locate(double latitudeDeg, double longitudeDeg) const;
+    /// `at`'s value from the location's corner samples: [r][c] of rows[r], columns[c].
+    static Resampled interpolate(const Location& where, const float corner[2][2],
+                                 const bool valid[2][2]);
+
+    /// The cell of pixel centres around a point inside (or within a pixel of) the extent:
+    /// its corner heights (filled values) a north-west, b north-east, c south-west, d
+    /// south-east, and the point's position (u east, v south) in it; nothing further out.
+    struct Cell {
+        double a = 0.0, b = 0.0, c = 0.0, d = 0.0;
+        double u = 0.0, v = 0.0;
+        double latitude[2] = {0.0, 0.0};   ///< of the cell's rows (north, south)
+        double longitude[2] = {0.0, 0.0};  ///< of its columns (west, east)
+    };
+    /// Pixels over which a source is feathered into a coarser one at its extent's edge.
+    static constexpr double kFeatherPixels = 24.0;
+    /// The weight of this source at a point against a coarser one under it: 0 at the edge of
+    /// its extent, rising by smoothstep to 1 kFeatherPixels pixels inside (a grid that wraps
+    /// the globe has no east or west edge).
+    double featherAt(double latitudeDeg, double longitudeDeg) const;
+    std::optional<Cell> cellAt(double latitudeDeg, double longitudeDeg) const;
+
+    std::int64_t width() const { return m_width; }
+    std::int64_t height() const { return m_height; }
+    /// Latitude and longitude of pixel (col, row)'s centre.
+    double latitudeOf(std::int64_t row) const { return latitudeAt(double(row)); }
+    double longitudeOf(std::int64_t col) const { return longitudeAt(double(col)); }
+    /// Latitude and longitude of a place between pixel centres: y and x in pixels, the
+    /// centre of pixel (0, 0) at (0, 0).
+    double latitudeAt(double y) const { return m_north - (y + 0.5) * m_pixelLat; }
+    double longitudeAt(double x) const { return m_west + (x + 0.5) * m_pixelLon; }
+    float heightAt(std::int64_t col, std::int64_t row) const { return m_heights[index(col, row)]; }
+    bool validAt(std::int64_t col, std::int64_t row) const { return m_valid[index(col, row)] != 0; }
+
+    /// The smallest distance between neighbouring samples, metres: along a meridian, or along
+    /// the parallel closest to the equator within the grid.
+    double finestSpacingMetres() const;
+    double westDeg() const { return m_west; }
+    double northDeg() const { return m_north; }
+    double eastDeg() const { return m_west + double(m_width) * m_pixelLon; }
+    double southDeg() const { return m_north - double(m_height) * m_pixelLat; }
+    bool wrapsLongitude() const { return m_wraps; }
+    /// A pixel's size, degrees of latitude and of longitude.
+    double pixelLatDeg() const { return m_pixelLat; }
+    double pixelLonDeg() const { return m_pixelLon; }
+
+    std::int64_t validSamples() const { return m_validSamples; }
+    double minHeight() const { return m_minHeight; }  ///< over valid samples (0 if none)
+    double maxHeight() const { return m_maxHeight; }
+
+private:
+    std::size_t index(std::int64_t col, std::int64_t row) const {
+        return static_cast<std::size_t>(row * m_width + col);
+    }
+
+    std::int64_t m_width = 0, m_height = 0;
+    double m_west = 0.0, m_north = 0.0, m_pixelLon = 1.0, m_pixelLat = 1.0;
+    bool m_wraps = false;
+    std::int64_t m_wrapColumns = 0;  // columns before the longitudes repeat (wrapping grids)
+    std::vector<float> m_heights;
+    std::vector<std::uint8_t> m_valid;
+    std::int64_t m_validSamples = 0;
+    double m_minHeight = 0.0, m_maxHeight = 0.0;
+};
+
+}  // namespace terrain::io

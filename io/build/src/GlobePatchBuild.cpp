@@ -1,0 +1,107 @@
+#include "GlobePatchBuild.h"
+
+#include "terrain/pyramid/GlobePatchErrors.h"
+#include "terrain/pyramid/HeightCodes.h"
+#include "terrain/pyramid/PatchErrors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <system_error>
+
+namespace terrain::io::detail {
+
+void addPatchesAround(PatchKey key, int level, std::unordered_set<PatchKey>& out) {
+    constexpr globe::PatchSide kSides[] = {globe::PatchSide::Left, globe::PatchSide::Right,
+                                           globe::PatchSide::Top, globe::PatchSide::Bottom};
+    for (const globe::PatchSide side : kSides) {
+        const globe::GlobePatchId edge = globe::neighbourOf(idOf(key, level), side).id;
+        out.insert(keyOf(edge.face, edge.x, edge.y));
+        for (const globe::PatchSide next : kSides) {
+            const globe::GlobePatchId beyond = globe::neighbourOf(edge, next).id;
+            out.insert(keyOf(beyond.face, beyond.x, beyond.y));
+        }
+    }
+}
+
+double globeHalfStep(const ManifestQuantization& quantization, const PyramidLayout& layout,
+                     int faceLevel) {
+    return quantization.halfStep(faceLevel + ManifestGlobe::kLevelOffset, layout.finestLevel());
+}
+
+void finishGlobePatch(const PyramidLayout& layout, int faceLevel, double error,
+                      std::uint8_t presentChildren,
+                      const std::optional<ManifestQuantization>& quantization, double quantized,
+                      PatchRecord& record) {
+    PatchInfo& info = record.info;
+    info = PatchInfo{};
+    info.present = true;
+    summariseDrawnSamples(layout, record.heights, record.valid, info);
+    info.presentChildren = presentChildren;
+    // Err(P) is measured against the sources on the stored (rounded) surface, so it already
+    // holds the rounding: approxError is that measured bound, and quantError says how much
+    // of it may be the rounding (δ_l), not something to add (docs/pyramid-format.md,
+    // "Lossy storage").
+    info.approxError = roundUpToFloat(error);
+    info.quantError = 0.0f;
+    if (quantization)
+        info.quantError =
+            roundUpToFloat(std::max(globeHalfStep(*quantization, layout, faceLevel), quantized));
+    info.error = info.approxError;
+
+    const int tile = layout.tileSamples();
+    const GridView interior{record.heights.data() + tile + 1, layout.patchSamples(), tile};
+    record.blockErrors.resize(
+        static_cast<std::size_t>(layout.blocksPerSide() * layout.blocksPerSide()));
+    globePatchBlockErrors(interior, layout.blockQuads(), faceLevel, info.minHeight,
+                          record.blockErrors);
+}
+
+Status writeGlobeShard(const std::filesystem::path& folder, const PyramidLayout& layout,
+                       const ShardId& shard, const std::vector<const PatchRecord*>& records,
+                       const ShardWriterOptions& options,
+                       const std::optional<ManifestQuantization>& quantization) {
+    const std::filesystem::path path = folder / layout.shardPath(shard);
+    std::error_code ec;
+    std::filesystem::create_directories(path.parent_path(), ec);
+    if (ec) return Error{path.parent_path().string() + ": cannot create folder: " + ec.message()};
+    ShardWriterOptions shardOptions = options;
+    if (quantization)
+        shardOptions.units.quantizerStep = quantization->step(shard.level, layout.finestLevel());
+    auto writer = ShardWriter::create(path, layout, shard, true, shardOptions);
+    if (!writer) return writer.error();
+    for (const PatchRecord* record : records)
+        if (Status written = writer.value().writePatch(*record); !written) return written;
+    return writer.value().finish();
+}
+
+PyramidManifest globeManifest(const PyramidLayout& layout, int faceFinestLevel,
+                              const GeographicGrid& finest, std::span<DemReader* const> readers) {
+    PyramidManifest m = PyramidManifest::forLayout(layout);
+    m.formatVersion = PyramidManifest::kGlobeFormatVersion;
+    const double east = finest.eastDeg() > 180.0 ? finest.eastDeg() - 360.0 : finest.eastDeg();
+    // A grid whose first or last row is centred on a pole reaches half a pixel beyond it.
+    m.globe = ManifestGlobe{.faceFinestLevel = faceFinestLevel,
+                            .west = finest.wrapsLongitude() ? -180.0 : finest.westDeg(),
+                            .south = std::max(-90.0, finest.southDeg()),
+                            .east = finest.wrapsLongitude() ? 180.0 : east,
+                            .north = std::min(90.0, finest.northDeg())};
+    const DemInfo& first = readers.front()->info();
+    m.georeference = first.georeference;
+    m.vertical = first.vertical;
+    // The mask always: samples beyond the sources are not data on a globe.
+    m.noData.present = true;
+    m.noData.sourceValue = first.noDataValue;
+    for (DemReader* reader : readers)
+        for (const std::string& input : reader->info().inputs) m.source.inputs.push_back(input);
+    m.source.reader = first.readerName;
+    m.source.sampleType = first.sampleType;
+    m.source.band = first.band;
+    m.source.bandCount = first.bandCount;
+    m.source.rowsFlipped = first.rowsFlipped;
+    m.source.columnsFlipped = first.columnsFlipped;
+    m.build.tool = "terrain-build";
+    m.build.version = TERRAIN_VERSION;
+    return m;
+}
+
+}  // namespace terrain::io::detail

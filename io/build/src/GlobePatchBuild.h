@@ -1,0 +1,68 @@
+// GlobePatchBuild: what the whole globe build (GlobePyramidBuilder.cpp) and the region build
+// (GlobeShards.cpp) do alike to a patch of the cube-sphere: its key, the patches around it
+// that may exist, the summary and λ(d) of its finished tile, and writing a shard of them.
+#pragma once
+
+#include "GeographicGrid.h"
+#include "terrain/base/Result.h"
+#include "terrain/globe/GlobePatch.h"
+#include "terrain/pyramid/PatchRecord.h"
+#include "terrain/pyramid/PyramidLayout.h"
+#include "terrain/pyramid/PyramidManifest.h"
+#include "terrain/pyramid/ShardWriter.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <unordered_set>
+#include <vector>
+
+namespace terrain::io::detail {
+
+/// A patch of one level, as a hash key: face, x and y (each < 2^29 up to face level 28).
+using PatchKey = std::uint64_t;
+inline PatchKey keyOf(int face, std::int64_t x, std::int64_t y) {
+    return (std::uint64_t(face) << 58) | (std::uint64_t(y) << 29) | std::uint64_t(x);
+}
+inline globe::GlobePatchId idOf(PatchKey key, int level) {
+    return {static_cast<int>(key >> 58), level, static_cast<std::int64_t>(key & ((1u << 29) - 1)),
+            static_cast<std::int64_t>((key >> 29) & ((1u << 29) - 1))};
+}
+/// The patch of a face coordinate among n per face side.
+inline std::int64_t patchIndex(double coordinate, std::int64_t n) {
+    const auto i = static_cast<std::int64_t>(coordinate * double(n));
+    return i < 0 ? 0 : i >= n ? n - 1 : i;
+}
+
+/// Adds `key`'s edge neighbours, and theirs (which covers the diagonal ones, across cube
+/// corners too): the patches a source sample in `key` can make exist (a patch can overlap the
+/// extent's outer half pixel without holding a sample centre).
+void addPatchesAround(PatchKey key, int level, std::unordered_set<PatchKey>& out);
+
+/// Completes a globe patch whose tile heights (rounded, in a lossy build) are final: its
+/// PatchInfo (Err(P) = `error`, the children present, the drawn samples' summary; a lossy
+/// build's quantError from δ_l and the largest rounding `quantized`) and its block errors.
+void finishGlobePatch(const PyramidLayout& layout, int faceLevel, double error,
+                      std::uint8_t presentChildren,
+                      const std::optional<ManifestQuantization>& quantization, double quantized,
+                      PatchRecord& record);
+
+/// δ_l of a face level.
+double globeHalfStep(const ManifestQuantization& quantization, const PyramidLayout& layout,
+                     int faceLevel);
+
+/// Writes one shard of a face level's patches (all of them in `shard`) into `folder`.
+Status writeGlobeShard(const std::filesystem::path& folder, const PyramidLayout& layout,
+                       const ShardId& shard, const std::vector<const PatchRecord*>& records,
+                       const ShardWriterOptions& options,
+                       const std::optional<ManifestQuantization>& quantization);
+
+/// The manifest's fields every globe build fills alike: the layout, the extent "go to the
+/// data" goes to (`finest`'s), the first source's georeference, vertical units and no-data
+/// value, every source's inputs, the build tool. Statistics, levels and bounds are the
+/// builder's.
+PyramidManifest globeManifest(const PyramidLayout& layout, int faceFinestLevel,
+                              const GeographicGrid& finest, std::span<DemReader* const> readers);
+
+}  // namespace terrain::io::detail

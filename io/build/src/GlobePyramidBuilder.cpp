@@ -1,0 +1,482 @@
+#include "terrain/build/GlobePyramidBuilder.h"
+
+#include "BuildClock.h"
+#include "BuildOutput.h"
+#include "GeographicGrid.h"
+#include "GlobePatchBuild.h"
+#include "GlobeSources.h"
+#include "ParallelFor.h"
+#include "SourceCoverage.h"
+#include "terrain/globe/CubeSphere.h"
+#include "terrain/globe/GlobePatch.h"
+#include "terrain/globe/Wgs84.h"
+#include "terrain/pyramid/GlobeLayout.h"
+#include "terrain/pyramid/GlobePatchErrors.h"
+#include "terrain/build/GlobePatchSurface.h"
+#include "terrain/build/GlobeShards.h"
+#include "terrain/pyramid/HeightCodes.h"
+#include "terrain/pyramid/PatchErrors.h"
+#include "terrain/pyramid/PatchRecord.h"
+#include "terrain/pyramid/ShardWriter.h"
+
+#include <fmt/format.h>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+namespace terrain::io {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+using globe::GlobePatchId;
+
+using detail::idOf;
+using detail::keyOf;
+using detail::patchIndex;
+using detail::PatchKey;
+
+// Every source sample's place on the cube, computed once: the face and its coordinates.
+struct SamplePlaces {
+    std::vector<std::uint8_t> face;
+    std::vector<double> s, t;
+};
+
+// A resampled source's own samples' places on the cube, from their latitudes and longitudes.
+SamplePlaces placeOwnSamples(const GlobeSources::OwnSamples& own, unsigned threads) {
+    SamplePlaces places;
+    const auto count = static_cast<std::size_t>(own.width * own.height);
+    places.face.resize(count);
+    places.s.resize(count);
+    places.t.resize(count);
+    parallelFor(own.height, threads, [&](std::int64_t row) {
+        for (std::int64_t col = 0; col < own.width; ++col) {
+            const auto i = static_cast<std::size_t>(row * own.width + col);
+            const globe::FacePoint p =
+                globe::facePointOf(globe::Wgs84::normalAt(own.latitudes[i], own.longitudes[i]));
+            places.face[i] = static_cast<std::uint8_t>(p.face);
+            places.s[i] = p.s;
+            places.t[i] = p.t;
+        }
+    });
+    return places;
+}
+
+SamplePlaces placeSamples(const GeographicGrid& grid, unsigned threads) {
+    SamplePlaces places;
+    const auto count = static_cast<std::size_t>(grid.width() * grid.height());
+    places.face.resize(count);
+    places.s.resize(count);
+    places.t.resize(count);
+    parallelFor(grid.height(), threads, [&](std::int64_t row) {
+        const double latitude = grid.latitudeOf(row);
+        for (std::int64_t col = 0; col < grid.width(); ++col) {
+            const auto i = static_cast<std::size_t>(row * grid.width() + col);
+            const globe::FacePoint p =
+                globe::facePointOf(globe::Wgs84::normalAt(latitude, grid.longitudeOf(col)));
+            places.face[i] = static_cast<std::uint8_t>(p.face);
+            places.s[i] = p.s;
+            places.t[i] = p.t;
+        }
+    });
+    return places;
+}
+
+struct LevelPatch {
+    PatchRecord record;
+    bool holdsSource = false;  // some source sample lies in it (else it only overlaps the extent)
+    double measuredError = 0.0;
+    double quantized = 0.0;  // the largest difference the quantizer made (lossy builds)
+};
+
+class GlobeBuilder {
+public:
+    GlobeBuilder(const GlobeSources& sources, const PyramidLayout& layout, int faceLevels,
+                 const PyramidBuildOptions& options, const fs::path& folder)
+        : m_sources(sources),
+          m_layout(layout),
+          m_finestFaceLevel(faceLevels),
+          m_options(options),
+          m_folder(folder),
+          m_threads(options.threads != 0 ? options.threads
+                                         : std::max(1u, std::thread::hardware_concurrency())) {
+        m_shardOptions.compressionLevel = options.compressionLevel;
+        if (options.maxErrorM > 0.0) m_quantization = ManifestQuantization{options.maxErrorM};
+        m_levelMaxError.assign(static_cast<std::size_t>(layout.levelCount()), 0.0);
+        m_presentPatches.assign(m_levelMaxError.size(), 0);
+        m_presentShards.resize(m_levelMaxError.size());
+    }
+
+    Status run() {
+        auto start = Clock::now();
+        for (const GlobeSources::Source& source : m_sources.sources()) {
+            m_places.push_back(placeSamples(source.grid, m_threads));
+            m_ownPlaces.push_back(
+                source.own ? std::optional(placeOwnSamples(*source.own, m_threads)) : std::nullopt);
+        }
+        m_phases.readSeconds += secondsSince(start);
+        std::unordered_map<PatchKey, float> finerErrors;
+        std::unordered_set<PatchKey> finerKeys;
+        for (int level = m_finestFaceLevel; level >= 0; --level) {
+            if (m_options.cancel != nullptr && m_options.cancel->load())
+                return Error{"the build was cancelled"};
+            std::map<PatchKey, LevelPatch> patches;
+            start = Clock::now();
+            collectPatches(level, finerKeys, patches);
+            m_phases.readSeconds += secondsSince(start);
+            start = Clock::now();
+            measureErrors(level, patches);
+            std::unordered_map<PatchKey, float> errors;
+            for (auto& [key, patch] : patches)
+                finishPatch(key, level, patch, finerKeys, finerErrors, errors);
+            m_phases.boundsSeconds += secondsSince(start);
+            start = Clock::now();
+            if (Status written = write(level, patches); !written) return written;
+            m_phases.writeSeconds += secondsSince(start);
+            finerKeys.clear();
+            for (const auto& [key, patch] : patches) finerKeys.insert(key);
+            finerErrors = std::move(errors);
+            if (m_options.progress)
+                m_options.progress(
+                    {level + ManifestGlobe::kLevelOffset,
+                     double(m_finestFaceLevel - level + 1) / double(m_finestFaceLevel + 1)});
+        }
+        return {};
+    }
+
+    const PyramidBuildPhases& phases() const { return m_phases; }
+    std::int64_t patches() const { return m_patches; }
+    const std::vector<double>& levelMaxError() const { return m_levelMaxError; }
+    const std::vector<std::int64_t>& presentPatches() const { return m_presentPatches; }
+    const std::vector<std::vector<ShardId>>& presentShards() const { return m_presentShards; }
+    double rootError() const { return m_rootError; }
+    /// Set for a lossy build, with the largest difference the finest level's quantizer made.
+    const std::optional<ManifestQuantization>& quantization() const { return m_quantization; }
+
+private:
+    // The level's patches: every patch holding a source sample, and those of their
+    // neighbours with a sample inside the source's extent (a patch can overlap the extent's
+    // outer half pixel without holding a sample centre); at level 0 the six faces always.
+    void collectPatches(int level, const std::unordered_set<PatchKey>& finerKeys,
+                        std::map<PatchKey, LevelPatch>& patches) {
+        const std::int64_t n = globe::patchesPerFaceSide(level);
+        std::unordered_set<PatchKey> holding;
+        for (std::size_t k = 0; k < m_places.size(); ++k) {
+            if (m_sources.sources()[k].finestFaceLevel < level) continue;  // too coarse here
+            const SamplePlaces& places = m_places[k];
+            for (std::size_t i = 0; i < places.face.size(); ++i)
+                holding.insert(
+                    keyOf(places.face[i], patchIndex(places.s[i], n), patchIndex(places.t[i], n)));
+        }
+        std::unordered_set<PatchKey> candidates = holding;
+        for (const PatchKey key : holding) detail::addPatchesAround(key, level, candidates);
+        if (level == 0)
+            for (int face = 0; face < globe::kCubeFaces; ++face)
+                candidates.insert(keyOf(face, 0, 0));
+        // Every present patch's parent exists, so the LOD can reach it from its face.
+        std::unordered_set<PatchKey> parents;
+        for (const PatchKey child : finerKeys) {
+            const GlobePatchId id = idOf(child, level + 1);
+            parents.insert(keyOf(id.face, id.x / 2, id.y / 2));
+        }
+        candidates.insert(parents.begin(), parents.end());
+
+        std::vector<PatchKey> keys(candidates.begin(), candidates.end());
+        std::vector<LevelPatch> built(keys.size());
+        std::vector<std::uint8_t> keep(keys.size(), 0);
+        parallelFor(std::ssize(keys), m_threads, [&](std::int64_t k) {
+            const auto i = static_cast<std::size_t>(k);
+            const bool insideAny = resample(idOf(keys[i], level), built[i].record, level);
+            // A lossy build rounds the resampled heights here (Yusov §4), before Err(P) is
+            // measured against the sources: the measured bound then covers the rounding.
+            if (m_quantization)
+                built[i].quantized = quantizeHeights(built[i].record.heights, halfStep(level));
+            built[i].holdsSource = holding.contains(keys[i]);
+            keep[i] = built[i].holdsSource || insideAny || level == 0 || parents.contains(keys[i]);
+        });
+        for (std::size_t i = 0; i < keys.size(); ++i)
+            if (keep[i]) patches.emplace(keys[i], std::move(built[i]));
+    }
+
+    // The patch's tile from the source; true when some drawn sample lies inside its extent.
+    bool resample(const GlobePatchId& id, PatchRecord& record, int level) const {
+        const int quads = m_layout.patchQuads();
+        const int tile = m_layout.tileSamples();
+        record.id = layoutPatchOf(id);
+        record.heights.assign(static_cast<std::size_t>(tile * tile), 0.0f);
+        record.valid.assign(record.heights.size(), 0);
+        bool insideAny = false;
+        for (int j = -1; j <= quads + 1; ++j) {
+            for (int i = -1; i <= quads + 1; ++i) {
+                const globe::Geodetic where =
+                    globe::Wgs84::geodeticOfNormal(globe::patchSampleDirection(id, quads, i, j));
+                const GeographicGrid::Resampled value =
+                    m_sources.at(where.latitudeDeg, where.longitudeDeg, level);
+                const auto at = static_cast<std::size_t>((j + 1) * tile + i + 1);
+                record.heights[at] = value.height;
+                record.valid[at] = value.valid ? 1 : 0;
+                const bool drawn = i >= 0 && j >= 0 && i <= quads && j <= quads;
+                insideAny = insideAny || (drawn && value.inside);
+            }
+        }
+        return insideAny;
+    }
+
+    // Err(P) measured at every source sample the composite shows (GlobeSources::measuredSample:
+    // a resampled source's own samples, not its grid's): the distance along its normal to the
+    // patch's triangles, whichever diagonal the tessellator draws. A sample whose patch of
+    // this level does not exist (a coarse source, finer than its own finest level) is drawn
+    // by an ancestor there, whose bound already holds it.
+    void measureErrors(int level, std::map<PatchKey, LevelPatch>& patches) const {
+        for (std::size_t k = 0; k < m_places.size(); ++k) measureErrors(level, k, patches);
+    }
+
+    void measureErrors(int level, std::size_t k, std::map<PatchKey, LevelPatch>& patches) const {
+        const SamplePlaces& places = m_ownPlaces[k] ? *m_ownPlaces[k] : m_places[k];
+        const std::int64_t width = m_sources.measuredWidth(k);
+        const std::int64_t height = m_sources.measuredHeight(k);
+        const std::int64_t n = globe::patchesPerFaceSide(level);
+        const int quads = m_layout.patchQuads();
+        const std::int64_t rowsPerTask = 16;
+        const std::int64_t tasks = (height + rowsPerTask - 1) / rowsPerTask;
+        std::mutex merge;
+        parallelFor(tasks, m_threads, [&](std::int64_t task) {
+            std::unordered_map<PatchKey, std::unique_ptr<GlobePatchSurface>> surfaces;
+            std::unordered_map<PatchKey, double> worst;
+            const std::int64_t firstRow = task * rowsPerTask;
+            for (std::int64_t row = firstRow; row < std::min(firstRow + rowsPerTask, height);
+                 ++row) {
+                for (std::int64_t col = 0; col < width; ++col) {
+                    const std::optional<GlobeSources::MeasuredSample> sample =
+                        m_sources.measuredSample(k, col, row);
+                    if (!sample) continue;
+                    const auto i = static_cast<std::size_t>(row * width + col);
+                    const PatchKey key = keyOf(places.face[i], patchIndex(places.s[i], n),
+                                               patchIndex(places.t[i], n));
+                    auto& surface = surfaces[key];
+                    if (!surface) {
+                        const auto patch = patches.find(key);
+                        if (patch == patches.end()) continue;
+                        surface = std::make_unique<GlobePatchSurface>(idOf(key, level), quads,
+                                                                      patch->second.record.heights);
+                    }
+                    const glm::dvec3 normal =
+                        globe::Wgs84::normalAt(sample->latitudeDeg, sample->longitudeDeg);
+                    const auto [alongAD, alongBC] = surface->drawnHeights(normal);
+                    double& patchWorst = worst[key];
+                    patchWorst = std::max({patchWorst, std::abs(sample->height - alongAD),
+                                           std::abs(sample->height - alongBC)});
+                }
+            }
+            const std::scoped_lock lock(merge);
+            for (const auto& [key, error] : worst) {
+                LevelPatch& patch = patches.at(key);
+                patch.measuredError = std::max(patch.measuredError, error);
+            }
+        });
+    }
+
+    void finishPatch(PatchKey key, int level, LevelPatch& patch,
+                     const std::unordered_set<PatchKey>& finerKeys,
+                     const std::unordered_map<PatchKey, float>& finerErrors,
+                     std::unordered_map<PatchKey, float>& errors) {
+        const GlobePatchId id = idOf(key, level);
+        double error = patch.measuredError;
+        std::uint8_t presentChildren = 0;
+        if (level < m_finestFaceLevel) {
+            for (int child = 0; child < 4; ++child) {
+                const PatchKey childKey =
+                    keyOf(id.face, 2 * id.x + (child & 1), 2 * id.y + (child >> 1));
+                if (!finerKeys.contains(childKey)) continue;
+                presentChildren = static_cast<std::uint8_t>(presentChildren | (1u << child));
+                error = std::max(error, double(finerErrors.at(childKey)));
+            }
+        }
+        detail::finishGlobePatch(m_layout, level, error, presentChildren, m_quantization,
+                                 patch.quantized, patch.record);
+        if (m_quantization && level == m_finestFaceLevel)
+            m_quantization->finestLargestErrorM =
+                std::max(m_quantization->finestLargestErrorM, patch.quantized);
+        const PatchInfo& info = patch.record.info;
+        errors[key] = info.error;
+        if (level == 0) m_rootError = std::max(m_rootError, double(info.error));
+    }
+
+    Status write(int faceLevel, std::map<PatchKey, LevelPatch>& patches) {
+        const int level = faceLevel + ManifestGlobe::kLevelOffset;
+        std::map<std::pair<std::int64_t, std::int64_t>, std::vector<const PatchRecord*>> byShard;
+        for (const auto& [key, patch] : patches) {
+            const ShardId shard = m_layout.shardOf(patch.record.id);
+            byShard[{shard.y, shard.x}].push_back(&patch.record);
+        }
+        for (const auto& [yx, records] : byShard) {
+            const ShardId shard{level, yx.second, yx.first};
+            if (Status written = detail::writeGlobeShard(m_folder, m_layout, shard, records,
+                                                         m_shardOptions, m_quantization);
+                !written)
+                return written;
+            for (const PatchRecord* record : records)
+                m_levelMaxError[static_cast<std::size_t>(level)] = std::max(
+                    m_levelMaxError[static_cast<std::size_t>(level)], double(record->info.error));
+            m_presentShards[static_cast<std::size_t>(level)].push_back(shard);
+        }
+        m_presentPatches[static_cast<std::size_t>(level)] = std::ssize(patches);
+        m_patches += std::ssize(patches);
+        return {};
+    }
+
+    // δ_l of a face level (layout level faceLevel + kLevelOffset).
+    double halfStep(int faceLevel) const {
+        return detail::globeHalfStep(*m_quantization, m_layout, faceLevel);
+    }
+
+    const GlobeSources& m_sources;
+    const PyramidLayout& m_layout;
+    int m_finestFaceLevel;
+    const PyramidBuildOptions& m_options;
+    fs::path m_folder;
+    unsigned m_threads;
+    ShardWriterOptions m_shardOptions;
+    std::vector<SamplePlaces> m_places;  // one per source, in GlobeSources' order
+    // A resampled source's own samples' places, where Err(P) is measured for it.
+    std::vector<std::optional<SamplePlaces>> m_ownPlaces;
+    PyramidBuildPhases m_phases;
+    std::int64_t m_patches = 0;
+    std::vector<double> m_levelMaxError;
+    std::vector<std::int64_t> m_presentPatches;
+    std::vector<std::vector<ShardId>> m_presentShards;
+    double m_rootError = 0.0;
+    std::optional<ManifestQuantization> m_quantization;  // a lossy build's
+};
+
+}  // namespace
+
+int globeFinestLevelFor(double spacingMetres, double latitudeDeg, double longitudeDeg, int quads) {
+    // Metres per unit of face coordinate at the place, the larger of the two directions.
+    const globe::FacePoint p =
+        globe::facePointOf(globe::Wgs84::normalAt(latitudeDeg, longitudeDeg));
+    constexpr double kStep = 1e-6;
+    const auto point = [&](double s, double t) {
+        return globe::Wgs84::pointAlongNormal(globe::directionOf(p.face, s, t), 0.0);
+    };
+    const double s0 = std::clamp(p.s, kStep, 1.0 - kStep);
+    const double t0 = std::clamp(p.t, kStep, 1.0 - kStep);
+    const double rate = std::max(glm::distance(point(s0 - kStep, t0), point(s0 + kStep, t0)),
+                                 glm::distance(point(s0, t0 - kStep), point(s0, t0 + kStep))) /
+                        (2.0 * kStep);
+    const double patchesNeeded = rate / (double(quads) * spacingMetres);
+    return std::max(0, static_cast<int>(std::ceil(std::log2(std::max(1.0, patchesNeeded)) - 1e-9)));
+}
+
+Result<PyramidBuildSummary> buildGlobePyramid(DemReader& reader, const fs::path& output,
+                                              const PyramidBuildOptions& options) {
+    DemReader* const readers[] = {&reader};
+    return buildGlobePyramid(std::span<DemReader* const>(readers), output, options);
+}
+
+Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> readers,
+                                              const fs::path& output,
+                                              const PyramidBuildOptions& options) {
+    const auto start = Clock::now();
+    if (readers.empty())
+        return Error{output.string() + ": no source to build a globe pyramid from"};
+    if (Status delta = checkMaxErrorM(output, options.maxErrorM); !delta) return delta.error();
+    // One geographic source too large to hold is built shard by shard (GlobeShards.h), in
+    // memory bounded whatever its size.
+    const DemInfo& only = readers.front()->info();
+    if (readers.size() == 1 && !only.resampledFrom &&
+        only.georeference.crsKind == CrsKind::Geographic &&
+        double(only.width) * double(only.height) * 5.0 > double(options.memoryBudgetBytes / 2))
+        return buildGlobePyramidByShards(*readers.front(), output, options);
+    Result<GlobeSources> read =
+        GlobeSources::read(readers, options.memoryBudgetBytes / 2, options.patchSamples - 1);
+    if (!read) return read.error();
+    const GlobeSources& composite = read.value();
+    std::vector<std::string> warnings;
+    std::int64_t compositeValid = 0;
+    for (const GlobeSources::Source& source : composite.sources()) {
+        const GeographicGrid& g = source.grid;
+        const std::string& path = source.path;
+        compositeValid += g.validSamples();
+        if (composite.sources().size() > 1 && g.validSamples() == 0)
+            warnings.push_back(fmt::format("{}: no valid sample; it adds nothing", path));
+        else if (auto warning = mostlyNoDataWarning(path, g.width() * g.height(), g.validSamples()))
+            warnings.push_back(*warning);
+    }
+    if (compositeValid == 0) {
+        const GeographicGrid& g = composite.sources().front().grid;
+        return refuseEmptySource(readers.front()->info().path, g.width() * g.height(), 0).error();
+    }
+    const int faceLevel = composite.finestFaceLevel();
+    const DemInfo& first = readers.front()->info();
+    Result<PyramidLayout> layout =
+        globeLayout(faceLevel, options.patchSamples, options.blockQuads, options.shardPatches);
+    if (!layout) return Error{first.path + ": " + layout.error().message};
+    const PyramidLayout& l = layout.value();
+
+    Result<PartialBuildFolder> created = PartialBuildFolder::create(output, options.overwrite);
+    if (!created) return created.error();
+    PartialBuildFolder& partial = created.value();
+    GlobeBuilder builder(composite, l, faceLevel, options, partial.path());
+    if (Status built = builder.run(); !built)
+        return Error{first.path + ": " + built.error().message};
+
+    PyramidBuildSummary summary;
+    summary.warnings = std::move(warnings);
+    PyramidManifest& m = summary.manifest;
+    // "Go to the data" goes to the finest source.
+    m = detail::globeManifest(l, faceLevel, composite.sources().front().grid, readers);
+    double minHeight = 0.0, maxHeight = 0.0;
+    bool any = false;
+    for (std::size_t k = 0; k < composite.sources().size(); ++k) {
+        // A resampled source's samples are its own, not its grid's.
+        const GlobeSources::Source& source = composite.sources()[k];
+        const GeographicGrid& g = source.grid;
+        const std::int64_t samples =
+            source.own ? source.own->width * source.own->height : g.width() * g.height();
+        const std::int64_t valid = source.own ? source.own->validSamples : g.validSamples();
+        const double low = source.own ? source.own->minHeight : g.minHeight();
+        const double high = source.own ? source.own->maxHeight : g.maxHeight();
+        m.noData.samples += samples - valid;
+        m.statistics.validSamples += valid;
+        if (valid == 0) continue;
+        minHeight = any ? std::min(minHeight, low) : low;
+        maxHeight = any ? std::max(maxHeight, high) : high;
+        any = true;
+    }
+    m.statistics.minHeight = minHeight;
+    m.statistics.maxHeight = maxHeight;
+    m.statistics.rootError = builder.rootError();
+    for (ManifestLevel& level : m.levels) {
+        const auto i = static_cast<std::size_t>(level.level);
+        level.presentPatches = builder.presentPatches()[i];
+        level.maxError = builder.levelMaxError()[i];
+        level.presentShards = builder.presentShards()[i];
+        std::sort(level.presentShards.begin(), level.presentShards.end(),
+                  [](const ShardId& a, const ShardId& b) {
+                      return std::pair(a.y, a.x) < std::pair(b.y, b.x);
+                  });
+    }
+    m.quantization = builder.quantization();
+    summary.patches = builder.patches();
+    summary.phases = builder.phases();
+    summary.seconds = secondsSince(start);
+    m.build.seconds = summary.seconds;
+    if (Status written = writeManifest(partial.path(), m); !written) return written.error();
+    summary.bytes = folderBytes(partial.path());
+    if (Status committed = partial.commit(); !committed) return committed.error();
+    return summary;
+}
+
+}  // namespace terrain::io

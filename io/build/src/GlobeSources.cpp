@@ -1,0 +1,191 @@
+#include "GlobeSources.h"
+
+#include "terrain/build/GlobePyramidBuilder.h"
+#include "terrain/pyramid/PatchErrors.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace terrain::io {
+
+GlobeSources::GlobeSources(std::vector<Source> sources) : m_sources(std::move(sources)) {
+    std::stable_sort(m_sources.begin(), m_sources.end(), [](const Source& a, const Source& b) {
+        return a.grid.finestSpacingMetres() < b.grid.finestSpacingMetres();
+    });
+}
+
+Result<GlobeSources> GlobeSources::read(std::span<DemReader* const> readers,
+                                        std::uint64_t memoryBudgetBytes, int quads) {
+    std::vector<Source> sources;
+    const std::uint64_t budget = memoryBudgetBytes / std::max<std::size_t>(1, readers.size());
+    for (DemReader* reader : readers) {
+        Result<GeographicGrid> grid = GeographicGrid::read(*reader, budget);
+        if (!grid) return grid.error();
+        const GeographicGrid& g = grid.value();
+        const double centreLat = 0.5 * (g.northDeg() + g.southDeg());
+        const double centreLon = g.wrapsLongitude() ? 0.0 : 0.5 * (g.westDeg() + g.eastDeg());
+        const int level = globeFinestLevelFor(g.finestSpacingMetres(), centreLat, centreLon, quads);
+        Source source{std::move(grid).value(), level, reader->info().path, std::nullopt};
+        if (reader->info().resampledFrom) {
+            Result<OwnSamples> own = readOwnSamples(*reader, source.grid, budget);
+            if (!own) return own.error();
+            source.own = std::move(own).value();
+        }
+        sources.push_back(std::move(source));
+    }
+    return GlobeSources(std::move(sources));
+}
+
+Result<GlobeSources::OwnSamples> GlobeSources::readOwnSamples(DemReader& reader,
+                                                              const GeographicGrid& grid,
+                                                              std::uint64_t memoryBudgetBytes) {
+    const DemInfo& dem = reader.info();
+    DemReader* original = reader.originalSamples();
+    if (original == nullptr)
+        return Error{dem.path + ": resampled, but its own samples cannot be read"};
+    OwnSamples own;
+    own.width = dem.resampledFrom->width;
+    own.height = dem.resampledFrom->height;
+    // A height and a place each, besides the grid GeographicGrid::read counted.
+    const double bytes = double(own.width) * double(own.height) * 20.0 +
+                         double(grid.width()) * double(grid.height()) * 5.0;
+    if (bytes > double(memoryBudgetBytes))
+        return Error{fmt::format(
+            "{}: its {} × {} samples and their resampled grid need {} MiB in the globe builder, "
+            "more than the memory budget of {} MiB (raise --memory)",
+            dem.path, own.width, own.height, static_cast<std::uint64_t>(bytes) >> 20,
+            memoryBudgetBytes >> 20)};
+    const auto count = static_cast<std::size_t>(own.width * own.height);
+    own.heights.resize(count);
+    own.latitudes.resize(count);
+    own.longitudes.resize(count);
+    std::vector<double> x(static_cast<std::size_t>(own.width)), y(x.size());
+    double minHeight = INFINITY, maxHeight = -INFINITY;
+    for (std::int64_t row = 0; row < own.height; ++row) {
+        const auto offset = static_cast<std::size_t>(row * own.width);
+        std::span<float> heights(own.heights.data() + offset, x.size());
+        if (Status read = original->readWindow(0, row, own.width, 1, heights); !read)
+            return read.error();
+        if (Status placed = reader.placeOriginalSamples(0, row, x, y); !placed)
+            return placed.error();
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            own.latitudes[offset + i] = grid.latitudeAt(y[i]);
+            own.longitudes[offset + i] = grid.longitudeAt(x[i]);
+            if (std::isnan(heights[i])) continue;
+            ++own.validSamples;
+            minHeight = std::min(minHeight, double(heights[i]));
+            maxHeight = std::max(maxHeight, double(heights[i]));
+        }
+    }
+    own.minHeight = own.validSamples > 0 ? minHeight : 0.0;
+    own.maxHeight = own.validSamples > 0 ? maxHeight : 0.0;
+    return own;
+}
+
+int GlobeSources::finestFaceLevel() const {
+    int level = 0;
+    for (const Source& s : m_sources) level = std::max(level, s.finestFaceLevel);
+    return level;
+}
+
+GlobeSources::Shown GlobeSources::shownAt(double latitudeDeg, double longitudeDeg,
+                                          int level) const {
+    Shown shown;
+    int rank = 3;  // of shown.value: 0 valid, 1 a filled void, 2 an extended edge pixel, 3 none
+    double voidSpacing = 0.0;  // the source whose void is being filled, its spacing
+    bool inside = false;
+    for (std::size_t k = 0; k < m_sources.size(); ++k) {
+        const Source& source = m_sources[k];
+        const GeographicGrid::Resampled value = source.grid.at(latitudeDeg, longitudeDeg);
+        inside = inside || (value.inside && source.finestFaceLevel >= level);
+        if (value.valid) {
+            // A void falls through to this source only if it is of comparable resolution.
+            const bool fills = rank > 1 || (rank == 1 && source.grid.finestSpacingMetres() <=
+                                                             kVoidFillRatio * voidSpacing);
+            if (fills) {
+                shown = {static_cast<int>(k), value,
+                         source.grid.featherAt(latitudeDeg, longitudeDeg)};
+                rank = 0;
+            } else if (rank <= 1 && !shown.blended && shown.feather < 1.0) {
+                // The next coarser valid source under the shown one (valid or a filled void of
+                // it): the feather at the shown one's edge.
+                shown.value.height = static_cast<float>(
+                    double(value.height) +
+                    shown.feather * (double(shown.value.height) - double(value.height)));
+                shown.blended = true;
+                shown.under = value.height;
+            }
+            continue;
+        }
+        const int candidate = value.inside ? 1 : value.covered ? 2 : 3;
+        if (candidate < rank) {
+            shown = {static_cast<int>(k), value,
+                     candidate == 1 ? source.grid.featherAt(latitudeDeg, longitudeDeg) : 1.0};
+            rank = candidate;
+            if (candidate == 1) voidSpacing = source.grid.finestSpacingMetres();
+        }
+    }
+    shown.value.inside = inside;
+    return shown;
+}
+
+GeographicGrid::Resampled GlobeSources::at(double latitudeDeg, double longitudeDeg,
+                                           int level) const {
+    return shownAt(latitudeDeg, longitudeDeg, level).value;
+}
+
+std::optional<std::pair<double, double>> GlobeSources::surfaceHeightsAt(double latitudeDeg,
+                                                                        double longitudeDeg) const {
+    const Shown shown = shownAt(latitudeDeg, longitudeDeg, 0);
+    if (shown.source < 0) return std::nullopt;
+    const GeographicGrid& grid = m_sources[static_cast<std::size_t>(shown.source)].grid;
+    const auto cell = grid.cellAt(latitudeDeg, longitudeDeg);
+    if (!cell) return std::nullopt;
+    if (!shown.blended)
+        return cellSurfaceHeights(cell->a, cell->b, cell->c, cell->d, cell->u, cell->v);
+    // In a feathered border the mesh's corners are the composite's values there.
+    const auto composite = [&](int dx, int dy) {
+        return double(shownAt(cell->latitude[dy], cell->longitude[dx], 0).value.height);
+    };
+    return cellSurfaceHeights(composite(0, 0), composite(1, 0), composite(0, 1), composite(1, 1),
+                              cell->u, cell->v);
+}
+
+std::int64_t GlobeSources::measuredWidth(std::size_t k) const {
+    const Source& s = m_sources[k];
+    return s.own ? s.own->width : s.grid.width();
+}
+
+std::int64_t GlobeSources::measuredHeight(std::size_t k) const {
+    const Source& s = m_sources[k];
+    return s.own ? s.own->height : s.grid.height();
+}
+
+std::optional<GlobeSources::MeasuredSample> GlobeSources::measuredSample(std::size_t k,
+                                                                         std::int64_t col,
+                                                                         std::int64_t row) const {
+    const Source& source = m_sources[k];
+    if (!source.own) {
+        if (!source.grid.validAt(col, row)) return std::nullopt;
+        const double latitude = source.grid.latitudeOf(row);
+        const double longitude = source.grid.longitudeOf(col);
+        const Shown shown = shownAt(latitude, longitude, 0);
+        if (shown.source != static_cast<int>(k)) return std::nullopt;
+        return MeasuredSample{latitude, longitude, shown.value.height};
+    }
+    const auto i = static_cast<std::size_t>(row * source.own->width + col);
+    const float own = source.own->heights[i];
+    if (std::isnan(own)) return std::nullopt;
+    const double latitude = source.own->latitudes[i], longitude = source.own->longitudes[i];
+    const Shown shown = shownAt(latitude, longitude, 0);
+    if (shown.source != static_cast<int>(k)) return std::nullopt;
+    // The composite at the sample's place, with the sample's own value for its source's.
+    const double height =
+        shown.blended ? shown.under + shown.feather * (double(own) - shown.under) : double(own);
+    return MeasuredSample{latitude, longitude, height};
+}
+
+}  // namespace terrain::io

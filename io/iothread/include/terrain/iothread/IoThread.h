@@ -1,0 +1,166 @@
+// IoThread: the background I/O thread of streaming. It reads patches from a pyramid in
+// priority order with its own PyramidReader and hands plain CPU records to the render
+// thread, which never waits on disk (docs: DESIGN.md, "Streaming and caches").
+//
+// Threading contract
+// - The owner thread (the render thread) calls every public function; calls are serialised
+//   by one mutex that is held only for queue and list operations, never during a read.
+// - The I/O thread owns the PyramidReader (opened by start() before the thread begins, then
+//   touched only by the I/O thread) and the record it is reading into.
+// - Every request (a submit that returned true) ends exactly once, as one Completion handed
+//   out by poll(): Completed, Failed or Cancelled. A request cancelled while it is being
+//   read ends as Cancelled (its record is recycled); a request already finished but not yet
+//   polled is not cancellable and ends as it finished. Requests still pending when the
+//   IoThread is destroyed end with it, without a Completion.
+// - Backpressure: the thread starts a read only while the records being read plus the
+//   completions waiting for poll() are fewer than maxUnpolled; otherwise it waits for
+//   poll(). Cancelled completions are created on the owner thread and may exceed the cap.
+// - Buffers: recycle() returns a record's storage to a pool the thread reads into
+//   (PyramidReader::readPatch(id, out)), so steady streaming does not allocate.
+//
+// Allocation on the owner thread: once the request count, the completions waiting for
+// poll() and the caller's `out` vector have reached their high-water marks, submit(),
+// cancel(), poll(out) and recycle() allocate nothing. Request bookkeeping reuses its nodes
+// (TileRequestQueue, and here the request times), the completion list and the buffer pool
+// keep their capacity, and a Cancelled Completion carries no record and no error text. The
+// I/O thread may allocate while it reads (file access, failure messages).
+#pragma once
+
+#include "terrain/base/Result.h"
+#include "terrain/iothread/FaultInjection.h"
+#include "terrain/pyramid/PatchRecord.h"
+#include "terrain/pyramid/PyramidLayout.h"
+#include "terrain/pyramid/PyramidReader.h"
+#include "terrain/iothread/TileRequestQueue.h"
+
+#include <chrono>
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <stop_token>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+namespace terrain::io {
+
+struct IoThreadOptions {
+    std::size_t maxUnpolled = 8;  ///< cap on records being read + completions not yet polled
+    int maxOpenShards = PyramidReader::kDefaultOpenShards;
+    FaultInjection faults;
+};
+
+enum class CompletionStatus { Completed, Failed, Cancelled };
+
+/// How one request ended.
+struct Completion {
+    using Clock = std::chrono::steady_clock;
+
+    PatchId id;
+    CompletionStatus status = CompletionStatus::Completed;
+    PatchRecord record;  ///< the patch when Completed; recycle() it when done
+    std::string error;   ///< when Failed: names the file or "injected fault" and the patch
+    Clock::time_point requestTime;   ///< the submit that created the request
+    Clock::time_point completeTime;  ///< when the outcome was known
+};
+
+/// A snapshot of the counters; requested == completed + failed + cancelled + queueDepth +
+/// inFlight at any moment.
+struct IoThreadStats {
+    std::uint64_t requested = 0;  ///< submits that created a request
+    std::uint64_t completed = 0;
+    std::uint64_t failed = 0;
+    std::uint64_t cancelled = 0;
+    std::uint64_t injectedFaults = 0;  ///< failures caused by FaultInjection (also in failed)
+    std::uint64_t bytesRead = 0;       ///< approximate: byte size of the completed records
+    std::size_t queueDepth = 0;        ///< pending requests
+    std::size_t inFlight = 0;          ///< requests being read (0 or 1)
+    std::size_t unpolled = 0;          ///< completions waiting for poll()
+};
+
+class IoThread {
+public:
+    /// Opens the pyramid (its manifest) and starts the thread. Owner thread.
+    static Result<std::unique_ptr<IoThread>> start(const std::filesystem::path& pyramidDir,
+                                                   const IoThreadOptions& options = {});
+
+    /// Stops the thread: a read in progress finishes (an injected latency is cut short),
+    /// pending requests are dropped. Owner thread.
+    ~IoThread();
+    IoThread(const IoThread&) = delete;
+    IoThread& operator=(const IoThread&) = delete;
+
+    /// Requests `id` (higher priority first; every frame is fine). A pending request for `id`
+    /// is re-prioritised instead and false is returned; so is a request being read (which
+    /// ignores the new priority). Returns true when a new request was created, which will
+    /// end in exactly one Completion. `priority` must not be NaN. Owner thread.
+    bool submit(const PatchId& id, float priority);
+
+    /// Changes the priority of the pending request for `id` and returns true; returns false
+    /// and does nothing when `id` has no pending request (never requested, being read, or
+    /// finished). Unlike submit() it never creates a request. Owner thread.
+    bool reprioritise(const PatchId& id, float priority);
+
+    /// Cancels the pending or in-progress request for `id`; it will end as a Cancelled
+    /// Completion. False when `id` has no live request. Owner thread.
+    bool cancel(const PatchId& id);
+
+    /// Appends every finished Completion to `out` and returns how many; never waits on disk.
+    /// Owner thread.
+    std::size_t poll(std::vector<Completion>& out);
+
+    /// Returns a record's storage to the pool the thread reads into. Owner thread.
+    void recycle(PatchRecord&& record);
+
+    /// Waits until a Completion is ready for poll(), or until the thread has nothing to
+    /// read (no pending request, none in flight), or `timeout`; true when one is ready.
+    /// For callers that must wait for streaming (settling a view, draining at shutdown,
+    /// tests): they wake on the outcome instead of sleeping. Owner thread.
+    bool waitForCompletion(std::chrono::milliseconds timeout);
+
+    IoThreadStats stats() const;  ///< Owner thread (any thread is safe).
+    const PyramidLayout& layout() const { return m_layout; }  ///< Any thread.
+
+private:
+    using Clock = Completion::Clock;
+
+    struct InFlight {
+        PatchId id;
+        Clock::time_point requestTime;
+        bool cancelled = false;
+    };
+
+    using RequestTimes = std::unordered_map<PatchId, Clock::time_point, PatchIdHash>;
+
+    IoThread(PyramidReader reader, const IoThreadOptions& options);
+    void run(const std::stop_token& stop);
+    void finishLocked(Completion&& completion);
+    void addRequestTimeLocked(const PatchId& id, Clock::time_point time);
+    Clock::time_point takeRequestTimeLocked(const PatchId& id);  // parks its node
+
+    const IoThreadOptions m_options;
+    const PyramidLayout m_layout;
+    PyramidReader m_reader;  // I/O thread only, after start()
+
+    mutable std::mutex m_mutex;
+    std::condition_variable_any m_wake;  // work, room for results, cancel, or stop
+    std::condition_variable m_finished;  // a completion filed, or the queue ran dry
+    TileRequestQueue m_pending;
+    RequestTimes m_requestTimes;  // pending
+    // Nodes of request times that ended, for the next submits; the capacity covers every
+    // node ever allocated, so parking one (on either thread) never allocates.
+    std::vector<RequestTimes::node_type> m_spareTimeNodes;
+    std::optional<InFlight> m_inFlight;
+    std::vector<Completion> m_ready;  // finished, not yet polled
+    std::vector<PatchRecord> m_pool;  // recycled record storage; reserved to its bound
+    IoThreadStats m_stats;            // queueDepth / inFlight / unpolled filled by stats()
+
+    std::jthread m_thread;  // last: stops and joins before the members above go
+};
+
+}  // namespace terrain::io

@@ -1,0 +1,529 @@
+// Globe pyramids (docs/pyramid-format.md, "Globe pyramids"): the layout that holds six faces,
+// the build of geographic sources at the places a globe is hard (a high-latitude region, a cap
+// over the north pole, a strip across the antimeridian, a whole-Earth grid with its repeated
+// seam column), and what must hold for each: Err(P) bounds every valid source sample at every
+// level (checked again from the files), shared edges are bit-identical across patches and
+// cube edges, children masks match the patches on disk, and only patches near data exist.
+#include "terrain/dem/OpenDem.h"
+#include "terrain/globe/Wgs84.h"
+#include "terrain/pyramid/GlobeGroundHeight.h"
+#include "terrain/pyramid/GlobeLayout.h"
+#include "terrain/build/GlobePatchSurface.h"
+#include "terrain/build/GlobePyramidBuilder.h"
+#include "terrain/pyramid/PyramidReader.h"
+#include "terrain/build/PyramidSourceCheck.h"
+
+#include "GeographicFunctionDem.h"
+#include "GlobeTestSources.h"
+#include "SharedData.h"
+#include "TempFolder.h"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <functional>
+#include <map>
+#include <numbers>
+#include <string>
+
+namespace terrain::io {
+namespace {
+
+using globe::GlobePatchId;
+using globe::PatchSide;
+using test::GeographicFunctionDem;
+using test::hills;
+using test::TempFolder;
+
+PyramidBuildOptions smallPatches() { return test::smallGlobePatches(); }
+
+struct Built {
+    std::filesystem::path folder;
+    PyramidBuildSummary summary;
+};
+
+Built build(DemReader& source, const TempFolder& temp, const std::string& name) {
+    const std::filesystem::path out = temp.path() / (name + ".pyramid");
+    auto built = buildGlobePyramid(source, out, smallPatches());
+    EXPECT_TRUE(built) << (built ? "" : built.error().message);
+    return {out, built ? built.value() : PyramidBuildSummary{}};
+}
+
+// Err(P) against every valid source sample, at every level, read back from the files.
+void expectBoundsHold(const Built& built, DemReader& source) {
+    auto report = checkErrorBoundsAgainstSource(built.folder, source);
+    ASSERT_TRUE(report) << report.error().message;
+    EXPECT_EQ(report.value().violationCount, 0);
+    EXPECT_EQ(report.value().samplesChecked,
+              built.summary.manifest.statistics.validSamples *
+                  (built.summary.manifest.globe->faceFinestLevel + 1));
+    for (const ErrorBoundViolation& v : report.value().violations)
+        ADD_FAILURE() << "sample (" << v.x << ", " << v.y << ") is " << v.distanceM
+                      << " m from patch L" << v.patch.level << " (" << v.patch.x << ", "
+                      << v.patch.y << "), Err(P) " << v.boundM;
+}
+
+// Every present patch: its children mask matches the disk, and its shared edges with every
+// present neighbour (across cube edges too) hold the same heights, bit for bit.
+void expectConsistentPatches(const Built& built) {
+    auto opened = PyramidReader::open(built.folder);
+    ASSERT_TRUE(opened) << opened.error().message;
+    PyramidReader& reader = opened.value();
+    const PyramidLayout& layout = reader.layout();
+    const int quads = layout.patchQuads();
+    const int tile = layout.tileSamples();
+    const int faceLevels = reader.manifest().globe->faceFinestLevel + 1;
+    int edgesCompared = 0, crossFace = 0;
+    for (int level = 0; level < faceLevels; ++level) {
+        const std::int64_t n = globe::patchesPerFaceSide(level);
+        for (int face = 0; face < globe::kCubeFaces; ++face) {
+            for (std::int64_t y = 0; y < n; ++y) {
+                for (std::int64_t x = 0; x < n; ++x) {
+                    const GlobePatchId id{face, level, x, y};
+                    auto info = reader.patchInfo(layoutPatchOf(id));
+                    ASSERT_TRUE(info) << info.error().message;
+                    if (!info.value().present) continue;
+                    if (level + 1 < faceLevels) {
+                        for (int c = 0; c < 4; ++c) {
+                            auto child = reader.patchInfo(layoutPatchOf(
+                                {face, level + 1, 2 * x + (c & 1), 2 * y + (c >> 1)}));
+                            ASSERT_TRUE(child);
+                            EXPECT_EQ(child.value().present,
+                                      ((info.value().presentChildren >> c) & 1) != 0);
+                        }
+                    }
+                    auto mine = reader.readPatch(layoutPatchOf(id));
+                    ASSERT_TRUE(mine) << mine.error().message;
+                    for (const PatchSide side :
+                         {PatchSide::Left, PatchSide::Right, PatchSide::Top, PatchSide::Bottom}) {
+                        const globe::PatchNeighbour there = globe::neighbourOf(id, side);
+                        auto theirInfo = reader.patchInfo(layoutPatchOf(there.id));
+                        if (!theirInfo || !theirInfo.value().present) continue;
+                        auto theirs = reader.readPatch(layoutPatchOf(there.id));
+                        ASSERT_TRUE(theirs);
+                        const auto at = [&](const std::vector<float>& h, PatchSide s, int k) {
+                            const int i = s == PatchSide::Left    ? 0
+                                          : s == PatchSide::Right ? quads
+                                                                  : k;
+                            const int j = s == PatchSide::Top      ? 0
+                                          : s == PatchSide::Bottom ? quads
+                                                                   : k;
+                            return h[static_cast<std::size_t>((j + 1) * tile + i + 1)];
+                        };
+                        for (int k = 0; k <= quads; ++k)
+                            ASSERT_EQ(at(mine.value().heights, side, k),
+                                      at(theirs.value().heights, there.side,
+                                         there.reversed ? quads - k : k))
+                                << "face " << face << " level " << level << " (" << x << ", " << y
+                                << ") side " << int(side) << " sample " << k;
+                        ++edgesCompared;
+                        crossFace += there.id.face != face;
+                    }
+                }
+            }
+        }
+    }
+    EXPECT_GT(edgesCompared, 0);
+    ::testing::Test::RecordProperty("crossFaceEdges", crossFace);
+}
+
+TEST(GlobeLayout, FacesLieSideBySideBelowThreeEmptyLevels) {
+    for (const int faceLevel : {0, 1, 5, 11}) {
+        auto layout = globeLayout(faceLevel);
+        ASSERT_TRUE(layout) << layout.error().message;
+        EXPECT_EQ(layout.value().finestLevel(), faceLevel + ManifestGlobe::kLevelOffset);
+        for (int l = 0; l <= faceLevel; ++l) {
+            EXPECT_EQ(layout.value().patchesX(l + 3), 6 * globe::patchesPerFaceSide(l));
+            EXPECT_EQ(layout.value().patchesY(l + 3), globe::patchesPerFaceSide(l));
+        }
+    }
+    for (int level = 0; level <= 3; ++level)
+        for (int face = 0; face < globe::kCubeFaces; ++face)
+            for (std::int64_t y = 0; y < globe::patchesPerFaceSide(level); ++y)
+                for (std::int64_t x = 0; x < globe::patchesPerFaceSide(level); ++x) {
+                    const GlobePatchId id{face, level, x, y};
+                    ASSERT_EQ(globePatchOf(layoutPatchOf(id)), id);
+                }
+    EXPECT_FALSE(globeLayout(31));
+}
+
+TEST(GlobePyramid, RegionalSourceAtHighLatitude) {
+    TempFolder temp;
+    // 0.5° × 0.25° at 60° N with a few voids.
+    GeographicFunctionDem source(10.0, 60.25, 100, 50, 0.005, 0.005, [](double lat, double lon) {
+        if (std::abs(lat - 60.1) < 0.006 && std::abs(lon - 10.2) < 0.02) return std::nanf("");
+        return hills(lat, lon);
+    });
+    const Built built = build(source, temp, "regional");
+    const PyramidManifest& m = built.summary.manifest;
+    ASSERT_TRUE(m.globe);
+    EXPECT_EQ(m.formatVersion, PyramidManifest::kGlobeFormatVersion);
+    EXPECT_GE(m.globe->faceFinestLevel, 8);
+    EXPECT_EQ(m.levels[3].presentPatches, 6);  // the six faces, always
+    // Sparse: the finest level holds the region only, a sliver of the face.
+    const std::int64_t finestPatches = m.levels.back().presentPatches;
+    EXPECT_GT(finestPatches, 4);
+    EXPECT_LT(finestPatches, 400);
+    expectBoundsHold(built, source);
+    auto reader = PyramidReader::open(built.folder);
+    ASSERT_TRUE(reader);
+    // Far from the data: absent, and said so.
+    const GlobePatchId far{static_cast<int>(globe::CubeFace::South), 3, 2, 2};
+    auto info = reader.value().patchInfo(layoutPatchOf(far));
+    ASSERT_TRUE(info);
+    EXPECT_FALSE(info.value().present);
+    auto read = reader.value().readPatch(layoutPatchOf(far));
+    ASSERT_FALSE(read);
+    EXPECT_NE(read.error().message.find("absent"), std::string::npos) << read.error().message;
+    // The manifest reads back as written.
+    EXPECT_EQ(reader.value().manifest(), m);
+
+    // Damage is named: a listed shard without its file, a manifest whose shard list or
+    // tiling was edited.
+    const std::string manifestText = toJson(m);
+    const auto errorFor = [&](const std::string& from, const std::string& to) {
+        std::string text = manifestText;
+        const auto at = text.find(from);
+        EXPECT_NE(at, std::string::npos) << from;
+        text.replace(at, from.size(), to);
+        auto parsed = fromJson(text, "manifest.json");
+        return parsed ? std::string("no error") : parsed.error().message;
+    };
+    EXPECT_NE(errorFor("\"wgs84-tangent-cube\"", "\"geodetic\"").find("globe.tiling"),
+              std::string::npos);
+    const ManifestLevel& finest = m.levels.back();
+    ASSERT_GE(finest.presentShards.size(), 2u);
+    const ShardId& a = finest.presentShards[0];
+    const ShardId& b = finest.presentShards[1];
+    const std::string pair = fmt::format("[\n          {},\n          {}\n        ]", a.x, a.y);
+    const std::string swapped = fmt::format("[\n          {},\n          {}\n        ]", b.x, b.y);
+    EXPECT_NE(
+        errorFor(pair + ",\n        " + swapped, swapped + ",\n        " + pair).find("not sorted"),
+        std::string::npos);
+    std::filesystem::remove(built.folder / m.layout.shardPath(a));
+    auto reopened = PyramidReader::open(built.folder);
+    ASSERT_TRUE(reopened);
+    const PatchId inMissing{a.level, m.layout.shardFirstX(a), m.layout.shardFirstY(a)};
+    auto missing = reopened.value().patchInfo(inMissing);
+    ASSERT_FALSE(missing);
+    EXPECT_NE(missing.error().message.find("the shard file is missing"), std::string::npos)
+        << missing.error().message;
+}
+
+// A lossy globe pyramid (terrain-build --globe --max-error-m): the stored heights are
+// whole steps of 2δ_l, every patch's δ at least δ_l, and Err(P), measured on the stored
+// surface, holds every source sample; the pyramid is smaller than the lossless one.
+TEST(GlobePyramid, LossyRegionalSourceKeepsItsBounds) {
+    TempFolder temp;
+    GeographicFunctionDem source(10.0, 60.25, 100, 50, 0.005, 0.005, hills);
+    const Built lossless = build(source, temp, "lossless");
+    PyramidBuildOptions options = smallPatches();
+    options.maxErrorM = 2.0;
+    const std::filesystem::path out = temp.path() / "lossy.pyramid";
+    auto made = buildGlobePyramid(source, out, options);
+    ASSERT_TRUE(made) << made.error().message;
+    const Built lossy{out, made.value()};
+    const PyramidManifest& m = lossy.summary.manifest;
+    ASSERT_TRUE(m.quantization);
+    EXPECT_EQ(m.quantization->maxErrorM, 2.0);
+    EXPECT_GT(m.quantization->finestLargestErrorM, 1.0);
+    EXPECT_LE(m.quantization->finestLargestErrorM, 2.0 + 1e-3);
+    EXPECT_LT(lossy.summary.bytes, lossless.summary.bytes);
+    expectBoundsHold(lossy, source);
+
+    // The present shards' patches only: the faces' finest levels hold far more absent ones.
+    auto reader = PyramidReader::open(out);
+    ASSERT_TRUE(reader) << reader.error().message;
+    const PyramidLayout& layout = reader.value().layout();
+    int patches = 0;
+    for (const ManifestLevel& l : m.levels) {
+        const int level = l.level;
+        const double halfStep = m.quantization->halfStep(level, layout.finestLevel());
+        for (const ShardId& shard : l.presentShards)
+            for (std::int64_t y = layout.shardFirstY(shard);
+                 y < layout.shardFirstY(shard) + layout.shardCountY(shard); ++y)
+                for (std::int64_t x = layout.shardFirstX(shard);
+                     x < layout.shardFirstX(shard) + layout.shardCountX(shard); ++x) {
+                    auto info = reader.value().patchInfo({level, x, y});
+                    ASSERT_TRUE(info);
+                    if (!info.value().present) continue;
+                    auto patch = reader.value().readPatch({level, x, y});
+                    ASSERT_TRUE(patch) << patch.error().message;
+                    const PatchInfo& i = patch.value().info;
+                    EXPECT_GE(double(i.quantError), halfStep);
+                    EXPECT_GE(i.error, i.approxError);  // measured on the stored surface
+                    int offGrid = 0;
+                    for (const float h : patch.value().heights) {
+                        const double q = std::round(double(h) / (2.0 * halfStep));
+                        offGrid += h == static_cast<float>(q * 2.0 * halfStep) ? 0 : 1;
+                    }
+                    EXPECT_EQ(offGrid, 0) << "L" << level << " (" << x << ", " << y << ")";
+                    ++patches;
+                }
+    }
+    EXPECT_GT(patches, 10);
+}
+
+TEST(GlobePyramid, CapOverTheNorthPole) {
+    TempFolder temp;
+    GeographicFunctionDem source(-180.0, 90.0, 360, 20, 1.0, 0.1,
+                                 [](double lat, double lon) { return hills(lat, lon) + 200.0f; });
+    const Built built = build(source, temp, "pole");
+    expectBoundsHold(built, source);
+    expectConsistentPatches(built);
+}
+
+TEST(GlobePyramid, StripAcrossTheAntimeridian) {
+    TempFolder temp;
+    // West edge at 179.8°: its eastern half lies at −179.9° … −179.8°.
+    GeographicFunctionDem source(179.8, -29.8, 80, 40, 0.005, 0.005, hills);
+    const Built built = build(source, temp, "antimeridian");
+    expectBoundsHold(built, source);
+    expectConsistentPatches(built);
+}
+
+TEST(GlobePyramid, WholeEarthWithRepeatedSeamColumnAcrossCubeEdges) {
+    TempFolder temp;
+    // 181 columns of 2°: the last repeats the first (as ETOPO's do), which the build accepts.
+    GeographicFunctionDem source(-181.0, 90.0, 181, 90, 2.0, 2.0, hills);
+    const Built built = build(source, temp, "earth");
+    const PyramidManifest& m = built.summary.manifest;
+    ASSERT_TRUE(m.globe);
+    // Every patch of every level is present on a whole-Earth source.
+    for (int l = 0; l <= m.globe->faceFinestLevel; ++l)
+        EXPECT_EQ(m.levels[static_cast<std::size_t>(l + 3)].presentPatches,
+                  6 * globe::patchesPerFaceSide(l) * globe::patchesPerFaceSide(l));
+    expectBoundsHold(built, source);
+    expectConsistentPatches(built);
+}
+
+// A fine regional source over a coarse global one (osgEarth's rule: the finer valid sample
+// wins, no-data falls through to a source of comparable resolution): deep levels exist only
+// under the fine source, the bound holds for every sample the composite shows, a source twice
+// as coarse fills the fine one's void where the 2° global grid would not, and every shared
+// edge still matches.
+TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
+    TempFolder temp;
+    GeographicFunctionDem coarse(-180.0, 90.0, 180, 90, 2.0, 2.0, hills);
+    // 2° × 1° at 0.01°, 50 m above the coarse surface, with a void at (40.0, 21.0).
+    GeographicFunctionDem fine(20.0, 40.5, 200, 100, 0.01, 0.01, [](double lat, double lon) {
+        if (std::abs(lat - 40.0) < 0.03 && std::abs(lon - 21.0) < 0.03) return std::nanf("");
+        return hills(lat, lon) + 50.0f;
+    });
+    // 0.02° around the void, 20 m above the coarse surface: comparable, so it fills the void.
+    GeographicFunctionDem medium(20.2, 40.6, 80, 60, 0.02, 0.02,
+                                 [](double lat, double lon) { return hills(lat, lon) + 20.0f; });
+    DemReader* const sources[] = {&coarse, &fine, &medium};
+    const std::filesystem::path out = temp.path() / "composite.pyramid";
+    auto built = buildGlobePyramid(sources, out, smallPatches());
+    ASSERT_TRUE(built) << built.error().message;
+    const PyramidManifest& m = built.value().manifest;
+    const Built composite{out, built.value()};
+    // The finest level holds the fine source's neighbourhood only.
+    EXPECT_GT(m.globe->faceFinestLevel, 6);
+    EXPECT_LT(m.levels.back().presentPatches, 600);
+    EXPECT_NEAR(m.globe->west, 20.0, 1e-9);  // "go to the data" goes to the finest source
+    EXPECT_EQ(m.statistics.validSamples, 180 * 90 + 200 * 100 - 6 * 6 + 80 * 60);
+    auto report = checkErrorBoundsAgainstSources(out, sources);
+    ASSERT_TRUE(report) << report.error().message;
+    EXPECT_EQ(report.value().violationCount, 0);
+    EXPECT_GT(report.value().samplesChecked, 100 * 50 * m.globe->faceFinestLevel);
+    expectConsistentPatches(composite);
+
+    // What a patch stores: the fine source inside it, the medium one in its void, and at its
+    // edge the coarse one: feathered in, no step.
+    auto reader = PyramidReader::open(out);
+    ASSERT_TRUE(reader);
+    const auto storedAt = [&](double lat, double lon, int level) {
+        const glm::dvec3 normal = globe::Wgs84::normalAt(lat, lon);
+        const globe::FacePoint p = globe::facePointOf(normal);
+        const std::int64_t n = globe::patchesPerFaceSide(level);
+        const GlobePatchId id{p.face, level, static_cast<std::int64_t>(p.s * double(n)),
+                              static_cast<std::int64_t>(p.t * double(n))};
+        auto record = reader.value().readPatch(layoutPatchOf(id));
+        EXPECT_TRUE(record) << record.error().message;
+        const GlobePatchSurface surface(id, reader.value().layout().patchQuads(),
+                                        record.value().heights);
+        return surface.drawnHeights(normal).first;
+    };
+    // The 2° grid between its pixel centres (odd degrees), on its cells' NW–SE diagonal.
+    const auto coarseAt = [](double lat, double lon) {
+        const double y = (89.0 - lat) / 2.0, x = (lon + 179.0) / 2.0;
+        const double y0 = std::floor(y), x0 = std::floor(x), v = y - y0, u = x - x0;
+        const auto h = [](double row, double col) {
+            return double(hills(89.0 - 2.0 * row, -179.0 + 2.0 * col));
+        };
+        const double a = h(y0, x0), b = h(y0, x0 + 1), c = h(y0 + 1, x0), d = h(y0 + 1, x0 + 1);
+        return u >= v ? a + u * (b - a) + v * (d - b) : a + v * (c - a) + u * (d - c);
+    };
+    const int finest = m.globe->faceFinestLevel;
+    EXPECT_NEAR(storedAt(40.2, 20.8, finest), hills(40.2, 20.8) + 50.0, 3.0);
+    // In the void, the medium source (the 2° grid is 200 times too coarse to fill it).
+    EXPECT_NEAR(storedAt(40.0, 21.0, finest), hills(40.0, 21.0) + 20.0, 25.0);
+    // At the fine source's north edge, beyond the medium one, the coarse surface: no step.
+    EXPECT_NEAR(storedAt(40.4999, 21.9, finest), coarseAt(40.4999, 21.9), 3.0);
+    EXPECT_NEAR(storedAt(40.5001, 21.9, finest), coarseAt(40.5001, 21.9), 3.0);
+
+    // The ground a camera is placed over: the finest patch there, the higher diagonal.
+    auto query = GlobeGroundQuery::open(out);
+    ASSERT_TRUE(query) << query.error().message;
+    const auto ground = [&](double lat, double lon) {
+        auto g = query.value().at(lat, lon);
+        EXPECT_TRUE(g) << g.error().message;
+        return g ? g.value() : GlobeGround{};
+    };
+    const GlobeGround inFine = ground(40.2, 20.8);
+    EXPECT_EQ(inFine.faceLevel, finest);
+    EXPECT_NEAR(inFine.heightM, storedAt(40.2, 20.8, finest), 0.5);  // the finest sag is small
+    EXPECT_NEAR(inFine.heightM, hills(40.2, 20.8) + 50.0, 3.0);
+    // Far from the fine source: the coarse grid's own level, its surface.
+    const GlobeGround inCoarse = ground(-30.0, 100.0);
+    EXPECT_GE(inCoarse.faceLevel, 0);
+    EXPECT_LT(inCoarse.faceLevel, finest - 3);
+    {
+        // Within that patch's Err(P) of the coarse grid's own surface (the face grid resamples
+        // it), and in the tile's height range.
+        const globe::FacePoint p = globe::facePointOf(globe::Wgs84::normalAt(-30.0, 100.0));
+        const std::int64_t n = globe::patchesPerFaceSide(inCoarse.faceLevel);
+        const GlobePatchId id{p.face, inCoarse.faceLevel,
+                              static_cast<std::int64_t>(p.s * double(n)),
+                              static_cast<std::int64_t>(p.t * double(n))};
+        auto info = reader.value().patchInfo(layoutPatchOf(id));
+        ASSERT_TRUE(info) << info.error().message;
+        EXPECT_LE(std::abs(inCoarse.heightM - coarseAt(-30.0, 100.0)), info.value().error + 0.01);
+        EXPECT_GE(inCoarse.heightM, info.value().minHeight);
+        EXPECT_LE(inCoarse.heightM, info.value().maxHeight);
+    }
+}
+
+TEST(GlobeGroundHeight, BareEllipsoidWhereThereIsNoData) {
+    TempFolder temp;
+    GeographicFunctionDem source(10.0, 60.25, 100, 50, 0.005, 0.005, hills);
+    const Built built = build(source, temp, "regional");
+    auto query = GlobeGroundQuery::open(built.folder);
+    ASSERT_TRUE(query) << query.error().message;
+    auto far = query.value().at(-45.0, -120.0);
+    ASSERT_TRUE(far) << far.error().message;
+    EXPECT_EQ(far.value().faceLevel, -1);
+    EXPECT_EQ(far.value().heightM, 0.0);  // not the coarse face root's sag (km here)
+    auto inside = query.value().at(60.1, 10.3);
+    ASSERT_TRUE(inside) << inside.error().message;
+    EXPECT_EQ(inside.value().faceLevel, built.summary.manifest.globe->faceFinestLevel);
+    EXPECT_NEAR(inside.value().heightM, hills(60.1, 10.3), 5.0);
+    // The same patch again comes from the one it kept; a neighbouring place too.
+    EXPECT_EQ(query.value().at(60.1, 10.3).value().heightM, inside.value().heightM);
+    EXPECT_NEAR(query.value().at(60.1001, 10.3).value().heightM, hills(60.1001, 10.3), 5.0);
+}
+
+// A projected DEM on the globe (issue 20): Kilauea's 30 m UTM grid, resampled onto a
+// longitude/latitude grid by GDAL's warper, composited over ETOPO's 20′ global grid. Err(P)
+// is measured against the UTM samples themselves, each placed through PROJ, so every one
+// of them (not only the resampled grid's) is within the bound at every level, the finest
+// levels' bounds are set by them (the tightest ratio is 1), and a metre of difference in
+// them shows: the same pyramid checked against the source raised by 1 m fails.
+TEST(GlobePyramid, ProjectedSourceIsBoundedAtItsOwnSamples) {
+    TERRAIN_SHARED_DATA_OR_SKIP(kilauea, "kilauea_utm5n_30m.nc");
+    TERRAIN_SHARED_DATA_OR_SKIP(etopo, "etopo20_global.nc");
+    TempFolder temp;
+    DemOpenOptions onTheGlobe;
+    onTheGlobe.geographicGrid = true;
+    const auto open = [&](const std::filesystem::path& path, const DemOpenOptions& options) {
+        auto reader = openDem({path.string()}, options);
+        EXPECT_TRUE(reader) << (reader ? "" : reader.error().message);
+        return reader ? std::move(reader).value() : nullptr;
+    };
+    const auto utm = open(kilauea, onTheGlobe), global = open(etopo, onTheGlobe);
+    ASSERT_TRUE(utm && global);
+    ASSERT_TRUE(utm->info().resampledFrom);
+    EXPECT_FALSE(global->info().resampledFrom);  // geographic already: read as it is
+    const std::filesystem::path out = temp.path() / "kilauea.pyramid";
+    PyramidBuildOptions options;
+    options.threads = 2;
+    options.compressionLevel = 1;
+    DemReader* const sources[] = {utm.get(), global.get()};
+    auto built = buildGlobePyramid(sources, out, options);
+    ASSERT_TRUE(built) << built.error().message;
+    const PyramidManifest& manifest = built.value().manifest;
+    const int faceLevels = manifest.globe->faceFinestLevel + 1;
+    EXPECT_EQ(faceLevels, 13);  // 30 m: face level 12 (19 m samples)
+
+    auto report = checkErrorBoundsAgainstSources(out, sources);
+    ASSERT_TRUE(report) << report.error().message;
+    EXPECT_EQ(report.value().violationCount, 0);
+    for (const ErrorBoundViolation& v : report.value().violations)
+        ADD_FAILURE() << "sample (" << v.x << ", " << v.y << ") is " << v.distanceM
+                      << " m from patch L" << v.patch.level << ", Err(P) " << v.boundM;
+    // Kilauea's 658,945 valid UTM samples (857 × 793 less 20,656 voids) at 13 levels, and
+    // ETOPO's where it shows, at levels 0 to its own finest.
+    EXPECT_GT(report.value().samplesChecked, std::int64_t{658945} * faceLevels);
+    const std::vector<double>& ratio = report.value().tightestRatio;
+    EXPECT_GT(ratio.back(), 0.999);  // the finest bound is the worst UTM sample's distance
+
+    DemOpenOptions raised = onTheGlobe;
+    raised.verticalOffset = 1.0;
+    const auto higher = open(kilauea, raised);
+    ASSERT_TRUE(higher);
+    DemReader* const higherSources[] = {higher.get(), global.get()};
+    auto off = checkErrorBoundsAgainstSources(out, higherSources);
+    ASSERT_TRUE(off) << off.error().message;
+    EXPECT_GT(off.value().violationCount, 0);
+}
+
+TEST(GlobePyramid, RefusesSourcesThatAreNotGeographic) {
+    TempFolder temp;
+    GeographicFunctionDem source(0.0, 0.0, 10, 10, 1.0, 1.0, hills);
+    auto projected = source.info();
+    struct Projected final : DemReader {
+        DemInfo info_;
+        const DemInfo& info() const override { return info_; }
+        Status readWindow(std::int64_t, std::int64_t, std::int64_t, std::int64_t,
+                          std::span<float>) override {
+            return {};
+        }
+    } reader;
+    reader.info_ = projected;
+    reader.info_.georeference.crsKind = CrsKind::Projected;
+    auto built = buildGlobePyramid(reader, temp.path() / "x.pyramid", smallPatches());
+    ASSERT_FALSE(built);
+    EXPECT_NE(built.error().message.find("geographic-function-dem: a globe pyramid needs a "
+                                         "geographic"),
+              std::string::npos)
+        << built.error().message;
+    EXPECT_FALSE(std::filesystem::exists(temp.path() / "x.pyramid"));
+}
+
+// The surface the errors are measured on, checked by geometry alone: the piercing point lies
+// on a plane through three of the cell's corners, sample normals pierce at the sample's height,
+// and a level patch sags between samples by no more than the flat-triangle bound.
+TEST(GlobePatchSurface, PiercesTheDrawnTrianglesAlongTheNormal) {
+    const int quads = 8;
+    const int tile = quads + 3;
+    for (const GlobePatchId id :
+         {GlobePatchId{0, 0, 0, 0}, GlobePatchId{4, 6, 31, 32}, GlobePatchId{2, 12, 2048, 2047}}) {
+        std::vector<float> flat(static_cast<std::size_t>(tile * tile), 250.0f);
+        const GlobePatchSurface surface(id, quads, flat);
+        for (int j = 0; j <= quads; ++j)
+            for (int i = 0; i <= quads; ++i) {
+                const auto [a, b] =
+                    surface.drawnHeights(globe::patchSampleDirection(id, quads, i, j));
+                EXPECT_NEAR(a, 250.0, 1e-6);
+                EXPECT_NEAR(b, 250.0, 1e-6);
+            }
+        const double sag =
+            globe::flatTriangleErrorBound(globe::maxSampleSpacing(id.level, quads), 250.0);
+        for (int k = 0; k < 50; ++k) {
+            const globe::FacePoint p =
+                globe::patchPoint(id, (k % 7 + 0.37) / 7.0, (k / 7 % 7 + 0.61) / 7.0);
+            const auto [a, b] = surface.drawnHeights(globe::directionOf(p.face, p.s, p.t));
+            EXPECT_LE(a, 250.0 + 1e-6);
+            EXPECT_GE(a, 250.0 - sag);
+            EXPECT_LE(b, 250.0 + 1e-6);
+            EXPECT_GE(b, 250.0 - sag);
+        }
+    }
+}
+
+}  // namespace
+}  // namespace terrain::io

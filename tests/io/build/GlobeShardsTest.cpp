@@ -1,0 +1,293 @@
+// Globe region builds (GlobeShards.h) against their promises, at the places a globe is hard (a
+// cap over a pole, a strip across the antimeridian, a whole Earth with its repeated seam
+// column, voids whose fill runs across blocks and shards): the patches present, their heights
+// (apron included) and their children are the whole build's to the bit; the finest Err(P) is
+// the whole build's and every coarser one at least it; every valid source sample is within
+// Err(P) of every level, read back from the files; shards built one task at a time in another
+// order are the same bytes; the merge refuses a missing shard or one built before a shard
+// beneath it, and writes nothing; a source over the memory budget is built by shards.
+#include "terrain/dem/OpenDem.h"
+#include "terrain/pyramid/GlobeLayout.h"
+#include "terrain/build/GlobePyramidBuilder.h"
+#include "terrain/build/GlobeShards.h"
+#include "terrain/pyramid/PyramidReader.h"
+#include "terrain/build/PyramidSourceCheck.h"
+
+#include "GeographicFunctionDem.h"
+#include "GlobeTestSources.h"
+#include "PyramidFiles.h"
+#include "SharedData.h"
+#include "TempFolder.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <string>
+
+namespace terrain::io {
+namespace {
+
+namespace fs = std::filesystem;
+using globe::GlobePatchId;
+using test::GeographicFunctionDem;
+using test::hills;
+using test::pyramidFiles;
+using test::TempFolder;
+
+// One thread: these builds are many small shards, and the suite runs under sanitizers too;
+// RegionalSourceAtHighLatitude builds with two.
+PyramidBuildOptions smallPatches() {
+    PyramidBuildOptions options = test::smallGlobePatches();
+    options.threads = 1;
+    return options;
+}
+
+// The region build against the whole build of the same source: the same patches with the same
+// tiles and children; Err(P) equal at the finest level, never smaller above; the manifests'
+// statistics equal; and the region build's bounds hold at every valid source sample.
+void expectRegionBuildMatchesWholeBuild(DemReader& source, PyramidBuildOptions options,
+                                        int measuredLevels = 0) {
+    TempFolder temp;
+    const fs::path whole = temp.path() / "whole.pyramid";
+    const fs::path region = temp.path() / "region.pyramid";
+    auto w = buildGlobePyramid(source, whole, options);
+    ASSERT_TRUE(w) << w.error().message;
+    // Every level above the finest nested, or those above `measuredLevels` (the default
+    // measures these small sources at their samples at every level, and so builds the whole
+    // build's bounds, which MeasuredLevelsAreTheWholeBuildsBytes checks).
+    options.globeMeasuredLevels = measuredLevels;
+    auto r = buildGlobePyramidByShards(source, region, options);
+    ASSERT_TRUE(r) << r.error().message;
+    EXPECT_FALSE(fs::exists(shardStagingFolder(region)));
+
+    const PyramidManifest& wm = w.value().manifest;
+    const PyramidManifest& rm = r.value().manifest;
+    ASSERT_TRUE(rm.globe);
+    EXPECT_EQ(rm.globe->faceFinestLevel, wm.globe->faceFinestLevel);
+    EXPECT_EQ(rm.statistics.validSamples, wm.statistics.validSamples);
+    EXPECT_EQ(rm.noData.samples, wm.noData.samples);
+    EXPECT_EQ(rm.statistics.minHeight, wm.statistics.minHeight);
+    EXPECT_EQ(rm.statistics.maxHeight, wm.statistics.maxHeight);
+    EXPECT_GE(rm.statistics.rootError, wm.statistics.rootError);
+    ASSERT_EQ(rm.levels.size(), wm.levels.size());
+    for (std::size_t l = 0; l < wm.levels.size(); ++l) {
+        EXPECT_EQ(rm.levels[l].presentPatches, wm.levels[l].presentPatches) << "level " << l;
+        EXPECT_EQ(rm.levels[l].presentShards, wm.levels[l].presentShards) << "level " << l;
+    }
+
+    auto wr = PyramidReader::open(whole);
+    auto rr = PyramidReader::open(region);
+    ASSERT_TRUE(wr && rr);
+    const int finest = wm.globe->faceFinestLevel;
+    const PyramidLayout& layout = wr.value().layout();
+    std::int64_t compared = 0;
+    // Every patch of every shard either build holds (their shard lists are equal, above).
+    for (const ManifestLevel& level : wm.levels)
+        for (const ShardId& shard : level.presentShards)
+            for (std::int64_t y = layout.shardFirstY(shard);
+                 y < layout.shardFirstY(shard) + layout.shardCountY(shard); ++y)
+                for (std::int64_t x = layout.shardFirstX(shard);
+                     x < layout.shardFirstX(shard) + layout.shardCountX(shard); ++x) {
+                    const PatchId id{level.level, x, y};
+                    auto a = wr.value().patchInfo(id);
+                    auto b = rr.value().patchInfo(id);
+                    ASSERT_TRUE(a && b);
+                    ASSERT_EQ(a.value().present, b.value().present)
+                        << "level " << level.level << " (" << x << ", " << y << ")";
+                    if (!a.value().present) continue;
+                    EXPECT_EQ(a.value().presentChildren, b.value().presentChildren);
+                    if (level.level == layout.finestLevel())
+                        EXPECT_EQ(a.value().error, b.value().error);
+                    else
+                        EXPECT_GE(b.value().error, a.value().error);
+                    auto ha = wr.value().readPatch(id);
+                    auto hb = rr.value().readPatch(id);
+                    ASSERT_TRUE(ha && hb);
+                    ASSERT_EQ(ha.value().heights, hb.value().heights)
+                        << "level " << level.level << " (" << x << ", " << y << ")";
+                    EXPECT_EQ(ha.value().valid, hb.value().valid);
+                    ++compared;
+                }
+    EXPECT_EQ(compared, r.value().patches);
+    ::testing::Test::RecordProperty("patchesCompared", static_cast<int>(compared));
+
+    auto report = checkErrorBoundsAgainstSource(region, source);
+    ASSERT_TRUE(report) << report.error().message;
+    EXPECT_EQ(report.value().violationCount, 0);
+    EXPECT_EQ(report.value().samplesChecked, rm.statistics.validSamples * (finest + 1));
+}
+
+TEST(GlobeShards, RegionalSourceAtHighLatitude) {
+    GeographicFunctionDem source(8.0, 61.0, 200, 120, 0.01, 0.005, hills);
+    PyramidBuildOptions options = smallPatches();
+    options.threads = 2;  // the samples' rows and the patches in parallel
+    expectRegionBuildMatchesWholeBuild(source, options);
+}
+
+TEST(GlobeShards, CapOverTheNorthPole) {
+    GeographicFunctionDem source(-180.0, 90.0, 360, 20, 1.0, 0.1,
+                                 [](double lat, double lon) { return hills(lat, lon) + 200.0f; });
+    expectRegionBuildMatchesWholeBuild(source, smallPatches());
+}
+
+TEST(GlobeShards, StripAcrossTheAntimeridian) {
+    GeographicFunctionDem source(179.8, -29.8, 80, 40, 0.005, 0.005, hills);
+    expectRegionBuildMatchesWholeBuild(source, smallPatches());
+}
+
+TEST(GlobeShards, WholeEarthWithRepeatedSeamColumn) {
+    GeographicFunctionDem source(-181.0, 90.0, 181, 90, 2.0, 2.0, hills);
+    expectRegionBuildMatchesWholeBuild(source, smallPatches());
+}
+
+// Rows centred on the poles (grid-registered, as the built-in planet's): half a pixel beyond.
+TEST(GlobeShards, GridRegisteredWholeEarth) {
+    GeographicFunctionDem source(-181.0, 91.0, 181, 91, 2.0, 2.0, hills);
+    expectRegionBuildMatchesWholeBuild(source, smallPatches());
+}
+
+// Voids longer than a block and a shard: each is filled from the row's valid samples beyond
+// it, as the whole build fills the row.
+TEST(GlobeShards, VoidsFillAcrossBlocksAndShards) {
+    // A shard here is 64 face samples (~2.5 km), its blocks at most half its surroundings:
+    // the long void crosses both, at 0.008° (~600 m) samples.
+    GeographicFunctionDem source(10.0, 47.0, 250, 40, 0.008, 0.008, [](double lat, double lon) {
+        const bool voidRun = lat > 46.85 && lat < 46.9 && lon > 10.1 && lon < 11.9;
+        const bool voidBlock = lat > 46.75 && lat < 46.8 && lon > 10.5 && lon < 10.7;
+        return voidRun || voidBlock ? std::numeric_limits<float>::quiet_NaN() : hills(lat, lon);
+    });
+    expectRegionBuildMatchesWholeBuild(source, smallPatches());
+}
+
+TEST(GlobeShards, LossyRegionBuildKeepsItsBounds) {
+    GeographicFunctionDem source(8.0, 61.0, 200, 120, 0.01, 0.005, hills);
+    PyramidBuildOptions options = smallPatches();
+    options.maxErrorM = 2.0;
+    expectRegionBuildMatchesWholeBuild(source, options);
+}
+
+TEST(GlobeShards, SharedEtopoBuildsByShardsAsWhole) {
+    TERRAIN_SHARED_DATA_OR_SKIP(etopo, "etopo20_global.nc");
+    auto reader = openDem({etopo.string()});
+    ASSERT_TRUE(reader) << reader.error().message;
+    PyramidBuildOptions options;
+    options.threads = 2;
+    // The level above the finest measured, the next nested from its intervals.
+    expectRegionBuildMatchesWholeBuild(*reader.value(), options, 1);
+}
+
+// Every shard its own task, each level's in reverse order, then the merge: the same bytes as
+// one process building them in order.
+TEST(GlobeShards, TasksInAnotherOrderWriteTheSameBytes) {
+    TempFolder temp;
+    GeographicFunctionDem source(179.8, -29.8, 80, 40, 0.005, 0.005, hills);
+    const PyramidBuildOptions options = smallPatches();
+    const fs::path inOrder = temp.path() / "in-order.pyramid";
+    ASSERT_TRUE(buildGlobePyramidByShards(source, inOrder, options));
+    const fs::path byTasks = temp.path() / "tasks.pyramid";
+    auto plan = planGlobeShards(source, byTasks, options);
+    ASSERT_TRUE(plan) << plan.error().message;
+    int tasks = 0;
+    for (int level = plan.value().layout.finestLevel(); level >= 0; --level) {
+        const auto& shards = plan.value().shards[static_cast<std::size_t>(level)];
+        for (auto s = shards.rbegin(); s != shards.rend(); ++s) {
+            auto built = buildGlobeShard(source, byTasks, *s, options);
+            ASSERT_TRUE(built) << built.error().message;
+            // A task run again (a retried Dask task) rewrites the same bytes.
+            if (tasks++ == 0) {
+                ASSERT_TRUE(buildGlobeShard(source, byTasks, *s, options));
+            }
+        }
+    }
+    auto merged = mergeGlobeShards(source, byTasks, options);
+    ASSERT_TRUE(merged) << merged.error().message;
+    EXPECT_EQ(pyramidFiles(inOrder), pyramidFiles(byTasks));
+}
+
+TEST(GlobeShards, MergeRefusesAMissingOrStaleShardAndWritesNothing) {
+    TempFolder temp;
+    GeographicFunctionDem source(179.8, -29.8, 80, 40, 0.005, 0.005, hills);
+    const PyramidBuildOptions options = smallPatches();
+    const fs::path out = temp.path() / "globe.pyramid";
+    auto plan = planGlobeShards(source, out, options);
+    ASSERT_TRUE(plan) << plan.error().message;
+    const GlobeShardPlan& p = plan.value();
+    const int finest = p.layout.finestLevel();
+    ASSERT_GE(p.shards[static_cast<std::size_t>(finest)].size(), 1u);
+    // The parent of the first finest shard first: built without the shard beneath it.
+    const ShardId child = p.shards[static_cast<std::size_t>(finest)].front();
+    const ShardId parent{finest - 1, child.x / 2, child.y / 2};
+    ASSERT_TRUE(buildGlobeShard(source, out, parent, options));
+    for (int level = finest; level >= 0; --level)
+        for (const ShardId& s : p.shards[static_cast<std::size_t>(level)])
+            if (!(s == parent) && !(s == child)) {
+                ASSERT_TRUE(buildGlobeShard(source, out, s, options));
+            }
+    auto missing = mergeGlobeShards(source, out, options);
+    ASSERT_FALSE(missing);
+    EXPECT_NE(missing.error().message.find("missing"), std::string::npos)
+        << missing.error().message;
+    EXPECT_FALSE(fs::exists(out));
+    ASSERT_TRUE(buildGlobeShard(source, out, child, options));
+    auto stale = mergeGlobeShards(source, out, options);
+    ASSERT_FALSE(stale);
+    EXPECT_NE(stale.error().message.find("was built before shard"), std::string::npos)
+        << stale.error().message;
+    EXPECT_FALSE(fs::exists(out));
+    ASSERT_TRUE(buildGlobeShard(source, out, parent, options));
+    EXPECT_TRUE(mergeGlobeShards(source, out, options));
+    EXPECT_TRUE(fs::exists(out / "manifest.json"));
+}
+
+TEST(GlobeShards, ASourceOverTheBudgetIsBuiltByShards) {
+    TempFolder temp;
+    GeographicFunctionDem source(-100.0, 88.0, 460, 440, 0.4, 0.4, hills);
+    PyramidBuildOptions options = smallPatches();
+    options.globeMeasuredLevels = 0;  // no level but the finest reads the source again
+    auto plan = planGlobeShards(source, temp.path() / "plan.pyramid", options);
+    ASSERT_TRUE(plan) << plan.error().message;
+    // 460 × 440 samples need 1 MiB held whole: over half the budget, which a shard fits.
+    options.memoryBudgetBytes = 2 * globeShardBytes(plan.value().layout) + (64 << 10);
+    ASSERT_LT(options.memoryBudgetBytes / 2, 460u * 440u * 5u);
+    const fs::path small = temp.path() / "small.pyramid";
+    auto built = buildGlobePyramid(source, small, options);
+    ASSERT_TRUE(built) << built.error().message;
+    const fs::path expected = temp.path() / "expected.pyramid";
+    ASSERT_TRUE(buildGlobePyramidByShards(source, expected, options));
+    EXPECT_EQ(pyramidFiles(small), pyramidFiles(expected));
+}
+
+// Measured at the source's samples (the default for a source this small, and for the two
+// levels above the finest of any): the whole build's files, byte for byte.
+TEST(GlobeShards, MeasuredLevelsAreTheWholeBuildsBytes) {
+    TempFolder temp;
+    GeographicFunctionDem source(8.0, 61.0, 300, 200, 0.01, 0.005, hills);
+    const fs::path whole = temp.path() / "whole.pyramid";
+    ASSERT_TRUE(buildGlobePyramid(source, whole, smallPatches()));
+    const fs::path region = temp.path() / "region.pyramid";
+    ASSERT_TRUE(buildGlobePyramidByShards(source, region, smallPatches()));
+    EXPECT_EQ(pyramidFiles(whole), pyramidFiles(region));
+}
+
+TEST(GlobeShards, ShardsOfAnotherPlanAndForeignShardsAreRefused) {
+    TempFolder temp;
+    GeographicFunctionDem source(179.8, -29.8, 80, 40, 0.005, 0.005, hills);
+    const fs::path out = temp.path() / "globe.pyramid";
+    ASSERT_TRUE(planGlobeShards(source, out, smallPatches()));
+    PyramidBuildOptions other = smallPatches();
+    other.compressionLevel = 3;
+    auto refused = buildGlobeShard(source, out, ShardId{3, 0, 0}, other);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("another source or with other options"),
+              std::string::npos)
+        << refused.error().message;
+    auto nowhere = buildGlobeShard(source, out, ShardId{0, 0, 0}, smallPatches());
+    ASSERT_FALSE(nowhere);
+    EXPECT_NE(nowhere.error().message.find("is not one of this globe pyramid's"), std::string::npos)
+        << nowhere.error().message;
+}
+
+}  // namespace
+}  // namespace terrain::io
