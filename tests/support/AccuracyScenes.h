@@ -11,6 +11,7 @@
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/EdgeTessellation.h"
 #include "terrain/runtime/ScreenSpaceError.h"
+#include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/TerrainSession.h"
 
 #include <gtest/gtest.h>
@@ -260,7 +261,7 @@ inline BlockBoundCheck checkBlockBounds(const runtime::TerrainSession& session,
                                         io::PyramidReader& reader, const runtime::Camera& camera,
                                         double errorPx, const runtime::FrameAccuracy& a) {
     BlockBoundCheck check;
-    const runtime::TerrainGeometry& g = session.geometry();
+    const runtime::TerrainGeometry& g = runtime::planeGeometry(session.surface());
     const io::PyramidLayout& layout = g.layout();
     const int blocks = layout.blocksPerSide();
     const glm::dmat4 vp = camera.relativeViewProjection();
@@ -430,7 +431,7 @@ inline SweepResult sweep(const std::filesystem::path& pyramid, const std::vector
     auto reader = io::PyramidReader::open(pyramid);
     EXPECT_TRUE(reader) << reader.error().message;
     if (!reader) return result;
-    const int fullResolution = session.geometry().layout().blockQuads();
+    const int fullResolution = session.surface().layout().blockQuads();
     for (const Pose& pose : poses) {
         for (const double errorPx : errorsPx) {
             const std::string what =

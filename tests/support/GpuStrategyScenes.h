@@ -33,10 +33,15 @@ inline std::vector<float> roughHeights(int width, int height, unsigned seed, flo
     return h;
 }
 
-inline runtime::TerrainGeometry geometryOf(int width, int height) {
+/// The manifest of a width × height raster of 33-sample patches (no file behind it).
+inline io::PyramidManifest manifestOf(int width, int height) {
     auto layout = io::PyramidLayout::create(width, height, 33, 8, 4);
     EXPECT_TRUE(layout) << layout.error().message;
-    return runtime::TerrainGeometry(io::PyramidManifest::forLayout(layout.value()));
+    return io::PyramidManifest::forLayout(layout.value());
+}
+
+inline runtime::TerrainGeometry geometryOf(int width, int height) {
+    return runtime::TerrainGeometry(manifestOf(width, height));
 }
 
 /// `heightM` above the raster's centre moved by `offsetM`, looking north at `pitchDeg`.

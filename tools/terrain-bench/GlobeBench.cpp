@@ -14,7 +14,7 @@
 #include "terrain/runtime/GlobeCameraPath.h"
 #include "terrain/runtime/GlobeReferenceRenderer.h"
 #include "terrain/runtime/GlobeScreenSpaceError.h"
-#include "terrain/runtime/GlobeSession.h"
+#include "terrain/runtime/TerrainSession.h"
 #include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/LatencyHistogram.h"
 #include "terrain/source/DemReader.h"
@@ -52,12 +52,12 @@ int fail(const std::string& message) {
 
 struct Frame {
     runtime::TerrainDrawStats drawn;
-    runtime::GlobeLodStats lod;
+    runtime::LodUpdateStats lod;
     double lodUs = 0.0;
 };
 
 // One settled frame of `session` for `camera`, drawn with or without skirts; its depth.
-Frame drawFrame(runtime::GlobeSession& session, gl::Framebuffer& framebuffer,
+Frame drawFrame(runtime::TerrainSession& session, gl::Framebuffer& framebuffer,
                 const runtime::Camera& camera, double errorPx, bool skirts,
                 std::vector<float>& depth) {
     Frame frame;
@@ -190,13 +190,13 @@ int runGlobeBench(const GlobeBenchOptions& o) {
     for (const double t : o.thresholdsPx) plan.push_back({t, true});
     plan.push_back({comparisonPx, false});
     for (const auto& [errorPx, horizonCulling] : plan) {
-        runtime::GlobeSessionOptions options;
+        runtime::TerrainSessionOptions options;
         o.budgets.applyTo(options.streaming);
         options.lod.errorPx = errorPx;
         options.lod.horizonCulling = horizonCulling;
-        auto opened = runtime::GlobeSession::open(o.pyramid, options);
+        auto opened = runtime::TerrainSession::open(o.pyramid, options);
         if (!opened) return fail(opened.error().message);
-        runtime::GlobeSession& session = *opened.value();
+        runtime::TerrainSession& session = *opened.value();
         runtime::LatencyHistogram lodUs;
         double errorMax = 0.0, errorP99Max = 0.0, lodErrorMax = 0.0;
         double trianglesSum = 0.0, patchesSum = 0.0;
@@ -289,13 +289,13 @@ int runGlobeBench(const GlobeBenchOptions& o) {
                               {"popping_levels", poppingJson}});
         }
         // Time to full detail after arriving: the last pose, a fresh session, no settling.
-        auto fresh = runtime::GlobeSession::open(o.pyramid, options);
+        auto fresh = runtime::TerrainSession::open(o.pyramid, options);
         if (!fresh) return fail(fresh.error().message);
         const auto arrived = Clock::now();
         std::uint64_t arrivalFrames = 0;
         bool settled = false;
         while (!settled && std::chrono::duration<double>(Clock::now() - arrived).count() < 120.0) {
-            const runtime::GlobeLodStats& lod = fresh.value()->beginFrame(camera);
+            const runtime::LodUpdateStats& lod = fresh.value()->beginFrame(camera);
             framebuffer.value().clear({0.0f, 0.0f, 0.0f, 1.0f}, 0.0f);
             glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.value().id());
             runtime::TerrainStyle style;
@@ -358,10 +358,10 @@ int runGlobeBench(const GlobeBenchOptions& o) {
     // elsewhere).
     nlohmann::json sameView = nlohmann::json::array();
     {
-        runtime::GlobeSessionOptions options;
+        runtime::TerrainSessionOptions options;
         o.budgets.applyTo(options.streaming);
         options.lod.errorPx = comparisonPx;
-        auto opened = runtime::GlobeSession::open(o.pyramid, options);
+        auto opened = runtime::TerrainSession::open(o.pyramid, options);
         if (!opened) return fail(opened.error().message);
         camera.fovY = 50.0 * kDegree;
         for (const auto& [name, lat, lon] :
@@ -369,6 +369,9 @@ int runGlobeBench(const GlobeBenchOptions& o) {
               std::tuple{"equator", 0.0, 0.0}, std::tuple{"cube edge", 0.0, 45.0},
               std::tuple{"cube corner", 35.26439, 45.0}}) {
             runtime::placeOnGlobe(camera, {{lat, lon, 10e3}, 0.0, -90.0});
+            // Each place's own cut, as a fresh LOD chooses it: not what the tree kept of the
+            // place before (a teleport merges what it no longer needs a level a frame).
+            opened.value()->restartLod();
             std::vector<float> ignored;
             const Frame frame = drawFrame(*opened.value(), framebuffer.value(), camera,
                                           comparisonPx, true, ignored);

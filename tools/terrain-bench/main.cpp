@@ -24,6 +24,7 @@
 #include "terrain/runtime/CameraPath.h"
 #include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/LodStrategyFactory.h"
+#include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TerrainSession.h"
 
@@ -228,7 +229,7 @@ int run(const BenchOptions& o, const char* argv0) {
             runs.push_back(std::move(r));
         }
     }
-    const runtime::TerrainGeometry& geometry = runs.front().session->geometry();
+    const runtime::TerrainGeometry& geometry = runtime::planeGeometry(runs.front().session->surface());
 
     std::optional<runtime::CameraPath> path;
     if (o.pathFile.empty()) {

@@ -11,6 +11,7 @@
 #include "terrain/runtime/LatencyHistogram.h"
 #include "terrain/runtime/LodQuadtree.h"
 #include "terrain/runtime/PatchSelection.h"
+#include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TileStreamer.h"
 
@@ -70,9 +71,12 @@ int main(int argc, char** argv) {
     auto opened = runtime::TileStreamer::open(pyramid, options);
     if (!opened) return fail(opened.error().message);
     runtime::TileStreamer& streamer = *opened.value();
-    const runtime::TerrainGeometry geometry(streamer.manifest());
+    if (streamer.manifest().globe)
+        return fail(pyramid + ": a globe pyramid; the flight along the DEM's diagonal is planar");
+    const runtime::PlaneSurface surface(streamer.manifest());
+    const runtime::TerrainGeometry& geometry = surface.geometry();
     const runtime::LodOptions lodOptions{.errorPx = errorPx};
-    runtime::LodQuadtree tree(streamer, geometry, lodOptions);
+    runtime::LodQuadtree tree(streamer, surface, lodOptions);
 
     // A straight, level flight along the DEM's diagonal, looking ahead and 15° down.
     const glm::dvec2 size = geometry.demSize();
@@ -120,7 +124,8 @@ int main(int argc, char** argv) {
         // Selecting from the root, on the settled view at the same position.
         runFrame([&] {
             const auto start = Clock::now();
-            runtime::selectPatches(camera, geometry, lodOptions.coarseErrorPx(), streamer,
+            runtime::selectPatches(camera, geometry,
+                                   lodOptions.coarseErrorPx(runtime::SurfaceKind::Plane), streamer,
                                    rootDraws);
             const double us = microsecondsSince(start);
             rootUs.add(us / 1000.0);

@@ -13,15 +13,15 @@
 
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/gl/HeadlessGlContext.h"
+#include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/CameraPath.h"
 #include "terrain/runtime/GlobeCamera.h"
 #include "terrain/runtime/GlobeCameraPath.h"
-#include "terrain/runtime/GlobeSession.h"
 #include "terrain/runtime/LodStrategyFactory.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
-#include "terrain/runtime/TerrainGeometry.h"
+#include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/TerrainSession.h"
 
 #include <epoxy/gl.h>
@@ -107,13 +107,13 @@ Result<runtime::GlobeCameraPath> globePath(const RenderOptions& o) {
 }
 
 int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time_point start) {
-    runtime::GlobeSessionOptions sessionOptions;
+    runtime::TerrainSessionOptions sessionOptions;
     o.budgets.applyTo(sessionOptions.streaming);
     sessionOptions.lod.errorPx = o.errorPx;
     sessionOptions.lod.horizonCulling = !o.noHorizonCulling;
-    auto opened = runtime::GlobeSession::open(o.pyramid, sessionOptions);
+    auto opened = runtime::TerrainSession::open(o.pyramid, sessionOptions);
     if (!opened) return fail(opened.error().message);
-    runtime::GlobeSession& session = *opened.value();
+    runtime::TerrainSession& session = *opened.value();
     std::error_code ec;
     std::filesystem::create_directories(o.outputDir, ec);
     if (ec) return fail(fmt::format("{}: cannot create the folder: {}", o.outputDir, ec.message()));
@@ -164,7 +164,7 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
             if (auto broken = fatal()) return fail(*broken);
             return fail(fmt::format("frame {}: streaming did not settle within 60 s", frame));
         }
-        const runtime::GlobeLodStats& lod = session.beginFrame(camera);
+        const runtime::LodUpdateStats& lod = session.beginFrame(camera);
         horizonCulled += lod.horizonCulled;
         visited += lod.visited;
         framebuffer.value().clear(sky, 0.0f);
@@ -207,7 +207,7 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
         std::uint64_t arrivalFrames = 0;
         bool settled = false;
         while (!settled && std::chrono::duration<double>(Clock::now() - arrived).count() < 60.0) {
-            const runtime::GlobeLodStats& lod = session.beginFrame(camera);
+            const runtime::LodUpdateStats& lod = session.beginFrame(camera);
             framebuffer.value().clear(sky, 0.0f);
             glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.value().id());
             glViewport(0, 0, o.widthPx, o.heightPx);
@@ -225,8 +225,8 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
     }
     // The last frame's draw list by face level: data, virtual and bare patches, largest Err(P).
     nlohmann::json byLevel = nlohmann::json::object();
-    for (const runtime::GlobePatchDraw& d : session.draws()) {
-        nlohmann::json& level = byLevel[std::to_string(d.id.level)];
+    for (const runtime::PatchDraw& d : session.draws()) {
+        nlohmann::json& level = byLevel[std::to_string(io::globePatchOf(d.id).level)];
         if (level.is_null())
             level = {{"data", 0}, {"virtual", 0}, {"bare", 0}, {"max_error_m", 0.0}};
         const char* kind = d.layer < 0 ? "bare" : d.isVirtual ? "virtual" : "data";
@@ -306,7 +306,7 @@ int run(const RenderOptions& o) {
     runtime::LodStrategy& session = *opened.value();
     // The streaming methods' streamer: faults, load latencies (null for the RTIN).
     auto* const streaming = dynamic_cast<runtime::TerrainSession*>(opened.value().get());
-    const runtime::TerrainGeometry& geometry = session.geometry();
+    const runtime::TerrainGeometry& geometry = runtime::planeGeometry(session.surface());
 
     std::optional<runtime::CameraPath> path;
     if (o.pathFile.empty()) {

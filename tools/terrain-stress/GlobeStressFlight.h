@@ -18,7 +18,7 @@
 
 namespace terrain::tools {
 
-class GlobeStressFlight {
+class GlobeStressFlight final : public SeededFlight {
 public:
     /// `groundHeight(pose)`: the best known height at or above the ground under a pose
     /// (metres above the ellipsoid).
@@ -27,13 +27,13 @@ public:
 
     /// Instead of the stress phases: a steady flight at `speedMps`, `altitudeM` above the
     /// ground, looking 10° down, back and forth across the data's extent.
-    void cruise(double speedMps, double altitudeM);
+    void cruise(double speedMps, double altitudeM) override;
 
     /// Advances by `dt` seconds and places `camera` (its field of view is the caller's).
-    void step(double dt, runtime::Camera& camera);
+    void step(double dt, runtime::Camera& camera) override;
 
-    FlightPhase phase() const { return m_phase; }
-    std::uint64_t teleports() const { return m_teleports; }
+    FlightPhase phase() const override { return m_phase; }
+    std::uint64_t teleports() const override { return m_teleports; }
 
 private:
     void startPhase();

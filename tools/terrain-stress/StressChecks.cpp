@@ -1,8 +1,6 @@
 // StressChecks: layer and coverage checks over the frame's draw list.
 #include "StressChecks.h"
 
-#include "terrain/pyramid/GlobeLayout.h"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -16,77 +14,35 @@ std::string name(const io::PatchId& id) {
     return fmt::format("L{} ({}, {})", id.level, id.x, id.y);
 }
 
-std::string globeName(const globe::GlobePatchId& id) {
-    return fmt::format("face {} L{} ({}, {})", id.face, id.level, id.x, id.y);
-}
-
 }  // namespace
 
-std::optional<std::string> StressChecks::afterFrame(const runtime::TileStreamer& streamer,
-                                                    const runtime::LodQuadtree& tree,
-                                                    std::span<const runtime::PatchDraw> drawn,
+std::optional<std::string> StressChecks::afterFrame(const runtime::TerrainSession& session,
                                                     const runtime::LodUpdateStats& lod) {
+    const runtime::TileStreamer& streamer = session.streamer();
+    const runtime::Surface& surface = session.surface();
     if (auto broken = streamer.checkInvariants()) return broken;
     const cache::GpuTilePool& pool = streamer.pool();
-    const io::PyramidLayout& layout = streamer.layout();
-
     m_drawnSorted.clear();
-    for (const runtime::PatchDraw& d : drawn) {
-        if (d.layer < 0 || d.layer >= pool.capacity()) {
-            return fmt::format("patch {} drawn from layer {}, outside the pool", name(d.id),
-                               d.layer);
-        }
-        const std::optional<io::PatchId> holder = pool.patchOnLayer(d.layer);
-        if (!holder) {
-            return fmt::format("patch {} drawn from layer {}, which is free", name(d.id), d.layer);
-        }
-        if (!(*holder == d.id) || !pool.isResident(d.id)) {
-            return fmt::format("patch {} drawn from layer {}, which holds {}", name(d.id), d.layer,
-                               name(*holder));
-        }
+    for (const runtime::PatchDraw& d : session.draws()) {
         m_drawnSorted.push_back(d.id);
-    }
-    if (auto broken = drawnOnceWithoutOverlap(0)) return broken;
-    const std::uint64_t domain = runtime::finestPatchesCovered(layout, {0, 0, 0});
-    const bool haveRoot = lod.drawn + lod.culled > 0;
-    if (haveRoot && lod.coveredFinestPatches != domain) {
-        return fmt::format("drawn and culled patches cover {} of the {} finest-level patches: {}",
-                           lod.coveredFinestPatches, domain,
-                           lod.coveredFinestPatches < domain ? "a hole" : "an overlap");
-    }
-    if (auto broken = tree.checkInvariants()) return "LOD tree: " + *broken;
-    return streamerChecks(streamer);
-}
-
-std::optional<std::string> StressChecks::afterGlobeFrame(
-    const runtime::TileStreamer& streamer, std::span<const runtime::GlobePatchDraw> drawn,
-    const runtime::GlobeLodStats& lod) {
-    if (auto broken = streamer.checkInvariants()) return broken;
-    const cache::GpuTilePool& pool = streamer.pool();
-    m_drawnSorted.clear();
-    for (const runtime::GlobePatchDraw& d : drawn) {
-        const io::PatchId id = io::layoutPatchOf(d.id);
-        m_drawnSorted.push_back(id);
-        if (d.layer < 0) continue;  // the bare ellipsoid: no tile
-        const io::PatchId tile = io::layoutPatchOf(d.tileId);
-        if (d.layer >= pool.capacity())
-            return fmt::format("patch {} drawn from layer {}, outside the pool", globeName(d.id),
+        if (d.bare() && surface.drawsBareSurface()) continue;  // the bare ellipsoid: no tile
+        if (d.layer < 0 || d.layer >= pool.capacity())
+            return fmt::format("patch {} drawn from layer {}, outside the pool", name(d.id),
                                d.layer);
         const std::optional<io::PatchId> holder = pool.patchOnLayer(d.layer);
         if (!holder)
-            return fmt::format("patch {} drawn from layer {}, which is free", globeName(d.id),
-                               d.layer);
-        if (!(*holder == tile) || !pool.isResident(tile))
+            return fmt::format("patch {} drawn from layer {}, which is free", name(d.id), d.layer);
+        if (!(*holder == d.tileId) || !pool.isResident(d.tileId))
             return fmt::format("patch {} drawn from layer {} for the tile of {}, which holds {}",
-                               globeName(d.id), d.layer, globeName(d.tileId), name(*holder));
+                               name(d.id), d.layer, name(d.tileId), name(*holder));
     }
-    if (auto broken = drawnOnceWithoutOverlap(io::ManifestGlobe::kLevelOffset)) return broken;
-    if (lod.drawn + lod.frustumCulled + lod.horizonCulled > 0 &&
-        lod.coverage != runtime::GlobeLodStats::kWholeGlobeCoverage)
-        return fmt::format(
-            "drawn and culled patches cover {:.12f} of the globe's six faces: {}",
-            double(lod.coverage) / double(runtime::GlobeLodStats::kWholeGlobeCoverage) * 6.0,
-            lod.coverage < runtime::GlobeLodStats::kWholeGlobeCoverage ? "a hole" : "an overlap");
+    if (auto broken = drawnOnceWithoutOverlap(surface.roots().front().level)) return broken;
+    const std::uint64_t whole = surface.wholeCoverage();
+    if (lod.drawn + lod.culled + lod.horizonCulled > 0 && lod.coverage != whole)
+        return fmt::format("drawn and culled patches cover {:.12f} of the surface: {}",
+                           double(lod.coverage) / double(whole),
+                           lod.coverage < whole ? "a hole" : "an overlap");
+    if (auto broken = session.tree().checkInvariants()) return "LOD tree: " + *broken;
     return streamerChecks(streamer);
 }
 

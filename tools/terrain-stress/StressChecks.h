@@ -3,9 +3,8 @@
 #pragma once
 
 #include "terrain/pyramid/PatchIdHash.h"
-#include "terrain/runtime/GlobeLod.h"
 #include "terrain/runtime/LodQuadtree.h"
-#include "terrain/runtime/PatchSelection.h"
+#include "terrain/runtime/TerrainSession.h"
 #include "terrain/runtime/TileStreamer.h"
 
 #include <optional>
@@ -17,28 +16,19 @@ namespace terrain::tools {
 
 class StressChecks {
 public:
-    /// After a frame's LOD update and draw:
+    /// After a frame's LOD update and draw, on either surface:
     /// - the streamer's own invariants (no layer both free and in use, one patch per layer,
     ///   CPU cache within its byte budget, no request ending twice);
-    /// - the LOD tree's (leaves tile the domain exactly once, children only as complete
-    ///   sets of resident, pinned patches);
-    /// - every drawn patch resident on the layer the draw used (no draw references a
-    ///   released layer);
-    /// - drawn and culled patches tile the domain exactly once (no hole, no overlap);
+    /// - the LOD tree's (leaves tile the surface exactly once, children only as complete
+    ///   sets, every patch with a tile of its own resident and pinned);
+    /// - every drawn patch with a tile drawn from the resident layer of that tile (its own,
+    ///   or its ancestor's for a virtual patch): no draw references a released layer;
+    /// - no patch drawn twice or inside another; drawn and culled patches tile the surface
+    ///   exactly once (no hole, no overlap);
     /// - bookkeeping bounded by the budgets (GPU layers, I/O queue no deeper than the
     ///   loads the LOD wants).
-    std::optional<std::string> afterFrame(const runtime::TileStreamer& streamer,
-                                          const runtime::LodQuadtree& tree,
-                                          std::span<const runtime::PatchDraw> drawn,
+    std::optional<std::string> afterFrame(const runtime::TerrainSession& session,
                                           const runtime::LodUpdateStats& lod);
-
-    /// The same after a globe frame (GlobeLod): the streamer's invariants and bounds; every
-    /// patch drawn from a tile drawn from the resident layer of that tile (its own, or its
-    /// ancestor's for a virtual patch); no patch drawn twice or inside another; drawn and
-    /// culled patches tile the six cube faces exactly once.
-    std::optional<std::string> afterGlobeFrame(const runtime::TileStreamer& streamer,
-                                               std::span<const runtime::GlobePatchDraw> drawn,
-                                               const runtime::GlobeLodStats& lod);
 
     /// After TileStreamer::drain(): every request ended exactly once (completed, cancelled
     /// or failed), in the streamer's ledger and the I/O thread's counters, and every
@@ -56,7 +46,7 @@ private:
     /// The streamer's own invariants and the budgets' bounds (layers, queue depth).
     static std::optional<std::string> streamerChecks(const runtime::TileStreamer& streamer);
     /// No id twice in m_drawnSorted (sorted here) and none inside another, looking up to
-    /// `topLevel`.
+    /// the roots' level.
     std::optional<std::string> drawnOnceWithoutOverlap(int topLevel);
 
     std::vector<io::PatchId> m_drawnSorted;  // reused every frame: no allocation once grown

@@ -17,7 +17,21 @@ namespace terrain::tools {
 enum class FlightPhase { Teleport, LowFlight, ZoomBurst, Cruise };
 std::string_view flightPhaseName(FlightPhase phase);
 
-class StressFlight {
+/// The stress test's camera moves on either surface (StressFlight on the plane,
+/// GlobeStressFlight on the globe): the surface's camera conventions, one frame loop.
+class SeededFlight {
+public:
+    virtual ~SeededFlight() = default;
+    /// Instead of the stress phases: a steady flight at `speedMps`, `altitudeM` above the
+    /// ground, looking 10° down: the "normal speed" flight streaming latency is measured on.
+    virtual void cruise(double speedMps, double altitudeM) = 0;
+    /// Advances by `dt` seconds and places `camera` (its viewport is the caller's).
+    virtual void step(double dt, runtime::Camera& camera) = 0;
+    virtual FlightPhase phase() const = 0;
+    virtual std::uint64_t teleports() const = 0;
+};
+
+class StressFlight final : public SeededFlight {
 public:
     /// `groundHeight(x, y)`: the best known terrain height under a world point (metres).
     StressFlight(const runtime::TerrainGeometry& geometry, std::uint64_t seed,
@@ -26,14 +40,14 @@ public:
     /// Instead of the stress phases: a steady flight at `speedMps`, `altitudeM` above the
     /// ground, looking 10° down, back and forth along the DEM's diagonal — the "normal
     /// speed" flight that streaming latency is measured on.
-    void cruise(double speedMps, double altitudeM);
+    void cruise(double speedMps, double altitudeM) override;
 
     /// Advances by `dt` seconds and updates `camera` (position and orientation; the
     /// viewport and field of view are the caller's, except during zoom bursts).
-    void step(double dt, runtime::Camera& camera);
+    void step(double dt, runtime::Camera& camera) override;
 
-    FlightPhase phase() const { return m_phase; }
-    std::uint64_t teleports() const { return m_teleports; }
+    FlightPhase phase() const override { return m_phase; }
+    std::uint64_t teleports() const override { return m_teleports; }
 
 private:
     void startPhase(runtime::Camera& camera);

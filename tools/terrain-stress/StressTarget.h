@@ -1,16 +1,17 @@
-// StressTarget: what terrain-stress flies and checks, for either kind of pyramid: the
-// runtime's session (TerrainSession on a plane, GlobeSession on a globe), the seeded flight
-// over it (StressFlight, GlobeStressFlight) and the per-frame invariants that fit its LOD
-// (StressChecks). The frame loop, the budgets, the telemetry and the report in main.cpp are
-// the same for both.
+// StressTarget: what terrain-stress flies and checks, on either surface: the runtime's session
+// (TerrainSession), the seeded flight over it (the surface's camera conventions: StressFlight
+// on the plane, GlobeStressFlight on the globe) and the per-frame invariants (StressChecks).
+// The frame loop, the budgets, the telemetry and the report in main.cpp are the same for both.
 #pragma once
 
 #include "StressChecks.h"
+#include "StressFlight.h"
 #include "terrain/base/Result.h"
+#include "terrain/pyramid/GlobeGroundHeight.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/FrameTelemetry.h"
 #include "terrain/runtime/LodMethod.h"
-#include "terrain/runtime/TerrainRenderer.h"
+#include "terrain/runtime/TerrainSession.h"
 #include "terrain/runtime/TileStreamer.h"
 
 #include <cstdint>
@@ -34,28 +35,40 @@ struct StressTargetOptions {
     std::optional<std::pair<double, double>> cruiseSpeedAndAltitude;
 };
 
+/// Render thread only.
 class StressTarget {
 public:
-    /// Opens the pyramid as the session its manifest calls for. Errors: the pyramid cannot
-    /// be opened (named by the reader).
+    /// Opens the pyramid's session and the flight its surface calls for. Errors: the pyramid
+    /// cannot be opened (named by the reader), or the method does not stream or draw it.
     static Result<std::unique_ptr<StressTarget>> open(const StressTargetOptions& options);
-    virtual ~StressTarget() = default;
 
-    virtual runtime::TileStreamer& streamer() = 0;
+    runtime::TileStreamer& streamer() { return m_session->streamer(); }
     /// "planar" or "globe".
-    virtual std::string_view tiling() const = 0;
-    virtual std::uint64_t teleports() const = 0;
+    std::string_view tiling() const { return runtime::surfaceName(m_session->surface().kind()); }
+    std::uint64_t teleports() const { return m_flight->teleports(); }
 
     /// Moves the camera by `dtS` along the flight (which reads the ground before the frame),
     /// then the LOD update.
-    virtual void beginFrame(double dtS, runtime::Camera& camera) = 0;
-    virtual void draw(const runtime::Camera& camera, const runtime::TerrainStyle& style) = 0;
-    virtual void endFrame(runtime::FrameTelemetry& telemetry) = 0;
-    /// The frame's invariants (StressChecks::afterFrame or afterGlobeFrame): the first
-    /// violation, or nullopt.
-    virtual std::optional<std::string> check(StressChecks& checks) = 0;
+    void beginFrame(double dtS, runtime::Camera& camera);
+    void draw(const runtime::Camera& camera, const runtime::TerrainStyle& style) {
+        m_session->draw(camera, style);
+    }
+    void endFrame(runtime::FrameTelemetry& telemetry) { m_session->endFrame(telemetry); }
+    /// The frame's invariants (StressChecks::afterFrame): the first violation, or nullopt.
+    std::optional<std::string> check(StressChecks& checks) {
+        return checks.afterFrame(*m_session, m_lod);
+    }
     /// The end of the run: the LOD lets go of every layer it holds (pins included).
-    virtual void releaseLod() = 0;
+    void releaseLod() { m_session->restartLod(); }
+
+private:
+    StressTarget(std::unique_ptr<runtime::TerrainSession> session,
+                 std::optional<io::GlobeGroundQuery> globeGround, const StressTargetOptions& o);
+
+    std::unique_ptr<runtime::TerrainSession> m_session;
+    std::optional<io::GlobeGroundQuery> m_globeGround;  // the globe's flight reads the ground
+    std::unique_ptr<SeededFlight> m_flight;
+    runtime::LodUpdateStats m_lod;
 };
 
 }  // namespace terrain::tools

@@ -45,10 +45,10 @@ Result<std::unique_ptr<GlobeViewer>> GlobeViewer::create(const ViewerOptions& op
                      "\nterrain-view needs a display with OpenGL 4.5 core (without a display, run "
                      "it under `xvfb-run -a`; terrain-render renders headless)"};
     viewer->m_window = std::move(window).value();
-    runtime::GlobeSessionOptions sessionOptions;
+    runtime::TerrainSessionOptions sessionOptions;
     options.budgets.applyTo(sessionOptions.streaming);
     sessionOptions.lod.errorPx = options.errorPx;
-    auto session = runtime::GlobeSession::open(options.pyramid, sessionOptions);
+    auto session = runtime::TerrainSession::open(options.pyramid, sessionOptions);
     if (!session) return session.error();
     viewer->m_session = std::move(session).value();
     auto imgui = ImGuiLayer::create(viewer->m_window->window());
@@ -122,7 +122,7 @@ void GlobeViewer::drawOverlay(const runtime::FrameTelemetry& t) {
     ImGui::Text("%.5f°, %.5f°, %.0f m above WGS84", m_pose.where.latitudeDeg,
                 m_pose.where.longitudeDeg, m_pose.where.height);
     ImGui::Text("heading %.1f°, pitch %.1f°", m_pose.headingDeg, m_pose.pitchDeg);
-    const runtime::GlobeLodStats& lod = m_session->lodStats();
+    const runtime::LodUpdateStats& lod = m_session->lodStats();
     ImGui::Text("patches %llu (%llu virtual, %llu bare), %llu behind the horizon",
                 static_cast<unsigned long long>(lod.drawn),
                 static_cast<unsigned long long>(lod.drawnVirtual),
@@ -133,9 +133,7 @@ void GlobeViewer::drawOverlay(const runtime::FrameTelemetry& t) {
     float errorPx = static_cast<float>(m_style.errorPx);
     if (ImGui::SliderFloat("error (px)", &errorPx, 0.5f, 16.0f)) {
         m_style.errorPx = errorPx;
-        runtime::GlobeLodOptions options = m_session->lod().options();
-        options.errorPx = errorPx;
-        m_session->lod().setOptions(options);
+        m_session->setErrorPx(errorPx);
     }
     const io::PyramidManifest& m = m_session->manifest();
     if (ImGui::Button("Go to the data"))

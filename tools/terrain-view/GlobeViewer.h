@@ -1,5 +1,5 @@
 // GlobeViewer: terrain-view on a globe pyramid (DESIGN.md, "The globe"): the window, the
-// GlobeSession frame protocol and the globe controls a user of a virtual globe expects (drag
+// TerrainSession frame protocol and the globe controls a user of a virtual globe expects (drag
 // to spin the globe, the wheel zooming toward the cursor, Shift-drag to look around, WASD and
 // Q/E flight whose speed follows the height, "go to the data", "the whole Earth", fly to a
 // latitude and longitude), under a small overlay of where the camera is and what is drawn.
@@ -14,7 +14,7 @@
 #include "terrain/base/Result.h"
 #include "terrain/gl/GlfwWindowContext.h"
 #include "terrain/runtime/GlobeController.h"
-#include "terrain/runtime/GlobeSession.h"
+#include "terrain/runtime/TerrainSession.h"
 
 #include <memory>
 #include <optional>
@@ -44,7 +44,7 @@ private:
 
     ViewerOptions m_options;
     std::unique_ptr<gl::GlfwWindowContext> m_window;
-    std::unique_ptr<runtime::GlobeSession> m_session;
+    std::unique_ptr<runtime::TerrainSession> m_session;
     std::unique_ptr<ImGuiLayer> m_imgui;
     std::unique_ptr<WindowInput> m_input;
     SceneTarget m_scene;

@@ -1,6 +1,8 @@
 // terrain-view's frame loop and the actions of its keys and overlay.
 #include "Viewer.h"
 
+#include "terrain/runtime/PlaneSurface.h"
+
 #include "GlInfoJson.h"
 #include "Screenshot.h"
 
@@ -172,7 +174,7 @@ void Viewer::reopenSession() {
 }
 
 double Viewer::groundAt(double x, double y) const {
-    return runtime::conservativeGroundHeight(m_session->streamer(), m_session->geometry(), x, y);
+    return runtime::conservativeGroundHeight(m_session->streamer(), runtime::planeGeometry(m_session->surface()), x, y);
 }
 
 void Viewer::homeView() {
@@ -181,7 +183,7 @@ void Viewer::homeView() {
 }
 
 void Viewer::initialCamera() {
-    const runtime::TerrainGeometry& geometry = m_session->geometry();
+    const runtime::TerrainGeometry& geometry = runtime::planeGeometry(m_session->surface());
     m_home = runtime::CameraPath::defaultFor(geometry);
     m_camera.nearPlane = 0.5;
     m_camera.viewportWidth = std::max(1, m_options.widthPx);
@@ -382,8 +384,8 @@ void Viewer::jump() {
     m_controller.jumpTo(m_camera, m_settings.jumpX, m_settings.jumpY, m_settings.jumpHeightM,
                         m_ground);
     const glm::dvec2 sample =
-        m_session->geometry().sampleOfWorld(m_settings.jumpX, m_settings.jumpY);
-    const io::PyramidLayout& layout = m_session->geometry().layout();
+        runtime::planeGeometry(m_session->surface()).sampleOfWorld(m_settings.jumpX, m_settings.jumpY);
+    const io::PyramidLayout& layout = runtime::planeGeometry(m_session->surface()).layout();
     const bool inside = sample.x >= 0.0 && sample.y >= 0.0 &&
                         sample.x <= static_cast<double>(layout.rasterWidth() - 1) &&
                         sample.y <= static_cast<double>(layout.rasterHeight() - 1);
@@ -483,7 +485,7 @@ void Viewer::checkGlErrors() {
 }
 
 OverlayModel Viewer::overlayModel(const runtime::FrameTelemetry& frame) const {
-    const runtime::TerrainGeometry& geometry = m_session->geometry();
+    const runtime::TerrainGeometry& geometry = runtime::planeGeometry(m_session->surface());
     const glm::dvec2 northWest = geometry.worldAtFraction(0.0, 0.0);
     const glm::dvec2 southEast = geometry.worldAtFraction(1.0, 1.0);
     OverlayModel m;

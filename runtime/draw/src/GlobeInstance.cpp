@@ -2,6 +2,7 @@
 
 #include "terrain/globe/SurfaceOffset.h"
 #include "terrain/globe/Wgs84.h"
+#include "terrain/pyramid/GlobeLayout.h"
 
 #include <glm/geometric.hpp>
 
@@ -29,19 +30,20 @@ std::array<float, 4> sampleSpacing(const globe::GlobePatchId& id, int quads, dou
 
 }  // namespace
 
-GlobeInstance makeGlobeInstance(const GlobePatchDraw& p, const glm::dvec3& camera,
+GlobeInstance makeGlobeInstance(const PatchDraw& p, const glm::dvec3& camera,
                                 const glm::dvec3& cameraUp, int patchQuads) {
-    const glm::dvec2 uv0 = globe::nearestPatchCoordinates(p.id, cameraUp);
-    const globe::PatchSurfaceFrame f = globe::makePatchSurfaceFrame(p.id, uv0.x, uv0.y, camera);
+    const globe::GlobePatchId id = io::globePatchOf(p.id);
+    const glm::dvec2 uv0 = globe::nearestPatchCoordinates(id, cameraUp);
+    const globe::PatchSurfaceFrame f = globe::makePatchSurfaceFrame(id, uv0.x, uv0.y, camera);
     return {{f.alphaPerU, f.u0, f.v0, f.alpha0},
             {f.beta0, f.cubeS0, f.cubeT0, f.inverseLength0},
             {f.direction0.x, f.direction0.y, f.direction0.z, f.sqrtG0},
             {f.originFromCamera.x, f.originFromCamera.y, f.originFromCamera.z, f.primeVertical0},
             {p.errorM, p.skirtDepthM, p.minHeight, p.maxHeight},
             p.bareBlockErrorsM,
-            sampleSpacing(p.id, patchQuads, uv0.x, uv0.y, p.texelStep),
+            sampleSpacing(id, patchQuads, uv0.x, uv0.y, p.texelStep),
             {p.texelOffset[0], p.texelOffset[1], p.texelStep, p.isVirtual ? 1.0f : 0.0f},
-            {p.layer, p.id.level, p.id.face, 0}};
+            {p.layer, id.level, id.face, 0}};
 }
 
 }  // namespace terrain::runtime

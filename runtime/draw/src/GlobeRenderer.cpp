@@ -86,15 +86,15 @@ void GlobeRenderer::setUniforms(const Camera& camera, const TerrainStyle& style)
 }
 
 TerrainDrawStats GlobeRenderer::draw(const Camera& camera, const cache::GpuTilePool& pool,
-                                     std::span<const GlobePatchDraw> patches,
+                                     std::span<const PatchDraw> patches,
                                      const TerrainStyle& style) {
     TERRAIN_ASSERT(patches.size() <= static_cast<std::size_t>(m_maxInstances),
                    "GlobeRenderer: more patches than instances");
     if (patches.empty()) return {};
     const glm::dvec3 cameraUp = globe::Wgs84::upAt(camera.position);
     m_staging.clear();
-    for (const GlobePatchDraw& p : patches) {
-        TERRAIN_ASSERT(p.layer < 0 || pool.layerOf(io::layoutPatchOf(p.tileId)) == p.layer,
+    for (const PatchDraw& p : patches) {
+        TERRAIN_ASSERT(p.layer < 0 || pool.layerOf(p.tileId) == p.layer,
                        "GlobeRenderer: drawing a data patch that is not resident on its layer");
         m_staging.push_back(makeGlobeInstance(p, camera.position, cameraUp, m_patchQuads));
     }

@@ -2,7 +2,6 @@
 #include "terrain/runtime/SkirtDepth.h"
 
 #include "terrain/base/Assert.h"
-#include "terrain/pyramid/GlobeLayout.h"
 
 #include <algorithm>
 #include <optional>
@@ -12,26 +11,16 @@ namespace terrain::runtime {
 void assignSkirtDepths(std::span<PatchDraw> draws, const cache::GpuTilePool& pool) {
     float depthM = 0.0f;
     for (const PatchDraw& draw : draws) {
-        const std::optional<float> maybeBlockErrorM = pool.maxBlockErrorM(draw.id);
-        TERRAIN_ASSERT(maybeBlockErrorM.has_value(), "assignSkirtDepths: a draw is not resident");
-        depthM = std::max(depthM, draw.errorM + *maybeBlockErrorM);
-    }
-    for (PatchDraw& draw : draws) draw.skirtDepthM = depthM;
-}
-
-void assignSkirtDepths(std::span<GlobePatchDraw> draws, const cache::GpuTilePool& pool) {
-    float depthM = 0.0f;
-    for (const GlobePatchDraw& draw : draws) {
         float blockErrorM =
             *std::max_element(draw.bareBlockErrorsM.begin(), draw.bareBlockErrorsM.end());
-        if (draw.layer >= 0 && !draw.isVirtual) {
-            const std::optional<float> resident = pool.maxBlockErrorM(io::layoutPatchOf(draw.id));
+        if (draw.ownsTile()) {
+            const std::optional<float> resident = pool.maxBlockErrorM(draw.id);
             TERRAIN_ASSERT(resident.has_value(), "assignSkirtDepths: a draw is not resident");
             blockErrorM = *resident;
         }
         depthM = std::max(depthM, draw.errorM + blockErrorM);
     }
-    for (GlobePatchDraw& draw : draws) draw.skirtDepthM = depthM;
+    for (PatchDraw& draw : draws) draw.skirtDepthM = depthM;
 }
 
 }  // namespace terrain::runtime

@@ -37,13 +37,14 @@ std::optional<double> highestSampleAround(const glm::dvec2& uv, const io::PatchR
 
 }  // namespace
 
-double drawnGroundCeiling(std::span<const GlobePatchDraw> draws, const glm::dvec3& ecef) {
+double drawnGroundCeiling(std::span<const PatchDraw> draws, const glm::dvec3& ecef) {
     const globe::FacePoint nadir = globe::facePointOf(globe::Wgs84::upAt(ecef));
     double ceiling = 0.0;
-    for (const GlobePatchDraw& draw : draws) {
-        if (draw.id.face != nadir.face) continue;
-        const double n = static_cast<double>(globe::patchesPerFaceSide(draw.id.level));
-        const double u = nadir.s * n - double(draw.id.x), v = nadir.t * n - double(draw.id.y);
+    for (const PatchDraw& draw : draws) {
+        const globe::GlobePatchId id = io::globePatchOf(draw.id);
+        if (id.face != nadir.face) continue;
+        const double n = static_cast<double>(globe::patchesPerFaceSide(id.level));
+        const double u = nadir.s * n - double(id.x), v = nadir.t * n - double(id.y);
         if (u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0)
             ceiling = std::max(ceiling, double(draw.maxHeight));
     }

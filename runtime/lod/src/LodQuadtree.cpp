@@ -3,6 +3,7 @@
 #include "terrain/runtime/LodQuadtree.h"
 
 #include "terrain/base/Assert.h"
+#include "terrain/runtime/PlaneSurface.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,6 +14,9 @@ namespace {
 
 constexpr int kBlock = 4;
 constexpr double kMinTravelM = 1e-3;
+// Parent links: −1 a root, −2 a freed node, −3 a spare slot of the root blocks.
+constexpr int kFreed = -2;
+constexpr int kSpare = -3;
 
 bool laterCheck(const auto& a, const auto& b) { return a.atOdometer > b.atOdometer; }
 
@@ -20,16 +24,32 @@ float priorityOf(double screenError) {
     return static_cast<float>(std::min(screenError, double{std::numeric_limits<float>::max()}));
 }
 
+void checkOptions(const LodOptions& options) {
+    const double share = options.coarseShare.value_or(0.5);
+    TERRAIN_ASSERT(
+        options.errorPx > 0.0 && share > 0.0 && share <= 1.0 && options.hysteresis >= 1.0,
+        "LodQuadtree: bad options");
+}
+
 }  // namespace
 
-LodQuadtree::LodQuadtree(TileResidency& residency, const TerrainGeometry& geometry,
-                         LodOptions options)
-    : m_residency(residency), m_geometry(geometry), m_options(options) {
-    TERRAIN_ASSERT(options.errorPx > 0.0 && options.coarseShare > 0.0 &&
-                       options.coarseShare <= 1.0 && options.hysteresis >= 1.0,
-                   "LodQuadtree: bad options");
+double LodOptions::defaultCoarseShare(SurfaceKind surface) {
+    // The globe's draw holds only what the simplification adds, λ(d), to ε where Err(P) alone
+    // shows more than ε (shaders/terrain.tesc), and its figures were made splitting at the
+    // whole ε (docs/globe.md).
+    return surface == SurfaceKind::Globe ? 1.0 : 0.5;
+}
+
+LodQuadtree::LodQuadtree(TileResidency& residency, const Surface& surface, LodOptions options)
+    : m_residency(residency), m_surface(surface), m_options(options) {
+    checkOptions(options);
+    TERRAIN_ASSERT(
+        options.splitRule != SplitRule::LivnyEdges || surface.kind() == SurfaceKind::Plane,
+        "LodQuadtree: Livny's edges are planar");
+    m_rootCount = static_cast<int>(surface.roots().size());
+    m_rootSlots = (m_rootCount + kBlock - 1) / kBlock * kBlock;
     const auto capacity = static_cast<std::size_t>(residency.capacity());
-    m_nodes.reserve(kBlock * (capacity + 1));
+    m_nodes.reserve(kBlock * (capacity + 1) + static_cast<std::size_t>(m_rootSlots));
     m_freeBlocks.reserve(capacity + 1);
     m_checks.reserve(4 * capacity + 16);
     m_waiting.reserve(capacity + 1);
@@ -37,15 +57,16 @@ LodQuadtree::LodQuadtree(TileResidency& residency, const TerrainGeometry& geomet
 }
 
 LodQuadtree::~LodQuadtree() {
-    if (!m_haveRoot) return;
-    collapse(0);
-    m_residency.unpin(m_nodes[0].id);
+    if (!m_started) return;
+    for (int root = 0; root < m_rootCount; ++root) {
+        collapse(root);
+        const Node& node = m_nodes[static_cast<std::size_t>(root)];
+        if (node.kind == NodeKind::Data) m_residency.unpin(node.id);
+    }
 }
 
 void LodQuadtree::setOptions(const LodOptions& options) {
-    TERRAIN_ASSERT(options.errorPx > 0.0 && options.coarseShare > 0.0 &&
-                       options.coarseShare <= 1.0 && options.hysteresis >= 1.0,
-                   "LodQuadtree: bad options");
+    checkOptions(options);
     m_options = options;
     m_recheckAll = true;
 }
@@ -58,6 +79,7 @@ int LodQuadtree::allocateBlock() {
     }
     const int first = static_cast<int>(m_nodes.size());
     m_nodes.resize(m_nodes.size() + kBlock);
+    for (int i = 0; i < kBlock; ++i) m_nodes[static_cast<std::size_t>(first + i)].parent = kFreed;
     return first;
 }
 
@@ -74,17 +96,19 @@ double LodQuadtree::screenError(const Node& node) const {
 }
 
 double LodQuadtree::metricM(const Node& node) const {
-    if (m_options.splitRule == SplitRule::ProjectedError) return static_cast<double>(node.errorM);
-    const glm::dvec2 spacing = m_geometry.sampleSpacing() *
-                               static_cast<double>(m_geometry.layout().levelStep(node.id.level));
-    return std::max(spacing.x, spacing.y);
+    if (m_options.splitRule == SplitRule::ProjectedError) return static_cast<double>(node.splitM);
+    return m_surface.sampleSpacingM(node.id.level);
 }
 
 double LodQuadtree::decisionDistance(const Node& node) const {
-    if (m_options.splitRule != SplitRule::LivnyEdges)
-        return distanceToBox(m_camera.position, node.box);
-    return livnyEdgeDistance(m_camera.position, node.box, m_geometry.minHeight(),
-                             m_geometry.maxHeight());
+    if (m_options.splitRule == SplitRule::LivnyEdges)
+        return static_cast<const PlaneSurface&>(m_surface).edgeDistance(m_camera.position,
+                                                                        node.volume);
+    const double rho = m_surface.distance(m_camera.position, node.volume);
+    // Where only the surface's curvature is left to split for (a bare or virtual patch, or
+    // data without finer data), it is never worth splitting closer than a metre, or a camera
+    // standing on such a patch would split it down to the deepest level.
+    return node.finerData ? rho : std::max(rho, 1.0);
 }
 
 void LodQuadtree::schedule(int node, CheckKind kind, double travel) {
@@ -100,13 +124,13 @@ void LodQuadtree::pushCheck(int node, CheckKind kind, double atOdometer) {
 }
 
 // A leaf's split decision can change only once ρ falls to ρ_split = γ·Err/ε_c (ε_c: the
-// coarse stage's threshold, LodOptions::coarseErrorPx). A leaf that
-// can never split (the finest level, or a child that failed to load) needs no check.
+// coarse stage's threshold, LodOptions::coarseErrorPx). A leaf that can never split (the
+// deepest level, or a child that failed to load) needs no check.
 void LodQuadtree::scheduleLeaf(int index) {
     const Node& node = m_nodes[static_cast<std::size_t>(index)];
-    if (node.splitBlocked || node.id.level >= m_geometry.layout().finestLevel()) return;
+    if (node.splitBlocked || node.id.level >= m_surface.maxLevel()) return;
     const double rho = decisionDistance(node);
-    const double rhoSplit = m_gamma * metricM(node) / m_options.coarseErrorPx();
+    const double rhoSplit = m_gamma * metricM(node) / coarseErrorPx();
     schedule(index, CheckKind::Split, rho - rhoSplit);
 }
 
@@ -118,20 +142,70 @@ void LodQuadtree::scheduleMergeIfCandidate(int index) {
         if (!m_nodes[static_cast<std::size_t>(node.firstChild + i)].leaf()) return;
     }
     const double rho = decisionDistance(node);
-    const double rhoMerge =
-        m_gamma * metricM(node) * m_options.hysteresis / m_options.coarseErrorPx();
+    const double rhoMerge = m_gamma * metricM(node) * m_options.hysteresis / coarseErrorPx();
     schedule(index, CheckKind::Merge, rhoMerge - rho);
+}
+
+void LodQuadtree::makeDataNode(Node& node, const io::PatchId& id, const io::PatchInfo& info) {
+    node.id = id;
+    node.kind = NodeKind::Data;
+    node.info = info;
+    node.tile = id;
+    node.layer = m_residency.layerOf(id);
+    node.volume = m_surface.volume(id, info.minHeight, info.maxHeight);
+    node.errorM = info.error;
+    node.finerData = m_surface.hasFinerData(id, info);
+    node.splitM = node.finerData ? double(info.error) : m_surface.curvatureError(id.level);
+    node.texelOffsetX = node.texelOffsetY = 0.0;
+    node.texelStep = 1.0;
+    m_residency.pin(id);
+}
+
+// `info`: the child's summary when the pyramid stores it (resident), else null: the child
+// is then virtual under a parent with a tile, bare under a bare one.
+void LodQuadtree::makeChild(Node& child, const Node& parent, const SurfaceChild& at,
+                            const io::PatchInfo* info) {
+    if (info != nullptr) {
+        makeDataNode(child, at.id, *info);
+        return;
+    }
+    child.id = at.id;
+    child.finerData = false;
+    child.splitM = m_surface.curvatureError(at.id.level);
+    if (parent.kind == NodeKind::Bare) {
+        child.kind = NodeKind::Bare;
+        child.layer = -1;
+        child.tile = at.id;
+        child.errorM = static_cast<float>(child.splitM);
+        child.volume = m_surface.volume(at.id, 0.0f, 0.0f);
+        return;
+    }
+    // Virtual: this quadrant of the tile the parent draws.
+    const double half = 0.5 * double(m_surface.layout().patchQuads()) * parent.texelStep;
+    child.kind = NodeKind::Virtual;
+    child.info = parent.info;
+    child.tile = parent.tile;
+    child.layer = parent.layer;
+    child.texelStep = 0.5 * parent.texelStep;
+    child.texelOffsetX = parent.texelOffsetX + double(at.quadrant & 1) * half;
+    child.texelOffsetY = parent.texelOffsetY + double(at.quadrant >> 1) * half;
+    child.errorM = parent.info.error;
+    child.errorM += static_cast<float>(child.splitM);
+    child.volume = m_surface.volume(at.id, parent.info.minHeight, parent.info.maxHeight);
 }
 
 bool LodQuadtree::trySplit(int index, double screenError) {
     Node& node = m_nodes[static_cast<std::size_t>(index)];
-    io::PatchId children[4];
+    std::array<SurfaceChild, 4> children;
     const io::PatchInfo* infos[4] = {};
-    const int count = containedChildren(m_geometry.layout(), node.id, children);
+    const int count = m_surface.children(node.id, children);
     bool allResident = true;
     for (int i = 0; i < count; ++i) {
-        infos[i] = m_residency.acquire(children[i], priorityOf(screenError));
-        if (infos[i] == nullptr && m_residency.hasFailed(children[i])) node.splitBlocked = true;
+        const SurfaceChild& child = children[static_cast<std::size_t>(i)];
+        if (node.kind != NodeKind::Data || !m_surface.storesChild(node.info, child.quadrant))
+            continue;  // virtual or bare: no tile to wait for
+        infos[i] = m_residency.acquire(child.id, priorityOf(screenError));
+        if (infos[i] == nullptr && m_residency.hasFailed(child.id)) node.splitBlocked = true;
         allResident = allResident && infos[i] != nullptr;
     }
     if (!allResident) return false;
@@ -148,13 +222,12 @@ bool LodQuadtree::trySplit(int index, double screenError) {
         const std::uint32_t generation = child.generation;  // stale checks must stay stale
         child = Node{};
         child.generation = generation + 1;
-        child.id = children[i];
-        child.box = m_geometry.patchBounds(children[i], *infos[i]);
-        child.errorM = infos[i]->error;
-        child.layer = m_residency.layerOf(children[i]);
         child.parent = index;
-        child.visible = m_frustum.intersects(child.box);
-        m_residency.pin(children[i]);
+        makeChild(child, m_nodes[static_cast<std::size_t>(index)],
+                  children[static_cast<std::size_t>(i)], infos[i]);
+        int planes = 0b11111;
+        child.visible = !m_surface.outsideFrustum(m_view, child.volume, planes) &&
+                        !(m_options.horizonCulling && m_surface.belowHorizon(m_view, child.volume));
     }
     ++m_stats.splits;
     // The grandparent is no longer a merge candidate: its pending merge check is stale.
@@ -171,8 +244,8 @@ void LodQuadtree::evaluateLeaf(int index) {
     ++m_stats.evaluations;
     if (!node.visible) return;  // the culling walk re-evaluates it when it comes into view
     const double error = screenError(node);
-    const bool wantsSplit = (m_options.splitToFinest || error > m_options.coarseErrorPx()) &&
-                            node.id.level < m_geometry.layout().finestLevel() && !node.splitBlocked;
+    const bool wantsSplit = (m_options.splitToFinest || error > coarseErrorPx()) &&
+                            node.id.level < m_surface.maxLevel() && !node.splitBlocked;
     if (wantsSplit && trySplit(index, error)) return;
     Node& again = m_nodes[static_cast<std::size_t>(index)];
     if (wantsSplit && !again.splitBlocked) {
@@ -195,7 +268,7 @@ void LodQuadtree::evaluateMerge(int index) {
             return;  // not a candidate
     }
     ++m_stats.evaluations;
-    if (screenError(node) * m_options.hysteresis < m_options.coarseErrorPx()) {
+    if (screenError(node) * m_options.hysteresis < coarseErrorPx()) {
         collapse(index);
         ++m_stats.merges;
         scheduleLeaf(index);
@@ -209,7 +282,7 @@ void LodQuadtree::evaluateMerge(int index) {
     scheduleMergeIfCandidate(index);
 }
 
-// Removes every descendant of `index`, unpinning their layers; `index` becomes a leaf.
+// Removes every descendant of `index`, unpinning their tiles; `index` becomes a leaf.
 void LodQuadtree::collapse(int index) {
     Node& node = m_nodes[static_cast<std::size_t>(index)];
     if (node.leaf()) return;
@@ -221,39 +294,50 @@ void LodQuadtree::collapse(int index) {
     for (int i = 0; i < count; ++i) {
         collapse(first + i);
         Node& child = m_nodes[static_cast<std::size_t>(first + i)];
-        m_residency.unpin(child.id);
+        if (child.kind == NodeKind::Data) m_residency.unpin(child.id);
         ++child.generation;  // its pending checks are stale now
         child.waiting = false;
-        child.parent = -2;  // freed
+        child.parent = kFreed;
     }
     freeBlock(first);
 }
 
+PatchDraw LodQuadtree::drawOf(const Node& node) const {
+    PatchDraw draw;
+    draw.id = node.id;
+    draw.layer = node.layer;
+    draw.errorM = node.errorM;
+    draw.tileId = node.tile;
+    if (node.kind != NodeKind::Bare) {
+        draw.minHeight = node.info.minHeight;
+        draw.maxHeight = node.info.maxHeight;
+    }
+    if (node.kind != NodeKind::Data)
+        draw.bareBlockErrorsM = m_surface.curvatureBlockErrors(node.id.level);
+    if (node.kind == NodeKind::Virtual) {
+        draw.isVirtual = true;
+        draw.texelOffset = {static_cast<float>(node.texelOffsetX),
+                            static_cast<float>(node.texelOffsetY)};
+        draw.texelStep = static_cast<float>(node.texelStep);
+    }
+    return draw;
+}
+
 void LodQuadtree::cull(int index, int planeMask, std::vector<PatchDraw>& out) {
     Node& node = m_nodes[static_cast<std::size_t>(index)];
-    // Plane mask: planes the parent's box was entirely inside need no test for the child.
-    for (int p = 0; p < 5; ++p) {
-        if ((planeMask & (1 << p)) == 0) continue;
-        const glm::dvec4& plane = m_frustum.planes[static_cast<std::size_t>(p)];
-        const glm::dvec3 far{plane.x >= 0.0 ? node.box.max.x : node.box.min.x,
-                             plane.y >= 0.0 ? node.box.max.y : node.box.min.y,
-                             plane.z >= 0.0 ? node.box.max.z : node.box.min.z};
-        if (plane.x * far.x + plane.y * far.y + plane.z * far.z + plane.w < 0.0) {
-            if (!node.leaf()) {
-                collapse(index);  // out of view: keep the pool for what is seen
-                ++m_stats.merges;
-            }
-            node.visible = false;
-            ++m_stats.culled;
-            m_stats.coveredFinestPatches += finestPatchesCovered(m_geometry.layout(), node.id);
-            return;
+    ++m_stats.visited;
+    const bool outside = m_surface.outsideFrustum(m_view, node.volume, planeMask);
+    const bool hidden =
+        !outside && m_options.horizonCulling && m_surface.belowHorizon(m_view, node.volume);
+    if (outside || hidden) {
+        if (!node.leaf()) {
+            collapse(index);  // out of view: keep the pool for what is seen
+            ++m_stats.merges;
         }
-        const glm::dvec3 near{plane.x >= 0.0 ? node.box.min.x : node.box.max.x,
-                              plane.y >= 0.0 ? node.box.min.y : node.box.max.y,
-                              plane.z >= 0.0 ? node.box.min.z : node.box.max.z};
-        if (plane.x * near.x + plane.y * near.y + plane.z * near.z + plane.w >= 0.0) {
-            planeMask &= ~(1 << p);
-        }
+        node.visible = false;
+        ++(outside ? m_stats.culled : m_stats.horizonCulled);
+        m_stats.coverage += m_surface.coverageOf(node.id);
+        return;
     }
     const bool cameIntoView = !node.visible;
     node.visible = true;
@@ -262,20 +346,74 @@ void LodQuadtree::cull(int index, int planeMask, std::vector<PatchDraw>& out) {
             ++node.generation;  // its old check assumed it was hidden
             evaluateLeaf(index);
         }
-        Node& now = m_nodes[static_cast<std::size_t>(index)];
+        const Node& now = m_nodes[static_cast<std::size_t>(index)];
         if (!now.leaf()) {  // split just now
             cull(index, planeMask, out);
             return;
         }
-        out.push_back(
-            {.id = now.id, .layer = now.layer, .errorM = now.errorM, .skirtDepthM = 0.0f});
+        out.push_back(drawOf(now));
         ++m_stats.drawn;
-        m_stats.coveredFinestPatches += finestPatchesCovered(m_geometry.layout(), now.id);
+        m_stats.drawnBare += now.kind == NodeKind::Bare ? 1 : 0;
+        m_stats.drawnVirtual += now.kind == NodeKind::Virtual ? 1 : 0;
+        m_stats.deepestLevel = std::max(m_stats.deepestLevel, now.id.level);
+        m_stats.coverage += m_surface.coverageOf(now.id);
         return;
     }
+    if (screenError(node) <= coarseErrorPx()) ++m_stats.heldSplits;
     const int first = node.firstChild;
     const int count = node.childCount;
     for (int i = 0; i < count; ++i) cull(first + i, planeMask, out);
+}
+
+// The roots' nodes: resident roots as data; on a surface drawn bare meanwhile (the globe)
+// the others bare until they arrive. False while the plane's root is on its way.
+bool LodQuadtree::start() {
+    const std::span<const io::PatchId> roots = m_surface.roots();
+    std::vector<const io::PatchInfo*> infos(roots.size());
+    for (std::size_t r = 0; r < roots.size(); ++r) {
+        infos[r] = m_residency.acquire(roots[r], std::numeric_limits<float>::max());
+        if (infos[r] == nullptr && !m_surface.drawsBareSurface()) return false;
+    }
+    m_nodes.resize(static_cast<std::size_t>(m_rootSlots));
+    for (int slot = 0; slot < m_rootSlots; ++slot) {
+        Node& node = m_nodes[static_cast<std::size_t>(slot)];
+        node = Node{};
+        node.parent = kSpare;
+        if (slot >= m_rootCount) continue;
+        node.parent = -1;
+        node.visible = true;
+        const io::PatchId& id = roots[static_cast<std::size_t>(slot)];
+        if (const io::PatchInfo* info = infos[static_cast<std::size_t>(slot)]) {
+            makeDataNode(node, id, *info);
+            continue;
+        }
+        node.id = node.tile = id;
+        node.kind = NodeKind::Bare;
+        node.awaitingTile = true;
+        node.splitM = m_surface.curvatureError(id.level);
+        node.errorM = static_cast<float>(node.splitM);
+        node.volume = m_surface.volume(id, 0.0f, 0.0f);
+    }
+    m_started = true;
+    m_recheckAll = true;
+    return true;
+}
+
+// A root drawn bare until its tile arrived: its bare subtree gives way to the data.
+void LodQuadtree::takeArrivedRoots() {
+    for (int root = 0; root < m_rootCount; ++root) {
+        Node& node = m_nodes[static_cast<std::size_t>(root)];
+        if (!node.awaitingTile) continue;
+        const io::PatchInfo* info = m_residency.acquire(node.id, std::numeric_limits<float>::max());
+        if (info == nullptr) continue;
+        collapse(root);
+        Node& arrived = m_nodes[static_cast<std::size_t>(root)];
+        arrived.awaitingTile = false;
+        arrived.splitBlocked = false;
+        makeDataNode(arrived, arrived.id, *info);
+        ++arrived.generation;
+        pushCheck(root, CheckKind::Split, m_odometer);  // due now
+    }
 }
 
 LodUpdateStats LodQuadtree::update(const Camera& camera, std::vector<PatchDraw>& out) {
@@ -286,32 +424,17 @@ LodUpdateStats LodQuadtree::update(const Camera& camera, std::vector<PatchDraw>&
     if (gamma != m_gamma) m_recheckAll = true;
     m_camera = camera;
     m_gamma = gamma;
-    m_frustum = camera.frustum();
+    m_view = m_surface.view(camera);
 
-    if (!m_haveRoot) {
-        const io::PatchId root{0, 0, 0};
-        const io::PatchInfo* info = m_residency.acquire(root, std::numeric_limits<float>::max());
-        if (info == nullptr) return m_stats;
-        m_nodes.resize(kBlock);  // block 0 holds the root alone
-        Node& node = m_nodes[0];
-        node = Node{};
-        node.id = root;
-        node.box = m_geometry.patchBounds(root, *info);
-        node.errorM = info->error;
-        node.layer = m_residency.layerOf(root);
-        node.visible = true;
-        m_residency.pin(root);
-        m_haveRoot = true;
-        m_recheckAll = true;
-    }
+    if (!m_started && !start()) return m_stats;
+    takeArrivedRoots();
 
     if (m_recheckAll) {
         // γ or ε changed (or the first frame): every decision is evaluated again.
         m_checks.clear();
         for (std::size_t i = 0; i < m_nodes.size(); ++i) {
             Node& node = m_nodes[i];
-            if (node.parent == -2 || (i > 0 && i < kBlock)) continue;  // free, or block 0's spares
-            if (i > 0 && node.parent < 0) continue;
+            if (node.parent == kFreed || node.parent == kSpare) continue;
             ++node.generation;
             pushCheck(static_cast<int>(i), node.leaf() ? CheckKind::Split : CheckKind::Merge,
                       m_odometer);  // due now
@@ -326,7 +449,7 @@ LodUpdateStats LodQuadtree::update(const Camera& camera, std::vector<PatchDraw>&
         Node& node = m_nodes[static_cast<std::size_t>(index)];
         if (!node.waiting) continue;  // collapsed or freed meanwhile
         node.waiting = false;
-        if (node.leaf() && node.parent != -2) evaluateLeaf(index);
+        if (node.leaf() && node.parent != kFreed) evaluateLeaf(index);
     }
 
     // Decisions whose travel budget ran out.
@@ -335,7 +458,7 @@ LodUpdateStats LodQuadtree::update(const Camera& camera, std::vector<PatchDraw>&
         const Check check = m_checks.back();
         m_checks.pop_back();
         const Node& node = m_nodes[static_cast<std::size_t>(check.node)];
-        if (node.generation != check.generation || node.parent == -2) continue;  // stale
+        if (node.generation != check.generation || node.parent == kFreed) continue;  // stale
         if (check.kind == CheckKind::Split) {
             if (node.leaf() && !node.waiting) evaluateLeaf(check.node);
         } else {
@@ -343,11 +466,9 @@ LodUpdateStats LodQuadtree::update(const Camera& camera, std::vector<PatchDraw>&
         }
     }
 
-    cull(0, 0b11111, out);
+    for (int root = 0; root < m_rootCount; ++root) cull(root, 0b11111, out);
     std::uint64_t nodes = 0;
-    for (std::size_t i = 0; i < m_nodes.size(); ++i) {
-        if (i == 0 || (i >= kBlock && m_nodes[i].parent >= 0)) ++nodes;
-    }
+    for (const Node& node : m_nodes) nodes += node.parent >= -1 ? 1 : 0;
     m_stats.nodes = nodes;
 
     // Checks made stale by later decisions stay in the heap until due; drop them when they
@@ -355,7 +476,7 @@ LodUpdateStats LodQuadtree::update(const Camera& camera, std::vector<PatchDraw>&
     if (m_checks.size() > 2 * nodes + 64) {
         std::erase_if(m_checks, [this](const Check& c) {
             const Node& node = m_nodes[static_cast<std::size_t>(c.node)];
-            return node.generation != c.generation || node.parent == -2;
+            return node.generation != c.generation || node.parent == kFreed;
         });
         std::make_heap(m_checks.begin(), m_checks.end(), laterCheck<Check, Check>);
     }
@@ -363,39 +484,40 @@ LodUpdateStats LodQuadtree::update(const Camera& camera, std::vector<PatchDraw>&
 }
 
 std::optional<std::string> LodQuadtree::checkInvariants() const {
-    if (!m_haveRoot) return std::nullopt;
+    if (!m_started) return std::nullopt;
     std::uint64_t covered = 0;
-    std::vector<int> stack{0};
+    std::vector<int> stack;
+    for (int root = 0; root < m_rootCount; ++root) stack.push_back(root);
     while (!stack.empty()) {
         const int index = stack.back();
         stack.pop_back();
         const Node& node = m_nodes[static_cast<std::size_t>(index)];
         const std::string name = "L" + std::to_string(node.id.level) + " (" +
                                  std::to_string(node.id.x) + ", " + std::to_string(node.id.y) + ")";
-        if (m_residency.residentInfo(node.id) == nullptr ||
-            m_residency.layerOf(node.id) != node.layer) {
+        if (node.kind != NodeKind::Bare && (m_residency.residentInfo(node.tile) == nullptr ||
+                                            m_residency.layerOf(node.tile) != node.layer)) {
             return "tree node " + name + " is not resident on its layer";
         }
-        if (!m_residency.isPinned(node.id)) return "tree node " + name + " is not pinned";
+        if (node.kind == NodeKind::Data && !m_residency.isPinned(node.id))
+            return "tree node " + name + " is not pinned";
         if (node.leaf()) {
-            covered += finestPatchesCovered(m_geometry.layout(), node.id);
+            covered += m_surface.coverageOf(node.id);
             continue;
         }
-        io::PatchId children[4];
-        const int count = containedChildren(m_geometry.layout(), node.id, children);
+        std::array<SurfaceChild, 4> children;
+        const int count = m_surface.children(node.id, children);
         if (count != node.childCount) return "node " + name + " has an incomplete set of children";
         for (int i = 0; i < count; ++i) {
             const Node& child = m_nodes[static_cast<std::size_t>(node.firstChild + i)];
-            if (!(child.id == children[i]) || child.parent != index) {
+            if (!(child.id == children[static_cast<std::size_t>(i)].id) || child.parent != index) {
                 return "node " + name + " has a wrong child or parent link";
             }
             stack.push_back(node.firstChild + i);
         }
     }
-    const std::uint64_t domain = finestPatchesCovered(m_geometry.layout(), {0, 0, 0});
-    if (covered != domain) {
-        return "leaves cover " + std::to_string(covered) + " of " + std::to_string(domain) +
-               " finest-level patches";
+    if (covered != m_surface.wholeCoverage()) {
+        return "leaves cover " + std::to_string(covered) + " of " +
+               std::to_string(m_surface.wholeCoverage()) + " of the surface";
     }
     return std::nullopt;
 }

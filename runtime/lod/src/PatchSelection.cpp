@@ -6,28 +6,6 @@
 
 namespace terrain::runtime {
 
-int containedChildren(const io::PyramidLayout& layout, const io::PatchId& id,
-                      io::PatchId (&children)[4]) {
-    int count = 0;
-    for (int dy = 0; dy < 2; ++dy) {
-        for (int dx = 0; dx < 2; ++dx) {
-            const io::PatchId child{id.level + 1, 2 * id.x + dx, 2 * id.y + dy};
-            if (layout.contains(child)) children[count++] = child;
-        }
-    }
-    return count;
-}
-
-std::uint64_t finestPatchesCovered(const io::PyramidLayout& layout, const io::PatchId& id) {
-    const int finest = layout.finestLevel();
-    const std::int64_t scale = std::int64_t{1} << (finest - id.level);
-    const std::int64_t x0 = id.x * scale, y0 = id.y * scale;
-    const std::int64_t x1 = std::min(layout.patchesX(finest), x0 + scale);
-    const std::int64_t y1 = std::min(layout.patchesY(finest), y0 + scale);
-    return static_cast<std::uint64_t>(std::max<std::int64_t>(0, x1 - x0)) *
-           static_cast<std::uint64_t>(std::max<std::int64_t>(0, y1 - y0));
-}
-
 namespace {
 
 class Selector {
@@ -70,10 +48,7 @@ public:
             }
             ++m_stats.waitingSplits;
         }
-        m_out.push_back({.id = id,
-                         .layer = m_residency.layerOf(id),
-                         .errorM = info.error,
-                         .skirtDepthM = 0.0f});
+        m_out.push_back(PatchDraw::ofTile(id, m_residency.layerOf(id), info));
         ++m_stats.drawn;
         m_stats.coveredFinestPatches += finestPatchesCovered(m_geometry.layout(), id);
     }

@@ -1,10 +1,11 @@
-// TerrainSession: the frame protocol of streamer, LOD tree and renderer.
+// TerrainSession: the frame protocol of streamer, LOD tree and renderer, on either surface.
 #include "terrain/runtime/TerrainSession.h"
 
 #include "terrain/base/Assert.h"
 #include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/CdlodRenderer.h"
 #include "terrain/runtime/LivnyRenderer.h"
+#include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/SkirtDepth.h"
 #include "terrain/runtime/ValdetaroTiles.h"
 
@@ -95,31 +96,51 @@ Result<std::unique_ptr<TerrainSession>> TerrainSession::open(const std::filesyst
                      ": not a streaming quadtree method (openLodStrategy opens it)"};
     auto streamer = TileStreamer::open(pyramid, options.streaming);
     if (!streamer) return streamer.error();
-    if (streamer.value()->manifest().globe)
-        return Error{pyramid.string() +
-                     ": a globe pyramid; this program draws planar pyramids only (terrain-render "
-                     "flies globes: GlobeSession)"};
-    // The tree draws only resident patches, so the pool's capacity bounds one draw.
-    auto renderer = TerrainRenderer::create(streamer.value()->layout(),
-                                            streamer.value()->pool().capacity(), options.renderer);
-    if (!renderer) return Error{pyramid.string() + ": " + renderer.error().message};
+    std::unique_ptr<Surface> surface = makeSurface(streamer.value()->manifest());
+    if (Status supported = lodMethodSupports(options.method, surface->kind()); !supported)
+        return Error{pyramid.string() + ": a " + std::string(surfaceName(surface->kind())) +
+                     " pyramid: " + supported.error().message};
+    // The tree draws only resident patches, so the pool's capacity bounds one draw; bare
+    // patches take no layer, so on the globe the draw list can outgrow it: a bound of its own.
+    const int capacity = streamer.value()->pool().capacity();
+    std::optional<TerrainRenderer> planeRenderer;
+    std::optional<GlobeRenderer> globeRenderer;
+    if (surface->kind() == SurfaceKind::Globe) {
+        auto renderer = GlobeRenderer::create(streamer.value()->manifest(), capacity + 4096);
+        if (!renderer) return Error{pyramid.string() + ": " + renderer.error().message};
+        globeRenderer = std::move(renderer).value();
+    } else {
+        auto renderer =
+            TerrainRenderer::create(streamer.value()->layout(), capacity, options.renderer);
+        if (!renderer) return Error{pyramid.string() + ": " + renderer.error().message};
+        planeRenderer = std::move(renderer).value();
+    }
     auto methodRenderer = createMethodRenderer(pyramid, *streamer.value(), options);
     if (!methodRenderer) return methodRenderer.error();
-    return std::unique_ptr<TerrainSession>(
-        new TerrainSession(std::move(streamer).value(), std::move(renderer).value(),
-                           std::move(methodRenderer).value(), options.method, options.lod));
+    return std::unique_ptr<TerrainSession>(new TerrainSession(
+        std::move(streamer).value(), std::move(surface), std::move(planeRenderer),
+        std::move(globeRenderer), std::move(methodRenderer).value(), options.method, options.lod));
 }
 
-TerrainSession::TerrainSession(std::unique_ptr<TileStreamer> streamer, TerrainRenderer renderer,
+TerrainSession::TerrainSession(std::unique_ptr<TileStreamer> streamer,
+                               std::unique_ptr<Surface> surface,
+                               std::optional<TerrainRenderer> planeRenderer,
+                               std::optional<GlobeRenderer> globeRenderer,
                                std::unique_ptr<PatchRenderer> methodRenderer, LodMethod method,
                                const LodOptions& lod)
     : m_streamer(std::move(streamer)),
-      m_geometry(m_streamer->manifest()),
-      m_renderer(std::move(renderer)),
+      m_surface(std::move(surface)),
+      m_renderer(std::move(planeRenderer)),
+      m_globeRenderer(std::move(globeRenderer)),
       m_methodRenderer(std::move(methodRenderer)),
-      m_tree(std::make_unique<LodQuadtree>(*m_streamer, m_geometry, lodOptionsFor(method, lod))),
+      m_tree(std::make_unique<LodQuadtree>(*m_streamer, *m_surface, lodOptionsFor(method, lod))),
       m_method(method) {
     m_draws.reserve(static_cast<std::size_t>(m_streamer->pool().capacity()));
+}
+
+TerrainRenderer& TerrainSession::renderer() {
+    TERRAIN_ASSERT(m_renderer.has_value(), "TerrainSession::renderer: a globe pyramid");
+    return *m_renderer;
 }
 
 TerrainSession::~TerrainSession() {
@@ -143,7 +164,7 @@ void TerrainSession::drain(std::chrono::milliseconds timeout) { m_streamer->drai
 void TerrainSession::restartLod() {
     const LodOptions options = m_tree->options();
     m_tree.reset();  // unpins before the new tree exists
-    m_tree = std::make_unique<LodQuadtree>(*m_streamer, m_geometry, options);
+    m_tree = std::make_unique<LodQuadtree>(*m_streamer, *m_surface, options);
     m_draws.clear();
 }
 
@@ -157,30 +178,46 @@ const LodUpdateStats& TerrainSession::beginFrame(const Camera& camera) {
     }
     const auto start = Clock::now();
     m_lodStats = m_tree->update(camera, m_draws);
+    addTileErrorsToVirtualDraws();
     assignSkirtDepths(m_draws, m_streamer->pool());
     m_lodUpdateUs = std::chrono::duration<double, std::micro>(Clock::now() - start).count();
     return m_lodStats;
 }
 
+void TerrainSession::addTileErrorsToVirtualDraws() {
+    for (PatchDraw& draw : m_draws) {
+        if (!draw.isVirtual) continue;
+        const float lambda = m_streamer->pool().maxBlockErrorM(draw.tileId).value_or(0.0f);
+        draw.errorM += lambda;
+        for (float& d : draw.bareBlockErrorsM) d += lambda;
+    }
+}
+
 TerrainDrawStats TerrainSession::draw(const Camera& camera, const TerrainStyle& style) {
+    if (m_globeRenderer) {
+        m_lastDraw = m_globeRenderer->draw(camera, m_streamer->pool(), m_draws, style);
+        return m_lastDraw;
+    }
+    const TerrainGeometry& geometry = planeGeometry(*m_surface);
     if (m_methodRenderer) {
-        m_lastDraw = m_methodRenderer->draw(camera, m_geometry, m_streamer->pool(), m_draws, style);
+        m_lastDraw = m_methodRenderer->draw(camera, geometry, m_streamer->pool(), m_draws, style);
         return m_lastDraw;
     }
     if (drawsFullPatches(m_method)) {
         TerrainStyle full = style;
-        full.fixedTessFactor = m_geometry.layout().blockQuads();
-        m_lastDraw = m_renderer.draw(camera, m_geometry, m_streamer->pool(), m_draws, full);
+        full.fixedTessFactor = geometry.layout().blockQuads();
+        m_lastDraw = m_renderer->draw(camera, geometry, m_streamer->pool(), m_draws, full);
         return m_lastDraw;
     }
-    m_lastDraw = m_renderer.draw(camera, m_geometry, m_streamer->pool(), m_draws, style);
+    m_lastDraw = m_renderer->draw(camera, geometry, m_streamer->pool(), m_draws, style);
     return m_lastDraw;
 }
 
 void TerrainSession::endFrame(FrameTelemetry& t) {
     m_streamer->endFrame(t);
     t.patchesDrawn = m_lodStats.drawn;
-    t.patchesCulled = m_lodStats.culled;
+    t.patchesCulled = m_lodStats.culled + m_lodStats.horizonCulled;
+    t.patchesHorizonCulled = m_lodStats.horizonCulled;
     t.lodUpdateUs = m_lodUpdateUs;
     t.lodSplits = m_lodStats.splits;
     t.lodMerges = m_lodStats.merges;
@@ -189,11 +226,13 @@ void TerrainSession::endFrame(FrameTelemetry& t) {
     t.gpuMs = m_lastDraw.drawCalls > 0 && m_lastDraw.gpuMs > 0.0 ? m_lastDraw.gpuMs
                                                                  : FrameTelemetry::kNoValue;
     m_memoryBytes =
-        t.gpuLayersUsed * cache::GpuTilePool::bytesPerLayer(m_geometry.layout()) + t.cpuCacheBytes;
+        t.gpuLayersUsed * cache::GpuTilePool::bytesPerLayer(m_surface->layout()) + t.cpuCacheBytes;
 }
 
 const TileFault* TerrainSession::fatalFault() const {
-    return m_streamer->faultOf(io::PatchId{0, 0, 0});
+    for (const io::PatchId& root : m_surface->roots())
+        if (const TileFault* fault = m_streamer->faultOf(root)) return fault;
+    return nullptr;
 }
 
 bool TerrainSession::settle(const Camera& camera, std::chrono::milliseconds timeout) {

@@ -77,9 +77,9 @@ Result<std::unique_ptr<GeometrySplittingStrategy>> GeometrySplittingStrategy::op
     const std::filesystem::path& pyramid, double errorPx, std::size_t maxBytes) {
     auto reader = openPlanarPyramid(pyramid, "Lee & Shin's GPU quadtree");
     if (!reader) return reader.error();
-    TerrainGeometry geometry(reader.value().manifest());
-    const auto width = static_cast<int>(geometry.layout().rasterWidth());
-    const auto height = static_cast<int>(geometry.layout().rasterHeight());
+    const io::PyramidManifest& manifest = reader.value().manifest();
+    const auto width = static_cast<int>(manifest.layout.rasterWidth());
+    const auto height = static_cast<int>(manifest.layout.rasterHeight());
     // Refused before a sample is read when it would not fit.
     if (const std::size_t need = textureBytesFor(width, height); need > maxBytes)
         return Error{fmt::format(
@@ -89,15 +89,16 @@ Result<std::unique_ptr<GeometrySplittingStrategy>> GeometrySplittingStrategy::op
             pyramid.string(), width, height, need >> 20, maxBytes >> 20)};
     auto raster = readFinestLevel(reader.value());
     if (!raster) return Error{pyramid.string() + ": " + raster.error().message};
-    auto strategy = create(std::move(geometry), std::move(raster).value(), errorPx, maxBytes);
+    auto strategy = create(manifest, std::move(raster).value(), errorPx, maxBytes);
     if (!strategy) return Error{pyramid.string() + ": " + strategy.error().message};
     return strategy;
 }
 
 Result<std::unique_ptr<GeometrySplittingStrategy>> GeometrySplittingStrategy::create(
-    TerrainGeometry geometry, std::vector<float> heights, double errorPx, std::size_t maxBytes) {
-    const auto width = static_cast<int>(geometry.layout().rasterWidth());
-    const auto height = static_cast<int>(geometry.layout().rasterHeight());
+    const io::PyramidManifest& manifest, std::vector<float> heights, double errorPx,
+    std::size_t maxBytes) {
+    const auto width = static_cast<int>(manifest.layout.rasterWidth());
+    const auto height = static_cast<int>(manifest.layout.rasterHeight());
     if (const std::size_t need = textureBytesFor(width, height); need > maxBytes)
         return Error{fmt::format("{} × {} samples need {} MiB on the GPU, over the {} MiB allowed",
                                  width, height, need >> 20, maxBytes >> 20)};
@@ -126,16 +127,16 @@ Result<std::unique_ptr<GeometrySplittingStrategy>> GeometrySplittingStrategy::cr
     if (!time) return time.error();
 
     std::unique_ptr<GeometrySplittingStrategy> strategy(new GeometrySplittingStrategy(
-        std::move(geometry), std::move(programs), std::move(time).value(), errorPx, maxBytes));
+        manifest, std::move(programs), std::move(time).value(), errorPx, maxBytes));
     if (auto uploaded = strategy->upload(tree.value(), heights); !uploaded) return uploaded.error();
     if (auto lists = strategy->allocateLists(); !lists) return lists.error();
     return strategy;
 }
 
-GeometrySplittingStrategy::GeometrySplittingStrategy(TerrainGeometry geometry, Programs programs,
-                                                     gl::Query timeQuery, double errorPx,
-                                                     std::size_t maxBytes)
-    : m_geometry(std::move(geometry)),
+GeometrySplittingStrategy::GeometrySplittingStrategy(const io::PyramidManifest& manifest,
+                                                     Programs programs, gl::Query timeQuery,
+                                                     double errorPx, std::size_t maxBytes)
+    : m_surface(std::make_unique<PlaneSurface>(manifest)),
       m_programs(std::move(programs)),
       m_timeQuery(std::move(timeQuery)),
       m_emptyVertexArray(gl::VertexArray::create("lee draw (no attributes)")),
@@ -205,12 +206,13 @@ Status GeometrySplittingStrategy::allocateLists() {
 }
 
 void GeometrySplittingStrategy::setFrameUniforms(gl::Program& program, const Camera& camera) const {
-    const glm::dvec2 anchor = setCameraFrameUniforms(program, camera, m_geometry);
+    const glm::dvec2 anchor = setCameraFrameUniforms(program, camera, m_surface->geometry());
     program.setUniform("u_anchorSample", std::array<float, 2>{static_cast<float>(anchor.x),
                                                               static_cast<float>(anchor.y)});
-    program.setUniform("u_rasterSize",
-                       std::array<int, 2>{static_cast<int>(m_geometry.layout().rasterWidth()),
-                                          static_cast<int>(m_geometry.layout().rasterHeight())});
+    program.setUniform(
+        "u_rasterSize",
+        std::array<int, 2>{static_cast<int>(m_surface->geometry().layout().rasterWidth()),
+                           static_cast<int>(m_surface->geometry().layout().rasterHeight())});
     program.setUniform("u_gridSide", m_side);
     program.setUniform("u_thresholdPx", static_cast<float>(m_thresholdPx));
     program.setUniform("u_viewportPx", std::array<float, 2>{float(camera.viewportWidth),
@@ -366,7 +368,7 @@ const LodUpdateStats& GeometrySplittingStrategy::beginFrame(const Camera& camera
 TerrainDrawStats GeometrySplittingStrategy::draw(const Camera& camera, const TerrainStyle& style) {
     gl::Program& program = m_programs.draw;
     setFrameUniforms(program, camera);
-    setShadingUniforms(program, m_geometry, style.skyColor, style.fogDensityPerM);
+    setShadingUniforms(program, m_surface->geometry(), style.skyColor, style.fogDensityPerM);
     TerrainDrawStats stats;
     stats.drawCalls = 1;
     stats.instances = 1;

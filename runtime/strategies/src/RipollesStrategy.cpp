@@ -69,9 +69,9 @@ Result<std::unique_ptr<RipollesStrategy>> RipollesStrategy::open(
     std::size_t maxBytes) {
     auto reader = openPlanarPyramid(pyramid, "Ripolles's GPU tessellation");
     if (!reader) return reader.error();
-    TerrainGeometry geometry(reader.value().manifest());
-    const auto width = static_cast<int>(geometry.layout().rasterWidth());
-    const auto height = static_cast<int>(geometry.layout().rasterHeight());
+    const io::PyramidManifest& manifest = reader.value().manifest();
+    const auto width = static_cast<int>(manifest.layout.rasterWidth());
+    const auto height = static_cast<int>(manifest.layout.rasterHeight());
     if (const std::size_t need = 2 * textureBytesFor(width, height); need > maxBytes)
         return Error{fmt::format(
             "{}: {} × {} samples need {} MiB for the height field (on the GPU and, while it is "
@@ -80,17 +80,14 @@ Result<std::unique_ptr<RipollesStrategy>> RipollesStrategy::open(
             pyramid.string(), width, height, need >> 20, maxBytes >> 20)};
     auto raster = readFinestLevel(reader.value());
     if (!raster) return Error{pyramid.string() + ": " + raster.error().message};
-    auto strategy =
-        create(std::move(geometry), std::move(raster).value(), thresholdPx, parameters, maxBytes);
+    auto strategy = create(manifest, std::move(raster).value(), thresholdPx, parameters, maxBytes);
     if (!strategy) return Error{pyramid.string() + ": " + strategy.error().message};
     return strategy;
 }
 
-Result<std::unique_ptr<RipollesStrategy>> RipollesStrategy::create(TerrainGeometry geometry,
-                                                                   std::vector<float> heights,
-                                                                   double thresholdPx,
-                                                                   RipollesParameters parameters,
-                                                                   std::size_t maxBytes) {
+Result<std::unique_ptr<RipollesStrategy>> RipollesStrategy::create(
+    const io::PyramidManifest& manifest, std::vector<float> heights, double thresholdPx,
+    RipollesParameters parameters, std::size_t maxBytes) {
     Programs programs;
     auto families = buildProgram("ripolles families", {"ripolles_families.comp"});
     if (!families) return families.error();
@@ -116,17 +113,18 @@ Result<std::unique_ptr<RipollesStrategy>> RipollesStrategy::create(TerrainGeomet
     if (!target) return target.error();
 
     std::unique_ptr<RipollesStrategy> strategy(
-        new RipollesStrategy(std::move(geometry), std::move(programs), std::move(time).value(),
+        new RipollesStrategy(manifest, std::move(programs), std::move(time).value(),
                              std::move(target).value(), thresholdPx, parameters, maxBytes));
     if (auto uploaded = strategy->upload(heights); !uploaded) return uploaded.error();
     strategy->reset();
     return strategy;
 }
 
-RipollesStrategy::RipollesStrategy(TerrainGeometry geometry, Programs programs, gl::Query timeQuery,
-                                   gl::Framebuffer stepTarget, double thresholdPx,
-                                   RipollesParameters parameters, std::size_t maxBytes)
-    : m_geometry(std::move(geometry)),
+RipollesStrategy::RipollesStrategy(const io::PyramidManifest& manifest, Programs programs,
+                                   gl::Query timeQuery, gl::Framebuffer stepTarget,
+                                   double thresholdPx, RipollesParameters parameters,
+                                   std::size_t maxBytes)
+    : m_surface(std::make_unique<PlaneSurface>(manifest)),
       m_programs(std::move(programs)),
       m_timeQuery(std::move(timeQuery)),
       m_stepTarget(std::move(stepTarget)),
@@ -138,8 +136,8 @@ RipollesStrategy::RipollesStrategy(TerrainGeometry geometry, Programs programs, 
 RipollesStrategy::~RipollesStrategy() = default;
 
 Status RipollesStrategy::upload(const std::vector<float>& heights) {
-    const auto width = static_cast<int>(m_geometry.layout().rasterWidth());
-    const auto height = static_cast<int>(m_geometry.layout().rasterHeight());
+    const auto width = static_cast<int>(m_surface->geometry().layout().rasterWidth());
+    const auto height = static_cast<int>(m_surface->geometry().layout().rasterHeight());
     if (width < 2 || height < 2) return Error{"the raster needs at least 2 × 2 samples"};
     if (textureBytesFor(width, height) > m_maxBytes)
         return Error{fmt::format("{} × {} samples are over the {} MiB this method may hold", width,
@@ -234,7 +232,7 @@ bool RipollesStrategy::reserve() {
 }
 
 void RipollesStrategy::setUniforms(gl::Program& program, const Camera& camera) const {
-    const glm::dvec2 anchor = setCameraFrameUniforms(program, camera, m_geometry);
+    const glm::dvec2 anchor = setCameraFrameUniforms(program, camera, m_surface->geometry());
     program.setUniform("u_anchorSample", std::array<float, 2>{static_cast<float>(anchor.x),
                                                               static_cast<float>(anchor.y)});
     program.setUniform("u_rasterSize",
@@ -244,8 +242,8 @@ void RipollesStrategy::setUniforms(gl::Program& program, const Camera& camera) c
     program.setUniform("u_errorScale", static_cast<float>(camera.errorScale()));
     program.setUniform("u_nearM", static_cast<float>(camera.nearPlane));
     program.setUniform("u_heightRangeM",
-                       std::array<float, 2>{static_cast<float>(m_geometry.minHeight()),
-                                            static_cast<float>(m_geometry.maxHeight())});
+                       std::array<float, 2>{static_cast<float>(m_surface->geometry().minHeight()),
+                                            static_cast<float>(m_surface->geometry().maxHeight())});
     program.setUniformVec4Array("u_frustumPlanes", cameraRelativeFrustumPlanes(camera));
 }
 
@@ -366,7 +364,7 @@ bool RipollesStrategy::settle(const Camera& camera, std::chrono::milliseconds ti
 TerrainDrawStats RipollesStrategy::draw(const Camera& camera, const TerrainStyle& style) {
     gl::Program& program = m_programs.draw;
     setUniforms(program, camera);
-    setShadingUniforms(program, m_geometry, style.skyColor, style.fogDensityPerM);
+    setShadingUniforms(program, m_surface->geometry(), style.skyColor, style.fogDensityPerM);
     TerrainDrawStats stats;
     stats.drawCalls = 1;
     stats.instances = 1;

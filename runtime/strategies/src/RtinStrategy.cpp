@@ -26,7 +26,8 @@ Result<std::unique_ptr<RtinStrategy>> RtinStrategy::open(const std::filesystem::
                                                          double errorPx, std::size_t maxBytes) {
     auto reader = openPlanarPyramid(pyramid, "the RTIN yardstick");
     if (!reader) return reader.error();
-    TerrainGeometry geometry(reader.value().manifest());
+    const io::PyramidManifest& manifest = reader.value().manifest();
+    const TerrainGeometry geometry(manifest);
     const io::PyramidLayout& layout = geometry.layout();
     // Refused before a sample is read when the mesh would not fit.
     const auto width = static_cast<int>(layout.rasterWidth());
@@ -45,14 +46,14 @@ Result<std::unique_ptr<RtinStrategy>> RtinStrategy::open(const std::filesystem::
     if (!program) return program.error();
     auto time = gl::Query::create(gl::QueryKind::TimeElapsed, "rtin GPU time");
     if (!time) return time.error();
-    return std::unique_ptr<RtinStrategy>(
-        new RtinStrategy(std::move(geometry), std::move(mesh).value(), std::move(program).value(),
-                         std::move(time).value(), errorPx));
+    return std::unique_ptr<RtinStrategy>(new RtinStrategy(manifest, std::move(mesh).value(),
+                                                          std::move(program).value(),
+                                                          std::move(time).value(), errorPx));
 }
 
-RtinStrategy::RtinStrategy(TerrainGeometry geometry, RtinMesh mesh, gl::Program program,
+RtinStrategy::RtinStrategy(const io::PyramidManifest& manifest, RtinMesh mesh, gl::Program program,
                            gl::Query timeQuery, double errorPx)
-    : m_geometry(std::move(geometry)),
+    : m_surface(std::make_unique<PlaneSurface>(manifest)),
       m_mesh(std::move(mesh)),
       m_program(std::move(program)),
       m_timeQuery(std::move(timeQuery)),
@@ -62,7 +63,7 @@ RtinStrategy::RtinStrategy(TerrainGeometry geometry, RtinMesh mesh, gl::Program 
 const LodUpdateStats& RtinStrategy::beginFrame(const Camera& camera) {
     const auto start = Clock::now();
     const RtinSelectStats selected =
-        m_mesh.select(camera, m_geometry.origin(), m_errorPx, true, m_triangles);
+        m_mesh.select(camera, m_surface->geometry().origin(), m_errorPx, true, m_triangles);
     m_lodUpdateUs = std::chrono::duration<double, std::micro>(Clock::now() - start).count();
     m_stats = {};
     m_stats.evaluations = selected.visited;
@@ -81,7 +82,7 @@ void RtinStrategy::upload(glm::dvec2 anchor) {
     m_gridVertices.erase(std::unique(m_gridVertices.begin(), m_gridVertices.end()),
                          m_gridVertices.end());
     m_vertices.clear();
-    const glm::dvec2 spacing = m_geometry.sampleSpacing();
+    const glm::dvec2 spacing = m_surface->geometry().sampleSpacing();
     for (const std::uint32_t v : m_gridVertices) {
         const glm::ivec2 s = m_mesh.sampleOf(v);
         const float h = m_mesh.heightAt(s.x, s.y);
@@ -125,8 +126,8 @@ void RtinStrategy::upload(glm::dvec2 anchor) {
 }
 
 TerrainDrawStats RtinStrategy::draw(const Camera& camera, const TerrainStyle& style) {
-    const glm::dvec2 anchor = setCameraFrameUniforms(m_program, camera, m_geometry);
-    setShadingUniforms(m_program, m_geometry, style.skyColor, style.fogDensityPerM);
+    const glm::dvec2 anchor = setCameraFrameUniforms(m_program, camera, m_surface->geometry());
+    setShadingUniforms(m_program, m_surface->geometry(), style.skyColor, style.fogDensityPerM);
     // Positions are relative to the anchor: written again only for a new mesh or anchor (the
     // accuracy probe, a frozen view, draw one frame more than once).
     if (!m_uploaded || anchor != m_uploadedAnchor) {

@@ -192,8 +192,8 @@ Result<const io::PatchRecord*> GlobeReferenceRenderer::tileOf(const globe::Globe
 }
 
 Status GlobeReferenceRenderer::addRegion(const Region& region) {
-    GlobePatchDraw draw;
-    draw.id = region.id;
+    PatchDraw draw;
+    draw.id = io::layoutPatchOf(region.id);
     draw.minHeight = region.minHeight;
     draw.maxHeight = region.maxHeight;
     // The bare ellipsoid has no tile: layer −1 draws height 0. A tile is uploaded once a
@@ -211,7 +211,7 @@ Status GlobeReferenceRenderer::addRegion(const Region& region) {
             m_layerTiles.push_back(key);
         }
     }
-    draw.tileId = region.tileId;
+    draw.tileId = io::layoutPatchOf(region.tileId);
     draw.isVirtual = region.texelStep != 1.0;
     draw.texelOffset = {static_cast<float>(region.texelOffsetX),
                         static_cast<float>(region.texelOffsetY)};

@@ -5,6 +5,7 @@
 // fragment normals are the reference's, so that image is closer to the reference than the
 // one whose normals the tessellator's own triangles interpolate.
 #include "AccuracyScenes.h"
+#include "terrain/runtime/PlaneSurface.h"
 #include "GlTestFixture.h"
 #include "TempFolder.h"
 
@@ -46,7 +47,7 @@ TEST_F(FragmentNormalsTest, SameGeometryAndTheReferencesShadingAtFullResolution)
         auto session = runtime::TerrainSession::open(pyramid, options);
         EXPECT_TRUE(session) << session.error().message;
         // Looking down from low enough that every DEM cell spans several pixels.
-        const runtime::TerrainGeometry& g = session.value()->geometry();
+        const runtime::TerrainGeometry& g = runtime::planeGeometry(session.value()->surface());
         const glm::dvec3 centre{g.worldAtFraction(0.5, 0.5), 300.0};
         const runtime::Camera camera =
             lookingAt(kWidth, kHeight, centre + glm::dvec3(0.0, -1.0, 1500.0), centre);

@@ -7,7 +7,9 @@
 // error seen from the camera must stay under 1e-5 rad (0.01 px at 1080p, 60° field of view).
 #include "GlTestFixture.h"
 #include "terrain/gl/Buffer.h"
+#include "terrain/globe/GlobePatch.h"
 #include "terrain/globe/Wgs84.h"
+#include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/runtime/GlobeInstance.h"
 #include "terrain/runtime/ProgramBuilder.h"
 
@@ -68,8 +70,9 @@ TEST_F(GlobePrecisionTest, GpuPositionsMatchTheDoubleReference) {
                 const auto index = [&](double c) {
                     return std::min(static_cast<std::int64_t>(c * static_cast<double>(n)), n - 1);
                 };
-                GlobePatchDraw draw;
-                draw.id = {nadir.face, level, index(nadir.s), index(nadir.t)};
+                const globe::GlobePatchId id{nadir.face, level, index(nadir.s), index(nadir.t)};
+                PatchDraw draw;
+                draw.id = draw.tileId = io::layoutPatchOf(id);
                 const GlobeInstance instance = makeGlobeInstance(draw, camera, up, kQuads);
                 const int instanceIndex = static_cast<int>(instances.size());
                 instances.push_back(instance);
@@ -86,7 +89,7 @@ TEST_F(GlobePrecisionTest, GpuPositionsMatchTheDoubleReference) {
                     const float h = static_cast<float>(-500.0 + 9500.0 * unit(random));
                     probes.push_back({{sx, sy, h, 0.0f}, {instanceIndex, 0, 0, 0}});
                     const globe::FacePoint p =
-                        globe::patchPoint(draw.id, double(sx) / kQuads, double(sy) / kQuads);
+                        globe::patchPoint(id, double(sx) / kQuads, double(sy) / kQuads);
                     expected.push_back(
                         {globe::Wgs84::pointAlongNormal(globe::directionOf(p.face, p.s, p.t), h) -
                              camera,

@@ -10,6 +10,7 @@
 #include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/LodQuadtree.h"
 #include "terrain/runtime/PatchSelection.h"
+#include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/TerrainGeometry.h"
 
 #include <gtest/gtest.h>
@@ -39,6 +40,7 @@ protected:
         m_tree.reset();
         m_residency = FakeTileResidency::fromPyramid(streamingTestPyramid(), options);
         ASSERT_TRUE(m_residency);
+        m_surface = std::make_unique<runtime::PlaneSurface>(streamingTestManifest());
         m_geometry.emplace(streamingTestManifest());
     }
 
@@ -88,6 +90,7 @@ protected:
     void checkSpacingRuleCut(runtime::SplitRule rule);
 
     std::unique_ptr<FakeTileResidency> m_residency;
+    std::unique_ptr<runtime::PlaneSurface> m_surface;
     std::optional<runtime::TerrainGeometry> m_geometry;
     std::unique_ptr<LodQuadtree> m_tree;
     std::vector<PatchDraw> m_draws;
@@ -95,7 +98,7 @@ protected:
 
 TEST_F(LodQuadtreeTest, DrawsTheRootOnTheFrameItArrives) {
     open({.framesToArrive = 3});
-    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry);
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_surface);
     const Camera c = camera(0.5, 0.5, 2000.0, 0.5, 0.6);
     for (int i = 1; i <= 3; ++i) {
         EXPECT_EQ(frame(c).drawn, 0u) << "frame " << i << ": the root is not resident yet";
@@ -105,23 +108,23 @@ TEST_F(LodQuadtreeTest, DrawsTheRootOnTheFrameItArrives) {
     ASSERT_EQ(m_draws.size(), 1u) << "the root arrives on frame 4 and is drawn at once";
     EXPECT_EQ(m_draws[0].id, (io::PatchId{0, 0, 0}));
     EXPECT_EQ(m_draws[0].layer, m_residency->layerOf({0, 0, 0}));
-    EXPECT_EQ(fourth.coveredFinestPatches, domain());
+    EXPECT_EQ(fourth.coverage, domain());
     EXPECT_TRUE(m_residency->isPinned({0, 0, 0}));
 }
 
 TEST_F(LodQuadtreeTest, SettlesOnTheCutOfASelectionFromTheRoot) {
     const runtime::LodOptions options{.errorPx = 1.0};
-    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry, options);
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_surface, options);
     const Camera c = camera(0.2, 0.3, 300.0, 0.6, 0.5);
     const LodUpdateStats settled = settle(c);
     EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
     EXPECT_GT(settled.drawn, 8u);
-    EXPECT_EQ(settled.coveredFinestPatches, domain());
+    EXPECT_EQ(settled.coverage, domain());
 
     std::vector<PatchDraw> fromRoot;
     m_residency->beginFrame();
-    const runtime::PatchSelectionStats reference =
-        runtime::selectPatches(c, *m_geometry, options.coarseErrorPx(), *m_residency, fromRoot);
+    const runtime::PatchSelectionStats reference = runtime::selectPatches(
+        c, *m_geometry, options.coarseErrorPx(runtime::SurfaceKind::Plane), *m_residency, fromRoot);
     m_residency->endFrame();
     EXPECT_EQ(reference.waitingSplits, 0u);
     EXPECT_EQ(ids(m_draws), ids(fromRoot));
@@ -134,13 +137,13 @@ TEST_F(LodQuadtreeTest, SplitToFinestDrawsTheUniformGridOfWhatIsInView) {
     // for the whole DEM.
     open({.capacity = 512});
     const runtime::LodOptions options{.errorPx = 1000.0, .splitToFinest = true};
-    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry, options);
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_surface, options);
     const int finest = m_residency->layout().finestLevel();
     for (const Camera& c :
          {camera(0.5, 0.5, 50000.0, 0.5, 0.6), camera(0.1, 0.1, 200.0, 0.9, 0.9)}) {
         const LodUpdateStats settled = settle(c);
         EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
-        EXPECT_EQ(settled.coveredFinestPatches, domain());
+        EXPECT_EQ(settled.coverage, domain());
         ASSERT_FALSE(m_draws.empty());
         for (const PatchDraw& d : m_draws)
             EXPECT_EQ(d.id.level, finest) << "patch " << d.id.x << "," << d.id.y;
@@ -173,7 +176,7 @@ void LodQuadtreeTest::checkSpacingRuleCut(runtime::SplitRule rule) {
                             camera(0.9, 0.1, 1500.0, 0.2, 0.8)}) {
         // A tree of its own for each view (the fake keeps requests the last view left).
         open({.capacity = 1024});
-        m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry, options);
+        m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_surface, options);
         settle(c);
         EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
         std::vector<PatchDraw> expected;
@@ -209,7 +212,7 @@ void LodQuadtreeTest::checkSpacingRuleCut(runtime::SplitRule rule) {
 }
 
 TEST_F(LodQuadtreeTest, StaticCameraChangesNothingAndCostsNothing) {
-    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry);
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_surface);
     const Camera c = camera(0.5, 0.5, 150.0, 0.5, 0.9);
     settle(c);
     const std::vector<io::PatchId> before = ids(m_draws);
@@ -235,7 +238,7 @@ TEST_F(LodQuadtreeTest, StaticCameraChangesNothingAndCostsNothing) {
 
 TEST_F(LodQuadtreeTest, InvariantsHoldThroughAFlightAndTreeFollowsTheCamera) {
     open({.framesToArrive = 2, .arrivalsPerFrame = 4});
-    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry);
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_surface);
     std::uint64_t splits = 0, merges = 0, framesDrawn = 0;
     int maxLevelNear = 0;
     for (int i = 0; i < 400; ++i) {
@@ -247,7 +250,7 @@ TEST_F(LodQuadtreeTest, InvariantsHoldThroughAFlightAndTreeFollowsTheCamera) {
         if (i >= 2) {
             ASSERT_GT(s.drawn, 0u) << "frame " << i << ": the root arrived on frame 3";
             ++framesDrawn;
-            ASSERT_EQ(s.coveredFinestPatches, domain()) << "frame " << i;
+            ASSERT_EQ(s.coverage, domain()) << "frame " << i;
         }
         ASSERT_EQ(m_tree->checkInvariants(), std::nullopt) << "frame " << i;
         for (const PatchDraw& d : m_draws) {
@@ -263,7 +266,7 @@ TEST_F(LodQuadtreeTest, InvariantsHoldThroughAFlightAndTreeFollowsTheCamera) {
 }
 
 TEST_F(LodQuadtreeTest, ChangingTheThresholdReevaluatesEverything) {
-    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry,
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_surface,
                                            runtime::LodOptions{.errorPx = 4.0});
     const Camera c = camera(0.3, 0.3, 200.0, 0.7, 0.7);
     const LodUpdateStats coarse = settle(c);
@@ -291,7 +294,7 @@ TEST_F(LodQuadtreeTest, NeverAHoleWithLateBudgetedAndFailingTiles) {
           .fails = [](const io::PatchId& id) {
               return id.level > 0 && (id.x * 7 + id.y * 13 + id.level) % 10 == 3;
           }});
-    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry,
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_surface,
                                            runtime::LodOptions{.errorPx = 1.0});
     std::mt19937_64 random(7);
     std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -306,7 +309,7 @@ TEST_F(LodQuadtreeTest, NeverAHoleWithLateBudgetedAndFailingTiles) {
             const LodUpdateStats s = frame(c);
             ASSERT_EQ(m_tree->checkInvariants(), std::nullopt) << "frame " << frames;
             if (frames < 3) continue;  // the root arrives on frame 4
-            ASSERT_EQ(s.coveredFinestPatches, domain()) << "frame " << frames;
+            ASSERT_EQ(s.coverage, domain()) << "frame " << frames;
             for (const PatchDraw& d : m_draws) {
                 ASSERT_EQ(m_residency->layerOf(d.id), d.layer);
                 ASSERT_FALSE(m_residency->hasFailed(d.id));
@@ -327,7 +330,7 @@ TEST_F(LodQuadtreeTest, NeverAHoleWithLateBudgetedAndFailingTiles) {
 TEST_F(LodQuadtreeTest, AFailedChildKeepsItsParentDrawing) {
     const io::PatchId lost{2, 1, 1};
     open({.fails = [lost](const io::PatchId& id) { return id == lost; }});
-    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry,
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_surface,
                                            runtime::LodOptions{.errorPx = 0.5});
     // Low over the lost patch's area, so its parent wants to split.
     const Camera c = camera(0.3, 0.3, 20.0, 0.35, 0.35);
@@ -354,7 +357,7 @@ TEST_F(LodQuadtreeTest, UnsplittableLeavesDoNotRecheckWithinAFrame) {
     open({.fails = [](const io::PatchId& id) {
         return id.level > 1 && (id.x + 2 * id.y) % 3 == 0;
     }});
-    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry,
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_surface,
                                            runtime::LodOptions{.errorPx = 0.5});
     // Just above the highest sample: inside the bounding boxes of the patches below.
     Camera c = camera(0.5, 0.5, 0.5, 0.55, 0.55);
@@ -370,7 +373,7 @@ TEST_F(LodQuadtreeTest, UnsplittableLeavesDoNotRecheckWithinAFrame) {
 
 // The tree pins what it holds and gives every pin back: no layer leaks when it goes.
 TEST_F(LodQuadtreeTest, DestroyingTheTreeUnpinsEveryLayer) {
-    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_geometry,
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_surface,
                                            runtime::LodOptions{.errorPx = 1.0});
     const LodUpdateStats settled = settle(camera(0.2, 0.3, 300.0, 0.6, 0.5));
     EXPECT_EQ(m_residency->pinnedCount(), settled.nodes);

@@ -81,7 +81,7 @@ Scene loadScene() {
         const std::optional<int> layer = scene.pool.allocate(record.id);
         EXPECT_TRUE(layer.has_value());
         EXPECT_TRUE(scene.pool.upload(record));
-        scene.draws.push_back({.id = record.id, .layer = *layer, .errorM = record.info.error});
+        scene.draws.push_back(runtime::PatchDraw::ofTile(record.id, *layer, record.info));
     }
     scene.pool.endFrame();
     runtime::assignSkirtDepths(scene.draws, scene.pool);

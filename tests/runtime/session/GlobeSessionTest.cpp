@@ -1,7 +1,8 @@
-// The globe end to end (GlobeSession: streaming, GlobeLod, GlobeRenderer) on the stability
-// cases of a globe (DESIGN.md, "The globe"): the whole Earth from 20,000 km, an oblique view
-// from low orbit, straight down at both poles, over a cube corner, across the antimeridian,
-// 1 m above the highest point looking at the horizon, below sea level. For each, settled:
+// The globe end to end (TerrainSession on a globe pyramid: streaming, the LOD quadtree on the
+// globe's surface, the draw) on the stability cases of a globe (DESIGN.md, "The globe"): the
+// whole Earth from 20,000 km, an oblique view from low orbit, straight down at both poles, over
+// a cube corner, across the antimeridian, 1 m above the highest point looking at the horizon,
+// below sea level. For each, settled:
 //  - no hole: every pixel whose view ray meets the ellipsoid lowered below the deepest drawn
 //    point shows terrain, not the clear colour (the terrain lies above that ellipsoid);
 //  - horizon culling never removes a visible pixel: the images with it on and off are equal;
@@ -19,7 +20,7 @@
 #include "terrain/runtime/GlobeCamera.h"
 #include "terrain/runtime/GlobeReferenceRenderer.h"
 #include "terrain/runtime/GlobeScreenSpaceError.h"
-#include "terrain/runtime/GlobeSession.h"
+#include "terrain/runtime/TerrainSession.h"
 #include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/ScreenProjection.h"
 
@@ -95,12 +96,12 @@ protected:
     }
 
     // Renders `pose` settled; returns the RGBA image (and the depth, if asked).
-    std::vector<std::uint8_t> render(GlobeSession& session, gl::Framebuffer& framebuffer,
-                                     const Camera& camera, GlobeLodStats* stats = nullptr,
+    std::vector<std::uint8_t> render(TerrainSession& session, gl::Framebuffer& framebuffer,
+                                     const Camera& camera, LodUpdateStats* stats = nullptr,
                                      TerrainDrawStats* drawn = nullptr, double errorPx = 2.0,
                                      bool skirts = true, std::vector<float>* depth = nullptr) {
         EXPECT_TRUE(session.settle(camera, std::chrono::seconds(60)));
-        const GlobeLodStats& lod = session.beginFrame(camera);
+        const LodUpdateStats& lod = session.beginFrame(camera);
         if (stats != nullptr) *stats = lod;
         framebuffer.clear({1.0f, 0.0f, 1.0f, 1.0f}, 0.0f);
         glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
@@ -119,8 +120,8 @@ protected:
     }
 
     // A session with room for every patch of the planet.
-    static GlobeSessionOptions sessionOptions() {
-        GlobeSessionOptions options;
+    static TerrainSessionOptions sessionOptions() {
+        TerrainSessionOptions options;
         options.streaming.gpuLayers = 1024;
         options.streaming.cpuCacheBytes = std::size_t{256} << 20;
         return options;
@@ -178,25 +179,25 @@ bool isClearColour(const std::vector<std::uint8_t>& image, int x, int y) {
 }
 
 TEST_F(GlobeSessionTest, EveryStabilityCaseHasNoHoleAndHorizonCullingChangesNoPixel) {
-    auto opened = GlobeSession::open(s_pyramid, sessionOptions());
+    auto opened = TerrainSession::open(s_pyramid, sessionOptions());
     ASSERT_TRUE(opened) << opened.error().message;
-    GlobeSession& session = *opened.value();
+    TerrainSession& session = *opened.value();
     auto framebuffer = gl::Framebuffer::create(kWidth, kHeight, "globe test");
     ASSERT_TRUE(framebuffer) << framebuffer.error().message;
     const double lowerM = lowerEllipsoidM();
     for (const Pose& p : poses()) {
         SCOPED_TRACE(p.name);
         const Camera camera = cameraFor(p.pose);
-        GlobeLodOptions lod;
+        LodOptions lod;
         lod.horizonCulling = true;
-        session.lod().setOptions(lod);
-        GlobeLodStats culled;
+        session.setLodOptions(lod);
+        LodUpdateStats culled;
         TerrainDrawStats drawn;
         const std::vector<std::uint8_t> withCulling =
             render(session, framebuffer.value(), camera, &culled, &drawn);
         lod.horizonCulling = false;
-        session.lod().setOptions(lod);
-        GlobeLodStats all;
+        session.setLodOptions(lod);
+        LodUpdateStats all;
         const std::vector<std::uint8_t> without =
             render(session, framebuffer.value(), camera, &all);
         EXPECT_EQ(drawn.drawCalls, 1);
@@ -231,16 +232,16 @@ TEST_F(GlobeSessionTest, MeasuredErrorStaysWithinEpsilonOnEveryStabilityCase) {
     const GlobeReferenceHeights sourceHeights = [&surface](double latitude, double longitude) {
         return surface.value().heightsAt(latitude, longitude);
     };
-    auto opened = GlobeSession::open(s_pyramid, sessionOptions());
+    auto opened = TerrainSession::open(s_pyramid, sessionOptions());
     ASSERT_TRUE(opened) << opened.error().message;
-    GlobeSession& session = *opened.value();
+    TerrainSession& session = *opened.value();
     auto framebuffer = gl::Framebuffer::create(kWidth, kHeight, "globe accuracy");
     ASSERT_TRUE(framebuffer) << framebuffer.error().message;
     constexpr double kRasterTolerancePx = 0.05;
     for (const double errorPx : {1.0, 2.0, 4.0}) {
-        GlobeLodOptions lod;
+        LodOptions lod;
         lod.errorPx = errorPx;
-        session.lod().setOptions(lod);
+        session.setLodOptions(lod);
         for (const Pose& p : poses()) {
             SCOPED_TRACE(p.name + ", ε = " + std::to_string(errorPx));
             const Camera camera = cameraFor(p.pose);
@@ -265,9 +266,9 @@ TEST_F(GlobeSessionTest, MeasuredErrorStaysWithinEpsilonOnEveryStabilityCase) {
 // hole), its image is close to the reference at ε = 1 px and further from it at ε = 8 px, and
 // the reference itself has no hole where the ground must be.
 TEST_F(GlobeSessionTest, EveryStabilityCaseMatchesTheGlobeReference) {
-    auto opened = GlobeSession::open(s_pyramid, sessionOptions());
+    auto opened = TerrainSession::open(s_pyramid, sessionOptions());
     ASSERT_TRUE(opened) << opened.error().message;
-    GlobeSession& session = *opened.value();
+    TerrainSession& session = *opened.value();
     auto pyramid = io::PyramidReader::open(s_pyramid);
     ASSERT_TRUE(pyramid) << pyramid.error().message;
     auto reference = GlobeReferenceRenderer::create(pyramid.value().manifest());
@@ -306,9 +307,9 @@ TEST_F(GlobeSessionTest, EveryStabilityCaseMatchesTheGlobeReference) {
         double psnr[2] = {0.0, 0.0};
         for (int i = 0; i < 2; ++i) {
             const double errorPx = i == 0 ? 1.0 : 8.0;
-            GlobeLodOptions lodOptions;
+            LodOptions lodOptions;
             lodOptions.errorPx = errorPx;
-            session.lod().setOptions(lodOptions);
+            session.setLodOptions(lodOptions);
             FrameImages lod;
             lod.width = kWidth;
             lod.height = kHeight;

@@ -11,7 +11,7 @@
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/runtime/GlobeCamera.h"
 #include "terrain/runtime/GlobeScreenSpaceError.h"
-#include "terrain/runtime/GlobeSession.h"
+#include "terrain/runtime/TerrainSession.h"
 
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
@@ -51,12 +51,12 @@ TEST_F(GlobeSharedDataTest, EtopoRainierAndN57E011FlyFromOrbitToRainierWithinEps
         return surface.value().heightsAt(latitude, longitude);
     };
 
-    GlobeSessionOptions options;
+    TerrainSessionOptions options;
     options.streaming.gpuLayers = 1024;
     options.streaming.cpuCacheBytes = std::size_t{256} << 20;
-    auto opened = GlobeSession::open(pyramid, options);
+    auto opened = TerrainSession::open(pyramid, options);
     ASSERT_TRUE(opened) << opened.error().message;
-    GlobeSession& session = *opened.value();
+    TerrainSession& session = *opened.value();
     constexpr int kWidth = 320, kHeight = 180;
     auto framebuffer = gl::Framebuffer::create(kWidth, kHeight, "shared globe");
     ASSERT_TRUE(framebuffer) << framebuffer.error().message;

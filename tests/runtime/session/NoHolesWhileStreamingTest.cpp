@@ -11,6 +11,7 @@
 #include "StreamingTestPyramid.h"
 #include "TerrainViewChecks.h"
 #include "terrain/gl/Framebuffer.h"
+#include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/TerrainSession.h"
 
 #include <epoxy/gl.h>
@@ -39,7 +40,7 @@ TEST_F(NoHolesWhileStreamingTest, TeleportsWithTinyBudgetsSlowAndFailingReads) {
     auto opened = runtime::TerrainSession::open(streamingTestPyramid(), options);
     ASSERT_TRUE(opened) << opened.error().message;
     runtime::TerrainSession& session = *opened.value();
-    const runtime::TerrainGeometry& g = session.geometry();
+    const runtime::TerrainGeometry& g = runtime::planeGeometry(session.surface());
     auto fb = gl::Framebuffer::create(kWidth, kHeight);
     ASSERT_TRUE(fb) << fb.error().message;
 

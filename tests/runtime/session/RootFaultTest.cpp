@@ -1,7 +1,9 @@
 // A fault no frame can draw around (issue 16): when a root patch cannot be read there is no
 // ancestor to draw in its place, so the session says so (fatalFault names the shard) and
 // settle() stops at once instead of waiting out its timeout. Any other failed patch is not
-// fatal: its ancestor draws the area and settle() still succeeds.
+// fatal: its ancestor draws the area and settle() still succeeds. No clock is read: settle()
+// is given a day, which only a settle that waits for nothing would spend (ctest's timeout
+// then fails the test).
 #include "GeographicFunctionDem.h"
 #include "GlTestFixture.h"
 #include "StreamingTestPyramid.h"
@@ -12,7 +14,7 @@
 #include "terrain/build/GlobePyramidBuilder.h"
 #include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/GlobeCamera.h"
-#include "terrain/runtime/GlobeSession.h"
+#include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TerrainSession.h"
 
@@ -27,7 +29,8 @@ namespace terrain::runtime {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr auto kTimeout = std::chrono::seconds(60);
+// Longer than any run: a settle() that returns false before it has returned for the fault.
+constexpr auto kTimeout = std::chrono::hours(24);
 
 // A copy of `pyramid` in `folder` whose shard holding `patch` is bytes that are not a shard.
 fs::path damagedCopy(const fs::path& pyramid, const test::TempFolder& folder,
@@ -45,7 +48,7 @@ fs::path damagedCopy(const fs::path& pyramid, const test::TempFolder& folder,
 
 // High over the middle of the DEM, the whole of it in view.
 Camera planarCamera(const TerrainSession& session) {
-    const TerrainGeometry& g = session.geometry();
+    const TerrainGeometry& g = planeGeometry(session.surface());
     return test::cameraOverDem(g, 0.5, 0.3, 0.4 * g.demSize().x, 0.5, 0.6);
 }
 
@@ -59,9 +62,7 @@ TEST_F(RootFaultTest, UnreadableRootIsFatalAndSettleDoesNotWait) {
     ASSERT_TRUE(opened) << opened.error().message;
     TerrainSession& session = *opened.value();
     const Camera camera = planarCamera(session);
-    const auto start = std::chrono::steady_clock::now();
     EXPECT_FALSE(session.settle(camera, kTimeout));
-    EXPECT_LT(std::chrono::steady_clock::now() - start, kTimeout / 2) << "settle waited";
     const TileFault* fatal = session.fatalFault();
     ASSERT_NE(fatal, nullptr);
     EXPECT_EQ(fatal->id, (io::PatchId{0, 0, 0}));
@@ -110,16 +111,14 @@ TEST_F(RootFaultTest, UnreadableCubeFaceRootIsFatalOnTheGlobe) {
     const io::PatchId faceRoot = io::layoutPatchOf(globe::GlobePatchId{face, 0, 0, 0});
     test::TempFolder damagedFolder;
     const fs::path damaged = damagedCopy(pyramid, damagedFolder, faceRoot);
-    auto opened = GlobeSession::open(damaged, {});
+    auto opened = TerrainSession::open(damaged, {});
     ASSERT_TRUE(opened) << opened.error().message;
-    GlobeSession& session = *opened.value();
+    TerrainSession& session = *opened.value();
     Camera camera;
     camera.viewportWidth = 160;
     camera.viewportHeight = 120;
     placeOnGlobe(camera, GlobePose{{kLatitude, kLongitude, 20e6}, 0.0, -90.0});
-    const auto start = std::chrono::steady_clock::now();
     EXPECT_FALSE(session.settle(camera, kTimeout));
-    EXPECT_LT(std::chrono::steady_clock::now() - start, kTimeout / 2) << "settle waited";
     const TileFault* fatal = session.fatalFault();
     ASSERT_NE(fatal, nullptr);
     EXPECT_EQ(fatal->id, faceRoot);

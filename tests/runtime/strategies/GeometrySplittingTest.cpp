@@ -98,8 +98,9 @@ class GeometrySplittingTest : public GlTest {};
 TEST_F(GeometrySplittingTest, ATopDownViewIsAConformingMeshThatTilesTheRaster) {
     for (const auto& [width, height] : {std::pair{129, 129}, std::pair{100, 61}}) {
         SCOPED_TRACE(std::to_string(width) + " × " + std::to_string(height));
-        const runtime::TerrainGeometry geometry = geometryOf(width, height);
-        auto lee = GeometrySplittingStrategy::create(geometry, roughHeights(width, height, 1), 1.0);
+        const io::PyramidManifest manifest = manifestOf(width, height);
+    const runtime::TerrainGeometry geometry(manifest);
+        auto lee = GeometrySplittingStrategy::create(manifest, roughHeights(width, height, 1), 1.0);
         ASSERT_TRUE(lee) << lee.error().message;
         GeometrySplittingStrategy& s = *lee.value();
         // High enough for the whole raster to be in view, low enough to refine.
@@ -114,8 +115,9 @@ TEST_F(GeometrySplittingTest, ATopDownViewIsAConformingMeshThatTilesTheRaster) {
 
 TEST_F(GeometrySplittingTest, ObliqueViewsCullButLeaveNoTJunction) {
     constexpr int kSide = 257;
-    const runtime::TerrainGeometry geometry = geometryOf(kSide, kSide);
-    auto lee = GeometrySplittingStrategy::create(geometry, roughHeights(kSide, kSide, 2), 1.0);
+    const io::PyramidManifest manifest = manifestOf(kSide, kSide);
+    const runtime::TerrainGeometry geometry(manifest);
+    auto lee = GeometrySplittingStrategy::create(manifest, roughHeights(kSide, kSide, 2), 1.0);
     ASSERT_TRUE(lee) << lee.error().message;
     GeometrySplittingStrategy& s = *lee.value();
     for (const double pitch : {-10.0, -30.0}) {
@@ -129,8 +131,9 @@ TEST_F(GeometrySplittingTest, ObliqueViewsCullButLeaveNoTJunction) {
 
 TEST_F(GeometrySplittingTest, ListsThatOverflowAreGrownAndTheFrameBuiltAgain) {
     constexpr int kSide = 513;
-    const runtime::TerrainGeometry geometry = geometryOf(kSide, kSide);
-    auto lee = GeometrySplittingStrategy::create(geometry, roughHeights(kSide, kSide, 3), 0.25);
+    const io::PyramidManifest manifest = manifestOf(kSide, kSide);
+    const runtime::TerrainGeometry geometry(manifest);
+    auto lee = GeometrySplittingStrategy::create(manifest, roughHeights(kSide, kSide, 3), 0.25);
     ASSERT_TRUE(lee) << lee.error().message;
     GeometrySplittingStrategy& s = *lee.value();
     const runtime::Camera camera = cameraOver(geometry, 300.0, -89.0);
@@ -147,8 +150,9 @@ TEST_F(GeometrySplittingTest, ListsThatOverflowAreGrownAndTheFrameBuiltAgain) {
 
 TEST_F(GeometrySplittingTest, ASmallerThresholdNeverDrawsFewerTriangles) {
     constexpr int kSide = 257;
-    const runtime::TerrainGeometry geometry = geometryOf(kSide, kSide);
-    auto lee = GeometrySplittingStrategy::create(geometry, roughHeights(kSide, kSide, 4), 1.0);
+    const io::PyramidManifest manifest = manifestOf(kSide, kSide);
+    const runtime::TerrainGeometry geometry(manifest);
+    auto lee = GeometrySplittingStrategy::create(manifest, roughHeights(kSide, kSide, 4), 1.0);
     ASSERT_TRUE(lee) << lee.error().message;
     GeometrySplittingStrategy& s = *lee.value();
     const runtime::Camera camera = cameraOver(geometry, 80.0, -25.0, {0.0, 60.0});
@@ -164,15 +168,16 @@ TEST_F(GeometrySplittingTest, ASmallerThresholdNeverDrawsFewerTriangles) {
 
 TEST_F(GeometrySplittingTest, AViewWhoseListsPassTheBudgetDrawsWhatFits) {
     constexpr int kSide = 513;
-    const runtime::TerrainGeometry geometry = geometryOf(kSide, kSide);
+    const io::PyramidManifest manifest = manifestOf(kSide, kSide);
+    const runtime::TerrainGeometry geometry(manifest);
     std::size_t initialBytes = 0;
     {
         auto roomy =
-            GeometrySplittingStrategy::create(geometry, roughHeights(kSide, kSide, 3), 1.0);
+            GeometrySplittingStrategy::create(manifest, roughHeights(kSide, kSide, 3), 1.0);
         ASSERT_TRUE(roomy) << roomy.error().message;
         initialBytes = roomy.value()->memoryBytes();
     }
-    auto tight = GeometrySplittingStrategy::create(geometry, roughHeights(kSide, kSide, 3), 0.25,
+    auto tight = GeometrySplittingStrategy::create(manifest, roughHeights(kSide, kSide, 3), 0.25,
                                                    initialBytes);
     ASSERT_TRUE(tight) << tight.error().message;
     GeometrySplittingStrategy& s = *tight.value();
@@ -186,7 +191,7 @@ TEST_F(GeometrySplittingTest, AViewWhoseListsPassTheBudgetDrawsWhatFits) {
 
 TEST_F(GeometrySplittingTest, ARasterOverTheMemoryBudgetIsRefused) {
     constexpr int kSide = 257;
-    auto lee = GeometrySplittingStrategy::create(geometryOf(kSide, kSide),
+    auto lee = GeometrySplittingStrategy::create(manifestOf(kSide, kSide),
                                                  roughHeights(kSide, kSide, 5), 1.0, 100'000);
     ASSERT_FALSE(lee);
     EXPECT_NE(lee.error().message.find("MiB"), std::string::npos) << lee.error().message;

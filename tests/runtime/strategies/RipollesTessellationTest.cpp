@@ -81,8 +81,9 @@ class RipollesTessellationTest : public GlTest {};
 TEST_F(RipollesTessellationTest, ASettledViewIsAConformingTilingOfTheSquare) {
     for (const auto& [width, height] : {std::pair{129, 129}, std::pair{100, 61}}) {
         SCOPED_TRACE(std::to_string(width) + " × " + std::to_string(height));
-        const runtime::TerrainGeometry geometry = geometryOf(width, height);
-        auto made = RipollesStrategy::create(geometry, roughHeights(width, height, 1), 8.0);
+        const io::PyramidManifest manifest = manifestOf(width, height);
+    const runtime::TerrainGeometry geometry(manifest);
+        auto made = RipollesStrategy::create(manifest, roughHeights(width, height, 1), 8.0);
         ASSERT_TRUE(made) << made.error().message;
         RipollesStrategy& s = *made.value();
         const runtime::Camera camera = cameraOver(geometry, 80.0, -30.0, {0.0, -40.0});
@@ -96,10 +97,11 @@ TEST_F(RipollesTessellationTest, ASettledViewIsAConformingTilingOfTheSquare) {
 
 TEST_F(RipollesTessellationTest, CoherentStepsReachWhatStartingAgainReaches) {
     constexpr int kSide = 257;
-    const runtime::TerrainGeometry geometry = geometryOf(kSide, kSide);
+    const io::PyramidManifest manifest = manifestOf(kSide, kSide);
+    const runtime::TerrainGeometry geometry(manifest);
     const std::vector<float> heights = roughHeights(kSide, kSide, 2);
-    auto coherent = RipollesStrategy::create(geometry, heights, 6.0);
-    auto fresh = RipollesStrategy::create(geometry, heights, 6.0, {.coherence = false});
+    auto coherent = RipollesStrategy::create(manifest, heights, 6.0);
+    auto fresh = RipollesStrategy::create(manifest, heights, 6.0, {.coherence = false});
     ASSERT_TRUE(coherent) << coherent.error().message;
     ASSERT_TRUE(fresh) << fresh.error().message;
     // A flight that refines near one corner, moves across, climbs away (coarsening most of
@@ -130,8 +132,9 @@ TEST_F(RipollesTessellationTest, CoherentStepsReachWhatStartingAgainReaches) {
 
 TEST_F(RipollesTessellationTest, OneStepAFrameMovesByOneLevelAtMost) {
     constexpr int kSide = 257;
-    const runtime::TerrainGeometry geometry = geometryOf(kSide, kSide);
-    auto made = RipollesStrategy::create(geometry, roughHeights(kSide, kSide, 3), 4.0);
+    const io::PyramidManifest manifest = manifestOf(kSide, kSide);
+    const runtime::TerrainGeometry geometry(manifest);
+    auto made = RipollesStrategy::create(manifest, roughHeights(kSide, kSide, 3), 4.0);
     ASSERT_TRUE(made) << made.error().message;
     RipollesStrategy& s = *made.value();
     const runtime::Camera camera = cameraOver(geometry, 40.0, -20.0);
@@ -148,8 +151,9 @@ TEST_F(RipollesTessellationTest, OneStepAFrameMovesByOneLevelAtMost) {
 
 TEST_F(RipollesTessellationTest, ASmallerThresholdNeverDrawsFewerTriangles) {
     constexpr int kSide = 257;
-    const runtime::TerrainGeometry geometry = geometryOf(kSide, kSide);
-    auto made = RipollesStrategy::create(geometry, roughHeights(kSide, kSide, 4), 32.0);
+    const io::PyramidManifest manifest = manifestOf(kSide, kSide);
+    const runtime::TerrainGeometry geometry(manifest);
+    auto made = RipollesStrategy::create(manifest, roughHeights(kSide, kSide, 4), 32.0);
     ASSERT_TRUE(made) << made.error().message;
     RipollesStrategy& s = *made.value();
     const runtime::Camera camera = cameraOver(geometry, 60.0, -25.0, {0.0, 40.0});

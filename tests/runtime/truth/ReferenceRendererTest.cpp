@@ -115,7 +115,7 @@ TEST_F(ReferenceRendererTest, FullResolutionLodMeasuresWithinTheTolerance) {
     auto probe =
         runtime::AccuracyProbe::create(pyramid(), {.widthPx = kWidth, .heightPx = kHeight});
     ASSERT_TRUE(probe) << probe.error().message;
-    const int finest = opened.value()->geometry().layout().finestLevel();
+    const int finest = opened.value()->surface().layout().finestLevel();
     for (const runtime::Camera& camera : poses(probe.value()->surface())) {
         const SettledMeasure m =
             measureSettled(*opened.value(), *probe.value(), camera, kTinyErrorPx);

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "terrain/runtime/Camera.h"
-#include "terrain/runtime/GlobeLod.h"
+#include "terrain/runtime/PatchDraw.h"
 
 #include <glm/vec3.hpp>
 
@@ -30,7 +30,7 @@ static_assert(sizeof(GlobeInstance) == 144);
 
 /// The record of `patch` for a camera at ECEF `camera` whose ellipsoid normal is `cameraUp`
 /// (Wgs84::upAt), with its reference point at the camera's nadir clamped to the patch.
-GlobeInstance makeGlobeInstance(const GlobePatchDraw& patch, const glm::dvec3& camera,
+GlobeInstance makeGlobeInstance(const PatchDraw& patch, const glm::dvec3& camera,
                                 const glm::dvec3& cameraUp, int patchQuads);
 
 }  // namespace terrain::runtime

@@ -1,4 +1,4 @@
-// GlobeRenderer: draws the globe LOD's patches (GlobeLod) on the WGS84 ellipsoid in ONE
+// GlobeRenderer: draws the LOD's patches of a globe pyramid on the WGS84 ellipsoid in ONE
 // instanced draw of GL_PATCHES, as TerrainRenderer does on the plane: per instance one quad
 // patch primitive per tessellation block and the skirts (the same vertex stage), with
 // globe.tesc choosing per-edge factors from the block errors and globe.tese placing every
@@ -15,7 +15,7 @@
 #include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/GlobeInstance.h"
-#include "terrain/runtime/GlobeLod.h"
+#include "terrain/runtime/PatchDraw.h"
 #include "terrain/runtime/TerrainRenderer.h"
 
 #include <array>
@@ -43,7 +43,7 @@ public:
     /// (ECEF position). Depth must be cleared to 0 (reversed Z). style.errorPx is ε of the
     /// fine LOD; fog, wireframe, skirts, block culling and debug views as on the plane.
     TerrainDrawStats draw(const Camera& camera, const cache::GpuTilePool& pool,
-                          std::span<const GlobePatchDraw> patches, const TerrainStyle& style);
+                          std::span<const PatchDraw> patches, const TerrainStyle& style);
 
 private:
     void setUniforms(const Camera& camera, const TerrainStyle& style);

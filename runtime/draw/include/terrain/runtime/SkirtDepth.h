@@ -6,20 +6,16 @@
 #pragma once
 
 #include "terrain/cache/GpuTilePool.h"
-#include "terrain/runtime/GlobeLod.h"
-#include "terrain/runtime/PatchSelection.h"
+#include "terrain/runtime/PatchDraw.h"
 
 #include <span>
 
 namespace terrain::runtime {
 
 /// Sets every draw's skirtDepthM to max over `draws` of (errorM + the patch's largest block
-/// error λ(d), GpuTilePool::maxBlockErrorM): every drawn patch's Λ(d) for every block and
-/// d is at most that. Every draw must be resident in `pool` (TERRAIN_ASSERT). Allocates
-/// nothing. Render thread only.
+/// error λ(d)): a data patch's from its tile (GpuTilePool::maxBlockErrorM; it must be
+/// resident, TERRAIN_ASSERT), a bare or virtual one's from its draw. Every drawn patch's
+/// Λ(d) for every block and d is at most that. Allocates nothing. Render thread only.
 void assignSkirtDepths(std::span<PatchDraw> draws, const cache::GpuTilePool& pool);
-
-/// The same for the globe's draws: a data patch's λ from the pool, a bare one's from its draw.
-void assignSkirtDepths(std::span<GlobePatchDraw> draws, const cache::GpuTilePool& pool);
 
 }  // namespace terrain::runtime

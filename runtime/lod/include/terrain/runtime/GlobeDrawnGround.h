@@ -6,7 +6,7 @@
 #include "terrain/globe/GlobePatch.h"
 #include "terrain/pyramid/PatchRecord.h"
 #include "terrain/pyramid/PyramidLayout.h"
-#include "terrain/runtime/GlobeLod.h"
+#include "terrain/runtime/PatchDraw.h"
 
 #include <glm/vec3.hpp>
 
@@ -18,7 +18,7 @@ namespace terrain::runtime {
 /// The largest maxHeight of the drawn patches whose face square holds the nadir of `ecef`
 /// (a patch edge belongs to both sides); 0 (the ellipsoid) where none does, e.g. when the
 /// nadir was culled.
-double drawnGroundCeiling(std::span<const GlobePatchDraw> draws, const glm::dvec3& ecef);
+double drawnGroundCeiling(std::span<const PatchDraw> draws, const glm::dvec3& ecef);
 
 /// What is at hand for a patch without a read: its summary when its tile is resident on the
 /// GPU (TileResidency::residentInfo), its tile when the CPU cache holds it; else null.

@@ -1,5 +1,7 @@
 // LodQuadtree: the coarse LOD of Yusov & Shevtsov 2011, §5, as a persistent unbalanced
-// patch quadtree updated incrementally every frame (DESIGN.md, "LOD and drawing").
+// patch quadtree updated incrementally every frame (DESIGN.md, "LOD and drawing"), on the
+// plane and on the globe alike: the Surface (Surface.h) says where patches lie, and the
+// tree is one.
 //
 // A leaf is split when its screen-space error Err_Scr(P) = γ · Err(P) / ρ(c, V) exceeds
 // the coarse threshold ε_c = coarseShare · ε and all its children are resident on the GPU
@@ -17,16 +19,25 @@
 // each frame from cached boxes; subtrees that leave the view are collapsed to their root so
 // the GPU pool holds the view, not the history of the flight.
 //
-// Every node of the tree is pinned (TileResidency::pin), so whatever the tree draws stays
-// resident without per-frame bookkeeping. The tree sees streaming only through
-// TileResidency: no GL, no thread of its own.
+// A globe pyramid is sparse (DESIGN.md, "The globe"): where it holds no patch the tree draws
+// the bare ellipsoid (height 0), whose Err(P) is how far its flat triangles fall under the
+// ellipsoid (Surface::curvatureError), so bare patches refine with distance too. A child the
+// pyramid does not store under a data patch is virtual: it draws its parent's tile over its
+// quadrant (interpolated), as do its own children, and splits for the curvature alone (the
+// data's error cannot shrink without finer data). A root not yet resident is drawn bare
+// (the plane draws nothing until its root arrives). Patches behind the horizon are culled
+// like those outside the frustum. On the plane every patch is a data patch.
+//
+// Every node that draws its own tile is pinned (TileResidency::pin), so whatever the tree
+// draws stays resident without per-frame bookkeeping (a virtual node's tile is its pinned
+// ancestor's). The tree sees streaming only through TileResidency: no GL, no thread of its
+// own.
 #pragma once
 
 #include "terrain/pyramid/PyramidLayout.h"
-#include "terrain/runtime/Aabb.h"
 #include "terrain/runtime/Camera.h"
-#include "terrain/runtime/PatchSelection.h"
-#include "terrain/runtime/TerrainGeometry.h"
+#include "terrain/runtime/PatchDraw.h"
+#include "terrain/runtime/Surface.h"
 #include "terrain/runtime/TileResidency.h"
 
 #include <cstdint>
@@ -56,12 +67,12 @@ enum class SplitRule {
 
 struct LodOptions {
     double errorPx = 2.0;  ///< ε, pixels: what the drawn surface (both stages) is held to
-    /// The coarse stage selects patches with Err_Scr(P) ≤ coarseShare · ε, leaving the fine
-    /// stage room: its bound Λ(d) = λ(d) + Err(P) contains Err(P), so a patch selected at
-    /// the whole ε leaves its blocks nothing to simplify, and a larger ε could then draw
-    /// more triangles than a smaller one (docs/accuracy.md, "Splitting ε between the
-    /// stages").
-    double coarseShare = 0.5;
+    /// The coarse stage selects patches with Err_Scr(P) ≤ coarseShare · ε. Unset: the
+    /// surface's own (defaultCoarseShare). On the plane half, leaving the fine stage room:
+    /// its bound Λ(d) = λ(d) + Err(P) contains Err(P), so a patch selected at the whole ε
+    /// leaves its blocks nothing to simplify, and a larger ε could then draw more triangles
+    /// than a smaller one (docs/accuracy.md, "Splitting ε between the stages").
+    std::optional<double> coarseShare{};
     /// Merge when Err_Scr of the parent < coarse ε / hysteresis (> 1): the band between the
     /// split and the merge thresholds keeps decisions stable.
     double hysteresis = 1.25;
@@ -69,27 +80,44 @@ struct LodOptions {
     /// view, whatever its error: the uniform full-resolution grid (LodMethod::Uniform).
     bool splitToFinest = false;
     SplitRule splitRule = SplitRule::ProjectedError;
+    /// Cull patches hidden behind the horizon (the globe; the plane has none). False for
+    /// comparisons.
+    bool horizonCulling = true;
 
+    /// The coarse stage's share of ε on `surface` when coarseShare is unset.
+    static double defaultCoarseShare(SurfaceKind surface);
     /// The coarse stage's threshold, pixels.
-    double coarseErrorPx() const { return errorPx * coarseShare; }
+    double coarseErrorPx(SurfaceKind surface) const {
+        return errorPx * coarseShare.value_or(defaultCoarseShare(surface));
+    }
 };
 
 struct LodUpdateStats {
     std::uint64_t drawn = 0;
-    std::uint64_t culled = 0;       ///< leaves outside the frustum
-    std::uint64_t evaluations = 0;  ///< split or merge decisions computed this frame
+    std::uint64_t drawnBare = 0;      ///< of them, bare patches (no tile: the globe's ellipsoid)
+    std::uint64_t drawnVirtual = 0;   ///< of them, virtual patches (an ancestor's tile)
+    std::uint64_t culled = 0;         ///< leaves outside the frustum
+    std::uint64_t horizonCulled = 0;  ///< leaves behind the horizon (the globe)
+    std::uint64_t visited = 0;        ///< nodes the culling walk visited
+    std::uint64_t evaluations = 0;    ///< split or merge decisions computed this frame
     std::uint64_t splits = 0;
     std::uint64_t merges = 0;         ///< including subtrees collapsed as they left the view
     std::uint64_t waitingSplits = 0;  ///< leaves too coarse whose children are not resident
+    /// Visible nodes held split although within the coarse threshold (the hysteresis).
+    std::uint64_t heldSplits = 0;
     std::uint64_t nodes = 0;  ///< nodes in the tree after the update (RTIN: bintree nodes visited)
-    std::uint64_t coveredFinestPatches = 0;  ///< as PatchSelectionStats
+    int deepestLevel = 0;     ///< the deepest drawn patch's (layout) level
+    /// The drawn and culled patches' shares of the surface (Surface::coverageOf): the
+    /// surface's wholeCoverage() exactly when they tile it with no hole and no overlap (and
+    /// something was drawn).
+    std::uint64_t coverage = 0;
 };
 
 /// Render thread only. Holds pins in `residency`: destroy it before the residency. Allocates
 /// nothing per frame once its node and queue storage have grown.
 class LodQuadtree {
 public:
-    LodQuadtree(TileResidency& residency, const TerrainGeometry& geometry, LodOptions options = {});
+    LodQuadtree(TileResidency& residency, const Surface& surface, LodOptions options = {});
     ~LodQuadtree();
     LodQuadtree(const LodQuadtree&) = delete;
     LodQuadtree& operator=(const LodQuadtree&) = delete;
@@ -102,21 +130,34 @@ public:
     void setOptions(const LodOptions& options);
     const LodOptions& options() const { return m_options; }
 
-    /// The first broken invariant, or nullopt: leaves tile the domain exactly once,
-    /// children exist only as complete sets (every contained child), every node is pinned
-    /// and resident on the layer it records, parent links agree. O(nodes): for tests.
+    /// The first broken invariant, or nullopt: leaves tile the surface exactly once,
+    /// children exist only as complete sets (every child on the surface), every node that
+    /// draws its own tile is pinned and resident on the layer it records (a virtual one's
+    /// tile is resident on it), parent links agree. O(nodes): for tests.
     std::optional<std::string> checkInvariants() const;
 
 private:
     enum class CheckKind : std::uint8_t { Split, Merge };
+    enum class NodeKind : std::uint8_t {
+        Data,     ///< draws its own tile
+        Virtual,  ///< draws a quadrant of an ancestor's tile (the globe)
+        Bare,     ///< no tile: the bare surface (the globe's ellipsoid)
+    };
     struct Node {
         io::PatchId id;
-        Aabb box;
-        float errorM = 0.0f;
-        int layer = -1;
+        PatchVolume volume;
+        io::PatchInfo info;   // a data node's summary; a virtual node's tile's
+        float errorM = 0.0f;  // Err(P) as drawn
+        double splitM = 0.0;  // what a split can reduce: Err(P) above finer data, else curvature
+        int layer = -1;       // the drawn tile's layer; −1: bare
+        io::PatchId tile;     // the drawn tile: `id`, or a virtual node's ancestor
+        double texelOffsetX = 0.0, texelOffsetY = 0.0, texelStep = 1.0;
         int parent = -1;
         int firstChild = -1;  // childCount consecutive nodes
         std::uint8_t childCount = 0;
+        NodeKind kind = NodeKind::Data;
+        bool finerData = false;     // a data node with finer data under it
+        bool awaitingTile = false;  // a bare root whose tile is on its way (the globe)
         bool visible = false;
         bool waiting = false;          // in m_waiting
         bool splitBlocked = false;     // a child failed to load: never splits
@@ -131,10 +172,18 @@ private:
     };
 
     double screenError(const Node& node) const;
-    /// The metres the split rule projects: Err(P), or the level's sample spacing (Livny).
+    /// The metres the split rule projects: what a split reduces, or the level's sample
+    /// spacing (Livny, CDLOD).
     double metricM(const Node& node) const;
-    /// The distance the split rule divides by: to the box, or to the nearest edge (Livny).
+    /// The distance the split rule divides by: to the volume, or to the nearest edge (Livny).
     double decisionDistance(const Node& node) const;
+    double coarseErrorPx() const { return m_options.coarseErrorPx(m_surface.kind()); }
+    bool start();
+    void makeDataNode(Node& node, const io::PatchId& id, const io::PatchInfo& info);
+    void makeChild(Node& child, const Node& parent, const SurfaceChild& at,
+                   const io::PatchInfo* info);
+    void takeArrivedRoots();
+    PatchDraw drawOf(const Node& node) const;
     void schedule(int node, CheckKind kind, double travel);
     void pushCheck(int node, CheckKind kind, double atOdometer);
     void scheduleLeaf(int node);
@@ -148,20 +197,23 @@ private:
     void cull(int node, int planeMask, std::vector<PatchDraw>& out);
 
     TileResidency& m_residency;
-    const TerrainGeometry& m_geometry;
+    const Surface& m_surface;
     LodOptions m_options;
 
-    std::vector<Node> m_nodes;  // blocks of 4; the root is node 0 (alone in block 0)
+    // Blocks of 4 nodes; the roots first, in the blocks they fill (spare slots unused).
+    std::vector<Node> m_nodes;
+    int m_rootCount = 0;
+    int m_rootSlots = 0;  // the root blocks' slots
     std::vector<int> m_freeBlocks;
     std::vector<Check> m_checks;  // min-heap on atOdometer
     std::vector<int> m_waiting;   // leaves re-tried every frame
     std::vector<int> m_waitingNext;
 
     Camera m_camera;
-    Frustum m_frustum;
+    SurfaceView m_view;
     double m_gamma = 0.0;
     double m_odometer = 0.0;
-    bool m_haveRoot = false;
+    bool m_started = false;
     bool m_recheckAll = true;
     LodUpdateStats m_stats;
 };

@@ -12,6 +12,8 @@
 
 #include "terrain/pyramid/PyramidLayout.h"
 #include "terrain/runtime/Camera.h"
+#include "terrain/runtime/PatchDraw.h"
+#include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TileResidency.h"
 
@@ -19,14 +21,6 @@
 #include <vector>
 
 namespace terrain::runtime {
-
-struct PatchDraw {
-    io::PatchId id;
-    int layer = -1;       ///< the patch's layer in the GPU tile pool's texture arrays
-    float errorM = 0.0f;  ///< Err(P), metres: Λ(d) = λ(d) + Err(P) (Yusov §5)
-    /// How far below the edge the patch's skirts reach, metres (see the renderer).
-    float skirtDepthM = 0.0f;
-};
 
 struct PatchSelectionStats {
     std::uint64_t drawn = 0;
@@ -44,13 +38,5 @@ struct PatchSelectionStats {
 PatchSelectionStats selectPatches(const Camera& camera, const TerrainGeometry& geometry,
                                   double errorPx, TileResidency& residency,
                                   std::vector<PatchDraw>& out);
-
-/// The children of `id` inside the layout (1 to 4; fewer at the right and bottom edges).
-int containedChildren(const io::PyramidLayout& layout, const io::PatchId& id,
-                      io::PatchId (&children)[4]);
-
-/// Finest-level patches under `id` (clipped to the layout): the patch's share of the
-/// domain, for checking that selected patches tile it exactly once.
-std::uint64_t finestPatchesCovered(const io::PyramidLayout& layout, const io::PatchId& id);
 
 }  // namespace terrain::runtime

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "terrain/base/Result.h"
+#include "terrain/runtime/Surface.h"
 
 #include <span>
 #include <string>
@@ -72,12 +73,19 @@ struct LodMethodInfo {
     /// Holds the whole finest level in memory and streams nothing (the RTIN, Lee & Shin):
     /// the streaming stress test and the viewer refuse it.
     bool inCore;
+    /// Draws globe pyramids too (the WGS84 cube-sphere); the others draw planar ones only,
+    /// and a globe is refused with a message that says so (lodMethodSupports).
+    bool globe;
 };
 
 /// Every method, the default first.
 std::span<const LodMethodInfo> lodMethods();
 const LodMethodInfo& lodMethodInfo(LodMethod method);
 inline std::string_view lodMethodName(LodMethod method) { return lodMethodInfo(method).name; }
+
+/// Whether `method` draws pyramids of `surface`; an Error naming the method and the
+/// surface, and the methods that do, when it does not.
+Status lodMethodSupports(LodMethod method, SurfaceKind surface);
 
 /// A method by name; the error lists the names there are.
 Result<LodMethod> parseLodMethod(std::string_view name);

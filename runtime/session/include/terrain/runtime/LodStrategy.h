@@ -16,7 +16,7 @@
 #include "terrain/runtime/FrameTelemetry.h"
 #include "terrain/runtime/LodMethod.h"
 #include "terrain/runtime/LodQuadtree.h"
-#include "terrain/runtime/TerrainGeometry.h"
+#include "terrain/runtime/Surface.h"
 #include "terrain/runtime/TerrainRenderer.h"
 
 #include <chrono>
@@ -31,7 +31,8 @@ public:
     virtual ~LodStrategy() = default;
 
     virtual LodMethod method() const = 0;
-    virtual const TerrainGeometry& geometry() const = 0;
+    /// The pyramid's surface: where its patches lie, and the camera's conventions there.
+    virtual const Surface& surface() const = 0;
 
     /// The method's own threshold, pixels: ε for Yusov, τ for chunked LOD and the RTIN.
     /// Methods without one (the uniform grid) ignore it.

@@ -1,6 +1,7 @@
-// TerrainSession: one open pyramid being flown through — the tile streamer, the LOD
-// quadtree and the terrain renderer — and the frame protocol that ties them together, so
-// every program (terrain-render, the viewer, the benchmarks, tests) runs the same frame:
+// TerrainSession: one open pyramid, planar or globe, being flown through — the tile
+// streamer, the LOD quadtree over the pyramid's Surface and the terrain renderer — and the
+// frame protocol that ties them together, so every program (terrain-render, the viewer, the
+// benchmarks, tests) runs the same frame on either surface:
 //
 //   beginFrame(camera)  finished reads in; the LOD tree updated for the camera (unless
 //                       frozen); the skirt depths of the draw list assigned;
@@ -10,7 +11,9 @@
 //                       streaming, cache, LOD and draw columns of the telemetry log.
 //
 // The caller owns the GL context (current on this thread), the framebuffer, the clock
-// and the frame/time columns of the telemetry (frame, time_s, frame_ms).
+// and the frame/time columns of the telemetry (frame, time_s, frame_ms). The camera follows
+// the surface's conventions: the pyramid's map frame on the plane, ECEF with its frame
+// east-north-up at its position on the globe (placeOnGlobe).
 //
 // It is the LodStrategy of the methods that stream patches through the quadtree and draw
 // them in the one tessellated draw: Yusov & Shevtsov 2011 (the default), chunked LOD
@@ -19,20 +22,21 @@
 // Valdetaro et al. 2011 (the same finest-level grid, each patch cut into the paper's tiles
 // and drawn by ValdetaroRenderer) and Livny et al. 2007 (the quadtree split by Eq. 1,
 // drawn by LivnyRenderer) and CDLOD (Strugar 2009: the quadtree by distance ranges, drawn
-// morphed by CdlodRenderer).
+// morphed by CdlodRenderer). Only Yusov's draws globes (lodMethodSupports).
 #pragma once
 
 #include "terrain/base/Result.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/CdlodRenderer.h"
 #include "terrain/runtime/FrameTelemetry.h"
+#include "terrain/runtime/GlobeRenderer.h"
 #include "terrain/runtime/LivnyRenderer.h"
 #include "terrain/runtime/LodMethod.h"
 #include "terrain/runtime/LodQuadtree.h"
 #include "terrain/runtime/LodStrategy.h"
+#include "terrain/runtime/PatchDraw.h"
 #include "terrain/runtime/PatchRenderer.h"
-#include "terrain/runtime/PatchSelection.h"
-#include "terrain/runtime/TerrainGeometry.h"
+#include "terrain/runtime/Surface.h"
 #include "terrain/runtime/TerrainRenderer.h"
 #include "terrain/runtime/TileStreamer.h"
 #include "terrain/runtime/ValdetaroRenderer.h"
@@ -40,6 +44,7 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -58,7 +63,8 @@ struct TerrainSessionOptions {
 /// Render thread only; destroy it before its GL context.
 class TerrainSession final : public LodStrategy {
 public:
-    /// Opens the pyramid (errors name it), starts streaming, builds the renderer.
+    /// Opens the pyramid (errors name it; a method that does not draw its surface is one),
+    /// starts streaming, builds the renderer.
     static Result<std::unique_ptr<TerrainSession>> open(const std::filesystem::path& pyramid,
                                                         const TerrainSessionOptions& options);
     ~TerrainSession() override;
@@ -83,10 +89,11 @@ public:
     /// beginFrame. A frozen LOD is settled as it is.
     bool settle(const Camera& camera, std::chrono::milliseconds timeout) override;
 
-    /// The fault no frame can draw around: the root patch failed to read, so there is no
-    /// ancestor to draw in place of anything and every frame would be empty. Programs stop
-    /// with its message (it names the shard and the patch); nullptr while there is none.
-    /// Any other failed patch is drawn by its ancestor.
+    /// The fault no frame can draw around: a root patch failed to read, so there is no
+    /// ancestor to draw in place of its data (the plane's frames would be empty, a globe's
+    /// cube face the bare ellipsoid). Programs stop with its message (it names the shard and
+    /// the patch); nullptr while there is none. Any other failed patch is drawn by its
+    /// ancestor.
     const TileFault* fatalFault() const override;
 
     LodMethod method() const override { return m_method; }
@@ -117,18 +124,26 @@ public:
     TileStreamer& streamer() { return *m_streamer; }
     const TileStreamer& streamer() const { return *m_streamer; }
     const LodQuadtree& tree() const { return *m_tree; }
-    const TerrainGeometry& geometry() const override { return m_geometry; }
-    TerrainRenderer& renderer() { return m_renderer; }
+    const Surface& surface() const override { return *m_surface; }
+    const io::PyramidManifest& manifest() const { return m_streamer->manifest(); }
+    /// The planar draw (recordTessFactors and the like, for tests); a planar pyramid's only.
+    TerrainRenderer& renderer();
 
 private:
-    TerrainSession(std::unique_ptr<TileStreamer> streamer, TerrainRenderer renderer,
+    TerrainSession(std::unique_ptr<TileStreamer> streamer, std::unique_ptr<Surface> surface,
+                   std::optional<TerrainRenderer> planeRenderer,
+                   std::optional<GlobeRenderer> globeRenderer,
                    std::unique_ptr<PatchRenderer> methodRenderer, LodMethod method,
                    const LodOptions& lod);
+    /// A virtual patch interpolates its ancestor's tile between the tile's samples: its
+    /// bound takes the tile's largest λ on top of the tile's Err(P), however it is drawn.
+    void addTileErrorsToVirtualDraws();
 
     // Declared in destruction order's reverse: the tree holds pins in the streamer's pool.
     std::unique_ptr<TileStreamer> m_streamer;
-    TerrainGeometry m_geometry;
-    TerrainRenderer m_renderer;
+    std::unique_ptr<Surface> m_surface;
+    std::optional<TerrainRenderer> m_renderer;
+    std::optional<GlobeRenderer> m_globeRenderer;
     // Valdetaro2011, Livny2007 and Cdlod draw with their own; null for the methods that
     // draw with m_renderer.
     std::unique_ptr<PatchRenderer> m_methodRenderer;

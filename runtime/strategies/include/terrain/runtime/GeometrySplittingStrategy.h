@@ -21,6 +21,7 @@
 #include "terrain/gl/Texture.h"
 #include "terrain/gl/VertexArray.h"
 #include "terrain/runtime/LodStrategy.h"
+#include "terrain/runtime/PlaneSurface.h"
 
 #include <glm/vec2.hpp>
 
@@ -54,12 +55,12 @@ public:
         std::size_t maxBytes = kDefaultMaxBytes);
     /// The same from a raster in memory (tests): width × height samples, rows running south.
     static Result<std::unique_ptr<GeometrySplittingStrategy>> create(
-        TerrainGeometry geometry, std::vector<float> heights, double errorPx,
+        const io::PyramidManifest& manifest, std::vector<float> heights, double errorPx,
         std::size_t maxBytes = kDefaultMaxBytes);
     ~GeometrySplittingStrategy() override;
 
     LodMethod method() const override { return LodMethod::Lee2011; }
-    const TerrainGeometry& geometry() const override { return m_geometry; }
+    const Surface& surface() const override { return *m_surface; }
     /// τ, the tolerable screen-space error of Eq. 1–2.
     void setErrorPx(double errorPx) override { m_thresholdPx = errorPx; }
 
@@ -93,8 +94,8 @@ private:
         std::uint32_t triangles = 1 << 16;
     };
 
-    GeometrySplittingStrategy(TerrainGeometry geometry, Programs programs, gl::Query timeQuery,
-                              double errorPx, std::size_t maxBytes);
+    GeometrySplittingStrategy(const io::PyramidManifest& manifest, Programs programs,
+                              gl::Query timeQuery, double errorPx, std::size_t maxBytes);
     Status upload(const RoughnessQuadtree& tree, const std::vector<float>& heights);
     /// The lists for m_capacities; an Error, and nothing changed, when they would pass the
     /// memory budget.
@@ -106,7 +107,7 @@ private:
     void writeArguments(std::uint32_t countWord, std::uint32_t capacity,
                         std::uint32_t argumentsWord, bool draw);
 
-    TerrainGeometry m_geometry;
+    std::unique_ptr<PlaneSurface> m_surface;
     Programs m_programs;
     gl::Query m_timeQuery;
     gl::VertexArray m_emptyVertexArray;

@@ -24,6 +24,7 @@
 #include "terrain/gl/Texture.h"
 #include "terrain/gl/VertexArray.h"
 #include "terrain/runtime/LodStrategy.h"
+#include "terrain/runtime/PlaneSurface.h"
 
 #include <glm/vec2.hpp>
 
@@ -54,12 +55,12 @@ public:
                                                           std::size_t maxBytes = kDefaultMaxBytes);
     /// From a raster in memory (tests): width × height samples, rows running south.
     static Result<std::unique_ptr<RipollesStrategy>> create(
-        TerrainGeometry geometry, std::vector<float> heights, double thresholdPx,
+        const io::PyramidManifest& manifest, std::vector<float> heights, double thresholdPx,
         RipollesParameters parameters = {}, std::size_t maxBytes = kDefaultMaxBytes);
     ~RipollesStrategy() override;
 
     LodMethod method() const override { return LodMethod::Ripolles; }
-    const TerrainGeometry& geometry() const override { return m_geometry; }
+    const Surface& surface() const override { return *m_surface; }
     /// τ: the longest an edge may look on screen, pixels (the distance criterion of §4).
     void setErrorPx(double errorPx) override { m_thresholdPx = errorPx; }
 
@@ -91,7 +92,7 @@ private:
         gl::Program families, step, bookkeeping, merge, draw;
     };
 
-    RipollesStrategy(TerrainGeometry geometry, Programs programs, gl::Query timeQuery,
+    RipollesStrategy(const io::PyramidManifest& manifest, Programs programs, gl::Query timeQuery,
                      gl::Framebuffer stepTarget, double thresholdPx, RipollesParameters parameters,
                      std::size_t maxBytes);
     Status upload(const std::vector<float>& heights);
@@ -101,7 +102,7 @@ private:
     void bookkeeping(int phase);
     void readCounters();
 
-    TerrainGeometry m_geometry;
+    std::unique_ptr<PlaneSurface> m_surface;
     Programs m_programs;
     gl::Query m_timeQuery;
     gl::Framebuffer m_stepTarget;  ///< 1 × 1: the leaves' pass draws, rasterising nothing

@@ -11,6 +11,7 @@
 #include "terrain/gl/Query.h"
 #include "terrain/gl/VertexArray.h"
 #include "terrain/runtime/LodStrategy.h"
+#include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/RtinMesh.h"
 
 #include <array>
@@ -29,7 +30,7 @@ public:
         std::size_t maxBytes = RtinMesh::kDefaultMaxBytes);
 
     LodMethod method() const override { return LodMethod::Rtin; }
-    const TerrainGeometry& geometry() const override { return m_geometry; }
+    const Surface& surface() const override { return *m_surface; }
     void setErrorPx(double errorPx) override { m_errorPx = errorPx; }
 
     const LodUpdateStats& beginFrame(const Camera& camera) override;
@@ -49,8 +50,8 @@ public:
     const std::vector<RtinTriangle>& triangles() const { return m_triangles; }
 
 private:
-    RtinStrategy(TerrainGeometry geometry, RtinMesh mesh, gl::Program program, gl::Query timeQuery,
-                 double errorPx);
+    RtinStrategy(const io::PyramidManifest& manifest, RtinMesh mesh, gl::Program program,
+                 gl::Query timeQuery, double errorPx);
     /// Writes this frame's vertices (relative to `anchor`) and indices into the buffers.
     void upload(glm::dvec2 anchor);
 
@@ -59,7 +60,7 @@ private:
         std::array<float, 3> normal;
     };
 
-    TerrainGeometry m_geometry;
+    std::unique_ptr<PlaneSurface> m_surface;
     RtinMesh m_mesh;
     gl::Program m_program;
     gl::Query m_timeQuery;

@@ -1,14 +1,16 @@
-// The globe's coarse LOD on FakeTileResidency (one thread, no GL): the same view needs about
+// The LOD quadtree on the globe's surface (GlobeSurface), on FakeTileResidency (one thread,
+// no GL): the same view needs about
 // the same patches at a pole, on the equator, over a cube edge and over a cube corner (the
 // point of the cube-sphere); bare patches refine with distance; a data patch splits only
 // into resident children, absent ones drawn bare; horizon culling removes most of the globe
 // from an oblique view in low orbit and never what the frustum sees; hysteresis holds a split
 // while the camera moves back and forth across its threshold.
-#include "terrain/runtime/GlobeLod.h"
+#include "terrain/runtime/LodQuadtree.h"
 
 #include "FakeTileResidency.h"
 #include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/runtime/GlobeCamera.h"
+#include "terrain/runtime/GlobeSurface.h"
 
 #include <gtest/gtest.h>
 
@@ -16,12 +18,16 @@
 #include <iostream>
 #include <limits>
 #include <numbers>
+#include <tuple>
 
 namespace terrain::runtime {
 namespace {
 
 using test::FakeTileResidency;
 using test::FakeTileResidencyOptions;
+
+// A face level of a layout level (the layout's levels above the faces hold no patch).
+int faceLevel(int layoutLevel) { return layoutLevel - io::ManifestGlobe::kLevelOffset; }
 
 constexpr int kFaceLevels = 14;
 
@@ -73,7 +79,7 @@ std::unique_ptr<FakeTileResidency> roughEverywhere(const io::PyramidManifest& m,
     return std::make_unique<FakeTileResidency>(m.layout, infoOf, options);
 }
 
-TEST(GlobeLod, SameViewNeedsAboutTheSamePatchesAtAPoleTheEquatorAndACubeCorner) {
+TEST(LodQuadtreeGlobe, SameViewNeedsAboutTheSamePatchesAtAPoleTheEquatorAndACubeCorner) {
     const io::PyramidManifest m = globeManifest();
     for (const bool rough : {false, true})
         for (const double pitch : {-90.0, -30.0})
@@ -83,12 +89,13 @@ TEST(GlobeLod, SameViewNeedsAboutTheSamePatchesAtAPoleTheEquatorAndACubeCorner) 
                      {std::pair{90.0, 0.0}, std::pair{-90.0, 30.0}, std::pair{0.0, 0.0},
                       std::pair{0.0, 45.0}, std::pair{35.26439, 45.0}, std::pair{0.0, 180.0}}) {
                     auto residency = rough ? roughEverywhere(m) : nothingArrives(m);
-                    GlobeLod lod(m, *residency);
-                    std::vector<GlobePatchDraw> draws;
-                    GlobeLodStats stats;
+                    const GlobeSurface surface(m);
+                    LodQuadtree lod(*residency, surface);
+                    std::vector<PatchDraw> draws;
+                    LodUpdateStats stats;
                     for (int frame = 0; frame < 10; ++frame) {
                         residency->beginFrame();
-                        stats = lod.select(cameraAt(lat, lon, height, pitch), draws);
+                        stats = lod.update(cameraAt(lat, lon, height, pitch), draws);
                         residency->endFrame();
                     }
                     EXPECT_EQ(stats.waitingSplits, 0u);
@@ -98,7 +105,7 @@ TEST(GlobeLod, SameViewNeedsAboutTheSamePatchesAtAPoleTheEquatorAndACubeCorner) 
                     std::cout << (rough ? "rough planet, " : "bare ellipsoid, ") << "pitch "
                               << pitch << ", " << height << " m above (" << lat << ", " << lon
                               << "): " << stats.drawn << " patches, deepest level "
-                              << stats.deepestLevel << "\n";
+                              << faceLevel(stats.deepestLevel) << "\n";
                 }
                 const auto [lo, hi] = std::minmax_element(counts.begin(), counts.end());
                 EXPECT_GT(*lo, 0u);
@@ -114,26 +121,33 @@ TEST(GlobeLod, SameViewNeedsAboutTheSamePatchesAtAPoleTheEquatorAndACubeCorner) 
             }
 }
 
-TEST(GlobeLod, BarePatchesRefineTowardsTheCamera) {
+TEST(LodQuadtreeGlobe, BarePatchesRefineTowardsTheCamera) {
     const io::PyramidManifest m = globeManifest();
     auto residency = nothingArrives(m);
-    GlobeLod lod(m, *residency);
-    std::vector<GlobePatchDraw> near, far;
-    residency->beginFrame();
-    const GlobeLodStats low = lod.select(cameraAt(10.0, 20.0, 500.0, -10.0), near);
-    const GlobeLodStats high = lod.select(cameraAt(10.0, 20.0, 20e6), far);
-    residency->endFrame();
+    const GlobeSurface surface(m);
+    // Each view on a tree of its own: a tree that flew from one to the other merges what the
+    // first needed a level a frame as it travels.
+    std::vector<PatchDraw> near, far;
+    const auto viewFrom = [&](const Camera& camera, std::vector<PatchDraw>& draws) {
+        LodQuadtree lod(*residency, surface);
+        residency->beginFrame();
+        const LodUpdateStats stats = lod.update(camera, draws);
+        residency->endFrame();
+        return stats;
+    };
+    const LodUpdateStats low = viewFrom(cameraAt(10.0, 20.0, 500.0, -10.0), near);
+    const LodUpdateStats high = viewFrom(cameraAt(10.0, 20.0, 20e6), far);
     // The bare ellipsoid needs little: a flat triangle 1 km wide sags 5 cm under it.
     EXPECT_GE(low.deepestLevel, high.deepestLevel + 3);
-    EXPECT_LE(high.deepestLevel, 2);
-    for (const GlobePatchDraw& d : near) {
+    EXPECT_LE(faceLevel(high.deepestLevel), 2);
+    for (const PatchDraw& d : near) {
         EXPECT_EQ(d.layer, -1);
         EXPECT_GT(d.errorM, 0.0f);
         EXPECT_GT(d.bareBlockErrorsM[3], d.bareBlockErrorsM[0]);
     }
 }
 
-TEST(GlobeLod, DataPatchesSplitIntoResidentChildrenAndAbsentOnesAreVirtual) {
+TEST(LodQuadtreeGlobe, DataPatchesSplitIntoResidentChildrenAndAbsentOnesAreVirtual) {
     const io::PyramidManifest m = globeManifest();
     // Face 0's quadtree holds data along its x = 0 column only (child bit 0 and 2); the
     // error is large, so every data patch wants to split.
@@ -152,59 +166,65 @@ TEST(GlobeLod, DataPatchesSplitIntoResidentChildrenAndAbsentOnesAreVirtual) {
     options.framesToArrive = 0;
     options.capacity = 4096;
     FakeTileResidency residency(m.layout, infoOf, options);
-    GlobeLod lod(m, residency);
+    const GlobeSurface surface(m);
+    LodQuadtree lod(residency, surface);
     // Over face 0's west edge (lon −45°), low.
     const Camera camera = cameraAt(0.0, -44.0, 3000.0, -30.0);
-    std::vector<GlobePatchDraw> draws;
-    GlobeLodStats stats;
+    std::vector<PatchDraw> draws;
+    LodUpdateStats stats;
     for (int frame = 0; frame < 12; ++frame) {
         residency.beginFrame();
-        stats = lod.select(camera, draws);
+        stats = lod.update(camera, draws);
         residency.endFrame();
     }
     EXPECT_EQ(stats.waitingSplits, 0u);
     int dataDrawn = 0, deepestData = 0;
-    for (const GlobePatchDraw& d : draws) {
-        if (d.isVirtual) {
+    for (const PatchDraw& draw : draws) {
+        const globe::GlobePatchId id = io::globePatchOf(draw.id);
+        if (draw.isVirtual) {
             // It draws a quadrant of an ancestor's tile, which holds its area.
-            EXPECT_GE(d.layer, 0);
-            EXPECT_LT(d.tileId.level, d.id.level);
-            EXPECT_EQ(d.texelStep, 1.0f / float(1 << (d.id.level - d.tileId.level)));
-            const double tileSize = 1.0 / double(globe::patchesPerFaceSide(d.tileId.level));
-            const double patchSize = 1.0 / double(globe::patchesPerFaceSide(d.id.level));
-            const double offsetS = double(d.texelOffset[0]) / 128.0 * tileSize;
-            EXPECT_NEAR(double(d.tileId.x) * tileSize + offsetS, double(d.id.x) * patchSize, 1e-12);
+            const globe::GlobePatchId tileId = io::globePatchOf(draw.tileId);
+            EXPECT_GE(draw.layer, 0);
+            EXPECT_LT(tileId.level, id.level);
+            EXPECT_EQ(draw.texelStep, 1.0f / float(1 << (id.level - tileId.level)));
+            const double tileSize = 1.0 / double(globe::patchesPerFaceSide(tileId.level));
+            const double patchSize = 1.0 / double(globe::patchesPerFaceSide(id.level));
+            const double offsetS = double(draw.texelOffset[0]) / 128.0 * tileSize;
+            EXPECT_NEAR(double(tileId.x) * tileSize + offsetS, double(id.x) * patchSize, 1e-12);
             continue;
         }
-        if (d.layer < 0) continue;
+        if (draw.layer < 0) continue;
         ++dataDrawn;
-        deepestData = std::max(deepestData, d.id.level);
-        EXPECT_EQ(d.id.x, 0) << "only the x = 0 column holds data";
+        deepestData = std::max(deepestData, id.level);
+        EXPECT_EQ(id.x, 0) << "only the x = 0 column holds data";
     }
+    EXPECT_EQ(lod.checkInvariants(), std::nullopt);
+    EXPECT_EQ(stats.coverage, surface.wholeCoverage());
     EXPECT_GT(dataDrawn, 0);
     EXPECT_EQ(deepestData, kFaceLevels);  // data patches stop at the pyramid's finest level
     EXPECT_GT(stats.drawnVirtual, 0u);
     EXPECT_EQ(stats.drawnBare, 0u);
 }
 
-TEST(GlobeLod, HorizonCullingRemovesMostOfTheGlobeFromAnObliqueLowOrbitView) {
+TEST(LodQuadtreeGlobe, HorizonCullingRemovesMostOfTheGlobeFromAnObliqueLowOrbitView) {
     const io::PyramidManifest m = globeManifest();
     auto rough = roughEverywhere(m, 40e3);
     FakeTileResidency& residency = *rough;
-    GlobeLod lod(m, residency);
+    const GlobeSurface surface(m);
+    LodQuadtree lod(residency, surface);
     const Camera camera = cameraAt(40.0, 10.0, 1000e3, -20.0);
-    std::vector<GlobePatchDraw> withCulling, without;
-    GlobeLodStats culled, all;
+    std::vector<PatchDraw> withCulling, without;
+    LodUpdateStats culled, all;
     for (int frame = 0; frame < 10; ++frame) {
         residency.beginFrame();
-        culled = lod.select(camera, withCulling);
+        culled = lod.update(camera, withCulling);
         residency.endFrame();
     }
-    GlobeLodOptions off;
+    LodOptions off;
     off.horizonCulling = false;
     lod.setOptions(off);
     residency.beginFrame();
-    all = lod.select(camera, without);
+    all = lod.update(camera, without);
     residency.endFrame();
     std::cout << "oblique view from 1,000 km: horizon culling removed " << culled.horizonCulled
               << " of " << culled.visited << " visited patches; " << culled.drawn
@@ -215,43 +235,61 @@ TEST(GlobeLod, HorizonCullingRemovesMostOfTheGlobeFromAnObliqueLowOrbitView) {
 }
 
 // A camera moving back and forth across a split threshold: without hysteresis a patch
-// splits and merges every frame; with it the patches stay as they are. What the LOD holds is
-// only what it drew last frame: after a look at the other side of the globe, the first view
-// gets the patches a fresh LOD gives it.
-TEST(GlobeLod, ACameraRestingNearAThresholdChangesNothingFromFrameToFrame) {
+// splits and merges every frame; with it the patches stay as they are. Splits made for a view
+// do not outlive it: after a look at the other side of the globe, the first view gets no
+// patch a fresh LOD would not give it.
+TEST(LodQuadtreeGlobe, ACameraRestingNearAThresholdChangesNothingFromFrameToFrame) {
     const io::PyramidManifest m = globeManifest();
     auto rough = roughEverywhere(m);
     FakeTileResidency& residency = *rough;
-    const auto drawnAt = [&](GlobeLod& lod, double height, GlobeLodStats* stats = nullptr,
+    const GlobeSurface surface(m);
+    const auto drawnAt = [&](LodQuadtree& lod, double height, LodUpdateStats* stats = nullptr,
                              double latitude = 10.0, double longitude = 20.0) {
-        std::vector<GlobePatchDraw> draws;
+        std::vector<PatchDraw> draws;
         residency.beginFrame();
-        const GlobeLodStats s = lod.select(cameraAt(latitude, longitude, height, -30.0), draws);
+        const LodUpdateStats s = lod.update(cameraAt(latitude, longitude, height, -30.0), draws);
         residency.endFrame();
         EXPECT_EQ(s.waitingSplits, 0u);
         if (stats != nullptr) *stats = s;
         return s.drawn;
     };
-    GlobeLodOptions stateless;
+    const auto patchOrder = [](const io::PatchId& a, const io::PatchId& b) {
+        return std::tie(a.level, a.y, a.x) < std::tie(b.level, b.y, b.x);
+    };
+    // The drawn patches' ids, sorted, checking that drawn and culled ones tile the globe.
+    const auto drawnIdsAt = [&](LodQuadtree& lod, double height) {
+        std::vector<PatchDraw> draws;
+        residency.beginFrame();
+        const LodUpdateStats s = lod.update(cameraAt(10.0, 20.0, height, -30.0), draws);
+        residency.endFrame();
+        EXPECT_EQ(s.coverage, surface.wholeCoverage());
+        std::vector<io::PatchId> ids;
+        for (const PatchDraw& d : draws) ids.push_back(d.id);
+        std::sort(ids.begin(), ids.end(), patchOrder);
+        return ids;
+    };
+    LodOptions stateless;
     stateless.hysteresis = 1.0;
     // Two heights 1 % apart with different patches: a patch splits between them.
     double near = 0.0;
-    for (double h = 3000.0; h < 30000.0 && near == 0.0; h *= 1.01) {
-        GlobeLod a(m, residency, stateless), b(m, residency, stateless);
-        if (drawnAt(a, h) != drawnAt(b, h * 1.01)) near = h;
-    }
+    const auto freshAt = [&](double height) {
+        LodQuadtree fresh(residency, surface, stateless);
+        return drawnAt(fresh, height);
+    };
+    for (double h = 3000.0; h < 30000.0 && near == 0.0; h *= 1.01)
+        if (freshAt(h) != freshAt(h * 1.01)) near = h;
     ASSERT_GT(near, 0.0) << "no split threshold between 3 and 30 km";
     const double far = near * 1.01;
 
     for (const double hysteresis : {1.0, 1.25}) {
-        GlobeLodOptions options;
+        LodOptions options;
         options.hysteresis = hysteresis;
-        GlobeLod lod(m, residency, options);
+        auto lod = std::make_unique<LodQuadtree>(residency, surface, options);
         std::vector<std::uint64_t> counts;
         std::uint64_t held = 0;
         for (int frame = 0; frame < 8; ++frame) {
-            GlobeLodStats stats;
-            counts.push_back(drawnAt(lod, frame % 2 == 0 ? far : near, &stats));
+            LodUpdateStats stats;
+            counts.push_back(drawnAt(*lod, frame % 2 == 0 ? far : near, &stats));
             if (frame > 0 && frame % 2 == 0) held += stats.heldSplits;
         }
         EXPECT_LT(counts[0], counts[1]);
@@ -263,14 +301,25 @@ TEST(GlobeLod, ACameraRestingNearAThresholdChangesNothingFromFrameToFrame) {
             }
         }
         EXPECT_EQ(held > 0, hysteresis > 1.0);
-        drawnAt(lod, far, nullptr, -10.0, -160.0);
-        EXPECT_EQ(drawnAt(lod, far), counts[0]) << "a split outlived its view";
+        // A look at the other side of the globe, and back: no split made for the first view
+        // outlives it (every patch drawn back here is one a fresh tree draws; the tree may
+        // draw fewer, a face it split over there now culled patch by patch), and the drawn
+        // and culled patches still tile the globe.
+        drawnAt(*lod, far, nullptr, -10.0, -160.0);
+        const std::vector<io::PatchId> back = drawnIdsAt(*lod, far);
+        lod.reset();
+        LodQuadtree fresh(residency, surface, options);
+        const std::vector<io::PatchId> expected = drawnIdsAt(fresh, far);
+        EXPECT_TRUE(
+            std::includes(expected.begin(), expected.end(), back.begin(), back.end(), patchOrder))
+            << "a split outlived its view";
+        EXPECT_GE(back.size() + 1, expected.size()) << "more than a face culled patch by patch";
     }
 }
 
 // A child whose tile failed to load is never split into: its parent keeps drawing the area,
 // and the LOD does not count it as waiting (so a settle does not wait for it forever).
-TEST(GlobeLod, AFailedChildKeepsItsParentDrawingAndNothingWaits) {
+TEST(LodQuadtreeGlobe, AFailedChildKeepsItsParentDrawingAndNothingWaits) {
     const io::PyramidManifest m = globeManifest();
     const auto infoOf = [](const io::PatchId& layoutId) {
         io::PatchInfo info;
@@ -287,17 +336,19 @@ TEST(GlobeLod, AFailedChildKeepsItsParentDrawingAndNothingWaits) {
     // Every level-3 patch fails.
     options.fails = [](const io::PatchId& id) { return io::globePatchOf(id).level == 3; };
     FakeTileResidency residency(m.layout, infoOf, options);
-    GlobeLod lod(m, residency);
-    std::vector<GlobePatchDraw> draws;
-    GlobeLodStats stats;
+    const GlobeSurface surface(m);
+    LodQuadtree lod(residency, surface);
+    std::vector<PatchDraw> draws;
+    LodUpdateStats stats;
     for (int frame = 0; frame < 8; ++frame) {
         residency.beginFrame();
-        stats = lod.select(cameraAt(10.0, 20.0, 2000.0, -30.0), draws);
+        stats = lod.update(cameraAt(10.0, 20.0, 2000.0, -30.0), draws);
         residency.endFrame();
     }
     EXPECT_EQ(stats.waitingSplits, 0u);
     EXPECT_GT(stats.drawn, 0u);
-    for (const GlobePatchDraw& d : draws) EXPECT_LE(d.id.level, 2) << "drawn under a failed tile";
+    for (const PatchDraw& d : draws)
+        EXPECT_LE(io::globePatchOf(d.id).level, 2) << "drawn under a failed tile";
 }
 
 }  // namespace

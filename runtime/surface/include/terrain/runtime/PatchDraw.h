@@ -1,0 +1,49 @@
+// PatchDraw: one patch of a frame as the LOD hands it to the draw, on either surface. A
+// patch draws a tile of the GPU pool: its own (a data patch), an ancestor's quadrant (a
+// virtual patch: the globe's pyramids are sparse, and a patch whose data ends draws its
+// ancestor's tile interpolated), or none (a bare patch: the globe's ellipsoid where no data
+// lies). On the plane every patch is a data patch.
+#pragma once
+
+#include "terrain/pyramid/PatchRecord.h"
+#include "terrain/pyramid/PyramidLayout.h"
+
+#include <array>
+
+namespace terrain::runtime {
+
+struct PatchDraw {
+    io::PatchId id;       ///< the layout patch (a globe patch: io::layoutPatchOf)
+    int layer = -1;       ///< the GPU pool layer of its tile, or −1: bare (no tile)
+    float errorM = 0.0f;  ///< Err(P), metres: Λ(d) = λ(d) + Err(P) (Yusov §5)
+    /// How far below the edge the patch's skirts reach, metres (SkirtDepth.h).
+    float skirtDepthM = 0.0f;
+    float minHeight = 0.0f;  ///< of its tile (0 for a bare patch)
+    float maxHeight = 0.0f;
+    /// The tile it draws: `id` for a data patch, an ancestor for a virtual one, whose sample
+    /// texelOffset + s · texelStep lies under the patch's sample s.
+    io::PatchId tileId{};
+    bool isVirtual = false;
+    std::array<float, 2> texelOffset{0.0f, 0.0f};
+    float texelStep = 1.0f;
+    /// λ(1..4) of a patch without a tile of its own (bare or virtual): how far the surface
+    /// bulges over its blocks simplified by 2^d (plus, for a virtual one, its tile's λ).
+    std::array<float, 4> bareBlockErrorsM{};
+
+    /// A data patch: `id` drawn from its own tile on `layer`, whose summary is `info`.
+    static PatchDraw ofTile(const io::PatchId& id, int layer, const io::PatchInfo& info) {
+        PatchDraw draw;
+        draw.id = draw.tileId = id;
+        draw.layer = layer;
+        draw.errorM = info.error;
+        draw.minHeight = info.minHeight;
+        draw.maxHeight = info.maxHeight;
+        return draw;
+    }
+
+    bool bare() const { return layer < 0; }
+    /// A data patch: it draws its own tile.
+    bool ownsTile() const { return layer >= 0 && !isVirtual; }
+};
+
+}  // namespace terrain::runtime
