@@ -192,7 +192,7 @@ struct SettledMeasure {
 };
 
 /// One settled frame of any LOD method (LodStrategy) drawn with `style` and measured by
-/// `probe` at ε = style.errorPx: settle, beginFrame, the probe's draws, endFrame, the
+/// `probe` at the strategy's ε: settle, beginFrame, the probe's draws, endFrame, the
 /// reference, the measures.
 inline SettledMeasure measureSettledFrame(runtime::LodStrategy& strategy,
                                           runtime::AccuracyProbe& probe,
@@ -210,16 +210,15 @@ inline SettledMeasure measureSettledFrame(runtime::LodStrategy& strategy,
     auto reference = probe.renderReference(camera, runtime::referenceStyleOf(style));
     EXPECT_TRUE(reference) << reference.error().message;
     if (!reference) return m;
-    auto accuracy = probe.compare(camera, lodCapture, reference.value(), style.errorPx);
+    auto accuracy = probe.compare(camera, lodCapture, reference.value(), strategy.errorPx());
     EXPECT_TRUE(accuracy) << accuracy.error().message;
     if (accuracy) m.accuracy = accuracy.value();
     return m;
 }
 
-/// The style every settled measure draws with: measured, no fog, ε = errorPx.
-inline runtime::TerrainStyle measuredStyle(double errorPx) {
+/// The style every settled measure draws with: measured, no fog.
+inline runtime::TerrainStyle measuredStyle() {
     runtime::TerrainStyle style;
-    style.errorPx = errorPx;
     style.fogDensityPerM = 0.0f;
     style.measure = true;
     return style;
@@ -236,7 +235,7 @@ inline SettledMeasure measureSettled(runtime::TerrainSession& session,
         lod.errorPx = errorPx;
         session.setLodOptions(lod);
     }
-    runtime::TerrainStyle style = measuredStyle(errorPx);
+    runtime::TerrainStyle style = measuredStyle();
     style.fixedTessFactor = fixedTessFactor;
     style.cullBlocks = cullBlocks;
     return measureSettledFrame(session, probe, camera, style);

@@ -40,7 +40,7 @@ inline void sweepOtherMethods(const std::filesystem::path& pyramid, const std::v
                                          pose.name + " at ε = " + std::to_string(errorPx);
                 strategy.setErrorPx(errorPx);
                 const SettledMeasure m = measureSettledFrame(strategy, *probe.value(), pose.camera,
-                                                             measuredStyle(errorPx));
+                                                             measuredStyle());
                 std::cout << "[          ] " << what << ": " << m.triangles << " triangles; "
                           << describe(m.accuracy) << "\n";
                 expectStable(what, pose.camera, m,

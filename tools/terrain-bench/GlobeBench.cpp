@@ -14,9 +14,9 @@
 #include "terrain/runtime/GlobeCameraPath.h"
 #include "terrain/runtime/GlobeReferenceRenderer.h"
 #include "terrain/runtime/GlobeScreenSpaceError.h"
-#include "terrain/runtime/TerrainSession.h"
 #include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/LatencyHistogram.h"
+#include "terrain/runtime/TerrainSession.h"
 #include "terrain/source/DemReader.h"
 
 #include <epoxy/gl.h>
@@ -58,8 +58,7 @@ struct Frame {
 
 // One settled frame of `session` for `camera`, drawn with or without skirts; its depth.
 Frame drawFrame(runtime::TerrainSession& session, gl::Framebuffer& framebuffer,
-                const runtime::Camera& camera, double errorPx, bool skirts,
-                std::vector<float>& depth) {
+                const runtime::Camera& camera, bool skirts, std::vector<float>& depth) {
     Frame frame;
     session.settle(camera, std::chrono::seconds(60));
     frame.lod = session.beginFrame(camera);
@@ -68,7 +67,6 @@ Frame drawFrame(runtime::TerrainSession& session, gl::Framebuffer& framebuffer,
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
     glViewport(0, 0, camera.viewportWidth, camera.viewportHeight);
     runtime::TerrainStyle style;
-    style.errorPx = errorPx;
     style.skirts = skirts;
     style.measure = skirts;
     frame.drawn = session.draw(camera, style);
@@ -211,14 +209,13 @@ int runGlobeBench(const GlobeBenchOptions& o) {
         for (int f = 0; f < o.frames; ++f) {
             const double fraction = o.frames > 1 ? double(f) / double(o.frames - 1) : 1.0;
             path.value().apply(path.value().startS() + fraction * path.value().durationS(), camera);
-            const Frame frame =
-                drawFrame(session, framebuffer.value(), camera, errorPx, true, depth);
+            const Frame frame = drawFrame(session, framebuffer.value(), camera, true, depth);
             runtime::FrameImages lod;
             lod.width = o.widthPx;
             lod.height = o.heightPx;
             lod.rgba = framebuffer.value().readColorRgba8();
             lod.depth = std::move(depth);
-            drawFrame(session, framebuffer.value(), camera, errorPx, false, depthNoSkirts);
+            drawFrame(session, framebuffer.value(), camera, false, depthNoSkirts);
             const auto slotOf = [&](int frameIndex) {
                 return static_cast<std::size_t>(keepReferences ? frameIndex : frameIndex % 2);
             };
@@ -298,9 +295,7 @@ int runGlobeBench(const GlobeBenchOptions& o) {
             const runtime::LodUpdateStats& lod = fresh.value()->beginFrame(camera);
             framebuffer.value().clear({0.0f, 0.0f, 0.0f, 1.0f}, 0.0f);
             glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.value().id());
-            runtime::TerrainStyle style;
-            style.errorPx = errorPx;
-            fresh.value()->draw(camera, style);
+            fresh.value()->draw(camera, runtime::TerrainStyle{});
             glBindFramebuffer(GL_FRAMEBUFFER, 0);
             runtime::FrameTelemetry ignored;
             fresh.value()->endFrame(ignored);
@@ -373,8 +368,8 @@ int runGlobeBench(const GlobeBenchOptions& o) {
             // place before (a teleport merges what it no longer needs a level a frame).
             opened.value()->restartLod();
             std::vector<float> ignored;
-            const Frame frame = drawFrame(*opened.value(), framebuffer.value(), camera,
-                                          comparisonPx, true, ignored);
+            const Frame frame =
+                drawFrame(*opened.value(), framebuffer.value(), camera, true, ignored);
             sameView.push_back(
                 {{"place", name},
                  {"patches", frame.lod.drawn},

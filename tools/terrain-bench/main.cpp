@@ -262,7 +262,6 @@ int run(const BenchOptions& o, const char* argv0) {
             bool flight) -> Result<std::pair<tools::FrameRecord, runtime::LodCapture>> {
         runtime::LodStrategy& session = *r.session;
         runtime::TerrainStyle style;
-        style.errorPx = r.thresholdPx;
         style.measure = true;
         style.fogDensityPerM = static_cast<float>(o.fogDensity);
         if (o.coarseOnly) style.fixedTessFactor = geometry.layout().blockQuads();

@@ -5,6 +5,7 @@
 // one update of each. Prints medians, p95 and the speed-up; --json for scripts.
 #include "FrameSizeFlags.h"
 #include "GlInfoJson.h"
+#include "LodFlags.h"
 #include "StreamingBudgetFlags.h"
 
 #include "terrain/gl/HeadlessGlContext.h"
@@ -54,7 +55,7 @@ int main(int argc, char** argv) {
     bool json = false;
     app.add_option("pyramid", pyramid, "Pyramid folder")->required();
     tools::addFrameSizeFlags(app, width, height, "Viewport");
-    app.add_option("--error-px", errorPx, "ε, pixels")->capture_default_str();
+    tools::addErrorPxFlag(app, errorPx);
     app.add_option("--frames", frames, "Frames of the flight (60 per second of flight)")
         ->capture_default_str();
     app.add_option("--speed-mps", speedMps, "Flight speed")->capture_default_str();

@@ -9,6 +9,7 @@
 #include "GlImagePng.h"
 #include "GlInfoJson.h"
 #include "GlobeFlight.h"
+#include "LodFlags.h"
 #include "StreamingBudgetFlags.h"
 
 #include "terrain/gl/Framebuffer.h"
@@ -123,7 +124,6 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
     auto framebuffer = gl::Framebuffer::create(o.widthPx, o.heightPx, "terrain-render frame");
     if (!framebuffer) return fail(framebuffer.error().message);
     runtime::TerrainStyle style;
-    style.errorPx = static_cast<float>(o.errorPx);
     style.measure = true;
     style.wireframe = o.look.wireframe;
     style.skirts = !o.look.noSkirts;
@@ -331,7 +331,6 @@ int run(const RenderOptions& o) {
     if (!framebuffer) return fail(framebuffer.error().message);
 
     runtime::TerrainStyle style;
-    style.errorPx = static_cast<float>(o.errorPx);
     style.measure = true;
     style.wireframe = o.look.wireframe;
     style.skirts = !o.look.noSkirts;
@@ -479,12 +478,8 @@ int main(int argc, char** argv) {
     app.add_option("-o,--output", o.outputDir, "Folder for frames and telemetry.csv")
         ->capture_default_str();
     tools::addFrameSizeFlags(app, o.widthPx, o.heightPx);
-    app.add_option("--error-px", o.errorPx, "Screen-space error threshold ε, pixels")
-        ->capture_default_str()
-        ->check(CLI::Range(0.05, 1e4));
-    app.add_option("--method", o.method,
-                   "LOD method (docs/lod-methods.md): " + runtime::lodMethodNames())
-        ->capture_default_str();
+    tools::addErrorPxFlag(app, o.errorPx);
+    tools::addMethodFlag(app, o.method);
     app.add_flag("--ripolles-no-coherence", o.ripollesNoCoherence,
                  "ripolles: each frame starts again from the input mesh (the paper's Table 3, "
                  "\"no coherence exploitation\")");

@@ -8,6 +8,7 @@
 #include "FrameSizeFlags.h"
 #include "GlImagePng.h"
 #include "GlInfoJson.h"
+#include "LodFlags.h"
 #include "StreamingBudgetFlags.h"
 #include "StressChecks.h"
 #include "StressTarget.h"
@@ -405,14 +406,8 @@ int main(int argc, char** argv) {
     app.add_option("--seed", o.seed, "Seed of the flight and of the injected faults")
         ->capture_default_str();
     tools::addFrameSizeFlags(app, o.widthPx, o.heightPx);
-    app.add_option("--error-px", o.errorPx, "Screen-space error threshold ε, pixels")
-        ->capture_default_str()
-        ->check(CLI::Range(0.05, 1e4));
-    app.add_option(
-           "--method", o.method,
-           "LOD method (docs/lod-methods.md): any but rtin, lee2011 and ripolles, which stream "
-           "nothing")
-        ->capture_default_str();
+    tools::addErrorPxFlag(app, o.errorPx);
+    tools::addMethodFlag(app, o.method, " (not rtin, lee2011 or ripolles: they stream nothing)");
     app.add_option("--fov", o.fovDegrees, "Vertical field of view, degrees")
         ->capture_default_str()
         ->check(CLI::Range(5.0, 150.0));

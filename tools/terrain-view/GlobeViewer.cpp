@@ -67,7 +67,6 @@ Result<std::unique_ptr<GlobeViewer>> GlobeViewer::create(const ViewerOptions& op
     }
     viewer->m_flyTo = {viewer->m_pose.where.latitudeDeg, viewer->m_pose.where.longitudeDeg,
                        10000.0};
-    viewer->m_style.errorPx = options.errorPx;
     viewer->m_style.skyColor = kSpace;
     viewer->m_style.debugView = options.look.debugViewValue();
     viewer->m_style.wireframe = options.look.wireframe;
@@ -130,9 +129,8 @@ void GlobeViewer::drawOverlay(const runtime::FrameTelemetry& t) {
                 static_cast<unsigned long long>(lod.horizonCulled));
     ImGui::Text("LOD %.0f µs, loads queued %llu", m_session->lodUpdateUs(),
                 static_cast<unsigned long long>(t.queueDepth));
-    float errorPx = static_cast<float>(m_style.errorPx);
+    float errorPx = static_cast<float>(m_session->errorPx());
     if (ImGui::SliderFloat("error (px)", &errorPx, 0.5f, 16.0f)) {
-        m_style.errorPx = errorPx;
         m_session->setErrorPx(errorPx);
     }
     const io::PyramidManifest& m = m_session->manifest();

@@ -334,7 +334,6 @@ void Viewer::applySettings() {
     controls.keepAboveGround = m_settings.keepAboveGround;
     m_controller.setOptions(controls);
 
-    m_style.errorPx = m_settings.errorPx;
     m_style.debugView = m_settings.debugView;
     m_style.wireframe = m_settings.wireframe;
     m_style.skirts = m_settings.skirts;

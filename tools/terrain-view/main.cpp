@@ -4,6 +4,7 @@
 #include "FrameSizeFlags.h"
 #include "GlobeViewer.h"
 #include "KeyBindings.h"
+#include "LodFlags.h"
 #include "Viewer.h"
 #include "ViewerOptions.h"
 #include "terrain/pyramid/PyramidManifest.h"
@@ -63,13 +64,9 @@ int main(int argc, char** argv) {
         "--no-vsync", [&o](std::int64_t) { o.vsync = false; },
         "Do not wait for the display's refresh (V toggles)");
     app.add_flag("--no-overlay", o.hideOverlay, "Start with the overlay hidden (F1 toggles)");
-    app.add_option("--error-px", o.errorPx,
-                   "Screen-space error threshold ε, pixels ([ and ] change it)")
-        ->capture_default_str()
-        ->check(CLI::Range(0.1, 64.0));
-    app.add_option("--method", o.method,
-                   "LOD method (docs/lod-methods.md): any but rtin, which streams nothing")
-        ->capture_default_str();
+    terrain::tools::addErrorPxFlag(app, o.errorPx, " ([ and ] change it)");
+    terrain::tools::addMethodFlag(app, o.method,
+                                  " (not rtin, lee2011 or ripolles: they stream nothing)");
     terrain::tools::addStreamingBudgetFlags(app, o.budgets);
     app.add_option("--measure-every", o.measureEvery,
                    "Measure triangles and GPU time every N frames (1: every frame; measuring "

@@ -17,13 +17,13 @@ Result<CdlodRenderer> CdlodRenderer::create(const io::PyramidLayout& layout, int
 
 TerrainDrawStats CdlodRenderer::draw(const Camera& camera, const TerrainGeometry& geometry,
                                      const cache::GpuTilePool& pool,
-                                     std::span<const PatchDraw> patches,
-                                     const TerrainStyle& style) {
+                                     std::span<const PatchDraw> patches, const TerrainStyle& style,
+                                     double errorPx) {
     if (patches.empty()) return {};
     m_draw.prepare(camera, geometry, pool, patches, style);
     gl::Program& program = m_draw.program;
     program.setUniform("u_gridQuads", m_gridQuads);
-    program.setUniform("u_rangePerMetre", static_cast<float>(camera.errorScale() / style.errorPx));
+    program.setUniform("u_rangePerMetre", static_cast<float>(camera.errorScale() / errorPx));
     program.setUniform("u_morphStartRatio", kMorphStartRatio);
     return issueInstancedPatchDraw(pool, {.program = program,
                                           .vertexArray = m_grid.vertexArray(),

@@ -54,7 +54,7 @@ Result<GlobeRenderer> GlobeRenderer::create(const io::PyramidManifest& manifest,
     return r;
 }
 
-void GlobeRenderer::setUniforms(const Camera& camera, const TerrainStyle& style) {
+void GlobeRenderer::setUniforms(const Camera& camera, const TerrainStyle& style, double errorPx) {
     const glm::mat4 viewProjection(camera.relativeViewProjection());
     m_program.setUniformMat4("u_viewProjection",
                              std::span<const float, 16>(glm::value_ptr(viewProjection), 16));
@@ -67,7 +67,7 @@ void GlobeRenderer::setUniforms(const Camera& camera, const TerrainStyle& style)
     m_program.setUniform("u_pxPerMAtUnitDistance",
                          static_cast<float>(focalPx * (1.0 + tanX * tanX + tanY * tanY)));
     m_program.setUniform("u_nearM", static_cast<float>(camera.nearPlane));
-    m_program.setUniform("u_errorPx", static_cast<float>(style.errorPx));
+    m_program.setUniform("u_errorPx", static_cast<float>(errorPx));
     m_program.setUniform("u_fixedSimplification",
                          fixedSimplification(style.fixedTessFactor, m_blockQuads));
     m_program.setUniform("u_cullBlocks", style.cullBlocks ? 1 : 0);
@@ -86,8 +86,8 @@ void GlobeRenderer::setUniforms(const Camera& camera, const TerrainStyle& style)
 }
 
 TerrainDrawStats GlobeRenderer::draw(const Camera& camera, const cache::GpuTilePool& pool,
-                                     std::span<const PatchDraw> patches,
-                                     const TerrainStyle& style) {
+                                     std::span<const PatchDraw> patches, const TerrainStyle& style,
+                                     double errorPx) {
     TERRAIN_ASSERT(patches.size() <= static_cast<std::size_t>(m_maxInstances),
                    "GlobeRenderer: more patches than instances");
     if (patches.empty()) return {};
@@ -99,7 +99,7 @@ TerrainDrawStats GlobeRenderer::draw(const Camera& camera, const cache::GpuTileP
         m_staging.push_back(makeGlobeInstance(p, camera.position, cameraUp, m_patchQuads));
     }
     m_instances.upload(0, std::as_bytes(std::span(m_staging)));
-    setUniforms(camera, style);
+    setUniforms(camera, style, errorPx);
     return issueInstancedPatchDraw(
         pool, {.program = m_program,
                .vertexArray = m_vertexArray,

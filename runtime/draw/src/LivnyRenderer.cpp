@@ -28,8 +28,8 @@ Result<LivnyRenderer> LivnyRenderer::create(const io::PyramidLayout& layout, int
 
 TerrainDrawStats LivnyRenderer::draw(const Camera& camera, const TerrainGeometry& geometry,
                                      const cache::GpuTilePool& pool,
-                                     std::span<const PatchDraw> patches,
-                                     const TerrainStyle& style) {
+                                     std::span<const PatchDraw> patches, const TerrainStyle& style,
+                                     double errorPx) {
     if (patches.empty()) return {};
     m_draw.prepare(camera, geometry, pool, patches, style);
     // terrain.vert's 2 × 2 "blocks" are the four tile primitives; livny.tesc makes each a
@@ -37,7 +37,7 @@ TerrainDrawStats LivnyRenderer::draw(const Camera& camera, const TerrainGeometry
     gl::Program& program = m_draw.program;
     program.setUniform("u_blocksPerSide", 2);
     program.setUniform("u_blockQuads", m_patchQuads / 2);
-    program.setUniform("u_errorPx", static_cast<float>(style.errorPx));
+    program.setUniform("u_errorPx", static_cast<float>(errorPx));
     program.setUniform("u_errorScale", static_cast<float>(camera.errorScale()));
     program.setUniform("u_innerScale", kInnerScale);
     return issueInstancedPatchDraw(pool, {.program = program,

@@ -61,14 +61,14 @@ int TerrainRenderer::primitivesPerInstance(bool skirts) const {
 TerrainDrawStats TerrainRenderer::draw(const Camera& camera, const TerrainGeometry& geometry,
                                        const cache::GpuTilePool& pool,
                                        std::span<const PatchDraw> patches,
-                                       const TerrainStyle& style) {
-    prepare(camera, geometry, pool, patches, style);
+                                       const TerrainStyle& style, double errorPx) {
+    prepare(camera, geometry, pool, patches, style, errorPx);
     return submit(pool);
 }
 
 void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geometry,
                               const cache::GpuTilePool& pool, std::span<const PatchDraw> patches,
-                              const TerrainStyle& style) {
+                              const TerrainStyle& style, double errorPx) {
     TERRAIN_ASSERT(patches.size() <= static_cast<std::size_t>(m_maxInstances),
                    "TerrainRenderer: more patches than instances");
     m_preparedInstances = static_cast<int>(patches.size());
@@ -90,7 +90,7 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
         for (std::size_t i = 0; i < patches.size(); ++i) {
             const CoarseCellChoice choice =
                 coarseCellChoice(lodCamera, geometry, patches[i].id, *pool.info(patches[i].id),
-                                 pool.coarseCellErrorsM(patches[i].id), style.errorPx);
+                                 pool.coarseCellErrorsM(patches[i].id), errorPx);
             if (!choice.coarse()) continue;
             const float errorM = io::roundUpToFloat(choice.errorM);  // a bound: rounded up
             m_staging[i].coarseCells = {static_cast<float>(choice.cellQuads), errorM, 0.0f, 0.0f};
@@ -107,7 +107,7 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
     m_program.setUniform("u_viewportPx",
                          std::array<float, 2>{static_cast<float>(camera.viewportWidth),
                                               static_cast<float>(camera.viewportHeight)});
-    m_program.setUniform("u_errorPx", static_cast<float>(style.errorPx));
+    m_program.setUniform("u_errorPx", static_cast<float>(errorPx));
     m_program.setUniform("u_fixedSimplification",
                          fixedSimplification(style.fixedTessFactor, m_blockQuads));
     m_program.setUniform("u_cullBlocks", style.cullBlocks ? 1 : 0);

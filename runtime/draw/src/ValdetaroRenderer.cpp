@@ -51,7 +51,7 @@ Result<ValdetaroRenderer> ValdetaroRenderer::create(const io::PyramidLayout& lay
 TerrainDrawStats ValdetaroRenderer::draw(const Camera& camera, const TerrainGeometry& geometry,
                                          const cache::GpuTilePool& pool,
                                          std::span<const PatchDraw> patches,
-                                         const TerrainStyle& style) {
+                                         const TerrainStyle& style, double errorPx) {
     if (patches.empty()) return {};
     m_draw.prepare(camera, geometry, pool, patches, style);
     const glm::dvec2 spacing = geometry.sampleSpacing();
@@ -63,7 +63,7 @@ TerrainDrawStats ValdetaroRenderer::draw(const Camera& camera, const TerrainGeom
     program.setUniform("u_viewportPx",
                        std::array<float, 2>{static_cast<float>(camera.viewportWidth),
                                             static_cast<float>(camera.viewportHeight)});
-    program.setUniform("u_errorPx", static_cast<float>(style.errorPx));
+    program.setUniform("u_errorPx", static_cast<float>(errorPx));
     program.setUniform("u_hamGain", static_cast<float>(m_parameters.hamGain));
     program.setUniform("u_dMaxM", static_cast<float>(dMaxM));
     program.setUniform("u_maxFactor",

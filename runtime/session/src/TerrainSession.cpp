@@ -195,21 +195,22 @@ void TerrainSession::addTileErrorsToVirtualDraws() {
 
 TerrainDrawStats TerrainSession::draw(const Camera& camera, const TerrainStyle& style) {
     if (m_globeRenderer) {
-        m_lastDraw = m_globeRenderer->draw(camera, m_streamer->pool(), m_draws, style);
+        m_lastDraw = m_globeRenderer->draw(camera, m_streamer->pool(), m_draws, style, errorPx());
         return m_lastDraw;
     }
     const TerrainGeometry& geometry = planeGeometry(*m_surface);
     if (m_methodRenderer) {
-        m_lastDraw = m_methodRenderer->draw(camera, geometry, m_streamer->pool(), m_draws, style);
+        m_lastDraw = m_methodRenderer->draw(camera, geometry, m_streamer->pool(), m_draws, style,
+                                              errorPx());
         return m_lastDraw;
     }
     if (drawsFullPatches(m_method)) {
         TerrainStyle full = style;
         full.fixedTessFactor = geometry.layout().blockQuads();
-        m_lastDraw = m_renderer->draw(camera, geometry, m_streamer->pool(), m_draws, full);
+        m_lastDraw = m_renderer->draw(camera, geometry, m_streamer->pool(), m_draws, full, errorPx());
         return m_lastDraw;
     }
-    m_lastDraw = m_renderer->draw(camera, geometry, m_streamer->pool(), m_draws, style);
+    m_lastDraw = m_renderer->draw(camera, geometry, m_streamer->pool(), m_draws, style, errorPx());
     return m_lastDraw;
 }
 

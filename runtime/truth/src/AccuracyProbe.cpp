@@ -197,7 +197,7 @@ Result<FrameAccuracy> AccuracyProbe::measure(LodStrategy& session, const Camera&
     const LodCapture lod = captureLod(session, camera, style);
     auto reference = renderReference(camera, referenceStyleOf(style));
     if (!reference) return reference.error();
-    return compare(camera, lod, reference.value(), style.errorPx);
+    return compare(camera, lod, reference.value(), session.errorPx());
 }
 
 }  // namespace terrain::runtime

@@ -77,7 +77,6 @@ DrawnView drawSettled(const std::filesystem::path& pyramid, const runtime::Camer
     auto fb = gl::Framebuffer::create(kWidth, kHeight);
     EXPECT_TRUE(fb) << fb.error().message;
     runtime::TerrainStyle style;
-    style.errorPx = errorPx;
     style.measure = true;
     style.cullBlocks = cullBlocks;
     style.coarseCells = coarseCells;

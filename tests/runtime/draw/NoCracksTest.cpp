@@ -103,14 +103,13 @@ protected:
             stats.patchesDrawn += draws.size();
 
             runtime::TerrainStyle style;
-            style.errorPx = kFineErrorPx;
             style.fogDensityPerM = 0.0f;
             glBindFramebuffer(GL_FRAMEBUFFER, fb.value().id());
             glViewport(0, 0, kWidth, kHeight);
             for (const bool skirts : {true, false}) {
                 style.skirts = skirts;
                 fb.value().clear(kHoleColor, 0.0f);
-                renderer.value().draw(camera, g, streamer.pool(), draws, style);
+                renderer.value().draw(camera, g, streamer.pool(), draws, style, kFineErrorPx);
                 const std::uint64_t clear = countHolePixels(fb.value());
                 if (skirts) {
                     stats.clearPixelsWithSkirts += clear;

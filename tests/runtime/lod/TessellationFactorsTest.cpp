@@ -34,6 +34,9 @@
 namespace terrain::test {
 namespace {
 
+// ε of a draw whose factors are fixed (TerrainStyle::fixedTessFactor): it decides nothing.
+constexpr double kFixedFactorErrorPx = 2.0;
+
 using runtime::BlockFactors;
 using runtime::Camera;
 using runtime::PatchDraw;
@@ -152,17 +155,15 @@ protected:
         return blocks * blocks + 4 * blocks;
     }
 
-    static std::vector<RecordedTessFactors> drawAndRecord(runtime::TerrainRenderer& renderer,
-                                                          Scene& scene,
-                                                          const runtime::TerrainGeometry& g,
-                                                          const Camera& camera,
-                                                          const runtime::TerrainStyle& style) {
+    static std::vector<RecordedTessFactors> drawAndRecord(
+        runtime::TerrainRenderer& renderer, Scene& scene, const runtime::TerrainGeometry& g,
+        const Camera& camera, const runtime::TerrainStyle& style, double errorPx) {
         // Only the control stage's records matter: nothing needs rasterising (the headless
         // context has no default framebuffer, so a small one is bound all the same).
         const gl::Framebuffer target = gl::Framebuffer::create(16, 16).value();
         glBindFramebuffer(GL_FRAMEBUFFER, target.id());
         glEnable(GL_RASTERIZER_DISCARD);
-        renderer.draw(camera, g, scene.pool, scene.draws, style);
+        renderer.draw(camera, g, scene.pool, scene.draws, style, errorPx);
         glDisable(GL_RASTERIZER_DISCARD);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         return renderer.readTessFactors(static_cast<int>(scene.draws.size()));
@@ -188,10 +189,9 @@ TEST_F(TessellationFactorsTest, ControlStageMatchesTheCpuModel) {
     for (const Pose& pose : poses(g)) {
         SCOPED_TRACE(pose.name);
         runtime::TerrainStyle style;
-        style.errorPx = pose.errorPx;
         style.coarseCells = false;  // every patch as blocks: the edge rule everywhere
         const std::vector<RecordedTessFactors> gpu =
-            drawAndRecord(renderer.value(), scene, g, pose.camera, style);
+            drawAndRecord(renderer.value(), scene, g, pose.camera, style, pose.errorPx);
         int failures = 0;  // messages per pose, not per edge
         for (std::size_t i = 0; i < scene.records.size(); ++i) {
             const io::PatchRecord& record = scene.records[i];
@@ -339,7 +339,7 @@ TEST_F(TessellationFactorsTest, FixedFactorIsUniformAndSkirtsDropItsBlockError) 
         const int expected = std::bit_floor(static_cast<unsigned>(std::min(requested, 8)));
         const int d = std::countr_zero(8u) - std::countr_zero(static_cast<unsigned>(expected));
         const std::vector<RecordedTessFactors> gpu =
-            drawAndRecord(renderer.value(), scene, g, camera, style);
+            drawAndRecord(renderer.value(), scene, g, camera, style, kFixedFactorErrorPx);
         for (std::size_t i = 0; i < scene.records.size(); ++i) {
             const RecordedTessFactors* patch = &gpu[i * static_cast<std::size_t>(perInstance)];
             for (int b = 0; b < blocks * blocks; ++b) {
@@ -377,12 +377,11 @@ TEST_F(TessellationFactorsTest, LodCameraDecidesTheFactors) {
         drawn.viewportHeight = lodPose.camera.viewportHeight;
         SCOPED_TRACE(lodPose.name + " drawn from " + all[p + 1].name);
         runtime::TerrainStyle style;
-        style.errorPx = lodPose.errorPx;
         style.cullBlocks = false;  // culling follows the drawn camera; the factors do not
         style.coarseCells = false;
         style.lodCamera = lodPose.camera;
         const std::vector<RecordedTessFactors> gpu =
-            drawAndRecord(renderer.value(), scene, g, drawn, style);
+            drawAndRecord(renderer.value(), scene, g, drawn, style, lodPose.errorPx);
         for (std::size_t i = 0; i < scene.records.size(); ++i) {
             const std::vector<BlockFactors> want =
                 runtime::patchBlockFactors(lodPose.camera, g, scene.records[i], lodPose.errorPx);
@@ -393,10 +392,10 @@ TEST_F(TessellationFactorsTest, LodCameraDecidesTheFactors) {
                 const BlockFactors& cpu = want[static_cast<std::size_t>(b)];
                 bool borderline = false;
                 for (std::size_t e = 0; e < 4; ++e)
-                    borderline |= isBorderline(cpu, e, style.errorPx);
+                    borderline |= isBorderline(cpu, e, lodPose.errorPx);
                 for (const double px : cpu.innerProjectedPx)
                     borderline |=
-                        std::abs(px - style.errorPx) <= kBorderlineRelative * style.errorPx;
+                        std::abs(px - lodPose.errorPx) <= kBorderlineRelative * lodPose.errorPx;
                 if (borderline) continue;
                 ++compared;
                 differFromDrawn += cpu.outer != ofDrawn[static_cast<std::size_t>(b)].outer ? 1 : 0;
@@ -428,9 +427,8 @@ TEST_F(TessellationFactorsTest, CoarseCellsAreTheCpuChoiceAndCoverTheirBlocks) {
     for (const Pose& pose : poses(g)) {
         SCOPED_TRACE(pose.name);
         runtime::TerrainStyle style;
-        style.errorPx = pose.errorPx;
         const std::vector<RecordedTessFactors> gpu =
-            drawAndRecord(renderer.value(), scene, g, pose.camera, style);
+            drawAndRecord(renderer.value(), scene, g, pose.camera, style, pose.errorPx);
         // The CPU's choice, from the pool's bounds as the renderer reads them, which are
         // io::coarseCellErrors of the record.
         std::vector<runtime::CoarseCellChoice> choices;
@@ -525,7 +523,7 @@ TEST_F(TessellationFactorsTest, MeasuredDrawCountsItsTrianglesAndRestoresState) 
     style.wireframe = true;
     style.cullBlocks = false;  // every block counts
     const runtime::TerrainDrawStats plain =
-        renderer.value().draw(camera, g, scene.pool, scene.draws, style);
+        renderer.value().draw(camera, g, scene.pool, scene.draws, style, kFixedFactorErrorPx);
     EXPECT_EQ(plain.drawCalls, 1);
     EXPECT_EQ(plain.instances, static_cast<int>(instances));
     // Every block fully tessellated: 2 · B² triangles.
@@ -538,7 +536,7 @@ TEST_F(TessellationFactorsTest, MeasuredDrawCountsItsTrianglesAndRestoresState) 
     style.skirts = true;
     style.wireframe = false;
     const runtime::TerrainDrawStats skirted =
-        renderer.value().draw(camera, g, scene.pool, scene.draws, style);
+        renderer.value().draw(camera, g, scene.pool, scene.draws, style, kFixedFactorErrorPx);
     // A skirt: outer (1, B, 1, B), inner (B, 1 → 2): 2(B − 2) + 2B + 2 = 4B − 2 triangles
     // (GL 4.5 §11.2.2.2; the arithmetic TessellationTest checks).
     EXPECT_EQ(skirted.triangles - plain.triangles, instances * 4 * blocks * (4 * quads - 2));
@@ -546,12 +544,12 @@ TEST_F(TessellationFactorsTest, MeasuredDrawCountsItsTrianglesAndRestoresState) 
     // Culling blocks outside the 64² view of the same pose draws fewer triangles.
     style.cullBlocks = true;
     const runtime::TerrainDrawStats culled =
-        renderer.value().draw(camera, g, scene.pool, scene.draws, style);
+        renderer.value().draw(camera, g, scene.pool, scene.draws, style, kFixedFactorErrorPx);
     EXPECT_LT(culled.triangles, skirted.triangles);
 
     style.measure = false;
     const runtime::TerrainDrawStats unmeasured =
-        renderer.value().draw(camera, g, scene.pool, scene.draws, style);
+        renderer.value().draw(camera, g, scene.pool, scene.draws, style, kFixedFactorErrorPx);
     EXPECT_EQ(unmeasured.triangles, 0u);
     EXPECT_EQ(unmeasured.gpuMs, 0.0);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

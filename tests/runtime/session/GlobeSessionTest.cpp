@@ -20,9 +20,9 @@
 #include "terrain/runtime/GlobeCamera.h"
 #include "terrain/runtime/GlobeReferenceRenderer.h"
 #include "terrain/runtime/GlobeScreenSpaceError.h"
-#include "terrain/runtime/TerrainSession.h"
 #include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/ScreenProjection.h"
+#include "terrain/runtime/TerrainSession.h"
 
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
@@ -95,11 +95,12 @@ protected:
         };
     }
 
-    // Renders `pose` settled; returns the RGBA image (and the depth, if asked).
+    // Renders `pose` settled at the session's ε; returns the RGBA image (and the depth, if
+    // asked).
     std::vector<std::uint8_t> render(TerrainSession& session, gl::Framebuffer& framebuffer,
                                      const Camera& camera, LodUpdateStats* stats = nullptr,
-                                     TerrainDrawStats* drawn = nullptr, double errorPx = 2.0,
-                                     bool skirts = true, std::vector<float>* depth = nullptr) {
+                                     TerrainDrawStats* drawn = nullptr, bool skirts = true,
+                                     std::vector<float>* depth = nullptr) {
         EXPECT_TRUE(session.settle(camera, std::chrono::seconds(60)));
         const LodUpdateStats& lod = session.beginFrame(camera);
         if (stats != nullptr) *stats = lod;
@@ -108,7 +109,6 @@ protected:
         glViewport(0, 0, kWidth, kHeight);
         TerrainStyle style;
         style.skyColor = {1.0f, 0.0f, 1.0f};
-        style.errorPx = errorPx;
         style.skirts = skirts;
         const TerrainDrawStats d = session.draw(camera, style);
         if (drawn != nullptr) *drawn = d;
@@ -246,10 +246,8 @@ TEST_F(GlobeSessionTest, MeasuredErrorStaysWithinEpsilonOnEveryStabilityCase) {
             SCOPED_TRACE(p.name + ", ε = " + std::to_string(errorPx));
             const Camera camera = cameraFor(p.pose);
             std::vector<float> withSkirts, withoutSkirts;
-            render(session, framebuffer.value(), camera, nullptr, nullptr, errorPx, true,
-                   &withSkirts);
-            render(session, framebuffer.value(), camera, nullptr, nullptr, errorPx, false,
-                   &withoutSkirts);
+            render(session, framebuffer.value(), camera, nullptr, nullptr, true, &withSkirts);
+            render(session, framebuffer.value(), camera, nullptr, nullptr, false, &withoutSkirts);
             const ScreenSpaceErrorStats stats = measureGlobeScreenSpaceError(
                 camera, withSkirts, withoutSkirts, sourceHeights, errorPx);
             std::cout << "ε = " << errorPx << ", " << p.name << ": " << stats.pixels
@@ -313,8 +311,8 @@ TEST_F(GlobeSessionTest, EveryStabilityCaseMatchesTheGlobeReference) {
             FrameImages lod;
             lod.width = kWidth;
             lod.height = kHeight;
-            lod.rgba = render(session, lodTarget.value(), camera, nullptr, nullptr, errorPx, true,
-                              &lod.depth);
+            lod.rgba =
+                render(session, lodTarget.value(), camera, nullptr, nullptr, true, &lod.depth);
             const UncoveredPixels uncovered = countUncoveredPixels(lod, truth, clear);
             EXPECT_EQ(uncovered.cracks.size(), 0u) << "at ε = " << errorPx;
             psnr[i] = compareImages(lod.rgba, truth.rgba).psnrDb;

@@ -51,16 +51,17 @@ TEST_F(GlobeSharedDataTest, EtopoRainierAndN57E011FlyFromOrbitToRainierWithinEps
         return surface.value().heightsAt(latitude, longitude);
     };
 
+    constexpr double kErrorPx = 2.0;
     TerrainSessionOptions options;
     options.streaming.gpuLayers = 1024;
     options.streaming.cpuCacheBytes = std::size_t{256} << 20;
+    options.lod.errorPx = kErrorPx;
     auto opened = TerrainSession::open(pyramid, options);
     ASSERT_TRUE(opened) << opened.error().message;
     TerrainSession& session = *opened.value();
     constexpr int kWidth = 320, kHeight = 180;
     auto framebuffer = gl::Framebuffer::create(kWidth, kHeight, "shared globe");
     ASSERT_TRUE(framebuffer) << framebuffer.error().message;
-    constexpr double kErrorPx = 2.0;
     const std::vector<std::pair<std::string, GlobePose>> poses{
         {"the whole Earth from 20,000 km", {{40.0, -100.0, 20e6}, 0.0, -90.0}},
         {"the Pacific Northwest from 400 km", {{46.5, -121.5, 400e3}, 0.0, -60.0}},
@@ -84,7 +85,6 @@ TEST_F(GlobeSharedDataTest, EtopoRainierAndN57E011FlyFromOrbitToRainierWithinEps
             glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.value().id());
             glViewport(0, 0, kWidth, kHeight);
             TerrainStyle style;
-            style.errorPx = kErrorPx;
             style.skirts = skirts != 0;
             drawn = session.draw(camera, style);
             glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -52,7 +52,7 @@ protected:
             framebuffer.clear({0.0f, 0.0f, 0.0f, 1.0f}, 0.0f);
             glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
             glViewport(0, 0, 320, 240);
-            renderer.prepare(camera, geometry, streamer.pool(), draws, {});
+            renderer.prepare(camera, geometry, streamer.pool(), draws, {}, 2.0);
             {
                 const AllocationScope driver;
                 renderer.submit(streamer.pool());

@@ -326,7 +326,6 @@ TEST_F(AccuracyStabilityTest, TeleportsFasterThanStreaming) {
     ASSERT_FALSE(session.draws().empty()) << "the root never arrived";
 
     runtime::TerrainStyle style;
-    style.errorPx = 2.0;
     style.fogDensityPerM = 0.0f;
     int frames = 0, waitingFrames = 0;
     std::uint64_t cracks = 0;

@@ -28,12 +28,12 @@ public:
 
     static Result<CdlodRenderer> create(const io::PyramidLayout& layout, int maxInstances);
 
-    /// Draws `patches` (resident in `pool`) seen by `camera`, ranges from τ = style.errorPx
+    /// Draws `patches` (resident in `pool`) seen by `camera`, ranges from τ = errorPx
     /// (R_l = γ · s_l / τ). Depth cleared to 0 (reversed Z). style.skirts,
     /// fixedTessFactor and cullBlocks do not apply.
     TerrainDrawStats draw(const Camera& camera, const TerrainGeometry& geometry,
                           const cache::GpuTilePool& pool, std::span<const PatchDraw> patches,
-                          const TerrainStyle& style) override;
+                          const TerrainStyle& style, double errorPx) override;
 
 private:
     MethodPatchDraw m_draw;  // its vertex array is unused: the grid's holds the indices

@@ -40,13 +40,14 @@ public:
     static Result<GlobeRenderer> create(const io::PyramidManifest& manifest, int maxInstances);
 
     /// Draws `patches` (data patches resident in `pool` on their layer) seen by `camera`
-    /// (ECEF position). Depth must be cleared to 0 (reversed Z). style.errorPx is ε of the
+    /// (ECEF position). Depth must be cleared to 0 (reversed Z). errorPx is ε of the
     /// fine LOD; fog, wireframe, skirts, block culling and debug views as on the plane.
     TerrainDrawStats draw(const Camera& camera, const cache::GpuTilePool& pool,
-                          std::span<const PatchDraw> patches, const TerrainStyle& style);
+                          std::span<const PatchDraw> patches, const TerrainStyle& style,
+                          double errorPx);
 
 private:
-    void setUniforms(const Camera& camera, const TerrainStyle& style);
+    void setUniforms(const Camera& camera, const TerrainStyle& style, double errorPx);
 
     gl::Program m_program;
     gl::VertexArray m_vertexArray;

@@ -16,12 +16,12 @@ class LivnyRenderer final : public PatchRenderer {
 public:
     static Result<LivnyRenderer> create(const io::PyramidLayout& layout, int maxInstances);
 
-    /// Draws `patches` (resident in `pool`) seen by `camera` at τ = style.errorPx (Eq. 1's
+    /// Draws `patches` (resident in `pool`) seen by `camera` at τ = errorPx (Eq. 1's
     /// ρ = γ / (R_max · τ)). Depth cleared to 0 (reversed Z). style.skirts and
     /// fixedTessFactor do not apply.
     TerrainDrawStats draw(const Camera& camera, const TerrainGeometry& geometry,
                           const cache::GpuTilePool& pool, std::span<const PatchDraw> patches,
-                          const TerrainStyle& style) override;
+                          const TerrainStyle& style, double errorPx) override;
 
 private:
     MethodPatchDraw m_draw;

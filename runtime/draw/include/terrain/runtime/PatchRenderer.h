@@ -18,11 +18,11 @@ class PatchRenderer {
 public:
     virtual ~PatchRenderer() = default;
     /// Draws `patches` (resident in `pool`) seen by `camera` into the bound framebuffer,
-    /// depth cleared to 0 (reversed Z), at the method's threshold style.errorPx.
+    /// depth cleared to 0 (reversed Z), at the method's threshold errorPx.
     virtual TerrainDrawStats draw(const Camera& camera, const TerrainGeometry& geometry,
                                   const cache::GpuTilePool& pool,
-                                  std::span<const PatchDraw> patches,
-                                  const TerrainStyle& style) = 0;
+                                  std::span<const PatchDraw> patches, const TerrainStyle& style,
+                                  double errorPx) = 0;
 };
 
 }  // namespace terrain::runtime

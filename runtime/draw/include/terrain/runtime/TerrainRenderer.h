@@ -33,9 +33,9 @@ enum class TerrainDebugView {
     TessFactor,  ///< a colour per block inner tessellation factor (blue coarse … red fine)
 };
 
+/// How the terrain is drawn. ε is not part of it: the LOD holds it (LodOptions::errorPx), and
+/// the session hands the draw the LOD's (TerrainSession::draw).
 struct TerrainStyle {
-    /// ε of the fine LOD (Yusov §5): the projected edge error a block edge may show, pixels.
-    double errorPx = 2.0;
     /// 0: error-driven factors (the default). > 0: every block edge gets this many segments
     /// (rounded down to a power of two, clamped to [max(1, blockQuads / 16), blockQuads]),
     /// for cheap stress rendering.
@@ -115,13 +115,13 @@ public:
     /// their skirt depth first (assignSkirtDepths, SkirtDepth.h), or skirts may be short.
     TerrainDrawStats draw(const Camera& camera, const TerrainGeometry& geometry,
                           const cache::GpuTilePool& pool, std::span<const PatchDraw> patches,
-                          const TerrainStyle& style);
+                          const TerrainStyle& style, double errorPx);
 
     /// The CPU half of draw(): writes the instance records (camera-relative, from double)
     /// into the instance buffer and sets the uniforms. Allocates nothing.
     void prepare(const Camera& camera, const TerrainGeometry& geometry,
                  const cache::GpuTilePool& pool, std::span<const PatchDraw> patches,
-                 const TerrainStyle& style);
+                 const TerrainStyle& style, double errorPx);
     /// The GL half: binds the pool's textures and issues the one instanced draw of what
     /// prepare() wrote. (Drivers may allocate inside the draw call: Mesa's tessellator does.)
     TerrainDrawStats submit(const cache::GpuTilePool& pool);

@@ -25,7 +25,7 @@
 
 namespace terrain::runtime {
 
-/// The paper's free parameters (§5.1, §5.3); ε̂ is the style's errorPx.
+/// The paper's free parameters (§5.1, §5.3); ε̂ is the draw's errorPx.
 struct ValdetaroParameters {
     /// g(HAM) = gain · √HAM_max (§5.1: "a logarithmic function or the square root").
     double hamGain = 1.0;
@@ -43,11 +43,11 @@ public:
                                             const ValdetaroParameters& parameters = {});
 
     /// Draws `patches` (resident in `pool`) seen by `camera`, each as its tiles, at ε̂ =
-    /// style.errorPx. Depth cleared to 0 (reversed Z). Shaded or debug views as the style
+    /// errorPx. Depth cleared to 0 (reversed Z). Shaded or debug views as the style
     /// says; style.skirts and fixedTessFactor do not apply.
     TerrainDrawStats draw(const Camera& camera, const TerrainGeometry& geometry,
                           const cache::GpuTilePool& pool, std::span<const PatchDraw> patches,
-                          const TerrainStyle& style) override;
+                          const TerrainStyle& style, double errorPx) override;
 
     const ValdetaroParameters& parameters() const { return m_parameters; }
 

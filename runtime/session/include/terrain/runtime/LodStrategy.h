@@ -35,8 +35,10 @@ public:
     virtual const Surface& surface() const = 0;
 
     /// The method's own threshold, pixels: ε for Yusov, τ for chunked LOD and the RTIN.
-    /// Methods without one (the uniform grid) ignore it.
+    /// Methods without one (the uniform grid) ignore it. The strategy holds it: its selection
+    /// and its draw both take it from here, and nothing else sets it.
     virtual void setErrorPx(double errorPx) = 0;
+    virtual double errorPx() const = 0;
 
     virtual const LodUpdateStats& beginFrame(const Camera& camera) = 0;
     virtual TerrainDrawStats draw(const Camera& camera, const TerrainStyle& style) = 0;

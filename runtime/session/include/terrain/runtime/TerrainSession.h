@@ -99,6 +99,7 @@ public:
     LodMethod method() const override { return m_method; }
     /// ε (Yusov), τ (chunked LOD); the uniform grid has no threshold.
     void setErrorPx(double errorPx) override;
+    double errorPx() const override { return m_tree->options().errorPx; }
     std::uint64_t loadsOutstanding() const override;
     void drain(std::chrono::milliseconds timeout) override;
     /// GPU layers in use and the CPU cache's bytes, as of the last endFrame.

@@ -63,6 +63,7 @@ public:
     const Surface& surface() const override { return *m_surface; }
     /// τ, the tolerable screen-space error of Eq. 1–2.
     void setErrorPx(double errorPx) override { m_thresholdPx = errorPx; }
+    double errorPx() const override { return m_thresholdPx; }
 
     const LodUpdateStats& beginFrame(const Camera& camera) override;
     /// Shaded only (style.debugView is ignored); no skirts.

@@ -63,6 +63,7 @@ public:
     const Surface& surface() const override { return *m_surface; }
     /// τ: the longest an edge may look on screen, pixels (the distance criterion of §4).
     void setErrorPx(double errorPx) override { m_thresholdPx = errorPx; }
+    double errorPx() const override { return m_thresholdPx; }
 
     const LodUpdateStats& beginFrame(const Camera& camera) override;
     /// Shaded only (style.debugView is ignored); no skirts.

@@ -32,6 +32,7 @@ public:
     LodMethod method() const override { return LodMethod::Rtin; }
     const Surface& surface() const override { return *m_surface; }
     void setErrorPx(double errorPx) override { m_errorPx = errorPx; }
+    double errorPx() const override { return m_errorPx; }
 
     const LodUpdateStats& beginFrame(const Camera& camera) override;
     /// Shaded only (style.debugView is ignored); no skirts, nothing to cull on the GPU.

@@ -108,7 +108,7 @@ public:
                                   const ReferenceCapture* previousReference = nullptr);
 
     /// captureLod, renderReference and compare for one frame (no popping), thresholdPx =
-    /// style.errorPx.
+    /// the session's ε.
     Result<FrameAccuracy> measure(LodStrategy& session, const Camera& camera,
                                   const TerrainStyle& style);
 
