@@ -31,6 +31,9 @@
 // Image units. Lee & Shin 2011: the flag of every block split this frame, at its centre.
 #define TERRAIN_IMAGE_LEE_SPLIT_FLAGS 0
 
+// Uniform blocks. The patch draws' per-frame parameters (FrameBlockLayout.h).
+#define TERRAIN_BINDING_FRAME_BLOCK 0
+
 // Shader storage blocks.
 #define TERRAIN_BINDING_PATCH_INSTANCES 0
 // Tessellation factors the terrain's control stage chose, one record per (instance,

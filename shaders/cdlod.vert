@@ -12,10 +12,9 @@
 // morph-start ratio); the coarsest level does not morph.
 #include "Bindings.h"
 #include "terrain_patches.glsl"
+#include "surface_plane.glsl"
 #include "terrain_bilinear.glsl"
 
-layout(binding = TERRAIN_BINDING_HEIGHTS) uniform sampler2DArray u_heights;
-uniform mat4 u_viewProjection;  // camera-relative metres to clip space
 uniform int u_gridQuads;        // the patch's quads a side
 uniform float u_rangePerMetre;  // γ / τ: R_l = u_rangePerMetre · s_l
 uniform float u_morphStartRatio;
@@ -34,7 +33,7 @@ void main() {
     int samples = u_gridQuads + 1;
     vec2 grid = vec2(gl_VertexID % samples, gl_VertexID / samples);
 
-    float spacingM = max(u_sampleSpacingM.x, u_sampleSpacingM.y) * patch_.originAndStep.z;
+    float spacingM = max(u_frame.planeSpacing.x, u_frame.planeSpacing.y) * patch_.placement0.z;
     float rangeM = u_rangePerMetre * spacingM;  // R_l
     float morphEnd = 2.0 * rangeM;
     float morphStart = rangeM + u_morphStartRatio * (morphEnd - rangeM);
@@ -44,12 +43,12 @@ void main() {
     vec2 odd = fract(grid * 0.5) * 2.0;
     precise vec2 s = grid - odd * k;
     float h = terrainBilinearHeight(u_heights, s, layer);
-    o_normal = terrainNearestNormal(u_heights, s, layer, u_sampleSpacingM * patch_.originAndStep.z);
+    o_normal = terrainNearestNormal(u_heights, s, layer, u_frame.planeSpacing.xy * patch_.placement0.z);
     o_heightM = h;
     o_level = level;
     o_tessFactor = int(round(float(u_gridQuads) * (1.0 - 0.5 * k)));
     o_demSample = terrainDemSample(patch_, s);
     precise vec3 position = terrainPositionM(patch_, s, h);
     o_fromCameraM = position;
-    gl_Position = u_viewProjection * vec4(position, 1.0);
+    gl_Position = u_frame.viewProjection * vec4(position, 1.0);
 }

@@ -1,9 +1,11 @@
-// Globe position probe, compute stage: evaluates globePositionM (globe_patches.glsl, the
+// Globe position probe, compute stage: evaluates globePositionM (surface_globe.glsl, the
 // function globe.tese places every vertex with) for a list of (instance, patch sample,
 // height) probes and writes the camera-relative positions back, so GlobePrecisionTest can
 // hold the GPU's float arithmetic to a double-precision reference.
 #include "Bindings.h"
-#include "globe_patches.glsl"
+#include "surface_globe.glsl"
+
+uniform int u_patchQuads;  // N − 1
 
 layout(local_size_x = 64) in;
 
@@ -19,7 +21,8 @@ void main() {
     if (i >= uint(u_probes.length())) return;
     Probe probe = u_probes[i];
     vec3 direction;
-    vec3 position = globePositionM(u_globe[probe.instance.x], probe.sampleHeight.xy,
-                                   probe.sampleHeight.z, direction);
+    precise vec2 uv = probe.sampleHeight.xy / float(u_patchQuads);
+    vec3 position = globePositionM(u_instances[probe.instance.x], uv, probe.sampleHeight.z,
+                                   direction);
     u_positions[i] = vec4(position, 0.0);
 }

@@ -14,12 +14,11 @@
 // vertices — where neighbours meet — are the paper's: R segments of whole samples.
 #include "Bindings.h"
 #include "terrain_patches.glsl"
+#include "surface_plane.glsl"
 
 layout(vertices = 3) out;
 
-uniform float u_errorPx;     // τ
 uniform float u_errorScale;  // γ (Camera::errorScale), pixels per radian
-uniform vec2 u_heightRangeM;  // the DEM's min and max height (terrain_shading.glsl's)
 uniform float u_innerScale;   // the tile's inner level: its resolution times this (1/√3:
                               // LivnyRenderer.cpp says why)
 
@@ -31,7 +30,7 @@ layout(location = 1) flat out int o_instance[];
 layout(location = 5) patch out int o_debugFactor;
 
 // The patch's corners in its samples, GL's edge order: west, north, east, south edges run
-// from kEdgeFrom to kEdgeTo (patch samples, Q = u_blockQuads · u_blocksPerSide).
+// from kEdgeFrom to kEdgeTo (patch samples, Q = u_frame.tessellation.y · u_frame.tessellation.x).
 vec2 corner(int i, float q) {
     return vec2((i == 1 || i == 2) ? q : 0.0, (i >= 2) ? q : 0.0);  // nw, ne, se, sw
 }
@@ -51,22 +50,22 @@ float edgeDistance(PatchInstance patch_, int e, float q) {
     precise vec3 pb = terrainPositionM(patch_, b, 0.0);
     vec2 lo = min(pa.xy, pb.xy), hi = max(pa.xy, pb.xy);
     vec2 nearest = clamp(vec2(0.0), lo, hi);
-    float below = u_heightRangeM.x - u_cameraHeightM, above = u_heightRangeM.y - u_cameraHeightM;
+    float below = u_frame.heightRange.x - u_frame.planeCamera.z, above = u_frame.heightRange.y - u_frame.planeCamera.z;
     float dz = max(max(below, -above), 0.0);
     return sqrt(dot(nearest, nearest) + dz * dz);
 }
 
 // Segments along edge e: R2 = Q when ε > 1/2, else R1 = Q / 2 (Claim 1's assignment).
 float edgeResolution(PatchInstance patch_, int e, float q) {
-    float spacingM = max(u_sampleSpacingM.x, u_sampleSpacingM.y) * patch_.originAndStep.z;
+    float spacingM = max(u_frame.planeSpacing.x, u_frame.planeSpacing.y) * patch_.placement0.z;
     float d = edgeDistance(patch_, e, q);
-    float epsilon = d <= 0.0 ? 1.0e9 : u_errorScale * spacingM / (u_errorPx * d);
+    float epsilon = d <= 0.0 ? 1.0e9 : u_errorScale * spacingM / (u_frame.screen.z * d);
     return epsilon > 0.5 ? q : 0.5 * q;
 }
 
 void main() {
     PatchInstance patch_ = u_instances[i_instance[0]];
-    float q = float(u_blockQuads * u_blocksPerSide);
+    float q = float(u_frame.tessellation.y * u_frame.tessellation.x);
     int tile = i_primitive[0];  // 0 west, 1 north, 2 east, 3 south: the tile on that edge
     vec2 a, b;
     edgeEnds(tile, q, a, b);

@@ -6,12 +6,11 @@
 // patches sharing the border.
 #include "Bindings.h"
 #include "terrain_patches.glsl"
+#include "surface_plane.glsl"
 #include "terrain_bilinear.glsl"
 
 layout(triangles, equal_spacing, ccw) in;
 
-layout(binding = TERRAIN_BINDING_HEIGHTS) uniform sampler2DArray u_heights;
-uniform mat4 u_viewProjection;  // camera-relative metres to clip space
 
 layout(location = 0) in vec2 i_sample[];
 layout(location = 1) flat in int i_instance[];
@@ -29,12 +28,12 @@ void main() {
     precise vec2 s = i_sample[0] + gl_TessCoord.y * (i_sample[1] - i_sample[0]) +
                      gl_TessCoord.z * (i_sample[2] - i_sample[0]);
     float h = terrainBilinearHeight(u_heights, s, layer);
-    o_normal = terrainNearestNormal(u_heights, s, layer, u_sampleSpacingM * patch_.originAndStep.z);
+    o_normal = terrainNearestNormal(u_heights, s, layer, u_frame.planeSpacing.xy * patch_.placement0.z);
     o_heightM = h;
     o_level = patch_.layerLevel.y;
     o_tessFactor = i_debugFactor;
     o_demSample = terrainDemSample(patch_, s);
     precise vec3 position = terrainPositionM(patch_, s, h);
     o_fromCameraM = position;
-    gl_Position = u_viewProjection * vec4(position, 1.0);
+    gl_Position = u_frame.viewProjection * vec4(position, 1.0);
 }

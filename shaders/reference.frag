@@ -11,6 +11,11 @@ layout(location = 2) in float i_heightM;
 layout(location = 3) in vec2 i_demSample;
 uniform vec2 u_demFirstSample;  // DEM sample (0, 0) minus the anchor
 uniform vec2 u_demLastSample;   // DEM sample (width − 1, height − 1) minus the anchor
+// The look (setShadingUniforms; terrain_shading.glsl).
+uniform vec3 u_sunDirection;
+uniform vec2 u_heightRangeM;
+uniform vec3 u_skyColor;
+uniform float u_fogDensityPerM;
 layout(location = TERRAIN_FRAG_COLOR) out vec4 o_color;
 layout(location = 1) out float o_heightM;
 
@@ -22,6 +27,8 @@ void main() {
         any(greaterThan(i_demSample, u_demLastSample + kSlack))) {
         discard;
     }
-    o_color = vec4(terrainShade(i_normal, i_heightM, i_fromCameraM), 1.0);
+    TerrainShading shading =
+        TerrainShading(u_sunDirection, u_heightRangeM, u_skyColor, u_fogDensityPerM);
+    o_color = vec4(terrainShade(shading, i_normal, i_heightM, i_fromCameraM), 1.0);
     o_heightM = i_heightM;
 }

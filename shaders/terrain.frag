@@ -1,13 +1,10 @@
-// Terrain draw, fragment stage: the shaded view (terrain_shading.glsl, shared with the
-// reference renderer so the two differ only where geometry or normals do) or a debug colour
+// Patch draws, fragment stage: the shaded view (terrain_shading.glsl, shared with the
+// reference renderers so the two differ only where geometry or normals do) or a debug colour
 // (patch level, block tessellation factor) under the same sun and fog. Fragments beyond the
-// DEM's extent — the overhang of a level's last patches — are discarded.
+// DEM's extent — the overhang of a level's last patches on the plane — are discarded.
 #include "Bindings.h"
+#include "terrain_frame.glsl"
 #include "terrain_shading.glsl"
-
-uniform int u_debugView;  // TerrainDebugView: 0 shaded, 1 level, 2 tessellation factor
-uniform vec2 u_demFirstSample;  // terrain_patches.glsl
-uniform vec2 u_demLastSample;
 
 layout(location = 0) in vec3 i_fromCameraM;
 layout(location = 1) in vec3 i_normal;
@@ -18,7 +15,7 @@ layout(location = 5) in vec2 i_demSample;
 layout(location = TERRAIN_FRAG_COLOR) out vec4 o_color;
 
 #ifdef TERRAIN_FRAGMENT_NORMALS
-// The planar terrain draw (terrain.tese) shades with the normal of the patch's own
+// The plane's terrain draw (terrain.tese) shades with the normal of the patch's own
 // full-resolution mesh at the fragment rather than the one interpolated between the drawn
 // vertices: shading then does not depend on the tessellation, so a block or a coarse cell
 // (runtime/lod CoarseCells.h) that changes level changes the geometry only, within its
@@ -82,8 +79,8 @@ vec3 tessFactorColor(int factor) {
 }
 
 void main() {
-    if (any(lessThan(i_demSample, u_demFirstSample - kEdgeToleranceSamples)) ||
-        any(greaterThan(i_demSample, u_demLastSample + kEdgeToleranceSamples))) {
+    if (any(lessThan(i_demSample, u_frame.demExtent.xy - kEdgeToleranceSamples)) ||
+        any(greaterThan(i_demSample, u_frame.demExtent.zw + kEdgeToleranceSamples))) {
         discard;
     }
 #ifdef TERRAIN_FRAGMENT_NORMALS
@@ -91,10 +88,13 @@ void main() {
 #else
     vec3 normal = i_normal;
 #endif
-    if (u_debugView == 0) {
-        o_color = vec4(terrainShade(normal, i_heightM, i_fromCameraM), 1.0);
+    TerrainShading shading = TerrainShading(u_frame.sunDirection.xyz, u_frame.heightRange.xy,
+                                            u_frame.sky.rgb, u_frame.sky.w);
+    int debugView = u_frame.options.y;  // TerrainDebugView: 0 shaded, 1 level, 2 tess factor
+    if (debugView == 0) {
+        o_color = vec4(terrainShade(shading, normal, i_heightM, i_fromCameraM), 1.0);
         return;
     }
-    vec3 base = u_debugView == 1 ? levelColor(i_level) : tessFactorColor(i_tessFactor);
-    o_color = vec4(terrainShadeColor(base, normal, i_fromCameraM), 1.0);
+    vec3 base = debugView == 1 ? levelColor(i_level) : tessFactorColor(i_tessFactor);
+    o_color = vec4(terrainShadeColor(shading, base, normal, i_fromCameraM), 1.0);
 }

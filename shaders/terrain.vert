@@ -1,6 +1,6 @@
-// Terrain draw, vertex stage: attribute-less corners of every quad patch primitive of an
+// Patch draws, vertex stage: attribute-less corners of every quad patch primitive of an
 // instance (a drawn patch): its tessellation blocks, then its skirts (terrain_primitives.glsl).
-// The planar and the globe draws share it.
+// The terrain draw on either surface and the comparison methods' tessellated draws share it.
 // Corners are in the patch's samples; the control stage picks the factors.
 #include "Bindings.h"
 #include "terrain_primitives.glsl"
@@ -12,20 +12,22 @@ layout(location = 2) flat out int o_primitive;
 void main() {
     int primitive = gl_VertexID >> 2;
     ivec2 corner = ivec2(gl_VertexID & 1, (gl_VertexID >> 1) & 1);  // (0,0) (1,0) (0,1) (1,1)
-    int blocks = u_blocksPerSide * u_blocksPerSide;
+    int blocksPerSide = u_frame.tessellation.x;
+    int blockQuads = u_frame.tessellation.y;
+    int blocks = blocksPerSide * blocksPerSide;
     ivec2 sampleXY;
     if (primitive < blocks) {
-        ivec2 blockXY = ivec2(primitive % u_blocksPerSide, primitive / u_blocksPerSide);
-        sampleXY = (blockXY + corner) * u_blockQuads;
+        ivec2 blockXY = ivec2(primitive % blocksPerSide, primitive / blocksPerSide);
+        sampleXY = (blockXY + corner) * blockQuads;
     } else {
         // A skirt: corner.x picks the edge's end (u), corner.y the top or bottom row (v),
         // which share their samples; the evaluation stage lowers v = 1.
         int skirt = primitive - blocks;
-        int edge = skirt / u_blocksPerSide;
+        int edge = skirt / blocksPerSide;
         ivec2 a, b;
         terrainEdgeEnds(edge, a, b);
-        ivec2 blockXY = terrainSkirtBlock(edge, skirt % u_blocksPerSide);
-        sampleXY = (blockXY + (corner.x == 0 ? a : b)) * u_blockQuads;
+        ivec2 blockXY = terrainSkirtBlock(edge, skirt % blocksPerSide);
+        sampleXY = (blockXY + (corner.x == 0 ? a : b)) * blockQuads;
     }
     o_sample = vec2(sampleXY);
     o_instance = gl_InstanceID;

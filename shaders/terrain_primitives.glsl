@@ -1,9 +1,9 @@
-// The primitives of one terrain draw instance (a drawn patch), shared by the planar draw
-// (terrain_patches.glsl) and the globe's (globe_patches.glsl); the vertex stage needs only
-// these, so one vertex stage serves both.
+// The primitives of one patch draw instance (a drawn patch, on either surface); the vertex
+// stage needs only these.
 //
 // Primitives of an instance (quad patches of 4 vertices, vertex id = 4 · primitive + corner):
-//   [0, K²)         tessellation block (bx, by) = (p % K, p / K), row-major, K = u_blocksPerSide;
+//   [0, K²)         tessellation block (bx, by) = (p % K, p / K), row-major, K =
+//                   u_frame.tessellation.x (blocks per side; .y: quads a block side, B);
 //   [K², K² + 4K)   skirt q = p − K²: hangs from edge e = q / K of border block i = q % K,
 //                   e in GL's outer-level order (see terrainSkirtBlock).
 // Block domain: u runs along the patch's columns, v along its rows, so gl_TessLevelOuter[0]
@@ -12,14 +12,13 @@
 #ifndef TERRAIN_PRIMITIVES_GLSL
 #define TERRAIN_PRIMITIVES_GLSL
 
-uniform int u_blocksPerSide;  // K
-uniform int u_blockQuads;     // B, quads along a block side
+#include "terrain_frame.glsl"
 
 const ivec2 kEdgeNeighbour[4] = ivec2[](ivec2(-1, 0), ivec2(0, -1), ivec2(1, 0), ivec2(0, 1));
 
 // The border block a skirt hangs from: edge e (GL order) of the i-th block along that side.
 ivec2 terrainSkirtBlock(int edge, int i) {
-    int last = u_blocksPerSide - 1;
+    int last = u_frame.tessellation.x - 1;
     return edge == 0 ? ivec2(0, i) : edge == 1 ? ivec2(i, 0) : edge == 2 ? ivec2(last, i)
                                                                          : ivec2(i, last);
 }

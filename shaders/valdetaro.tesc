@@ -18,21 +18,16 @@
 // without culling, "which will not be the case in real applications").
 #include "Bindings.h"
 #include "terrain_patches.glsl"
+#include "surface_plane.glsl"
 
 layout(vertices = 4) out;
 
-layout(binding = TERRAIN_BINDING_HEIGHTS) uniform sampler2DArray u_heights;
 // One texel a tile of the grid (§6.2): HAM_max, h_max, the tile's bilinear surface under
 // h_max, and where h_max lies (column + 128 · row from the tile's north-west sample).
 layout(binding = TERRAIN_BINDING_VALDETARO_TILES) uniform sampler2D u_tiles;
-uniform mat4 u_viewProjection;  // camera-relative metres to clip space
-uniform vec2 u_viewportPx;
-uniform float u_errorPx;     // ε̂
 uniform float u_hamGain;     // g(HAM) = gain · √HAM
 uniform float u_dMaxM;       // d_max
 uniform float u_maxFactor;   // 64, or the tile's quads if fewer (one quad a sample)
-uniform int u_cullBlocks;
-uniform vec4 u_frustumPlanes[5];
 
 layout(location = 0) in vec2 i_sample[];
 layout(location = 1) flat in int i_instance[];
@@ -46,8 +41,8 @@ float heightAt(PatchInstance patch_, ivec2 s) {
 }
 
 vec2 pixelOf(vec3 p) {
-    vec4 clip = u_viewProjection * vec4(p, 1.0);
-    return clip.xy / clip.w * 0.5 * u_viewportPx;
+    vec4 clip = u_frame.viewProjection * vec4(p, 1.0);
+    return clip.xy / clip.w * 0.5 * u_frame.screen.xy;
 }
 
 // T_max and T_min of the grid's tile at `tileInPatch` (this patch's tiles, or a neighbour's
@@ -55,20 +50,20 @@ vec2 pixelOf(vec3 p) {
 // samples, so the two tiles sharing an edge compute the same limits for it, bit for bit.
 vec2 tileLimits(PatchInstance patch_, ivec2 tileInPatch) {
     ivec2 grid = textureSize(u_tiles, 0);
-    ivec2 global = clamp(patch_.layerLevel.zw * u_blocksPerSide + tileInPatch, ivec2(0), grid - 1);
+    ivec2 global = clamp(patch_.layerLevel.zw * u_frame.tessellation.x + tileInPatch, ivec2(0), grid - 1);
     vec4 t = texelFetch(u_tiles, global, 0);
     float tMax = clamp(u_hamGain * sqrt(t.x), 1.0, u_maxFactor);
     // The tile's highest sample and the tile's bilinear surface under it, projected.
     float packedAt = t.w;
     vec2 at = vec2(mod(packedAt, 128.0), floor(packedAt / 128.0));
-    ivec2 tileOfPatch = global - patch_.layerLevel.zw * u_blocksPerSide;
-    precise vec2 s = vec2(tileOfPatch * u_blockQuads) + at;
+    ivec2 tileOfPatch = global - patch_.layerLevel.zw * u_frame.tessellation.x;
+    precise vec2 s = vec2(tileOfPatch * u_frame.tessellation.y) + at;
     precise vec3 top = terrainPositionM(patch_, s, t.y);
     precise vec3 under = terrainPositionM(patch_, s, t.z);
-    vec4 a = u_viewProjection * vec4(top, 1.0), b = u_viewProjection * vec4(under, 1.0);
+    vec4 a = u_frame.viewProjection * vec4(top, 1.0), b = u_frame.viewProjection * vec4(under, 1.0);
     float deviationPx =
         (a.w <= 0.0 || b.w <= 0.0) ? 1.0e9 : length(pixelOf(top) - pixelOf(under));
-    float tMin = clamp(deviationPx / u_errorPx, 1.0, u_maxFactor);
+    float tMin = clamp(deviationPx / u_frame.screen.z, 1.0, u_maxFactor);
     return vec2(tMax, tMin);
 }
 
@@ -78,25 +73,15 @@ float factorAt(float d, vec2 limits) {
     return clamp(t, limits.y, max(limits.x, limits.y));
 }
 
-bool outsideFrustum(vec3 lo, vec3 hi) {
-    for (int i = 0; i < 5; ++i) {
-        vec4 plane = u_frustumPlanes[i];
-        vec3 far = mix(lo, hi, greaterThanEqual(plane.xyz, vec3(0.0)));
-        float marginM = 0.05 + 1.0e-5 * (abs(far.x) + abs(far.y) + abs(far.z));
-        if (dot(plane.xyz, far) + plane.w < -marginM) return true;
-    }
-    return false;
-}
-
 void main() {
     o_sample[gl_InvocationID] = i_sample[gl_InvocationID];
     o_instance[gl_InvocationID] = i_instance[gl_InvocationID];
     if (gl_InvocationID != 0) return;
     PatchInstance patch_ = u_instances[i_instance[0]];
     int primitive = i_primitive[0];
-    ivec2 tile = ivec2(primitive % u_blocksPerSide, primitive / u_blocksPerSide);
-    ivec2 nw = tile * u_blockQuads;
-    int half_ = u_blockQuads / 2;
+    ivec2 tile = ivec2(primitive % u_frame.tessellation.x, primitive / u_frame.tessellation.x);
+    ivec2 nw = tile * u_frame.tessellation.y;
+    int half_ = u_frame.tessellation.y / 2;
 
     vec2 own = tileLimits(patch_, tile);
     // GL's outer order: west (u = 0), north (v = 0), east (u = 1), south (v = 1).
@@ -108,7 +93,7 @@ void main() {
         precise vec3 p = terrainPositionM(patch_, vec2(mid), heightAt(patch_, mid));
         gl_TessLevelOuter[i] = factorAt(length(p), limits);
     }
-    vec4 t = texelFetch(u_tiles, clamp(patch_.layerLevel.zw * u_blocksPerSide + tile, ivec2(0),
+    vec4 t = texelFetch(u_tiles, clamp(patch_.layerLevel.zw * u_frame.tessellation.x + tile, ivec2(0),
                                        textureSize(u_tiles, 0) - 1), 0);
     // T5 (§3): the tile's centre, at h_max.
     vec3 centre = terrainPositionM(patch_, vec2(nw) + vec2(half_), t.y);
@@ -117,10 +102,10 @@ void main() {
     gl_TessLevelInner[1] = inner;
     o_debugFactor = int(inner);
 
-    vec3 lo = terrainPositionM(patch_, vec2(nw.x, nw.y + u_blockQuads), patch_.errors.z);
-    vec3 hi = terrainPositionM(patch_, vec2(nw.x + u_blockQuads, nw.y), patch_.errors.w);
-    bool beyond = any(greaterThan(terrainDemSample(patch_, vec2(nw)), u_demLastSample));
-    if (beyond || (u_cullBlocks != 0 && outsideFrustum(lo, hi))) {
+    vec3 lo = terrainPositionM(patch_, vec2(nw.x, nw.y + u_frame.tessellation.y), patch_.errors.z);
+    vec3 hi = terrainPositionM(patch_, vec2(nw.x + u_frame.tessellation.y, nw.y), patch_.errors.w);
+    bool beyond = any(greaterThan(terrainDemSample(patch_, vec2(nw)), u_frame.demExtent.zw));
+    if (beyond || (u_frame.options.x != 0 && outsideFrustum(lo, hi))) {
         for (int i = 0; i < 4; ++i) gl_TessLevelOuter[i] = 0.0;
     }
 }

@@ -20,13 +20,17 @@ TerrainDrawStats CdlodRenderer::draw(const Camera& camera, const TerrainGeometry
                                      std::span<const PatchDraw> patches, const TerrainStyle& style,
                                      double errorPx) {
     if (patches.empty()) return {};
-    m_draw.prepare(camera, geometry, pool, patches, style);
+    m_draw.prepare(camera, geometry, pool, patches, style, errorPx);
+    const io::PyramidLayout& layout = geometry.layout();
+    setTessellation(m_draw.frame, layout.blocksPerSide(), layout.blockQuads(), m_gridQuads, -1);
+    m_draw.uploadFrame();
     gl::Program& program = m_draw.program;
     program.setUniform("u_gridQuads", m_gridQuads);
     program.setUniform("u_rangePerMetre", static_cast<float>(camera.errorScale() / errorPx));
     program.setUniform("u_morphStartRatio", kMorphStartRatio);
     return issueInstancedPatchDraw(pool, {.program = program,
                                           .vertexArray = m_grid.vertexArray(),
+                                          .frame = m_draw.frameBuffer.buffer(),
                                           .instances = m_draw.instances,
                                           .indexCount = m_grid.indexCount(),
                                           .instanceCount = static_cast<int>(patches.size()),

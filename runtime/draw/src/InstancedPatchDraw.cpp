@@ -23,7 +23,7 @@ int fixedSimplification(int factor, int blockQuads) {
     return std::min(d, io::kMaxSimplification);
 }
 
-void setRelativeFrustumUniform(gl::Program& program, const Camera& camera) {
+std::array<float, 20> relativeFrustumPlanes(const Camera& camera) {
     const Frustum frustum = camera.frustum();
     std::array<float, 4 * 5> planes{};
     for (std::size_t i = 0; i < frustum.planes.size(); ++i) {
@@ -34,7 +34,7 @@ void setRelativeFrustumUniform(gl::Program& program, const Camera& camera) {
         planes[4 * i + 2] = static_cast<float>(p.z);
         planes[4 * i + 3] = static_cast<float>(w);
     }
-    program.setUniformVec4Array("u_frustumPlanes", planes);
+    return planes;
 }
 
 TerrainDrawStats issueInstancedPatchDraw(const cache::GpuTilePool& pool,
@@ -45,6 +45,7 @@ TerrainDrawStats issueInstancedPatchDraw(const cache::GpuTilePool& pool,
     glBindVertexArray(draw.vertexArray.id());
     glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, pool.heights().id());
     glBindTextureUnit(TERRAIN_BINDING_BLOCK_ERRORS, pool.blockErrors().id());
+    glBindBufferBase(GL_UNIFORM_BUFFER, TERRAIN_BINDING_FRAME_BLOCK, draw.frame.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_PATCH_INSTANCES,
                      draw.instances.id());
     if (draw.tessFactors != nullptr) {
@@ -74,6 +75,7 @@ TerrainDrawStats issueInstancedPatchDraw(const cache::GpuTilePool& pool,
     if (draw.tessFactors != nullptr)
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_DEBUG_TESS_FACTORS, 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_PATCH_INSTANCES, 0);
+    glBindBufferBase(GL_UNIFORM_BUFFER, TERRAIN_BINDING_FRAME_BLOCK, 0);
     glBindTextureUnit(TERRAIN_BINDING_BLOCK_ERRORS, 0);
     glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, 0);
     glBindVertexArray(0);

@@ -1,8 +1,8 @@
-// InstancedPatchDraw: the GL half every patch renderer shares (TerrainRenderer on the plane,
-// GlobeRenderer on the ellipsoid, the comparison methods' renderers): bind the pool's
-// texture arrays and the instance buffer, issue ONE instanced draw (of GL_PATCHES, or of an
-// indexed triangle grid), measure it if asked, and put GL's state back. The renderers differ
-// only in their programs and instance records.
+// InstancedPatchDraw: the GL half every patch renderer shares (TerrainRenderer on either
+// surface, the comparison methods' renderers): bind the pool's texture arrays, the frame block
+// and the instance buffer, issue ONE instanced draw (of GL_PATCHES, or of an indexed triangle
+// grid), measure it if asked, and put GL's state back. The renderers differ only in their
+// programs.
 #pragma once
 
 #include "terrain/cache/GpuTilePool.h"
@@ -11,13 +11,16 @@
 #include "terrain/gl/Query.h"
 #include "terrain/gl/VertexArray.h"
 #include "terrain/runtime/Camera.h"
-#include "terrain/runtime/TerrainRenderer.h"
+#include "terrain/runtime/TerrainStyle.h"
+
+#include <array>
 
 namespace terrain::runtime {
 
 struct InstancedPatchDraw {
     const gl::Program& program;
     const gl::VertexArray& vertexArray;
+    const gl::Buffer& frame;  ///< the FrameBlock, bound at TERRAIN_BINDING_FRAME_BLOCK
     const gl::Buffer& instances;
     const gl::Buffer* tessFactors = nullptr;  ///< bound for TERRAIN_DEBUG_TESS_FACTORS
     int verticesPerInstance = 0;  ///< GL_PATCHES of 4 vertices each (indexCount 0)
@@ -36,9 +39,10 @@ struct InstancedPatchDraw {
 /// errors λ(d) still bound the skirts' drop. −1 (error-driven) for factor ≤ 0.
 int fixedSimplification(int factor, int blockQuads);
 
-/// Sets u_frustumPlanes: the camera's frustum relative to the camera, in double before the
-/// cast (the world planes' offsets are planet-sized, the relative ones are not).
-void setRelativeFrustumUniform(gl::Program& program, const Camera& camera);
+/// The camera's frustum planes (left, right, bottom, top, near) relative to the camera, xyzw
+/// each: the offsets are computed in double before the cast (the world planes' offsets are
+/// planet-sized, the relative ones are not).
+std::array<float, 20> relativeFrustumPlanes(const Camera& camera);
 
 TerrainDrawStats issueInstancedPatchDraw(const cache::GpuTilePool& pool,
                                          const InstancedPatchDraw& draw);

@@ -31,17 +31,17 @@ TerrainDrawStats LivnyRenderer::draw(const Camera& camera, const TerrainGeometry
                                      std::span<const PatchDraw> patches, const TerrainStyle& style,
                                      double errorPx) {
     if (patches.empty()) return {};
-    m_draw.prepare(camera, geometry, pool, patches, style);
+    m_draw.prepare(camera, geometry, pool, patches, style, errorPx);
     // terrain.vert's 2 × 2 "blocks" are the four tile primitives; livny.tesc makes each a
     // triangle on its edge.
+    setTessellation(m_draw.frame, 2, m_patchQuads / 2, m_patchQuads, -1);
+    m_draw.uploadFrame();
     gl::Program& program = m_draw.program;
-    program.setUniform("u_blocksPerSide", 2);
-    program.setUniform("u_blockQuads", m_patchQuads / 2);
-    program.setUniform("u_errorPx", static_cast<float>(errorPx));
     program.setUniform("u_errorScale", static_cast<float>(camera.errorScale()));
     program.setUniform("u_innerScale", kInnerScale);
     return issueInstancedPatchDraw(pool, {.program = program,
                                           .vertexArray = m_draw.vertexArray,
+                                          .frame = m_draw.frameBuffer.buffer(),
                                           .instances = m_draw.instances,
                                           .verticesPerInstance = 4 * 4,
                                           .instanceCount = static_cast<int>(patches.size()),

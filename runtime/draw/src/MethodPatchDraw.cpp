@@ -3,7 +3,7 @@
 
 #include "terrain/base/Assert.h"
 #include "terrain/runtime/ProgramBuilder.h"
-#include "terrain/runtime/TerrainFrameUniforms.h"
+#include "terrain/runtime/SurfacePlacement.h"
 
 #include <epoxy/gl.h>
 
@@ -26,9 +26,9 @@ Result<MethodPatchDraw> MethodPatchDraw::create(const std::string& name,
     d.primitivesQuery = std::move(primitives).value();
     d.timeQuery = std::move(time).value();
     d.vertexArray = gl::VertexArray::create(name + " (attribute-less)");
-    d.instances =
-        gl::Buffer::create(sizeof(PatchInstanceRecord) * static_cast<std::size_t>(maxInstances),
-                           GL_DYNAMIC_STORAGE_BIT, name + " patch instances");
+    d.instances = gl::Buffer::create(sizeof(PatchInstance) * static_cast<std::size_t>(maxInstances),
+                                     GL_DYNAMIC_STORAGE_BIT, name + " patch instances");
+    d.frameBuffer = FrameBlockBuffer::create(name + " frame block");
     d.staging.reserve(static_cast<std::size_t>(maxInstances));
     d.maxInstances = maxInstances;
     return d;
@@ -36,14 +36,16 @@ Result<MethodPatchDraw> MethodPatchDraw::create(const std::string& name,
 
 void MethodPatchDraw::prepare(const Camera& camera, const TerrainGeometry& geometry,
                               const cache::GpuTilePool& pool, std::span<const PatchDraw> patches,
-                              const TerrainStyle& style) {
+                              const TerrainStyle& style, double errorPx) {
     TERRAIN_ASSERT(patches.size() <= static_cast<std::size_t>(maxInstances),
                    "MethodPatchDraw: more patches than instances");
-    const glm::dvec2 anchor = setCameraFrameUniforms(program, camera, geometry);
-    writePatchInstanceRecords(geometry.layout(), pool, patches, anchor, staging);
+    PlanePlacement placement(geometry);
+    placement.beginFrame(camera, frame);
+    staging.clear();
+    for (const PatchDraw& patch : patches) staging.push_back(placement.place(patch, pool));
     instances.upload(0, std::as_bytes(std::span(staging)));
-    setShadingUniforms(program, geometry, style.skyColor, style.fogDensityPerM);
-    program.setUniform("u_debugView", static_cast<int>(style.debugView));
+    setCameraFrame(frame, camera, camera, errorPx);
+    setLook(frame, style);
 }
 
 }  // namespace terrain::runtime

@@ -1,6 +1,7 @@
-// TerrainRenderer: camera-relative instance records (double → float after subtracting the
-// camera's anchor sample), then one glDrawArraysInstanced of 4 vertices per block and skirt
-// primitive (terrain_patches.glsl lists them).
+// TerrainRenderer: camera-relative instance records from the surface's placement (double →
+// float after subtracting what is planet-sized), the frame block, then one
+// glDrawArraysInstanced of 4 vertices per block and skirt primitive (terrain_primitives.glsl
+// lists them).
 #include "terrain/runtime/TerrainRenderer.h"
 
 #include "InstancedPatchDraw.h"
@@ -8,32 +9,37 @@
 #include "terrain/pyramid/PatchErrors.h"
 #include "terrain/runtime/CoarseCells.h"
 #include "terrain/runtime/ProgramBuilder.h"
-#include "terrain/runtime/TerrainFrameUniforms.h"
 
 #include <epoxy/gl.h>
-#include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
-#include <bit>
-#include <cmath>
 
 namespace terrain::runtime {
 
-Result<TerrainRenderer> TerrainRenderer::create(const io::PyramidLayout& layout, int maxInstances,
+Result<TerrainRenderer> TerrainRenderer::create(const Surface& surface, int maxInstances,
                                                 const TerrainRendererOptions& options) {
     TERRAIN_ASSERT(maxInstances >= 1);
-    ProgramBuilder builder("terrain");
+    std::unique_ptr<SurfacePlacement> placement = SurfacePlacement::forSurface(surface);
+    const std::string name(surfaceName(surface.kind()));
+    ProgramBuilder builder("terrain (" + name + ")");
     builder.stage("terrain.vert").stage("terrain.tesc").stage("terrain.tese").stage("terrain.frag");
-    if (options.fragmentNormals) builder.define("TERRAIN_FRAGMENT_NORMALS");
+    placement->defineSurface(builder);
+    // Shading from the full-resolution mesh at each fragment is the plane's draw's so far: its
+    // normals are the map frame's (terrain.frag).
+    if (options.fragmentNormals && surface.kind() == SurfaceKind::Plane)
+        builder.define("TERRAIN_FRAGMENT_NORMALS");
     if (options.recordTessFactors) builder.define("TERRAIN_DEBUG_TESS_FACTORS");
     auto program = builder.build();
     if (!program) return program.error();
-    auto primitives = gl::Query::create(gl::QueryKind::PrimitivesGenerated, "terrain triangles");
+    auto primitives = gl::Query::create(gl::QueryKind::PrimitivesGenerated, name + " triangles");
     if (!primitives) return primitives.error();
-    auto time = gl::Query::create(gl::QueryKind::TimeElapsed, "terrain GPU time");
+    auto time = gl::Query::create(gl::QueryKind::TimeElapsed, name + " GPU time");
     if (!time) return time.error();
 
+    const io::PyramidLayout& layout = surface.layout();
     TerrainRenderer r;
+    r.m_surface = &surface;
+    r.m_placement = std::move(placement);
     r.m_program = std::move(program).value();
     r.m_primitivesQuery = std::move(primitives).value();
     r.m_timeQuery = std::move(time).value();
@@ -42,8 +48,9 @@ Result<TerrainRenderer> TerrainRenderer::create(const io::PyramidLayout& layout,
     r.m_blocksPerSide = layout.blocksPerSide();
     r.m_blockQuads = layout.blockQuads();
     r.m_instances =
-        gl::Buffer::create(sizeof(PatchInstanceRecord) * static_cast<std::size_t>(maxInstances),
+        gl::Buffer::create(sizeof(PatchInstance) * static_cast<std::size_t>(maxInstances),
                            GL_DYNAMIC_STORAGE_BIT, "terrain patch instances");
+    r.m_frameBuffer = FrameBlockBuffer::create("terrain frame block");
     if (options.recordTessFactors) {
         r.m_tessFactors = gl::Buffer::create(
             sizeof(RecordedTessFactors) * static_cast<std::size_t>(maxInstances) *
@@ -58,17 +65,16 @@ int TerrainRenderer::primitivesPerInstance(bool skirts) const {
     return m_blocksPerSide * m_blocksPerSide + (skirts ? 4 * m_blocksPerSide : 0);
 }
 
-TerrainDrawStats TerrainRenderer::draw(const Camera& camera, const TerrainGeometry& geometry,
-                                       const cache::GpuTilePool& pool,
+TerrainDrawStats TerrainRenderer::draw(const Camera& camera, const cache::GpuTilePool& pool,
                                        std::span<const PatchDraw> patches,
                                        const TerrainStyle& style, double errorPx) {
-    prepare(camera, geometry, pool, patches, style, errorPx);
+    prepare(camera, pool, patches, style, errorPx);
     return submit(pool);
 }
 
-void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geometry,
-                              const cache::GpuTilePool& pool, std::span<const PatchDraw> patches,
-                              const TerrainStyle& style, double errorPx) {
+void TerrainRenderer::prepare(const Camera& camera, const cache::GpuTilePool& pool,
+                              std::span<const PatchDraw> patches, const TerrainStyle& style,
+                              double errorPx) {
     TERRAIN_ASSERT(patches.size() <= static_cast<std::size_t>(m_maxInstances),
                    "TerrainRenderer: more patches than instances");
     m_preparedInstances = static_cast<int>(patches.size());
@@ -77,55 +83,42 @@ void TerrainRenderer::prepare(const Camera& camera, const TerrainGeometry& geome
     m_measure = style.measure;
     if (patches.empty()) return;
 
-    // Patch origins reach the GPU relative to the anchor, as every position does
-    // (terrainPositionM).
-    const io::PyramidLayout& layout = geometry.layout();
-    const glm::dvec2 anchor = setCameraFrameUniforms(m_program, camera, geometry);
-    writePatchInstanceRecords(layout, pool, patches, anchor, m_staging);
     const Camera& lodCamera = style.lodCamera ? *style.lodCamera : camera;
-    if (style.coarseCells && style.fixedTessFactor == 0) {
+    m_placement->beginFrame(camera, m_frame);
+    m_staging.clear();
+    for (const PatchDraw& patch : patches) m_staging.push_back(m_placement->place(patch, pool));
+    const TerrainGeometry* plane = m_placement->planeGeometry();
+    if (plane != nullptr && style.coarseCells && style.fixedTessFactor == 0) {
         // A patch drawn as cells has the cells' Λ: the skirts of every patch must reach it
         // too (SkirtDepth.h: a skirt drops its own edge error plus any neighbour's Λ).
         float coarseDepthM = 0.0f;
         for (std::size_t i = 0; i < patches.size(); ++i) {
             const CoarseCellChoice choice =
-                coarseCellChoice(lodCamera, geometry, patches[i].id, *pool.info(patches[i].id),
+                coarseCellChoice(lodCamera, *plane, patches[i].id, *pool.info(patches[i].id),
                                  pool.coarseCellErrorsM(patches[i].id), errorPx);
             if (!choice.coarse()) continue;
             const float errorM = io::roundUpToFloat(choice.errorM);  // a bound: rounded up
             m_staging[i].coarseCells = {static_cast<float>(choice.cellQuads), errorM, 0.0f, 0.0f};
             coarseDepthM = std::max(coarseDepthM, errorM);
         }
-        for (PatchInstanceRecord& record : m_staging) {
+        for (PatchInstance& record : m_staging) {
             record.errors[1] = std::max(record.errors[1], coarseDepthM);
         }
     }
     m_instances.upload(0, std::as_bytes(std::span(m_staging)));
 
-    m_program.setUniform("u_blocksPerSide", m_blocksPerSide);
-    m_program.setUniform("u_blockQuads", m_blockQuads);
-    m_program.setUniform("u_viewportPx",
-                         std::array<float, 2>{static_cast<float>(camera.viewportWidth),
-                                              static_cast<float>(camera.viewportHeight)});
-    m_program.setUniform("u_errorPx", static_cast<float>(errorPx));
-    m_program.setUniform("u_fixedSimplification",
-                         fixedSimplification(style.fixedTessFactor, m_blockQuads));
-    m_program.setUniform("u_cullBlocks", style.cullBlocks ? 1 : 0);
-    const glm::mat4 lodViewProjection(lodCamera.relativeViewProjection());
-    m_program.setUniformMat4("u_lodViewProjection",
-                             std::span<const float, 16>(glm::value_ptr(lodViewProjection), 16));
-    const glm::vec3 lodOffsetM(camera.position - lodCamera.position);
-    m_program.setUniform("u_lodOffsetM",
-                         std::array<float, 3>{lodOffsetM.x, lodOffsetM.y, lodOffsetM.z});
-    setRelativeFrustumUniform(m_program, camera);
-    setShadingUniforms(m_program, geometry, style.skyColor, style.fogDensityPerM);
-    m_program.setUniform("u_debugView", static_cast<int>(style.debugView));
+    setCameraFrame(m_frame, camera, lodCamera, errorPx);
+    setTessellation(m_frame, m_blocksPerSide, m_blockQuads, m_surface->layout().patchQuads(),
+                    fixedSimplification(style.fixedTessFactor, m_blockQuads));
+    setLook(m_frame, style);
+    m_frameBuffer.upload(m_frame);
 }
 
 TerrainDrawStats TerrainRenderer::submit(const cache::GpuTilePool& pool) {
     const TerrainDrawStats stats = issueInstancedPatchDraw(
         pool, {.program = m_program,
                .vertexArray = m_vertexArray,
+               .frame = m_frameBuffer.buffer(),
                .instances = m_instances,
                .tessFactors = m_tessFactors.valid() ? &m_tessFactors : nullptr,
                .verticesPerInstance = 4 * primitivesPerInstance(m_skirts),

@@ -4,7 +4,6 @@
 #include "Bindings.h"
 #include "InstancedPatchDraw.h"
 #include "terrain/base/Assert.h"
-#include "terrain/runtime/TerrainFrameUniforms.h"
 
 #include <epoxy/gl.h>
 
@@ -53,28 +52,23 @@ TerrainDrawStats ValdetaroRenderer::draw(const Camera& camera, const TerrainGeom
                                          std::span<const PatchDraw> patches,
                                          const TerrainStyle& style, double errorPx) {
     if (patches.empty()) return {};
-    m_draw.prepare(camera, geometry, pool, patches, style);
+    m_draw.prepare(camera, geometry, pool, patches, style, errorPx);
+    setTessellation(m_draw.frame, m_tilesPerPatch, m_tileQuads, geometry.layout().patchQuads(), -1);
+    m_draw.uploadFrame();
     const glm::dvec2 spacing = geometry.sampleSpacing();
     const double dMaxM =
         camera.errorScale() * std::min(spacing.x, spacing.y) / m_parameters.pixelsPerSampleAtDMax;
     gl::Program& program = m_draw.program;
-    program.setUniform("u_blocksPerSide", m_tilesPerPatch);
-    program.setUniform("u_blockQuads", m_tileQuads);
-    program.setUniform("u_viewportPx",
-                       std::array<float, 2>{static_cast<float>(camera.viewportWidth),
-                                            static_cast<float>(camera.viewportHeight)});
-    program.setUniform("u_errorPx", static_cast<float>(errorPx));
     program.setUniform("u_hamGain", static_cast<float>(m_parameters.hamGain));
     program.setUniform("u_dMaxM", static_cast<float>(dMaxM));
     program.setUniform("u_maxFactor",
                        static_cast<float>(std::min(m_tileQuads, kValdetaroMaxFactor)));
-    program.setUniform("u_cullBlocks", style.cullBlocks ? 1 : 0);
-    setRelativeFrustumUniform(program, camera);
 
     glBindTextureUnit(TERRAIN_BINDING_VALDETARO_TILES, m_tiles.id());
     const TerrainDrawStats stats =
         issueInstancedPatchDraw(pool, {.program = program,
                                        .vertexArray = m_draw.vertexArray,
+                                       .frame = m_draw.frameBuffer.buffer(),
                                        .instances = m_draw.instances,
                                        .verticesPerInstance = 4 * m_tilesPerPatch * m_tilesPerPatch,
                                        .instanceCount = static_cast<int>(patches.size()),

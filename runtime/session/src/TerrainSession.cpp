@@ -101,46 +101,30 @@ Result<std::unique_ptr<TerrainSession>> TerrainSession::open(const std::filesyst
         return Error{pyramid.string() + ": a " + std::string(surfaceName(surface->kind())) +
                      " pyramid: " + supported.error().message};
     // The tree draws only resident patches, so the pool's capacity bounds one draw; bare
-    // patches take no layer, so on the globe the draw list can outgrow it: a bound of its own.
-    const int capacity = streamer.value()->pool().capacity();
-    std::optional<TerrainRenderer> planeRenderer;
-    std::optional<GlobeRenderer> globeRenderer;
-    if (surface->kind() == SurfaceKind::Globe) {
-        auto renderer = GlobeRenderer::create(streamer.value()->manifest(), capacity + 4096);
-        if (!renderer) return Error{pyramid.string() + ": " + renderer.error().message};
-        globeRenderer = std::move(renderer).value();
-    } else {
-        auto renderer =
-            TerrainRenderer::create(streamer.value()->layout(), capacity, options.renderer);
-        if (!renderer) return Error{pyramid.string() + ": " + renderer.error().message};
-        planeRenderer = std::move(renderer).value();
-    }
+    // patches take no layer, so where the surface has them (the globe) the draw list can
+    // outgrow it: a bound of their own.
+    const int maxInstances =
+        streamer.value()->pool().capacity() + (surface->drawsBareSurface() ? 4096 : 0);
+    auto renderer = TerrainRenderer::create(*surface, maxInstances, options.renderer);
+    if (!renderer) return Error{pyramid.string() + ": " + renderer.error().message};
     auto methodRenderer = createMethodRenderer(pyramid, *streamer.value(), options);
     if (!methodRenderer) return methodRenderer.error();
     return std::unique_ptr<TerrainSession>(new TerrainSession(
-        std::move(streamer).value(), std::move(surface), std::move(planeRenderer),
-        std::move(globeRenderer), std::move(methodRenderer).value(), options.method, options.lod));
+        std::move(streamer).value(), std::move(surface), std::move(renderer).value(),
+        std::move(methodRenderer).value(), options.method, options.lod));
 }
 
 TerrainSession::TerrainSession(std::unique_ptr<TileStreamer> streamer,
-                               std::unique_ptr<Surface> surface,
-                               std::optional<TerrainRenderer> planeRenderer,
-                               std::optional<GlobeRenderer> globeRenderer,
+                               std::unique_ptr<Surface> surface, TerrainRenderer renderer,
                                std::unique_ptr<PatchRenderer> methodRenderer, LodMethod method,
                                const LodOptions& lod)
     : m_streamer(std::move(streamer)),
       m_surface(std::move(surface)),
-      m_renderer(std::move(planeRenderer)),
-      m_globeRenderer(std::move(globeRenderer)),
+      m_renderer(std::move(renderer)),
       m_methodRenderer(std::move(methodRenderer)),
       m_tree(std::make_unique<LodQuadtree>(*m_streamer, *m_surface, lodOptionsFor(method, lod))),
       m_method(method) {
     m_draws.reserve(static_cast<std::size_t>(m_streamer->pool().capacity()));
-}
-
-TerrainRenderer& TerrainSession::renderer() {
-    TERRAIN_ASSERT(m_renderer.has_value(), "TerrainSession::renderer: a globe pyramid");
-    return *m_renderer;
 }
 
 TerrainSession::~TerrainSession() {
@@ -194,23 +178,18 @@ void TerrainSession::addTileErrorsToVirtualDraws() {
 }
 
 TerrainDrawStats TerrainSession::draw(const Camera& camera, const TerrainStyle& style) {
-    if (m_globeRenderer) {
-        m_lastDraw = m_globeRenderer->draw(camera, m_streamer->pool(), m_draws, style, errorPx());
-        return m_lastDraw;
-    }
-    const TerrainGeometry& geometry = planeGeometry(*m_surface);
     if (m_methodRenderer) {
-        m_lastDraw = m_methodRenderer->draw(camera, geometry, m_streamer->pool(), m_draws, style,
-                                              errorPx());
+        m_lastDraw = m_methodRenderer->draw(camera, planeGeometry(*m_surface), m_streamer->pool(),
+                                            m_draws, style, errorPx());
         return m_lastDraw;
     }
     if (drawsFullPatches(m_method)) {
         TerrainStyle full = style;
-        full.fixedTessFactor = geometry.layout().blockQuads();
-        m_lastDraw = m_renderer->draw(camera, geometry, m_streamer->pool(), m_draws, full, errorPx());
+        full.fixedTessFactor = m_surface->layout().blockQuads();
+        m_lastDraw = m_renderer.draw(camera, m_streamer->pool(), m_draws, full, errorPx());
         return m_lastDraw;
     }
-    m_lastDraw = m_renderer->draw(camera, geometry, m_streamer->pool(), m_draws, style, errorPx());
+    m_lastDraw = m_renderer.draw(camera, m_streamer->pool(), m_draws, style, errorPx());
     return m_lastDraw;
 }
 

@@ -9,8 +9,8 @@
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/runtime/GlobeFrustum.h"
-#include "terrain/runtime/GlobeRenderer.h"
 #include "terrain/runtime/ProgramBuilder.h"
+#include "terrain/runtime/SurfacePlacement.h"
 
 #include <epoxy/gl.h>
 #include <fmt/format.h>
@@ -43,7 +43,7 @@ Result<GlobeReferenceRenderer> GlobeReferenceRenderer::create(const io::PyramidM
     r.m_layout = manifest.layout;
     r.m_heightRange = globeHeightRange(manifest);
     r.m_grid = SampleGrid::create(manifest.layout.patchQuads(), "globe reference grid");
-    r.m_instances = gl::Buffer::create(sizeof(GlobeInstance) * kBatchRegions,
+    r.m_instances = gl::Buffer::create(sizeof(PatchInstance) * kBatchRegions,
                                        GL_DYNAMIC_STORAGE_BIT, "globe reference regions");
     const int side = manifest.layout.tileSamples();
     auto heights = gl::Texture::create2DArray(
@@ -217,7 +217,7 @@ Status GlobeReferenceRenderer::addRegion(const Region& region) {
                         static_cast<float>(region.texelOffsetY)};
     draw.texelStep = static_cast<float>(region.texelStep);
     m_staging.push_back(
-        makeGlobeInstance(draw, m_camera->position, m_cameraUp, m_layout.patchQuads()));
+        globePatchInstance(draw, m_camera->position, m_cameraUp, m_layout.patchQuads()));
     ++m_stats.tiles;
     // A batch holds at most as many tiles as regions: full regions, full layers.
     if (static_cast<int>(m_staging.size()) == kBatchRegions) submitBatch();

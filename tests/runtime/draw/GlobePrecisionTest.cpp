@@ -1,7 +1,7 @@
 // The GPU's globe positions against a double-precision reference: the GLSL globePositionM
 // that globe.tese places every vertex with, run by a compute probe on the driver (llvmpipe
 // here, any GPU where the suite runs) with the instance records the renderer writes
-// (makeGlobeInstance), at the equator, ±180°, within 1 km of both poles, a cube corner and a
+// (globePatchInstance), at the equator, ±180°, within 1 km of both poles, a cube corner and a
 // cube edge, from 1 m to 36,000 km, on patches from a whole face (level 0) to level 20.
 // Within 10 km of the camera a vertex must be within 1 cm of the reference; anywhere its
 // error seen from the camera must stay under 1e-5 rad (0.01 px at 1080p, 60° field of view).
@@ -10,8 +10,8 @@
 #include "terrain/globe/GlobePatch.h"
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
-#include "terrain/runtime/GlobeInstance.h"
 #include "terrain/runtime/ProgramBuilder.h"
+#include "terrain/runtime/SurfacePlacement.h"
 
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
@@ -52,7 +52,7 @@ TEST_F(GlobePrecisionTest, GpuPositionsMatchTheDoubleReference) {
                                     {"cube edge", 12.0, -45.0}};
     std::mt19937_64 random(3);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    std::vector<GlobeInstance> instances;
+    std::vector<PatchInstance> instances;
     std::vector<Probe> probes;
     struct Expected {
         glm::dvec3 position;
@@ -73,10 +73,10 @@ TEST_F(GlobePrecisionTest, GpuPositionsMatchTheDoubleReference) {
                 const globe::GlobePatchId id{nadir.face, level, index(nadir.s), index(nadir.t)};
                 PatchDraw draw;
                 draw.id = draw.tileId = io::layoutPatchOf(id);
-                const GlobeInstance instance = makeGlobeInstance(draw, camera, up, kQuads);
+                const PatchInstance instance = globePatchInstance(draw, camera, up, kQuads);
                 const int instanceIndex = static_cast<int>(instances.size());
                 instances.push_back(instance);
-                const double u0 = instance.frame0[1], v0 = instance.frame0[2];
+                const double u0 = instance.placement0[1], v0 = instance.placement0[2];
                 const double nearSpan = std::min(1.0, 10e3 / (7.0e6 / static_cast<double>(n)));
                 for (int k = 0; k < 200; ++k) {
                     const bool near = k < 150;
@@ -99,7 +99,7 @@ TEST_F(GlobePrecisionTest, GpuPositionsMatchTheDoubleReference) {
             }
         }
     }
-    gl::Buffer instanceBuffer = gl::Buffer::create(sizeof(GlobeInstance) * instances.size(),
+    gl::Buffer instanceBuffer = gl::Buffer::create(sizeof(PatchInstance) * instances.size(),
                                                    GL_DYNAMIC_STORAGE_BIT, "probe instances");
     instanceBuffer.upload(0, std::as_bytes(std::span(instances)));
     gl::Buffer probeBuffer =

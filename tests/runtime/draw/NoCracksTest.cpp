@@ -8,15 +8,16 @@
 #include "StreamingTestPyramid.h"
 #include "TempFolder.h"
 #include "TerrainViewChecks.h"
+#include "terrain/build/PyramidBuilder.h"
 #include "terrain/dem/OpenDem.h"
 #include "terrain/gl/Framebuffer.h"
-#include "terrain/source/DemReader.h"
-#include "terrain/build/PyramidBuilder.h"
 #include "terrain/runtime/PatchSelection.h"
+#include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/SkirtDepth.h"
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TerrainRenderer.h"
 #include "terrain/runtime/TileStreamer.h"
+#include "terrain/source/DemReader.h"
 
 #include <epoxy/gl.h>
 #include <glm/geometric.hpp>
@@ -67,8 +68,9 @@ protected:
         EXPECT_TRUE(opened) << opened.error().message;
         if (!opened) return {};
         runtime::TileStreamer& streamer = *opened.value();
-        const runtime::TerrainGeometry g(streamer.manifest());
-        auto renderer = runtime::TerrainRenderer::create(streamer.layout(), o.gpuLayers);
+        const runtime::PlaneSurface surface(streamer.manifest());
+        const runtime::TerrainGeometry& g = surface.geometry();
+        auto renderer = runtime::TerrainRenderer::create(surface, o.gpuLayers);
         EXPECT_TRUE(renderer) << renderer.error().message;
         auto fb = gl::Framebuffer::create(kWidth, kHeight);
         EXPECT_TRUE(fb) << fb.error().message;
@@ -109,7 +111,7 @@ protected:
             for (const bool skirts : {true, false}) {
                 style.skirts = skirts;
                 fb.value().clear(kHoleColor, 0.0f);
-                renderer.value().draw(camera, g, streamer.pool(), draws, style, kFineErrorPx);
+                renderer.value().draw(camera, streamer.pool(), draws, style, kFineErrorPx);
                 const std::uint64_t clear = countHolePixels(fb.value());
                 if (skirts) {
                     stats.clearPixelsWithSkirts += clear;

@@ -14,6 +14,7 @@
 #include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/CoarseCells.h"
 #include "terrain/runtime/EdgeTessellation.h"
+#include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/SkirtDepth.h"
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TerrainRenderer.h"
@@ -54,6 +55,7 @@ struct Pose {
 /// Every present patch of the streaming test pyramid, uploaded to a pool of its own.
 struct Scene {
     io::PyramidManifest manifest;
+    std::unique_ptr<runtime::PlaneSurface> surface;  // the draws' (the renderers hold it)
     std::vector<io::PatchRecord> records;
     cache::GpuTilePool pool;
     std::vector<PatchDraw> draws;  // one per record, same order
@@ -64,6 +66,7 @@ Scene loadScene() {
     EXPECT_TRUE(reader) << reader.error().message;
     Scene scene;
     scene.manifest = reader.value().manifest();
+    scene.surface = std::make_unique<runtime::PlaneSurface>(scene.manifest);
     const io::PyramidLayout& layout = scene.manifest.layout;
     for (int level = 0; level < layout.levelCount(); ++level) {
         for (std::int64_t y = 0; y < layout.patchesY(level); ++y) {
@@ -143,10 +146,9 @@ bool isBorderline(const BlockFactors& cpu, std::size_t edge, double errorPx) {
 class TessellationFactorsTest : public GlTest {
 protected:
     // A renderer that records every (instance, primitive)'s factors for `scene`'s draws.
-    static Result<runtime::TerrainRenderer> recordingRenderer(const io::PyramidLayout& layout,
-                                                              const Scene& scene) {
-        return runtime::TerrainRenderer::create(layout, static_cast<int>(scene.draws.size()),
-                                                {.recordTessFactors = true});
+    static Result<runtime::TerrainRenderer> recordingRenderer(const Scene& scene) {
+        return runtime::TerrainRenderer::create(
+            *scene.surface, static_cast<int>(scene.draws.size()), {.recordTessFactors = true});
     }
 
     // Records a drawn patch leaves: its blocks, then a skirt for each border block of each side.
@@ -155,15 +157,16 @@ protected:
         return blocks * blocks + 4 * blocks;
     }
 
-    static std::vector<RecordedTessFactors> drawAndRecord(
-        runtime::TerrainRenderer& renderer, Scene& scene, const runtime::TerrainGeometry& g,
-        const Camera& camera, const runtime::TerrainStyle& style, double errorPx) {
+    static std::vector<RecordedTessFactors> drawAndRecord(runtime::TerrainRenderer& renderer,
+                                                          Scene& scene, const Camera& camera,
+                                                          const runtime::TerrainStyle& style,
+                                                          double errorPx) {
         // Only the control stage's records matter: nothing needs rasterising (the headless
         // context has no default framebuffer, so a small one is bound all the same).
         const gl::Framebuffer target = gl::Framebuffer::create(16, 16).value();
         glBindFramebuffer(GL_FRAMEBUFFER, target.id());
         glEnable(GL_RASTERIZER_DISCARD);
-        renderer.draw(camera, g, scene.pool, scene.draws, style, errorPx);
+        renderer.draw(camera, scene.pool, scene.draws, style, errorPx);
         glDisable(GL_RASTERIZER_DISCARD);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         return renderer.readTessFactors(static_cast<int>(scene.draws.size()));
@@ -178,7 +181,7 @@ TEST_F(TessellationFactorsTest, ControlStageMatchesTheCpuModel) {
     const int blocks = layout.blocksPerSide();
     const int quads = layout.blockQuads();
     const int perInstance = recordsPerInstance(layout);
-    auto renderer = recordingRenderer(layout, scene);
+    auto renderer = recordingRenderer(scene);
     ASSERT_TRUE(renderer) << renderer.error().message;
 
     std::uint64_t edges = 0, borderline = 0, mismatches = 0, coarsened = 0, fullResolution = 0;
@@ -191,7 +194,7 @@ TEST_F(TessellationFactorsTest, ControlStageMatchesTheCpuModel) {
         runtime::TerrainStyle style;
         style.coarseCells = false;  // every patch as blocks: the edge rule everywhere
         const std::vector<RecordedTessFactors> gpu =
-            drawAndRecord(renderer.value(), scene, g, pose.camera, style, pose.errorPx);
+            drawAndRecord(renderer.value(), scene, pose.camera, style, pose.errorPx);
         int failures = 0;  // messages per pose, not per edge
         for (std::size_t i = 0; i < scene.records.size(); ++i) {
             const io::PatchRecord& record = scene.records[i];
@@ -329,7 +332,7 @@ TEST_F(TessellationFactorsTest, FixedFactorIsUniformAndSkirtsDropItsBlockError) 
     const io::PyramidLayout& layout = g.layout();
     const int blocks = layout.blocksPerSide();
     const int perInstance = recordsPerInstance(layout);
-    auto renderer = recordingRenderer(layout, scene);
+    auto renderer = recordingRenderer(scene);
     ASSERT_TRUE(renderer) << renderer.error().message;
     const Camera camera = poses(g).front().camera;
     for (const int requested : {1, 2, 3, 8, 100}) {
@@ -339,7 +342,7 @@ TEST_F(TessellationFactorsTest, FixedFactorIsUniformAndSkirtsDropItsBlockError) 
         const int expected = std::bit_floor(static_cast<unsigned>(std::min(requested, 8)));
         const int d = std::countr_zero(8u) - std::countr_zero(static_cast<unsigned>(expected));
         const std::vector<RecordedTessFactors> gpu =
-            drawAndRecord(renderer.value(), scene, g, camera, style, kFixedFactorErrorPx);
+            drawAndRecord(renderer.value(), scene, camera, style, kFixedFactorErrorPx);
         for (std::size_t i = 0; i < scene.records.size(); ++i) {
             const RecordedTessFactors* patch = &gpu[i * static_cast<std::size_t>(perInstance)];
             for (int b = 0; b < blocks * blocks; ++b) {
@@ -366,7 +369,7 @@ TEST_F(TessellationFactorsTest, LodCameraDecidesTheFactors) {
     const io::PyramidLayout& layout = g.layout();
     const int blocks = layout.blocksPerSide();
     const int perInstance = recordsPerInstance(layout);
-    auto renderer = recordingRenderer(layout, scene);
+    auto renderer = recordingRenderer(scene);
     ASSERT_TRUE(renderer) << renderer.error().message;
     const std::vector<Pose> all = poses(g);
     std::uint64_t compared = 0, differFromDrawn = 0;
@@ -381,7 +384,7 @@ TEST_F(TessellationFactorsTest, LodCameraDecidesTheFactors) {
         style.coarseCells = false;
         style.lodCamera = lodPose.camera;
         const std::vector<RecordedTessFactors> gpu =
-            drawAndRecord(renderer.value(), scene, g, drawn, style, lodPose.errorPx);
+            drawAndRecord(renderer.value(), scene, drawn, style, lodPose.errorPx);
         for (std::size_t i = 0; i < scene.records.size(); ++i) {
             const std::vector<BlockFactors> want =
                 runtime::patchBlockFactors(lodPose.camera, g, scene.records[i], lodPose.errorPx);
@@ -420,7 +423,7 @@ TEST_F(TessellationFactorsTest, CoarseCellsAreTheCpuChoiceAndCoverTheirBlocks) {
     const io::PyramidLayout& layout = g.layout();
     const int blocks = layout.blocksPerSide();
     const int perInstance = recordsPerInstance(layout);
-    auto renderer = recordingRenderer(layout, scene);
+    auto renderer = recordingRenderer(scene);
     ASSERT_TRUE(renderer) << renderer.error().message;
     std::uint64_t coarsePatches = 0, blockPatches = 0;
     std::array<std::uint64_t, 5> perCellSize{};  // k = 1..4 by index
@@ -428,7 +431,7 @@ TEST_F(TessellationFactorsTest, CoarseCellsAreTheCpuChoiceAndCoverTheirBlocks) {
         SCOPED_TRACE(pose.name);
         runtime::TerrainStyle style;
         const std::vector<RecordedTessFactors> gpu =
-            drawAndRecord(renderer.value(), scene, g, pose.camera, style, pose.errorPx);
+            drawAndRecord(renderer.value(), scene, pose.camera, style, pose.errorPx);
         // The CPU's choice, from the pool's bounds as the renderer reads them, which are
         // io::coarseCellErrors of the record.
         std::vector<runtime::CoarseCellChoice> choices;
@@ -507,7 +510,7 @@ TEST_F(TessellationFactorsTest, MeasuredDrawCountsItsTrianglesAndRestoresState) 
     const auto blocks = static_cast<std::uint64_t>(layout.blocksPerSide());
     const auto quads = static_cast<std::uint64_t>(layout.blockQuads());
     const auto instances = static_cast<std::uint64_t>(scene.draws.size());
-    auto renderer = runtime::TerrainRenderer::create(layout, static_cast<int>(instances));
+    auto renderer = runtime::TerrainRenderer::create(*scene.surface, static_cast<int>(instances));
     ASSERT_TRUE(renderer) << renderer.error().message;
     auto fb = gl::Framebuffer::create(64, 64);
     ASSERT_TRUE(fb) << fb.error().message;
@@ -523,7 +526,7 @@ TEST_F(TessellationFactorsTest, MeasuredDrawCountsItsTrianglesAndRestoresState) 
     style.wireframe = true;
     style.cullBlocks = false;  // every block counts
     const runtime::TerrainDrawStats plain =
-        renderer.value().draw(camera, g, scene.pool, scene.draws, style, kFixedFactorErrorPx);
+        renderer.value().draw(camera, scene.pool, scene.draws, style, kFixedFactorErrorPx);
     EXPECT_EQ(plain.drawCalls, 1);
     EXPECT_EQ(plain.instances, static_cast<int>(instances));
     // Every block fully tessellated: 2 · B² triangles.
@@ -536,7 +539,7 @@ TEST_F(TessellationFactorsTest, MeasuredDrawCountsItsTrianglesAndRestoresState) 
     style.skirts = true;
     style.wireframe = false;
     const runtime::TerrainDrawStats skirted =
-        renderer.value().draw(camera, g, scene.pool, scene.draws, style, kFixedFactorErrorPx);
+        renderer.value().draw(camera, scene.pool, scene.draws, style, kFixedFactorErrorPx);
     // A skirt: outer (1, B, 1, B), inner (B, 1 → 2): 2(B − 2) + 2B + 2 = 4B − 2 triangles
     // (GL 4.5 §11.2.2.2; the arithmetic TessellationTest checks).
     EXPECT_EQ(skirted.triangles - plain.triangles, instances * 4 * blocks * (4 * quads - 2));
@@ -544,12 +547,12 @@ TEST_F(TessellationFactorsTest, MeasuredDrawCountsItsTrianglesAndRestoresState) 
     // Culling blocks outside the 64² view of the same pose draws fewer triangles.
     style.cullBlocks = true;
     const runtime::TerrainDrawStats culled =
-        renderer.value().draw(camera, g, scene.pool, scene.draws, style, kFixedFactorErrorPx);
+        renderer.value().draw(camera, scene.pool, scene.draws, style, kFixedFactorErrorPx);
     EXPECT_LT(culled.triangles, skirted.triangles);
 
     style.measure = false;
     const runtime::TerrainDrawStats unmeasured =
-        renderer.value().draw(camera, g, scene.pool, scene.draws, style, kFixedFactorErrorPx);
+        renderer.value().draw(camera, scene.pool, scene.draws, style, kFixedFactorErrorPx);
     EXPECT_EQ(unmeasured.triangles, 0u);
     EXPECT_EQ(unmeasured.gpuMs, 0.0);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

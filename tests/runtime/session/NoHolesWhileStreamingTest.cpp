@@ -103,7 +103,7 @@ TEST_F(NoHolesWhileStreamingTest, TeleportsWithTinyBudgetsSlowAndFailingReads) {
         glBindFramebuffer(GL_FRAMEBUFFER, fb.value().id());
         glViewport(0, 0, kWidth, kHeight);
         fb.value().clear(kHoleColor, 0.0f);
-        session.renderer().draw(camera, g, session.streamer().pool(), missingOne, style,
+        session.renderer().draw(camera, session.streamer().pool(), missingOne, style,
                                 session.errorPx());
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         controlHoles = countHolePixels(fb.value());

@@ -10,6 +10,7 @@
 #include "StreamingTestPyramid.h"
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/runtime/PatchSelection.h"
+#include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TerrainRenderer.h"
 #include "terrain/runtime/TileStreamer.h"
@@ -52,7 +53,7 @@ protected:
             framebuffer.clear({0.0f, 0.0f, 0.0f, 1.0f}, 0.0f);
             glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
             glViewport(0, 0, 320, 240);
-            renderer.prepare(camera, geometry, streamer.pool(), draws, {}, 2.0);
+            renderer.prepare(camera, streamer.pool(), draws, {}, 2.0);
             {
                 const AllocationScope driver;
                 renderer.submit(streamer.pool());
@@ -91,8 +92,9 @@ TEST_F(StreamingSteadyStateTest, AlternatingViewsAllocateNothingOnceWarm) {
     {
         auto big = open(512);
         ASSERT_TRUE(big);
-        const runtime::TerrainGeometry g(big->manifest());
-        auto renderer = runtime::TerrainRenderer::create(big->layout(), 512);
+        const runtime::PlaneSurface surface(big->manifest());
+        const runtime::TerrainGeometry& g = surface.geometry();
+        auto renderer = runtime::TerrainRenderer::create(surface, 512);
         ASSERT_TRUE(renderer) << renderer.error().message;
         auto fb = gl::Framebuffer::create(320, 240);
         ASSERT_TRUE(fb);
@@ -103,8 +105,9 @@ TEST_F(StreamingSteadyStateTest, AlternatingViewsAllocateNothingOnceWarm) {
     {
         auto big = open(512);
         ASSERT_TRUE(big);
-        const runtime::TerrainGeometry g(big->manifest());
-        auto renderer = runtime::TerrainRenderer::create(big->layout(), 512);
+        const runtime::PlaneSurface surface(big->manifest());
+        const runtime::TerrainGeometry& g = surface.geometry();
+        auto renderer = runtime::TerrainRenderer::create(surface, 512);
         ASSERT_TRUE(renderer) << renderer.error().message;
         auto fb = gl::Framebuffer::create(320, 240);
         ASSERT_TRUE(fb);
@@ -120,8 +123,9 @@ TEST_F(StreamingSteadyStateTest, AlternatingViewsAllocateNothingOnceWarm) {
     ASSERT_LT(capacity, layersA + layersB - 1);
     auto streamer = open(capacity);
     ASSERT_TRUE(streamer);
-    const runtime::TerrainGeometry g(streamer->manifest());
-    auto renderer = runtime::TerrainRenderer::create(streamer->layout(), capacity);
+    const runtime::PlaneSurface surface(streamer->manifest());
+    const runtime::TerrainGeometry& g = surface.geometry();
+    auto renderer = runtime::TerrainRenderer::create(surface, capacity);
     ASSERT_TRUE(renderer) << renderer.error().message;
     auto fb = gl::Framebuffer::create(320, 240);
     ASSERT_TRUE(fb);

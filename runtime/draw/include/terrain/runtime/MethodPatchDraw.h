@@ -1,8 +1,8 @@
 // MethodPatchDraw: what the comparison methods' renderers (ValdetaroRenderer, LivnyRenderer,
-// CdlodRenderer) share: their program, the queries that measure a draw, an attribute-less
-// vertex array and the per-patch instance records, written relative to the camera's anchor
-// with the frame's camera and shading uniforms. Each renderer adds its own uniforms and
-// issues its own draw call.
+// CdlodRenderer; planar only) share: their program, the queries that measure a draw, an
+// attribute-less vertex array, the per-patch instance records placed on the plane
+// (PlanePlacement) and the frame block with the frame's camera, placement and look. Each
+// renderer adds its tessellation grid and its own uniforms, and issues its own draw call.
 #pragma once
 
 #include "terrain/base/Result.h"
@@ -12,10 +12,11 @@
 #include "terrain/gl/Query.h"
 #include "terrain/gl/VertexArray.h"
 #include "terrain/runtime/Camera.h"
-#include "terrain/runtime/PatchInstanceRecord.h"
-#include "terrain/runtime/PatchSelection.h"
+#include "terrain/runtime/FrameBlock.h"
+#include "terrain/runtime/PatchDraw.h"
+#include "terrain/runtime/PatchInstance.h"
 #include "terrain/runtime/TerrainGeometry.h"
-#include "terrain/runtime/TerrainRenderer.h"
+#include "terrain/runtime/TerrainStyle.h"
 
 #include <initializer_list>
 #include <span>
@@ -28,9 +29,11 @@ struct MethodPatchDraw {
     gl::Program program;
     gl::VertexArray vertexArray;
     gl::Buffer instances;
+    FrameBlockBuffer frameBuffer;
     gl::Query primitivesQuery;
     gl::Query timeQuery;
-    std::vector<PatchInstanceRecord> staging;
+    std::vector<PatchInstance> staging;
+    FrameBlock frame;
     int maxInstances = 0;
 
     /// Builds `name`'s program from `stages` (shaders/) and room for `maxInstances` patches.
@@ -38,11 +41,13 @@ struct MethodPatchDraw {
                                           std::initializer_list<const char*> stages,
                                           int maxInstances);
 
-    /// Writes and uploads the records of `patches` and sets the camera frame, shading and
-    /// debug-view uniforms for `camera` and `style`.
+    /// Writes and uploads the records of `patches` and fills the frame block's camera,
+    /// placement and look for `camera` and `style` at ε = `errorPx`; the renderer adds its
+    /// tessellation grid (setTessellation) and calls uploadFrame().
     void prepare(const Camera& camera, const TerrainGeometry& geometry,
                  const cache::GpuTilePool& pool, std::span<const PatchDraw> patches,
-                 const TerrainStyle& style);
+                 const TerrainStyle& style, double errorPx);
+    void uploadFrame() { frameBuffer.upload(frame); }
 
     /// The queries to measure a draw with when the style asks (null otherwise).
     gl::Query* primitivesIf(const TerrainStyle& style) {

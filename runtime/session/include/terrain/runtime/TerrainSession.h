@@ -29,7 +29,6 @@
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/CdlodRenderer.h"
 #include "terrain/runtime/FrameTelemetry.h"
-#include "terrain/runtime/GlobeRenderer.h"
 #include "terrain/runtime/LivnyRenderer.h"
 #include "terrain/runtime/LodMethod.h"
 #include "terrain/runtime/LodQuadtree.h"
@@ -127,24 +126,21 @@ public:
     const LodQuadtree& tree() const { return *m_tree; }
     const Surface& surface() const override { return *m_surface; }
     const io::PyramidManifest& manifest() const { return m_streamer->manifest(); }
-    /// The planar draw (recordTessFactors and the like, for tests); a planar pyramid's only.
-    TerrainRenderer& renderer();
+    /// The draw (recordTessFactors and the like, for tests).
+    TerrainRenderer& renderer() { return m_renderer; }
 
 private:
     TerrainSession(std::unique_ptr<TileStreamer> streamer, std::unique_ptr<Surface> surface,
-                   std::optional<TerrainRenderer> planeRenderer,
-                   std::optional<GlobeRenderer> globeRenderer,
-                   std::unique_ptr<PatchRenderer> methodRenderer, LodMethod method,
-                   const LodOptions& lod);
+                   TerrainRenderer renderer, std::unique_ptr<PatchRenderer> methodRenderer,
+                   LodMethod method, const LodOptions& lod);
     /// A virtual patch interpolates its ancestor's tile between the tile's samples: its
     /// bound takes the tile's largest λ on top of the tile's Err(P), however it is drawn.
     void addTileErrorsToVirtualDraws();
 
     // Declared in destruction order's reverse: the tree holds pins in the streamer's pool.
     std::unique_ptr<TileStreamer> m_streamer;
-    std::unique_ptr<Surface> m_surface;
-    std::optional<TerrainRenderer> m_renderer;
-    std::optional<GlobeRenderer> m_globeRenderer;
+    std::unique_ptr<Surface> m_surface;  // the renderer holds a reference
+    TerrainRenderer m_renderer;
     // Valdetaro2011, Livny2007 and Cdlod draw with their own; null for the methods that
     // draw with m_renderer.
     std::unique_ptr<PatchRenderer> m_methodRenderer;

@@ -24,7 +24,7 @@
 #include "terrain/globe/GlobePatch.h"
 #include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/Camera.h"
-#include "terrain/runtime/GlobeInstance.h"
+#include "terrain/runtime/PatchInstance.h"
 #include "terrain/runtime/ReferenceRenderer.h"
 #include "terrain/runtime/SampleGrid.h"
 
@@ -94,7 +94,7 @@ private:
     std::uint64_t m_visited = 0;  // patches and regions walked this draw
     double m_gamma = 1.0;
     glm::dvec3 m_cameraUp{0.0};
-    std::vector<GlobeInstance> m_staging;
+    std::vector<PatchInstance> m_staging;
     std::vector<std::uint64_t> m_layerTiles;           // the tile in each layer of this batch
     std::map<std::uint64_t, io::PatchRecord> m_tiles;  // read this draw, by layout patch
     ReferenceDrawStats m_stats;

@@ -1,0 +1,165 @@
+// The globe's side of the patch draws (runtime/surface GlobeSurface; DESIGN.md, "The globe"):
+// where a patch sample lies on the WGS84 ellipsoid, camera-relative, in float only — the
+// GLSL twin of io/globe SurfaceOffset.h, which holds the derivation and the test against a
+// double-precision reference. No planet-sized coordinate is ever formed here: each patch's
+// reference point O (near the camera's nadir) comes from the CPU as O − camera, and every
+// difference below is built from small quantities. A record's placement holds that frame
+// (runtime/draw PatchInstance.cpp, from globe::makePatchSurfaceFrame):
+//   placement0  dα/du, u0, v0, α0
+//   placement1  β0, tan α0, tan β0, 1/|q0|
+//   placement2  d0 (xyz), √(1 − e²·d0z²)
+//   placement3  O − camera (xyz, metres), N0 = a / √g0
+//   placement4  metres per tile sample along s and t near O (xy)
+// and layerLevel.z its cube face. Also here: the bound on how many pixels a metre of error
+// covers over a set of blocks (the sphere around them) and their frustum test.
+#ifndef SURFACE_GLOBE_GLSL
+#define SURFACE_GLOBE_GLSL
+
+#include "terrain_heights.glsl"
+#include "terrain_patches.glsl"
+
+// The globe's coarse stage splits at the whole ε (LodOptions::defaultCoarseShare): where
+// Err(P) alone already shows more than ε, the factors hold only λ(d) to ε.
+const bool kCoarseStageTakesWholeEpsilon = true;
+
+const float kWgs84A = 6378137.0;
+const float kWgs84E2 = 0.00669437999014;
+// The faces' axes (io/globe CubeSphere.cpp; docs/pyramid-format.md, "Globe pyramids").
+const vec3 kFaceNormal[6] = vec3[](vec3(1, 0, 0), vec3(0, 1, 0), vec3(-1, 0, 0), vec3(0, -1, 0),
+                                   vec3(0, 0, 1), vec3(0, 0, -1));
+const vec3 kFaceRight[6] = vec3[](vec3(0, 1, 0), vec3(-1, 0, 0), vec3(0, -1, 0), vec3(1, 0, 0),
+                                  vec3(0, 1, 0), vec3(0, 1, 0));
+const vec3 kFaceDown[6] = vec3[](vec3(0, 0, -1), vec3(0, 0, -1), vec3(0, 0, -1), vec3(0, 0, -1),
+                                 vec3(1, 0, 0), vec3(-1, 0, 0));
+
+// sin(x) with a small relative error for small x: GPUs' sin() has an absolute error near
+// 2^-21, which would be all of sin(Δα) for the Δα of vertices near the camera.
+float globeSin(float x) {
+    if (abs(x) < 0.25) {
+        float x2 = x * x;
+        return x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0)));
+    }
+    return sin(x);
+}
+
+// Camera-relative position of the patch point at patch coordinates `uv` ([0, 1]², a sample s
+// at s / (N − 1)) at height h, and its ellipsoid normal `direction`.
+vec3 globePositionM(PatchInstance p, vec2 uv, float h, out vec3 direction) {
+    int face = p.layerLevel.z;
+    vec3 faceNormal = kFaceNormal[face], right = kFaceRight[face], down = kFaceDown[face];
+    // Cube coordinates as reference + difference: tan α − tan α0 = sin(Δα) / (cos α cos α0).
+    precise vec2 deltaAngle = p.placement0.x * (uv - p.placement0.yz);
+    vec2 angle0 = vec2(p.placement0.w, p.placement1.x);
+    precise vec2 angle = angle0 + deltaAngle;
+    precise vec2 deltaCube =
+        vec2(globeSin(deltaAngle.x), globeSin(deltaAngle.y)) / (cos(angle) * cos(angle0));
+    vec2 cube0 = p.placement1.yz;
+    precise vec2 cube = cube0 + deltaCube;
+    // d = q / |q| as d0 + Δd.
+    precise vec3 deltaQ = deltaCube.x * right + deltaCube.y * down;
+    vec3 q0 = faceNormal + cube0.x * right + cube0.y * down;
+    precise float inverseLength = inversesqrt(1.0 + dot(cube, cube));
+    float inverseLength0 = p.placement1.w;
+    precise float deltaLengthSquared = dot(deltaCube, cube + cube0);
+    precise float deltaInverseLength = -deltaLengthSquared * inverseLength * inverseLength0 /
+                                       (1.0 / inverseLength + 1.0 / inverseLength0);
+    precise vec3 deltaDirection = deltaQ * inverseLength + q0 * deltaInverseLength;
+    vec3 direction0 = p.placement2.xyz;
+    direction = direction0 + deltaDirection;
+    // S(d) − S(d0) = N·M·Δd + (N − N0)·M·d0, M = diag(1, 1, 1 − e²).
+    float sqrtG0 = p.placement2.w;
+    precise float deltaG = -kWgs84E2 * deltaDirection.z * (direction.z + direction0.z);
+    precise float sqrtG = sqrt(sqrtG0 * sqrtG0 + deltaG);
+    precise float primeVertical = kWgs84A / sqrtG;
+    precise float deltaPrimeVertical = -kWgs84A * deltaG / (sqrtG * sqrtG0 * (sqrtG + sqrtG0));
+    vec3 m = vec3(1.0, 1.0, 1.0 - kWgs84E2);
+    precise vec3 deltaSurface =
+        primeVertical * (m * deltaDirection) + deltaPrimeVertical * (m * direction0);
+    precise vec3 position = p.placement3.xyz + deltaSurface + h * direction;
+    return position;
+}
+
+// The shading normal at tile sample `texel`: the ellipsoid normal `direction` tilted by the
+// height differences across it over the patch's sample spacing (metres along s and t).
+vec3 globeShadingNormal(PatchInstance p, vec2 texel, bool between, vec3 direction) {
+    int layer = p.layerLevel.x;
+    int face = p.layerLevel.z;
+    vec3 east = normalize(kFaceRight[face] - dot(kFaceRight[face], direction) * direction);
+    vec3 south = normalize(kFaceDown[face] - dot(kFaceDown[face], direction) * direction);
+    float dx = between ? heightBetween(texel + vec2(1, 0), layer) - heightBetween(texel - vec2(1, 0), layer)
+                       : heightAt(ivec2(texel) + ivec2(1, 0), layer) - heightAt(ivec2(texel) - ivec2(1, 0), layer);
+    float dy = between ? heightBetween(texel + vec2(0, 1), layer) - heightBetween(texel - vec2(0, 1), layer)
+                       : heightAt(ivec2(texel) + ivec2(0, 1), layer) - heightAt(ivec2(texel) - ivec2(0, 1), layer);
+    return normalize(direction - dx / (2.0 * p.placement4.x) * east - dy / (2.0 * p.placement4.y) * south);
+}
+
+// A vertex: patch sample `s` at height h, lowered by `dropM` (a skirt's) down the ellipsoid
+// normal `up`.
+vec3 surfacePositionM(PatchInstance patch_, vec2 s, float h, float dropM, out vec3 up) {
+    // `precise`: the division stays a division, as inside globePositionM's own expressions.
+    precise vec2 uv = s / float(u_frame.tessellation.z);
+    precise vec3 position = globePositionM(patch_, uv, h, up);
+    position = position - dropM * up;
+    return position;
+}
+
+vec3 surfaceShadingNormal(PatchInstance patch_, vec2 texel, bool between, vec3 up) {
+    return globeShadingNormal(patch_, texel, between, up);
+}
+
+// The globe has no edge to clip (u_frame.demExtent is ±1e30).
+vec2 surfaceDemSample(PatchInstance patch_, vec2 s) { return vec2(0.0); }
+
+// The sphere (camera-relative centre, radius) around blocks first..last of the patch between
+// its heights, reaching `belowM` further down.
+vec4 blocksSphereM(PatchInstance patch_, ivec2 first, ivec2 last, float belowM) {
+    int blockQuads = u_frame.tessellation.y;
+    float patchQuads = float(u_frame.tessellation.z);
+    vec3 corners[8];
+    vec3 centre = vec3(0.0);
+    vec3 direction;
+    for (int i = 0; i < 8; ++i) {
+        ivec2 corner = ivec2((i & 1) != 0 ? last.x + 1 : first.x, (i & 2) != 0 ? last.y + 1 : first.y);
+        float h = (i & 4) != 0 ? patch_.errors.w : patch_.errors.z - belowM;
+        precise vec2 uv = vec2(corner * blockQuads) / patchQuads;
+        corners[i] = globePositionM(patch_, uv, h, direction);
+        centre += corners[i];
+    }
+    centre *= 0.125;
+    float radius = 0.0;
+    for (int i = 0; i < 8; ++i) radius = max(radius, distance(centre, corners[i]));
+    // The surface bulges past its corners by at most a chord's sagitta, diagonal² / 8ρ, ρ the
+    // smallest radius of curvature (6,335 km), and float rounding by a few ulps of |centre|.
+    float diagonal = distance(corners[0], corners[3]);
+    radius += diagonal * diagonal / (8.0 * 6.3e6) + 1.0e-5 * length(centre) + 0.05;
+    return vec4(centre, radius);
+}
+
+// Pixels a metre of error covers at most over blocks first..last, their heights widened by
+// `widenM` (the surface an error's segment ends on may lie that far beyond the patch's
+// samples): a block of a globe patch is curved and its "vertical" is the ellipsoid normal, so
+// instead of a box it takes the sphere around the blocks. An error segment of length e
+// anywhere in that sphere, at distance ≥ D from the camera, spans at most
+// e · f · (1 + tan²(fovX/2) + tan²(fovY/2)) / D pixels, f the focal length in pixels
+// (u_frame.pixelsPerMetre.x is f times that bracket).
+float blocksPxPerM(PatchInstance patch_, ivec2 first, ivec2 last, float widenM) {
+    vec4 sphere = blocksSphereM(patch_, first, last, widenM);
+    float distanceM = max(length(sphere.xyz) - sphere.w - widenM, u_frame.screen.w);
+    return u_frame.pixelsPerMetre.x / distanceM;
+}
+
+// Whether blocks first..last of the patch, reaching `dropM` further down, lie outside the
+// frustum: their sphere wholly outside one plane.
+bool blocksOutsideFrustum(PatchInstance patch_, ivec2 first, ivec2 last, float dropM) {
+    vec4 sphere = blocksSphereM(patch_, first, last, dropM);
+    for (int i = 0; i < 5; ++i) {
+        vec4 plane = u_frame.frustumPlanes[i];
+        if (dot(plane.xyz, sphere.xyz) + plane.w < -sphere.w) return true;
+    }
+    return false;
+}
+
+// The globe has no edge: no block lies beyond it.
+bool blockBeyondExtent(PatchInstance patch_, ivec2 block) { return false; }
+
+#endif  // SURFACE_GLOBE_GLSL
