@@ -1,14 +1,11 @@
 // terrain-view's frame loop and the actions of its keys and overlay.
 #include "Viewer.h"
 
-#include "terrain/runtime/PlaneSurface.h"
-
 #include "GlInfoJson.h"
 #include "Screenshot.h"
 
-#include "terrain/runtime/GroundHeight.h"
 #include "terrain/runtime/LodMethod.h"
-#include "terrain/runtime/TerrainGeometry.h"
+#include "terrain/runtime/Surface.h"
 
 #include <epoxy/gl.h>
 #include <fmt/core.h>
@@ -29,13 +26,6 @@ namespace {
 constexpr double kErrorStep = 1.25;
 constexpr std::chrono::seconds kSettleTimeout{60};
 constexpr std::size_t kGlErrorsPrinted = 10;
-constexpr double kLandingS = 5.0;  // how long a jump follows the arriving ground heights
-
-std::string crsText(const io::Georeference& georeference) {
-    std::string text = io::crsKindName(georeference.crsKind);
-    if (georeference.epsg != 0) text += fmt::format(", EPSG:{}", georeference.epsg);
-    return text;
-}
 
 std::string displayName(const std::filesystem::path& pyramid) {
     std::filesystem::path p = pyramid;
@@ -50,9 +40,12 @@ Result<std::unique_ptr<Viewer>> Viewer::create(const ViewerOptions& options) {
     // name gives a message rather than a window that flashes and closes.
     auto manifest = io::readManifest(options.pyramid);
     if (!manifest) return manifest.error();
-    if (manifest.value().globe)
-        return Error{options.pyramid + ": a globe pyramid: GlobeViewer draws those"};
-    std::unique_ptr<Viewer> viewer(new Viewer(options, std::move(manifest).value()));
+    if (manifest.value().globe && !(options.pathFile.empty() && options.recordFile.empty())) {
+        return Error{options.pyramid +
+                     ": a globe pyramid: --path and --record play and record planar camera "
+                     "paths (terrain-render plays globe paths)"};
+    }
+    std::unique_ptr<Viewer> viewer(new Viewer(options));
 
     if (!options.pathFile.empty()) {
         auto path = runtime::CameraPath::load(options.pathFile);
@@ -97,11 +90,9 @@ Result<std::unique_ptr<Viewer>> Viewer::create(const ViewerOptions& options) {
     return viewer;
 }
 
-Viewer::Viewer(const ViewerOptions& options, io::PyramidManifest manifest)
+Viewer::Viewer(const ViewerOptions& options)
     : m_options(options),
-      m_manifest(std::move(manifest)),
       m_pyramidName(displayName(options.pyramid)),
-      m_crsText(crsText(m_manifest.georeference)),
       m_recordNames(options.recordFile, "terrain-view-path", ".camera.json"),
       m_screenshotNames(options.screenshotFile, "terrain-view", ".png"),
       m_telemetryNames(options.telemetryFile, "terrain-view-telemetry", ".csv") {
@@ -115,7 +106,6 @@ Viewer::Viewer(const ViewerOptions& options, io::PyramidManifest manifest)
     m_settings.overlayVisible = !options.hideOverlay;
     m_settings.cpuCacheMiB = options.budgets.cpuCacheMiB;
     m_settings.gpuLayers = options.budgets.gpuLayers;
-    m_ground = [this](double x, double y) { return groundAt(x, y); };
 }
 
 Viewer::~Viewer() {
@@ -123,6 +113,7 @@ Viewer::~Viewer() {
     // are declared in that order); a recording or log still open is finished by run().
     m_input.reset();
     m_imgui.reset();
+    m_controls.reset();
     m_session.reset();
 }
 
@@ -138,6 +129,7 @@ Status Viewer::openSession(double cpuCacheMiB, int gpuLayers) {
     auto opened = runtime::TerrainSession::open(m_options.pyramid, options);
     if (!opened) return opened.error();
     m_session = std::move(opened).value();
+    if (m_controls) m_controls->attach(*m_session);
     m_appliedCpuCacheMiB = cpuCacheMiB;
     m_appliedGpuLayers = gpuLayers;
     // A new session starts with a live LOD and ε as set.
@@ -173,47 +165,24 @@ void Viewer::reopenSession() {
     }
 }
 
-double Viewer::groundAt(double x, double y) const {
-    return runtime::conservativeGroundHeight(m_session->streamer(), runtime::planeGeometry(m_session->surface()), x, y);
-}
-
-void Viewer::homeView() {
-    m_home->apply(m_home->endS(), m_camera);
-    m_controller.fly();
-}
-
 void Viewer::initialCamera() {
-    const runtime::TerrainGeometry& geometry = runtime::planeGeometry(m_session->surface());
-    m_home = runtime::CameraPath::defaultFor(geometry);
-    m_camera.nearPlane = 0.5;
     m_camera.viewportWidth = std::max(1, m_options.widthPx);
     m_camera.viewportHeight = std::max(1, m_options.heightPx);
-    const glm::dvec2 extent = geometry.demSize();
-    m_settings.fogDensityPerM = m_options.look.fogDensityPerM(geometry);
-    const glm::dvec2 centre = geometry.worldAtFraction(0.5, 0.5);
-    m_settings.jumpX = centre.x;
-    m_settings.jumpY = centre.y;
-    m_settings.jumpHeightM = std::clamp(0.02 * std::max(extent.x, extent.y), 100.0, 5000.0);
-
-    homeView();
+    // A path, when given, sets the start: --orbit and --goto are for a flight by hand.
+    ViewerOptions controlOptions = m_options;
+    if (m_path) {
+        controlOptions.orbit = false;
+        controlOptions.jumpTo.clear();
+    }
+    m_controls = ViewControls::create(*m_session, controlOptions);
+    m_style.skyColor = m_controls->skyColor();
+    if (std::string status = m_controls->start(m_camera, m_settings); !status.empty())
+        setStatus(std::move(status));
     if (m_path) {
         m_path->apply(m_path->startS(), m_camera);
+        m_controls->placed(m_camera);
         m_pathTimeS = m_path->startS();
         m_playing = true;
-        return;
-    }
-    if (m_options.orbit) {
-        // The point the home view looks at (its centre ray meets the lowest ground there).
-        const glm::dvec3 pivot =
-            runtime::pointOnPlaneOrAhead(m_camera.position, m_camera.forward(),
-                                         geometry.minHeight(), 4.0 * std::max(extent.x, extent.y));
-        m_controller.orbit(m_camera, pivot);
-    }
-    if (!m_options.jumpTo.empty()) {
-        m_settings.jumpX = m_options.jumpTo[0];
-        m_settings.jumpY = m_options.jumpTo[1];
-        if (m_options.jumpTo.size() > 2) m_settings.jumpHeightM = m_options.jumpTo[2];
-        jump();  // in orbit mode the point becomes the pivot
     }
 }
 
@@ -224,7 +193,7 @@ void Viewer::reportFaults() {
     // Nothing can be drawn: said on screen (the overlay shown) and in the exit status.
     m_fatalFaultShown = true;
     m_settings.overlayVisible = true;
-    setStatus("nothing to draw, the root patch failed: " + fatal->message, true);
+    setStatus(m_controls->rootFaultText(fatal->message), true);
 }
 
 void Viewer::setStatus(std::string message, bool error) {
@@ -249,10 +218,10 @@ void Viewer::handle(ViewerAction action) {
             toggleTelemetryLog();
             break;
         case A::ToggleOrbit:
-            if (m_controller.mode() == runtime::CameraMode::Orbit) {
-                m_controller.fly();
+            if (std::string status = m_controls->toggleOrbit(m_camera, m_scene); status.empty()) {
+                m_playing = false;
             } else {
-                orbitAt(0.5 * m_scene.width(), 0.5 * m_scene.height(), true);
+                setStatus(std::move(status));
             }
             break;
         case A::ToggleRecording:
@@ -288,19 +257,17 @@ void Viewer::handle(ViewerAction action) {
             } else {
                 if (!m_playing && m_pathTimeS >= m_path->endS()) m_pathTimeS = m_path->startS();
                 m_playing = !m_playing;
-                if (m_playing) m_controller.fly();
             }
             break;
         case A::RestartPath:
             if (m_path) {
                 m_pathTimeS = m_path->startS();
                 m_playing = true;
-                m_controller.fly();
             }
             break;
         case A::Home:
             m_playing = false;
-            homeView();
+            m_controls->home(m_camera);
             break;
         case A::FinerError:
             m_settings.errorPx =
@@ -312,8 +279,6 @@ void Viewer::handle(ViewerAction action) {
             break;
         case A::OpenJump:
             m_settings.overlayVisible = true;
-            m_settings.jumpX = m_camera.position.x;
-            m_settings.jumpY = m_camera.position.y;
             m_overlay.focusJump();
             break;
         case A::Quit:
@@ -330,9 +295,7 @@ void Viewer::applySettings() {
     }
     if (m_settings.lodFrozen != m_applied.lodFrozen) m_session->setLodFrozen(m_settings.lodFrozen);
     if (m_settings.vsync != m_applied.vsync) m_window->setVsync(m_settings.vsync);
-    runtime::CameraControllerOptions controls = m_controller.options();
-    controls.keepAboveGround = m_settings.keepAboveGround;
-    m_controller.setOptions(controls);
+    m_controls->apply(m_settings);
 
     m_style.debugView = m_settings.debugView;
     m_style.wireframe = m_settings.wireframe;
@@ -349,62 +312,28 @@ void Viewer::moveCamera(const runtime::CameraInput& input, double dtS) {
     if (m_playing) {
         m_pathTimeS = std::min(m_pathTimeS + dtS, m_path->endS());
         m_path->apply(m_pathTimeS, m_camera);
-        m_controller.cameraMovedExternally(m_camera);
+        m_controls->placed(m_camera);
         if (m_pathTimeS >= m_path->endS()) {
             m_playing = false;
             setStatus("path finished: Space plays it again");
         }
         return;
     }
-    m_controller.update(m_camera, input, dtS, m_ground);
+    m_controls->move(m_camera, input, *m_input, m_timeS, dtS);
 }
 
 void Viewer::orbitAt(double xPx, double yPx, bool fallbackAhead) {
-    std::optional<double> depth = m_scene.depthAt(static_cast<int>(xPx), static_cast<int>(yPx));
-    glm::dvec3 pivot;
-    if (depth) {
-        pivot = runtime::pointAtDepth(m_camera, xPx, yPx, *depth);
-    } else if (fallbackAhead) {
-        // Sky at the centre: orbit a point ahead on the ground's level.
-        const double ground = groundAt(m_camera.position.x, m_camera.position.y);
-        const double height = std::max(m_camera.position.z - ground, 100.0);
-        pivot = runtime::pointOnPlaneOrAhead(
-            m_camera.position, runtime::viewRay(m_camera, xPx, yPx), ground, 4.0 * height);
-    } else {
-        setStatus("no terrain under the cursor to orbit");
+    if (std::string status = m_controls->orbitAt(m_camera, m_scene, xPx, yPx, fallbackAhead);
+        !status.empty()) {
+        setStatus(std::move(status));
         return;
     }
     m_playing = false;
-    m_controller.orbit(m_camera, pivot);
 }
 
 void Viewer::jump() {
     m_playing = false;
-    m_controller.jumpTo(m_camera, m_settings.jumpX, m_settings.jumpY, m_settings.jumpHeightM,
-                        m_ground);
-    const glm::dvec2 sample =
-        runtime::planeGeometry(m_session->surface()).sampleOfWorld(m_settings.jumpX, m_settings.jumpY);
-    const io::PyramidLayout& layout = runtime::planeGeometry(m_session->surface()).layout();
-    const bool inside = sample.x >= 0.0 && sample.y >= 0.0 &&
-                        sample.x <= static_cast<double>(layout.rasterWidth() - 1) &&
-                        sample.y <= static_cast<double>(layout.rasterHeight() - 1);
-    setStatus(fmt::format("jumped to x {:.1f}, y {:.1f}{}", m_settings.jumpX, m_settings.jumpY,
-                          inside ? "" : " (outside the DEM)"));
-    m_landing = LandingJump{m_settings.jumpX, m_settings.jumpY, m_settings.jumpHeightM,
-                            groundAt(m_settings.jumpX, m_settings.jumpY), m_timeS + kLandingS};
-}
-
-void Viewer::refineJump(const runtime::CameraInput& input) {
-    if (!m_landing) return;
-    if (input.any() || m_playing || m_timeS > m_landing->untilS) {
-        m_landing.reset();
-        return;
-    }
-    const double ground = groundAt(m_landing->x, m_landing->y);
-    if (ground < m_landing->groundM) {
-        m_controller.jumpTo(m_camera, m_landing->x, m_landing->y, m_landing->heightM, m_ground);
-        m_landing->groundM = ground;
-    }
+    setStatus(m_controls->jump(m_camera, m_settings, m_timeS));
 }
 
 void Viewer::toggleRecording() {
@@ -484,9 +413,6 @@ void Viewer::checkGlErrors() {
 }
 
 OverlayModel Viewer::overlayModel(const runtime::FrameTelemetry& frame) const {
-    const runtime::TerrainGeometry& geometry = runtime::planeGeometry(m_session->surface());
-    const glm::dvec2 northWest = geometry.worldAtFraction(0.0, 0.0);
-    const glm::dvec2 southEast = geometry.worldAtFraction(1.0, 1.0);
     OverlayModel m;
     m.pyramidName = m_pyramidName;
     m.gl = &m_window->info();
@@ -499,16 +425,7 @@ OverlayModel Viewer::overlayModel(const runtime::FrameTelemetry& frame) const {
     m.lodNodes = m_session->lodStats().nodes;
     m.glErrors = m_glErrorsReported;
     m.camera = &m_camera;
-    m.mode = m_controller.mode();
-    m.heightAboveGroundM = m_camera.position.z - groundAt(m_camera.position.x, m_camera.position.y);
-    m.speedMps = m_controller.speedMps();
-    m.speedScale = m_controller.speedScale();
-    m.pivot = m_controller.pivot();
-    m.orbitDistanceM = m_controller.orbitDistance();
-    m.extentMin = {std::min(northWest.x, southEast.x), std::min(northWest.y, southEast.y)};
-    m.extentMax = {std::max(northWest.x, southEast.x), std::max(northWest.y, southEast.y)};
-    m.minHeightM = geometry.minHeight();
-    m.maxHeightM = geometry.maxHeight();
+    m.controls = m_controls.get();
     m.havePath = m_path.has_value();
     m.playing = m_playing;
     if (m_path) {
@@ -524,7 +441,6 @@ OverlayModel Viewer::overlayModel(const runtime::FrameTelemetry& frame) const {
         m.logRows = m_csv->rowCount();
         m.logFile = m_logFileText;
     }
-    m.crsText = m_crsText;
     m.status = m_status;
     m.statusIsError = m_statusIsError;
     return m;
@@ -569,7 +485,6 @@ int Viewer::run() {
         if (auto click = m_input->takeOrbitClick()) orbitAt(click->x, click->y, false);
         m_timeS += dtS;
         const runtime::CameraInput input = m_input->takeCameraInput();
-        refineJump(input);
         moveCamera(input, dtS);
         if (m_recorder.recording()) m_recorder.sample(m_timeS, m_camera);
         applySettings();
@@ -637,6 +552,7 @@ int Viewer::run() {
         const nlohmann::json out{
             {"tool", "terrain-view"},
             {"pyramid", m_options.pyramid},
+            {"tiling", std::string(runtime::surfaceName(m_session->surface().kind()))},
             {"frames", m_frame},
             {"seconds", wallS},
             {"width_px", size.width},
@@ -653,11 +569,7 @@ int Viewer::run() {
             {"screenshots", m_screenshotsWritten},
             {"telemetry_csv", m_telemetryWritten},
             {"overlay", {{"visible", m_settings.overlayVisible}, {"windows", windows}}},
-            {"camera",
-             {{"mode", m_controller.mode() == runtime::CameraMode::Orbit ? "orbit" : "fly"},
-              {"position_m", {m_camera.position.x, m_camera.position.y, m_camera.position.z}},
-              {"yaw_deg", m_camera.yaw * 180.0 / std::numbers::pi},
-              {"pitch_deg", m_camera.pitch * 180.0 / std::numbers::pi}}},
+            {"camera", m_controls->cameraJson(m_camera)},
             {"lod_frozen", m_settings.lodFrozen},
             {"triangles_last_measured", m_history.latestTriangles()
                                             ? nlohmann::json(*m_history.latestTriangles())

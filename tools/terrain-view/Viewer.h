@@ -1,7 +1,9 @@
-// Viewer: terrain-view's window, session and frame loop. Each frame: poll events, turn them
-// into actions and camera motion (or play the path), run the TerrainSession frame protocol
-// into the offscreen scene, copy it to the window, draw the overlay on top, write what was
-// asked for (screenshot, telemetry row, path keyframe), present.
+// Viewer: terrain-view's window, session and frame loop, the same for a planar and a globe
+// pyramid (what differs, the camera controls and what the overlay says about the camera, is
+// the surface's ViewControls). Each frame: poll events, turn them into actions and camera
+// motion (or play the path), run the TerrainSession frame protocol into the offscreen scene,
+// copy it to the window, draw the overlay on top, write what was asked for (screenshot,
+// telemetry row, path keyframe), present.
 #pragma once
 
 #include "FaultPrinter.h"
@@ -10,6 +12,7 @@
 #include "PathRecorder.h"
 #include "SceneTarget.h"
 #include "TelemetryHistory.h"
+#include "ViewControls.h"
 #include "ViewerOptions.h"
 #include "ViewerOverlay.h"
 #include "ViewerSettings.h"
@@ -19,7 +22,6 @@
 #include "terrain/gl/GlfwWindowContext.h"
 #include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/Camera.h"
-#include "terrain/runtime/CameraController.h"
 #include "terrain/runtime/CameraPath.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
@@ -54,18 +56,16 @@ public:
 private:
     using Clock = std::chrono::steady_clock;
 
-    Viewer(const ViewerOptions& options, io::PyramidManifest manifest);
+    explicit Viewer(const ViewerOptions& options);
     Status openSession(double cpuCacheMiB, int gpuLayers);
     void reopenSession();
     void initialCamera();
-    void homeView();
 
     void handle(ViewerAction action);
     void applySettings();
     void moveCamera(const runtime::CameraInput& input, double dtS);
     void orbitAt(double xPx, double yPx, bool fallbackAhead);
     void jump();
-    void refineJump(const runtime::CameraInput& input);
     void toggleRecording();
     Status startTelemetryLog();
     void toggleTelemetryLog();
@@ -74,23 +74,20 @@ private:
     void setStatus(std::string message, bool error = false);
     /// New streaming faults to stderr; a root that cannot be read on screen, once.
     void reportFaults();
-    double groundAt(double x, double y) const;
     OverlayModel overlayModel(const runtime::FrameTelemetry& frame) const;
     bool finishExitFiles();
     void printSummary(double wallS) const;
 
     ViewerOptions m_options;
-    io::PyramidManifest m_manifest;
     std::string m_pyramidName;
-    std::string m_crsText;
     std::optional<runtime::CameraPath> m_path;
-    std::optional<runtime::CameraPath> m_home;
 
     // Destroyed in reverse: the session's GL objects and the overlay before the window.
     std::unique_ptr<gl::GlfwWindowContext> m_window;
     std::unique_ptr<ImGuiLayer> m_imgui;
     std::unique_ptr<WindowInput> m_input;
     std::unique_ptr<runtime::TerrainSession> m_session;
+    std::unique_ptr<ViewControls> m_controls;  // follows m_session (reads its streamer)
     SceneTarget m_scene;
     ViewerOverlay m_overlay;
 
@@ -100,19 +97,7 @@ private:
     int m_appliedGpuLayers = 0;
     runtime::TerrainStyle m_style;
     runtime::Camera m_camera;
-    runtime::CameraController m_controller;
-    runtime::GroundHeightFn m_ground;
 
-    // A jump lands over a conservative ground height, which drops as finer tiles of the
-    // target arrive: for a few seconds (until the user moves) the jump is redone on it.
-    struct LandingJump {
-        double x = 0.0;
-        double y = 0.0;
-        double heightM = 0.0;
-        double groundM = 0.0;
-        double untilS = 0.0;
-    };
-    std::optional<LandingJump> m_landing;
     bool m_playing = false;
     double m_pathTimeS = 0.0;
     PathRecorder m_recorder;

@@ -1,6 +1,9 @@
 // The overlay panel, immediate mode: one window, telemetry on top, controls in sections.
 #include "ViewerOverlay.h"
 
+#include "OverlayWidgets.h"
+#include "ViewControls.h"
+
 #include <fmt/core.h>
 #include <imgui.h>
 
@@ -11,23 +14,16 @@
 namespace terrain::view {
 namespace {
 
+using overlay::button;
+using overlay::dimText;
+using overlay::kDim;
+using overlay::kGood;
+using overlay::kWarn;
+using overlay::text;
+
 constexpr float kPanelWidth = 360.0f;
 constexpr float kLabelWidth = 72.0f;
 constexpr float kPlotHeight = 38.0f;
-const ImVec4 kDim{0.62f, 0.66f, 0.72f, 1.0f};
-const ImVec4 kWarn{1.0f, 0.62f, 0.30f, 1.0f};
-const ImVec4 kGood{0.55f, 0.85f, 0.55f, 1.0f};
-
-double degrees(double radians) { return radians * 180.0 / std::numbers::pi; }
-
-void text(const std::string& s) { ImGui::TextUnformatted(s.c_str()); }
-
-void dimText(const std::string& s) {
-    ImGui::PushStyleColor(ImGuiCol_Text, kDim);
-    ImGui::TextUnformatted(s.c_str());
-    ImGui::PopStyleColor();
-}
-
 std::string count(double value) {
     if (value >= 1e9) return fmt::format("{:.2f} G", value / 1e9);
     if (value >= 1e6) return fmt::format("{:.2f} M", value / 1e6);
@@ -48,8 +44,6 @@ void row(const char* label, const std::string& value) {
     ImGui::TableNextColumn();
     ImGui::TextUnformatted(value.c_str());
 }
-
-bool button(const char* label) { return ImGui::SmallButton(label); }
 
 }  // namespace
 
@@ -141,21 +135,7 @@ void ViewerOverlay::drawTelemetry(const OverlayModel& model) {
                          std::max(maxUs * 1.1f, 1.0f), ImVec2(width, kPlotHeight));
     }
 
-    const runtime::Camera& c = *model.camera;
-    text(fmt::format("{} · x {:.0f}  y {:.0f}  z {:.0f} m",
-                     model.mode == runtime::CameraMode::Orbit ? "orbit" : "fly", c.position.x,
-                     c.position.y, c.position.z));
-    text(fmt::format("heading {:.0f}°  pitch {:.0f}° · {:.0f} m above ground",
-                     std::fmod(degrees(c.yaw) + 360.0, 360.0), degrees(c.pitch),
-                     model.heightAboveGroundM));
-    if (model.playing) {
-        dimText("playing the camera path (any flight key takes over)");
-    } else if (model.mode == runtime::CameraMode::Orbit) {
-        dimText(fmt::format("{:.0f} m from the pivot", model.orbitDistanceM));
-    } else {
-        dimText(
-            fmt::format("speed {:.0f} m/s (wheel: × {:.2f})", model.speedMps, model.speedScale));
-    }
+    model.controls->drawCameraLines(*model.camera, model.playing);
 }
 
 void ViewerOverlay::drawView(ViewerSettings& settings, OverlayRequests&) {
@@ -215,46 +195,8 @@ void ViewerOverlay::drawCamera(const OverlayModel& model, ViewerSettings& settin
         m_focusJump = false;
         return;
     }
-    if (model.mode == runtime::CameraMode::Orbit) {
-        text(fmt::format("orbiting x {:.0f} y {:.0f} z {:.0f}", model.pivot.x, model.pivot.y,
-                         model.pivot.z));
-        if (button("fly (O)")) out.actions.push_back(ViewerAction::ToggleOrbit);
-    } else {
-        text(fmt::format("flying, speed × {:.2f} (wheel)", model.speedScale));
-        if (button("orbit the centre (O)")) out.actions.push_back(ViewerAction::ToggleOrbit);
-    }
-    ImGui::SameLine();
-    if (button("whole DEM (H)")) out.actions.push_back(ViewerAction::Home);
-
-    dimText(fmt::format("DEM x {:.0f} .. {:.0f}, y {:.0f} .. {:.0f}", model.extentMin.x,
-                        model.extentMax.x, model.extentMin.y, model.extentMax.y));
-    dimText(fmt::format("heights {:.0f} .. {:.0f} m · {}", model.minHeightM, model.maxHeightM,
-                        model.crsText));
-    if (m_focusJump) {
-        ImGui::SetWindowFocus();  // so Tab moves between the fields
-        ImGui::SetKeyboardFocusHere();
-        m_focusJump = false;
-    }
-    // Edits apply as typed (Tab keeps them); Enter in any of the fields jumps.
-    const int enter = ImGui::GetKeyIndex(ImGuiKey_Enter);
-    const int keypadEnter = ImGui::GetKeyIndex(ImGuiKey_KeyPadEnter);
-    bool go = false;
-    const auto field = [&](const char* label, double* value, const char* format) {
-        ImGui::SetNextItemWidth(-120.0f);
-        ImGui::InputDouble(label, value, 0.0, 0.0, format);
-        go |= ImGui::IsItemDeactivated() &&
-              (ImGui::IsKeyPressed(enter) || ImGui::IsKeyPressed(keypadEnter));
-    };
-    field("x (east)", &settings.jumpX, "%.1f");
-    field("y (north)", &settings.jumpY, "%.1f");
-    field("m above ground", &settings.jumpHeightM, "%.0f");
-    if (button("jump") || go) out.jump = true;
-    const bool outside = settings.jumpX < model.extentMin.x || settings.jumpX > model.extentMax.x ||
-                         settings.jumpY < model.extentMin.y || settings.jumpY > model.extentMax.y;
-    if (outside) {
-        ImGui::SameLine();
-        ImGui::TextColored(kWarn, "outside the DEM");
-    }
+    model.controls->drawCameraSection(*model.camera, settings, out, m_focusJump);
+    m_focusJump = false;
 }
 
 void ViewerOverlay::drawCaches(const OverlayModel& model, ViewerSettings& settings,

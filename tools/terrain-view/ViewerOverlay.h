@@ -10,11 +10,7 @@
 
 #include "terrain/gl/GlInfo.h"
 #include "terrain/runtime/Camera.h"
-#include "terrain/runtime/CameraController.h"
 #include "terrain/runtime/FrameTelemetry.h"
-
-#include <glm/vec2.hpp>
-#include <glm/vec3.hpp>
 
 #include <cstddef>
 #include <cstdint>
@@ -24,10 +20,11 @@
 
 namespace terrain::view {
 
+class ViewControls;
+
 /// What the overlay shows this frame (read-only).
 struct OverlayModel {
     std::string_view pyramidName;
-    std::string_view crsText;
     const gl::GlInfo* gl = nullptr;
     int framebufferWidth = 0;
     int framebufferHeight = 0;
@@ -40,16 +37,9 @@ struct OverlayModel {
     std::size_t glErrors = 0;
 
     const runtime::Camera* camera = nullptr;
-    runtime::CameraMode mode = runtime::CameraMode::Fly;
-    double heightAboveGroundM = 0.0;
-    double speedMps = 0.0;
-    double speedScale = 1.0;
-    glm::dvec3 pivot{0.0};
-    double orbitDistanceM = 0.0;
-    glm::dvec2 extentMin{0.0};  ///< world x, y of the DEM's corners
-    glm::dvec2 extentMax{0.0};
-    double minHeightM = 0.0;
-    double maxHeightM = 0.0;
+    /// The surface's controls: they draw the camera's lines and the jump section (which may
+    /// act on them, e.g. the globe's "whole Earth").
+    ViewControls* controls = nullptr;
 
     bool havePath = false;
     bool playing = false;

@@ -24,7 +24,8 @@ struct ViewerSettings {
     double cpuCacheMiB = 256.0;
     int gpuLayers = 1024;
 
-    // The jump-to-coordinates fields.
+    // The jump-to-coordinates fields: on the plane world x, y and the height above the
+    // ground; on a globe latitude, longitude and the altitude above WGS84.
     double jumpX = 0.0;
     double jumpY = 0.0;
     double jumpHeightM = 500.0;

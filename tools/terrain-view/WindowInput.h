@@ -39,6 +39,8 @@ public:
     std::optional<PixelPosition> takeOrbitClick();
 
     bool dragging() const { return m_dragButton >= 0; }
+    /// Where the cursor is, in framebuffer pixels (rows top-down).
+    PixelPosition cursorInFramebufferPixels() const;
 
 private:
     static WindowInput* from(GLFWwindow* window);
@@ -52,7 +54,6 @@ private:
 
     void startDrag(int button);
     void endDrag();
-    PixelPosition cursorInFramebufferPixels() const;
 
     GLFWwindow* m_window;
     ImGuiLayer& m_overlay;

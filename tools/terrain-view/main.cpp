@@ -2,12 +2,10 @@
 // streaming, LOD quadtree and tessellated draw — the same frame as terrain-render — under a
 // Dear ImGui overlay of live telemetry and controls. docs/viewer.md is its manual.
 #include "FrameSizeFlags.h"
-#include "GlobeViewer.h"
 #include "KeyBindings.h"
 #include "LodFlags.h"
 #include "Viewer.h"
 #include "ViewerOptions.h"
-#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/LodMethod.h"
 
 #include <fmt/core.h>
@@ -95,20 +93,6 @@ int main(int argc, char** argv) {
                                         o.method)
                           : method.error().message);
         return 1;
-    }
-    // A globe pyramid gets the globe's viewer (its controls and overlay are its own).
-    if (auto manifest = terrain::io::readManifest(o.pyramid); manifest && manifest.value().globe) {
-        if (method.value() != terrain::runtime::LodMethod::Yusov2011) {
-            fmt::print(stderr, "terrain-view: {}: a globe pyramid; only yusov2011 draws globes\n",
-                       o.pyramid);
-            return 1;
-        }
-        auto globe = terrain::view::GlobeViewer::create(o);
-        if (!globe) {
-            fmt::print(stderr, "terrain-view: {}\n", globe.error().message);
-            return 1;
-        }
-        return globe.value()->run();
     }
     auto viewer = terrain::view::Viewer::create(o);
     if (!viewer) {

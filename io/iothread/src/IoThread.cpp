@@ -116,13 +116,23 @@ void IoThread::recycle(PatchRecord&& record) {
 
 bool IoThread::waitForCompletion(std::chrono::milliseconds timeout) {
     std::unique_lock lock(m_mutex);
-    m_finished.wait_for(lock, timeout,
+    m_stateChanged.wait_for(lock, timeout,
                         [&] { return !m_ready.empty() || (m_pending.empty() && !m_inFlight); });
     return !m_ready.empty();
 }
 
+bool IoThread::waitForState(const std::function<bool(const IoThreadStats&)>& reached,
+                            std::chrono::milliseconds timeout) {
+    std::unique_lock lock(m_mutex);
+    return m_stateChanged.wait_for(lock, timeout, [&] { return reached(statsLocked()); });
+}
+
 IoThreadStats IoThread::stats() const {
     const std::lock_guard lock(m_mutex);
+    return statsLocked();
+}
+
+IoThreadStats IoThread::statsLocked() const {
     IoThreadStats s = m_stats;
     s.queueDepth = m_pending.size();
     s.inFlight = m_inFlight ? 1 : 0;
@@ -144,7 +154,7 @@ void IoThread::finishLocked(Completion&& completion) {
             break;
     }
     m_ready.push_back(std::move(completion));
-    m_finished.notify_all();
+    m_stateChanged.notify_all();
 }
 
 void IoThread::addRequestTimeLocked(const PatchId& id, Clock::time_point time) {
@@ -183,6 +193,7 @@ void IoThread::run(const std::stop_token& stop) {
 
         const auto request = m_pending.popHighest();
         m_inFlight = InFlight{request->id, takeRequestTimeLocked(request->id), false};
+        m_stateChanged.notify_all();
         PatchRecord record;
         if (!m_pool.empty()) {
             record = std::move(m_pool.back());

@@ -38,6 +38,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -123,6 +124,14 @@ public:
     /// tests): they wake on the outcome instead of sleeping. Owner thread.
     bool waitForCompletion(std::chrono::milliseconds timeout);
 
+    /// Waits until `reached(stats())` holds, or `timeout`; true when it holds. The state is
+    /// looked at on entry and whenever the thread starts or ends a read, so a caller waits
+    /// for a state of the thread (a read under way, the results cap reached) on the event
+    /// that makes it, never by sleeping. `reached` runs with the lock held: it must only look
+    /// at its argument. Owner thread.
+    bool waitForState(const std::function<bool(const IoThreadStats&)>& reached,
+                      std::chrono::milliseconds timeout);
+
     IoThreadStats stats() const;  ///< Owner thread (any thread is safe).
     const PyramidLayout& layout() const { return m_layout; }  ///< Any thread.
 
@@ -138,6 +147,7 @@ private:
     using RequestTimes = std::unordered_map<PatchId, Clock::time_point, PatchIdHash>;
 
     IoThread(PyramidReader reader, const IoThreadOptions& options);
+    IoThreadStats statsLocked() const;
     void run(const std::stop_token& stop);
     void finishLocked(Completion&& completion);
     void addRequestTimeLocked(const PatchId& id, Clock::time_point time);
@@ -149,7 +159,7 @@ private:
 
     mutable std::mutex m_mutex;
     std::condition_variable_any m_wake;  // work, room for results, cancel, or stop
-    std::condition_variable m_finished;  // a completion filed, or the queue ran dry
+    std::condition_variable m_stateChanged;  // a read started, or a completion was filed
     TileRequestQueue m_pending;
     RequestTimes m_requestTimes;  // pending
     // Nodes of request times that ended, for the next submits; the capacity covers every
