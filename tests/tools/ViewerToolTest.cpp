@@ -282,9 +282,9 @@ std::string buildGlobeHills(const test::TempFolder& folder) {
     return pyramid;
 }
 
-// A globe pyramid opens the globe viewer: "go to the data" at start, settled frames, the
+// A globe pyramid opens the viewer with the globe's controls: "go to the data" at start, settled frames, the
 // screenshot shows the terrain (not the black of space) around the overlay.
-TEST_F(ViewerTool, GlobePyramidOpensTheGlobeViewerOverTheData) {
+TEST_F(ViewerTool, GlobePyramidOpensOverTheData) {
     const std::string pyramid = buildGlobeHills(m_folder);
     const std::string screenshot = m_folder.file("globe.png");
     const ToolRun viewed = runViewer(pyramid +
@@ -306,11 +306,11 @@ TEST_F(ViewerTool, GlobePyramidOpensTheGlobeViewerOverTheData) {
     EXPECT_GT(ground, image.width * image.height * 9 / 10);
 }
 
-// The globe viewer keeps the camera 1 m above the ground under it, not above the highest
+// On a globe the viewer keeps the camera 1 m above the ground under it, not above the highest
 // point of the patch there: over the bottom of a valley (about 100 m) a jump to 1 m above
 // the ellipsoid, under the ground, comes up to it, and one to 300 m stays there (the hills
 // of the patch reach 700 m).
-TEST_F(ViewerTool, GlobeViewerKeepsTheCameraJustAboveTheGround) {
+TEST_F(ViewerTool, GlobeCameraStaysJustAboveTheGround) {
     const std::string pyramid = buildGlobeHills(m_folder);
     const double lat = 49.755, lon = 10.472;  // sin(lat · 40) ≈ −1, cos(lon · 30) ≈ 1
     const double ground = globeHills(lat, lon);
@@ -332,6 +332,38 @@ TEST_F(ViewerTool, GlobeViewerKeepsTheCameraJustAboveTheGround) {
             EXPECT_DOUBLE_EQ(camera, altitude);
         }
     }
+}
+
+// One viewer for both surfaces: on a globe the overlay, ε, the telemetry log and the summary
+// are the planar viewer's, only the camera (latitude, longitude) is the globe's; a planar
+// camera path is refused with the reason instead of being ignored.
+TEST_F(ViewerTool, GlobeViewerHasThePlanarViewersOverlayLogAndSummary) {
+    const std::string pyramid = buildGlobeHills(m_folder);
+    const std::string csv = m_folder.file("globe-telemetry.csv");
+    const ToolRun viewed = runViewer(pyramid +
+                                         " --frames 5 --settle --width 480 --height 320 "
+                                         "--error-px 3 --json --telemetry " +
+                                         csv,
+                                     m_folder);
+    ASSERT_EQ(viewed.status, 0) << describe(viewed);
+    const nlohmann::json summary = summaryOf(viewed);
+    EXPECT_EQ(summary["tiling"], "globe");
+    EXPECT_EQ(summary["error_px"], 3.0);
+    EXPECT_EQ(summary["gl_errors"], 0);
+    EXPECT_GT(summary["patches_drawn_last"].get<int>(), 0);
+    EXPECT_EQ(summary["telemetry_csv"], nlohmann::json::array({csv}));
+    ASSERT_EQ(summary["overlay"]["windows"].size(), 1u);
+    EXPECT_GT(summary["overlay"]["windows"][0]["height"].get<double>(), 100.0);
+    std::ifstream log(csv);
+    int rows = -1;  // the header
+    for (std::string line; std::getline(log, line);) ++rows;
+    EXPECT_EQ(rows, 5);
+
+    const ToolRun path =
+        run(kViewer + " " + pyramid + " --path " + m_folder.file("any.camera.json"), m_folder);
+    EXPECT_EQ(path.status, 1) << describe(path);
+    EXPECT_NE(path.err.find("a globe pyramid: --path and --record"), std::string::npos)
+        << path.err;
 }
 
 TEST_F(ViewerTool, FliesTheOtherStreamingLodMethodsAndRefusesTheInCoreOnes) {
