@@ -13,9 +13,10 @@
 #include "terrain/runtime/FrameImages.h"
 #include "terrain/runtime/GlobeCameraPath.h"
 #include "terrain/runtime/GlobeReferenceRenderer.h"
-#include "terrain/runtime/GlobeScreenSpaceError.h"
+#include "terrain/runtime/GlobeTruth.h"
 #include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/LatencyHistogram.h"
+#include "terrain/runtime/ScreenSpaceError.h"
 #include "terrain/runtime/TerrainSession.h"
 #include "terrain/source/DemReader.h"
 
@@ -139,19 +140,15 @@ int runGlobeBench(const GlobeBenchOptions& o) {
     auto surface = io::GlobeSourceSurface::read(pointers, std::uint64_t{8} << 30,
                                                 manifest.value().layout.patchQuads());
     if (!surface) return fail(surface.error().message);
-    const runtime::GlobeReferenceHeights sourceHeights = [&surface](double latitude,
-                                                                    double longitude) {
-        return surface.value().heightsAt(latitude, longitude);
-    };
+    runtime::GlobeTruth sourceTruth(
+        [&surface](double latitude, double longitude) -> Result<std::pair<double, double>> {
+            return surface.value().heightsAt(latitude, longitude);
+        });
     auto finest = io::GlobeGroundQuery::open(o.pyramid);
     if (!finest) return fail(finest.error().message);
-    std::optional<Error> finestProblem;
-    const runtime::GlobeReferenceHeights finestHeights = [&](double latitude, double longitude) {
-        auto heights = finest.value().heightsAt(latitude, longitude);
-        if (heights) return heights.value();
-        if (!finestProblem) finestProblem = heights.error();
-        return std::pair{0.0, 0.0};
-    };
+    runtime::GlobeTruth finestTruth([&](double latitude, double longitude) {
+        return finest.value().heightsAt(latitude, longitude);
+    });
     auto context = gl::HeadlessGlContext::create();
     if (!context) return fail(context.error().message);
     auto framebuffer = gl::Framebuffer::create(o.widthPx, o.heightPx, "globe bench");
@@ -251,11 +248,14 @@ int runGlobeBench(const GlobeBenchOptions& o) {
                 }
             }
             lodPrevious = std::move(lod.rgba);
-            const runtime::ScreenSpaceErrorStats error = runtime::measureGlobeScreenSpaceError(
-                camera, lod.depth, depthNoSkirts, sourceHeights, errorPx);
-            const runtime::ScreenSpaceErrorStats lodError = runtime::measureGlobeScreenSpaceError(
-                camera, lod.depth, depthNoSkirts, finestHeights, errorPx);
-            if (finestProblem) return fail(finestProblem->message);
+            auto measured = runtime::measureScreenSpaceError(camera, lod.depth, depthNoSkirts, {},
+                                                             sourceTruth, errorPx);
+            if (!measured) return fail(measured.error().message);
+            auto lodMeasured = runtime::measureScreenSpaceError(camera, lod.depth, depthNoSkirts,
+                                                                {}, finestTruth, errorPx);
+            if (!lodMeasured) return fail(lodMeasured.error().message);
+            const runtime::ScreenSpaceErrorStats& error = measured.value();
+            const runtime::ScreenSpaceErrorStats& lodError = lodMeasured.value();
             errorMax = std::max(errorMax, error.maxPx);
             errorP99Max = std::max(errorP99Max, error.p99Px);
             lodErrorMax = std::max(lodErrorMax, lodError.maxPx);

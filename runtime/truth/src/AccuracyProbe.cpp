@@ -4,6 +4,7 @@
 
 #include "terrain/pyramid/PyramidManifest.h"
 
+#include "terrain/runtime/PlaneTruth.h"
 #include "terrain/runtime/ScreenProjection.h"
 #include "terrain/runtime/SurfaceRayCoverage.h"
 
@@ -157,8 +158,9 @@ Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapt
                                              const LodCapture* previousLod,
                                              const ReferenceCapture* previousReference) {
     FrameAccuracy a;
+    PlaneTruth truth(m_surface);
     auto error = measureScreenSpaceError(camera, lod.images.depth, lod.depthWithoutSkirts,
-                                         reference.images.depth, m_surface, thresholdPx);
+                                         reference.images.depth, truth, thresholdPx);
     if (!error) return error.error();
     a.error = error.value();
     a.image = compareImages(lod.images.rgba, reference.images.rgba);

@@ -19,9 +19,10 @@
 #include "terrain/runtime/FrameImages.h"
 #include "terrain/runtime/GlobeCamera.h"
 #include "terrain/runtime/GlobeReferenceRenderer.h"
-#include "terrain/runtime/GlobeScreenSpaceError.h"
+#include "terrain/runtime/GlobeTruth.h"
 #include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/ScreenProjection.h"
+#include "terrain/runtime/ScreenSpaceError.h"
 #include "terrain/runtime/TerrainSession.h"
 
 #include <epoxy/gl.h>
@@ -221,7 +222,7 @@ TEST_F(GlobeSessionTest, EveryStabilityCaseHasNoHoleAndHorizonCullingChangesNoPi
     }
 }
 
-// The measured screen-space error (GlobeScreenSpaceError.h) against the sources'
+// The measured screen-space error (ScreenSpaceError.h, GlobeTruth.h) against the sources'
 // full-resolution surface on every stability case, at ε = 1, 2 and 4 px: the drawn surface
 // stays within ε + kRasterTolerancePx on every pose (the worst error two adjacent pixels show).
 TEST_F(GlobeSessionTest, MeasuredErrorStaysWithinEpsilonOnEveryStabilityCase) {
@@ -229,9 +230,10 @@ TEST_F(GlobeSessionTest, MeasuredErrorStaysWithinEpsilonOnEveryStabilityCase) {
     io::DemReader* const sources[] = {&source};
     auto surface = io::GlobeSourceSurface::read(sources, std::uint64_t{1} << 30, 32);
     ASSERT_TRUE(surface) << surface.error().message;
-    const GlobeReferenceHeights sourceHeights = [&surface](double latitude, double longitude) {
-        return surface.value().heightsAt(latitude, longitude);
-    };
+    GlobeTruth sourceTruth(
+        [&surface](double latitude, double longitude) -> Result<std::pair<double, double>> {
+            return surface.value().heightsAt(latitude, longitude);
+        });
     auto opened = TerrainSession::open(s_pyramid, sessionOptions());
     ASSERT_TRUE(opened) << opened.error().message;
     TerrainSession& session = *opened.value();
@@ -248,8 +250,10 @@ TEST_F(GlobeSessionTest, MeasuredErrorStaysWithinEpsilonOnEveryStabilityCase) {
             std::vector<float> withSkirts, withoutSkirts;
             render(session, framebuffer.value(), camera, nullptr, nullptr, true, &withSkirts);
             render(session, framebuffer.value(), camera, nullptr, nullptr, false, &withoutSkirts);
-            const ScreenSpaceErrorStats stats = measureGlobeScreenSpaceError(
-                camera, withSkirts, withoutSkirts, sourceHeights, errorPx);
+            auto measured = measureScreenSpaceError(camera, withSkirts, withoutSkirts, {},
+                                                    sourceTruth, errorPx);
+            ASSERT_TRUE(measured) << measured.error().message;
+            const ScreenSpaceErrorStats& stats = measured.value();
             std::cout << "ε = " << errorPx << ", " << p.name << ": " << stats.pixels
                       << " pixels, max " << stats.maxPx << " px, p99 " << stats.p99Px
                       << " px, mean " << stats.meanPx << " px\n";
