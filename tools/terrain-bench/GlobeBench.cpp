@@ -12,10 +12,11 @@
 #include "terrain/pyramid/VirtualPlanetPyramid.h"
 #include "terrain/runtime/FrameImages.h"
 #include "terrain/runtime/GlobeCameraPath.h"
-#include "terrain/runtime/GlobeReferenceRenderer.h"
+#include "terrain/runtime/GlobeReferenceScene.h"
 #include "terrain/runtime/GlobeTruth.h"
 #include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/LatencyHistogram.h"
+#include "terrain/runtime/ReferenceRenderer.h"
 #include "terrain/runtime/ScreenSpaceError.h"
 #include "terrain/runtime/TerrainSession.h"
 #include "terrain/source/DemReader.h"
@@ -88,17 +89,17 @@ nlohmann::json worstJson(const runtime::ScreenSpaceErrorStats& error) {
             {"reference_m", error.worstReferenceM}};
 }
 
-// The reference image of `camera` (GlobeReferenceRenderer): colour and depth; nothing when
-// the view holds more finest data than the reference draws (kDefaultMaxRegions).
-Result<std::optional<runtime::FrameImages>> drawReference(
-    runtime::GlobeReferenceRenderer& reference, io::PyramidReader& pyramid,
-    gl::Framebuffer& framebuffer, const runtime::Camera& camera) {
+// The reference image of `camera` (ReferenceRenderer, GlobeReferenceScene): colour and depth;
+// nothing when the view holds more finest data than the reference draws (kDefaultMaxRegions).
+Result<std::optional<runtime::FrameImages>> drawReference(runtime::ReferenceRenderer& reference,
+                                                          gl::Framebuffer& framebuffer,
+                                                          const runtime::Camera& camera) {
     framebuffer.clear(kSpace, 0.0f);
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
     glViewport(0, 0, camera.viewportWidth, camera.viewportHeight);
     runtime::ReferenceStyle style;
     style.skyColor = {kSpace[0], kSpace[1], kSpace[2]};
-    auto drawn = reference.draw(camera, pyramid, style);
+    auto drawn = reference.draw(camera, style);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (!drawn) return drawn.error();
     if (!drawn.value().complete) return std::optional<runtime::FrameImages>();
@@ -158,7 +159,8 @@ int runGlobeBench(const GlobeBenchOptions& o) {
     if (!referenceTarget) return fail(referenceTarget.error().message);
     auto pyramid = io::PyramidReader::open(o.pyramid);
     if (!pyramid) return fail(pyramid.error().message);
-    auto reference = runtime::GlobeReferenceRenderer::create(pyramid.value().manifest());
+    auto reference = runtime::ReferenceRenderer::create(
+        std::make_unique<runtime::GlobeReferenceScene>(pyramid.value()));
     if (!reference) return fail(reference.error().message);
     // The reference images of the flight's frames (colour and depth, 8 bytes a pixel), drawn
     // once and kept for the other runs, which fly the same cameras, when they fit in
@@ -219,8 +221,7 @@ int runGlobeBench(const GlobeBenchOptions& o) {
             const std::size_t slot = slotOf(f);
             if (references.size() <= slot) references.resize(slot + 1);
             if (!keepReferences || !references[slot]) {
-                auto drawn = drawReference(reference.value(), pyramid.value(),
-                                           referenceTarget.value(), camera);
+                auto drawn = drawReference(reference.value(), referenceTarget.value(), camera);
                 if (!drawn) return fail(drawn.error().message);
                 references[slot] = std::move(drawn).value();
             }
