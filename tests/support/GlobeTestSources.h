@@ -4,9 +4,12 @@
 // and shards.
 #pragma once
 
+#include "GeographicFunctionDem.h"
+#include "terrain/build/GlobePyramidBuilder.h"
 #include "terrain/build/PyramidBuilder.h"
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 
 namespace terrain::test {
@@ -36,6 +39,18 @@ inline io::PyramidBuildOptions smallGlobePatches() {
     options.threads = 2;
     options.compressionLevel = 1;
     return options;
+}
+
+/// reliefPlanet on a 0.5° grid, built at `pyramid` as a globe pyramid of 33-sample patches:
+/// what the globe session and accuracy tests draw.
+inline Result<io::PyramidBuildSummary> buildReliefPlanet(const std::filesystem::path& pyramid) {
+    GeographicFunctionDem source(-180.0, 90.0, 720, 360, 0.5, 0.5, reliefPlanet);
+    io::PyramidBuildOptions options;
+    options.patchSamples = 33;
+    options.blockQuads = 8;
+    options.shardPatches = 8;
+    options.threads = 2;
+    return io::buildGlobePyramid(source, pyramid, options);
 }
 
 }  // namespace terrain::test

@@ -57,14 +57,8 @@ protected:
     static void SetUpTestSuite() {
         test::GlTest::SetUpTestSuite();
         s_folder = std::make_unique<test::TempFolder>();
-        test::GeographicFunctionDem source(-180.0, 90.0, 720, 360, 0.5, 0.5, test::reliefPlanet);
-        io::PyramidBuildOptions options;
-        options.patchSamples = 33;
-        options.blockQuads = 8;
-        options.shardPatches = 8;
-        options.threads = 2;
         s_pyramid = s_folder->path() / "planet.pyramid";
-        auto built = io::buildGlobePyramid(source, s_pyramid, options);
+        auto built = test::buildReliefPlanet(s_pyramid);
         ASSERT_TRUE(built) << built.error().message;
         s_maxHeight = built.value().manifest.statistics.maxHeight;
         s_minHeight = built.value().manifest.statistics.minHeight;

@@ -4,11 +4,9 @@
 // against the globe reference image, which it resembles; and a partial reference image is
 // not compared.
 #include "AccuracyScenes.h"
-#include "GeographicFunctionDem.h"
 #include "GlTestFixture.h"
 #include "GlobeTestSources.h"
 #include "TempFolder.h"
-#include "terrain/build/GlobePyramidBuilder.h"
 #include "terrain/build/GlobeSourceSurface.h"
 #include "terrain/pyramid/GlobeGroundHeight.h"
 #include "terrain/pyramid/PyramidReader.h"
@@ -35,19 +33,28 @@ protected:
     static void SetUpTestSuite() {
         GlTest::SetUpTestSuite();
         s_folder = std::make_unique<TempFolder>();
-        GeographicFunctionDem source(-180.0, 90.0, 720, 360, 0.5, 0.5, reliefPlanet);
-        io::PyramidBuildOptions options;
-        options.patchSamples = 33;
-        options.blockQuads = 8;
-        options.shardPatches = 8;
-        options.threads = 2;
         s_pyramid = s_folder->path() / "planet.pyramid";
-        auto built = io::buildGlobePyramid(source, s_pyramid, options);
+        auto built = buildReliefPlanet(s_pyramid);
         ASSERT_TRUE(built) << built.error().message;
     }
     static void TearDownTestSuite() {
         s_folder.reset();
         GlTest::TearDownTestSuite();
+    }
+
+    // A probe of the pyramid's reference scene against `truths`.
+    static Result<std::unique_ptr<runtime::AccuracyProbe>> probeOf(
+        io::PyramidReader& pyramid, std::vector<std::unique_ptr<runtime::TruthSurface>> truths) {
+        return runtime::AccuracyProbe::create(
+            std::make_unique<runtime::GlobeReferenceScene>(pyramid), std::move(truths),
+            {.widthPx = kWidth, .heightPx = kHeight});
+    }
+    // A session with room for every patch of the planet, at ε = `errorPx`.
+    static Result<std::unique_ptr<runtime::TerrainSession>> openSession(double errorPx) {
+        runtime::TerrainSessionOptions options;
+        options.streaming.gpuLayers = 1024;
+        options.lod.errorPx = errorPx;
+        return runtime::TerrainSession::open(s_pyramid, options);
     }
 
     static inline std::unique_ptr<TempFolder> s_folder;
@@ -80,15 +87,10 @@ TEST_F(GlobeAccuracyProbeTest, MeasuresAGlobeFrameAgainstItsSourcesAndItsFinestL
         std::make_unique<runtime::GlobeTruth>([&finest](double latitude, double longitude) {
             return finest.value().heightsAt(latitude, longitude);
         }));
-    auto probe = runtime::AccuracyProbe::create(
-        std::make_unique<runtime::GlobeReferenceScene>(pyramid.value()), std::move(truths),
-        {.widthPx = kWidth, .heightPx = kHeight});
+    auto probe = probeOf(pyramid.value(), std::move(truths));
     ASSERT_TRUE(probe) << probe.error().message;
 
-    runtime::TerrainSessionOptions options;
-    options.streaming.gpuLayers = 1024;
-    options.lod.errorPx = 2.0;
-    auto session = runtime::TerrainSession::open(s_pyramid, options);
+    auto session = openSession(2.0);
     ASSERT_TRUE(session) << session.error().message;
     constexpr double kRasterTolerancePx = 0.05;
     for (const auto& [name, pose] :
@@ -126,13 +128,9 @@ TEST_F(GlobeAccuracyProbeTest, APartialReferenceImageIsNotCompared) {
             const double h = reliefPlanet(latitude, longitude);
             return std::pair{h, h};
         }));
-    auto probe = runtime::AccuracyProbe::create(
-        std::make_unique<runtime::GlobeReferenceScene>(pyramid.value()), std::move(truths),
-        {.widthPx = kWidth, .heightPx = kHeight});
+    auto probe = probeOf(pyramid.value(), std::move(truths));
     ASSERT_TRUE(probe) << probe.error().message;
-    runtime::TerrainSessionOptions options;
-    options.streaming.gpuLayers = 1024;
-    auto session = runtime::TerrainSession::open(s_pyramid, options);
+    auto session = openSession(2.0);
     ASSERT_TRUE(session) << session.error().message;
     const runtime::Camera camera = cameraAt({{40.0, 10.0, 1e6}, 0.0, -20.0});
     ASSERT_TRUE(session.value()->settle(camera, std::chrono::seconds(60)));
