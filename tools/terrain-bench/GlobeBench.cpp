@@ -12,10 +12,12 @@
 #include "terrain/pyramid/VirtualPlanetPyramid.h"
 #include "terrain/runtime/FrameImages.h"
 #include "terrain/runtime/GlobeCameraPath.h"
-#include "terrain/runtime/GlobeReferenceRenderer.h"
-#include "terrain/runtime/GlobeScreenSpaceError.h"
+#include "terrain/runtime/GlobeReferenceScene.h"
+#include "terrain/runtime/GlobeTruth.h"
 #include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/LatencyHistogram.h"
+#include "terrain/runtime/ReferenceRenderer.h"
+#include "terrain/runtime/ScreenSpaceError.h"
 #include "terrain/runtime/TerrainSession.h"
 #include "terrain/source/DemReader.h"
 
@@ -87,17 +89,17 @@ nlohmann::json worstJson(const runtime::ScreenSpaceErrorStats& error) {
             {"reference_m", error.worstReferenceM}};
 }
 
-// The reference image of `camera` (GlobeReferenceRenderer): colour and depth; nothing when
-// the view holds more finest data than the reference draws (kDefaultMaxRegions).
-Result<std::optional<runtime::FrameImages>> drawReference(
-    runtime::GlobeReferenceRenderer& reference, io::PyramidReader& pyramid,
-    gl::Framebuffer& framebuffer, const runtime::Camera& camera) {
+// The reference image of `camera` (ReferenceRenderer, GlobeReferenceScene): colour and depth;
+// nothing when the view holds more finest data than the reference draws (kDefaultMaxRegions).
+Result<std::optional<runtime::FrameImages>> drawReference(runtime::ReferenceRenderer& reference,
+                                                          gl::Framebuffer& framebuffer,
+                                                          const runtime::Camera& camera) {
     framebuffer.clear(kSpace, 0.0f);
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
     glViewport(0, 0, camera.viewportWidth, camera.viewportHeight);
     runtime::ReferenceStyle style;
     style.skyColor = {kSpace[0], kSpace[1], kSpace[2]};
-    auto drawn = reference.draw(camera, pyramid, style);
+    auto drawn = reference.draw(camera, style);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     if (!drawn) return drawn.error();
     if (!drawn.value().complete) return std::optional<runtime::FrameImages>();
@@ -139,19 +141,15 @@ int runGlobeBench(const GlobeBenchOptions& o) {
     auto surface = io::GlobeSourceSurface::read(pointers, std::uint64_t{8} << 30,
                                                 manifest.value().layout.patchQuads());
     if (!surface) return fail(surface.error().message);
-    const runtime::GlobeReferenceHeights sourceHeights = [&surface](double latitude,
-                                                                    double longitude) {
-        return surface.value().heightsAt(latitude, longitude);
-    };
+    runtime::GlobeTruth sourceTruth(
+        [&surface](double latitude, double longitude) -> Result<std::pair<double, double>> {
+            return surface.value().heightsAt(latitude, longitude);
+        });
     auto finest = io::GlobeGroundQuery::open(o.pyramid);
     if (!finest) return fail(finest.error().message);
-    std::optional<Error> finestProblem;
-    const runtime::GlobeReferenceHeights finestHeights = [&](double latitude, double longitude) {
-        auto heights = finest.value().heightsAt(latitude, longitude);
-        if (heights) return heights.value();
-        if (!finestProblem) finestProblem = heights.error();
-        return std::pair{0.0, 0.0};
-    };
+    runtime::GlobeTruth finestTruth([&](double latitude, double longitude) {
+        return finest.value().heightsAt(latitude, longitude);
+    });
     auto context = gl::HeadlessGlContext::create();
     if (!context) return fail(context.error().message);
     auto framebuffer = gl::Framebuffer::create(o.widthPx, o.heightPx, "globe bench");
@@ -161,7 +159,8 @@ int runGlobeBench(const GlobeBenchOptions& o) {
     if (!referenceTarget) return fail(referenceTarget.error().message);
     auto pyramid = io::PyramidReader::open(o.pyramid);
     if (!pyramid) return fail(pyramid.error().message);
-    auto reference = runtime::GlobeReferenceRenderer::create(pyramid.value().manifest());
+    auto reference = runtime::ReferenceRenderer::create(
+        std::make_unique<runtime::GlobeReferenceScene>(pyramid.value()));
     if (!reference) return fail(reference.error().message);
     // The reference images of the flight's frames (colour and depth, 8 bytes a pixel), drawn
     // once and kept for the other runs, which fly the same cameras, when they fit in
@@ -222,8 +221,7 @@ int runGlobeBench(const GlobeBenchOptions& o) {
             const std::size_t slot = slotOf(f);
             if (references.size() <= slot) references.resize(slot + 1);
             if (!keepReferences || !references[slot]) {
-                auto drawn = drawReference(reference.value(), pyramid.value(),
-                                           referenceTarget.value(), camera);
+                auto drawn = drawReference(reference.value(), referenceTarget.value(), camera);
                 if (!drawn) return fail(drawn.error().message);
                 references[slot] = std::move(drawn).value();
             }
@@ -251,11 +249,14 @@ int runGlobeBench(const GlobeBenchOptions& o) {
                 }
             }
             lodPrevious = std::move(lod.rgba);
-            const runtime::ScreenSpaceErrorStats error = runtime::measureGlobeScreenSpaceError(
-                camera, lod.depth, depthNoSkirts, sourceHeights, errorPx);
-            const runtime::ScreenSpaceErrorStats lodError = runtime::measureGlobeScreenSpaceError(
-                camera, lod.depth, depthNoSkirts, finestHeights, errorPx);
-            if (finestProblem) return fail(finestProblem->message);
+            auto measured = runtime::measureScreenSpaceError(camera, lod.depth, depthNoSkirts, {},
+                                                             sourceTruth, errorPx);
+            if (!measured) return fail(measured.error().message);
+            auto lodMeasured = runtime::measureScreenSpaceError(camera, lod.depth, depthNoSkirts,
+                                                                {}, finestTruth, errorPx);
+            if (!lodMeasured) return fail(lodMeasured.error().message);
+            const runtime::ScreenSpaceErrorStats& error = measured.value();
+            const runtime::ScreenSpaceErrorStats& lodError = lodMeasured.value();
             errorMax = std::max(errorMax, error.maxPx);
             errorP99Max = std::max(errorP99Max, error.p99Px);
             lodErrorMax = std::max(lodErrorMax, lodError.maxPx);

@@ -4,8 +4,9 @@
 
 #include "terrain/pyramid/PyramidManifest.h"
 
+#include "terrain/runtime/PlaneReferenceScene.h"
+#include "terrain/runtime/PlaneTruth.h"
 #include "terrain/runtime/ScreenProjection.h"
-#include "terrain/runtime/SurfaceRayCoverage.h"
 
 #include <epoxy/gl.h>
 #include <glm/matrix.hpp>
@@ -43,8 +44,8 @@ bool FrameAccuracy::finite() const {
                               error.maxFixedDiagonalPx,
                               error.meanFixedDiagonalPx,
                               error.skirtMaxPx,
-                              image.rmse,
-                              image.psnrDb};
+                              comparedWithReference ? image.rmse : 0.0,
+                              comparedWithReference ? image.psnrDb : 0.0};
     for (const double v : figures) {
         if (!std::isfinite(v)) return false;
     }
@@ -55,14 +56,31 @@ ReferenceStyle referenceStyleOf(const TerrainStyle& style) {
     return {.skyColor = style.skyColor, .fogDensityPerM = style.fogDensityPerM};
 }
 
-AccuracyProbe::AccuracyProbe(FullResolutionSurface surface, ReferenceRenderer reference,
-                             gl::Framebuffer lodTarget, gl::Framebuffer referenceTarget,
-                             const AccuracyProbeOptions& options)
-    : m_surface(std::move(surface)),
+AccuracyProbe::AccuracyProbe(std::vector<std::unique_ptr<TruthSurface>> truths,
+                             ReferenceRenderer reference, gl::Framebuffer lodTarget,
+                             gl::Framebuffer referenceTarget, const AccuracyProbeOptions& options)
+    : m_truths(std::move(truths)),
       m_reference(std::move(reference)),
       m_lodTarget(std::move(lodTarget)),
       m_referenceTarget(std::move(referenceTarget)),
       m_options(options) {}
+
+Result<std::unique_ptr<AccuracyProbe>> AccuracyProbe::create(
+    std::unique_ptr<ReferenceScene> scene, std::vector<std::unique_ptr<TruthSurface>> truths,
+    const AccuracyProbeOptions& options) {
+    TERRAIN_ASSERT(!truths.empty() && truths.size() <= 2,
+                   "AccuracyProbe: one truth, or two (the second for lodError)");
+    auto reference = ReferenceRenderer::create(std::move(scene));
+    if (!reference) return reference.error();
+    auto lodTarget = gl::Framebuffer::create(options.widthPx, options.heightPx, "accuracy LOD");
+    if (!lodTarget) return lodTarget.error();
+    auto referenceTarget = gl::Framebuffer::createWithFloatAttachment(
+        options.widthPx, options.heightPx, "accuracy reference");
+    if (!referenceTarget) return referenceTarget.error();
+    return std::unique_ptr<AccuracyProbe>(new AccuracyProbe(
+        std::move(truths), std::move(reference).value(), std::move(lodTarget).value(),
+        std::move(referenceTarget).value(), options));
+}
 
 Result<std::unique_ptr<AccuracyProbe>> AccuracyProbe::create(
     const std::filesystem::path& pyramid, const AccuracyProbeOptions& options,
@@ -78,19 +96,22 @@ Result<std::unique_ptr<AccuracyProbe>> AccuracyProbe::create(
             return Error{referencePyramid.string() + ": the reference pyramid has not " +
                          pyramid.string() + "'s layout and georeference"};
     }
-    auto surface = FullResolutionSurface::open(
-        referencePyramid.empty() ? pyramid : referencePyramid, options.surfaceBudgetBytes);
-    if (!surface) return surface.error();
-    auto reference = ReferenceRenderer::create(surface.value().layout());
-    if (!reference) return reference.error();
-    auto lodTarget = gl::Framebuffer::create(options.widthPx, options.heightPx, "accuracy LOD");
-    if (!lodTarget) return lodTarget.error();
-    auto referenceTarget = gl::Framebuffer::createWithFloatAttachment(
-        options.widthPx, options.heightPx, "accuracy reference");
-    if (!referenceTarget) return referenceTarget.error();
-    return std::unique_ptr<AccuracyProbe>(new AccuracyProbe(
-        std::move(surface).value(), std::move(reference).value(), std::move(lodTarget).value(),
-        std::move(referenceTarget).value(), options));
+    auto opened = FullResolutionSurface::open(referencePyramid.empty() ? pyramid : referencePyramid,
+                                              options.surfaceBudgetBytes);
+    if (!opened) return opened.error();
+    auto surface = std::make_unique<FullResolutionSurface>(std::move(opened).value());
+    std::vector<std::unique_ptr<TruthSurface>> truths;
+    truths.push_back(std::make_unique<PlaneTruth>(*surface));
+    auto probe =
+        create(std::make_unique<PlaneReferenceScene>(*surface), std::move(truths), options);
+    if (!probe) return probe.error();
+    probe.value()->m_planeSurface = std::move(surface);
+    return probe;
+}
+
+FullResolutionSurface& AccuracyProbe::surface() {
+    TERRAIN_ASSERT(m_planeSurface != nullptr, "AccuracyProbe::surface: not a plane's probe");
+    return *m_planeSurface;
 }
 
 std::array<std::uint8_t, 3> AccuracyProbe::clearRgb() const {
@@ -112,7 +133,7 @@ Result<ReferenceCapture> AccuracyProbe::renderReference(const Camera& camera,
     {
         const TargetScope scope(m_referenceTarget);
         const auto start = Clock::now();
-        auto drawn = m_reference.draw(camera, m_surface, style);
+        auto drawn = m_reference.draw(camera, style);
         if (!drawn) return drawn.error();
         glFinish();
         capture.drawMs = millisecondsSince(start);
@@ -157,10 +178,23 @@ Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapt
                                              const LodCapture* previousLod,
                                              const ReferenceCapture* previousReference) {
     FrameAccuracy a;
-    auto error = measureScreenSpaceError(camera, lod.images.depth, lod.depthWithoutSkirts,
-                                         reference.images.depth, m_surface, thresholdPx);
-    if (!error) return error.error();
-    a.error = error.value();
+    a.comparedWithReference = reference.draw.complete;
+    // A partial reference image says nothing of the pixels it left out: the error is then
+    // measured over every drawn pixel, and the images are not compared.
+    const std::span<const float> referenceDepth =
+        a.comparedWithReference ? std::span<const float>(reference.images.depth)
+                                : std::span<const float>();
+    for (std::size_t t = 0; t < m_truths.size(); ++t) {
+        auto error = measureScreenSpaceError(camera, lod.images.depth, lod.depthWithoutSkirts,
+                                             referenceDepth, *m_truths[t], thresholdPx);
+        if (!error) return error.error();
+        if (t == 0) {
+            a.error = std::move(error).value();
+        } else {
+            a.lodError = std::move(error).value();
+        }
+    }
+    if (!a.comparedWithReference) return a;
     a.image = compareImages(lod.images.rgba, reference.images.rgba);
     const UncoveredPixels uncovered =
         countUncoveredPixels(lod.images, reference.images, clearRgb());
@@ -173,7 +207,7 @@ Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapt
         const glm::dvec3 along =
             unprojectPixel(inverse, camera.viewportWidth, camera.viewportHeight,
                            static_cast<int>(i % w), static_cast<int>(i / w), 0.5f);
-        auto covered = everyTriangulationCovers(m_surface, camera.position, along);
+        auto covered = m_truths.front()->everyTriangulationCovers(camera.position, along);
         if (!covered) return covered.error();
         ++(covered.value() ? a.crackPixels : a.diagonalUncoveredPixels);
     }
@@ -182,7 +216,8 @@ Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapt
         a.referencePixels += reference.images.drawn(i) ? 1 : 0;
         a.lodPixels += lod.images.drawn(i) ? 1 : 0;
     }
-    if (previousLod != nullptr && previousReference != nullptr) {
+    if (previousLod != nullptr && previousReference != nullptr &&
+        previousReference->draw.complete) {
         a.lodChangeLevels = meanImageChange(previousLod->images.rgba, lod.images.rgba);
         a.referenceChangeLevels =
             meanImageChange(previousReference->images.rgba, reference.images.rgba);

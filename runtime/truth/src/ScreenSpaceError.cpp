@@ -1,8 +1,9 @@
-// ScreenSpaceError: unproject the LOD's depth in double, look up the full-resolution
-// surface below, project both points, measure pixels.
+// ScreenSpaceError: unproject the LOD's depth in double, find the truth on the vertical
+// through it, project both points, measure pixels; then what the image of per-pixel errors
+// says (the largest error two adjacent pixels both show, the mean, the 99th percentile).
 #include "terrain/runtime/ScreenSpaceError.h"
 
-#include "ErrorImageSummary.h"
+#include "terrain/base/Assert.h"
 
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
@@ -10,21 +11,91 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 namespace terrain::runtime {
+namespace {
 
-Result<ScreenSpaceErrorStats> measureScreenSpaceError(
-    const Camera& camera, std::span<const float> lodDepth, std::span<const float> lodDepthNoSkirts,
-    std::span<const float> referenceDepth, FullResolutionSurface& surface, double thresholdPx,
-    double horizontalTolerancePx) {
+/// Counts a skirt pixel of error `errorPx` (+∞ when its segment to the truth passes behind
+/// the camera).
+void countSkirtPixel(ScreenSpaceErrorStats& stats, double errorPx) {
+    ++stats.skirtPixels;
+    if (std::isfinite(errorPx)) {
+        stats.skirtMaxPx = std::max(stats.skirtMaxPx, errorPx);
+    } else {
+        ++stats.skirtUnboundedPixels;
+    }
+}
+
+/// `errorImage`: per pixel (rows bottom-up) the error, −1 where nothing was measured;
+/// `measuredAt`: per pixel W_lod (xyz) and the truth's height it was measured against (w);
+/// `errors`: the measured errors (reordered); `sum`, `sumFixed`: their sums (primary, fixed
+/// diagonal). Fills maxPx, worst*, meanPx, meanFixedDiagonalPx and p99Px of `stats`, whose
+/// `pixels` must already be counted.
+void summariseErrorImage(int w, int h, std::span<const float> errorImage,
+                         std::span<const glm::dvec4> measuredAt, std::vector<double>& errors,
+                         double sum, double sumFixed, ScreenSpaceErrorStats& stats) {
+    // The largest error two adjacent pixels both show: for every pixel, the smaller of its
+    // own error and its largest measured 8-neighbour's.
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+                                  static_cast<std::size_t>(x);
+            if (errorImage[i] < 0.0f) continue;
+            float neighbour = -1.0f;
+            for (int j = std::max(y - 1, 0); j <= std::min(y + 1, h - 1); ++j) {
+                for (int k = std::max(x - 1, 0); k <= std::min(x + 1, w - 1); ++k) {
+                    if (j == y && k == x) continue;
+                    neighbour = std::max(
+                        neighbour,
+                        errorImage[static_cast<std::size_t>(j) * static_cast<std::size_t>(w) +
+                                   static_cast<std::size_t>(k)]);
+                }
+            }
+            if (neighbour < 0.0f) continue;  // a lone measured pixel shows nothing twice
+            const double shared =
+                std::min(static_cast<double>(errorImage[i]), static_cast<double>(neighbour));
+            if (shared > stats.maxPx || stats.worstX < 0) {
+                stats.maxPx = shared;
+                stats.worstX = x;
+                stats.worstY = y;
+                stats.worstWorld = glm::dvec3(measuredAt[i]);
+                stats.worstReferenceM = measuredAt[i].w;
+            }
+        }
+    }
+    if (stats.pixels > 0) {
+        const auto n = static_cast<double>(stats.pixels);
+        stats.meanPx = sum / n;
+        const auto bounded = static_cast<double>(stats.pixels - stats.unboundedComparisonPixels);
+        stats.meanFixedDiagonalPx = bounded > 0.0 ? sumFixed / bounded : 0.0;
+        const auto rank = static_cast<std::size_t>(std::ceil(0.99 * n)) - 1;
+        std::nth_element(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(rank),
+                         errors.end());
+        stats.p99Px = errors[rank];
+    }
+}
+
+}  // namespace
+
+Result<ScreenSpaceErrorStats> measureScreenSpaceError(const Camera& camera,
+                                                      std::span<const float> lodDepth,
+                                                      std::span<const float> lodDepthNoSkirts,
+                                                      std::span<const float> referenceDepth,
+                                                      TruthSurface& truth, double thresholdPx) {
     const int w = camera.viewportWidth, h = camera.viewportHeight;
     const std::size_t pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
     TERRAIN_ASSERT(lodDepth.size() == pixels, "measureScreenSpaceError: depth size");
     TERRAIN_ASSERT(lodDepthNoSkirts.empty() || lodDepthNoSkirts.size() == pixels);
     TERRAIN_ASSERT(referenceDepth.empty() || referenceDepth.size() == pixels);
 
-    const glm::dmat4 viewProjection = camera.relativeViewProjection();
-    const glm::dmat4 inverse = glm::inverse(viewProjection);
+    const FrameProjection frame{.cameraPosition = camera.position,
+                                .viewProjection = camera.relativeViewProjection(),
+                                .widthPx = w,
+                                .heightPx = h};
+    const glm::dmat4 inverse = glm::inverse(frame.viewProjection);
+    const double horizontalTolerancePx = truth.horizontalTolerancePx();
     ScreenSpaceErrorStats stats;
     std::vector<double> errors;
     // Per pixel: the error, −1 where nothing was measured; and what it was measured
@@ -32,14 +103,6 @@ Result<ScreenSpaceErrorStats> measureScreenSpaceError(
     std::vector<float> errorImage(pixels, -1.0f);
     std::vector<glm::dvec4> measuredAt(pixels);
     double sum = 0.0, sumFixed = 0.0;
-    // The projected distance between W_lod (at the pixel's centre, by construction) and the
-    // point at height `z` straight above or below it; +∞ if that point is behind the camera.
-    const auto verticalPx = [&](const glm::dvec3& relative, const glm::dvec2& centre, double dz) {
-        if (dz == 0.0) return 0.0;
-        const glm::dvec2 q = projectToPixels(viewProjection, w, h, relative + glm::dvec3(0, 0, dz));
-        if (std::isnan(q.x)) return std::numeric_limits<double>::infinity();
-        return glm::length(q - centre);
-    };
     for (int y = 0; y < h; ++y) {
         for (int x = 0; x < w; ++x) {
             const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
@@ -58,23 +121,9 @@ Result<ScreenSpaceErrorStats> measureScreenSpaceError(
                 ++stats.nonFinitePixels;
                 continue;
             }
-            auto below = surface.heightAt(world.x, world.y);
-            if (!below) return below.error();
-            if (!below.value().inside) {
-                // The rasteriser snaps vertices to sub-pixel positions, so a pixel centre
-                // just past the DEM's edge may be covered: measure it at the edge when the
-                // edge is less than a pixel away on screen.
-                const glm::dvec2 edge = surface.clampToDem(world.x, world.y);
-                const glm::dvec3 edgeRelative{edge.x - camera.position.x,
-                                              edge.y - camera.position.y, relative.z};
-                const glm::dvec2 a = projectToPixels(viewProjection, w, h, relative);
-                const glm::dvec2 b = projectToPixels(viewProjection, w, h, edgeRelative);
-                if (glm::length(a - b) < 1.0) {
-                    below = surface.heightAt(edge.x, edge.y);
-                    if (!below) return below.error();
-                }
-            }
-            const SurfaceHeight& s = below.value();
+            auto vertical = truth.verticalAt(world, relative, frame);
+            if (!vertical) return vertical.error();
+            const TruthVertical& s = vertical.value();
             if (!s.inside) {
                 if (skirt) {
                     ++stats.skirtPixels;
@@ -85,27 +134,29 @@ Result<ScreenSpaceErrorStats> measureScreenSpaceError(
             }
             // The projection of W_lod: the pixel's centre, up to rounding; projecting it too
             // keeps both ends of the segment under the same arithmetic.
-            const glm::dvec2 centre = projectToPixels(viewProjection, w, h, relative);
-            double nearest = std::clamp(world.z, s.lowM, s.highM);
-            const double exactPositionPx = verticalPx(relative, centre, nearest - world.z);
+            const glm::dvec2 centre = frame.toPixels(relative);
+            // The projected distance from W_lod to the point of `v` at `heightM`; +∞ if that
+            // point is behind the camera.
+            const auto verticalPx = [&](const TruthVertical& v, double heightM) {
+                if (heightM == v.drawnM) return 0.0;
+                const glm::dvec2 q =
+                    frame.toPixels(truth.relativePointAt(v, relative, frame, heightM));
+                if (std::isnan(q.x)) return std::numeric_limits<double>::infinity();
+                return glm::length(q - centre);
+            };
+            double nearest = std::clamp(s.drawnM, s.lowM, s.highM);
+            const double exactPositionPx = verticalPx(s, nearest);
             double errorPx = exactPositionPx;
             if (errorPx > 0.0 && horizontalTolerancePx > 0.0) {
-                // The drawn point is where the rasteriser put it, which may be
-                // `horizontalTolerancePx` off the exact triangle sideways (vertex snapping,
-                // float positions); on a slope S that is S times as far vertically (a cliff
-                // of slope 1,000 seen from 1 km: 1/256 px of snapping is 7 m, 4 px). So W_lod
-                // is measured against the surface over the square of that half-side around its
-                // x, y: the truth's lowest and highest heights within that radius.
+                // The drawn point may lie that far off the exact triangle sideways: it is
+                // measured against the truth over the square of that half-side around it.
                 const glm::dvec3 besideRelative = unprojectPixel(inverse, w, h, x + 1, y, depth);
                 const double radiusM =
                     horizontalTolerancePx * glm::length(besideRelative - relative);
-                auto range = surface.heightRange(world.x, world.y, radiusM);
-                if (!range) return range.error();
-                const HeightRange& r = range.value();
-                const double low = r.inside ? std::min(s.lowM, r.lowM) : s.lowM;
-                const double high = r.inside ? std::max(s.highM, r.highM) : s.highM;
-                nearest = std::clamp(world.z, low, high);
-                errorPx = verticalPx(relative, centre, nearest - world.z);
+                auto wide = truth.widened(s, world, radiusM);
+                if (!wide) return wide.error();
+                nearest = std::clamp(s.drawnM, wide.value().lowM, wide.value().highM);
+                errorPx = verticalPx(s, nearest);
             }
             if (skirt && !std::isnan(centre.x)) {
                 countSkirtPixel(stats, errorPx);
@@ -115,7 +166,7 @@ Result<ScreenSpaceErrorStats> measureScreenSpaceError(
                 ++stats.nonFinitePixels;
                 continue;
             }
-            const double fixedPx = verticalPx(relative, centre, s.referenceM - world.z);
+            const double fixedPx = verticalPx(s, s.referenceM);
             ++stats.pixels;
             sum += errorPx;
             errors.push_back(errorPx);

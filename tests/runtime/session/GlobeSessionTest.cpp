@@ -7,10 +7,12 @@
 //    point shows terrain, not the clear colour (the terrain lies above that ellipsoid);
 //  - horizon culling never removes a visible pixel: the images with it on and off are equal;
 //  - one draw call, data patches drawn where the data is;
-//  - against the globe reference image (GlobeReferenceRenderer): no crack, PSNR at ε = 1 px
+//  - against the globe reference image (ReferenceRenderer, GlobeReferenceScene): no crack, PSNR at
+//  ε = 1 px
 //    and below it at ε = 8 px, and no hole in the reference itself.
 #include "GeographicFunctionDem.h"
 #include "GlTestFixture.h"
+#include "GlobeTestSources.h"
 #include "TempFolder.h"
 #include "terrain/build/GlobePyramidBuilder.h"
 #include "terrain/build/GlobeSourceSurface.h"
@@ -18,10 +20,12 @@
 #include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/FrameImages.h"
 #include "terrain/runtime/GlobeCamera.h"
-#include "terrain/runtime/GlobeReferenceRenderer.h"
-#include "terrain/runtime/GlobeScreenSpaceError.h"
+#include "terrain/runtime/GlobeReferenceScene.h"
+#include "terrain/runtime/GlobeTruth.h"
 #include "terrain/runtime/ImageComparison.h"
+#include "terrain/runtime/ReferenceRenderer.h"
 #include "terrain/runtime/ScreenProjection.h"
+#include "terrain/runtime/ScreenSpaceError.h"
 #include "terrain/runtime/TerrainSession.h"
 
 #include <epoxy/gl.h>
@@ -43,17 +47,6 @@ constexpr int kWidth = 240;
 constexpr int kHeight = 160;
 constexpr double kDegree = std::numbers::pi / 180.0;
 
-// ±1.8 km of smooth relief over the whole planet, below sea level in places; the terms that
-// vary with longitude fade towards the poles, so the surface is continuous there as a real
-// one is (a function of longitude alone at the pole has no one height there to measure).
-float planet(double latitude, double longitude) {
-    const double phi = latitude * kDegree, lambda = longitude * kDegree;
-    return static_cast<float>(std::cos(phi) *
-                                  (1500.0 * std::sin(7.0 * phi) * std::cos(5.0 * lambda) +
-                                   300.0 * std::sin(31.0 * lambda + 17.0 * phi)) +
-                              400.0 * std::sin(3.0 * phi));
-}
-
 struct Pose {
     std::string name;
     GlobePose pose;
@@ -64,14 +57,8 @@ protected:
     static void SetUpTestSuite() {
         test::GlTest::SetUpTestSuite();
         s_folder = std::make_unique<test::TempFolder>();
-        test::GeographicFunctionDem source(-180.0, 90.0, 720, 360, 0.5, 0.5, planet);
-        io::PyramidBuildOptions options;
-        options.patchSamples = 33;
-        options.blockQuads = 8;
-        options.shardPatches = 8;
-        options.threads = 2;
         s_pyramid = s_folder->path() / "planet.pyramid";
-        auto built = io::buildGlobePyramid(source, s_pyramid, options);
+        auto built = test::buildReliefPlanet(s_pyramid);
         ASSERT_TRUE(built) << built.error().message;
         s_maxHeight = built.value().manifest.statistics.maxHeight;
         s_minHeight = built.value().manifest.statistics.minHeight;
@@ -221,17 +208,18 @@ TEST_F(GlobeSessionTest, EveryStabilityCaseHasNoHoleAndHorizonCullingChangesNoPi
     }
 }
 
-// The measured screen-space error (GlobeScreenSpaceError.h) against the sources'
+// The measured screen-space error (ScreenSpaceError.h, GlobeTruth.h) against the sources'
 // full-resolution surface on every stability case, at ε = 1, 2 and 4 px: the drawn surface
 // stays within ε + kRasterTolerancePx on every pose (the worst error two adjacent pixels show).
 TEST_F(GlobeSessionTest, MeasuredErrorStaysWithinEpsilonOnEveryStabilityCase) {
-    test::GeographicFunctionDem source(-180.0, 90.0, 720, 360, 0.5, 0.5, planet);
+    test::GeographicFunctionDem source(-180.0, 90.0, 720, 360, 0.5, 0.5, test::reliefPlanet);
     io::DemReader* const sources[] = {&source};
     auto surface = io::GlobeSourceSurface::read(sources, std::uint64_t{1} << 30, 32);
     ASSERT_TRUE(surface) << surface.error().message;
-    const GlobeReferenceHeights sourceHeights = [&surface](double latitude, double longitude) {
-        return surface.value().heightsAt(latitude, longitude);
-    };
+    GlobeTruth sourceTruth(
+        [&surface](double latitude, double longitude) -> Result<std::pair<double, double>> {
+            return surface.value().heightsAt(latitude, longitude);
+        });
     auto opened = TerrainSession::open(s_pyramid, sessionOptions());
     ASSERT_TRUE(opened) << opened.error().message;
     TerrainSession& session = *opened.value();
@@ -248,8 +236,10 @@ TEST_F(GlobeSessionTest, MeasuredErrorStaysWithinEpsilonOnEveryStabilityCase) {
             std::vector<float> withSkirts, withoutSkirts;
             render(session, framebuffer.value(), camera, nullptr, nullptr, true, &withSkirts);
             render(session, framebuffer.value(), camera, nullptr, nullptr, false, &withoutSkirts);
-            const ScreenSpaceErrorStats stats = measureGlobeScreenSpaceError(
-                camera, withSkirts, withoutSkirts, sourceHeights, errorPx);
+            auto measured = measureScreenSpaceError(camera, withSkirts, withoutSkirts, {},
+                                                    sourceTruth, errorPx);
+            ASSERT_TRUE(measured) << measured.error().message;
+            const ScreenSpaceErrorStats& stats = measured.value();
             std::cout << "ε = " << errorPx << ", " << p.name << ": " << stats.pixels
                       << " pixels, max " << stats.maxPx << " px, p99 " << stats.p99Px
                       << " px, mean " << stats.meanPx << " px\n";
@@ -269,7 +259,8 @@ TEST_F(GlobeSessionTest, EveryStabilityCaseMatchesTheGlobeReference) {
     TerrainSession& session = *opened.value();
     auto pyramid = io::PyramidReader::open(s_pyramid);
     ASSERT_TRUE(pyramid) << pyramid.error().message;
-    auto reference = GlobeReferenceRenderer::create(pyramid.value().manifest());
+    auto reference =
+        ReferenceRenderer::create(std::make_unique<GlobeReferenceScene>(pyramid.value()));
     ASSERT_TRUE(reference) << reference.error().message;
     auto lodTarget = gl::Framebuffer::create(kWidth, kHeight, "globe LOD");
     auto referenceTarget =
@@ -286,7 +277,7 @@ TEST_F(GlobeSessionTest, EveryStabilityCaseMatchesTheGlobeReference) {
         glViewport(0, 0, kWidth, kHeight);
         ReferenceStyle style;
         style.skyColor = {1.0f, 0.0f, 1.0f};
-        auto drawn = reference.value().draw(camera, pyramid.value(), style);
+        auto drawn = reference.value().draw(camera, style);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         ASSERT_TRUE(drawn) << drawn.error().message;
         const FrameImages truth = readFrameImages(referenceTarget.value());
@@ -329,7 +320,7 @@ TEST_F(GlobeSessionTest, EveryStabilityCaseMatchesTheGlobeReference) {
     // Past its limit the reference stops and says its image is partial.
     const Camera whole = cameraFor(poses().front().pose);
     glBindFramebuffer(GL_FRAMEBUFFER, referenceTarget.value().id());
-    auto limited = reference.value().draw(whole, pyramid.value(), ReferenceStyle{}, 10);
+    auto limited = reference.value().draw(whole, ReferenceStyle{}, 10);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     ASSERT_TRUE(limited) << limited.error().message;
     EXPECT_FALSE(limited.value().complete);

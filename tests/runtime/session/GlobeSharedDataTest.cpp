@@ -1,7 +1,8 @@
 // The shared DEMs on the globe (issue 15's acceptance): ETOPO20's whole planet, the 90 m
 // Rainier tile and the 30 m N57E011 tile build into one globe pyramid, and it is flown from
 // orbit down to Rainier: every settled frame within ε + 0.05 px of the sources'
-// full-resolution surface (GlobeScreenSpaceError), no hole where the ground must be, one draw.
+// full-resolution surface (ScreenSpaceError.h, GlobeTruth.h), no hole where the ground must be, one
+// draw.
 #include "GlTestFixture.h"
 #include "SharedData.h"
 #include "TempFolder.h"
@@ -10,7 +11,8 @@
 #include "terrain/dem/OpenDem.h"
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/runtime/GlobeCamera.h"
-#include "terrain/runtime/GlobeScreenSpaceError.h"
+#include "terrain/runtime/GlobeTruth.h"
+#include "terrain/runtime/ScreenSpaceError.h"
 #include "terrain/runtime/TerrainSession.h"
 
 #include <epoxy/gl.h>
@@ -47,9 +49,10 @@ TEST_F(GlobeSharedDataTest, EtopoRainierAndN57E011FlyFromOrbitToRainierWithinEps
     auto surface = io::GlobeSourceSurface::read(sources, std::uint64_t{2} << 30,
                                                 built.value().manifest.layout.patchQuads());
     ASSERT_TRUE(surface) << surface.error().message;
-    const GlobeReferenceHeights sourceHeights = [&surface](double latitude, double longitude) {
-        return surface.value().heightsAt(latitude, longitude);
-    };
+    GlobeTruth sourceTruth(
+        [&surface](double latitude, double longitude) -> Result<std::pair<double, double>> {
+            return surface.value().heightsAt(latitude, longitude);
+        });
 
     constexpr double kErrorPx = 2.0;
     TerrainSessionOptions options;
@@ -93,8 +96,10 @@ TEST_F(GlobeSharedDataTest, EtopoRainierAndN57E011FlyFromOrbitToRainierWithinEps
             depth[skirts] = framebuffer.value().readDepth();
         }
         EXPECT_EQ(drawn.drawCalls, 1);
-        const ScreenSpaceErrorStats error =
-            measureGlobeScreenSpaceError(camera, depth[1], depth[0], sourceHeights, kErrorPx);
+        auto measured =
+            measureScreenSpaceError(camera, depth[1], depth[0], {}, sourceTruth, kErrorPx);
+        ASSERT_TRUE(measured) << measured.error().message;
+        const ScreenSpaceErrorStats& error = measured.value();
         std::cout << name << ": " << session.lodStats().drawn << " patches, measured error max "
                   << error.maxPx << " px, p99 " << error.p99Px << " px over " << error.pixels
                   << " pixels\n";

@@ -6,6 +6,7 @@
 #include "TempFolder.h"
 #include "TinyPyramid.h"
 #include "terrain/runtime/FullResolutionSurface.h"
+#include "terrain/runtime/PlaneTruth.h"
 #include "terrain/runtime/ScreenSpaceError.h"
 
 #include <gtest/gtest.h>
@@ -200,6 +201,8 @@ TEST(ScreenSpaceError, MeasuresAPlaneAboveTheMesh) {
     auto opened = runtime::FullResolutionSurface::open(tiny->path);
     ASSERT_TRUE(opened);
     runtime::FullResolutionSurface& s = opened.value();
+    runtime::PlaneTruth exactTruth(s, 0.0);
+    runtime::PlaneTruth tolerantTruth(s);
     const runtime::TerrainGeometry& g = s.geometry();
     runtime::Camera c;
     c.viewportWidth = 40;
@@ -238,7 +241,7 @@ TEST(ScreenSpaceError, MeasuresAPlaneAboveTheMesh) {
     }
     ASSERT_GT(expectedPixels, 200u);
     // Measured at exactly each point's x, y, as the expectation is computed.
-    auto measured = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 1.0, 0.0);
+    auto measured = runtime::measureScreenSpaceError(c, depth, {}, {}, exactTruth, 1.0);
     ASSERT_TRUE(measured) << measured.error().message;
     const runtime::ScreenSpaceErrorStats& e = measured.value();
     // Float depth moves each point along its ray by a relative 1e-7: a tiny difference.
@@ -257,19 +260,19 @@ TEST(ScreenSpaceError, MeasuresAPlaneAboveTheMesh) {
     // A skirtless depth that differs marks skirt pixels, left out of the figures.
     std::vector<float> noSkirts = depth;
     noSkirts[static_cast<std::size_t>(e.worstY * 40 + e.worstX)] = 0.0f;
-    auto skirted = runtime::measureScreenSpaceError(c, depth, noSkirts, {}, s, 1.0, 0.0);
+    auto skirted = runtime::measureScreenSpaceError(c, depth, noSkirts, {}, exactTruth, 1.0);
     ASSERT_TRUE(skirted);
     EXPECT_EQ(skirted.value().skirtPixels, 1u);
     EXPECT_EQ(skirted.value().pixels, expectedPixels - 1);
     // NaN depth is counted, never measured.
     depth[0] = std::numeric_limits<float>::quiet_NaN();
-    auto withNan = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 1.0, 0.0);
+    auto withNan = runtime::measureScreenSpaceError(c, depth, {}, {}, exactTruth, 1.0);
     ASSERT_TRUE(withNan);
     EXPECT_EQ(withNan.value().nonFinitePixels, 1u);
     // The horizontal tolerance only ever lowers a pixel's error, by no more than the
     // surface's slope times a twentieth of a pixel: the plane's error mostly remains.
     depth[0] = 0.0f;
-    auto tolerant = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 1.0);
+    auto tolerant = runtime::measureScreenSpaceError(c, depth, {}, {}, tolerantTruth, 1.0);
     ASSERT_TRUE(tolerant);
     EXPECT_EQ(tolerant.value().pixels, expectedPixels);
     EXPECT_LE(tolerant.value().maxSinglePixelPx, e.maxSinglePixelPx);
@@ -332,16 +335,17 @@ TEST(ScreenSpaceError, ALonePixelDoesNotSetTheMaximum) {
     auto opened = runtime::FullResolutionSurface::open(tiny->path);
     ASSERT_TRUE(opened);
     runtime::FullResolutionSurface& s = opened.value();
+    runtime::PlaneTruth exactTruth(s, 0.0);
     const runtime::Camera c = cameraAboveTiny(s.geometry());
     std::vector<float> depth = rayMarchedDepth(c, s);
     const std::size_t lone = 4 * 20 + 10;
     ASSERT_GT(depth[lone], 0.0f);
-    auto exact = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 0.1, 0.0);
+    auto exact = runtime::measureScreenSpaceError(c, depth, {}, {}, exactTruth, 0.1);
     ASSERT_TRUE(exact);
     EXPECT_GT(exact.value().pixels, 80u);
     EXPECT_LT(exact.value().maxSinglePixelPx, 0.01);
     depth[lone] *= 0.8f;  // 25 % further along its ray: well under the surface
-    auto spiked = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 0.1, 0.0);
+    auto spiked = runtime::measureScreenSpaceError(c, depth, {}, {}, exactTruth, 0.1);
     ASSERT_TRUE(spiked);
     EXPECT_GT(spiked.value().maxSinglePixelPx, 0.2);
     EXPECT_LT(spiked.value().maxPx, 0.01);
@@ -357,6 +361,8 @@ TEST(ScreenSpaceError, ASidewaysSlipOnASteepSlopeIsWithinTheHorizontalTolerance)
     auto opened = runtime::FullResolutionSurface::open(tiny->path);
     ASSERT_TRUE(opened);
     runtime::FullResolutionSurface& s = opened.value();
+    runtime::PlaneTruth exactTruth(s, 0.0);
+    runtime::PlaneTruth tolerantTruth(s);
     const runtime::Camera c = cameraAboveTiny(s.geometry());
     // One pixel at the nearest ground the camera sees (depth = near / distance).
     const std::vector<float> unshifted = rayMarchedDepth(c, s);
@@ -365,12 +371,12 @@ TEST(ScreenSpaceError, ASidewaysSlipOnASteepSlopeIsWithinTheHorizontalTolerance)
     const double nearestPixelM = nearestM * 2.0 * std::tan(0.5 * c.fovY) / c.viewportHeight;
     const std::vector<float> depth = rayMarchedDepth(c, s, 0.045 * nearestPixelM);
 
-    auto exact = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 0.1, 0.0);
+    auto exact = runtime::measureScreenSpaceError(c, depth, {}, {}, exactTruth, 0.1);
     ASSERT_TRUE(exact);
     EXPECT_GT(exact.value().pixels, 80u);
     EXPECT_GT(exact.value().maxSinglePixelPx, 0.08)
         << "the slip shows at exactly each point's x, y";
-    auto tolerant = runtime::measureScreenSpaceError(c, depth, {}, {}, s, 0.1);
+    auto tolerant = runtime::measureScreenSpaceError(c, depth, {}, {}, tolerantTruth, 0.1);
     ASSERT_TRUE(tolerant);
     EXPECT_EQ(tolerant.value().pixels, exact.value().pixels);
     EXPECT_LT(tolerant.value().maxSinglePixelPx, 0.01);

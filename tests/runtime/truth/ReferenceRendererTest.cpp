@@ -13,6 +13,7 @@
 #include "terrain/source/ProceduralDems.h"
 #include "terrain/source/DemReader.h"
 #include "terrain/runtime/AccuracyProbe.h"
+#include "terrain/runtime/PlaneTruth.h"
 #include "terrain/runtime/ScreenSpaceError.h"
 
 #include <glm/matrix.hpp>
@@ -74,7 +75,8 @@ TEST_F(ReferenceRendererTest, EveryPixelLiesOnTheFullResolutionMesh) {
         EXPECT_GT(reference.value().draw.tiles, 0u);
         // The reference's depth measured as if it were an LOD frame: against its own
         // diagonal (the fixed-diagonal figure) it must be exact up to rounding.
-        auto self = runtime::measureScreenSpaceError(camera, img.depth, {}, {}, surface, 1.0);
+        runtime::PlaneTruth truth(surface);
+        auto self = runtime::measureScreenSpaceError(camera, img.depth, {}, {}, truth, 1.0);
         ASSERT_TRUE(self) << self.error().message;
         const runtime::ScreenSpaceErrorStats& e = self.value();
         std::cout << "[          ] " << describe(camera) << ": " << e.pixels

@@ -1,9 +1,10 @@
 // AccuracyProbe: one frame's accuracy against ground truth, end to end, for the benchmark
-// and the stability tests (docs/accuracy.md): it draws a TerrainSession's frame into its
-// own framebuffer (with skirts as the style says, and once more without, to tell skirt
-// pixels apart), draws the reference (ReferenceRenderer) for the same camera, reads both
-// back and computes the measured screen-space error (ScreenSpaceError.h), RMSE/PSNR, crack
-// pixels and popping (ImageComparison.h).
+// and the stability tests (docs/accuracy.md), on either surface: it draws a TerrainSession's
+// frame into its own framebuffer (with skirts as the style says, and once more without, to
+// tell skirt pixels apart), draws the reference (ReferenceRenderer of a ReferenceScene) for
+// the same camera, reads both back and computes the measured screen-space error against its
+// truths (ScreenSpaceError.h, TruthSurface.h), RMSE/PSNR, crack pixels and popping
+// (ImageComparison.h).
 #pragma once
 
 #include "terrain/base/Result.h"
@@ -17,12 +18,14 @@
 #include "terrain/runtime/ScreenSpaceError.h"
 #include "terrain/runtime/TerrainRenderer.h"
 #include "terrain/runtime/TerrainSession.h"
+#include "terrain/runtime/TruthSurface.h"
 
 #include <array>
 #include <cstdint>
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace terrain::runtime {
@@ -53,7 +56,14 @@ struct ReferenceCapture {
 struct FrameAccuracy {
     static constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
-    ScreenSpaceErrorStats error;
+    ScreenSpaceErrorStats error;  ///< against the probe's first truth
+    /// Against its second truth, when it has one: on the globe the pyramid's own finest level,
+    /// the LOD's error alone (GlobeTruth.h).
+    std::optional<ScreenSpaceErrorStats> lodError;
+    /// False when the reference image was partial (ReferenceDrawStats::complete): the image
+    /// figures below are then not computed (0, NaN popping) and the error is measured over
+    /// every drawn pixel.
+    bool comparedWithReference = true;
     ImageDifference image;
     /// Clear colour in the LOD where the reference drew terrain, enclosed by terrain
     /// (countUncoveredPixels), and covered by the full-resolution surface whichever
@@ -71,8 +81,8 @@ struct FrameAccuracy {
     double lodChangeLevels = kNoValue;
     double referenceChangeLevels = kNoValue;
 
-    /// No NaN among the figures (popping aside when there was no previous frame) and no
-    /// pixel whose measure was not finite.
+    /// No NaN among the figures (popping aside when there was no previous frame, the image's
+    /// when it was not compared) and no pixel whose measure was not finite.
     bool finite() const;
 };
 
@@ -82,11 +92,19 @@ ReferenceStyle referenceStyleOf(const TerrainStyle& style);
 /// Render thread only; destroy it before its GL context.
 class AccuracyProbe {
 public:
-    /// Opens the pyramid's finest level and creates the renderers and framebuffers.
-    /// `referencePyramid`, when given, is the pyramid whose finest level is the ground truth
-    /// instead: the lossless build of a lossy pyramid (terrain-build --max-error-m), whose
-    /// own finest level is up to δ off the source. It must have `pyramid`'s layout and
-    /// georeference.
+    /// A probe drawing `scene` as the reference and measuring against `truths` (one or
+    /// two): the first gives the error and confirms the cracks, the second, if any,
+    /// FrameAccuracy::lodError. What the scene and the truths read (a pyramid, sources) must
+    /// outlive the probe. Errors: the reference's program, the framebuffers.
+    static Result<std::unique_ptr<AccuracyProbe>> create(
+        std::unique_ptr<ReferenceScene> scene, std::vector<std::unique_ptr<TruthSurface>> truths,
+        const AccuracyProbeOptions& options = {});
+
+    /// The plane's probe: opens the pyramid's finest level (FullResolutionSurface) as the
+    /// reference scene and the truth (PlaneTruth). `referencePyramid`, when given, is the
+    /// pyramid whose finest level is the ground truth instead: the lossless build of a lossy
+    /// pyramid (terrain-build --max-error-m), whose own finest level is up to δ off the
+    /// source. It must have `pyramid`'s layout and georeference.
     static Result<std::unique_ptr<AccuracyProbe>> create(
         const std::filesystem::path& pyramid, const AccuracyProbeOptions& options = {},
         const std::filesystem::path& referencePyramid = {});
@@ -108,20 +126,22 @@ public:
                                   const ReferenceCapture* previousReference = nullptr);
 
     /// captureLod, renderReference and compare for one frame (no popping), thresholdPx =
-    /// the session's ε.
+    /// the session's ε. Past the reference's kDefaultMaxRegions it is not compared.
     Result<FrameAccuracy> measure(LodStrategy& session, const Camera& camera,
                                   const TerrainStyle& style);
 
-    FullResolutionSurface& surface() { return m_surface; }
+    /// The plane's probe's full-resolution surface (TERRAIN_ASSERT: a plane's probe).
+    FullResolutionSurface& surface();
     const AccuracyProbeOptions& options() const { return m_options; }
     std::array<std::uint8_t, 3> clearRgb() const;
 
 private:
-    AccuracyProbe(FullResolutionSurface surface, ReferenceRenderer reference,
+    AccuracyProbe(std::vector<std::unique_ptr<TruthSurface>> truths, ReferenceRenderer reference,
                   gl::Framebuffer lodTarget, gl::Framebuffer referenceTarget,
                   const AccuracyProbeOptions& options);
 
-    FullResolutionSurface m_surface;
+    std::unique_ptr<FullResolutionSurface> m_planeSurface;  // the plane's: its scene and truth
+    std::vector<std::unique_ptr<TruthSurface>> m_truths;
     ReferenceRenderer m_reference;
     gl::Framebuffer m_lodTarget;
     gl::Framebuffer m_referenceTarget;

@@ -1,29 +1,25 @@
-// ReferenceRenderer: ground truth for the accuracy measures (DESIGN.md, "Measurement is part
-// of the product"): draws the full-resolution DEM — every sample of the pyramid's finest
-// level a vertex, no LOD — for a camera, with the LOD draw's shading
-// (terrain_shading.glsl), into a framebuffer with a colour, a depth and a world-height
-// target (gl::Framebuffer::createWithFloatAttachment).
+// ReferenceRenderer: ground truth images for the accuracy measures (DESIGN.md, "Measurement
+// is part of the product"; docs/accuracy.md, docs/globe.md): draws a ReferenceScene — the
+// full-resolution surface, every sample of the truth a vertex, no LOD — for a camera, with
+// the LOD draw's placement and shading (the frame block, terrain_shading.glsl), into a
+// framebuffer with a colour, a depth and a world-height target
+// (gl::Framebuffer::createWithFloatAttachment). One renderer for either surface: the scene
+// says what to draw (PlaneReferenceScene.h, GlobeReferenceScene.h), one ReferenceBatch draws
+// it.
 //
-// It shares no LOD code: no quadtree, no tessellation, no error bounds. It draws the DEM's
-// extent only (the finest level's last patches overhang it with clamped copies of its
-// edge, which it discards). The finest level is cut into tiles of at most kMaxTileQuads quads a
-// side; the tiles whose footprint and height range meet the view frustum are uploaded, kBatchTiles
-// at a time, into a texture array and drawn as instances of one indexed grid (each cell split along
-// its north-west– south-east diagonal, FullResolutionSurface::heightAt's referenceM). Slow on
-// purpose: it must be right, not fast.
+// It shares no LOD code: no quadtree, no tessellation, no error bounds. Slow on purpose: it
+// must be right, not fast.
 #pragma once
 
 #include "terrain/base/Result.h"
-#include "terrain/gl/Buffer.h"
-#include "terrain/gl/Program.h"
-#include "terrain/gl/Texture.h"
 #include "terrain/runtime/Camera.h"
-#include "terrain/runtime/FullResolutionSurface.h"
-#include "terrain/runtime/SampleGrid.h"
+#include "terrain/runtime/FrameBlock.h"
+#include "terrain/runtime/ReferenceBatch.h"
+#include "terrain/runtime/ReferenceScene.h"
 
 #include <array>
 #include <cstdint>
-#include <vector>
+#include <memory>
 
 namespace terrain::runtime {
 
@@ -34,11 +30,11 @@ struct ReferenceStyle {
 };
 
 struct ReferenceDrawStats {
-    std::uint64_t tiles = 0;      ///< tiles in the frustum, drawn
-    std::uint64_t triangles = 0;  ///< 2 per cell of every drawn tile
+    std::uint64_t tiles = 0;      ///< instances drawn: the plane's tiles, the globe's regions
+    std::uint64_t triangles = 0;  ///< 2 per cell of every drawn instance
     int batches = 0;              ///< instanced draws
-    /// False when the draw stopped at its limit (GlobeReferenceRenderer's maxRegions): the
-    /// image is partial and must not be compared.
+    /// False when the draw stopped at its limit (maxRegions): the image is partial and must
+    /// not be compared.
     bool complete = true;
 };
 
@@ -47,36 +43,27 @@ struct ReferenceDrawStats {
 /// to GL's defaults after each draw.
 class ReferenceRenderer {
 public:
-    static constexpr int kMaxTileQuads = 128;
-    static constexpr int kBatchTiles = 32;
+    /// The most regions one draw of a scene that walks them takes (the globe's: 655 million
+    /// triangles of 129-sample patches): a planet of fine data seen whole from orbit would
+    /// take hours on a CPU rasteriser.
+    static constexpr std::uint64_t kDefaultMaxRegions = 20000;
 
-    /// For pyramids of `layout` (its patch size sets the tile size).
-    static Result<ReferenceRenderer> create(const io::PyramidLayout& layout);
+    /// The renderer of `scene`. Errors: the program does not build.
+    static Result<ReferenceRenderer> create(std::unique_ptr<ReferenceScene> scene);
 
-    /// Draws every finest-level tile in `camera`'s frustum: colour at location 0, world
-    /// height (metres) at location 1. Depth must be cleared to 0 (reversed Z), as for the
-    /// LOD draw. Errors (a patch that cannot be read) name the shard file and the patch.
-    Result<ReferenceDrawStats> draw(const Camera& camera, FullResolutionSurface& surface,
-                                    const ReferenceStyle& style);
+    /// Draws the scene in `camera`'s frustum: colour at location 0, world height (metres) at
+    /// location 1. Depth must be cleared to 0 (reversed Z), as for the LOD draw. Errors (a
+    /// patch that cannot be read) name the shard file and the patch. Past `maxRegions`
+    /// regions (a scene that walks them) it stops, and ReferenceDrawStats::complete is false.
+    Result<ReferenceDrawStats> draw(const Camera& camera, const ReferenceStyle& style,
+                                    std::uint64_t maxRegions = kDefaultMaxRegions);
 
-    int tileQuads() const { return m_tileQuads; }
+    ReferenceScene& scene() { return *m_scene; }
 
 private:
-    // std430 ReferenceTile in reference.vert.
-    struct alignas(16) TileInstance {
-        std::array<float, 4> originLayer;
-    };
-    static_assert(sizeof(TileInstance) == 16);
-
-    void submitBatch(int tiles);
-
-    gl::Program m_program;
-    SampleGrid m_grid;
-    gl::Buffer m_instances;
-    gl::Texture m_heights;  // kBatchTiles layers of (tileQuads + 3)² samples
-    std::vector<TileInstance> m_staging;
-    std::vector<float> m_tileScratch;
-    int m_tileQuads = 0;
+    std::unique_ptr<ReferenceScene> m_scene;
+    ReferenceBatch m_batch;
+    FrameBlockBuffer m_frame;
 };
 
 }  // namespace terrain::runtime

@@ -1,22 +1,22 @@
 // ScreenSpaceError: the screen-space geometric error the LOD actually shows, measured per
-// pixel against the full-resolution surface (docs/accuracy.md, "Measured screen-space
-// error"). It is what ε promises (Yusov & Shevtsov 2011, §5): the projected length of the
-// vertical segment between the drawn surface and the full-resolution surface.
+// pixel against the ground truth (docs/accuracy.md, "Measured screen-space error"; on the
+// globe docs/globe.md). It is what ε promises (Yusov & Shevtsov 2011, §5): the projected
+// length of the vertical segment between the drawn surface and the full-resolution surface.
 //
 // For every pixel the LOD drew, its depth (reversed Z, float) is unprojected in double to
 // the camera-relative point W_lod of the drawn surface seen through the pixel's centre; the
-// full-resolution surface at the same world x, y gives a point W_ref straight above or
-// below; both are projected and their distance in pixels is the pixel's error. The
-// full-resolution mesh is ambiguous inside a DEM cell (either diagonal; the GPU
-// tessellator chooses its own, and the pyramid's bounds hold for both), so the primary
-// figure takes the nearer of the two diagonals' heights (0 when W_lod lies between them);
-// the stricter figure against the reference renderer's own diagonal is reported beside it.
+// truth (TruthSurface.h: the plane's DEM, the globe's sources or finest level) gives a point
+// W_ref on the vertical through it (the z axis, the ellipsoid's normal); both are projected
+// and their distance in pixels is the pixel's error. The full-resolution mesh is ambiguous
+// inside a cell (either diagonal; the GPU tessellator chooses its own, and the pyramid's
+// bounds hold for both), so the primary figure takes the nearer of the two diagonals'
+// heights (0 when W_lod lies between them); the stricter figure against one fixed diagonal
+// (the reference renderer's own on the plane) is reported beside it.
 #pragma once
 
 #include "terrain/base/Result.h"
 #include "terrain/runtime/Camera.h"
-#include "terrain/runtime/FullResolutionSurface.h"
-#include "terrain/runtime/ScreenProjection.h"
+#include "terrain/runtime/TruthSurface.h"
 
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -94,21 +94,17 @@ struct ScreenSpaceErrorStats {
     double worstReferenceM = 0.0;
 };
 
-/// How far sideways (in pixels, at the drawn point's distance) a drawn point may lie from
-/// the exact triangle it belongs to: the same 0.05 px the vertical measure allows
-/// (docs/accuracy.md, "Rasterisation tolerance").
-inline constexpr double kHorizontalTolerancePx = 0.05;
-
 /// Measures the error of an LOD frame (depth images rows bottom-up, camera.viewportWidth ×
 /// camera.viewportHeight). `lodDepth`: the LOD as drawn (with skirts); `lodDepthNoSkirts`:
 /// the same frame drawn without skirts, to tell skirt pixels apart (empty: every drawn pixel
 /// counts as surface); `referenceDepth`: the reference renderer's depth (empty: every drawn
 /// pixel is measured). Each drawn point is measured against the truth's lowest and highest
-/// heights within `horizontalTolerancePx` of its x, y (0: at exactly its x, y). Errors: a
-/// finest patch that cannot be read.
-Result<ScreenSpaceErrorStats> measureScreenSpaceError(
-    const Camera& camera, std::span<const float> lodDepth, std::span<const float> lodDepthNoSkirts,
-    std::span<const float> referenceDepth, FullResolutionSurface& surface, double thresholdPx,
-    double horizontalTolerancePx = kHorizontalTolerancePx);
+/// heights within its horizontal tolerance (TruthSurface::horizontalTolerancePx). Errors:
+/// truth that cannot be read.
+Result<ScreenSpaceErrorStats> measureScreenSpaceError(const Camera& camera,
+                                                      std::span<const float> lodDepth,
+                                                      std::span<const float> lodDepthNoSkirts,
+                                                      std::span<const float> referenceDepth,
+                                                      TruthSurface& truth, double thresholdPx);
 
 }  // namespace terrain::runtime

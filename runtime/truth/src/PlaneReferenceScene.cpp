@@ -1,0 +1,102 @@
+// PlaneReferenceScene: finest-level tiles culled against the frustum, cut from their patches
+// with an apron and added to the batch.
+#include "terrain/runtime/PlaneReferenceScene.h"
+
+#include "terrain/runtime/SurfacePlacement.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace terrain::runtime {
+
+PlaneReferenceScene::PlaneReferenceScene(FullResolutionSurface& surface)
+    : m_surface(surface), m_tileQuads(std::min(surface.layout().patchQuads(), kMaxTileQuads)) {
+    m_tileScratch.resize(static_cast<std::size_t>(tileSamples()) *
+                         static_cast<std::size_t>(tileSamples()));
+}
+
+void PlaneReferenceScene::beginFrame(const Camera& camera, FrameBlock& block) {
+    PlanePlacement placement(m_surface.geometry());
+    placement.beginFrame(camera, block);
+    // The anchor the placement chose: the DEM sample at or before the camera.
+    m_anchor = glm::floor(m_surface.geometry().sampleOfWorld(camera.position.x, camera.position.y));
+}
+
+Result<bool> PlaneReferenceScene::addInstances(const Camera& camera, ReferenceBatch& batch,
+                                               std::uint64_t) {
+    const TerrainGeometry& geometry = m_surface.geometry();
+    const io::PyramidLayout& layout = m_surface.layout();
+    const int finest = layout.finestLevel();
+    const int quads = m_tileQuads;
+    const int tilesPerPatch = layout.patchQuads() / quads;
+    const int tileSide = tileSamples();
+    const auto recordSide = static_cast<std::size_t>(layout.tileSamples());
+    const Frustum frustum = camera.frustum();
+    const glm::dvec2 tileSizeM = geometry.sampleSpacing() * static_cast<double>(quads);
+    for (std::int64_t py = 0; py < layout.patchesY(finest); ++py) {
+        for (std::int64_t px = 0; px < layout.patchesX(finest); ++px) {
+            const io::PatchId id{finest, px, py};
+            auto info = m_surface.info(id);
+            if (!info) return info.error();
+            const glm::dvec2 patchNorthWest = geometry.patchNorthWest(id);
+            const io::PatchRecord* record = nullptr;
+            for (int ty = 0; ty < tilesPerPatch; ++ty) {
+                for (int tx = 0; tx < tilesPerPatch; ++tx) {
+                    // Tiles wholly beyond the DEM (in the last patches' overhang) draw nothing.
+                    if (layout.patchOriginX(id) + tx * quads > layout.rasterWidth() - 1 ||
+                        layout.patchOriginY(id) + ty * quads > layout.rasterHeight() - 1) {
+                        continue;
+                    }
+                    const glm::dvec2 nw =
+                        patchNorthWest + glm::dvec2(tx * tileSizeM.x, -ty * tileSizeM.y);
+                    const Aabb box{.min = {nw.x, nw.y - tileSizeM.y,
+                                           static_cast<double>(info.value().minHeight)},
+                                   .max = {nw.x + tileSizeM.x, nw.y,
+                                           static_cast<double>(info.value().maxHeight)}};
+                    if (!frustum.intersects(box)) continue;
+                    if (record == nullptr) {
+                        auto read = m_surface.patch(id);
+                        if (!read) return read.error();
+                        record = read.value();
+                    }
+                    // The tile's samples plus a one-sample apron, cut from the patch's tile
+                    // (which has its own apron, so every tile has neighbours for normals).
+                    const auto cut = [&]() -> Result<std::span<const float>> {
+                        const std::size_t firstColumn =
+                            static_cast<std::size_t>(tx) * static_cast<std::size_t>(quads);
+                        const std::size_t firstRow =
+                            static_cast<std::size_t>(ty) * static_cast<std::size_t>(quads);
+                        for (int row = 0; row < tileSide; ++row) {
+                            std::memcpy(
+                                m_tileScratch.data() + static_cast<std::size_t>(row * tileSide),
+                                record->heights.data() +
+                                    (firstRow + static_cast<std::size_t>(row)) * recordSide +
+                                    firstColumn,
+                                static_cast<std::size_t>(tileSide) * sizeof(float));
+                        }
+                        return std::span<const float>(m_tileScratch);
+                    };
+                    // Each tile is drawn once a frame: its key need only be unique in it.
+                    const std::uint64_t key = (static_cast<std::uint64_t>(py) << 40) |
+                                              (static_cast<std::uint64_t>(px) << 16) |
+                                              static_cast<std::uint64_t>(ty * tilesPerPatch + tx);
+                    auto layer = batch.layerOf(key, cut);
+                    if (!layer) return layer.error();
+                    // Double → float only after subtracting the anchor.
+                    const double originX =
+                        static_cast<double>(layout.patchOriginX(id) + tx * quads) - m_anchor.x;
+                    const double originY =
+                        static_cast<double>(layout.patchOriginY(id) + ty * quads) - m_anchor.y;
+                    PatchInstance tile;
+                    tile.placement0 = {static_cast<float>(originX), static_cast<float>(originY),
+                                       1.0f, 0.0f};
+                    tile.layerLevel = {layer.value(), finest, 0, 0};
+                    batch.add(tile);
+                }
+            }
+        }
+    }
+    return true;
+}
+
+}  // namespace terrain::runtime

@@ -1,0 +1,81 @@
+// ReferenceBatch: instances staged on the CPU, their tiles uploaded as they come, one
+// instanced draw of the grid per full batch.
+#include "terrain/runtime/ReferenceBatch.h"
+
+#include "terrain/base/Assert.h"
+#include "terrain/runtime/ProgramBuilder.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+
+namespace terrain::runtime {
+
+Result<ReferenceBatch> ReferenceBatch::create(const std::string& label,
+                                              const std::string& vertexStage, int gridQuads,
+                                              int tileSamples) {
+    ProgramBuilder builder(label);
+    builder.stage(vertexStage).stage("reference.frag").define("TERRAIN_REFERENCE_FRAME_BLOCK");
+    auto program = builder.build();
+    if (!program) return program.error();
+    ReferenceBatch b;
+    b.m_program = std::move(program).value();
+    b.m_gridQuads = gridQuads;
+    b.m_tileSamples = tileSamples;
+    b.m_grid = SampleGrid::create(gridQuads, label + " grid");
+    b.m_instances = gl::Buffer::create(sizeof(PatchInstance) * kInstances, GL_DYNAMIC_STORAGE_BIT,
+                                       label + " instances");
+    auto heights = gl::Texture::create2DArray({.internalFormat = GL_R32F,
+                                               .width = tileSamples,
+                                               .height = tileSamples,
+                                               .layers = kInstances},
+                                              label + " tiles");
+    if (!heights) return heights.error();
+    b.m_heights = std::move(heights).value();
+    b.m_heights.setSampling(GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
+    b.m_staging.reserve(kInstances);
+    b.m_layerTiles.reserve(kInstances);
+    return b;
+}
+
+Result<int> ReferenceBatch::layerOf(
+    std::uint64_t key, const std::function<Result<std::span<const float>>()>& heights) {
+    const auto uploaded = std::find(m_layerTiles.begin(), m_layerTiles.end(), key);
+    const int layer = static_cast<int>(uploaded - m_layerTiles.begin());
+    if (uploaded != m_layerTiles.end()) return layer;
+    TERRAIN_ASSERT(layer < kInstances, "ReferenceBatch: more tiles than instances");
+    auto read = heights();
+    if (!read) return read.error();
+    TERRAIN_ASSERT(read.value().size() == static_cast<std::size_t>(m_tileSamples) *
+                                              static_cast<std::size_t>(m_tileSamples));
+    m_heights.upload(
+        {.x = 0, .y = 0, .layer = layer, .width = m_tileSamples, .height = m_tileSamples}, GL_RED,
+        GL_FLOAT, std::as_bytes(read.value()));
+    m_layerTiles.push_back(key);
+    return layer;
+}
+
+void ReferenceBatch::add(const PatchInstance& instance) {
+    m_staging.push_back(instance);
+    if (static_cast<int>(m_staging.size()) == kInstances) flush();
+}
+
+void ReferenceBatch::flush() {
+    if (!m_staging.empty()) {
+        m_instances.upload(0, std::as_bytes(std::span(m_staging)));
+        m_grid.draw(m_program, m_heights, m_instances, static_cast<int>(m_staging.size()));
+        m_instancesDrawn += m_staging.size();
+        ++m_batchesDrawn;
+    }
+    m_staging.clear();
+    m_layerTiles.clear();
+}
+
+void ReferenceBatch::reset() {
+    m_staging.clear();
+    m_layerTiles.clear();
+    m_instancesDrawn = 0;
+    m_batchesDrawn = 0;
+}
+
+}  // namespace terrain::runtime
