@@ -22,7 +22,8 @@
     /* x, y: the viewport, pixels; z: ε, pixels; w: the near plane, metres.                  */ \
     VEC4(screen)                                                                               \
     /* x: pixels a metre at unit distance, at most, anywhere in the frustum (the globe's     */ \
-    /* bound: f · (1 + tan²(fovX/2) + tan²(fovY/2))).                                        */ \
+    /* bound: f · (1 + tan²(fovX/2) + tan²(fovY/2))); y: pixels a metre at unit depth on     */ \
+    /* the view axis (Camera::errorScale, the comparison methods' γ).                        */ \
     VEC4(pixelsPerMetre)                                                                       \
     /* x: tessellation blocks per patch side, y: quads a block side, z: quads a patch side,  */ \
     /* w: the fixed simplification d (−1: error-driven factors).                             */ \

@@ -3,6 +3,7 @@
 // the full-resolution height field); reference.frag shades them and drops what lies beyond
 // the DEM.
 #include "Bindings.h"
+#include "terrain_frame.glsl"
 
 layout(std430, binding = TERRAIN_BINDING_LEE_TRIANGLES) readonly buffer Triangles {
     ivec2 u_vertices[];
@@ -10,11 +11,6 @@ layout(std430, binding = TERRAIN_BINDING_LEE_TRIANGLES) readonly buffer Triangle
 layout(binding = TERRAIN_BINDING_LEE_HEIGHTS) uniform sampler2D u_heightField;
 
 uniform ivec2 u_rasterSize;
-uniform vec2 u_anchorSample;
-uniform vec2 u_cameraSampleFraction;
-uniform vec2 u_sampleSpacingM;
-uniform float u_cameraHeightM;
-uniform mat4 u_viewProjection;
 
 layout(location = 0) out vec3 o_fromCameraM;
 layout(location = 1) out vec3 o_normal;
@@ -30,12 +26,12 @@ void main() {
     float h = heightAt(s);
     float dx = heightAt(s + ivec2(1, 0)) - heightAt(s - ivec2(1, 0));
     float dy = heightAt(s - ivec2(0, 1)) - heightAt(s + ivec2(0, 1));  // rows run south
-    o_normal = normalize(vec3(-dx / (2.0 * u_sampleSpacingM.x), -dy / (2.0 * u_sampleSpacingM.y), 1.0));
+    o_normal = normalize(vec3(-dx / (2.0 * u_frame.planeSpacing.x), -dy / (2.0 * u_frame.planeSpacing.y), 1.0));
     o_heightM = h;
-    precise vec2 demSample = vec2(s) - u_anchorSample;
+    precise vec2 demSample = vec2(s) - planeAnchorSample();
     o_demSample = demSample;
-    precise vec2 metres = (demSample - u_cameraSampleFraction) * u_sampleSpacingM;
-    vec3 position = vec3(metres.x, -metres.y, h - u_cameraHeightM);
+    precise vec2 metres = (demSample - u_frame.planeCamera.xy) * u_frame.planeSpacing.xy;
+    vec3 position = vec3(metres.x, -metres.y, h - u_frame.planeCamera.z);
     o_fromCameraM = position;
-    gl_Position = u_viewProjection * vec4(position, 1.0);
+    gl_Position = u_frame.viewProjection * vec4(position, 1.0);
 }

@@ -5,6 +5,7 @@
 // Coordinates are DEM samples (x east, y south) of the padded n × n grid, n = 2^d + 1.
 // Defines from the program builder: LEE_MAX_PASSES, LEE_FORCE_SPLIT.
 #include "Bindings.h"
+#include "terrain_frame.glsl"
 
 layout(std430, binding = TERRAIN_BINDING_LEE_COUNTERS) coherent buffer LeeCounters {
     uint c_nodes[LEE_MAX_PASSES];    // blocks entering vertex-splitting pass p; [0] = the root
@@ -21,13 +22,6 @@ layout(binding = TERRAIN_BINDING_LEE_RANGES) uniform sampler2D u_heightRanges;
 uniform ivec2 u_rasterSize;  // width, height in samples
 uniform int u_gridSide;      // n
 uniform float u_thresholdPx;  // τ
-uniform vec2 u_viewportPx;
-uniform vec2 u_anchorSample;  // the camera's anchor sample (setCameraFrameUniforms)
-uniform vec4 u_frustumPlanes[5];  // camera-relative metres, unit normals pointing inside
-uniform vec2 u_cameraSampleFraction;
-uniform vec2 u_sampleSpacingM;
-uniform float u_cameraHeightM;
-uniform mat4 u_viewProjection;
 
 float heightAt(ivec2 s) {
     return texelFetch(u_heightField, clamp(s, ivec2(0), u_rasterSize - 1), 0).r;
@@ -35,8 +29,8 @@ float heightAt(ivec2 s) {
 
 // Camera-relative metres of a sample at height h, as rtin.vert and reference.vert place it.
 vec3 fromCamera(vec2 s, float h) {
-    precise vec2 metres = (s - u_anchorSample - u_cameraSampleFraction) * u_sampleSpacingM;
-    return vec3(metres.x, -metres.y, h - u_cameraHeightM);
+    precise vec2 metres = (s - planeAnchorSample() - u_frame.planeCamera.xy) * u_frame.planeSpacing.xy;
+    return vec3(metres.x, -metres.y, h - u_frame.planeCamera.z);
 }
 
 // A block with no area inside the raster (its north-west corner on or past the last
@@ -47,7 +41,7 @@ bool insideRaster(ivec2 northWest) { return all(lessThan(northWest, u_rasterSize
 // included: the paper's sphere of the block's diagonal would cull peaks that stand in view.
 vec4 blockSphere(ivec2 c, int h, int level) {
     vec2 range = texelFetch(u_heightRanges, (c - h) / (2 * h), level).rg;
-    vec2 halfSizeM = float(h) * u_sampleSpacingM;
+    vec2 halfSizeM = float(h) * u_frame.planeSpacing.xy;
     float halfRange = 0.5 * (range.y - range.x);
     return vec4(fromCamera(vec2(c), 0.5 * (range.x + range.y)),
                 sqrt(dot(halfSizeM, halfSizeM) + halfRange * halfRange));
@@ -56,7 +50,7 @@ vec4 blockSphere(ivec2 c, int h, int level) {
 // §3, Fig. 10: a block whose sphere lies outside the view frustum is not created.
 bool sphereVisible(vec4 sphere) {
     for (int i = 0; i < 5; ++i) {
-        if (dot(u_frustumPlanes[i].xyz, sphere.xyz) + u_frustumPlanes[i].w < -sphere.w) {
+        if (dot(u_frame.frustumPlanes[i].xyz, sphere.xyz) + u_frame.frustumPlanes[i].w < -sphere.w) {
             return false;
         }
     }
@@ -65,10 +59,10 @@ bool sphereVisible(vec4 sphere) {
 
 // Pixels between the projections of a and b; unbounded when either is behind the eye.
 float projectedPx(vec3 a, vec3 b) {
-    vec4 pa = u_viewProjection * vec4(a, 1.0);
-    vec4 pb = u_viewProjection * vec4(b, 1.0);
+    vec4 pa = u_frame.viewProjection * vec4(a, 1.0);
+    vec4 pb = u_frame.viewProjection * vec4(b, 1.0);
     if (pa.w <= 0.0 || pb.w <= 0.0) return 1.0e30;
-    return length((pa.xy / pa.w - pb.xy / pb.w) * 0.5 * u_viewportPx);
+    return length((pa.xy / pa.w - pb.xy / pb.w) * 0.5 * u_frame.screen.xy);
 }
 
 // The LOD flag f of Eq. 2 for the block around c with half size h: 1 when the eye is inside

@@ -18,7 +18,6 @@
 
 layout(vertices = 3) out;
 
-uniform float u_errorScale;  // γ (Camera::errorScale), pixels per radian
 uniform float u_innerScale;   // the tile's inner level: its resolution times this (1/√3:
                               // LivnyRenderer.cpp says why)
 
@@ -59,7 +58,7 @@ float edgeDistance(PatchInstance patch_, int e, float q) {
 float edgeResolution(PatchInstance patch_, int e, float q) {
     float spacingM = max(u_frame.planeSpacing.x, u_frame.planeSpacing.y) * patch_.placement0.z;
     float d = edgeDistance(patch_, e, q);
-    float epsilon = d <= 0.0 ? 1.0e9 : u_errorScale * spacingM / (u_frame.screen.z * d);
+    float epsilon = d <= 0.0 ? 1.0e9 : u_frame.pixelsPerMetre.y * spacingM / (u_frame.screen.z * d);
     return epsilon > 0.5 ? q : 0.5 * q;
 }
 

@@ -9,7 +9,6 @@ layout(std430, binding = TERRAIN_BINDING_RIPOLLES_LEAVES) readonly buffer Curren
     Leaf u_leaves[];
 };
 
-uniform mat4 u_viewProjection;
 
 layout(location = 0) out vec3 o_fromCameraM;
 layout(location = 1) out vec3 o_normal;
@@ -23,10 +22,10 @@ void main() {
     float h = heightAt(s);
     float dx = heightAt(s + vec2(1.0, 0.0)) - heightAt(s - vec2(1.0, 0.0));
     float dy = heightAt(s - vec2(0.0, 1.0)) - heightAt(s + vec2(0.0, 1.0));  // rows run south
-    o_normal = normalize(vec3(-dx / (2.0 * u_sampleSpacingM.x), -dy / (2.0 * u_sampleSpacingM.y), 1.0));
+    o_normal = normalize(vec3(-dx / (2.0 * u_frame.planeSpacing.x), -dy / (2.0 * u_frame.planeSpacing.y), 1.0));
     o_heightM = h;
-    o_demSample = s - u_anchorSample;
+    o_demSample = s - planeAnchorSample();
     vec3 position = fromCamera(s);
     o_fromCameraM = position;
-    gl_Position = u_viewProjection * vec4(position, 1.0);
+    gl_Position = u_frame.viewProjection * vec4(position, 1.0);
 }

@@ -15,6 +15,7 @@
 // information, stored where every child reaches it, plus a count of the family's children
 // that are leaves, which coarsening needs and the paper does not say how to know.
 #include "Bindings.h"
+#include "terrain_frame.glsl"
 
 struct Leaf {
     vec2 v0;
@@ -69,14 +70,6 @@ layout(binding = TERRAIN_BINDING_RIPOLLES_HEIGHTS) uniform sampler2D u_heightFie
 
 uniform vec2 u_rasterSize;     // width, height in samples
 uniform float u_thresholdPx;   // τ: the longest an edge may look, pixels
-uniform float u_errorScale;    // γ: pixels per metre at unit distance (Camera::errorScale)
-uniform float u_nearM;
-uniform vec2 u_heightRangeM;   // the DEM's lowest and highest sample
-uniform vec4 u_frustumPlanes[5];
-uniform vec2 u_anchorSample;
-uniform vec2 u_cameraSampleFraction;
-uniform vec2 u_sampleSpacingM;
-uniform float u_cameraHeightM;
 
 // The height at a DEM position (samples; clamped to the raster). Vertices are samples, so
 // the filter only matters for the normals' neighbours beyond the raster.
@@ -85,8 +78,8 @@ float heightAt(vec2 s) {
 }
 
 vec3 fromCamera(vec2 s) {
-    precise vec2 metres = (s - u_anchorSample - u_cameraSampleFraction) * u_sampleSpacingM;
-    precise float z = heightAt(s) - u_cameraHeightM;
+    precise vec2 metres = (s - planeAnchorSample() - u_frame.planeCamera.xy) * u_frame.planeSpacing.xy;
+    precise float z = heightAt(s) - u_frame.planeCamera.z;
     return vec3(metres.x, -metres.y, z);
 }
 
@@ -117,13 +110,13 @@ bool needsRefinement(vec2 p, vec2 q) {
     precise vec3 b = fromCamera(q);
     precise vec3 m = fromCamera(0.5 * (p + q));
     precise float lengthM = length(b - a);
-    precise float radius = lengthM + (u_heightRangeM.y - u_heightRangeM.x);
+    precise float radius = lengthM + (u_frame.heightRange.y - u_frame.heightRange.x);
     for (int i = 0; i < 5; ++i) {
-        precise float side = dot(u_frustumPlanes[i].xyz, m) + u_frustumPlanes[i].w;
+        precise float side = dot(u_frame.frustumPlanes[i].xyz, m) + u_frame.frustumPlanes[i].w;
         if (side < -radius) return false;
     }
-    precise float onScreen = lengthM * u_errorScale;
-    precise float limit = u_thresholdPx * max(length(m), u_nearM);
+    precise float onScreen = lengthM * u_frame.pixelsPerMetre.y;
+    precise float limit = u_thresholdPx * max(length(m), u_frame.screen.w);
     return onScreen > limit;
 }
 

@@ -4,14 +4,11 @@
 // the reference's, so the two draws differ only where the mesh leaves samples out.
 // reference.frag shades them.
 #include "Bindings.h"
+#include "terrain_frame.glsl"
 
 layout(location = 0) in vec3 a_sampleHeight;  // DEM sample − anchor (x east, y south), height m
 layout(location = 1) in vec3 a_normal;
 
-uniform vec2 u_cameraSampleFraction;  // camera x, y in DEM samples minus the anchor, [0, 1)
-uniform vec2 u_sampleSpacingM;        // metres per DEM sample, east and south
-uniform float u_cameraHeightM;
-uniform mat4 u_viewProjection;  // camera-relative metres to clip space
 
 layout(location = 0) out vec3 o_fromCameraM;
 layout(location = 1) out vec3 o_normal;
@@ -23,9 +20,9 @@ void main() {
     o_demSample = demSample;
     o_normal = a_normal;
     o_heightM = a_sampleHeight.z;
-    precise vec2 metres = (demSample - u_cameraSampleFraction) * u_sampleSpacingM;
-    precise float z = a_sampleHeight.z - u_cameraHeightM;
+    precise vec2 metres = (demSample - u_frame.planeCamera.xy) * u_frame.planeSpacing.xy;
+    precise float z = a_sampleHeight.z - u_frame.planeCamera.z;
     vec3 position = vec3(metres.x, -metres.y, z);  // rows run south: +row is −y
     o_fromCameraM = position;
-    gl_Position = u_viewProjection * vec4(position, 1.0);
+    gl_Position = u_frame.viewProjection * vec4(position, 1.0);
 }

@@ -17,4 +17,8 @@ layout(std140, binding = TERRAIN_BINDING_FRAME_BLOCK) uniform FrameBlock {
                                 TERRAIN_GLSL_VEC4_ARRAY)
 } u_frame;
 
+// The plane's anchor: the DEM sample at or before the camera, which positions are relative to
+// (demExtent's first sample is minus it).
+vec2 planeAnchorSample() { return -u_frame.demExtent.xy; }
+
 #endif  // TERRAIN_FRAME_GLSL

@@ -22,20 +22,30 @@ public:
     GlobeControls(const runtime::TerrainSession& session, const ViewerOptions& options);
 
     void attach(const runtime::TerrainSession& session) override;
+    /// Over the data's extent, or at --goto's latitude, longitude and altitude looking 30°
+    /// down; no fog (a fog scaled to a DEM would hide the planet from orbit).
     std::string start(runtime::Camera& camera, ViewerSettings& settings) override;
     void home(runtime::Camera& camera) override;
+    /// GlobeController: a drag spins the globe (Shift-drag looks around), the wheel zooms
+    /// toward the ellipsoid under the cursor; the floor is the drawn ground under the camera.
     void move(runtime::Camera& camera, const runtime::CameraInput& held,
               const WindowInput& window, double timeS, double dtS) override;
+    /// Takes the path camera's latitude, longitude, altitude, heading and pitch.
     void placed(runtime::Camera& camera) override;
+    /// None on a globe: says that a drag spins the Earth.
     std::string orbitAt(runtime::Camera& camera, const SceneTarget& scene, double xPx, double yPx,
                         bool fallbackAhead) override;
     std::string toggleOrbit(runtime::Camera& camera, const SceneTarget& scene) override;
+    /// To a latitude, longitude and altitude above WGS84, looking 30° down.
     std::string jump(runtime::Camera& camera, const ViewerSettings& settings,
                      double timeS) override;
     void apply(const ViewerSettings& settings) override;
+    /// Latitude, longitude, altitude, heading, pitch; virtual, bare and horizon-culled patches.
     void drawCameraLines(const runtime::Camera& camera, bool playing) const override;
+    /// Go to the data, the whole Earth, the data's extent, latitude/longitude/altitude fields.
     void drawCameraSection(const runtime::Camera& camera, ViewerSettings& settings,
                            OverlayRequests& out, bool focusFields) override;
+    /// latitude, longitude, altitude_m, heading_deg, pitch_deg.
     nlohmann::json cameraJson(const runtime::Camera& camera) const override;
     std::string rootFaultText(const std::string& fault) const override;
     std::array<float, 3> skyColor() const override;

@@ -21,20 +21,30 @@ public:
     PlaneControls(const runtime::TerrainSession& session, const ViewerOptions& options);
 
     void attach(const runtime::TerrainSession& session) override;
+    /// The end of the default flight's path over the DEM; --orbit orbits the point it looks
+    /// at, --goto jumps to X,Y at a height above the ground; fog scaled to the DEM.
     std::string start(runtime::Camera& camera, ViewerSettings& settings) override;
     void home(runtime::Camera& camera) override;
+    /// Flight or orbit (CameraController) above the conservative ground; for a few seconds
+    /// after a jump, the landing follows the finer ground heights as they arrive.
     void move(runtime::Camera& camera, const runtime::CameraInput& held,
               const WindowInput& window, double timeS, double dtS) override;
+    /// Flies on from the path's camera (an orbit would re-aim it).
     void placed(runtime::Camera& camera) override;
+    /// The pivot: the depth buffer's point under the pixel, or one ahead on the ground.
     std::string orbitAt(runtime::Camera& camera, const SceneTarget& scene, double xPx, double yPx,
                         bool fallbackAhead) override;
     std::string toggleOrbit(runtime::Camera& camera, const SceneTarget& scene) override;
+    /// To world x, y (the pyramid's CRS) at a height above the ground there.
     std::string jump(runtime::Camera& camera, const ViewerSettings& settings,
                      double timeS) override;
     void apply(const ViewerSettings& settings) override;
+    /// Mode, position, heading, pitch, height above ground, speed or orbit distance.
     void drawCameraLines(const runtime::Camera& camera, bool playing) const override;
+    /// Orbit/fly, the whole DEM, the DEM's extent and heights, x/y/height fields.
     void drawCameraSection(const runtime::Camera& camera, ViewerSettings& settings,
                            OverlayRequests& out, bool focusFields) override;
+    /// mode, position_m, yaw_deg, pitch_deg.
     nlohmann::json cameraJson(const runtime::Camera& camera) const override;
     std::string rootFaultText(const std::string& fault) const override;
     std::array<float, 3> skyColor() const override;

@@ -41,8 +41,8 @@ void setCameraFrame(FrameBlock& block, const Camera& camera, const Camera& lodCa
     const double tanY = std::tan(0.5 * camera.fovY);
     const double tanX = std::tan(0.5 * camera.fovX());
     const double focalPx = 0.5 * static_cast<double>(camera.viewportHeight) / tanY;
-    block.pixelsPerMetre = {static_cast<float>(focalPx * (1.0 + tanX * tanX + tanY * tanY)), 0.0f,
-                            0.0f, 0.0f};
+    block.pixelsPerMetre = {static_cast<float>(focalPx * (1.0 + tanX * tanX + tanY * tanY)),
+                            static_cast<float>(camera.errorScale()), 0.0f, 0.0f};
 }
 
 void setTessellation(FrameBlock& block, int blocksPerSide, int blockQuads, int patchQuads,

@@ -37,7 +37,6 @@ TerrainDrawStats LivnyRenderer::draw(const Camera& camera, const TerrainGeometry
     setTessellation(m_draw.frame, 2, m_patchQuads / 2, m_patchQuads, -1);
     m_draw.uploadFrame();
     gl::Program& program = m_draw.program;
-    program.setUniform("u_errorScale", static_cast<float>(camera.errorScale()));
     program.setUniform("u_innerScale", kInnerScale);
     return issueInstancedPatchDraw(pool, {.program = program,
                                           .vertexArray = m_draw.vertexArray,

@@ -4,11 +4,9 @@
 
 #include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/FinestLevelRaster.h"
-#include "terrain/runtime/FrustumUniform.h"
 #include "terrain/runtime/IndirectTriangleDraw.h"
 #include "terrain/runtime/ProgramBuilder.h"
 #include "terrain/runtime/RoughnessQuadtree.h"
-#include "terrain/runtime/TerrainFrameUniforms.h"
 
 #include "Bindings.h"
 
@@ -137,6 +135,7 @@ GeometrySplittingStrategy::GeometrySplittingStrategy(const io::PyramidManifest& 
                                                      Programs programs, gl::Query timeQuery,
                                                      double errorPx, std::size_t maxBytes)
     : m_surface(std::make_unique<PlaneSurface>(manifest)),
+      m_frame(m_surface->geometry(), "lee frame"),
       m_programs(std::move(programs)),
       m_timeQuery(std::move(timeQuery)),
       m_emptyVertexArray(gl::VertexArray::create("lee draw (no attributes)")),
@@ -205,19 +204,13 @@ Status GeometrySplittingStrategy::allocateLists() {
     return {};
 }
 
-void GeometrySplittingStrategy::setFrameUniforms(gl::Program& program, const Camera& camera) const {
-    const glm::dvec2 anchor = setCameraFrameUniforms(program, camera, m_surface->geometry());
-    program.setUniform("u_anchorSample", std::array<float, 2>{static_cast<float>(anchor.x),
-                                                              static_cast<float>(anchor.y)});
+void GeometrySplittingStrategy::setMethodUniforms(gl::Program& program) const {
     program.setUniform(
         "u_rasterSize",
         std::array<int, 2>{static_cast<int>(m_surface->geometry().layout().rasterWidth()),
                            static_cast<int>(m_surface->geometry().layout().rasterHeight())});
     program.setUniform("u_gridSide", m_side);
     program.setUniform("u_thresholdPx", static_cast<float>(m_thresholdPx));
-    program.setUniform("u_viewportPx", std::array<float, 2>{float(camera.viewportWidth),
-                                                            float(camera.viewportHeight)});
-    program.setUniformVec4Array("u_frustumPlanes", cameraRelativeFrustumPlanes(camera));
 }
 
 void GeometrySplittingStrategy::writeArguments(std::uint32_t countWord, std::uint32_t capacity,
@@ -246,8 +239,9 @@ bool GeometrySplittingStrategy::build(const Camera& camera) {
     const std::uint8_t noFlag = 0;
     glClearTexImage(m_splitFlags.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_BYTE, &noFlag);
 
+    m_frame.bind(camera, TerrainStyle{}, m_thresholdPx);
     for (gl::Program* p : {&m_programs.split, &m_programs.fromLeaves, &m_programs.splitTriangles})
-        setFrameUniforms(*p, camera);
+        setMethodUniforms(*p);
     glBindTextureUnit(TERRAIN_BINDING_LEE_HEIGHTS, m_heights.id());
     glBindTextureUnit(TERRAIN_BINDING_LEE_ROUGHNESS, m_roughness.id());
     glBindTextureUnit(TERRAIN_BINDING_LEE_RANGES, m_ranges.id());
@@ -306,6 +300,7 @@ bool GeometrySplittingStrategy::build(const Camera& camera) {
     }
     writeArguments(kTrianglesWord, cap.triangles, kDrawWord, true);
     glUseProgram(0);
+    PlaneFrame::unbind();
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
     for (GLuint binding :
          {TERRAIN_BINDING_LEE_COUNTERS, TERRAIN_BINDING_LEE_INPUT, TERRAIN_BINDING_LEE_OUTPUT,
@@ -367,8 +362,8 @@ const LodUpdateStats& GeometrySplittingStrategy::beginFrame(const Camera& camera
 
 TerrainDrawStats GeometrySplittingStrategy::draw(const Camera& camera, const TerrainStyle& style) {
     gl::Program& program = m_programs.draw;
-    setFrameUniforms(program, camera);
-    setShadingUniforms(program, m_surface->geometry(), style.skyColor, style.fogDensityPerM);
+    m_frame.bind(camera, style, m_thresholdPx);
+    setMethodUniforms(program);
     TerrainDrawStats stats;
     stats.drawCalls = 1;
     stats.instances = 1;
@@ -378,6 +373,7 @@ TerrainDrawStats GeometrySplittingStrategy::draw(const Camera& camera, const Ter
     stats.gpuMs = drawTrianglesIndirect(program, m_emptyVertexArray, m_counters,
                                         kDrawWord * sizeof(std::uint32_t), m_timeQuery, style);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_LEE_TRIANGLES, 0);
+    PlaneFrame::unbind();
     m_lastDraw = stats;
     return stats;
 }

@@ -5,10 +5,8 @@
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/FinestLevelRaster.h"
-#include "terrain/runtime/FrustumUniform.h"
 #include "terrain/runtime/IndirectTriangleDraw.h"
 #include "terrain/runtime/ProgramBuilder.h"
-#include "terrain/runtime/TerrainFrameUniforms.h"
 
 #include "Bindings.h"
 
@@ -125,6 +123,7 @@ RipollesStrategy::RipollesStrategy(const io::PyramidManifest& manifest, Programs
                                    double thresholdPx, RipollesParameters parameters,
                                    std::size_t maxBytes)
     : m_surface(std::make_unique<PlaneSurface>(manifest)),
+      m_frame(m_surface->geometry(), "ripolles frame"),
       m_programs(std::move(programs)),
       m_timeQuery(std::move(timeQuery)),
       m_stepTarget(std::move(stepTarget)),
@@ -231,20 +230,11 @@ bool RipollesStrategy::reserve() {
     return true;
 }
 
-void RipollesStrategy::setUniforms(gl::Program& program, const Camera& camera) const {
-    const glm::dvec2 anchor = setCameraFrameUniforms(program, camera, m_surface->geometry());
-    program.setUniform("u_anchorSample", std::array<float, 2>{static_cast<float>(anchor.x),
-                                                              static_cast<float>(anchor.y)});
+void RipollesStrategy::setMethodUniforms(gl::Program& program) const {
     program.setUniform("u_rasterSize",
                        std::array<float, 2>{static_cast<float>(m_heights.width()),
                                             static_cast<float>(m_heights.height())});
     program.setUniform("u_thresholdPx", static_cast<float>(m_thresholdPx));
-    program.setUniform("u_errorScale", static_cast<float>(camera.errorScale()));
-    program.setUniform("u_nearM", static_cast<float>(camera.nearPlane));
-    program.setUniform("u_heightRangeM",
-                       std::array<float, 2>{static_cast<float>(m_surface->geometry().minHeight()),
-                                            static_cast<float>(m_surface->geometry().maxHeight())});
-    program.setUniformVec4Array("u_frustumPlanes", cameraRelativeFrustumPlanes(camera));
 }
 
 void RipollesStrategy::bookkeeping(int phase) {
@@ -273,7 +263,8 @@ bool RipollesStrategy::step(const Camera& camera) {
         m_counts.changes = 0;
         return false;
     }
-    for (gl::Program* p : {&m_programs.families, &m_programs.step}) setUniforms(*p, camera);
+    m_frame.bind(camera, TerrainStyle{}, m_thresholdPx);
+    for (gl::Program* p : {&m_programs.families, &m_programs.step}) setMethodUniforms(*p);
     glBindTextureUnit(TERRAIN_BINDING_RIPOLLES_HEIGHTS, m_heights.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_RIPOLLES_COUNTERS, m_counters.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_RIPOLLES_LEAVES,
@@ -318,6 +309,7 @@ bool RipollesStrategy::step(const Camera& camera) {
     dispatch(m_programs.merge, kFreedDispatchWord);
 
     glUseProgram(0);
+    PlaneFrame::unbind();
     glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
     for (GLuint binding : {TERRAIN_BINDING_RIPOLLES_COUNTERS, TERRAIN_BINDING_RIPOLLES_LEAVES,
                            TERRAIN_BINDING_RIPOLLES_FAMILIES, TERRAIN_BINDING_RIPOLLES_FREE_SLOTS,
@@ -363,8 +355,8 @@ bool RipollesStrategy::settle(const Camera& camera, std::chrono::milliseconds ti
 
 TerrainDrawStats RipollesStrategy::draw(const Camera& camera, const TerrainStyle& style) {
     gl::Program& program = m_programs.draw;
-    setUniforms(program, camera);
-    setShadingUniforms(program, m_surface->geometry(), style.skyColor, style.fogDensityPerM);
+    m_frame.bind(camera, style, m_thresholdPx);
+    setMethodUniforms(program);
     TerrainDrawStats stats;
     stats.drawCalls = 1;
     stats.instances = 1;
@@ -375,6 +367,7 @@ TerrainDrawStats RipollesStrategy::draw(const Camera& camera, const TerrainStyle
     stats.gpuMs = drawTrianglesIndirect(program, m_emptyVertexArray, m_counters,
                                         kDrawWord * sizeof(std::uint32_t), m_timeQuery, style);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_RIPOLLES_LEAVES, 0);
+    PlaneFrame::unbind();
     m_lastDraw = stats;
     return stats;
 }

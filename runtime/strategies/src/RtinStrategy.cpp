@@ -6,7 +6,6 @@
 #include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/FinestLevelRaster.h"
 #include "terrain/runtime/ProgramBuilder.h"
-#include "terrain/runtime/TerrainFrameUniforms.h"
 
 #include <epoxy/gl.h>
 #include <fmt/core.h>
@@ -56,6 +55,7 @@ RtinStrategy::RtinStrategy(const io::PyramidManifest& manifest, RtinMesh mesh, g
     : m_surface(std::make_unique<PlaneSurface>(manifest)),
       m_mesh(std::move(mesh)),
       m_program(std::move(program)),
+      m_frame(m_surface->geometry(), "rtin frame"),
       m_timeQuery(std::move(timeQuery)),
       m_vertexArray(gl::VertexArray::create("rtin mesh")),
       m_errorPx(errorPx) {}
@@ -126,8 +126,7 @@ void RtinStrategy::upload(glm::dvec2 anchor) {
 }
 
 TerrainDrawStats RtinStrategy::draw(const Camera& camera, const TerrainStyle& style) {
-    const glm::dvec2 anchor = setCameraFrameUniforms(m_program, camera, m_surface->geometry());
-    setShadingUniforms(m_program, m_surface->geometry(), style.skyColor, style.fogDensityPerM);
+    const glm::dvec2 anchor = m_frame.bind(camera, style, m_errorPx);
     // Positions are relative to the anchor: written again only for a new mesh or anchor (the
     // accuracy probe, a frozen view, draw one frame more than once).
     if (!m_uploaded || anchor != m_uploadedAnchor) {
@@ -153,6 +152,7 @@ TerrainDrawStats RtinStrategy::draw(const Camera& camera, const TerrainStyle& st
         }
         glBindVertexArray(0);
         glUseProgram(0);
+        PlaneFrame::unbind();
         if (style.wireframe) glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     }
     m_lastDraw = stats;

@@ -15,7 +15,7 @@ Result<ReferenceBatch> ReferenceBatch::create(const std::string& label,
                                               const std::string& vertexStage, int gridQuads,
                                               int tileSamples) {
     ProgramBuilder builder(label);
-    builder.stage(vertexStage).stage("reference.frag").define("TERRAIN_REFERENCE_FRAME_BLOCK");
+    builder.stage(vertexStage).stage("reference.frag");
     auto program = builder.build();
     if (!program) return program.error();
     ReferenceBatch b;

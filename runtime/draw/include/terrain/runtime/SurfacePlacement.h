@@ -56,6 +56,9 @@ public:
     PatchInstance place(const PatchDraw& patch, const cache::GpuTilePool& pool) const override;
     bool drawsCoarseCells() const override { return true; }
     const TerrainGeometry* planeGeometry() const override { return &m_geometry; }
+    /// The DEM sample at or before the camera of the last beginFrame, which positions are
+    /// relative to.
+    glm::dvec2 anchor() const { return m_anchor; }
 
 private:
     const TerrainGeometry& m_geometry;

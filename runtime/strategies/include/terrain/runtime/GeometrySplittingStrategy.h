@@ -21,6 +21,7 @@
 #include "terrain/gl/Texture.h"
 #include "terrain/gl/VertexArray.h"
 #include "terrain/runtime/LodStrategy.h"
+#include "terrain/runtime/PlaneFrame.h"
 #include "terrain/runtime/PlaneSurface.h"
 
 #include <glm/vec2.hpp>
@@ -101,7 +102,8 @@ private:
     /// The lists for m_capacities; an Error, and nothing changed, when they would pass the
     /// memory budget.
     Status allocateLists();
-    void setFrameUniforms(gl::Program& program, const Camera& camera) const;
+    /// The method's own uniforms (the raster, the grid, τ); the frame is m_frame's block.
+    void setMethodUniforms(gl::Program& program) const;
     /// One build of the frame's quadtree and triangles; false when a list overflowed
     /// (m_needed then says how large the lists must grow).
     bool build(const Camera& camera);
@@ -109,6 +111,7 @@ private:
                         std::uint32_t argumentsWord, bool draw);
 
     std::unique_ptr<PlaneSurface> m_surface;
+    PlaneFrame m_frame;  // the camera, the anchor frame and the look of every pass
     Programs m_programs;
     gl::Query m_timeQuery;
     gl::VertexArray m_emptyVertexArray;

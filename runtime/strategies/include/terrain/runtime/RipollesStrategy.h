@@ -24,6 +24,7 @@
 #include "terrain/gl/Texture.h"
 #include "terrain/gl/VertexArray.h"
 #include "terrain/runtime/LodStrategy.h"
+#include "terrain/runtime/PlaneFrame.h"
 #include "terrain/runtime/PlaneSurface.h"
 
 #include <glm/vec2.hpp>
@@ -99,11 +100,13 @@ private:
     Status upload(const std::vector<float>& heights);
     /// Lists large enough for one more step from m_counts; false past the budget.
     bool reserve();
-    void setUniforms(gl::Program& program, const Camera& camera) const;
+    /// The method's own uniforms (the raster, τ); the frame is m_frame's block.
+    void setMethodUniforms(gl::Program& program) const;
     void bookkeeping(int phase);
     void readCounters();
 
     std::unique_ptr<PlaneSurface> m_surface;
+    PlaneFrame m_frame;  // the camera, the anchor frame and the look of every pass
     Programs m_programs;
     gl::Query m_timeQuery;
     gl::Framebuffer m_stepTarget;  ///< 1 × 1: the leaves' pass draws, rasterising nothing

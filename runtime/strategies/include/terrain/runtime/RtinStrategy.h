@@ -11,6 +11,7 @@
 #include "terrain/gl/Query.h"
 #include "terrain/gl/VertexArray.h"
 #include "terrain/runtime/LodStrategy.h"
+#include "terrain/runtime/PlaneFrame.h"
 #include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/RtinMesh.h"
 
@@ -64,6 +65,7 @@ private:
     std::unique_ptr<PlaneSurface> m_surface;
     RtinMesh m_mesh;
     gl::Program m_program;
+    PlaneFrame m_frame;  // the camera, the anchor frame and the look of the draw
     gl::Query m_timeQuery;
     gl::VertexArray m_vertexArray;
     gl::Buffer m_vertexBuffer;
