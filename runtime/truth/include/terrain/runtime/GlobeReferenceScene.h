@@ -1,6 +1,6 @@
 // GlobeReferenceScene: the globe's reference (ReferenceScene.h; docs/globe.md): a globe
 // pyramid's finest data everywhere in view, every sample a vertex, placed on the ellipsoid as
-// the globe draw places it (globe_patches.glsl's frames, globePatchInstance).
+// the globe draw places it (surface_globe.glsl, with the frames globePatchInstance writes).
 //
 // It walks the pyramid on disk from the six face roots: into every present child, and where a
 // child is absent it draws that quadrant from its parent's tile (bilinear between the tile's
