@@ -7,7 +7,6 @@
 #include "terrain/base/PeakMemory.h"
 #include "terrain/source/DemReader.h"
 #include "terrain/source/DemSlope.h"
-#include "terrain/build/GlobePyramidBuilder.h"
 #include "terrain/build/GlobeShards.h"
 #include "terrain/build/PyramidBuilder.h"
 #include "terrain/pyramid/PyramidManifest.h"
@@ -317,13 +316,12 @@ int main(int argc, char** argv) {
         }
         return 0;
     }
-    auto built = globe && merge ? io::mergeGlobeShards(*sources.front(), output, options)
-                 : globe && byShards
-                     ? io::buildGlobePyramidByShards(*sources.front(), output, options)
-                 : globe    ? io::buildGlobePyramid(sourcePointers, output, options)
-                 : merge    ? io::mergePyramidShards(*sources.front(), output, options)
-                 : byShards ? io::buildPyramidByShards(*sources.front(), output, options)
-                            : io::buildPyramid(*sources.front(), output, options);
+    const io::PyramidSurface surface = globe ? io::PyramidSurface::Globe : io::PyramidSurface::Plane;
+    auto built = merge && globe ? io::mergeGlobeShards(*sources.front(), output, options)
+                 : merge        ? io::mergePyramidShards(*sources.front(), output, options)
+                                : io::buildPyramid(surface, sourcePointers, output, options,
+                                                   byShards ? io::BuildWay::ByShards
+                                                            : io::BuildWay::Automatic);
     if (bar) bar->finish();
     if (!built)
         return g_interrupted ? (fail(built.error().message), 130) : fail(built.error().message);

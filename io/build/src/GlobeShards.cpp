@@ -1,5 +1,6 @@
 #include "terrain/build/GlobeShards.h"
 
+#include "BuildBudget.h"
 #include "BuildClock.h"
 #include "BuildOutput.h"
 #include "GeographicBlocks.h"
@@ -9,7 +10,7 @@
 #include "ParallelFor.h"
 #include "RegionStaging.h"
 #include "ShardCarry.h"
-#include "SourceCoverage.h"
+#include "BuildFinish.h"
 #include "terrain/globe/CubeSphere.h"
 #include "terrain/globe/GlobePatch.h"
 #include "terrain/globe/Wgs84.h"
@@ -43,7 +44,6 @@ namespace terrain::io {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 using detail::idOf;
 using detail::keyOf;
 using detail::patchIndex;
@@ -58,7 +58,7 @@ constexpr double kMarginPatches = 3.0;
 
 // What decides the shards' bytes: the source as read (and where its grid lies) and the build
 // options.
-std::string fingerprintOf(const DemInfo& dem, const PyramidLayout& layout,
+std::string globeFingerprint(const DemInfo& dem, const PyramidLayout& layout,
                           const PyramidBuildOptions& options) {
     const Georeference& g = dem.georeference;
     return detail::regionFingerprint(dem, layout, options,
@@ -336,14 +336,16 @@ Result<OpenedPlan> openPlan(DemReader& reader, const fs::path& output,
     plan.layout = layout.value();
     plan.faceFinestLevel = opened.source.faceFinestLevel;
     plan.staging = shardStagingFolder(output);
-    plan.fingerprint = fingerprintOf(dem, plan.layout, options);
-    const std::uint64_t needed = 2 * globeShardBytes(plan.layout);
-    if (needed > options.memoryBudgetBytes)
-        return Error{fmt::format(
-            "{}: a globe shard of {} × {} patches needs about {} MiB, more than the memory "
-            "budget of {} MiB (lower --shard-patches or raise --memory)",
-            dem.path, options.shardPatches, options.shardPatches, needed >> 20,
-            options.memoryBudgetBytes >> 20)};
+    plan.fingerprint = globeFingerprint(dem, plan.layout, options);
+    // Its patches, and as much again for its cache of source blocks.
+    if (Status fits = detail::checkMemoryBudget(
+            dem.path,
+            fmt::format("a globe shard of {} × {} patches", options.shardPatches,
+                        options.shardPatches),
+            2 * globeShardBytes(plan.layout), options.memoryBudgetBytes,
+            "lower --shard-patches or raise --memory");
+        !fits)
+        return fits.error();
     if (listShards) plan.shards = plannedShards(plan.layout, opened.source);
     if (Status staged = detail::openStagingPlan(plan.staging, plan.fingerprint, create); !staged)
         return staged.error();
@@ -458,12 +460,12 @@ public:
         }
         m_blocks = std::make_unique<detail::GeographicBlocks>(m_reader, m_source.grid, cache,
                                                               blockRows, blockColumns);
-        auto start = Clock::now();
+        auto start = BuildClock::now();
         if (Status built = finest ? buildFinest(window) : buildCoarse(); !built) return built;
         if (measured)
             if (Status made = measureAtSamples(window); !made) return made;
         m_carry.phases.readSeconds += secondsSince(start);
-        start = Clock::now();
+        start = BuildClock::now();
         std::vector<const PatchRecord*> records;
         for (auto& [key, patch] : m_patches) {
             detail::finishGlobePatch(m_layout, m_level, patch.error, patch.presentChildren,
@@ -484,7 +486,7 @@ public:
             carryToParents(parentNested);
         }
         m_carry.phases.boundsSeconds += secondsSince(start);
-        start = Clock::now();
+        start = BuildClock::now();
         m_carry.patches = std::ssize(records);
         if (!records.empty()) {
             ShardWriterOptions writerOptions;
@@ -1006,7 +1008,7 @@ Result<GlobeShardPlan> planGlobeShards(DemReader& reader, const fs::path& output
 Result<ShardBuildSummary> buildGlobeShard(DemReader& reader, const fs::path& output,
                                           const ShardId& shard,
                                           const PyramidBuildOptions& options) {
-    const auto start = Clock::now();
+    const auto start = BuildClock::now();
     auto opened = openPlan(reader, output, options, true, false);
     if (!opened) return opened.error();
     const GlobeShardPlan& plan = opened.value().plan;
@@ -1038,16 +1040,15 @@ Result<ShardBuildSummary> buildGlobeShard(DemReader& reader, const fs::path& out
 
 Result<PyramidBuildSummary> mergeGlobeShards(DemReader& reader, const fs::path& output,
                                              const PyramidBuildOptions& options) {
-    const auto start = Clock::now();
+    const auto start = BuildClock::now();
     auto opened = openPlan(reader, output, options, false, true);
     if (!opened) return opened.error();
     const GlobeShardPlan& plan = opened.value().plan;
     const PyramidLayout& layout = plan.layout;
 
-    PyramidBuildSummary summary;
-    PyramidManifest& m = summary.manifest;
+    detail::BuildTotals totals;
     DemReader* const readers[] = {&reader};
-    m = detail::globeManifest(layout, plan.faceFinestLevel, opened.value().source.grid, readers);
+    PyramidManifest m = detail::globeManifest(layout, plan.faceFinestLevel, opened.value().source.grid, readers);
     std::optional<ManifestQuantization> quantization;
     if (options.maxErrorM > 0.0) quantization = ManifestQuantization{options.maxErrorM};
     double minHeight = std::numeric_limits<double>::infinity(), maxHeight = -minHeight;
@@ -1080,10 +1081,10 @@ Result<PyramidBuildSummary> mergeGlobeShards(DemReader& reader, const fs::path& 
             if (c.patches > 0) entry.presentShards.push_back(shard);
             entry.presentPatches += c.patches;
             entry.maxError = std::max(entry.maxError, double(c.levelMaxError));
-            summary.patches += c.patches;
-            summary.phases.readSeconds += c.phases.readSeconds;
-            summary.phases.boundsSeconds += c.phases.boundsSeconds;
-            summary.phases.writeSeconds += c.phases.writeSeconds;
+            totals.patches += c.patches;
+            totals.phases.readSeconds += c.phases.readSeconds;
+            totals.phases.boundsSeconds += c.phases.boundsSeconds;
+            totals.phases.writeSeconds += c.phases.writeSeconds;
             if (level == kOffset)
                 m.statistics.rootError = std::max(m.statistics.rootError, double(c.levelMaxError));
             if (level != layout.finestLevel()) continue;
@@ -1097,11 +1098,10 @@ Result<PyramidBuildSummary> mergeGlobeShards(DemReader& reader, const fs::path& 
         }
     }
     const DemInfo& dem = reader.info();
-    if (m.statistics.validSamples == 0)
-        return refuseEmptySource(dem.path, dem.width * dem.height, 0).error();
-    if (auto warning = mostlyNoDataWarning(dem.path, m.statistics.validSamples + noData,
-                                           m.statistics.validSamples))
-        summary.warnings.push_back(*warning);
+    if (Status covered = detail::checkCoverage(dem.path, m.statistics.validSamples + noData,
+                                               m.statistics.validSamples, totals.warnings);
+        !covered)
+        return covered.error();
     m.noData.samples = noData;
     m.statistics.minHeight = minHeight;
     m.statistics.maxHeight = maxHeight;
@@ -1109,18 +1109,18 @@ Result<PyramidBuildSummary> mergeGlobeShards(DemReader& reader, const fs::path& 
 
     auto adopted = PartialBuildFolder::adopt(output, plan.staging, options.overwrite);
     if (!adopted) return adopted.error();
-    summary.seconds = secondsSince(start);
-    m.build.seconds = summary.seconds;
-    if (Status written = writeManifest(plan.staging, m); !written) return written.error();
+    totals.seconds = secondsSince(start);
+    auto summary = detail::finishBuild(std::move(m), std::move(totals), plan.staging);
+    if (!summary) return summary.error();
     detail::removeStagingFiles(plan.staging);
-    summary.bytes = folderBytes(plan.staging);
+    summary.value().bytes = folderBytes(plan.staging);
     if (Status committed = adopted.value().commit(); !committed) return committed.error();
     return summary;
 }
 
 Result<PyramidBuildSummary> buildGlobePyramidByShards(DemReader& reader, const fs::path& output,
                                                       const PyramidBuildOptions& options) {
-    const auto start = Clock::now();
+    const auto start = BuildClock::now();
     std::error_code ec;
     if (fs::exists(output, ec) && !options.overwrite)
         return Error{output.string() + ": already exists (pass --overwrite to replace it)"};

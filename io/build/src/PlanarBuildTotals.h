@@ -31,7 +31,7 @@ std::uint64_t planarBandBytes(const PyramidLayout& layout, std::int64_t bandPatc
 
 /// Writes the manifest of a finished planar build into `folder` (every shard in place) and
 /// returns the summary; refuses a source without a valid sample.
-Result<PyramidBuildSummary> finishPlanarBuild(const DemReader& reader, const PyramidLayout& layout,
+Result<PyramidBuildSummary> finishPlanarBuild(DemReader& reader, const PyramidLayout& layout,
                                               const PlanarBuildTotals& totals,
                                               const std::filesystem::path& folder);
 

@@ -1,5 +1,6 @@
 #include "terrain/build/PyramidShards.h"
 
+#include "BuildBudget.h"
 #include "BuildClock.h"
 #include "BuildOutput.h"
 #include "LevelBuilder.h"
@@ -19,12 +20,11 @@ namespace terrain::io {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 using detail::ChildBounds;
 using detail::PatchRect;
 
 // What decides the shards' bytes: the source as read and the build options.
-std::string fingerprintOf(const DemInfo& dem, const PyramidLayout& layout,
+std::string planarFingerprint(const DemInfo& dem, const PyramidLayout& layout,
                           const PyramidBuildOptions& options) {
     return detail::regionFingerprint(dem, layout, options,
                                      {{"tiling", "planar"},
@@ -234,14 +234,14 @@ Result<ShardPlan> openPlan(DemReader& reader, const fs::path& output,
                                         options.blockQuads, options.shardPatches);
     if (!layout) return Error{dem.path + ": " + layout.error().message};
     ShardPlan plan{layout.value(), shardStagingFolder(output),
-                   fingerprintOf(dem, layout.value(), options)};
-    const std::uint64_t needed = planarShardBytes(plan.layout);
-    if (needed > options.memoryBudgetBytes)
-        return Error{
-            fmt::format("{}: a shard of {} × {} patches needs about {} MiB, more than the "
-                        "memory budget of {} MiB (lower --shard-patches or raise --memory)",
-                        dem.path, options.shardPatches, options.shardPatches, needed >> 20,
-                        options.memoryBudgetBytes >> 20)};
+                   planarFingerprint(dem, layout.value(), options)};
+    if (Status fits = detail::checkMemoryBudget(
+            dem.path,
+            fmt::format("a shard of {} × {} patches", options.shardPatches, options.shardPatches),
+            planarShardBytes(plan.layout), options.memoryBudgetBytes,
+            "lower --shard-patches or raise --memory");
+        !fits)
+        return fits.error();
     if (Status opened = detail::openStagingPlan(plan.staging, plan.fingerprint, create); !opened)
         return opened.error();
     return plan;
@@ -282,7 +282,7 @@ Result<ShardPlan> planPyramidShards(DemReader& reader, const fs::path& output,
 Result<ShardBuildSummary> buildPyramidShard(DemReader& reader, const fs::path& output,
                                             const ShardId& shard,
                                             const PyramidBuildOptions& options) {
-    const auto start = Clock::now();
+    const auto start = BuildClock::now();
     auto planned = openPlan(reader, output, options, true);
     if (!planned) return planned.error();
     const ShardPlan& plan = planned.value();
@@ -400,11 +400,7 @@ Result<PyramidBuildSummary> mergePyramidShards(DemReader& reader, const fs::path
                 totals.phases.writeSeconds += c.phases.writeSeconds;
                 totals.seconds += c.seconds;
                 if (level != layout.finestLevel()) continue;
-                detail::DemStatistics& s = totals.statistics;
-                s.minHeight = std::min(s.minHeight, c.statistics.minHeight);
-                s.maxHeight = std::max(s.maxHeight, c.statistics.maxHeight);
-                s.validSamples += c.statistics.validSamples;
-                s.noDataSamples += c.statistics.noDataSamples;
+                totals.statistics.add(c.statistics);
                 if (totals.quantization)
                     totals.quantization->finestLargestErrorM = std::max(
                         totals.quantization->finestLargestErrorM, c.finestLargestQuantErrorM);
