@@ -1,10 +1,7 @@
 #include "BuildBudget.h"
 
 #include "BuildOutput.h"
-#include "LevelBuilder.h"
-#include "PlanarBuildTotals.h"
 #include "WholeBuilds.h"
-#include "terrain/build/GlobeShards.h"
 #include "terrain/build/PyramidShards.h"
 #include "terrain/pyramid/PyramidLayout.h"
 
@@ -27,6 +24,18 @@ Status checkMemoryBudget(std::string_view path, std::string_view what, std::uint
     return Error{memoryBudgetMessage(path, what, neededBytes, budgetBytes, remedy)};
 }
 
+std::uint64_t planarBandBytes(const PyramidLayout& l, std::int64_t bandPatches) {
+    // Two patch rows of padded samples (heights and mask), the reader's window, and the
+    // patch records.
+    const auto bandBytes =
+        std::uint64_t(2 * l.patchQuads() + 3) * std::uint64_t(bandPatches * l.patchQuads() + 3) * 5;
+    const auto recordBytes =
+        std::uint64_t(2 * bandPatches) * std::uint64_t(l.tileSamples() * l.tileSamples()) * 5;
+    return 2 * bandBytes + recordBytes + (std::uint64_t{64} << 20);
+}
+
+}  // namespace detail
+
 Status shardable(PyramidSurface surface, std::span<DemReader* const> readers) {
     if (readers.size() != 1)
         return Error{
@@ -44,6 +53,7 @@ Status shardable(PyramidSurface surface, std::span<DemReader* const> readers) {
     return {};
 }
 
+namespace detail {
 namespace {
 
 // A planar pyramid's whole build holds a band of two patch rows across the finest level.
@@ -102,8 +112,8 @@ Result<BuildDecision> decideGlobe(std::span<DemReader* const> readers,
     return BuildDecision{
         BuildWay::ByShards,
         memoryBudgetMessage(
-            only.path, fmt::format("a whole globe build of its {} × {} samples", only.width,
-                                   only.height),
+            only.path,
+            fmt::format("a whole globe build of its {} × {} samples", only.width, only.height),
             2 * static_cast<std::uint64_t>(held), options.memoryBudgetBytes,
             "built shard by shard")};
 }
@@ -132,8 +142,7 @@ Result<PyramidBuildSummary> buildPyramid(PyramidSurface surface,
         decided.value().way == BuildWay::Whole
             ? (globe ? detail::buildWholeGlobePyramid(readers, output, options)
                      : detail::buildWholePlanarPyramid(*readers.front(), output, options))
-        : globe ? buildGlobePyramidByShards(*readers.front(), output, options)
-                : buildPyramidByShards(*readers.front(), output, options);
+            : buildPyramidByShards(surface, *readers.front(), output, options);
     if (built && decided.value().warning)
         built.value().warnings.insert(built.value().warnings.begin(), *decided.value().warning);
     return built;

@@ -6,6 +6,7 @@
 
 #include "terrain/base/Result.h"
 #include "terrain/build/PyramidBuilder.h"
+#include "terrain/pyramid/PyramidLayout.h"
 #include "terrain/source/DemReader.h"
 
 #include <cstdint>
@@ -26,10 +27,9 @@ std::string memoryBudgetMessage(std::string_view path, std::string_view what,
 Status checkMemoryBudget(std::string_view path, std::string_view what, std::uint64_t neededBytes,
                          std::uint64_t budgetBytes, std::string_view remedy);
 
-/// Whether the sources can be built shard by shard on `surface`: one source (a mosaic is one
-/// on a plane), not rotated; on the globe not projected either. The Error says why not, naming
-/// the source.
-Status shardable(PyramidSurface surface, std::span<DemReader* const> readers);
+/// Peak memory of a planar pass whose bands are `bandPatches` patches wide, about: the whole
+/// build's bands are the finest level's width, a shard task's its shard's.
+std::uint64_t planarBandBytes(const PyramidLayout& layout, std::int64_t bandPatches);
 
 /// How the build runs: BuildWay::Whole or BuildWay::ByShards, and, when the budget made it
 /// shard by shard, a warning saying so.

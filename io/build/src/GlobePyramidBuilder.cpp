@@ -408,7 +408,8 @@ Result<PyramidBuildSummary> buildWholeGlobePyramid(std::span<DemReader* const> r
         const GeographicGrid& g = source.grid;
         compositeValid += g.validSamples();
         if (composite.sources().size() > 1 && g.validSamples() == 0)
-            totals.warnings.push_back(fmt::format("{}: no valid sample; it adds nothing", source.path));
+            totals.warnings.push_back(
+                fmt::format("{}: no valid sample; it adds nothing", source.path));
         else if (g.validSamples() > 0)
             (void)checkCoverage(source.path, g.width() * g.height(), g.validSamples(),
                                 totals.warnings);

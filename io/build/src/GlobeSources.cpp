@@ -19,6 +19,12 @@ GlobeSources::GlobeSources(std::vector<Source> sources) : m_sources(std::move(so
     });
 }
 
+int finestFaceLevelOf(const GeographicGrid& grid, int quads) {
+    const double centreLat = 0.5 * (grid.northDeg() + grid.southDeg());
+    const double centreLon = grid.wrapsLongitude() ? 0.0 : 0.5 * (grid.westDeg() + grid.eastDeg());
+    return globeFinestLevelFor(grid.finestSpacingMetres(), centreLat, centreLon, quads);
+}
+
 Result<GlobeSources> GlobeSources::read(std::span<DemReader* const> readers,
                                         std::uint64_t memoryBudgetBytes, int quads,
                                         unsigned shares) {
@@ -28,10 +34,7 @@ Result<GlobeSources> GlobeSources::read(std::span<DemReader* const> readers,
     for (DemReader* reader : readers) {
         Result<GeographicGrid> grid = GeographicGrid::read(*reader, memoryBudgetBytes, shares);
         if (!grid) return grid.error();
-        const GeographicGrid& g = grid.value();
-        const double centreLat = 0.5 * (g.northDeg() + g.southDeg());
-        const double centreLon = g.wrapsLongitude() ? 0.0 : 0.5 * (g.westDeg() + g.eastDeg());
-        const int level = globeFinestLevelFor(g.finestSpacingMetres(), centreLat, centreLon, quads);
+        const int level = finestFaceLevelOf(grid.value(), quads);
         Source source{std::move(grid).value(), level, reader->info().path, std::nullopt};
         if (reader->info().resampledFrom) {
             Result<OwnSamples> own =
@@ -56,8 +59,9 @@ Result<GlobeSources::OwnSamples> GlobeSources::readOwnSamples(DemReader& reader,
     own.width = dem.resampledFrom->width;
     own.height = dem.resampledFrom->height;
     // A height and a place each, besides the grid GeographicGrid::read counted.
-    const auto bytes = static_cast<std::uint64_t>(double(own.width) * double(own.height) * 20.0 +
-                                                  double(grid.width()) * double(grid.height()) * 5.0);
+    const auto bytes =
+        static_cast<std::uint64_t>(double(own.width) * double(own.height) * 20.0 +
+                                   double(grid.width()) * double(grid.height()) * 5.0);
     if (Status fits = detail::checkMemoryBudget(
             dem.path,
             fmt::format("holding its {} × {} samples and their resampled grid whole", own.width,

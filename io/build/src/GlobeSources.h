@@ -103,4 +103,9 @@ private:
     std::vector<Source> m_sources;
 };
 
+/// The finest face level of a source on `grid` for patches of `quads` quads: as fine as its
+/// samples at its centre (globeFinestLevelFor). The whole build and the region build decide
+/// it here, so they agree.
+int finestFaceLevelOf(const GeographicGrid& grid, int quads);
+
 }  // namespace terrain::io

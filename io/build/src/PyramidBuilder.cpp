@@ -6,7 +6,7 @@
 #include "BuildFinish.h"
 #include "BuildOutput.h"
 #include "LevelBuilder.h"
-#include "PlanarBuildTotals.h"
+#include "PlanarManifest.h"
 #include "WholeBuilds.h"
 
 #include <fmt/core.h>
@@ -28,21 +28,13 @@ bool planarMaskStored(const DemInfo& dem) {
     return dem.noDataValue.has_value() || dem.resampledFrom.has_value();
 }
 
-std::uint64_t planarBandBytes(const PyramidLayout& l, std::int64_t bandPatches) {
-    // Two patch rows of padded samples (heights and mask), the reader's window, and the
-    // patch records.
-    const auto bandBytes =
-        std::uint64_t(2 * l.patchQuads() + 3) * std::uint64_t(bandPatches * l.patchQuads() + 3) * 5;
-    const auto recordBytes =
-        std::uint64_t(2 * bandPatches) * std::uint64_t(l.tileSamples() * l.tileSamples()) * 5;
-    return 2 * bandBytes + recordBytes + (std::uint64_t{64} << 20);
-}
-
-Result<PyramidBuildSummary> finishPlanarBuild(DemReader& reader, const PyramidLayout& layout,
-                                              const PlanarBuildTotals& totals,
-                                              const fs::path& folder) {
+Result<PyramidManifest> planarManifest(DemReader& reader, const PyramidLayout& layout,
+                                       const DemStatistics& stats,
+                                       const std::vector<double>& levelMaxError,
+                                       const std::optional<ManifestQuantization>& quantization,
+                                       const OriginalSamples& original,
+                                       std::vector<std::string>& warnings) {
     const DemInfo& dem = reader.info();
-    const DemStatistics& stats = totals.statistics;
     PyramidManifest m = PyramidManifest::forLayout(layout);
     DemReader* const readers[] = {&reader};
     describeSources(m, readers);
@@ -51,25 +43,23 @@ Result<PyramidBuildSummary> finishPlanarBuild(DemReader& reader, const PyramidLa
     m.statistics.minHeight = stats.validSamples > 0 ? stats.minHeight : 0.0;
     m.statistics.maxHeight = stats.validSamples > 0 ? stats.maxHeight : 0.0;
     m.statistics.validSamples = stats.validSamples;
-    m.statistics.rootError = totals.levelMaxError.at(0);  // the one root patch's Err(P)
+    m.statistics.rootError = levelMaxError.at(0);  // the one root patch's Err(P)
     for (ManifestLevel& level : m.levels)
-        level.maxError = totals.levelMaxError.at(static_cast<std::size_t>(level.level));
+        level.maxError = levelMaxError.at(static_cast<std::size_t>(level.level));
     if (dem.resampledFrom)
-        m.source.resampled =
-            ManifestResampling{dem.resampledFrom->method,   dem.resampledFrom->width,
-                               dem.resampledFrom->height,   dem.resampledFrom->geoTransform,
-                               totals.originalValidSamples, totals.originalFinestDistance};
-    m.quantization = totals.quantization;
+        m.source.resampled = ManifestResampling{
+            dem.resampledFrom->method,       dem.resampledFrom->width, dem.resampledFrom->height,
+            dem.resampledFrom->geoTransform, original.validSamples,    original.finestDistance};
+    m.quantization = quantization;
 
     // Coverage is the source's own: a rotated grid's resampling is partly empty by shape.
     const auto& resampled = m.source.resampled;
     const std::int64_t samples =
         resampled ? resampled->width * resampled->height : dem.width * dem.height;
     const std::int64_t valid = resampled ? resampled->validSamples : m.statistics.validSamples;
-    BuildTotals finished{totals.patches, totals.phases, totals.seconds, {}};
-    if (Status covered = checkCoverage(dem.path, samples, valid, finished.warnings); !covered)
+    if (Status covered = checkCoverage(dem.path, samples, valid, warnings); !covered)
         return covered.error();
-    return finishBuild(std::move(m), std::move(finished), folder);
+    return m;
 }
 
 // The band of the finest level dominates memory: decideBuildWay (BuildBudget.h) sends a
@@ -90,16 +80,14 @@ Result<PyramidBuildSummary> buildWholePlanarPyramid(DemReader& reader, const fs:
     LevelBuilder builder(reader, l, options, partial.path(), planarMaskStored(dem));
     if (auto built = builder.run(); !built) return built.error();
 
-    PlanarBuildTotals totals;
-    totals.statistics = builder.statistics();
-    totals.levelMaxError = builder.levelMaxError();
-    totals.patches = builder.patches();
-    totals.originalValidSamples = builder.originalValidSamples();
-    totals.originalFinestDistance = builder.originalFinestDistance();
-    totals.quantization = builder.quantization();
-    totals.phases = builder.phases();
-    totals.seconds = secondsSince(start);
-    auto summary = finishPlanarBuild(reader, l, totals, partial.path());
+    BuildTotals totals{builder.patches(), builder.phases(), secondsSince(start), {}};
+    const std::vector<double> levelMaxError(builder.levelMaxError().begin(),
+                                            builder.levelMaxError().end());
+    auto manifest = planarManifest(
+        reader, l, builder.statistics(), levelMaxError, builder.quantization(),
+        {builder.originalValidSamples(), builder.originalFinestDistance()}, totals.warnings);
+    if (!manifest) return manifest.error();
+    auto summary = finishBuild(std::move(manifest).value(), std::move(totals), partial.path());
     if (!summary) return summary.error();
     if (Status committed = partial.commit(); !committed) return committed.error();
     return summary;

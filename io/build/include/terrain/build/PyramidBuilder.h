@@ -43,7 +43,7 @@ struct PyramidBuildOptions {
     /// (docs/pyramid-format.md, "Height codes"); false makes every patch decodable on its
     /// own, at 10–20 % more bytes (a server handing out single patches). Planar pyramids.
     bool parentPrediction = true;
-    /// A globe region build (GlobeShards.h): the levels above the finest whose Err(P) is
+    /// A globe region build (PyramidShards.h): the levels above the finest whose Err(P) is
     /// measured at the source's samples before the nested bound takes over; −1 is 2, and every
     /// level of a shard whose surroundings hold at most 2^24 samples.
     int globeMeasuredLevels = -1;
