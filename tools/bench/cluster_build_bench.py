@@ -18,7 +18,7 @@ docs/planet-build-model.md. Writes OUT/cluster-build-bench.json and .md. Rerun w
 --runs 1,3,5 runs only those (0-based, in the order above; the whole build, run 0, always
 runs: it is the reference the others must equal).
 
---globe benchmarks a globe pyramid's region build instead (GlobeShards.h), on a 1° box of the
+--globe benchmarks a globe pyramid's region build instead (PyramidShards.h), on a 1° box of the
 built-in planet at 1.24" (planet:seed=1,level=11,west=10,south=45,east=11,north=46, 8.5
 million samples):
   terrain-build SRC --globe -o P --threads 2                          (the whole build)

@@ -7,8 +7,6 @@
 #include "terrain/base/PeakMemory.h"
 #include "terrain/source/DemReader.h"
 #include "terrain/source/DemSlope.h"
-#include "terrain/build/GlobePyramidBuilder.h"
-#include "terrain/build/GlobeShards.h"
 #include "terrain/build/PyramidBuilder.h"
 #include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/build/PyramidShards.h"
@@ -171,12 +169,7 @@ int main(int argc, char** argv) {
     if (!budget) return fail("--memory '" + memory + "': expected a size such as 1GiB or 512MiB");
     options.memoryBudgetBytes = *budget;
     options.parentPrediction = !independentPatches;
-    const bool region = plan || merge || byShards || !shardTexts.empty();
-    if (region && globe && inputs.size() > 1)
-        return fail(
-            "--plan, --shard, --merge and --by-shards build a globe pyramid of one source; "
-            "several are composited whole (give them as one mosaic, or build without a region "
-            "option)");
+    const bool tasks = plan || merge || !shardTexts.empty();
     std::vector<io::ShardId> shards;
     for (const std::string& shardText : shardTexts) {
         io::ShardId id;
@@ -215,6 +208,12 @@ int main(int argc, char** argv) {
     }
     for (const std::string& warning : warnings)
         fmt::print(stderr, "terrain-build: warning: {}\n", warning);
+    const io::PyramidSurface surface =
+        globe ? io::PyramidSurface::Globe : io::PyramidSurface::Plane;
+    // A region build's steps take one source (buildPyramid checks --by-shards itself).
+    if (tasks)
+        if (Status shardable = io::shardable(surface, sourcePointers); !shardable)
+            return fail(shardable.error().message);
 
     std::signal(SIGINT, onInterrupt);
     std::signal(SIGTERM, onInterrupt);
@@ -224,62 +223,47 @@ int main(int argc, char** argv) {
         bar.emplace();
         options.progress = [&](const io::PyramidBuildProgress& p) { bar->update(p); };
     }
-    if (plan && globe) {
-        auto planned = io::planGlobeShards(*sources.front(), output, options);
+    if (plan) {
+        auto planned = io::planPyramidShards(surface, *sources.front(), output, options);
         if (!planned) return fail(planned.error().message);
-        const io::GlobeShardPlan& p = planned.value();
+        const io::ShardPlan& p = planned.value();
+        // The planned shards of every level: on a plane each level's shard counts; on the
+        // globe x0, y0, x1, y1, … of those that reach the source (a planet's finest level has
+        // 1.6 million; a shard is built from its children 2x + 0|1, 2y + 0|1 the finer level
+        // lists).
         nlohmann::json levels = nlohmann::json::array();
         std::size_t count = 0;
         for (int level = 0; level < p.layout.levelCount(); ++level) {
             const auto& levelShards = p.shards[static_cast<std::size_t>(level)];
+            count += levelShards.size();
+            if (!globe) {
+                levels.push_back({{"level", level},
+                                  {"shardsX", p.layout.shardsX(level)},
+                                  {"shardsY", p.layout.shardsY(level)}});
+                continue;
+            }
             if (levelShards.empty()) continue;
-            // x0, y0, x1, y1, …: a planet's finest level has 1.6 million. A shard is built
-            // from its children (2x + 0|1, 2y + 0|1) that the finer level lists.
             std::vector<std::int64_t> flat;
             flat.reserve(2 * levelShards.size());
             for (const io::ShardId& shard : levelShards) {
                 flat.push_back(shard.x);
                 flat.push_back(shard.y);
             }
-            count += levelShards.size();
             levels.push_back({{"level", level}, {"shards", std::move(flat)}});
         }
-        const nlohmann::json summary{{"tool", "terrain-build"},
-                                     {"tiling", "globe"},
-                                     {"output", output},
-                                     {"staging", p.staging.string()},
-                                     {"finestLevel", p.layout.finestLevel()},
-                                     {"faceFinestLevel", p.faceFinestLevel},
-                                     {"levels", levels},
-                                     {"shardBytes", 2 * io::globeShardBytes(p.layout)}};
-        if (json)
-            std::puts(summary.dump().c_str());  // compact: a planet lists millions of shards
+        nlohmann::json summary{{"tool", "terrain-build"},
+                               {"tiling", globe ? "globe" : "planar"},
+                               {"output", output},
+                               {"staging", p.staging.string()},
+                               {"finestLevel", p.layout.finestLevel()}};
+        if (globe) summary["faceFinestLevel"] = p.faceFinestLevel;
+        summary["levels"] = std::move(levels);
+        summary["shardBytes"] = p.taskBytes;
+        if (json)  // compact on the globe: a planet lists millions of shards
+            std::puts(summary.dump(globe ? -1 : 2).c_str());
         else if (!quiet)
-            fmt::print(stderr, "terrain-build: planned {} globe shards in {}\n", count,
-                       p.staging.string());
-        return 0;
-    }
-    if (plan) {
-        auto planned = io::planPyramidShards(*sources.front(), output, options);
-        if (!planned) return fail(planned.error().message);
-        const io::PyramidLayout& layout = planned.value().layout;
-        nlohmann::json levels = nlohmann::json::array();
-        for (int level = 0; level < layout.levelCount(); ++level)
-            levels.push_back({{"level", level},
-                              {"shardsX", layout.shardsX(level)},
-                              {"shardsY", layout.shardsY(level)}});
-        const nlohmann::json summary{{"tool", "terrain-build"},
-                                     {"tiling", "planar"},
-                                     {"output", output},
-                                     {"staging", planned.value().staging.string()},
-                                     {"finestLevel", layout.finestLevel()},
-                                     {"levels", levels},
-                                     {"shardBytes", io::planarShardBytes(layout)}};
-        if (json)
-            std::puts(summary.dump(2).c_str());
-        else if (!quiet)
-            fmt::print(stderr, "terrain-build: planned {} levels in {}\n", layout.levelCount(),
-                       planned.value().staging.string());
+            fmt::print(stderr, "terrain-build: planned {} shards on {} levels in {}\n", count,
+                       p.layout.levelCount(), p.staging.string());
         return 0;
     }
     if (!shards.empty()) {
@@ -289,9 +273,8 @@ int main(int argc, char** argv) {
         std::int64_t patches = 0, bytes = 0;
         double seconds = 0.0;
         for (std::size_t i = 0; i < shards.size(); ++i) {
-            auto built = globe
-                             ? io::buildGlobeShard(*sources.front(), output, shards[i], options)
-                             : io::buildPyramidShard(*sources.front(), output, shards[i], options);
+            auto built =
+                io::buildPyramidShard(surface, *sources.front(), output, shards[i], options);
             if (!built)
                 return g_interrupted ? (fail(built.error().message), 130)
                                      : fail(built.error().message);
@@ -317,13 +300,10 @@ int main(int argc, char** argv) {
         }
         return 0;
     }
-    auto built = globe && merge ? io::mergeGlobeShards(*sources.front(), output, options)
-                 : globe && byShards
-                     ? io::buildGlobePyramidByShards(*sources.front(), output, options)
-                 : globe    ? io::buildGlobePyramid(sourcePointers, output, options)
-                 : merge    ? io::mergePyramidShards(*sources.front(), output, options)
-                 : byShards ? io::buildPyramidByShards(*sources.front(), output, options)
-                            : io::buildPyramid(*sources.front(), output, options);
+    auto built =
+        merge ? io::mergePyramidShards(surface, *sources.front(), output, options)
+              : io::buildPyramid(surface, sourcePointers, output, options,
+                                 byShards ? io::BuildWay::ByShards : io::BuildWay::Automatic);
     if (bar) bar->finish();
     if (!built)
         return g_interrupted ? (fail(built.error().message), 130) : fail(built.error().message);

@@ -1,12 +1,15 @@
-// BuildClock: how the builders time their phases (BuildSummary's seconds).
+// BuildClock: how the builders time their phases and themselves (PyramidBuildSummary's
+// seconds, the manifest's build.seconds).
 #pragma once
 
 #include <chrono>
 
 namespace terrain::io {
 
-inline double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+using BuildClock = std::chrono::steady_clock;
+
+inline double secondsSince(BuildClock::time_point start) {
+    return std::chrono::duration<double>(BuildClock::now() - start).count();
 }
 
 }  // namespace terrain::io

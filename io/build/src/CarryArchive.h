@@ -1,5 +1,5 @@
-// CarryArchive: the binary writer and reader of a region build's temporary files (ShardCarry.h,
-// GlobeShardCarry.h): each file lists its fields once, in a template both visit, so what is
+// CarryArchive: the binary writer and reader of a region build's temporary files (RegionCarry.h,
+// the planar edge files): each file lists its fields once, in a template both visit, so what is
 // written and what is read cannot drift apart. Machine byte order (a build's tasks run on one
 // kind of machine).
 #pragma once

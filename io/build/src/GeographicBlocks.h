@@ -1,5 +1,5 @@
 // GeographicBlocks: a geographic source read block by block, for the globe's region build
-// (GlobeShards.h): what GeographicGrid holds whole, within a fixed cache, whatever the
+// (GlobeShardTiling.cpp): what GeographicGrid holds whole, within a fixed cache, whatever the
 // raster's size. Every sample is filled exactly as GeographicGrid::read fills it (the row's
 // nearest valid samples beyond a block are read from the source, RowFill.h), and `at` is
 // GeographicGrid::at to the bit, so a region build resamples as the whole build does.

@@ -1,5 +1,7 @@
 #include "GeographicGrid.h"
 
+#include "BuildBudget.h"
+
 #include "terrain/globe/Wgs84.h"
 #include "terrain/build/NoDataFill.h"
 #include "terrain/pyramid/PatchErrors.h"
@@ -69,18 +71,18 @@ Result<GeographicGrid> GeographicGrid::describe(const DemInfo& dem) {
     return grid;
 }
 
-Result<GeographicGrid> GeographicGrid::read(DemReader& reader, std::uint64_t memoryBudgetBytes) {
+Result<GeographicGrid> GeographicGrid::read(DemReader& reader, std::uint64_t memoryBudgetBytes,
+                                            unsigned shares) {
     const DemInfo& dem = reader.info();
     Result<GeographicGrid> described = describe(dem);
     if (!described) return described.error();
-    const double bytes = double(dem.width) * double(dem.height) * 5.0;
-    if (bytes > double(memoryBudgetBytes))
-        return Error{
-            fmt::format("{}: {} × {} samples need {} MiB in the globe builder, more than "
-                        "the memory budget of {} MiB (raise --memory, or build one geographic "
-                        "source by shards: --by-shards)",
-                        dem.path, dem.width, dem.height, static_cast<std::uint64_t>(bytes) >> 20,
-                        memoryBudgetBytes >> 20)};
+    const auto bytes = static_cast<std::uint64_t>(double(dem.width) * double(dem.height) * 5.0);
+    if (Status fits = detail::checkMemoryBudget(
+            dem.path, fmt::format("holding its {} × {} samples whole", dem.width, dem.height),
+            bytes * shares, memoryBudgetBytes,
+            "raise --memory (a globe build holds its sources in half of it, shared among them)");
+        !fits)
+        return fits.error();
     GeographicGrid grid = std::move(described).value();
     const auto samples = static_cast<std::size_t>(dem.width * dem.height);
     grid.m_heights.resize(samples);

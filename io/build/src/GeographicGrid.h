@@ -20,8 +20,10 @@ inline constexpr double kDegree = std::numbers::pi / 180.0;
 
 class GeographicGrid {
 public:
-    /// Reads the whole source. Errors: not geographic, more than `memoryBudgetBytes` to hold.
-    static Result<GeographicGrid> read(DemReader& reader, std::uint64_t memoryBudgetBytes);
+    /// Reads the whole source. Errors: not geographic, more than 1/`shares` of
+    /// `memoryBudgetBytes` to hold (the budget is shared among sources and the patches).
+    static Result<GeographicGrid> read(DemReader& reader, std::uint64_t memoryBudgetBytes,
+                                       unsigned shares);
     /// The source's grid without its samples (a region build reads them block by block,
     /// GeographicBlocks.h): every geometric accessor works, heightAt, validAt, at and cellAt
     /// do not. Errors: not geographic, not on the globe.

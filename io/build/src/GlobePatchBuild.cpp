@@ -1,5 +1,7 @@
 #include "GlobePatchBuild.h"
 
+#include "BuildFinish.h"
+
 #include "terrain/pyramid/GlobePatchErrors.h"
 #include "terrain/pyramid/HeightCodes.h"
 #include "terrain/pyramid/PatchErrors.h"
@@ -85,22 +87,9 @@ PyramidManifest globeManifest(const PyramidLayout& layout, int faceFinestLevel,
                             .south = std::max(-90.0, finest.southDeg()),
                             .east = finest.wrapsLongitude() ? 180.0 : east,
                             .north = std::min(90.0, finest.northDeg())};
-    const DemInfo& first = readers.front()->info();
-    m.georeference = first.georeference;
-    m.vertical = first.vertical;
+    describeSources(m, readers);
     // The mask always: samples beyond the sources are not data on a globe.
     m.noData.present = true;
-    m.noData.sourceValue = first.noDataValue;
-    for (DemReader* reader : readers)
-        for (const std::string& input : reader->info().inputs) m.source.inputs.push_back(input);
-    m.source.reader = first.readerName;
-    m.source.sampleType = first.sampleType;
-    m.source.band = first.band;
-    m.source.bandCount = first.bandCount;
-    m.source.rowsFlipped = first.rowsFlipped;
-    m.source.columnsFlipped = first.columnsFlipped;
-    m.build.tool = "terrain-build";
-    m.build.version = TERRAIN_VERSION;
     return m;
 }
 

@@ -1,5 +1,5 @@
 // GlobePatchBuild: what the whole globe build (GlobePyramidBuilder.cpp) and the region build
-// (GlobeShards.cpp) do alike to a patch of the cube-sphere: its key, the patches around it
+// (GlobeShardTiling.cpp) do alike to a patch of the cube-sphere: its key, the patches around it
 // that may exist, the summary and λ(d) of its finished tile, and writing a shard of them.
 #pragma once
 

@@ -6,14 +6,14 @@
 #include "GlobePatchBuild.h"
 #include "GlobeSources.h"
 #include "ParallelFor.h"
-#include "SourceCoverage.h"
+#include "BuildFinish.h"
+#include "WholeBuilds.h"
 #include "terrain/globe/CubeSphere.h"
 #include "terrain/globe/GlobePatch.h"
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/pyramid/GlobePatchErrors.h"
 #include "terrain/build/GlobePatchSurface.h"
-#include "terrain/build/GlobeShards.h"
 #include "terrain/pyramid/HeightCodes.h"
 #include "terrain/pyramid/PatchErrors.h"
 #include "terrain/pyramid/PatchRecord.h"
@@ -39,7 +39,6 @@ namespace terrain::io {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 using globe::GlobePatchId;
 
 using detail::idOf;
@@ -119,7 +118,7 @@ public:
     }
 
     Status run() {
-        auto start = Clock::now();
+        auto start = BuildClock::now();
         for (const GlobeSources::Source& source : m_sources.sources()) {
             m_places.push_back(placeSamples(source.grid, m_threads));
             m_ownPlaces.push_back(
@@ -132,16 +131,16 @@ public:
             if (m_options.cancel != nullptr && m_options.cancel->load())
                 return Error{"the build was cancelled"};
             std::map<PatchKey, LevelPatch> patches;
-            start = Clock::now();
+            start = BuildClock::now();
             collectPatches(level, finerKeys, patches);
             m_phases.readSeconds += secondsSince(start);
-            start = Clock::now();
+            start = BuildClock::now();
             measureErrors(level, patches);
             std::unordered_map<PatchKey, float> errors;
             for (auto& [key, patch] : patches)
                 finishPatch(key, level, patch, finerKeys, finerErrors, errors);
             m_phases.boundsSeconds += secondsSince(start);
-            start = Clock::now();
+            start = BuildClock::now();
             if (Status written = write(level, patches); !written) return written;
             m_phases.writeSeconds += secondsSince(start);
             finerKeys.clear();
@@ -382,41 +381,44 @@ int globeFinestLevelFor(double spacingMetres, double latitudeDeg, double longitu
 Result<PyramidBuildSummary> buildGlobePyramid(DemReader& reader, const fs::path& output,
                                               const PyramidBuildOptions& options) {
     DemReader* const readers[] = {&reader};
-    return buildGlobePyramid(std::span<DemReader* const>(readers), output, options);
+    return buildPyramid(PyramidSurface::Globe, readers, output, options);
 }
 
 Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> readers,
                                               const fs::path& output,
                                               const PyramidBuildOptions& options) {
-    const auto start = Clock::now();
-    if (readers.empty())
-        return Error{output.string() + ": no source to build a globe pyramid from"};
-    if (Status delta = checkMaxErrorM(output, options.maxErrorM); !delta) return delta.error();
-    // One geographic source too large to hold is built shard by shard (GlobeShards.h), in
-    // memory bounded whatever its size.
-    const DemInfo& only = readers.front()->info();
-    if (readers.size() == 1 && !only.resampledFrom &&
-        only.georeference.crsKind == CrsKind::Geographic &&
-        double(only.width) * double(only.height) * 5.0 > double(options.memoryBudgetBytes / 2))
-        return buildGlobePyramidByShards(*readers.front(), output, options);
+    return buildPyramid(PyramidSurface::Globe, readers, output, options);
+}
+
+// The sources held whole, in half of the budget (the patches of a level the other half);
+// decideBuildWay (BuildBudget.h) sends one geographic source too large for it shard by shard.
+namespace detail {
+
+Result<PyramidBuildSummary> buildWholeGlobePyramid(std::span<DemReader* const> readers,
+                                                   const fs::path& output,
+                                                   const PyramidBuildOptions& options) {
+    const auto start = BuildClock::now();
     Result<GlobeSources> read =
-        GlobeSources::read(readers, options.memoryBudgetBytes / 2, options.patchSamples - 1);
+        GlobeSources::read(readers, options.memoryBudgetBytes, options.patchSamples - 1, 2);
     if (!read) return read.error();
     const GlobeSources& composite = read.value();
-    std::vector<std::string> warnings;
+    BuildTotals totals;
     std::int64_t compositeValid = 0;
     for (const GlobeSources::Source& source : composite.sources()) {
         const GeographicGrid& g = source.grid;
-        const std::string& path = source.path;
         compositeValid += g.validSamples();
         if (composite.sources().size() > 1 && g.validSamples() == 0)
-            warnings.push_back(fmt::format("{}: no valid sample; it adds nothing", path));
-        else if (auto warning = mostlyNoDataWarning(path, g.width() * g.height(), g.validSamples()))
-            warnings.push_back(*warning);
+            totals.warnings.push_back(
+                fmt::format("{}: no valid sample; it adds nothing", source.path));
+        else if (g.validSamples() > 0)
+            (void)checkCoverage(source.path, g.width() * g.height(), g.validSamples(),
+                                totals.warnings);
     }
     if (compositeValid == 0) {
         const GeographicGrid& g = composite.sources().front().grid;
-        return refuseEmptySource(readers.front()->info().path, g.width() * g.height(), 0).error();
+        return checkCoverage(readers.front()->info().path, g.width() * g.height(), 0,
+                             totals.warnings)
+            .error();
     }
     const int faceLevel = composite.finestFaceLevel();
     const DemInfo& first = readers.front()->info();
@@ -432,11 +434,8 @@ Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> reader
     if (Status built = builder.run(); !built)
         return Error{first.path + ": " + built.error().message};
 
-    PyramidBuildSummary summary;
-    summary.warnings = std::move(warnings);
-    PyramidManifest& m = summary.manifest;
     // "Go to the data" goes to the finest source.
-    m = detail::globeManifest(l, faceLevel, composite.sources().front().grid, readers);
+    PyramidManifest m = globeManifest(l, faceLevel, composite.sources().front().grid, readers);
     double minHeight = 0.0, maxHeight = 0.0;
     bool any = false;
     for (std::size_t k = 0; k < composite.sources().size(); ++k) {
@@ -469,14 +468,14 @@ Result<PyramidBuildSummary> buildGlobePyramid(std::span<DemReader* const> reader
                   });
     }
     m.quantization = builder.quantization();
-    summary.patches = builder.patches();
-    summary.phases = builder.phases();
-    summary.seconds = secondsSince(start);
-    m.build.seconds = summary.seconds;
-    if (Status written = writeManifest(partial.path(), m); !written) return written.error();
-    summary.bytes = folderBytes(partial.path());
+    totals.patches = builder.patches();
+    totals.phases = builder.phases();
+    totals.seconds = secondsSince(start);
+    auto summary = finishBuild(std::move(m), std::move(totals), partial.path());
+    if (!summary) return summary.error();
     if (Status committed = partial.commit(); !committed) return committed.error();
     return summary;
 }
 
+}  // namespace detail
 }  // namespace terrain::io

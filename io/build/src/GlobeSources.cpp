@@ -1,5 +1,7 @@
 #include "GlobeSources.h"
 
+#include "BuildBudget.h"
+
 #include "terrain/build/GlobePyramidBuilder.h"
 #include "terrain/pyramid/PatchErrors.h"
 
@@ -17,20 +19,26 @@ GlobeSources::GlobeSources(std::vector<Source> sources) : m_sources(std::move(so
     });
 }
 
+int finestFaceLevelOf(const GeographicGrid& grid, int quads) {
+    const double centreLat = 0.5 * (grid.northDeg() + grid.southDeg());
+    const double centreLon = grid.wrapsLongitude() ? 0.0 : 0.5 * (grid.westDeg() + grid.eastDeg());
+    return globeFinestLevelFor(grid.finestSpacingMetres(), centreLat, centreLon, quads);
+}
+
 Result<GlobeSources> GlobeSources::read(std::span<DemReader* const> readers,
-                                        std::uint64_t memoryBudgetBytes, int quads) {
+                                        std::uint64_t memoryBudgetBytes, int quads,
+                                        unsigned shares) {
     std::vector<Source> sources;
-    const std::uint64_t budget = memoryBudgetBytes / std::max<std::size_t>(1, readers.size());
+    // Each source holds its share of the sources' part of the budget.
+    shares *= static_cast<unsigned>(std::max<std::size_t>(1, readers.size()));
     for (DemReader* reader : readers) {
-        Result<GeographicGrid> grid = GeographicGrid::read(*reader, budget);
+        Result<GeographicGrid> grid = GeographicGrid::read(*reader, memoryBudgetBytes, shares);
         if (!grid) return grid.error();
-        const GeographicGrid& g = grid.value();
-        const double centreLat = 0.5 * (g.northDeg() + g.southDeg());
-        const double centreLon = g.wrapsLongitude() ? 0.0 : 0.5 * (g.westDeg() + g.eastDeg());
-        const int level = globeFinestLevelFor(g.finestSpacingMetres(), centreLat, centreLon, quads);
+        const int level = finestFaceLevelOf(grid.value(), quads);
         Source source{std::move(grid).value(), level, reader->info().path, std::nullopt};
         if (reader->info().resampledFrom) {
-            Result<OwnSamples> own = readOwnSamples(*reader, source.grid, budget);
+            Result<OwnSamples> own =
+                readOwnSamples(*reader, source.grid, memoryBudgetBytes, shares);
             if (!own) return own.error();
             source.own = std::move(own).value();
         }
@@ -41,7 +49,8 @@ Result<GlobeSources> GlobeSources::read(std::span<DemReader* const> readers,
 
 Result<GlobeSources::OwnSamples> GlobeSources::readOwnSamples(DemReader& reader,
                                                               const GeographicGrid& grid,
-                                                              std::uint64_t memoryBudgetBytes) {
+                                                              std::uint64_t memoryBudgetBytes,
+                                                              unsigned shares) {
     const DemInfo& dem = reader.info();
     DemReader* original = reader.originalSamples();
     if (original == nullptr)
@@ -50,14 +59,17 @@ Result<GlobeSources::OwnSamples> GlobeSources::readOwnSamples(DemReader& reader,
     own.width = dem.resampledFrom->width;
     own.height = dem.resampledFrom->height;
     // A height and a place each, besides the grid GeographicGrid::read counted.
-    const double bytes = double(own.width) * double(own.height) * 20.0 +
-                         double(grid.width()) * double(grid.height()) * 5.0;
-    if (bytes > double(memoryBudgetBytes))
-        return Error{fmt::format(
-            "{}: its {} × {} samples and their resampled grid need {} MiB in the globe builder, "
-            "more than the memory budget of {} MiB (raise --memory)",
-            dem.path, own.width, own.height, static_cast<std::uint64_t>(bytes) >> 20,
-            memoryBudgetBytes >> 20)};
+    const auto bytes =
+        static_cast<std::uint64_t>(double(own.width) * double(own.height) * 20.0 +
+                                   double(grid.width()) * double(grid.height()) * 5.0);
+    if (Status fits = detail::checkMemoryBudget(
+            dem.path,
+            fmt::format("holding its {} × {} samples and their resampled grid whole", own.width,
+                        own.height),
+            bytes * shares, memoryBudgetBytes,
+            "raise --memory (a globe build holds its sources in half of it, shared among them)");
+        !fits)
+        return fits.error();
     const auto count = static_cast<std::size_t>(own.width * own.height);
     own.heights.resize(count);
     own.latitudes.resize(count);

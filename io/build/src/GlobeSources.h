@@ -50,8 +50,11 @@ public:
     /// own samples too (placed by DemReader::placeOriginalSamples), and gives each its
     /// finest face level for patches of `quads` quads (globeFinestLevelFor at its centre):
     /// what the builder does, and what the source check must do the same way.
+    /// `shares`: the sources may hold 1/shares of the budget together (a builder's patches
+    /// need the rest).
     static Result<GlobeSources> read(std::span<DemReader* const> readers,
-                                     std::uint64_t memoryBudgetBytes, int quads);
+                                     std::uint64_t memoryBudgetBytes, int quads,
+                                     unsigned shares = 1);
 
     const std::vector<Source>& sources() const { return m_sources; }
     int finestFaceLevel() const;  ///< over every source
@@ -87,7 +90,7 @@ public:
 
 private:
     static Result<OwnSamples> readOwnSamples(DemReader& reader, const GeographicGrid& grid,
-                                             std::uint64_t memoryBudgetBytes);
+                                             std::uint64_t memoryBudgetBytes, unsigned shares);
     struct Shown {
         int source = -1;  ///< the source whose value shows, or −1
         GeographicGrid::Resampled value;
@@ -99,5 +102,10 @@ private:
 
     std::vector<Source> m_sources;
 };
+
+/// The finest face level of a source on `grid` for patches of `quads` quads: as fine as its
+/// samples at its centre (globeFinestLevelFor). The whole build and the region build decide
+/// it here, so they agree.
+int finestFaceLevelOf(const GeographicGrid& grid, int quads);
 
 }  // namespace terrain::io

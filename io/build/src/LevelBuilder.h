@@ -13,6 +13,7 @@
 #pragma once
 
 #include "BuildClock.h"
+#include "DemStatistics.h"
 #include "OriginalSampleDistances.h"
 #include "ParallelFor.h"
 #include "RowFill.h"
@@ -92,13 +93,6 @@ struct DemEdges final : DemEdgeSamples {
     Result<float> lastRow(std::int64_t column) override {
         return lastRowHeights.at(static_cast<std::size_t>(column - firstColumn));
     }
-};
-
-struct DemStatistics {
-    double minHeight = std::numeric_limits<double>::infinity();
-    double maxHeight = -std::numeric_limits<double>::infinity();
-    std::int64_t validSamples = 0;
-    std::int64_t noDataSamples = 0;
 };
 
 /// The DEM samples a pass counts in the statistics and keeps edges of: each sample is owned
@@ -484,8 +478,6 @@ public:
     const PyramidBuildPhases& phases() const { return m_phases; }
 
 private:
-    using Clock = std::chrono::steady_clock;
-
     Status runLevel(int level, const PatchRect& rect, LevelRows& rows, EvenRows* coarser) {
         const int q = m_layout.patchQuads();
         const std::int64_t patchesY = m_layout.patchesY(level);
@@ -507,10 +499,10 @@ private:
                 static_cast<int>(std::min<std::int64_t>(2, rect.y1 - firstPatchRow));
             band.firstRow = firstPatchRow * q - 1;
             band.rows = patchRows * q + 3;
-            auto phaseStart = Clock::now();
+            auto phaseStart = BuildClock::now();
             if (auto fetched = rows.fetch(band); !fetched) return fetched;
             m_phases.readSeconds += secondsSince(phaseStart);
-            phaseStart = Clock::now();
+            phaseStart = BuildClock::now();
 
             // Patches of the band, in parallel.
             const std::int64_t count = patchRows * countX;
@@ -534,7 +526,7 @@ private:
             if (coarser != nullptr)
                 if (auto written = writeCoarserRows(band, *coarser); !written) return written;
             m_phases.boundsSeconds += secondsSince(phaseStart);
-            phaseStart = Clock::now();
+            phaseStart = BuildClock::now();
             if (auto written = writeRecords(level, records, count, writers); !written)
                 return written;
             // A shard is complete once the band has passed its last patch row.

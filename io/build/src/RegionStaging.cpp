@@ -1,6 +1,6 @@
 #include "RegionStaging.h"
 
-#include "ShardCarry.h"
+#include "RegionCarry.h"
 
 #include <fstream>
 #include <sstream>

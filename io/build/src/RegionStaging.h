@@ -1,5 +1,5 @@
-// RegionStaging: the staging folder "<output>.parts" of a region build, planar
-// (PyramidShards.h) or globe (GlobeShards.h): its plan file, which keeps shards of different
+// RegionStaging: the staging folder "<output>.parts" of a region build, planar or globe
+// (PyramidShards.h): its plan file, which keeps shards of different
 // builds apart; the check of a carry's origin; what the merge removes; and the one-process
 // build's cleanup.
 #pragma once

@@ -1,4 +1,4 @@
-// Globe region builds (GlobeShards.h) against their promises, at the places a globe is hard (a
+// Globe region builds (PyramidShards.h) against their promises, at the places a globe is hard (a
 // cap over a pole, a strip across the antimeridian, a whole Earth with its repeated seam
 // column, voids whose fill runs across blocks and shards): the patches present, their heights
 // (apron included) and their children are the whole build's to the bit; the finest Err(P) is
@@ -9,7 +9,7 @@
 #include "terrain/dem/OpenDem.h"
 #include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/build/GlobePyramidBuilder.h"
-#include "terrain/build/GlobeShards.h"
+#include "terrain/build/PyramidShards.h"
 #include "terrain/pyramid/PyramidReader.h"
 #include "terrain/build/PyramidSourceCheck.h"
 
@@ -35,6 +35,7 @@ using test::GeographicFunctionDem;
 using test::hills;
 using test::pyramidFiles;
 using test::TempFolder;
+constexpr PyramidSurface kGlobe = PyramidSurface::Globe;
 
 // One thread: these builds are many small shards, and the suite runs under sanitizers too;
 // RegionalSourceAtHighLatitude builds with two.
@@ -58,7 +59,7 @@ void expectRegionBuildMatchesWholeBuild(DemReader& source, PyramidBuildOptions o
     // measures these small sources at their samples at every level, and so builds the whole
     // build's bounds, which MeasuredLevelsAreTheWholeBuildsBytes checks).
     options.globeMeasuredLevels = measuredLevels;
-    auto r = buildGlobePyramidByShards(source, region, options);
+    auto r = buildPyramidByShards(kGlobe, source, region, options);
     ASSERT_TRUE(r) << r.error().message;
     EXPECT_FALSE(fs::exists(shardStagingFolder(region)));
 
@@ -185,23 +186,23 @@ TEST(GlobeShards, TasksInAnotherOrderWriteTheSameBytes) {
     GeographicFunctionDem source(179.8, -29.8, 80, 40, 0.005, 0.005, hills);
     const PyramidBuildOptions options = smallPatches();
     const fs::path inOrder = temp.path() / "in-order.pyramid";
-    ASSERT_TRUE(buildGlobePyramidByShards(source, inOrder, options));
+    ASSERT_TRUE(buildPyramidByShards(kGlobe, source, inOrder, options));
     const fs::path byTasks = temp.path() / "tasks.pyramid";
-    auto plan = planGlobeShards(source, byTasks, options);
+    auto plan = planPyramidShards(kGlobe, source, byTasks, options);
     ASSERT_TRUE(plan) << plan.error().message;
     int tasks = 0;
     for (int level = plan.value().layout.finestLevel(); level >= 0; --level) {
         const auto& shards = plan.value().shards[static_cast<std::size_t>(level)];
         for (auto s = shards.rbegin(); s != shards.rend(); ++s) {
-            auto built = buildGlobeShard(source, byTasks, *s, options);
+            auto built = buildPyramidShard(kGlobe, source, byTasks, *s, options);
             ASSERT_TRUE(built) << built.error().message;
             // A task run again (a retried Dask task) rewrites the same bytes.
             if (tasks++ == 0) {
-                ASSERT_TRUE(buildGlobeShard(source, byTasks, *s, options));
+                ASSERT_TRUE(buildPyramidShard(kGlobe, source, byTasks, *s, options));
             }
         }
     }
-    auto merged = mergeGlobeShards(source, byTasks, options);
+    auto merged = mergePyramidShards(kGlobe, source, byTasks, options);
     ASSERT_TRUE(merged) << merged.error().message;
     EXPECT_EQ(pyramidFiles(inOrder), pyramidFiles(byTasks));
 }
@@ -211,33 +212,33 @@ TEST(GlobeShards, MergeRefusesAMissingOrStaleShardAndWritesNothing) {
     GeographicFunctionDem source(179.8, -29.8, 80, 40, 0.005, 0.005, hills);
     const PyramidBuildOptions options = smallPatches();
     const fs::path out = temp.path() / "globe.pyramid";
-    auto plan = planGlobeShards(source, out, options);
+    auto plan = planPyramidShards(kGlobe, source, out, options);
     ASSERT_TRUE(plan) << plan.error().message;
-    const GlobeShardPlan& p = plan.value();
+    const ShardPlan& p = plan.value();
     const int finest = p.layout.finestLevel();
     ASSERT_GE(p.shards[static_cast<std::size_t>(finest)].size(), 1u);
     // The parent of the first finest shard first: built without the shard beneath it.
     const ShardId child = p.shards[static_cast<std::size_t>(finest)].front();
     const ShardId parent{finest - 1, child.x / 2, child.y / 2};
-    ASSERT_TRUE(buildGlobeShard(source, out, parent, options));
+    ASSERT_TRUE(buildPyramidShard(kGlobe, source, out, parent, options));
     for (int level = finest; level >= 0; --level)
         for (const ShardId& s : p.shards[static_cast<std::size_t>(level)])
             if (!(s == parent) && !(s == child)) {
-                ASSERT_TRUE(buildGlobeShard(source, out, s, options));
+                ASSERT_TRUE(buildPyramidShard(kGlobe, source, out, s, options));
             }
-    auto missing = mergeGlobeShards(source, out, options);
+    auto missing = mergePyramidShards(kGlobe, source, out, options);
     ASSERT_FALSE(missing);
     EXPECT_NE(missing.error().message.find("missing"), std::string::npos)
         << missing.error().message;
     EXPECT_FALSE(fs::exists(out));
-    ASSERT_TRUE(buildGlobeShard(source, out, child, options));
-    auto stale = mergeGlobeShards(source, out, options);
+    ASSERT_TRUE(buildPyramidShard(kGlobe, source, out, child, options));
+    auto stale = mergePyramidShards(kGlobe, source, out, options);
     ASSERT_FALSE(stale);
     EXPECT_NE(stale.error().message.find("was built before shard"), std::string::npos)
         << stale.error().message;
     EXPECT_FALSE(fs::exists(out));
-    ASSERT_TRUE(buildGlobeShard(source, out, parent, options));
-    EXPECT_TRUE(mergeGlobeShards(source, out, options));
+    ASSERT_TRUE(buildPyramidShard(kGlobe, source, out, parent, options));
+    EXPECT_TRUE(mergePyramidShards(kGlobe, source, out, options));
     EXPECT_TRUE(fs::exists(out / "manifest.json"));
 }
 
@@ -246,16 +247,16 @@ TEST(GlobeShards, ASourceOverTheBudgetIsBuiltByShards) {
     GeographicFunctionDem source(-100.0, 88.0, 460, 440, 0.4, 0.4, hills);
     PyramidBuildOptions options = smallPatches();
     options.globeMeasuredLevels = 0;  // no level but the finest reads the source again
-    auto plan = planGlobeShards(source, temp.path() / "plan.pyramid", options);
+    auto plan = planPyramidShards(kGlobe, source, temp.path() / "plan.pyramid", options);
     ASSERT_TRUE(plan) << plan.error().message;
     // 460 × 440 samples need 1 MiB held whole: over half the budget, which a shard fits.
-    options.memoryBudgetBytes = 2 * globeShardBytes(plan.value().layout) + (64 << 10);
+    options.memoryBudgetBytes = plan.value().taskBytes + (64 << 10);
     ASSERT_LT(options.memoryBudgetBytes / 2, 460u * 440u * 5u);
     const fs::path small = temp.path() / "small.pyramid";
     auto built = buildGlobePyramid(source, small, options);
     ASSERT_TRUE(built) << built.error().message;
     const fs::path expected = temp.path() / "expected.pyramid";
-    ASSERT_TRUE(buildGlobePyramidByShards(source, expected, options));
+    ASSERT_TRUE(buildPyramidByShards(kGlobe, source, expected, options));
     EXPECT_EQ(pyramidFiles(small), pyramidFiles(expected));
 }
 
@@ -267,7 +268,7 @@ TEST(GlobeShards, MeasuredLevelsAreTheWholeBuildsBytes) {
     const fs::path whole = temp.path() / "whole.pyramid";
     ASSERT_TRUE(buildGlobePyramid(source, whole, smallPatches()));
     const fs::path region = temp.path() / "region.pyramid";
-    ASSERT_TRUE(buildGlobePyramidByShards(source, region, smallPatches()));
+    ASSERT_TRUE(buildPyramidByShards(kGlobe, source, region, smallPatches()));
     EXPECT_EQ(pyramidFiles(whole), pyramidFiles(region));
 }
 
@@ -275,15 +276,15 @@ TEST(GlobeShards, ShardsOfAnotherPlanAndForeignShardsAreRefused) {
     TempFolder temp;
     GeographicFunctionDem source(179.8, -29.8, 80, 40, 0.005, 0.005, hills);
     const fs::path out = temp.path() / "globe.pyramid";
-    ASSERT_TRUE(planGlobeShards(source, out, smallPatches()));
+    ASSERT_TRUE(planPyramidShards(kGlobe, source, out, smallPatches()));
     PyramidBuildOptions other = smallPatches();
     other.compressionLevel = 3;
-    auto refused = buildGlobeShard(source, out, ShardId{3, 0, 0}, other);
+    auto refused = buildPyramidShard(kGlobe, source, out, ShardId{3, 0, 0}, other);
     ASSERT_FALSE(refused);
     EXPECT_NE(refused.error().message.find("another source or with other options"),
               std::string::npos)
         << refused.error().message;
-    auto nowhere = buildGlobeShard(source, out, ShardId{0, 0, 0}, smallPatches());
+    auto nowhere = buildPyramidShard(kGlobe, source, out, ShardId{0, 0, 0}, smallPatches());
     ASSERT_FALSE(nowhere);
     EXPECT_NE(nowhere.error().message.find("is not one of this globe pyramid's"), std::string::npos)
         << nowhere.error().message;

@@ -33,6 +33,7 @@ namespace fs = std::filesystem;
 using test::fileBytes;
 using test::pyramidFiles;
 using test::TempFolder;
+constexpr PyramidSurface kPlane = PyramidSurface::Plane;
 
 void expectSameFiles(const fs::path& whole, const fs::path& merged) {
     const auto a = pyramidFiles(whole), b = pyramidFiles(merged);
@@ -53,16 +54,16 @@ std::unique_ptr<DemReader> open(const std::string& input, const DemOpenOptions& 
 // Every shard as its own task, finest level first, each level's shards in reverse order
 // (not the whole build's), then the merge.
 void buildByTasks(DemReader& reader, const fs::path& out, const PyramidBuildOptions& options) {
-    auto plan = planPyramidShards(reader, out, options);
+    auto plan = planPyramidShards(kPlane, reader, out, options);
     ASSERT_TRUE(plan.ok()) << plan.error().message;
     const PyramidLayout& layout = plan.value().layout;
     for (int level = layout.finestLevel(); level >= 0; --level)
         for (std::int64_t y = layout.shardsY(level) - 1; y >= 0; --y)
             for (std::int64_t x = layout.shardsX(level) - 1; x >= 0; --x) {
-                auto built = buildPyramidShard(reader, out, ShardId{level, x, y}, options);
+                auto built = buildPyramidShard(kPlane, reader, out, ShardId{level, x, y}, options);
                 ASSERT_TRUE(built.ok()) << built.error().message;
             }
-    auto merged = mergePyramidShards(reader, out, options);
+    auto merged = mergePyramidShards(kPlane, reader, out, options);
     ASSERT_TRUE(merged.ok()) << merged.error().message;
     EXPECT_FALSE(fs::exists(shardStagingFolder(out)));
     EXPECT_FALSE(fs::exists(out / "tmp"));
@@ -75,7 +76,7 @@ void expectRegionBuildEqualsWholeBuild(DemReader& reader, PyramidBuildOptions op
     ASSERT_TRUE(whole.ok()) << whole.error().message;
     buildByTasks(reader, tmp.path() / "tasks", options);
     expectSameFiles(tmp.path() / "whole", tmp.path() / "tasks");
-    auto byShards = buildPyramidByShards(reader, tmp.path() / "by-shards", options);
+    auto byShards = buildPyramidByShards(kPlane, reader, tmp.path() / "by-shards", options);
     ASSERT_TRUE(byShards.ok()) << byShards.error().message;
     expectSameFiles(tmp.path() / "whole", tmp.path() / "by-shards");
     EXPECT_EQ(byShards.value().manifest.statistics.validSamples,
@@ -164,14 +165,14 @@ TEST(PyramidShards, ATaskRunTwiceWritesTheSameBytes) {
     auto reader = open("procedural:size=600,seed=2");
     const fs::path out = tmp.path() / "twice";
     const PyramidBuildOptions options = withShards(2);
-    auto plan = planPyramidShards(*reader, out, options);
+    auto plan = planPyramidShards(kPlane, *reader, out, options);
     ASSERT_TRUE(plan.ok());
     const PyramidLayout& layout = plan.value().layout;
     const ShardId shard{layout.finestLevel(), 1, 0};
     const fs::path file = plan.value().staging / layout.shardPath(shard);
-    ASSERT_TRUE(buildPyramidShard(*reader, out, shard, options).ok());
+    ASSERT_TRUE(buildPyramidShard(kPlane, *reader, out, shard, options).ok());
     const std::string first = fileBytes(file);
-    ASSERT_TRUE(buildPyramidShard(*reader, out, shard, options).ok());
+    ASSERT_TRUE(buildPyramidShard(kPlane, *reader, out, shard, options).ok());
     EXPECT_TRUE(fileBytes(file) == first);
     // Nothing but the shard, its carry, the DEM edge files and the plan: no temporary left.
     for (const auto& entry : fs::recursive_directory_iterator(plan.value().staging))
@@ -183,14 +184,14 @@ TEST(PyramidShards, ACoarseShardNeedsTheShardsBeneathIt) {
     auto reader = open("procedural:size=600,seed=2");
     const fs::path out = tmp.path() / "early";
     const PyramidBuildOptions options = withShards(2);
-    auto plan = planPyramidShards(*reader, out, options);
+    auto plan = planPyramidShards(kPlane, *reader, out, options);
     ASSERT_TRUE(plan.ok());
     const int coarse = plan.value().layout.finestLevel() - 1;
-    auto built = buildPyramidShard(*reader, out, ShardId{coarse, 0, 0}, options);
+    auto built = buildPyramidShard(kPlane, *reader, out, ShardId{coarse, 0, 0}, options);
     ASSERT_FALSE(built.ok());
     EXPECT_NE(built.error().message.find(".carry: missing"), std::string::npos)
         << built.error().message;
-    auto outside = buildPyramidShard(*reader, out, ShardId{coarse, 99, 0}, options);
+    auto outside = buildPyramidShard(kPlane, *reader, out, ShardId{coarse, 99, 0}, options);
     ASSERT_FALSE(outside.ok());
     EXPECT_NE(outside.error().message.find("no shard"), std::string::npos);
 }
@@ -200,16 +201,17 @@ TEST(PyramidShards, MergeRefusesAMissingShardAndWritesNothing) {
     auto reader = open("procedural:size=600,seed=2");
     const fs::path out = tmp.path() / "incomplete";
     const PyramidBuildOptions options = withShards(2);
-    auto plan = planPyramidShards(*reader, out, options);
+    auto plan = planPyramidShards(kPlane, *reader, out, options);
     ASSERT_TRUE(plan.ok());
     const PyramidLayout& layout = plan.value().layout;
     const int finest = layout.finestLevel();
     for (std::int64_t y = 0; y < layout.shardsY(finest); ++y)
         for (std::int64_t x = 0; x < layout.shardsX(finest); ++x)
             if (!(x == 1 && y == 1)) {
-                ASSERT_TRUE(buildPyramidShard(*reader, out, ShardId{finest, x, y}, options).ok());
+                ASSERT_TRUE(
+                    buildPyramidShard(kPlane, *reader, out, ShardId{finest, x, y}, options).ok());
             }
-    auto merged = mergePyramidShards(*reader, out, options);
+    auto merged = mergePyramidShards(kPlane, *reader, out, options);
     ASSERT_FALSE(merged.ok());
     EXPECT_NE(merged.error().message.find(layout.shardPath(ShardId{finest, 1, 1}).string()),
               std::string::npos)
@@ -219,12 +221,13 @@ TEST(PyramidShards, MergeRefusesAMissingShardAndWritesNothing) {
     EXPECT_TRUE(fs::exists(plan.value().staging / "plan.json")) << "the built shards are kept";
 
     // Finished, the same staging folder merges.
-    ASSERT_TRUE(buildPyramidShard(*reader, out, ShardId{finest, 1, 1}, options).ok());
+    ASSERT_TRUE(buildPyramidShard(kPlane, *reader, out, ShardId{finest, 1, 1}, options).ok());
     for (int level = finest - 1; level >= 0; --level)
         for (std::int64_t y = 0; y < layout.shardsY(level); ++y)
             for (std::int64_t x = 0; x < layout.shardsX(level); ++x)
-                ASSERT_TRUE(buildPyramidShard(*reader, out, ShardId{level, x, y}, options).ok());
-    EXPECT_TRUE(mergePyramidShards(*reader, out, options).ok());
+                ASSERT_TRUE(
+                    buildPyramidShard(kPlane, *reader, out, ShardId{level, x, y}, options).ok());
+    EXPECT_TRUE(mergePyramidShards(kPlane, *reader, out, options).ok());
     EXPECT_TRUE(PyramidReader::open(out).ok());
 }
 
@@ -232,15 +235,15 @@ TEST(PyramidShards, ShardsOfAnotherBuildAreRefused) {
     TempFolder tmp;
     auto reader = open("procedural:size=600,seed=2");
     const fs::path out = tmp.path() / "mixed";
-    ASSERT_TRUE(planPyramidShards(*reader, out, withShards(2)).ok());
+    ASSERT_TRUE(planPyramidShards(kPlane, *reader, out, withShards(2)).ok());
     PyramidBuildOptions other = withShards(2);
     other.compressionLevel = 9;
-    auto built = buildPyramidShard(*reader, out, ShardId{0, 0, 0}, other);
+    auto built = buildPyramidShard(kPlane, *reader, out, ShardId{0, 0, 0}, other);
     ASSERT_FALSE(built.ok());
     EXPECT_NE(built.error().message.find("other options"), std::string::npos)
         << built.error().message;
     auto otherSource = open("procedural:size=600,seed=3");
-    auto merged = mergePyramidShards(*otherSource, out, withShards(2));
+    auto merged = mergePyramidShards(kPlane, *otherSource, out, withShards(2));
     ASSERT_FALSE(merged.ok());
     EXPECT_NE(merged.error().message.find(shardStagingFolder(out).string()), std::string::npos);
 }
@@ -268,6 +271,9 @@ TEST(PyramidShards, ABudgetTooSmallForOneShardIsAClearError) {
     auto result = buildPyramid(*reader, tmp.path() / "wide", options);
     ASSERT_FALSE(result.ok());
     EXPECT_NE(result.error().message.find("--shard-patches"), std::string::npos)
+        << result.error().message;
+    // The one message of a build over its budget (BuildBudget.h).
+    EXPECT_NE(result.error().message.find("more than --memory (64 MiB); "), std::string::npos)
         << result.error().message;
     EXPECT_TRUE(fs::is_empty(tmp.path()));
 }

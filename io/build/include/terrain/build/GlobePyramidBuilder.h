@@ -17,8 +17,8 @@
 // where it lies.
 //
 // Each source is read whole; one geographic source too large for the memory budget is built
-// shard by shard instead (GlobeShards.h), with the nested bound above its finest level.
-// Several sources, or a projected one, that exceed the budget are refused.
+// shard by shard instead (PyramidShards.h, BuildWay), with the nested bound above its finest
+// level. Several sources, or a projected one, that exceed the budget are refused.
 #pragma once
 
 #include "terrain/base/Result.h"
@@ -34,9 +34,9 @@ namespace terrain::io {
 /// unit direction `where`: the coarsest level whose face grid there is at least as fine.
 int globeFinestLevelFor(double spacingMetres, double latitudeDeg, double longitudeDeg, int quads);
 
-/// Builds the globe pyramid of the geographic `reader` at `output`, through a ".partial"
-/// folder renamed into place when complete (like buildPyramid). Errors name the file and the
-/// problem: a source that is not geographic, or too big for the memory budget.
+/// Builds the globe pyramid of the geographic `reader` at `output`:
+/// buildPyramid(PyramidSurface::Globe, {&reader}, …). Errors name the file and the problem: a
+/// source that is not geographic, or too big for the memory budget.
 Result<PyramidBuildSummary> buildGlobePyramid(DemReader& reader,
                                               const std::filesystem::path& output,
                                               const PyramidBuildOptions& options = {});

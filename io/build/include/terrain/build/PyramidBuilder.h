@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <span>
 
 namespace terrain::io {
 
@@ -42,7 +43,7 @@ struct PyramidBuildOptions {
     /// (docs/pyramid-format.md, "Height codes"); false makes every patch decodable on its
     /// own, at 10–20 % more bytes (a server handing out single patches). Planar pyramids.
     bool parentPrediction = true;
-    /// A globe region build (GlobeShards.h): the levels above the finest whose Err(P) is
+    /// A globe region build (PyramidShards.h): the levels above the finest whose Err(P) is
     /// measured at the source's samples before the nested bound takes over; −1 is 2, and every
     /// level of a shard whose surroundings hold at most 2^24 samples.
     int globeMeasuredLevels = -1;
@@ -72,10 +73,29 @@ struct PyramidBuildSummary {
     std::vector<std::string> warnings;
 };
 
-/// Builds the pyramid of `reader`'s DEM at `output` (a folder). The folder is built as
-/// "<output>.partial-<pid>" and renamed into place only when complete, so an interrupted
-/// or failed build never leaves a valid-looking pyramid. Errors name the file and the
-/// problem; a source without a valid sample is one. Calling thread (plus worker threads it owns).
+/// The surface a pyramid lies on: a plane (the source's own grid, format versions 1–2) or
+/// the WGS84 cube-sphere (format version 3, GlobePyramidBuilder.h).
+enum class PyramidSurface { Plane, Globe };
+
+/// How a build runs: whole where what it holds fits options.memoryBudgetBytes and shard by
+/// shard where not (Automatic; a source that cannot be built by shards is refused then),
+/// or shard by shard in any case (ByShards, PyramidShards.h), or whole in any case (Whole).
+enum class BuildWay { Automatic, Whole, ByShards };
+
+/// Builds the pyramid of `readers` on `surface` at `output` (a folder): on a plane one
+/// source (a mosaic is one reader); on the globe one or several, composited. The folder is
+/// built as "<output>.partial-<pid>" (by shards: "<output>.parts") and renamed into place
+/// only when complete, so an interrupted or failed build never leaves a valid-looking
+/// pyramid. A build the budget sends shard by shard says so in its warnings. Errors name the
+/// file and the problem; a source without a valid sample is one. Calling thread (plus worker
+/// threads it owns).
+Result<PyramidBuildSummary> buildPyramid(PyramidSurface surface,
+                                         std::span<DemReader* const> readers,
+                                         const std::filesystem::path& output,
+                                         const PyramidBuildOptions& options = {},
+                                         BuildWay way = BuildWay::Automatic);
+
+/// The planar pyramid of one source: buildPyramid(PyramidSurface::Plane, {&reader}, …).
 Result<PyramidBuildSummary> buildPyramid(DemReader& reader, const std::filesystem::path& output,
                                          const PyramidBuildOptions& options = {});
 

@@ -1,6 +1,7 @@
-#include "ShardCarry.h"
+#include "RegionCarry.h"
 
 #include "CarryArchive.h"
+#include "RegionStaging.h"
 
 #include "terrain/base/AtomicFile.h"
 
@@ -8,7 +9,6 @@
 
 #include <cstring>
 #include <fstream>
-#include <sstream>
 #include <system_error>
 
 namespace terrain::io::detail {
@@ -16,12 +16,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr char kCarryMagic[8] = {'T', 'R', 'C', 'A', 'R', 'R', 'Y', '1'};
-constexpr char kEdgeMagic[8] = {'T', 'R', 'E', 'D', 'G', 'E', '0', '1'};
+constexpr char kCarryMagic[8] = {'T', 'R', 'C', 'A', 'R', 'R', 'Y', '2'};
 
 // The summary, which the merge reads alone.
 template <typename Archive, typename Carry>
-void summaryFields(Archive& a, Carry& c) {
+void summaryFields(Archive& a, Carry& c, std::vector<std::int64_t>& builtFrom) {
     a.text(c.fingerprint);
     a.field(c.shard.level);
     a.field(c.shard.x);
@@ -37,11 +36,12 @@ void summaryFields(Archive& a, Carry& c) {
     a.field(c.phases.boundsSeconds);
     a.field(c.phases.writeSeconds);
     a.field(c.seconds);
+    a.values(builtFrom);  // x, y pairs
 }
 
-// What the coarser level's task reads.
+// What the parent's task reads.
 template <typename Archive, typename Carry>
-void boundsAndSampleFields(Archive& a, Carry& c) {
+void parentFields(Archive& a, Carry& c) {
     for (auto* grid : {&c.bounds.approx, &c.bounds.interpolation}) {
         a.field(grid->x0);
         a.field(grid->y0);
@@ -55,6 +55,25 @@ void boundsAndSampleFields(Archive& a, Carry& c) {
     a.field(c.evenHeight);
     a.values(c.evenHeights);
     a.values(c.evenValid);
+    a.values(c.keys);
+    a.values(c.errors);
+    a.values(c.parentLow);
+    a.values(c.parentHigh);
+}
+
+bool consistent(const RegionCarry& c) {
+    const auto grid = [](const LevelGrid& g) {
+        return g.width >= 0 && g.height >= 0 &&
+               g.values.size() == static_cast<std::size_t>(g.width * g.height);
+    };
+    const bool planarEvens =
+        c.evenWidth >= 0 && c.evenHeight >= 0 &&
+        (c.keys.empty()
+             ? c.evenHeights.size() == static_cast<std::size_t>(c.evenWidth * c.evenHeight)
+             : c.evenWidth == 0 && c.evenHeight == 0);
+    return grid(c.bounds.approx) && grid(c.bounds.interpolation) && planarEvens &&
+           c.evenValid.size() == c.evenHeights.size() && c.errors.size() == c.keys.size() &&
+           c.parentHigh.size() == c.parentLow.size();
 }
 
 }  // namespace
@@ -79,15 +98,20 @@ fs::path carryPath(const fs::path& staging, const ShardId& s) {
            (std::to_string(s.x) + ".carry");
 }
 
-Status writeCarry(const fs::path& path, const ShardCarry& carry) {
+Status writeCarry(const fs::path& path, const RegionCarry& carry) {
+    std::vector<std::int64_t> builtFrom;
+    for (const ShardId& s : carry.builtFrom) {
+        builtFrom.push_back(s.x);
+        builtFrom.push_back(s.y);
+    }
     CarryWriter w;
     w.field(kCarryMagic);
-    summaryFields(w, carry);
-    boundsAndSampleFields(w, carry);
+    summaryFields(w, carry, builtFrom);
+    parentFields(w, carry);
     return writeFileAtomically(path, w.bytes());
 }
 
-Result<ShardCarry> readCarry(const fs::path& path, bool whole) {
+Result<RegionCarry> readCarry(const fs::path& path, bool whole) {
     std::ifstream in(path, std::ios::binary);
     if (!in) return Error{path.string() + ": missing (the shard's task has not finished)"};
     CarryReader r(in);
@@ -95,48 +119,31 @@ Result<ShardCarry> readCarry(const fs::path& path, bool whole) {
     r.field(magic);
     if (r.failed() || std::memcmp(magic, kCarryMagic, sizeof magic) != 0)
         return Error{path.string() + ": not a shard carry file"};
-    ShardCarry c;
-    summaryFields(r, c);
+    RegionCarry c;
+    std::vector<std::int64_t> builtFrom;
+    summaryFields(r, c, builtFrom);
+    if (r.failed() || builtFrom.size() % 2 != 0)
+        return Error{path.string() + ": truncated shard carry file"};
+    for (std::size_t k = 0; k < builtFrom.size(); k += 2)
+        c.builtFrom.push_back({c.shard.level + 1, builtFrom[k], builtFrom[k + 1]});
     if (whole) {
-        boundsAndSampleFields(r, c);
-        const auto grid = [](const LevelGrid& g) {
-            return g.width >= 0 && g.height >= 0 &&
-                   g.values.size() == static_cast<std::size_t>(g.width * g.height);
-        };
-        const auto samples = static_cast<std::size_t>(std::max<std::int64_t>(0, c.evenWidth) *
-                                                      std::max<std::int64_t>(0, c.evenHeight));
-        if (!r.failed() && (!grid(c.bounds.approx) || !grid(c.bounds.interpolation) ||
-                            c.evenHeights.size() != samples || c.evenValid.size() != samples))
-            return Error{path.string() + ": inconsistent shard carry file"};
+        parentFields(r, c);
+        if (r.failed()) return Error{path.string() + ": truncated shard carry file"};
+        if (!consistent(c)) return Error{path.string() + ": inconsistent shard carry file"};
     }
-    if (r.failed()) return Error{path.string() + ": truncated shard carry file"};
     return c;
 }
 
-fs::path edgePath(const fs::path& staging, bool east, std::int64_t index) {
-    return staging / "tmp" / "edges" / fmt::format("{}-{}.f32", east ? "east" : "south", index);
-}
-
-Status writeEdge(const fs::path& path, const EdgeRun& run) {
-    CarryWriter w;
-    w.field(kEdgeMagic);
-    w.field(run.first);
-    w.values(run.values);
-    return writeFileAtomically(path, w.bytes());
-}
-
-Result<EdgeRun> readEdge(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return Error{path.string() + ": missing (the edge shard's task has not finished)"};
-    CarryReader r(in);
-    char magic[8] = {};
-    r.field(magic);
-    EdgeRun run;
-    r.field(run.first);
-    r.values(run.values);
-    if (r.failed() || std::memcmp(magic, kEdgeMagic, sizeof magic) != 0)
-        return Error{path.string() + ": not a DEM edge file, or truncated"};
-    return run;
+Result<RegionCarry> readShardCarry(const fs::path& staging, const ShardId& shard,
+                                   const std::string& fingerprint, bool whole) {
+    const fs::path path = carryPath(staging, shard);
+    auto carry = readCarry(path, whole);
+    if (!carry) return carry.error();
+    if (Status origin = checkCarryOrigin(path, fingerprint, carry.value().fingerprint, shard,
+                                         carry.value().shard);
+        !origin)
+        return origin.error();
+    return carry;
 }
 
 }  // namespace terrain::io::detail

@@ -1,21 +1,21 @@
-#include "terrain/build/GlobeShards.h"
+// The globe's shard tiling (ShardTiling.h, PyramidShards.h): which shards of the cube-sphere
+// reach one geographic source, a finest shard built from the source's samples around it read
+// block by block, a coarser one from its children's carries, measured at the source's samples
+// or, above the measured levels, bounded by the nested bound (carryToParents).
+#include "ShardTiling.h"
 
 #include "BuildClock.h"
-#include "BuildOutput.h"
 #include "GeographicBlocks.h"
 #include "GeographicGrid.h"
+#include "GlobeSources.h"
 #include "GlobePatchBuild.h"
-#include "GlobeShardCarry.h"
 #include "ParallelFor.h"
 #include "RegionStaging.h"
-#include "ShardCarry.h"
-#include "SourceCoverage.h"
 #include "terrain/globe/CubeSphere.h"
 #include "terrain/globe/GlobePatch.h"
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/build/GlobePatchSurface.h"
-#include "terrain/build/GlobePyramidBuilder.h"
 #include "terrain/pyramid/HeightCodes.h"
 #include "terrain/pyramid/PatchErrors.h"
 
@@ -27,14 +27,12 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <numbers>
 #include <set>
-#include <sstream>
 #include <thread>
 #include <unordered_map>
 #include <unordered_set>
@@ -43,7 +41,6 @@ namespace terrain::io {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 using detail::idOf;
 using detail::keyOf;
 using detail::patchIndex;
@@ -58,8 +55,8 @@ constexpr double kMarginPatches = 3.0;
 
 // What decides the shards' bytes: the source as read (and where its grid lies) and the build
 // options.
-std::string fingerprintOf(const DemInfo& dem, const PyramidLayout& layout,
-                          const PyramidBuildOptions& options) {
+std::string globeFingerprint(const DemInfo& dem, const PyramidLayout& layout,
+                             const PyramidBuildOptions& options) {
     const Georeference& g = dem.georeference;
     return detail::regionFingerprint(dem, layout, options,
                                      {{"tiling", "globe"},
@@ -236,19 +233,12 @@ struct Source {
     int faceFinestLevel = 0;
 };
 
+// The source's grid (shardable has refused a projected or rotated one) and finest face level.
 Result<Source> describeSource(DemReader& reader, int quads) {
-    const DemInfo& dem = reader.info();
-    if (dem.resampledFrom)
-        return Error{dem.path +
-                     ": a projected or rotated source is not built shard by shard yet; build it "
-                     "whole (--globe without a region option), within --memory"};
-    Result<GeographicGrid> grid = GeographicGrid::describe(dem);
+    Result<GeographicGrid> grid = GeographicGrid::describe(reader.info());
     if (!grid) return grid.error();
-    const GeographicGrid& g = grid.value();
     // As GlobeSources::read decides it, so the whole build and the region build agree.
-    const double centreLat = 0.5 * (g.northDeg() + g.southDeg());
-    const double centreLon = g.wrapsLongitude() ? 0.0 : 0.5 * (g.westDeg() + g.eastDeg());
-    const int level = globeFinestLevelFor(g.finestSpacingMetres(), centreLat, centreLon, quads);
+    const int level = finestFaceLevelOf(grid.value(), quads);
     return Source{std::move(grid).value(), level};
 }
 
@@ -317,41 +307,31 @@ std::vector<std::vector<ShardId>> plannedShards(const PyramidLayout& layout, con
     return shards;
 }
 
-struct OpenedPlan {
-    GlobeShardPlan plan;
-    Source source;
-};
-
-Result<OpenedPlan> openPlan(DemReader& reader, const fs::path& output,
-                            const PyramidBuildOptions& options, bool create, bool listShards) {
-    const DemInfo& dem = reader.info();
-    if (Status delta = checkMaxErrorM(output, options.maxErrorM); !delta) return delta.error();
-    Result<Source> described = describeSource(reader, options.patchSamples - 1);
-    if (!described) return described.error();
-    OpenedPlan opened{{}, std::move(described).value()};
-    auto layout = globeLayout(opened.source.faceFinestLevel, options.patchSamples,
-                              options.blockQuads, options.shardPatches);
-    if (!layout) return Error{dem.path + ": " + layout.error().message};
-    GlobeShardPlan& plan = opened.plan;
-    plan.layout = layout.value();
-    plan.faceFinestLevel = opened.source.faceFinestLevel;
-    plan.staging = shardStagingFolder(output);
-    plan.fingerprint = fingerprintOf(dem, plan.layout, options);
-    const std::uint64_t needed = 2 * globeShardBytes(plan.layout);
-    if (needed > options.memoryBudgetBytes)
-        return Error{fmt::format(
-            "{}: a globe shard of {} × {} patches needs about {} MiB, more than the memory "
-            "budget of {} MiB (lower --shard-patches or raise --memory)",
-            dem.path, options.shardPatches, options.shardPatches, needed >> 20,
-            options.memoryBudgetBytes >> 20)};
-    if (listShards) plan.shards = plannedShards(plan.layout, opened.source);
-    if (Status staged = detail::openStagingPlan(plan.staging, plan.fingerprint, create); !staged)
-        return staged.error();
-    return opened;
-}
-
 // ---------------------------------------------------------------------------------------
 // Building a shard.
+
+// Bytes a globe shard task needs besides its block cache, about; a task refuses a budget below
+// twice it (ShardPlan::taskBytes).
+std::uint64_t globeShardBytes(const PyramidLayout& layout) {
+    const auto patches =
+        std::uint64_t(layout.shardPatches()) * std::uint64_t(layout.shardPatches());
+    const auto tile = std::uint64_t(layout.tileSamples()) * std::uint64_t(layout.tileSamples());
+    const auto drawn = std::uint64_t(layout.patchSamples()) * std::uint64_t(layout.patchSamples());
+    // Per patch: its record and the places of its samples while resampling (tile · 45 bytes),
+    // its surface (drawn · 24), its evens and its children's (drawn · 5 / 4 · 5).
+    return patches * (tile * 45 + drawn * 24 + drawn * 7) + (std::uint64_t{1} << 19);
+}
+
+// A parent's task reads its children's carries whole: patches of `quads` quads.
+Status checkPatchCarry(const fs::path& path, const detail::RegionCarry& c, int quads) {
+    const std::size_t patches = c.keys.size();
+    const auto half = static_cast<std::size_t>(quads / 2);
+    const std::size_t samples = patches * (half + 1) * (half + 1);
+    if (c.evenHeights.size() != samples ||
+        (!c.parentLow.empty() && c.parentLow.size() != patches * half * half))
+        return Error{path.string() + ": inconsistent globe shard carry file"};
+    return {};
+}
 
 // Levels above the finest whose Err(P) is measured at the source's samples, as the whole build
 // measures every level, before the nested bound takes over: each costs a pass over the source
@@ -415,7 +395,7 @@ struct Patch {
 
 class ShardBuilder {
 public:
-    ShardBuilder(DemReader& reader, const Source& source, const GlobeShardPlan& plan,
+    ShardBuilder(DemReader& reader, const Source& source, const ShardPlan& plan,
                  const ShardId& shard, const PyramidBuildOptions& options)
         : m_reader(reader),
           m_source(source),
@@ -458,12 +438,12 @@ public:
         }
         m_blocks = std::make_unique<detail::GeographicBlocks>(m_reader, m_source.grid, cache,
                                                               blockRows, blockColumns);
-        auto start = Clock::now();
+        auto start = BuildClock::now();
         if (Status built = finest ? buildFinest(window) : buildCoarse(); !built) return built;
         if (measured)
             if (Status made = measureAtSamples(window); !made) return made;
         m_carry.phases.readSeconds += secondsSince(start);
-        start = Clock::now();
+        start = BuildClock::now();
         std::vector<const PatchRecord*> records;
         for (auto& [key, patch] : m_patches) {
             detail::finishGlobePatch(m_layout, m_level, patch.error, patch.presentChildren,
@@ -484,7 +464,7 @@ public:
             carryToParents(parentNested);
         }
         m_carry.phases.boundsSeconds += secondsSince(start);
-        start = Clock::now();
+        start = BuildClock::now();
         m_carry.patches = std::ssize(records);
         if (!records.empty()) {
             ShardWriterOptions writerOptions;
@@ -498,7 +478,7 @@ public:
         return {};
     }
 
-    detail::GlobeShardCarry& carry() { return m_carry; }
+    detail::RegionCarry& carry() { return m_carry; }
 
 private:
     bool inShard(PatchKey key) const {
@@ -635,7 +615,7 @@ private:
         std::mutex merge;
         Status read = forEachRow(window, [&](const SampleRow& r) {
             std::vector<PatchKey> seen;
-            detail::GlobeShardCarry counts;  // this row's statistics
+            detail::DemStatistics counts;  // this row's
             bool inThisShard = false;
             for (std::int64_t c = 0; c < r.count; ++c) {
                 if (seen.empty() || r.keys[c] != seen.back()) {
@@ -653,10 +633,7 @@ private:
             }
             const std::scoped_lock lock(merge);
             holding.insert(seen.begin(), seen.end());
-            m_carry.noDataSamples += counts.noDataSamples;
-            m_carry.validSamples += counts.validSamples;
-            m_carry.minHeight = std::min(m_carry.minHeight, counts.minHeight);
-            m_carry.maxHeight = std::max(m_carry.maxHeight, counts.maxHeight);
+            m_carry.statistics.add(counts);
         });
         if (!read) return read;
         // The shard's patches the whole build considers (GlobePyramidBuilder: holding ones and
@@ -753,23 +730,19 @@ private:
         const int half = m_quads / 2;
         const auto evenCount = static_cast<std::size_t>((half + 1) * (half + 1));
         const auto quadCount = static_cast<std::size_t>(half * half);
-        std::vector<detail::GlobeShardCarry> carries;
+        std::vector<detail::RegionCarry> carries;
         std::unordered_map<PatchKey, Child> children;
         for (const ShardId& child : childShards(m_layout, m_shard)) {
             const fs::path path = detail::carryPath(m_plan.staging, child);
             std::error_code ec;
             if (!fs::exists(path, ec)) continue;  // not planned, or not built: the merge tells
-            auto read = detail::readGlobeCarry(path, true, m_quads);
+            auto read = detail::readShardCarry(m_plan.staging, child, m_plan.fingerprint, true);
             if (!read) return read.error();
-            if (Status origin = detail::checkCarryOrigin(
-                    path, m_plan.fingerprint, read.value().fingerprint, child, read.value().shard);
-                !origin)
-                return origin;
-            m_carry.childShards.push_back(child.x);
-            m_carry.childShards.push_back(child.y);
+            if (Status fits = checkPatchCarry(path, read.value(), m_quads); !fits) return fits;
+            m_carry.builtFrom.push_back(child);
             carries.push_back(std::move(read).value());
         }
-        for (const detail::GlobeShardCarry& c : carries)
+        for (const detail::RegionCarry& c : carries)
             for (std::size_t k = 0; k < c.keys.size(); ++k)
                 children[c.keys[k]] = {
                     c.errors[k], c.evenHeights.data() + k * evenCount,
@@ -947,7 +920,7 @@ private:
 
     DemReader& m_reader;
     const Source& m_source;
-    const GlobeShardPlan& m_plan;
+    const ShardPlan& m_plan;
     const PyramidLayout& m_layout;
     ShardId m_shard;
     int m_level;  // the face level
@@ -957,192 +930,101 @@ private:
     std::optional<ManifestQuantization> m_quantization;
     std::unique_ptr<detail::GeographicBlocks> m_blocks;
     std::map<PatchKey, Patch> m_patches;  // ordered: the shard's bytes do not depend on hashing
-    detail::GlobeShardCarry m_carry;
+    detail::RegionCarry m_carry;
 };
 
-Result<detail::GlobeShardCarry> readSummary(const GlobeShardPlan& plan, const ShardId& shard) {
-    const fs::path path = detail::carryPath(plan.staging, shard);
-    auto carry = detail::readGlobeCarry(path, false, 0);
-    if (!carry) return carry.error();
-    if (Status origin = detail::checkCarryOrigin(path, plan.fingerprint, carry.value().fingerprint,
-                                                 shard, carry.value().shard);
-        !origin)
-        return origin.error();
-    return carry;
-}
+class GlobeShardTiling final : public detail::ShardTiling {
+public:
+    GlobeShardTiling(DemReader& reader, Source source, const PyramidBuildOptions& options)
+        : m_reader(reader), m_source(std::move(source)), m_options(options) {}
+
+    static Result<std::unique_ptr<detail::ShardTiling>> open(DemReader& reader,
+                                                             const fs::path& output,
+                                                             const PyramidBuildOptions& options,
+                                                             bool listShards) {
+        const DemInfo& dem = reader.info();
+        Result<Source> described = describeSource(reader, options.patchSamples - 1);
+        if (!described) return described.error();
+        auto tiling =
+            std::make_unique<GlobeShardTiling>(reader, std::move(described).value(), options);
+        const int faceFinestLevel = tiling->m_source.faceFinestLevel;
+        auto layout = globeLayout(faceFinestLevel, options.patchSamples, options.blockQuads,
+                                  options.shardPatches);
+        if (!layout) return Error{dem.path + ": " + layout.error().message};
+        ShardPlan& plan = tiling->m_plan;
+        plan.surface = PyramidSurface::Globe;
+        plan.layout = layout.value();
+        plan.faceFinestLevel = faceFinestLevel;
+        plan.staging = shardStagingFolder(output);
+        plan.fingerprint = globeFingerprint(dem, plan.layout, options);
+        // Its patches, and as much again for its cache of source blocks.
+        plan.taskBytes = 2 * globeShardBytes(plan.layout);
+        if (listShards) plan.shards = plannedShards(plan.layout, tiling->m_source);
+        return std::unique_ptr<detail::ShardTiling>(std::move(tiling));
+    }
+
+    std::string taskName() const override {
+        return fmt::format("a globe shard of {} × {} patches", m_plan.layout.shardPatches(),
+                           m_plan.layout.shardPatches());
+    }
+
+    Status checkShard(const ShardId& shard, const fs::path& output) const override {
+        const PyramidLayout& layout = m_plan.layout;
+        if (shard.level < kOffset || shard.level > layout.finestLevel() ||
+            !layout.contains(shard) || !mayHoldSource(layout, m_source, shard))
+            return Error{fmt::format(
+                "{}: shard {}/{}/{} is not one of this globe pyramid's (levels {} to {}; "
+                "terrain-build --plan --json lists them)",
+                output.string(), shard.level, shard.x, shard.y, kOffset, layout.finestLevel())};
+        return {};
+    }
+
+    Result<detail::RegionCarry> buildShard(const ShardId& shard) override {
+        ShardBuilder builder(m_reader, m_source, m_plan, shard, m_options);
+        if (Status built = builder.run(); !built)
+            return Error{m_reader.info().path + ": " + built.error().message};
+        return std::move(builder.carry());
+    }
+
+    Result<PyramidManifest> manifest(const detail::RegionTotals& totals,
+                                     std::vector<std::string>& warnings) override {
+        const DemInfo& dem = m_reader.info();
+        const detail::DemStatistics& statistics = totals.statistics;
+        if (Status covered =
+                detail::checkCoverage(dem.path, statistics.validSamples + statistics.noDataSamples,
+                                      statistics.validSamples, warnings);
+            !covered)
+            return covered.error();
+        DemReader* const readers[] = {&m_reader};
+        PyramidManifest m =
+            detail::globeManifest(m_plan.layout, m_plan.faceFinestLevel, m_source.grid, readers);
+        for (ManifestLevel& level : m.levels) {  // what the shards hold
+            const auto i = static_cast<std::size_t>(level.level);
+            level.presentPatches = totals.presentPatches[i];
+            level.presentShards = totals.presentShards[i];
+            level.maxError = totals.levelMaxError[i];
+        }
+        m.statistics.rootError = totals.levelMaxError[static_cast<std::size_t>(kOffset)];
+        m.statistics.validSamples = statistics.validSamples;
+        m.statistics.minHeight = statistics.minHeight;
+        m.statistics.maxHeight = statistics.maxHeight;
+        m.noData.samples = statistics.noDataSamples;
+        m.quantization = totals.quantization;
+        return m;
+    }
+
+private:
+    DemReader& m_reader;
+    Source m_source;
+    const PyramidBuildOptions& m_options;
+};
 
 }  // namespace
 
-std::uint64_t globeShardBytes(const PyramidLayout& layout) {
-    const auto patches =
-        std::uint64_t(layout.shardPatches()) * std::uint64_t(layout.shardPatches());
-    const auto tile = std::uint64_t(layout.tileSamples()) * std::uint64_t(layout.tileSamples());
-    const auto drawn = std::uint64_t(layout.patchSamples()) * std::uint64_t(layout.patchSamples());
-    // Per patch: its record and the places of its samples while resampling (tile · 45 bytes),
-    // its surface (drawn · 24), its evens and its children's (drawn · 5 / 4 · 5).
-    return patches * (tile * 45 + drawn * 24 + drawn * 7) + (std::uint64_t{1} << 19);
-}
-
-std::vector<ShardId> globeShardInputs(const GlobeShardPlan& plan, const ShardId& shard) {
-    std::vector<ShardId> inputs;
-    if (shard.level >= plan.layout.finestLevel()) return inputs;
-    const std::vector<ShardId>& finer = plan.shards[static_cast<std::size_t>(shard.level + 1)];
-    for (const ShardId& child : childShards(plan.layout, shard))
-        if (std::binary_search(finer.begin(), finer.end(), child,
-                               [](const ShardId& a, const ShardId& b) {
-                                   return std::pair(a.y, a.x) < std::pair(b.y, b.x);
-                               }))
-            inputs.push_back(child);
-    return inputs;
-}
-
-Result<GlobeShardPlan> planGlobeShards(DemReader& reader, const fs::path& output,
-                                       const PyramidBuildOptions& options) {
-    auto opened = openPlan(reader, output, options, true, true);
-    if (!opened) return opened.error();
-    return std::move(opened.value().plan);
-}
-
-Result<ShardBuildSummary> buildGlobeShard(DemReader& reader, const fs::path& output,
-                                          const ShardId& shard,
-                                          const PyramidBuildOptions& options) {
-    const auto start = Clock::now();
-    auto opened = openPlan(reader, output, options, true, false);
-    if (!opened) return opened.error();
-    const GlobeShardPlan& plan = opened.value().plan;
-    const Source& source = opened.value().source;
-    const PyramidLayout& layout = plan.layout;
-    if (shard.level < kOffset || shard.level > layout.finestLevel() || !layout.contains(shard) ||
-        !mayHoldSource(layout, source, shard))
-        return Error{fmt::format(
-            "{}: shard {}/{}/{} is not one of this globe pyramid's (levels {} to {}; "
-            "terrain-build --plan --json lists them)",
-            output.string(), shard.level, shard.x, shard.y, kOffset, layout.finestLevel())};
-    ShardBuilder builder(reader, source, plan, shard, options);
-    if (Status built = builder.run(); !built)
-        return Error{reader.info().path + ": " + built.error().message};
-    detail::GlobeShardCarry& carry = builder.carry();
-    carry.seconds = secondsSince(start);
-    if (Status written = detail::writeGlobeCarry(detail::carryPath(plan.staging, shard), carry);
-        !written)
-        return written.error();
-    ShardBuildSummary summary;
-    summary.shard = shard;
-    summary.patches = carry.patches;
-    std::error_code ec;
-    const fs::path file = plan.staging / layout.shardPath(shard);
-    summary.bytes = fs::exists(file, ec) ? fs::file_size(file, ec) : 0;
-    summary.seconds = carry.seconds;
-    return summary;
-}
-
-Result<PyramidBuildSummary> mergeGlobeShards(DemReader& reader, const fs::path& output,
-                                             const PyramidBuildOptions& options) {
-    const auto start = Clock::now();
-    auto opened = openPlan(reader, output, options, false, true);
-    if (!opened) return opened.error();
-    const GlobeShardPlan& plan = opened.value().plan;
-    const PyramidLayout& layout = plan.layout;
-
-    PyramidBuildSummary summary;
-    PyramidManifest& m = summary.manifest;
-    DemReader* const readers[] = {&reader};
-    m = detail::globeManifest(layout, plan.faceFinestLevel, opened.value().source.grid, readers);
-    std::optional<ManifestQuantization> quantization;
-    if (options.maxErrorM > 0.0) quantization = ManifestQuantization{options.maxErrorM};
-    double minHeight = std::numeric_limits<double>::infinity(), maxHeight = -minHeight;
-    std::int64_t noData = 0;
-    for (ManifestLevel& level : m.levels) {  // what the shards hold, counted below
-        level.presentPatches = 0;
-        level.presentShards.clear();
-        level.maxError = 0.0;
-    }
-    for (int level = layout.finestLevel(); level >= kOffset; --level) {
-        ManifestLevel& entry = m.levels[static_cast<std::size_t>(level)];
-        for (const ShardId& shard : plan.shards[static_cast<std::size_t>(level)]) {
-            auto read = readSummary(plan, shard);
-            if (!read) return read.error();
-            const detail::GlobeShardCarry& c = read.value();
-            std::vector<ShardId> builtFrom;
-            for (std::size_t k = 0; k + 1 < c.childShards.size(); k += 2)
-                builtFrom.push_back({level + 1, c.childShards[k], c.childShards[k + 1]});
-            for (const ShardId& input : globeShardInputs(plan, shard))
-                if (std::find(builtFrom.begin(), builtFrom.end(), input) == builtFrom.end())
-                    return Error{fmt::format(
-                        "{}: shard {}/{}/{} was built before shard {}/{}/{} beneath it (build it "
-                        "again, then merge)",
-                        plan.staging.string(), shard.level, shard.x, shard.y, input.level, input.x,
-                        input.y)};
-            std::error_code ec;
-            const fs::path file = plan.staging / layout.shardPath(shard);
-            if ((c.patches > 0) != fs::is_regular_file(file, ec))
-                return Error{file.string() + (c.patches > 0 ? ": missing" : ": not of this build")};
-            if (c.patches > 0) entry.presentShards.push_back(shard);
-            entry.presentPatches += c.patches;
-            entry.maxError = std::max(entry.maxError, double(c.levelMaxError));
-            summary.patches += c.patches;
-            summary.phases.readSeconds += c.phases.readSeconds;
-            summary.phases.boundsSeconds += c.phases.boundsSeconds;
-            summary.phases.writeSeconds += c.phases.writeSeconds;
-            if (level == kOffset)
-                m.statistics.rootError = std::max(m.statistics.rootError, double(c.levelMaxError));
-            if (level != layout.finestLevel()) continue;
-            m.statistics.validSamples += c.validSamples;
-            noData += c.noDataSamples;
-            minHeight = std::min(minHeight, c.minHeight);
-            maxHeight = std::max(maxHeight, c.maxHeight);
-            if (quantization)
-                quantization->finestLargestErrorM =
-                    std::max(quantization->finestLargestErrorM, c.finestLargestQuantErrorM);
-        }
-    }
-    const DemInfo& dem = reader.info();
-    if (m.statistics.validSamples == 0)
-        return refuseEmptySource(dem.path, dem.width * dem.height, 0).error();
-    if (auto warning = mostlyNoDataWarning(dem.path, m.statistics.validSamples + noData,
-                                           m.statistics.validSamples))
-        summary.warnings.push_back(*warning);
-    m.noData.samples = noData;
-    m.statistics.minHeight = minHeight;
-    m.statistics.maxHeight = maxHeight;
-    m.quantization = quantization;
-
-    auto adopted = PartialBuildFolder::adopt(output, plan.staging, options.overwrite);
-    if (!adopted) return adopted.error();
-    summary.seconds = secondsSince(start);
-    m.build.seconds = summary.seconds;
-    if (Status written = writeManifest(plan.staging, m); !written) return written.error();
-    detail::removeStagingFiles(plan.staging);
-    summary.bytes = folderBytes(plan.staging);
-    if (Status committed = adopted.value().commit(); !committed) return committed.error();
-    return summary;
-}
-
-Result<PyramidBuildSummary> buildGlobePyramidByShards(DemReader& reader, const fs::path& output,
-                                                      const PyramidBuildOptions& options) {
-    const auto start = Clock::now();
-    std::error_code ec;
-    if (fs::exists(output, ec) && !options.overwrite)
-        return Error{output.string() + ": already exists (pass --overwrite to replace it)"};
-    auto planned = planGlobeShards(reader, output, options);
-    if (!planned) return planned.error();
-    const GlobeShardPlan& plan = planned.value();
-    detail::StagingCleanup cleanup(plan.staging);
-
-    double total = 0.0, done = 0.0;
-    for (const std::vector<ShardId>& level : plan.shards) total += double(level.size());
-    for (int level = plan.layout.finestLevel(); level >= kOffset; --level)
-        for (const ShardId& shard : plan.shards[static_cast<std::size_t>(level)]) {
-            auto built = buildGlobeShard(reader, output, shard, options);
-            if (!built) return built.error();
-            done += 1.0;
-            if (options.progress) options.progress({level, std::min(1.0, done / total)});
-        }
-    auto merged = mergeGlobeShards(reader, output, options);
-    if (!merged) return merged;
-    cleanup.merged();
-    merged.value().seconds = secondsSince(start);
-    return merged;
+Result<std::unique_ptr<detail::ShardTiling>> detail::globeShardTiling(
+    DemReader& reader, const fs::path& output, const PyramidBuildOptions& options,
+    bool listShards) {
+    return GlobeShardTiling::open(reader, output, options, listShards);
 }
 
 }  // namespace terrain::io

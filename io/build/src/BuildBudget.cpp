@@ -1,0 +1,151 @@
+#include "BuildBudget.h"
+
+#include "BuildOutput.h"
+#include "WholeBuilds.h"
+#include "terrain/build/PyramidShards.h"
+#include "terrain/pyramid/PyramidLayout.h"
+
+#include <fmt/format.h>
+
+namespace terrain::io {
+namespace detail {
+
+std::string memoryBudgetMessage(std::string_view path, std::string_view what,
+                                std::uint64_t neededBytes, std::uint64_t budgetBytes,
+                                std::string_view remedy) {
+    constexpr std::uint64_t kMiB = std::uint64_t{1} << 20;
+    return fmt::format("{}: {} needs about {} MiB, more than --memory ({} MiB); {}", path, what,
+                       (neededBytes + kMiB - 1) / kMiB, budgetBytes / kMiB, remedy);
+}
+
+Status checkMemoryBudget(std::string_view path, std::string_view what, std::uint64_t neededBytes,
+                         std::uint64_t budgetBytes, std::string_view remedy) {
+    if (neededBytes <= budgetBytes) return {};
+    return Error{memoryBudgetMessage(path, what, neededBytes, budgetBytes, remedy)};
+}
+
+std::uint64_t planarBandBytes(const PyramidLayout& l, std::int64_t bandPatches) {
+    // Two patch rows of padded samples (heights and mask), the reader's window, and the
+    // patch records.
+    const auto bandBytes =
+        std::uint64_t(2 * l.patchQuads() + 3) * std::uint64_t(bandPatches * l.patchQuads() + 3) * 5;
+    const auto recordBytes =
+        std::uint64_t(2 * bandPatches) * std::uint64_t(l.tileSamples() * l.tileSamples()) * 5;
+    return 2 * bandBytes + recordBytes + (std::uint64_t{64} << 20);
+}
+
+}  // namespace detail
+
+Status shardable(PyramidSurface surface, std::span<DemReader* const> readers) {
+    if (readers.size() != 1)
+        return Error{
+            "--plan, --shard, --merge and --by-shards build a globe pyramid of one source; "
+            "several are composited whole (give them as one mosaic, or build without a region "
+            "option)"};
+    const DemInfo& dem = readers.front()->info();
+    if (dem.resampledFrom)
+        return Error{dem.path + (surface == PyramidSurface::Globe
+                                     ? ": a projected or rotated source is not built shard by "
+                                       "shard yet; build it whole (--globe without a region "
+                                       "option), within --memory"
+                                     : ": a rotated or sheared source is not built shard by "
+                                       "shard yet (build it whole)")};
+    return {};
+}
+
+namespace detail {
+namespace {
+
+// A planar pyramid's whole build holds a band of two patch rows across the finest level.
+Result<BuildDecision> decidePlanar(DemReader& reader, const PyramidBuildOptions& options,
+                                   BuildWay requested) {
+    const DemInfo& dem = reader.info();
+    // Its own samples are placed by a CRS transform, which the planar bounds do not follow.
+    if (dem.resampledFrom && !dem.resampledFrom->fromCrs.empty())
+        return Error{dem.path +
+                     ": reprojected onto a longitude/latitude grid, which only a globe pyramid "
+                     "takes; build a planar pyramid from it in its own CRS"};
+    DemReader* const readers[] = {&reader};
+    const Status canShard = shardable(PyramidSurface::Plane, readers);
+    if (requested == BuildWay::ByShards) {
+        if (!canShard) return canShard.error();
+        return BuildDecision{BuildWay::ByShards, std::nullopt};
+    }
+    auto layout = PyramidLayout::create(dem.width, dem.height, options.patchSamples,
+                                        options.blockQuads, options.shardPatches);
+    if (!layout) return Error{dem.path + ": " + layout.error().message};
+    const PyramidLayout& l = layout.value();
+    const std::uint64_t needed = planarBandBytes(l, l.patchesX(l.finestLevel()));
+    const std::string what =
+        fmt::format("a band of two patch rows across its {} samples", dem.width);
+    if (requested == BuildWay::Whole || needed <= options.memoryBudgetBytes)
+        return BuildDecision{BuildWay::Whole, std::nullopt};
+    if (!canShard)
+        return Error{memoryBudgetMessage(dem.path, what, needed, options.memoryBudgetBytes,
+                                         "raise --memory (" + canShard.error().message + ")")};
+    return BuildDecision{BuildWay::ByShards,
+                         memoryBudgetMessage(dem.path, what, needed, options.memoryBudgetBytes,
+                                             "built shard by shard")};
+}
+
+// A globe pyramid's whole build holds its sources whole (GlobeSources::read, which checks
+// them against half the budget); one geographic source too large for that is built shard by
+// shard, in memory bounded whatever its size.
+Result<BuildDecision> decideGlobe(std::span<DemReader* const> readers,
+                                  const std::filesystem::path& output,
+                                  const PyramidBuildOptions& options, BuildWay requested) {
+    if (readers.empty())
+        return Error{output.string() + ": no source to build a globe pyramid from"};
+    const Status canShard = shardable(PyramidSurface::Globe, readers);
+    if (requested == BuildWay::ByShards) {
+        if (!canShard) return canShard.error();
+        return BuildDecision{BuildWay::ByShards, std::nullopt};
+    }
+    const DemInfo& only = readers.front()->info();
+    // The source's heights and masks, 5 bytes a sample, in half of the budget (the other half
+    // is the patches').
+    const double held = double(only.width) * double(only.height) * 5.0;
+    if (requested == BuildWay::Whole || !canShard ||
+        only.georeference.crsKind != CrsKind::Geographic ||
+        held <= double(options.memoryBudgetBytes / 2))
+        return BuildDecision{BuildWay::Whole, std::nullopt};
+    return BuildDecision{
+        BuildWay::ByShards,
+        memoryBudgetMessage(
+            only.path,
+            fmt::format("a whole globe build of its {} × {} samples", only.width, only.height),
+            2 * static_cast<std::uint64_t>(held), options.memoryBudgetBytes,
+            "built shard by shard")};
+}
+
+}  // namespace
+
+Result<BuildDecision> decideBuildWay(PyramidSurface surface, std::span<DemReader* const> readers,
+                                     const std::filesystem::path& output,
+                                     const PyramidBuildOptions& options, BuildWay requested) {
+    if (Status delta = checkMaxErrorM(output, options.maxErrorM); !delta) return delta.error();
+    if (surface == PyramidSurface::Globe) return decideGlobe(readers, output, options, requested);
+    TERRAIN_ASSERT(readers.size() == 1, "a planar pyramid is built from one source (a mosaic)");
+    return decidePlanar(*readers.front(), options, requested);
+}
+
+}  // namespace detail
+
+Result<PyramidBuildSummary> buildPyramid(PyramidSurface surface,
+                                         std::span<DemReader* const> readers,
+                                         const std::filesystem::path& output,
+                                         const PyramidBuildOptions& options, BuildWay way) {
+    auto decided = detail::decideBuildWay(surface, readers, output, options, way);
+    if (!decided) return decided.error();
+    const bool globe = surface == PyramidSurface::Globe;
+    Result<PyramidBuildSummary> built =
+        decided.value().way == BuildWay::Whole
+            ? (globe ? detail::buildWholeGlobePyramid(readers, output, options)
+                     : detail::buildWholePlanarPyramid(*readers.front(), output, options))
+            : buildPyramidByShards(surface, *readers.front(), output, options);
+    if (built && decided.value().warning)
+        built.value().warnings.insert(built.value().warnings.begin(), *decided.value().warning);
+    return built;
+}
+
+}  // namespace terrain::io
