@@ -1,9 +1,12 @@
-// Fuzz target: the camera path readers (CameraPath::load, GlobeCameraPath::load: JSON,
-// keys, checks, spline tangents). Each reads the same input; each refuses the other's
-// format by name. A path either reader accepts must play: every pose along it is finite.
+// Fuzz target: the one camera path reader (FlightPath::load: JSON, keys, checks, spline
+// tangents), read without a stated surface and as each surface's path. A file is accepted
+// without a stated surface exactly when it is accepted as its own surface's path (never as
+// both), and refused with that surface's words; a path it accepts must play: every pose along
+// it is finite.
 #include "FuzzScratch.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/CameraPath.h"
+#include "terrain/runtime/FlightPath.h"
 #include "terrain/runtime/GlobeCameraPath.h"
 
 #include <cmath>
@@ -18,8 +21,7 @@ bool finite(const terrain::runtime::Camera& c) {
            std::isfinite(c.fovY);
 }
 
-template <typename Path>
-void play(const Path& path) {
+void play(const terrain::runtime::FlightPath& path) {
     terrain::runtime::Camera camera;
     for (int i = 0; i <= 8; ++i) {
         path.apply(path.startS() + path.durationS() * i / 8.0, camera);
@@ -51,7 +53,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     using namespace terrain;
     const fuzz::fs::path file = fuzz::scratch() / "input.camera.json";
     fuzz::writeFile(file, std::span(data, size));
-    if (auto planar = runtime::CameraPath::load(file)) play(planar.value());
-    if (auto globe = runtime::GlobeCameraPath::load(file)) play(globe.value());
+    const auto either = runtime::FlightPath::load(file);
+    const auto planar = runtime::FlightPath::load(file, runtime::PathFrame::Plane);
+    const auto globe = runtime::FlightPath::load(file, runtime::PathFrame::Globe);
+    fuzz::require(!(planar.ok() && globe.ok()), "a camera path file is of one surface only");
+    if (either) {
+        const bool ownSurface =
+            either.value().frame() == runtime::PathFrame::Plane ? planar.ok() : globe.ok();
+        fuzz::require(ownSurface, "a path read without a stated surface reads as its own");
+        play(either.value());
+    } else {
+        fuzz::require(!planar.ok() && !globe.ok(),
+                      "a path refused without a stated surface is refused on both");
+        fuzz::require(either.error().message == planar.error().message ||
+                          either.error().message == globe.error().message,
+                      "a path refused without a stated surface is refused in its surface's words");
+    }
     return 0;
 }

@@ -8,21 +8,18 @@
 #include "FrameSizeFlags.h"
 #include "GlImagePng.h"
 #include "GlInfoJson.h"
-#include "GlobeFlight.h"
+#include "GlobeFlags.h"
 #include "LodFlags.h"
 #include "StreamingBudgetFlags.h"
+#include "SurfaceKit.h"
 
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/gl/HeadlessGlContext.h"
-#include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/pyramid/PyramidManifest.h"
-#include "terrain/runtime/CameraPath.h"
-#include "terrain/runtime/GlobeCamera.h"
-#include "terrain/runtime/GlobeCameraPath.h"
+#include "terrain/runtime/FlightPath.h"
 #include "terrain/runtime/LodStrategyFactory.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
-#include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/TerrainSession.h"
 
 #include <epoxy/gl.h>
@@ -35,7 +32,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <numbers>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
@@ -67,12 +64,8 @@ struct RenderOptions {
     tools::StreamingBudgets budgets{
         .cpuCacheMiB = 256.0, .gpuLayers = 1024, .uploadMiBPerFrame = 16.0};
     tools::DrawStyleFlags look;
+    tools::GlobeFlags globe;
     bool json = false;
-    // Globe pyramids: a fixed pose where any of these is given, else the flight from orbit.
-    std::optional<double> latitudeDeg, longitudeDeg, heightM;
-    double headingDeg = 0.0;
-    double pitchDeg = -90.0;
-    bool noHorizonCulling = false;
 };
 
 int fail(const std::string& message) {
@@ -90,90 +83,115 @@ nlohmann::json statsJson(const runtime::LatencyHistogram& h, double scale = 1.0)
             {"mean", value(h.mean())}};
 }
 
-// The globe flight: a fixed pose where --lat, --lon or --altitude is given (the data's centre
-// for the others), else --path or the default flight from orbit to 1 m above the ground.
-Result<runtime::GlobeCameraPath> globePath(const RenderOptions& o) {
-    const double durationS = o.durationS > 0.0 ? o.durationS : 20.0;
-    if (!(o.latitudeDeg || o.longitudeDeg || o.heightM))
-        return tools::globeFlight(o.pyramid, o.pathFile, durationS);
-    auto target = tools::globeFlightTarget(o.pyramid);
-    if (!target) return target.error();
-    return runtime::GlobeCameraPath::fromKeyframes(
-        {{0.0,
-          {{o.latitudeDeg.value_or(target.value().latitudeDeg),
-            o.longitudeDeg.value_or(target.value().longitudeDeg), o.heightM.value_or(20e6)},
-           o.headingDeg,
-           o.pitchDeg},
-          runtime::GlobeCameraPath::kDefaultFovYDegrees}});
-}
+// One flight on either surface; what differs between the plane and the globe comes from the
+// pyramid's SurfaceKit.
+int run(const RenderOptions& o) {
+    const auto start = Clock::now();
+    auto context = gl::HeadlessGlContext::create();
+    if (!context) return fail(context.error().message);
+    auto manifest = io::readManifest(o.pyramid);
+    if (!manifest) return fail(manifest.error().message);
+    const std::unique_ptr<tools::SurfaceKit> kit = tools::SurfaceKit::of(manifest.value());
 
-int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time_point start) {
     runtime::TerrainSessionOptions sessionOptions;
     o.budgets.applyTo(sessionOptions.streaming);
     sessionOptions.lod.errorPx = o.errorPx;
-    sessionOptions.lod.horizonCulling = !o.noHorizonCulling;
-    auto opened = runtime::TerrainSession::open(o.pyramid, sessionOptions);
+    sessionOptions.lod.horizonCulling = !o.globe.noHorizonCulling;
+    auto method = runtime::parseLodMethod(o.method);
+    if (!method) return fail("--method: " + method.error().message);
+    if (Status supported = kit->supports(o.pyramid, method.value()); !supported)
+        return fail(supported.error().message);
+    if (Status own = kit->refuseForeignFlags(o.pyramid, o.globe); !own)
+        return fail(own.error().message);
+    sessionOptions.method = method.value();
+    sessionOptions.ripolles.coherence = !o.ripollesNoCoherence;
+    auto opened = runtime::openLodStrategy(o.pyramid, sessionOptions);
     if (!opened) return fail(opened.error().message);
-    runtime::TerrainSession& session = *opened.value();
+    runtime::LodStrategy& session = *opened.value();
+    // The streaming methods' streamer: faults, load latencies (null for the RTIN).
+    auto* const streaming = dynamic_cast<runtime::TerrainSession*>(opened.value().get());
+
+    auto path = kit->flight(o.pyramid, session.surface(), o.pathFile,
+                            o.durationS > 0.0 ? o.durationS : 20.0, o.globe);
+    if (!path) return fail(path.error().message);
+    if (!o.savePath.empty()) {
+        if (auto saved = path.value().save(o.savePath); !saved) return fail(saved.error().message);
+    }
+
     std::error_code ec;
     std::filesystem::create_directories(o.outputDir, ec);
     if (ec) return fail(fmt::format("{}: cannot create the folder: {}", o.outputDir, ec.message()));
     const std::filesystem::path outputDir(o.outputDir);
     auto csv = runtime::TelemetryCsvWriter::create(outputDir / "telemetry.csv");
     if (!csv) return fail(csv.error().message);
+
     auto framebuffer = gl::Framebuffer::create(o.widthPx, o.heightPx, "terrain-render frame");
     if (!framebuffer) return fail(framebuffer.error().message);
+
     runtime::TerrainStyle style;
     style.measure = true;
-    style.wireframe = o.look.wireframe;
-    style.skirts = !o.look.noSkirts;
-    style.debugView = o.look.debugViewValue();
-    style.skyColor = {0.02f, 0.03f, 0.08f};  // space
+    kit->applyLook(style, o.look, session.surface());
     const std::array<float, 4> sky{style.skyColor[0], style.skyColor[1], style.skyColor[2], 1.0f};
-    auto path = globePath(o);
-    if (!path) return fail(path.error().message);
-    if (!o.savePath.empty()) {
-        if (auto saved = path.value().save(o.savePath); !saved) return fail(saved.error().message);
-    }
+
     runtime::Camera camera;
     camera.viewportWidth = o.widthPx;
     camera.viewportHeight = o.heightPx;
+    camera.nearPlane = 0.5;  // the plane's; a globe path sets its own (placeOnGlobe)
     const double durationS = path.value().durationS();
     const std::uint64_t frames =
         o.frames > 0 ? o.frames : static_cast<std::uint64_t>(std::floor(durationS * o.fps)) + 1;
     const std::set<std::uint64_t> chosen(o.frameList.begin(), o.frameList.end());
+
     runtime::TelemetrySummary summary;
-    runtime::LatencyHistogram lodUs, triangles;
+    runtime::LatencyHistogram lodUs, gpuMs, triangles;
     std::uint64_t framesWritten = 0, maxDrawCalls = 0, maxTriangles = 0, maxPatches = 0;
-    std::uint64_t horizonCulled = 0, visited = 0;
-    // Faults on stderr as they happen; a cube face's root that cannot be read ends the run
-    // (that face would show the bare ellipsoid instead of its data).
+    tools::FlightFacts facts;
+    facts.pathFile = o.pathFile;
+    facts.fixedPose = o.globe.fixedPose();
+    facts.fps = o.fps;
+    facts.horizonCulling = !o.globe.noHorizonCulling;
+    // Faults on stderr as they happen; a root that cannot be read ends the run (every frame
+    // would be empty, or on a globe a cube face would show the bare ellipsoid instead of its
+    // data: nothing is left to draw in its place).
     tools::FaultPrinter faults("terrain-render");
     const auto fatal = [&]() -> std::optional<std::string> {
-        faults.printNew(session.streamer());
+        if (streaming != nullptr) faults.printNew(streaming->streamer());
         if (const runtime::TileFault* fault = session.fatalFault())
-            return "a cube face's data cannot be drawn, its root patch failed: " + fault->message;
+            return std::string(kit->rootFaultMessage()) + fault->message;
         return std::nullopt;
+    };
+    // One frame as a user would see it: the LOD update, the draw into the framebuffer.
+    struct DrawnFrame {
+        runtime::TerrainDrawStats drawn;
+        runtime::LodUpdateStats lod;      ///< as the update left it
+        std::uint64_t waitingSplits = 0;  ///< after the frame
+    };
+    const auto drawFrame = [&](runtime::FrameTelemetry& t) {
+        DrawnFrame f;
+        const runtime::LodUpdateStats& lod = session.beginFrame(camera);
+        f.lod = lod;
+        framebuffer.value().clear(sky, 0.0f);  // reversed Z: far is 0
+        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.value().id());
+        glViewport(0, 0, o.widthPx, o.heightPx);
+        f.drawn = session.draw(camera, style);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        session.endFrame(t);
+        f.waitingSplits = lod.waitingSplits;
+        return f;
     };
     const auto loopStart = Clock::now();
     auto previous = loopStart;
     for (std::uint64_t frame = 0; frame < frames; ++frame) {
-        const double fraction = frames > 1 ? double(frame) / double(frames - 1) : 0.0;
-        path.value().apply(path.value().startS() + fraction * durationS, camera);
+        path.value().apply(kit->frameTimeS(path.value(), frame, frames, o.fps), camera);
         if (o.settle && !session.settle(camera, std::chrono::seconds(60))) {
             if (auto broken = fatal()) return fail(*broken);
             return fail(fmt::format("frame {}: streaming did not settle within 60 s", frame));
         }
-        const runtime::LodUpdateStats& lod = session.beginFrame(camera);
-        horizonCulled += lod.horizonCulled;
-        visited += lod.visited;
-        framebuffer.value().clear(sky, 0.0f);
-        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.value().id());
-        glViewport(0, 0, o.widthPx, o.heightPx);
-        const runtime::TerrainDrawStats drawn = session.draw(camera, style);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
         runtime::FrameTelemetry t;
-        session.endFrame(t);
+        const DrawnFrame drawnFrame = drawFrame(t);
+        const runtime::TerrainDrawStats& drawn = drawnFrame.drawn;
+        facts.horizonCulled += drawnFrame.lod.horizonCulled;
+        facts.visited += drawnFrame.lod.visited;
         if (auto broken = fatal()) return fail(*broken);
         if ((o.every > 0 && frame % o.every == 0) || chosen.contains(frame) ||
             frame + 1 == frames) {
@@ -189,226 +207,45 @@ int runGlobe(const RenderOptions& o, gl::HeadlessGlContext& context, Clock::time
         previous = now;
         csv.value().write(t);
         summary.add(t);
-        lodUs.add(t.lodUpdateUs / 1000.0);
-        triangles.add(static_cast<double>(drawn.triangles) / 1000.0);
-        maxDrawCalls = std::max<std::uint64_t>(maxDrawCalls, t.drawCalls);
-        maxTriangles = std::max<std::uint64_t>(maxTriangles, drawn.triangles);
-        maxPatches = std::max<std::uint64_t>(maxPatches, t.patchesDrawn);
-        if (context.debugLog().errorCount() > 0)
-            return fail("OpenGL reported an error:\n" + context.debugLog().formatErrors());
-    }
-    if (auto closed = csv.value().close(); !closed) return fail(closed.error().message);
-    // Time to full detail after arriving: the last pose held, frames drawn as a user would see
-    // them, until no split waits for a tile and nothing is loading (not with --settle, whose
-    // frames are all settled).
-    nlohmann::json arrival = nullptr;
-    if (!o.settle) {
-        const auto arrived = Clock::now();
-        std::uint64_t arrivalFrames = 0;
-        bool settled = false;
-        while (!settled && std::chrono::duration<double>(Clock::now() - arrived).count() < 60.0) {
-            const runtime::LodUpdateStats& lod = session.beginFrame(camera);
-            framebuffer.value().clear(sky, 0.0f);
-            glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.value().id());
-            glViewport(0, 0, o.widthPx, o.heightPx);
-            session.draw(camera, style);
-            glBindFramebuffer(GL_FRAMEBUFFER, 0);
-            runtime::FrameTelemetry t;
-            session.endFrame(t);
-            if (auto broken = fatal()) return fail(*broken);
-            ++arrivalFrames;
-            settled = lod.waitingSplits == 0 && session.streamer().loadsOutstanding() == 0;
-        }
-        if (settled)
-            arrival = {{"frames", arrivalFrames},
-                       {"seconds", std::chrono::duration<double>(Clock::now() - arrived).count()}};
-    }
-    // The last frame's draw list by face level: data, virtual and bare patches, largest Err(P).
-    nlohmann::json byLevel = nlohmann::json::object();
-    for (const runtime::PatchDraw& d : session.draws()) {
-        nlohmann::json& level = byLevel[std::to_string(io::globePatchOf(d.id).level)];
-        if (level.is_null())
-            level = {{"data", 0}, {"virtual", 0}, {"bare", 0}, {"max_error_m", 0.0}};
-        const char* kind = d.layer < 0 ? "bare" : d.isVirtual ? "virtual" : "data";
-        level[kind] = level.value(kind, 0) + 1;
-        level["max_error_m"] = std::max(level.value("max_error_m", 0.0), double(d.errorM));
-    }
-    session.streamer().drain(std::chrono::seconds(10));
-    faults.printRest(session.streamer());
-    if (o.json) {
-        const runtime::GlobePose endPose = runtime::globePoseOf(camera);
-        const nlohmann::json out{
-            {"tool", "terrain-render"},
-            {"pyramid", o.pyramid},
-            {"tiling", "globe"},
-            {"path_duration_s", durationS},
-            {"end_pose",
-             {{"latitude_deg", endPose.where.latitudeDeg},
-              {"longitude_deg", endPose.where.longitudeDeg},
-              {"height_m", endPose.where.height}}},
-            {"last_frame_patches_by_level", byLevel},
-            {"full_detail_after_arrival", arrival},
-            {"frames", frames},
-            {"frames_written", framesWritten},
-            {"output_dir", o.outputDir},
-            {"telemetry_csv", (outputDir / "telemetry.csv").string()},
-            {"width_px", o.widthPx},
-            {"height_px", o.heightPx},
-            {"method", o.method},
-            {"error_px", o.errorPx},
-            {"settle", o.settle},
-            {"horizon_culling", !o.noHorizonCulling},
-            {"horizon_culled_fraction_of_visited",
-             visited > 0 ? double(horizonCulled) / double(visited) : 0.0},
-            {"triangles",
-             {{"p50", triangles.percentile(50.0) * 1000.0},
-              {"max", maxTriangles},
-              {"mean", triangles.mean() * 1000.0}}},
-            {"patches_drawn_max", maxPatches},
-            {"draw_calls_max", maxDrawCalls},
-            {"lod_update_us", statsJson(lodUs, 1000.0)},
-            {"telemetry", summary.toJson()},
-            {"total_seconds", std::chrono::duration<double>(Clock::now() - start).count()},
-            {"gl", tools::glInfoJson(context)},
-        };
-        std::puts(out.dump(2).c_str());
-    }
-    fmt::print(stderr,
-               "terrain-render: globe, {} frames of {}x{} at ε = {} px into {} ({} PNGs): "
-               "triangles p50 {:.0f} (max {}), {} patches max, {} draw call(s) per frame\n",
-               frames, o.widthPx, o.heightPx, o.errorPx, o.outputDir, framesWritten,
-               triangles.percentile(50.0) * 1000.0, maxTriangles, maxPatches, maxDrawCalls);
-    return 0;
-}
-
-int run(const RenderOptions& o) {
-    const auto start = Clock::now();
-    auto context = gl::HeadlessGlContext::create();
-    if (!context) return fail(context.error().message);
-    auto manifest = io::readManifest(o.pyramid);
-    if (!manifest) return fail(manifest.error().message);
-    if (manifest.value().globe) {
-        if (o.method != "yusov2011")
-            return fail(o.pyramid + ": a globe pyramid; only yusov2011 draws globes (--method " +
-                        o.method + " compares on planar pyramids)");
-        return runGlobe(o, *context.value(), start);
-    }
-
-    runtime::TerrainSessionOptions sessionOptions;
-    o.budgets.applyTo(sessionOptions.streaming);
-    sessionOptions.lod.errorPx = o.errorPx;
-    auto method = runtime::parseLodMethod(o.method);
-    if (!method) return fail("--method: " + method.error().message);
-    sessionOptions.method = method.value();
-    sessionOptions.ripolles.coherence = !o.ripollesNoCoherence;
-    auto opened = runtime::openLodStrategy(o.pyramid, sessionOptions);
-    if (!opened) return fail(opened.error().message);
-    runtime::LodStrategy& session = *opened.value();
-    // The streaming methods' streamer: faults, load latencies (null for the RTIN).
-    auto* const streaming = dynamic_cast<runtime::TerrainSession*>(opened.value().get());
-    const runtime::TerrainGeometry& geometry = runtime::planeGeometry(session.surface());
-
-    std::optional<runtime::CameraPath> path;
-    if (o.pathFile.empty()) {
-        path = runtime::CameraPath::defaultFor(geometry, o.durationS > 0.0 ? o.durationS : 20.0);
-    } else {
-        auto loaded = runtime::CameraPath::load(o.pathFile);
-        if (!loaded) return fail(loaded.error().message);
-        path = std::move(loaded).value();
-    }
-    if (!o.savePath.empty()) {
-        if (auto saved = path->save(o.savePath); !saved) return fail(saved.error().message);
-    }
-
-    std::error_code ec;
-    std::filesystem::create_directories(o.outputDir, ec);
-    if (ec) return fail(fmt::format("{}: cannot create the folder: {}", o.outputDir, ec.message()));
-    const std::filesystem::path outputDir(o.outputDir);
-    auto csv = runtime::TelemetryCsvWriter::create(outputDir / "telemetry.csv");
-    if (!csv) return fail(csv.error().message);
-
-    auto framebuffer = gl::Framebuffer::create(o.widthPx, o.heightPx, "terrain-render frame");
-    if (!framebuffer) return fail(framebuffer.error().message);
-
-    runtime::TerrainStyle style;
-    style.measure = true;
-    style.wireframe = o.look.wireframe;
-    style.skirts = !o.look.noSkirts;
-    style.debugView = o.look.debugViewValue();
-    style.fogDensityPerM = o.look.fogDensityPerM(geometry);
-    const std::array<float, 4> sky{style.skyColor[0], style.skyColor[1], style.skyColor[2], 1.0f};
-
-    runtime::Camera camera;
-    camera.viewportWidth = o.widthPx;
-    camera.viewportHeight = o.heightPx;
-    camera.nearPlane = 0.5;
-    const std::uint64_t frames =
-        o.frames > 0 ? o.frames
-                     : static_cast<std::uint64_t>(std::floor(path->durationS() * o.fps)) + 1;
-    const std::set<std::uint64_t> chosen(o.frameList.begin(), o.frameList.end());
-
-    runtime::TelemetrySummary summary;
-    runtime::LatencyHistogram lodUs, gpuMs, triangles;
-    std::uint64_t framesWritten = 0, maxDrawCalls = 0, maxTriangles = 0, maxPatches = 0;
-    const auto loopStart = Clock::now();
-    auto previous = loopStart;
-    // Faults on stderr as they happen; a root that cannot be read ends the run (every
-    // frame would be empty: nothing is left to draw in its place).
-    tools::FaultPrinter faults("terrain-render");
-    const auto fatal = [&]() -> std::optional<std::string> {
-        if (streaming != nullptr) faults.printNew(streaming->streamer());
-        if (const runtime::TileFault* fault = session.fatalFault())
-            return "nothing to draw, the root patch failed: " + fault->message;
-        return std::nullopt;
-    };
-    for (std::uint64_t frame = 0; frame < frames; ++frame) {
-        path->apply(path->startS() + static_cast<double>(frame) / o.fps, camera);
-        if (o.settle && !session.settle(camera, std::chrono::seconds(60))) {
-            if (auto broken = fatal()) return fail(*broken);
-            return fail(fmt::format("frame {}: streaming did not settle within 60 s", frame));
-        }
-        session.beginFrame(camera);
-        framebuffer.value().clear(sky, 0.0f);  // reversed Z: far is 0
-        glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.value().id());
-        glViewport(0, 0, o.widthPx, o.heightPx);
-        const runtime::TerrainDrawStats drawn = session.draw(camera, style);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-
-        runtime::FrameTelemetry t;
-        session.endFrame(t);
-        if (auto broken = fatal()) return fail(*broken);
-        if ((o.every > 0 && frame % o.every == 0) || chosen.contains(frame) ||
-            frame + 1 == frames) {
-            const auto file = outputDir / fmt::format("frame-{:05}.png", frame);
-            if (auto written = tools::writeFramebufferPng(framebuffer.value(), file); !written) {
-                return fail(written.error().message);
-            }
-            ++framesWritten;
-        }
-        const auto now = Clock::now();
-        t.frame = frame;
-        t.timeS = std::chrono::duration<double>(now - loopStart).count();
-        t.frameMs = std::chrono::duration<double, std::milli>(now - previous).count();
-        previous = now;
-        csv.value().write(t);
-        summary.add(t);
         lodUs.add(t.lodUpdateUs / 1000.0);  // LatencyHistogram counts milliseconds
         if (!std::isnan(t.gpuMs)) gpuMs.add(t.gpuMs);
         triangles.add(static_cast<double>(drawn.triangles) / 1000.0);
         maxDrawCalls = std::max<std::uint64_t>(maxDrawCalls, t.drawCalls);
         maxTriangles = std::max<std::uint64_t>(maxTriangles, drawn.triangles);
         maxPatches = std::max<std::uint64_t>(maxPatches, t.patchesDrawn);
-        if (context.value()->debugLog().errorCount() > 0) {
+        if (context.value()->debugLog().errorCount() > 0)
             return fail("OpenGL reported an error:\n" + context.value()->debugLog().formatErrors());
-        }
     }
     if (auto closed = csv.value().close(); !closed) return fail(closed.error().message);
+    facts.lastCamera = camera;
+    // Time to full detail after arriving (the globe's flight ends at the ground): the last pose
+    // held, frames drawn as a user would see them, until no split waits for a tile and nothing
+    // is loading (not with --settle, whose frames are all settled).
+    if (kit->measuresArrival() && !o.settle && streaming != nullptr) {
+        const auto arrived = Clock::now();
+        std::uint64_t arrivalFrames = 0;
+        bool settled = false;
+        while (!settled && std::chrono::duration<double>(Clock::now() - arrived).count() < 60.0) {
+            runtime::FrameTelemetry t;
+            const std::uint64_t waitingSplits = drawFrame(t).waitingSplits;
+            if (auto broken = fatal()) return fail(*broken);
+            ++arrivalFrames;
+            settled = waitingSplits == 0 && streaming->streamer().loadsOutstanding() == 0;
+        }
+        if (settled)
+            facts.arrival = {
+                {"frames", arrivalFrames},
+                {"seconds", std::chrono::duration<double>(Clock::now() - arrived).count()}};
+    }
     // A last frame with nothing drawn: wait for what streaming still owes it, so a root that
     // cannot be read is this error rather than an empty picture and exit status 0.
     if (streaming != nullptr && streaming->draws().empty()) {
         session.settle(camera, std::chrono::seconds(60));
         if (auto broken = fatal()) return fail(*broken);
     }
+    nlohmann::json surfaceFields = nlohmann::json::object();
+    if (streaming != nullptr) facts.lastDraws = streaming->draws();
+    kit->addJsonFields(surfaceFields, facts);
     if (streaming != nullptr) {
         summary.mergeLoadLatencies(streaming->streamer().loadLatencies());
         streaming->streamer().drain(std::chrono::seconds(10));
@@ -417,12 +254,11 @@ int run(const RenderOptions& o) {
     const bool llvmpipe = context.value()->info().renderer.find("llvmpipe") != std::string::npos;
 
     if (o.json) {
-        const nlohmann::json out{
+        nlohmann::json out{
             {"tool", "terrain-render"},
             {"pyramid", o.pyramid},
-            {"path", o.pathFile.empty() ? nlohmann::json("default") : nlohmann::json(o.pathFile)},
-            {"path_duration_s", path->durationS()},
-            {"fps", o.fps},
+            {"tiling", kit->tiling()},
+            {"path_duration_s", durationS},
             {"frames", frames},
             {"frames_written", framesWritten},
             {"output_dir", o.outputDir},
@@ -447,13 +283,14 @@ int run(const RenderOptions& o) {
             {"total_seconds", std::chrono::duration<double>(Clock::now() - start).count()},
             {"gl", tools::glInfoJson(*context.value())},
         };
+        out.update(surfaceFields);
         std::puts(out.dump(2).c_str());
     }
     fmt::print(
         stderr,
-        "terrain-render: {} frames of {}x{} at ε = {} px into {} ({} PNGs): triangles p50 "
+        "terrain-render: {}, {} frames of {}x{} at ε = {} px into {} ({} PNGs): triangles p50 "
         "{:.0f} (max {}), {} patches max, {} draw call(s) per frame, LOD update p50 {:.0f} µs\n",
-        frames, o.widthPx, o.heightPx, o.errorPx, o.outputDir, framesWritten,
+        kit->tiling(), frames, o.widthPx, o.heightPx, o.errorPx, o.outputDir, framesWritten,
         triangles.percentile(50.0) * 1000.0, maxTriangles, maxPatches, maxDrawCalls,
         lodUs.percentile(50.0) * 1000.0);
     return 0;
@@ -494,20 +331,7 @@ int main(int argc, char** argv) {
     app.add_flag("--settle", o.settle, "Wait for streaming before drawing each frame");
     tools::addStreamingBudgetFlags(app, o.budgets);
     o.look.addTo(app);
-    app.add_option("--lat", o.latitudeDeg,
-                   "Globe pyramids: camera latitude, degrees (a fixed pose)")
-        ->check(CLI::Range(-90.0, 90.0));
-    app.add_option("--lon", o.longitudeDeg, "Globe pyramids: camera longitude, degrees")
-        ->check(CLI::Range(-360.0, 360.0));
-    app.add_option("--altitude", o.heightM,
-                   "Globe pyramids: camera height above the WGS84 ellipsoid, metres");
-    app.add_option("--heading", o.headingDeg, "Globe pyramids: degrees clockwise from north")
-        ->capture_default_str();
-    app.add_option("--pitch", o.pitchDeg, "Globe pyramids: degrees above the horizon (-90: down)")
-        ->capture_default_str()
-        ->check(CLI::Range(-90.0, 90.0));
-    app.add_flag("--no-horizon-culling", o.noHorizonCulling,
-                 "Globe pyramids: draw patches behind the horizon too (for comparison)");
+    o.globe.addTo(app);
     app.add_flag("--json", o.json, "Print a JSON summary on stdout");
     CLI11_PARSE(app, argc, argv);
     return run(o);

@@ -10,11 +10,12 @@
 
 namespace terrain::tools {
 
-StressTarget::StressTarget(std::unique_ptr<runtime::TerrainSession> session,
+StressTarget::StressTarget(std::unique_ptr<SurfaceKit> kit,
+                           std::unique_ptr<runtime::TerrainSession> session,
                            std::optional<io::GlobeGroundQuery> globeGround,
                            const StressTargetOptions& o)
-    : m_session(std::move(session)), m_globeGround(std::move(globeGround)) {
-    if (m_session->surface().kind() == runtime::SurfaceKind::Plane) {
+    : m_kit(std::move(kit)), m_session(std::move(session)), m_globeGround(std::move(globeGround)) {
+    if (m_kit->kind() == runtime::SurfaceKind::Plane) {
         const runtime::TerrainGeometry& geometry = runtime::planeGeometry(m_session->surface());
         // The ground from what is resident: the flight never needs a read.
         m_flight = std::make_unique<StressFlight>(geometry, o.seed, [this](double x, double y) {
@@ -47,6 +48,10 @@ Result<std::unique_ptr<StressTarget>> StressTarget::open(const StressTargetOptio
         return Error{o.pyramid + ": --method " + std::string(runtime::lodMethodName(o.method)) +
                      " streams nothing (it reads the finest level once): the stress test flies "
                      "the streaming methods (every method but rtin, lee2011 and ripolles)"};
+    auto manifest = io::readManifest(o.pyramid);
+    if (!manifest) return manifest.error();
+    std::unique_ptr<SurfaceKit> kit = SurfaceKit::of(manifest.value());
+    if (Status supported = kit->supports(o.pyramid, o.method); !supported) return supported.error();
     runtime::TerrainSessionOptions options;
     options.method = o.method;
     options.streaming = o.streaming;
@@ -54,13 +59,13 @@ Result<std::unique_ptr<StressTarget>> StressTarget::open(const StressTargetOptio
     auto session = runtime::TerrainSession::open(o.pyramid, options);
     if (!session) return session.error();
     std::optional<io::GlobeGroundQuery> ground;
-    if (session.value()->surface().kind() == runtime::SurfaceKind::Globe) {
+    if (kit->kind() == runtime::SurfaceKind::Globe) {
         auto opened = io::GlobeGroundQuery::open(o.pyramid);
         if (!opened) return opened.error();
         ground = std::move(opened).value();
     }
     return std::unique_ptr<StressTarget>(
-        new StressTarget(std::move(session).value(), std::move(ground), o));
+        new StressTarget(std::move(kit), std::move(session).value(), std::move(ground), o));
 }
 
 }  // namespace terrain::tools

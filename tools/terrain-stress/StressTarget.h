@@ -6,6 +6,7 @@
 
 #include "StressChecks.h"
 #include "StressFlight.h"
+#include "SurfaceKit.h"
 #include "terrain/base/Result.h"
 #include "terrain/pyramid/GlobeGroundHeight.h"
 #include "terrain/runtime/Camera.h"
@@ -39,12 +40,13 @@ struct StressTargetOptions {
 class StressTarget {
 public:
     /// Opens the pyramid's session and the flight its surface calls for. Errors: the pyramid
-    /// cannot be opened (named by the reader), or the method does not stream or draw it.
+    /// cannot be opened (named by the reader), or the method does not stream, or does not draw
+    /// the pyramid's surface (its SurfaceKit's refusal).
     static Result<std::unique_ptr<StressTarget>> open(const StressTargetOptions& options);
 
     runtime::TileStreamer& streamer() { return m_session->streamer(); }
     /// "planar" or "globe".
-    std::string_view tiling() const { return runtime::surfaceName(m_session->surface().kind()); }
+    std::string_view tiling() const { return m_kit->tiling(); }
     std::uint64_t teleports() const { return m_flight->teleports(); }
 
     /// Moves the camera by `dtS` along the flight (which reads the ground before the frame),
@@ -62,9 +64,10 @@ public:
     void releaseLod() { m_session->restartLod(); }
 
 private:
-    StressTarget(std::unique_ptr<runtime::TerrainSession> session,
+    StressTarget(std::unique_ptr<SurfaceKit> kit, std::unique_ptr<runtime::TerrainSession> session,
                  std::optional<io::GlobeGroundQuery> globeGround, const StressTargetOptions& o);
 
+    std::unique_ptr<SurfaceKit> m_kit;
     std::unique_ptr<runtime::TerrainSession> m_session;
     std::optional<io::GlobeGroundQuery> m_globeGround;  // the globe's flight reads the ground
     std::unique_ptr<SeededFlight> m_flight;

@@ -2,8 +2,10 @@
 // docs/camera-path.md and the default flight over a pyramid.
 #include "terrain/runtime/CameraPath.h"
 
+#include "PathChecks.h"
 #include "PathJson.h"
 #include "PathSpline.h"
+#include "terrain/runtime/FlightPath.h"
 
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
@@ -29,21 +31,6 @@ using path_json::rejectUnknownKeys;
 using path_spline::catmullRomTangent;
 using path_spline::hermite;
 
-constexpr std::string_view kFormatName = "terrain-camera-path";
-constexpr int kFormatVersion = 1;
-constexpr std::string_view kPositionUnits =
-    "metres, world frame of the pyramid: x east, y north, z up; a projected pyramid's own "
-    "map coordinates (easting, northing of sample centres)";
-constexpr std::string_view kAngleUnits =
-    "degrees; yaw 0 looks north (+y), 90 east (+x); pitch positive looks up";
-constexpr std::string_view kTimeUnits = "seconds";
-
-constexpr std::array<std::string_view, 5> kTopKeys = {"format", "version", "description", "units",
-                                                      "keyframes"};
-constexpr std::array<std::string_view, 3> kUnitKeys = {"position", "angles", "time"};
-constexpr std::array<std::string_view, 6> kKeyframeKeys = {"time_s",  "position_m", "look_at_m",
-                                                           "yaw_deg", "pitch_deg",  "fov_y_deg"};
-
 double degrees(double radians) { return radians * (180.0 / std::numbers::pi); }
 double radians(double degreesValue) { return degreesValue * (std::numbers::pi / 180.0); }
 
@@ -61,16 +48,10 @@ std::pair<double, double> yawPitchToward(const glm::dvec3& from, const glm::dvec
 
 // What is wrong with the keyframes, in the JSON file's key names, or nothing.
 std::optional<std::string> problemWith(const std::vector<CameraKeyframe>& keyframes) {
-    if (keyframes.empty()) return "\"keyframes\" is empty; a path needs at least one keyframe";
+    if (keyframes.empty()) return std::string(path_checks::kEmpty);
     for (std::size_t i = 0; i < keyframes.size(); ++i) {
         const CameraKeyframe& k = keyframes[i];
-        if (!std::isfinite(k.timeS))
-            return fmt::format("keyframes[{}].time_s is {}; it must be finite", i, k.timeS);
-        if (i > 0 && !(k.timeS > keyframes[i - 1].timeS))
-            return fmt::format(
-                "keyframes[{}].time_s is {}, not after keyframes[{}].time_s {}; times must "
-                "increase strictly",
-                i, k.timeS, i - 1, keyframes[i - 1].timeS);
+        if (auto problem = path_checks::timeProblem(keyframes, i)) return problem;
         if (!finite(k.position))
             return fmt::format("keyframes[{}].position_m ({}, {}, {}) must be finite", i,
                                k.position.x, k.position.y, k.position.z);
@@ -92,11 +73,7 @@ std::optional<std::string> problemWith(const std::vector<CameraKeyframe>& keyfra
                     "keyframes[{}].pitch_deg is {}; it must lie within -90 … 90 degrees", i,
                     degrees(k.pitch));
         }
-        if (!(k.fovYDegrees > 0.0 && k.fovYDegrees < 180.0))
-            return fmt::format(
-                "keyframes[{}].fov_y_deg is {}; a field of view lies strictly between 0 and "
-                "180 degrees",
-                i, k.fovYDegrees);
+        if (auto problem = path_checks::fovProblem(i, k.fovYDegrees)) return problem;
     }
     return std::nullopt;
 }
@@ -117,10 +94,8 @@ glm::dvec3 vectorAt(const Json& object, std::string_view key, const std::string&
 }
 
 CameraKeyframe keyframeFromJson(const Json& j, std::size_t index) {
-    const std::string where = fmt::format("keyframes[{}]: ", index);
-    if (!j.is_object())
-        throw FileProblem{fmt::format("{}a keyframe must be an object, not {}", where, j.dump())};
-    rejectUnknownKeys(j, kKeyframeKeys, where);
+    const std::string where = path_json::checkedKeyframe(j, index);
+    rejectUnknownKeys(j, path_json::pathFormat(PathFrame::Plane).keyframeKeys, where);
     CameraKeyframe k;
     k.timeS = numberAt(j, "time_s", where);
     k.position = vectorAt(j, "position_m", where);
@@ -141,15 +116,6 @@ CameraKeyframe keyframeFromJson(const Json& j, std::size_t index) {
     }
     k.fovYDegrees = numberAt(j, "fov_y_deg", where);
     return k;
-}
-
-std::vector<CameraKeyframe> keyframesFromJson(const Json& root) {
-    const Json& list =
-        path_json::checkedKeyframes(root, kFormatName, kFormatVersion, kTopKeys, kUnitKeys);
-    std::vector<CameraKeyframe> keyframes;
-    keyframes.reserve(list.size());
-    for (std::size_t i = 0; i < list.size(); ++i) keyframes.push_back(keyframeFromJson(list[i], i));
-    return keyframes;
 }
 
 Json keyframeToJson(const CameraKeyframe& k) {
@@ -181,6 +147,13 @@ double exitDistance(glm::dvec2 from, glm::dvec2 direction, double lo, double hi)
 }
 
 }  // namespace
+
+std::vector<CameraKeyframe> path_json::planarKeyframes(const Json& list) {
+    std::vector<CameraKeyframe> keyframes;
+    keyframes.reserve(list.size());
+    for (std::size_t i = 0; i < list.size(); ++i) keyframes.push_back(keyframeFromJson(list[i], i));
+    return keyframes;
+}
 
 CameraPath::CameraPath(std::vector<CameraKeyframe> keyframes) : m_keyframes(std::move(keyframes)) {
     const std::size_t n = m_keyframes.size();
@@ -235,12 +208,8 @@ Result<CameraPath> CameraPath::checked(std::vector<CameraKeyframe> keyframes,
     if (std::optional<std::string> problem = problemWith(keyframes))
         return Error{fmt::format("{}: {}", sourceName, *problem)};
     CameraPath path(std::move(keyframes));
-    // Finite keyframes can still be too far apart for their times (1e300 m in 1e-300 s).
     if (std::optional<std::size_t> i = path.firstOverflowingKeyframe())
-        return Error{fmt::format(
-            "{}: keyframes[{}]: the speed toward a neighbouring keyframe overflows; the "
-            "keyframes are too far apart for their times",
-            sourceName, *i)};
+        return Error{path_checks::overflowProblem(sourceName, *i)};
     return path;
 }
 
@@ -249,30 +218,15 @@ Result<CameraPath> CameraPath::fromKeyframes(std::vector<CameraKeyframe> keyfram
 }
 
 Result<CameraPath> CameraPath::load(const std::filesystem::path& path) {
-    Result<Json> root = path_json::readFile(path);
-    if (!root) return root.error();
-    std::vector<CameraKeyframe> keyframes;
-    try {
-        if (path_json::formatIs(root.value(), "terrain-globe-camera-path"))
-            throw FileProblem{
-                "a globe camera path (\"terrain-globe-camera-path\", latitude, longitude and "
-                "height); a planar pyramid flies a \"terrain-camera-path\" in its own metres "
-                "(docs/camera-path.md)"};
-        keyframes = keyframesFromJson(root.value());
-    } catch (const FileProblem& problem) {
-        return Error{fmt::format("{}: {}", path.string(), problem.message)};
-    }
-    return checked(std::move(keyframes), path.string());
+    Result<FlightPath> loaded = FlightPath::load(path, PathFrame::Plane);
+    if (!loaded) return loaded.error();
+    return *loaded.value().planar();
 }
 
 Status CameraPath::save(const std::filesystem::path& path) const {
-    Json units;
-    units["position"] = kPositionUnits;
-    units["angles"] = kAngleUnits;
-    units["time"] = kTimeUnits;
     std::vector<Json> keyframes;
     for (const CameraKeyframe& k : m_keyframes) keyframes.push_back(keyframeToJson(k));
-    return path_json::writeFile(path, kFormatName, kFormatVersion, units, keyframes);
+    return path_json::writeFile(path, path_json::pathFormat(PathFrame::Plane), keyframes);
 }
 
 void CameraPath::apply(double timeS, Camera& camera) const {

@@ -2,8 +2,10 @@
 // default flight from orbit.
 #include "terrain/runtime/GlobeCameraPath.h"
 
+#include "PathChecks.h"
 #include "PathJson.h"
 #include "PathSpline.h"
+#include "terrain/runtime/FlightPath.h"
 
 #include <fmt/format.h>
 
@@ -21,32 +23,19 @@ namespace {
 using path_json::FileProblem;
 using path_json::Json;
 
-constexpr std::string_view kGlobeFormatName = "terrain-globe-camera-path";
-constexpr int kGlobeFormatVersion = 1;
 constexpr double kMaxAbsHeightM = 1e9;
-
-constexpr std::array<std::string_view, 5> kGlobeTopKeys = {"format", "version", "description",
-                                                           "units", "keyframes"};
-constexpr std::array<std::string_view, 4> kGlobeUnitKeys = {"position", "height", "angles", "time"};
-constexpr std::array<std::string_view, 7> kGlobeKeyframeKeys = {
-    "time_s", "latitude_deg", "longitude_deg", "height_m", "heading_deg", "pitch_deg", "fov_y_deg"};
 
 double wrap180(double degrees) { return std::remainder(degrees, 360.0); }
 
 std::optional<std::string> problemWith(const std::vector<GlobeKeyframe>& keyframes) {
-    if (keyframes.empty()) return "\"keyframes\" is empty; a path needs at least one keyframe";
+    if (keyframes.empty()) return std::string(path_checks::kEmpty);
     for (std::size_t i = 0; i < keyframes.size(); ++i) {
         const GlobeKeyframe& k = keyframes[i];
         const GlobePose& p = k.pose;
         const auto bad = [&](std::string_view key, double value, std::string_view rule) {
             return fmt::format("keyframes[{}].{} is {}; {}", i, key, value, rule);
         };
-        if (!std::isfinite(k.timeS)) return bad("time_s", k.timeS, "it must be finite");
-        if (i > 0 && !(k.timeS > keyframes[i - 1].timeS))
-            return fmt::format(
-                "keyframes[{}].time_s is {}, not after keyframes[{}].time_s {}; times must "
-                "increase strictly",
-                i, k.timeS, i - 1, keyframes[i - 1].timeS);
+        if (auto problem = path_checks::timeProblem(keyframes, i)) return problem;
         if (!(std::abs(p.where.latitudeDeg) <= 90.0))
             return bad("latitude_deg", p.where.latitudeDeg, "it must lie within -90 … 90");
         if (!std::isfinite(p.where.longitudeDeg))
@@ -58,23 +47,19 @@ std::optional<std::string> problemWith(const std::vector<GlobeKeyframe>& keyfram
             return bad("heading_deg", p.headingDeg, "it must be finite");
         if (!(std::abs(p.pitchDeg) <= 90.0))
             return bad("pitch_deg", p.pitchDeg, "it must lie within -90 … 90");
-        if (!(k.fovYDegrees > 0.0 && k.fovYDegrees < 180.0))
-            return bad("fov_y_deg", k.fovYDegrees,
-                       "a field of view lies strictly between 0 and 180 degrees");
+        if (auto problem = path_checks::fovProblem(i, k.fovYDegrees)) return problem;
     }
     return std::nullopt;
 }
 
 GlobeKeyframe globeKeyframeFromJson(const Json& j, std::size_t index) {
-    const std::string where = fmt::format("keyframes[{}]: ", index);
-    if (!j.is_object())
-        throw FileProblem{fmt::format("{}a keyframe must be an object, not {}", where, j.dump())};
+    const std::string where = path_json::checkedKeyframe(j, index);
     if (j.contains("position_m"))
         throw FileProblem{
             fmt::format("{}\"position_m\" is a planar camera path's key; a globe camera path gives "
                         "\"latitude_deg\", \"longitude_deg\" and \"height_m\"",
                         where)};
-    path_json::rejectUnknownKeys(j, kGlobeKeyframeKeys, where);
+    path_json::rejectUnknownKeys(j, path_json::pathFormat(PathFrame::Globe).keyframeKeys, where);
     GlobeKeyframe k;
     k.timeS = path_json::numberAt(j, "time_s", where);
     k.pose.where.latitudeDeg = path_json::numberAt(j, "latitude_deg", where);
@@ -99,6 +84,14 @@ Json globeKeyframeToJson(const GlobeKeyframe& k) {
 }
 
 }  // namespace
+
+std::vector<GlobeKeyframe> path_json::globeKeyframes(const Json& list) {
+    std::vector<GlobeKeyframe> keyframes;
+    keyframes.reserve(list.size());
+    for (std::size_t i = 0; i < list.size(); ++i)
+        keyframes.push_back(globeKeyframeFromJson(list[i], i));
+    return keyframes;
+}
 
 GlobeCameraPath::GlobeCameraPath(std::vector<GlobeKeyframe> keyframes)
     : m_keyframes(std::move(keyframes)) {
@@ -135,10 +128,7 @@ Result<GlobeCameraPath> GlobeCameraPath::checked(std::vector<GlobeKeyframe> keyf
     for (int c = 0; c < kChannels; ++c)
         for (std::size_t i = 0; i < path.m_tangents[c].size(); ++i)
             if (!std::isfinite(path.m_tangents[c][i]))
-                return Error{fmt::format(
-                    "{}: keyframes[{}]: the speed toward a neighbouring keyframe overflows; the "
-                    "keyframes are too far apart for their times",
-                    sourceName, i)};
+                return Error{path_checks::overflowProblem(sourceName, i)};
     return path;
 }
 
@@ -147,34 +137,15 @@ Result<GlobeCameraPath> GlobeCameraPath::fromKeyframes(std::vector<GlobeKeyframe
 }
 
 Result<GlobeCameraPath> GlobeCameraPath::load(const std::filesystem::path& path) {
-    Result<Json> root = path_json::readFile(path);
-    if (!root) return root.error();
-    std::vector<GlobeKeyframe> keyframes;
-    try {
-        if (path_json::formatIs(root.value(), "terrain-camera-path"))
-            throw FileProblem{
-                "a planar camera path (\"terrain-camera-path\", positions in metres); a globe "
-                "pyramid flies a \"terrain-globe-camera-path\" in latitude, longitude and "
-                "height (docs/camera-path.md, \"Globe camera paths\")"};
-        const Json& list = path_json::checkedKeyframes(
-            root.value(), kGlobeFormatName, kGlobeFormatVersion, kGlobeTopKeys, kGlobeUnitKeys);
-        for (std::size_t i = 0; i < list.size(); ++i)
-            keyframes.push_back(globeKeyframeFromJson(list[i], i));
-    } catch (const FileProblem& problem) {
-        return Error{fmt::format("{}: {}", path.string(), problem.message)};
-    }
-    return checked(std::move(keyframes), path.string());
+    Result<FlightPath> loaded = FlightPath::load(path, PathFrame::Globe);
+    if (!loaded) return loaded.error();
+    return *loaded.value().globe();
 }
 
 Status GlobeCameraPath::save(const std::filesystem::path& path) const {
-    Json units;
-    units["position"] = "latitude and longitude in degrees on WGS84";
-    units["height"] = "metres above the WGS84 ellipsoid";
-    units["angles"] = "degrees; heading 0 looks north, 90 east; pitch 0 at the horizon, -90 down";
-    units["time"] = "seconds";
     std::vector<Json> keyframes;
     for (const GlobeKeyframe& k : m_keyframes) keyframes.push_back(globeKeyframeToJson(k));
-    return path_json::writeFile(path, kGlobeFormatName, kGlobeFormatVersion, units, keyframes);
+    return path_json::writeFile(path, path_json::pathFormat(PathFrame::Globe), keyframes);
 }
 
 GlobeCameraPath GlobeCameraPath::fromOrbit(double latitudeDeg, double longitudeDeg,

@@ -54,9 +54,10 @@ public:
     /// would (e.g. "keyframes[2].fov_y_deg").
     static Result<CameraPath> fromKeyframes(std::vector<CameraKeyframe> keyframes);
 
-    /// Reads a camera path file (docs/camera-path.md). Errors start with the path and say
-    /// what is wrong: a missing file, bad JSON, a missing, unknown or mistyped key (with the
-    /// keyframe index) or a value fromKeyframes rejects.
+    /// Reads a camera path file (docs/camera-path.md) through the one reader,
+    /// FlightPath::load(path, PathFrame::Plane). Errors start with the path and say what is
+    /// wrong: a missing file, bad JSON, a missing, unknown or mistyped key (with the keyframe
+    /// index), a value fromKeyframes rejects, or a globe camera path.
     static Result<CameraPath> load(const std::filesystem::path& path);
 
     /// Writes the file atomically (AtomicFile), numbers in the shortest form that reads
@@ -81,6 +82,7 @@ public:
     void apply(double timeS, Camera& camera) const;
 
 private:
+    friend class FlightPath;  // its reader checks keyframes under the file's name (checked)
     // Hermite tangents per keyframe, in units per second.
     struct Tangents {
         glm::dvec3 position{0.0};

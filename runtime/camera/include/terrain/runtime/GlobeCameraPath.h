@@ -39,9 +39,10 @@ public:
     /// "globe camera path: " and name the key as the file would ("keyframes[2].height_m").
     static Result<GlobeCameraPath> fromKeyframes(std::vector<GlobeKeyframe> keyframes);
 
-    /// Reads a globe camera path file; errors start with the path and say what is wrong (a
-    /// missing file, bad JSON, a missing, unknown or mistyped key, a value fromKeyframes
-    /// rejects, or a planar camera path given for a globe).
+    /// Reads a globe camera path file through the one reader, FlightPath::load(path,
+    /// PathFrame::Globe); errors start with the path and say what is wrong (a missing file,
+    /// bad JSON, a missing, unknown or mistyped key, a value fromKeyframes rejects, or a
+    /// planar camera path given for a globe).
     static Result<GlobeCameraPath> load(const std::filesystem::path& path);
 
     /// Writes the file atomically, one keyframe per line.
@@ -67,6 +68,7 @@ public:
     void apply(double timeS, Camera& camera) const;
 
 private:
+    friend class FlightPath;  // its reader checks keyframes under the file's name (checked)
     enum Channel { kLatitude, kLongitude, kHeight, kHeading, kPitch, kChannels };
     explicit GlobeCameraPath(std::vector<GlobeKeyframe> keyframes);
     static Result<GlobeCameraPath> checked(std::vector<GlobeKeyframe> keyframes,

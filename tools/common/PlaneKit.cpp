@@ -1,0 +1,55 @@
+// PlaneKit: the plane's side of SurfaceKit: the planar flight, frame times, look and report
+// fields.
+#include "SurfaceKit.h"
+
+#include "terrain/runtime/CameraPath.h"
+#include "terrain/runtime/PlaneSurface.h"
+
+namespace terrain::tools {
+namespace {
+
+// The plane: a planar camera path in the pyramid's metres and CameraPath::defaultFor, a frame
+// every 1 / fps, the daylight sky with fog from the DEM's extent.
+class PlaneKit final : public SurfaceKit {
+public:
+    runtime::SurfaceKind kind() const override { return runtime::SurfaceKind::Plane; }
+    runtime::PathFrame pathFrame() const override { return runtime::PathFrame::Plane; }
+
+    Result<runtime::FlightPath> flight(const std::string& /*pyramid*/,
+                                       const runtime::Surface& surface, const std::string& pathFile,
+                                       double durationS,
+                                       const GlobeFlags& /*globe: refused*/) const override {
+        if (!pathFile.empty()) return runtime::FlightPath::load(pathFile, pathFrame());
+        return runtime::FlightPath(
+            runtime::CameraPath::defaultFor(runtime::planeGeometry(surface), durationS));
+    }
+
+    double frameTimeS(const runtime::FlightPath& path, std::uint64_t frame,
+                      std::uint64_t /*frames*/, double fps) const override {
+        return path.startS() + static_cast<double>(frame) / fps;
+    }
+
+    void skyAndFog(runtime::TerrainStyle& style, const DrawStyleFlags& look,
+                   const runtime::Surface& surface) const override {
+        // The default sky (TerrainStyle's daylight).
+        style.fogDensityPerM = look.fogDensityPerM(runtime::planeGeometry(surface));
+    }
+
+    std::string_view rootFaultMessage() const override {
+        return "nothing to draw, the root patch failed: ";
+    }
+
+    bool measuresArrival() const override { return false; }
+
+    void addJsonFields(nlohmann::json& out, const FlightFacts& facts) const override {
+        out["path"] =
+            facts.pathFile.empty() ? nlohmann::json("default") : nlohmann::json(facts.pathFile);
+        out["fps"] = facts.fps;
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<SurfaceKit> makePlaneKit() { return std::make_unique<PlaneKit>(); }
+
+}  // namespace terrain::tools
