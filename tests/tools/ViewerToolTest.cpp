@@ -6,6 +6,7 @@
 #include "terrain/build/GlobePyramidBuilder.h"
 #include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/CameraPath.h"
+#include "terrain/runtime/FlightPath.h"
 #include "terrain/runtime/TerrainGeometry.h"
 
 #include "GeographicFunctionDem.h"
@@ -334,16 +335,21 @@ TEST_F(ViewerTool, GlobeCameraStaysJustAboveTheGround) {
     }
 }
 
-// One viewer for both surfaces: on a globe the overlay, ε, the telemetry log and the summary
-// are the planar viewer's, only the camera (latitude, longitude) is the globe's; a planar
-// camera path is refused with the reason instead of being ignored.
-TEST_F(ViewerTool, GlobeViewerHasThePlanarViewersOverlayLogAndSummary) {
+// One viewer for both surfaces: on a globe the overlay, ε, the telemetry log, the path
+// recorder and the summary are the planar viewer's, only the camera (latitude, longitude) is
+// the globe's. A recorded globe path plays back through the same frames; a planar path is
+// refused by what it is.
+TEST_F(ViewerTool, GlobeViewerHasThePlanarViewersOverlayLogPathsAndSummary) {
     const std::string pyramid = buildGlobeHills(m_folder);
     const std::string csv = m_folder.file("globe-telemetry.csv");
+    const std::string recorded = m_folder.file("globe.camera.json");
+    // W held is not available headless: the flight is the wheel-free start, a fixed pose
+    // recorded over 2 s of flight time (20 frames at 10 per second).
     const ToolRun viewed = runViewer(pyramid +
-                                         " --frames 5 --settle --width 480 --height 320 "
-                                         "--error-px 3 --json --telemetry " +
-                                         csv,
+                                         " --frames 20 --fps 10 --width 480 --height 320 "
+                                         "--goto 49.4,11.0,3000 --error-px 3 --json "
+                                         "--telemetry " +
+                                         csv + " --record " + recorded,
                                      m_folder);
     ASSERT_EQ(viewed.status, 0) << describe(viewed);
     const nlohmann::json summary = summaryOf(viewed);
@@ -352,18 +358,37 @@ TEST_F(ViewerTool, GlobeViewerHasThePlanarViewersOverlayLogAndSummary) {
     EXPECT_EQ(summary["gl_errors"], 0);
     EXPECT_GT(summary["patches_drawn_last"].get<int>(), 0);
     EXPECT_EQ(summary["telemetry_csv"], nlohmann::json::array({csv}));
+    EXPECT_EQ(summary["paths_recorded"], nlohmann::json::array({recorded}));
     ASSERT_EQ(summary["overlay"]["windows"].size(), 1u);
     EXPECT_GT(summary["overlay"]["windows"][0]["height"].get<double>(), 100.0);
     std::ifstream log(csv);
     int rows = -1;  // the header
     for (std::string line; std::getline(log, line);) ++rows;
-    EXPECT_EQ(rows, 5);
+    EXPECT_EQ(rows, 20);
 
-    const ToolRun path =
-        run(kViewer + " " + pyramid + " --path " + m_folder.file("any.camera.json"), m_folder);
-    EXPECT_EQ(path.status, 1) << describe(path);
-    EXPECT_NE(path.err.find("a globe pyramid: --path and --record"), std::string::npos)
-        << path.err;
+    auto path = runtime::FlightPath::load(recorded);
+    ASSERT_TRUE(path) << path.error().message;
+    ASSERT_NE(path.value().globe(), nullptr) << "a globe pyramid records a globe path";
+    EXPECT_NEAR(path.value().durationS(), 1.9, 1e-9);
+    const runtime::GlobePose end = path.value().globe()->poseAt(path.value().endS());
+    EXPECT_NEAR(end.where.latitudeDeg, 49.4, 1e-9);
+    EXPECT_NEAR(end.where.longitudeDeg, 11.0, 1e-9);
+
+    const ToolRun played = runViewer(pyramid + " --path " + recorded +
+                                         " --frames 5 --fps 10 --width 320 --height 200 "
+                                         "--no-overlay --json",
+                                     m_folder);
+    ASSERT_EQ(played.status, 0) << describe(played);
+    EXPECT_NEAR(summaryOf(played)["camera"]["latitude"].get<double>(), 49.4, 1e-6);
+    EXPECT_NEAR(summaryOf(played)["path_time_s"].get<double>(), 0.4, 1e-9);
+
+    const runtime::CameraPath planar = runtime::CameraPath::defaultFor(
+        runtime::TerrainGeometry(io::readManifest(kPyramid).value()), 4.0);
+    const std::string planarFile = m_folder.file("planar.camera.json");
+    ASSERT_TRUE(planar.save(planarFile));
+    const ToolRun refused = run(kViewer + " " + pyramid + " --path " + planarFile, m_folder);
+    EXPECT_EQ(refused.status, 1) << describe(refused);
+    EXPECT_NE(refused.err.find("a planar camera path"), std::string::npos) << refused.err;
 }
 
 TEST_F(ViewerTool, FliesTheOtherStreamingLodMethodsAndRefusesTheInCoreOnes) {

@@ -1,20 +1,17 @@
 // Camera keyframes sampled during a flight.
 #include "PathRecorder.h"
 
-#include <numbers>
-#include <utility>
 
 namespace terrain::view {
 namespace {
 
 constexpr double kMinKeyframeGapS = 1e-3;
 
-double degrees(double radians) { return radians * 180.0 / std::numbers::pi; }
-
 }  // namespace
 
-void PathRecorder::start(double timeS, const runtime::Camera& camera) {
-    m_keyframes.clear();
+void PathRecorder::start(runtime::PathFrame frame, double timeS, const runtime::Camera& camera) {
+    m_frame = frame;
+    m_samples.clear();
     m_startS = timeS;
     m_recording = true;
     add(timeS, camera);
@@ -25,22 +22,16 @@ void PathRecorder::sample(double timeS, const runtime::Camera& camera) {
     if (timeS - m_startS - recordedS() >= kIntervalS) add(timeS, camera);
 }
 
-Result<runtime::CameraPath> PathRecorder::finish(double timeS, const runtime::Camera& camera) {
+Result<runtime::FlightPath> PathRecorder::finish(double timeS, const runtime::Camera& camera) {
     m_recording = false;
-    if (m_keyframes.empty() || timeS - m_startS - recordedS() >= kMinKeyframeGapS) {
+    if (m_samples.empty() || timeS - m_startS - recordedS() >= kMinKeyframeGapS) {
         add(timeS, camera);
     }
-    return runtime::CameraPath::fromKeyframes(std::exchange(m_keyframes, {}));
+    return runtime::FlightPath::fromCameras(m_frame, m_samples);
 }
 
 void PathRecorder::add(double timeS, const runtime::Camera& camera) {
-    runtime::CameraKeyframe keyframe;
-    keyframe.timeS = timeS - m_startS;
-    keyframe.position = camera.position;
-    keyframe.yaw = camera.yaw;
-    keyframe.pitch = camera.pitch;
-    keyframe.fovYDegrees = degrees(camera.fovY);
-    m_keyframes.push_back(keyframe);
+    m_samples.push_back({timeS - m_startS, camera});
 }
 
 }  // namespace terrain::view

@@ -40,15 +40,12 @@ Result<std::unique_ptr<Viewer>> Viewer::create(const ViewerOptions& options) {
     // name gives a message rather than a window that flashes and closes.
     auto manifest = io::readManifest(options.pyramid);
     if (!manifest) return manifest.error();
-    if (manifest.value().globe && !(options.pathFile.empty() && options.recordFile.empty())) {
-        return Error{options.pyramid +
-                     ": a globe pyramid: --path and --record play and record planar camera "
-                     "paths (terrain-render plays globe paths)"};
-    }
-    std::unique_ptr<Viewer> viewer(new Viewer(options));
+    const runtime::PathFrame frame =
+        manifest.value().globe ? runtime::PathFrame::Globe : runtime::PathFrame::Plane;
+    std::unique_ptr<Viewer> viewer(new Viewer(options, frame));
 
     if (!options.pathFile.empty()) {
-        auto path = runtime::CameraPath::load(options.pathFile);
+        auto path = runtime::FlightPath::load(options.pathFile, frame);
         if (!path) return path.error();
         viewer->m_path = std::move(path).value();
     }
@@ -90,9 +87,10 @@ Result<std::unique_ptr<Viewer>> Viewer::create(const ViewerOptions& options) {
     return viewer;
 }
 
-Viewer::Viewer(const ViewerOptions& options)
+Viewer::Viewer(const ViewerOptions& options, runtime::PathFrame pathFrame)
     : m_options(options),
       m_pyramidName(displayName(options.pyramid)),
+      m_pathFrame(pathFrame),
       m_recordNames(options.recordFile, "terrain-view-path", ".camera.json"),
       m_screenshotNames(options.screenshotFile, "terrain-view", ".png"),
       m_telemetryNames(options.telemetryFile, "terrain-view-telemetry", ".csv") {
@@ -339,7 +337,7 @@ void Viewer::jump() {
 void Viewer::toggleRecording() {
     if (!m_recorder.recording()) {
         m_recordingFile = m_recordNames.next();
-        m_recorder.start(m_timeS, m_camera);
+        m_recorder.start(m_pathFrame, m_timeS, m_camera);
         setStatus("recording the camera path to " + m_recordingFile.string());
         return;
     }
@@ -356,7 +354,7 @@ void Viewer::toggleRecording() {
     }
     m_pathsRecorded.push_back(m_recordingFile.string());
     setStatus(fmt::format("camera path saved: {} ({} keyframes, {:.1f} s)",
-                          m_recordingFile.string(), path.value().keyframes().size(),
+                          m_recordingFile.string(), m_recorder.keyframeCount(),
                           path.value().durationS()));
 }
 

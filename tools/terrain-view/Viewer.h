@@ -22,7 +22,7 @@
 #include "terrain/gl/GlfwWindowContext.h"
 #include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/Camera.h"
-#include "terrain/runtime/CameraPath.h"
+#include "terrain/runtime/FlightPath.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
 #include "terrain/runtime/TelemetrySummary.h"
 #include "terrain/runtime/TerrainSession.h"
@@ -56,7 +56,7 @@ public:
 private:
     using Clock = std::chrono::steady_clock;
 
-    explicit Viewer(const ViewerOptions& options);
+    Viewer(const ViewerOptions& options, runtime::PathFrame pathFrame);
     Status openSession(double cpuCacheMiB, int gpuLayers);
     void reopenSession();
     void initialCamera();
@@ -80,7 +80,8 @@ private:
 
     ViewerOptions m_options;
     std::string m_pyramidName;
-    std::optional<runtime::CameraPath> m_path;
+    runtime::PathFrame m_pathFrame;  // the pyramid's surface: what --path and R fly
+    std::optional<runtime::FlightPath> m_path;
 
     // Destroyed in reverse: the session's GL objects and the overlay before the window.
     std::unique_ptr<gl::GlfwWindowContext> m_window;
