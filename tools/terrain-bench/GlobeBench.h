@@ -1,6 +1,6 @@
 // GlobeBench: terrain-bench on a globe pyramid (docs/globe.md, "Figures"): the flight (a globe
 // camera path, or from orbit, 20,000 km, down to 1 m above the data) at each threshold, every
-// settled frame measured against the sources' full-resolution surface (GlobeScreenSpaceError) and,
+// settled frame measured against the sources' full-resolution surface (a GlobeTruth) and,
 // apart, against the pyramid's finest level (the LOD's own error, without the finest level's
 // resampling of the sources, which no LOD can go below once the camera is close), triangles,
 // patches, LOD time and the horizon-culled share per frame; the same flight without horizon culling

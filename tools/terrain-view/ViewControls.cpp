@@ -1,8 +1,5 @@
 #include "ViewControls.h"
 
-#include "GlobeControls.h"
-#include "PlaneControls.h"
-
 #include "terrain/runtime/Surface.h"
 
 namespace terrain::view {
@@ -10,8 +7,8 @@ namespace terrain::view {
 std::unique_ptr<ViewControls> ViewControls::create(const runtime::TerrainSession& session,
                                                    const ViewerOptions& options) {
     if (session.surface().kind() == runtime::SurfaceKind::Globe)
-        return std::make_unique<GlobeControls>(session, options);
-    return std::make_unique<PlaneControls>(session, options);
+        return makeGlobeControls(session, options);
+    return makePlaneControls(session, options);
 }
 
 }  // namespace terrain::view

@@ -2,7 +2,8 @@
 // Viewer (window, session, overlay, paths, logs, screenshots). On the plane the user flies or
 // orbits over a DEM in its projected metres (PlaneControls); on the globe the user spins the
 // Earth, zooms toward the cursor and flies over the ellipsoid by latitude and longitude
-// (GlobeControls). Everything else in the viewer is the same code for both.
+// (GlobeControls). Everything else in the viewer is the same code for both. Each
+// implementation lives in its .cpp file, made by ViewControls::create.
 #pragma once
 
 #include "ViewerSettings.h"
@@ -71,5 +72,11 @@ public:
     virtual std::string rootFaultText(const std::string& fault) const = 0;
     virtual std::array<float, 3> skyColor() const = 0;
 };
+
+/// The two implementations (PlaneControls.cpp, GlobeControls.cpp); create() picks one.
+std::unique_ptr<ViewControls> makePlaneControls(const runtime::TerrainSession& session,
+                                                const ViewerOptions& options);
+std::unique_ptr<ViewControls> makeGlobeControls(const runtime::TerrainSession& session,
+                                                const ViewerOptions& options);
 
 }  // namespace terrain::view

@@ -1,5 +1,5 @@
 // GlobeSourceSurface: the full-resolution surface of a globe pyramid's sources, the ground
-// truth its drawn error is measured against (runtime/truth, GlobeScreenSpaceError): the
+// truth its drawn error is measured against (runtime/truth, GlobeTruth): the
 // sources composited as the builder composites them (GlobePyramidBuilder.h), each drawn as the
 // triangles between its pixel centres, heights along the ellipsoid normal. Where no source
 // covers a place the truth is the bare ellipsoid (height 0).

@@ -1,8 +1,8 @@
 // SampleGrid: one grid of quads² cells of samples as indexed triangles, each cell split along
 // its north-west–south-east diagonal (vertex id = row · (quads + 1) + column), drawn as
 // instances that read their heights from a texture array and their placement from a shader
-// storage buffer: the mesh of both reference renderers (ReferenceRenderer.h on the plane,
-// GlobeReferenceRenderer.h on the globe) and of CDLOD's patches (CdlodRenderer.h).
+// storage buffer: the mesh of the reference renderer (ReferenceRenderer.h, on the plane and
+// the globe) and of CDLOD's patches (CdlodRenderer.h).
 #pragma once
 
 #include "terrain/gl/Buffer.h"
