@@ -12,6 +12,7 @@
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/runtime/GlobeCamera.h"
+#include "terrain/runtime/GlobeCameraPath.h"
 #include "terrain/runtime/GlobeController.h"
 #include "terrain/runtime/GlobeDrawnGround.h"
 #include "terrain/runtime/ScreenProjection.h"
@@ -31,7 +32,6 @@ namespace terrain::view {
 namespace {
 
 constexpr double kDegree = std::numbers::pi / 180.0;
-constexpr std::array<float, 3> kSpace{0.02f, 0.03f, 0.08f};
 constexpr double kFlyToPitchDeg = -30.0;
 constexpr double kDefaultAltitudeM = 10000.0;
 
@@ -50,9 +50,9 @@ public:
     void attach(const runtime::TerrainSession& session) override { m_session = &session; }
 
     /// Over the data's extent, or at --goto's latitude, longitude and altitude looking 30°
-    /// down; no fog (a fog scaled to a DEM would hide the planet from orbit).
+    /// down.
     std::string start(runtime::Camera& camera, ViewerSettings& settings) override {
-        camera.fovY = 50.0 * kDegree;
+        camera.fovY = runtime::GlobeCameraPath::kDefaultFovYDegrees * kDegree;
         m_pose = overData(m_session->manifest(), camera.fovY);
         if (m_options.jumpTo.size() >= 2) {  // --goto LAT,LON[,ALTITUDE]
             m_pose.where = {m_options.jumpTo[0], m_options.jumpTo[1],
@@ -62,10 +62,6 @@ public:
         settings.jumpX = m_pose.where.latitudeDeg;
         settings.jumpY = m_pose.where.longitudeDeg;
         settings.jumpHeightM = kDefaultAltitudeM;
-        // A globe has no fog by default: the atmosphere is not modelled, and a fog tuned to a
-        // DEM's extent would hide the planet from orbit.
-        settings.fog = false;
-        settings.fogDensityPerM = 0.0f;
         runtime::placeOnGlobe(camera, m_pose);
         return {};
     }
@@ -134,7 +130,7 @@ public:
     }
 
     /// Go to the data, the whole Earth, the data's extent, latitude/longitude/altitude fields.
-    void drawCameraSection(const runtime::Camera& camera, ViewerSettings& settings,
+    void drawCameraSection(const runtime::Camera& /*camera*/, ViewerSettings& settings,
                            OverlayRequests& out, bool focusFields) override {
         using namespace overlay;
         if (button("go to the data (H)")) out.actions.push_back(ViewerAction::Home);
@@ -143,7 +139,6 @@ public:
             m_pose = runtime::GlobeController::wholeEarth(m_pose.where.latitudeDeg,
                                                           m_pose.where.longitudeDeg);
         }
-        (void)camera;
         const io::ManifestGlobe& g = *m_session->manifest().globe;
         dimText(fmt::format("data {:.3f}° .. {:.3f}° N, {:.3f}° .. {:.3f}° E", g.south, g.north,
                             g.west, g.east));
@@ -167,11 +162,7 @@ public:
                 {"pitch_deg", m_pose.pitchDeg}};
     }
 
-    std::string rootFaultText(const std::string& fault) const override {
-        return "a cube face's data cannot be drawn, its root patch failed: " + fault;
-    }
 
-    std::array<float, 3> skyColor() const override { return kSpace; }
 
 private:
     /// Where the ray through a framebuffer pixel (rows top-down) meets the ellipsoid.

@@ -47,12 +47,11 @@ public:
     void attach(const runtime::TerrainSession& session) override { m_session = &session; }
 
     /// The end of the default flight's path over the DEM; --orbit orbits the point it looks
-    /// at, --goto jumps to X,Y at a height above the ground; fog scaled to the DEM.
+    /// at, --goto jumps to X,Y at a height above the ground.
     std::string start(runtime::Camera& camera, ViewerSettings& settings) override {
         const runtime::TerrainGeometry& g = geometry();
         camera.nearPlane = 0.5;
         const glm::dvec2 extent = g.demSize();
-        settings.fogDensityPerM = m_options.look.fogDensityPerM(g);
         const glm::dvec2 centre = g.worldAtFraction(0.5, 0.5);
         settings.jumpX = centre.x;
         settings.jumpY = centre.y;
@@ -215,15 +214,11 @@ public:
     nlohmann::json cameraJson(const runtime::Camera& camera) const override {
         return {{"mode", m_controller.mode() == runtime::CameraMode::Orbit ? "orbit" : "fly"},
                 {"position_m", {camera.position.x, camera.position.y, camera.position.z}},
-                {"yaw_deg", camera.yaw * 180.0 / std::numbers::pi},
-                {"pitch_deg", camera.pitch * 180.0 / std::numbers::pi}};
+                {"yaw_deg", overlay::degrees(camera.yaw)},
+                {"pitch_deg", overlay::degrees(camera.pitch)}};
     }
 
-    std::string rootFaultText(const std::string& fault) const override {
-        return "nothing to draw, the root patch failed: " + fault;
-    }
 
-    std::array<float, 3> skyColor() const override { return runtime::TerrainStyle{}.skyColor; }
 
 private:
     const runtime::TerrainGeometry& geometry() const {

@@ -2,7 +2,9 @@
 // Viewer (window, session, overlay, paths, logs, screenshots). On the plane the user flies or
 // orbits over a DEM in its projected metres (PlaneControls); on the globe the user spins the
 // Earth, zooms toward the cursor and flies over the ellipsoid by latitude and longitude
-// (GlobeControls). Everything else in the viewer is the same code for both. Each
+// (GlobeControls). Everything else in the viewer is the same code for both; what every
+// program does per surface (the sky and fog, what a failed root means, the path format) is
+// tools/common's SurfaceKit. Each
 // implementation lives in its .cpp file, made by ViewControls::create.
 #pragma once
 
@@ -14,7 +16,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <array>
 #include <memory>
 #include <string>
 
@@ -36,8 +37,8 @@ public:
     /// its streamer.
     virtual void attach(const runtime::TerrainSession& session) = 0;
 
-    /// The first view (the whole data, then --goto and --orbit) and the settings that
-    /// depend on the surface (fog, the jump fields); returns a status line or "".
+    /// The first view (the whole data, then --goto and --orbit) and the jump fields;
+    /// returns a status line or "".
     virtual std::string start(runtime::Camera& camera, ViewerSettings& settings) = 0;
     /// Back to the view of the whole data (H).
     virtual void home(runtime::Camera& camera) = 0;
@@ -68,9 +69,6 @@ public:
 
     /// The "camera" object of the --json summary.
     virtual nlohmann::json cameraJson(const runtime::Camera& camera) const = 0;
-    /// What a failed root means to the user of this surface.
-    virtual std::string rootFaultText(const std::string& fault) const = 0;
-    virtual std::array<float, 3> skyColor() const = 0;
 };
 
 /// The two implementations (PlaneControls.cpp, GlobeControls.cpp); create() picks one.

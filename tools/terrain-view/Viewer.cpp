@@ -17,7 +17,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 #include <utility>
 
 namespace terrain::view {
@@ -40,12 +39,10 @@ Result<std::unique_ptr<Viewer>> Viewer::create(const ViewerOptions& options) {
     // name gives a message rather than a window that flashes and closes.
     auto manifest = io::readManifest(options.pyramid);
     if (!manifest) return manifest.error();
-    const runtime::PathFrame frame =
-        manifest.value().globe ? runtime::PathFrame::Globe : runtime::PathFrame::Plane;
-    std::unique_ptr<Viewer> viewer(new Viewer(options, frame));
+    std::unique_ptr<Viewer> viewer(new Viewer(options, tools::SurfaceKit::of(manifest.value())));
 
     if (!options.pathFile.empty()) {
-        auto path = runtime::FlightPath::load(options.pathFile, frame);
+        auto path = runtime::FlightPath::load(options.pathFile, viewer->m_kit->pathFrame());
         if (!path) return path.error();
         viewer->m_path = std::move(path).value();
     }
@@ -87,10 +84,10 @@ Result<std::unique_ptr<Viewer>> Viewer::create(const ViewerOptions& options) {
     return viewer;
 }
 
-Viewer::Viewer(const ViewerOptions& options, runtime::PathFrame pathFrame)
+Viewer::Viewer(const ViewerOptions& options, std::unique_ptr<tools::SurfaceKit> kit)
     : m_options(options),
       m_pyramidName(displayName(options.pyramid)),
-      m_pathFrame(pathFrame),
+      m_kit(std::move(kit)),
       m_recordNames(options.recordFile, "terrain-view-path", ".camera.json"),
       m_screenshotNames(options.screenshotFile, "terrain-view", ".png"),
       m_telemetryNames(options.telemetryFile, "terrain-view-telemetry", ".csv") {
@@ -173,7 +170,11 @@ void Viewer::initialCamera() {
         controlOptions.jumpTo.clear();
     }
     m_controls = ViewControls::create(*m_session, controlOptions);
-    m_style.skyColor = m_controls->skyColor();
+    // The surface's sky and fog (none on a globe: a fog scaled to a DEM would hide the
+    // planet from orbit); the fog starts on where the surface has one and --no-fog is not given.
+    m_kit->skyAndFog(m_style, m_options.look, m_session->surface());
+    m_settings.fogDensityPerM = m_style.fogDensityPerM;
+    m_settings.fog = m_settings.fog && m_style.fogDensityPerM > 0.0f;
     if (std::string status = m_controls->start(m_camera, m_settings); !status.empty())
         setStatus(std::move(status));
     if (m_path) {
@@ -191,7 +192,7 @@ void Viewer::reportFaults() {
     // Nothing can be drawn: said on screen (the overlay shown) and in the exit status.
     m_fatalFaultShown = true;
     m_settings.overlayVisible = true;
-    setStatus(m_controls->rootFaultText(fatal->message), true);
+    setStatus(std::string(m_kit->rootFaultMessage()) + fatal->message, true);
 }
 
 void Viewer::setStatus(std::string message, bool error) {
@@ -337,7 +338,7 @@ void Viewer::jump() {
 void Viewer::toggleRecording() {
     if (!m_recorder.recording()) {
         m_recordingFile = m_recordNames.next();
-        m_recorder.start(m_pathFrame, m_timeS, m_camera);
+        m_recorder.start(m_kit->pathFrame(), m_timeS, m_camera);
         setStatus("recording the camera path to " + m_recordingFile.string());
         return;
     }

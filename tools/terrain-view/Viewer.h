@@ -15,6 +15,7 @@
 #include "ViewControls.h"
 #include "ViewerOptions.h"
 #include "ViewerOverlay.h"
+#include "SurfaceKit.h"
 #include "ViewerSettings.h"
 #include "WindowInput.h"
 
@@ -56,7 +57,7 @@ public:
 private:
     using Clock = std::chrono::steady_clock;
 
-    Viewer(const ViewerOptions& options, runtime::PathFrame pathFrame);
+    Viewer(const ViewerOptions& options, std::unique_ptr<tools::SurfaceKit> kit);
     Status openSession(double cpuCacheMiB, int gpuLayers);
     void reopenSession();
     void initialCamera();
@@ -80,7 +81,7 @@ private:
 
     ViewerOptions m_options;
     std::string m_pyramidName;
-    runtime::PathFrame m_pathFrame;  // the pyramid's surface: what --path and R fly
+    std::unique_ptr<tools::SurfaceKit> m_kit;  // the sky, the fog, the root fault, the paths
     std::optional<runtime::FlightPath> m_path;
 
     // Destroyed in reverse: the session's GL objects and the overlay before the window.
