@@ -7,10 +7,9 @@
       report.md; then checks that a CSV without a needed column fails with a message.
   check_charts.py --check-bench DIR
       checks a terrain-bench --report folder: the CSVs' columns and rows, bench.json, the
-      PNGs and report.md.
-  check_charts.py --check-globe-bench DIR
-      the same for a globe pyramid's folder: globe-bench.json's per-frame figures (PSNR,
-      cracks and popping against the globe reference image; no crack), the PNGs, report.md.
+      PNGs and report.md; for a globe pyramid also the per-frame figures the globe adds (the
+      LOD's own error, the camera's height; no crack against the globe reference image), the
+      charts by height and the report's globe section.
 Exit status 0 when every check passes; the first failure is printed.
 """
 
@@ -182,7 +181,25 @@ def check_bench(folder):
         if int(row["triangles"]) <= 0 or int(row["draw_calls"]) != 1:
             fail(f"frames.csv: frame {row['frame']}: {row['triangles']} triangles, "
                  f"{row['draw_calls']} draw calls")
-    check_report(folder, CHARTS, bench["command"], "| yusov2011 |")
+    globe = bench.get("tiling") == "globe"
+    if globe:
+        for row in frames:
+            for key in ("lod_error_max_px", "camera_height_m", "horizon_culled"):
+                if row.get(key, "") == "":
+                    fail(f"frames.csv: empty {key} in {row['method']} frame {row['frame']}")
+            if int(row["crack_pixels"]) != 0:
+                fail(f"{row['method']} ε = {row['threshold_px']}, frame {row['frame']}: "
+                     f"{row['crack_pixels']} crack pixels against the globe reference image")
+        if not any(t["method"].endswith("-no-horizon-culling") for t in bench["thresholds"]):
+            fail("bench.json: no run without horizon culling to compare with")
+        for t in bench["thresholds"]:
+            if "full_detail_after_arrival" not in t:
+                fail(f"bench.json: {t['method']} ε = {t['threshold_px']}: no arrival figure")
+        for key in ("same_view_straight_down_10km", "storage", "sources"):
+            if not (bench.get("globe") or {}).get(key):
+                fail(f"bench.json: no globe.{key}")
+    check_report(folder, CHARTS + (GLOBE_CHARTS if globe else []), bench["command"],
+                 "## The globe" if globe else "| yusov2011 |")
     # One curve, one table row set and one failure line per method flown.
     methods = bench.get("methods", [])
     if not methods or sorted(set(r["method"] for r in summary)) != sorted(methods):
@@ -234,40 +251,14 @@ def check_bench(folder):
                 fail(f"report.md: the stress pose {pose} is not described")
 
 
-def check_globe_bench(folder):
-    with open(os.path.join(folder, "globe-bench.json")) as f:
-        bench = json.load(f)
-    runs = bench.get("runs", [])
-    if not runs:
-        fail("globe-bench.json has no runs")
-    for run in runs:
-        frames = run.get("per_frame", [])
-        if len(frames) != run["frames"]:
-            fail(f"ε = {run['threshold_px']}: {len(frames)} frames, expected {run['frames']}")
-        for frame in frames:
-            # Popping compares two frames: none on the first.
-            keys = ("psnr_db", "crack_pixels", "lod_error_max_px") + (
-                ("popping_levels",) if frame.get("frame", 0) > 0 else ())
-            for key in keys:
-                if not isinstance(frame.get(key), (int, float)):
-                    fail(f"ε = {run['threshold_px']}, frame {frame.get('frame')}: no {key}")
-            if frame["crack_pixels"] != 0:
-                fail(f"ε = {run['threshold_px']}, frame {frame['frame']}: "
-                     f"{frame['crack_pixels']} crack pixels against the reference image")
-    check_report(folder, GLOBE_CHARTS, bench["command"], "| horizon culling |")
-
-
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--script")
     parser.add_argument("--work")
     parser.add_argument("--check-bench")
-    parser.add_argument("--check-globe-bench")
     args = parser.parse_args()
     if args.check_bench:
         check_bench(args.check_bench)
-    elif args.check_globe_bench:
-        check_globe_bench(args.check_globe_bench)
     else:
         if not args.script or not args.work:
             fail("give --script and --work, or --check-bench")

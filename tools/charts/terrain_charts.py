@@ -9,8 +9,8 @@ be given, so comparison methods drop in as more curves):
   error_timeline.png       each frame's largest measured error along the flight (frames.csv)
   telemetry_timeline.png   frame time, resident tiles, queue depth and load latency over a
                            flight, from any telemetry CSV (docs/telemetry.md)
-A globe pyramid's bench (globe-bench.json, docs/globe.md) has its own charts, one curve per ε,
-along the flight from orbit to the ground:
+A globe pyramid's bench (bench.json's "tiling": "globe", docs/globe.md) adds charts by height,
+one curve per ε, along the flight from orbit to the ground (frames.csv):
   globe_error_vs_height.png     each frame's largest error against the sources and against
                                 the pyramid's finest level (the LOD's own), by height
   globe_psnr_vs_height.png      PSNR against the globe reference image, by height
@@ -21,7 +21,6 @@ Usage:
   terrain_charts.py --summary S.csv [--summary T.csv ...] [--frames F.csv]
                     [--telemetry TELEMETRY.csv] --out DIR
   terrain_charts.py --telemetry TELEMETRY.csv --out DIR   (the timeline of any flight)
-  terrain_charts.py --globe-bench DIR --out DIR [--report] (globe-bench.json in DIR)
   terrain_charts.py --check                               (matplotlib loads?)
 Run it with Debian's /usr/bin/python3, which sees python3-matplotlib. Definitions of every
 figure: docs/accuracy.md.
@@ -329,6 +328,15 @@ def fmt(value, digits=2):
 
 
 YARDSTICK = "rtin"
+# What terrain-bench appends to a method's name for a variant of its draw or LOD.
+VARIANTS = ("-coarse-only", "-blocks-only", "-vertex-normals", "-no-horizon-culling")
+
+
+def base_method(method):
+    """The LOD method a run's name is a variant of ("yusov2011-coarse-only": "yusov2011")."""
+    for variant in VARIANTS:
+        method = method.replace(variant, "")
+    return method
 
 
 def method_sections(bench, summary_rows, summary_path, tol):
@@ -341,7 +349,7 @@ def method_sections(bench, summary_rows, summary_path, tol):
     info = (bench or {}).get("method_info", {})
     lines = ["## Methods", ""]
     for method in methods:
-        described = info.get(method.replace("-coarse-only", ""), {})
+        described = info.get(base_method(method), {})
         promise = ("bounds the measured error by ε" if described.get("bounds_error")
                    else "promises no error bound" if described else "")
         lines.append(f"- **{method}**: {described.get('summary', 'no description')}"
@@ -366,7 +374,7 @@ def method_sections(bench, summary_rows, summary_path, tol):
         lines.append("")
     lines += ["## Where each method fails", ""]
     for method, rows in methods.items():
-        described = info.get(method.replace("-coarse-only", ""), {})
+        described = info.get(base_method(method), {})
         bounds = described.get("bounds_error", True)
         failures = []
         for r in rows:
@@ -451,7 +459,7 @@ def stability_section(bench, rows, path, tol):
             if unmeasurable:
                 cell += f", {unmeasurable} unmeasurable"
             cells.append(cell if per_pose.get(pose) else "–")
-            bounds = info.get(method, {}).get("bounds_error", True)
+            bounds = info.get(base_method(method), {}).get("bounds_error", True)
             if over:
                 failures.append(f"at the {pose} pose, over ε + {tol:g} px ({'; '.join(over)})"
                                 + ("" if bounds else " — it promises no bound"))
@@ -478,10 +486,11 @@ def write_report(out_dir, bench, summary_rows, charts, summary_path, stability_r
                  stability_path="", ratios=None):
     lines = ["# Speed against accuracy", ""]
     if bench:
-        lines += [f"Pyramid `{bench.get('pyramid')}`, "
-                  f"{bench['raster']['width']} × {bench['raster']['height']} samples, "
-                  f"{bench['raster']['levels']} levels of {bench['raster']['patch_samples']}-sample "
-                  f"patches ({bench['raster']['block_quads']}-quad blocks); "
+        surface = (f"{bench['raster']['width']} × {bench['raster']['height']} samples, "
+                   f"{bench['raster']['levels']} levels of {bench['raster']['patch_samples']}-sample "
+                   f"patches ({bench['raster']['block_quads']}-quad blocks)"
+                   if "raster" in bench else "a globe pyramid measured against its sources")
+        lines += [f"Pyramid `{bench.get('pyramid')}`, {surface}; "
                   f"{bench['frames']} frames of {bench['width_px']} × {bench['height_px']} px on the "
                   f"{'default' if bench['path'] == 'default' else bench['path']} camera path "
                   f"({bench['path_duration_s']:g} s), "
@@ -513,6 +522,8 @@ def write_report(out_dir, bench, summary_rows, charts, summary_path, stability_r
               f"pixels); *frames > ε+tol*: frames whose largest error exceeds ε + {tol:g} px "
               f"(the rasterisation tolerance); *popping*: LOD image change beyond the "
               f"reference's, in 8-bit levels. Definitions: docs/accuracy.md.", ""]
+    if bench and bench.get("tiling") == "globe":
+        lines += globe_section(bench)
     lines += method_sections(bench, summary_rows, summary_path, tol)
     lines += yardstick_ratio_table(ratios or {})
     lines += stability_section(bench, stability_rows or [], stability_path, tol)
@@ -536,40 +547,34 @@ def write_report(out_dir, bench, summary_rows, charts, summary_path, stability_r
     return path
 
 
-# --- Globe pyramids: globe-bench.json (tools/terrain-bench/GlobeBench.cpp) ---------------
+# --- Globe pyramids: the flight by height, and bench.json's "globe" figures ---------------
 
-def read_globe_bench(folder):
-    path = os.path.join(folder, "globe-bench.json")
-    try:
-        with open(path) as f:
-            bench = json.load(f)
-    except OSError as error:
-        fail(f"{path}: cannot read: {error.strerror}")
-    except ValueError as error:
-        fail(f"{path}: not valid JSON: {error}")
-    runs = bench.get("runs")
-    if not runs or not all("per_frame" in r for r in runs):
-        fail(f"{path}: no runs with per-frame figures")
-    return bench, path
+HORIZON_COMPARISON = "-no-horizon-culling"  # the globe's run without horizon culling
 
 
-def globe_runs_with_culling(bench):
-    """The flight at each ε with horizon culling on (the run without it is the comparison)."""
-    return [r for r in bench["runs"] if r.get("horizon_culling", True)]
+def globe_flights(frame_rows, frames_path):
+    """The frames of each (method, ε) flown with horizon culling, in order: one curve each
+    (the run without it is the comparison, in the table)."""
+    flights = {}
+    for row in frame_rows:
+        if row["method"].endswith(HORIZON_COMPARISON):
+            continue
+        key = (row["method"], number(row, "threshold_px", frames_path))
+        flights.setdefault(key, []).append(row)
+    return flights
 
 
-def chart_globe_by_height(bench, out_dir, name, title, ylabel, series, log_y):
+def chart_globe_by_height(flights, frames_path, out_dir, name, title, ylabel, series, log_y):
     """One curve per ε (and per series) of a per-frame figure against the camera's height."""
     fig, ax = plt.subplots(figsize=(7.2, 4.4))
-    for run in globe_runs_with_culling(bench):
-        frames = run["per_frame"]
-        heights = [max(f["height_m"], 1e-3) for f in frames]
+    for (method, eps), rows in flights.items():
+        heights = [max(number(r, "camera_height_m", frames_path), 1e-3) for r in rows]
         for key, style, label in series:
-            values = [f.get(key) for f in frames]
-            x, y = finite(heights, [math.nan if v is None else float(v) for v in values])
-            line, = ax.plot(x, y, style, lw=1.2, label=f"ε={run['threshold_px']:g}{label}")
+            x, y = finite(heights, [number(r, key, frames_path) for r in rows])
+            prefix = "" if method == "yusov2011" else f"{method} "
+            line, = ax.plot(x, y, style, lw=1.2, label=f"{prefix}ε={eps:g}{label}")
             if key.endswith("error_max_px") and style == "-":
-                ax.axhline(run["threshold_px"], color=line.get_color(), lw=0.7, ls=":")
+                ax.axhline(eps, color=line.get_color(), lw=0.7, ls=":")
     ax.set_xscale("log")
     ax.invert_xaxis()  # from orbit down to the ground, left to right
     if log_y:
@@ -582,73 +587,65 @@ def chart_globe_by_height(bench, out_dir, name, title, ylabel, series, log_y):
     return save(fig, out_dir, name)
 
 
-def globe_charts(bench, out_dir):
+def globe_charts(frame_rows, frames_path, out_dir):
+    flights = globe_flights(frame_rows, frames_path)
     return [
         ("Measured error from orbit to the ground",
-         chart_globe_by_height(bench, out_dir, "globe_error_vs_height.png",
+         chart_globe_by_height(flights, frames_path, out_dir, "globe_error_vs_height.png",
                                "Measured error from orbit to the ground",
                                "largest error (px); dotted: ε",
                                [("lod_error_max_px", "-", ": LOD (against the finest level)"),
                                 ("error_max_px", "--", ": against the sources")], True)),
         ("PSNR against the reference image",
-         chart_globe_by_height(bench, out_dir, "globe_psnr_vs_height.png",
+         chart_globe_by_height(flights, frames_path, out_dir, "globe_psnr_vs_height.png",
                                "PSNR against the globe reference image", "PSNR (dB)",
                                [("psnr_db", "-", "")], False)),
         ("Triangles per frame",
-         chart_globe_by_height(bench, out_dir, "globe_triangles_vs_height.png",
+         chart_globe_by_height(flights, frames_path, out_dir, "globe_triangles_vs_height.png",
                                "Triangles per frame from orbit to the ground", "triangles",
                                [("triangles", "-", "")], True)),
     ]
 
 
-def write_globe_report(out_dir, bench, bench_path, charts):
-    lines = ["# A globe from orbit to the ground", "",
-             f"Pyramid `{bench.get('pyramid')}` against its sources "
-             f"{', '.join('`' + s + '`' for s in bench.get('sources', []))}; "
-             f"{bench['width_px']} × {bench['height_px']} px, flight: {bench.get('flight')}; "
-             f"renderer {bench['gl']['renderer']} ({bench['gl']['version']}).", "",
-             "Made by:", "", "```sh", bench.get("command", ""), "```", "",
-             "## Per threshold", "",
-             "| ε px | horizon culling | triangles (mean / max) | patches max | LOD µs p50 | "
-             "LOD error max px | frames > ε+tol (LOD) | error vs sources max px | frames > ε+tol "
-             "(sources) | PSNR dB min (mean) | cracks | popping | horizon-culled | full detail "
-             "after arriving |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    def value(r, key):  # null (no frame compared with the reference) or missing: NaN
-        v = r.get(key)
-        return math.nan if v is None else v
-
-    for r in bench["runs"]:
-        arrival = r.get("full_detail_after_arrival")
-        arrival_text = f"{arrival['frames']} frames" if arrival else "not reached"
+def globe_section(bench):
+    """The globe's own figures: the LOD's error apart from the sources', horizon culling on
+    and off, the time to full detail after arriving, the same view at a pole, on the equator
+    and over the cube, and what the pyramid stores."""
+    globe = bench.get("globe") or {}
+    lines = ["## The globe", "",
+             "| method | ε px | LOD error max px | frames > ε+tol (LOD) | error vs sources max px "
+             "| frames > ε+tol (sources) | cracks | horizon-culled | full detail after arriving |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for t in bench.get("thresholds", []):
+        arrival = t.get("full_detail_after_arrival")
+        culled = t.get("horizon_culled_fraction")
         lines.append(
-            f"| {r['threshold_px']:g} | {'on' if r['horizon_culling'] else 'off'} | "
-            f"{fmt(r['triangles_mean'], 0)} / {fmt(r['triangles_max'], 0)} | {r['patches_max']} | "
-            f"{fmt(r['lod_us_p50'], 1)} | {fmt(r['lod_error_max_px'])} | "
-            f"{r['lod_frames_over_threshold']} / {r['frames']} | {fmt(r['error_max_px'])} | "
-            f"{r['frames_over_threshold']} / {r['frames']} | "
-            f"{fmt(value(r, 'psnr_min_db'), 1)} ({fmt(value(r, 'psnr_mean_db'), 1)}) | "
-            f"{r.get('crack_pixels_total', '–')} | {fmt(value(r, 'popping_mean_levels'), 3)} | "
-            f"{fmt(100.0 * r['horizon_culled_fraction_of_visited'], 1)} % | {arrival_text} |")
+            f"| {t['method']} | {t['threshold_px']:g} | {fmt(t.get('lod_error_max_px'))} | "
+            f"{t['lod_frames_over_threshold']} / {t['frames']} | {fmt(t.get('error_max_px'))} | "
+            f"{t['frames_over_threshold']} / {t['frames']} | {t['crack_pixels_total']} | "
+            f"{fmt(None if culled is None else 100.0 * culled, 1)} % | "
+            f"{str(arrival['frames']) + ' frames' if arrival else 'not reached'} |")
     lines += ["", "*LOD error*: against the pyramid's finest level, what the LOD chose; *error vs "
               "sources*: against the DEMs themselves, which adds the finest level's resampling "
-              "of them (it shows close to the ground, docs/globe.md); *PSNR*, *cracks*, "
-              "*popping*: against the globe reference image (every finest sample a vertex). "
-              "Definitions: docs/accuracy.md.", ""]
-    same = bench.get("same_view_straight_down_10km")
+              "of them (it shows close to the ground, docs/globe.md); *cracks*: against the "
+              f"globe reference image (every finest sample a vertex); the `{HORIZON_COMPARISON}` "
+              "run flies the same path with horizon culling off. Sources: "
+              f"{', '.join('`' + s + '`' for s in globe.get('sources', []))}.", ""]
+    same = globe.get("same_view_straight_down_10km")
     if same:
-        lines += ["## The same view at a pole, on the equator and over the cube", "",
+        lines += ["### The same view at a pole, on the equator and over the cube", "",
                   "| place | patches | data patches |", "|---|---|---|"]
         lines += [f"| {v['place']} | {v['patches']} | {v['data_patches']} |" for v in same]
         lines.append("")
-    lines += ["## Charts", ""]
-    for title, path in charts:
-        lines += [f"### {title}", "", f"![{title}]({os.path.basename(path)})", ""]
-    path = os.path.join(out_dir, "report.md")
-    with open(path + ".tmp", "w") as f:
-        f.write("\n".join(lines))
-    os.replace(path + ".tmp", path)
-    return path
+    storage = globe.get("storage")
+    if storage:
+        lines += [f"Stored samples, all levels: {storage['stored_samples_all_levels']:,}; the "
+                  f"finest level over the whole globe would hold "
+                  f"{storage['finest_level_samples_whole_globe']:,.0f}, a longitude/latitude grid "
+                  f"of the same equatorial spacing "
+                  f"{storage['lon_lat_grid_same_equatorial_spacing']:,.0f} "
+                  f"(ratio {storage['whole_globe_ratio']:g}).", ""]
+    return lines
 
 
 def main():
@@ -657,7 +654,6 @@ def main():
     parser.add_argument("--summary", action="append", default=[], help="summary CSV (repeatable: one or more methods each)")
     parser.add_argument("--frames", help="per-frame CSV, for the error timeline")
     parser.add_argument("--telemetry", help="telemetry CSV (docs/telemetry.md), for the timeline")
-    parser.add_argument("--globe-bench", help="terrain-bench's output folder for a globe pyramid (globe-bench.json)")
     parser.add_argument("--out", required=True, help="folder for the PNGs (and report.md)")
     parser.add_argument("--report", action="store_true", help="also write report.md")
     parser.add_argument("--check", action="store_true",
@@ -665,16 +661,6 @@ def main():
     if "--check" in sys.argv[1:]:
         return  # the imports above succeeded
     args = parser.parse_args()
-
-    if args.globe_bench:
-        bench, bench_path = read_globe_bench(args.globe_bench)
-        os.makedirs(args.out, exist_ok=True)
-        charts = globe_charts(bench, args.out)
-        if args.report:
-            write_globe_report(args.out, bench, bench_path, charts)
-        for _, path in charts:
-            print(path)
-        return
 
     bench = None
     summaries = list(args.summary)
@@ -705,6 +691,8 @@ def main():
     if frames and os.path.exists(frames):
         frame_rows = read_csv(frames)
         charts.append(("Measured error along the flight", chart_error_timeline(frame_rows, args.out, frames)))
+        if bench and bench.get("tiling") == "globe":
+            charts += globe_charts(frame_rows, frames, args.out)
         ratios = yardstick_ratios(frame_rows, frames)
         if ratios:
             charts.append((f"Triangles against the {YARDSTICK} yardstick, frame by frame",

@@ -79,7 +79,16 @@ public:
 
     void skyAndFog(runtime::TerrainStyle& style, const DrawStyleFlags& /*look*/,
                    const runtime::Surface& /*surface*/) const override {
-        style.skyColor = {0.02f, 0.03f, 0.08f};  // space; no fog
+        const std::array<float, 4> space = measureBackground();
+        style.skyColor = {space[0], space[1], space[2]};  // no fog
+    }
+
+    double cameraHeightM(const runtime::Camera& camera) const override {
+        return runtime::globePoseOf(camera).where.height;
+    }
+
+    std::array<float, 4> measureBackground() const override {
+        return {0.02f, 0.03f, 0.08f, 1.0f};  // space
     }
 
     std::string_view rootFaultMessage() const override {

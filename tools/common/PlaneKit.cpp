@@ -35,6 +35,10 @@ public:
         style.fogDensityPerM = look.fogDensityPerM(runtime::planeGeometry(surface));
     }
 
+    double cameraHeightM(const runtime::Camera& camera) const override { return camera.position.z; }
+
+    std::array<float, 4> measureBackground() const override { return {1.0f, 0.0f, 1.0f, 1.0f}; }
+
     std::string_view rootFaultMessage() const override {
         return "nothing to draw, the root patch failed: ";
     }

@@ -21,6 +21,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -84,6 +85,16 @@ public:
     /// none on the globe).
     virtual void skyAndFog(runtime::TerrainStyle& style, const DrawStyleFlags& look,
                            const runtime::Surface& surface) const = 0;
+
+    /// The camera's height above the surface's datum: the DEM's zero on the plane, the
+    /// ellipsoid on the globe.
+    virtual double cameraHeightM(const runtime::Camera& camera) const = 0;
+
+    /// What an accuracy probe clears both images to (AccuracyProbeOptions::clearColor): a
+    /// colour the terrain's shading never produces, so a pixel of it in the LOD where the
+    /// reference drew ground is uncovered. Magenta on the plane; space on the globe, whose
+    /// frames are mostly space, as a user sees them (PSNR counts it).
+    virtual std::array<float, 4> measureBackground() const = 0;
 
     /// Why a failed root ends the run, before the fault's message.
     virtual std::string_view rootFaultMessage() const = 0;

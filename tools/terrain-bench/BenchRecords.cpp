@@ -100,13 +100,16 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
         s.method = method;
         s.thresholdPx = threshold;
         std::vector<double> triangles, patches, lodUs, gpuMs, drawMs, frameMs, errorMax, errorMean,
-            errorP99, fixedMax, rawMax, exactMax, rmse, psnr, popping, lodSwitch, jumps;
+            errorP99, fixedMax, rawMax, exactMax, lodErrorMax, rmse, psnr, popping, lodSwitch,
+            jumps;
+        std::uint64_t horizonCulled = 0, visited = 0;
         for (const FrameRecord& r : records) {
             if (r.method != method || r.thresholdPx != threshold) continue;
             ++s.frames;
             triangles.push_back(static_cast<double>(r.triangles));
             patches.push_back(static_cast<double>(r.patches));
             s.trianglesMax = std::max(s.trianglesMax, r.triangles);
+            s.patchesMax = std::max(s.patchesMax, r.patches);
             s.drawCallsMax = std::max(s.drawCallsMax, r.drawCalls);
             s.residentBytesMax = std::max(s.residentBytesMax, r.residentBytes);
             lodUs.push_back(r.lodUpdateUs);
@@ -119,6 +122,10 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
             fixedMax.push_back(r.errorFixedDiagonalMaxPx);
             rawMax.push_back(r.errorMaxSinglePixelPx);
             exactMax.push_back(r.errorMaxExactPositionPx);
+            lodErrorMax.push_back(r.lodErrorMaxPx);
+            s.lodFramesOverThreshold += r.lodErrorMaxPx > threshold + tolerancePx ? 1 : 0;
+            horizonCulled += r.horizonCulled;
+            visited += r.lodVisited;
             rmse.push_back(r.rmse);
             psnr.push_back(r.psnrDb);
             popping.push_back(r.poppingLevels);
@@ -143,9 +150,14 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
         s.errorMaxMedianPx = percentile(errorMax, 50.0);
         s.errorMeanPx = mean(errorMean);
         s.errorP99MeanPx = mean(errorP99);
+        s.errorP99MaxPx = maxOf(errorP99);
         s.errorFixedDiagonalMaxPx = maxOf(fixedMax);
         s.errorMaxSinglePixelPx = maxOf(rawMax);
         s.errorMaxExactPositionPx = maxOf(exactMax);
+        s.lodErrorMaxPx = maxOf(lodErrorMax);
+        s.horizonCulledFraction =
+            visited > 0 ? static_cast<double>(horizonCulled) / static_cast<double>(visited)
+                        : kNoValue;
         s.rmseMean = mean(rmse);
         s.psnrDbMean = mean(psnr);
         s.psnrDbMin = minOf(psnr);
@@ -216,6 +228,10 @@ Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRe
         {"lod_switch_jump_share", [](const R& r) { return number(r.lodSwitchJumpShare); }},
         {"reference_triangles", [](const R& r) { return number(r.referenceTriangles); }},
         {"reference_ms", [](const R& r) { return number(r.referenceMs); }},
+        {"camera_height_m", [](const R& r) { return number(r.cameraHeightM); }},
+        {"horizon_culled", [](const R& r) { return number(r.horizonCulled); }},
+        {"lod_visited", [](const R& r) { return number(r.lodVisited); }},
+        {"lod_error_max_px", [](const R& r) { return number(r.lodErrorMaxPx); }},
     };
     if (withPose) columns.insert(columns.begin() + 2, {"pose", [](const R& r) { return r.pose; }});
     return writeCsv<R>(path, columns, records);
@@ -261,6 +277,11 @@ Status writeSummaryCsv(const std::filesystem::path& path,
         {"lod_switch_jump_share_mean", [](const S& s) { return number(s.lodSwitchJumpShareMean); }},
         {"frames_waited", [](const S& s) { return number(s.framesWaited); }},
         {"frames_unsettled", [](const S& s) { return number(s.framesUnsettled); }},
+        {"patches_max", [](const S& s) { return number(s.patchesMax); }},
+        {"error_p99_max_px", [](const S& s) { return number(s.errorP99MaxPx); }},
+        {"lod_error_max_px", [](const S& s) { return number(s.lodErrorMaxPx); }},
+        {"lod_frames_over_threshold", [](const S& s) { return number(s.lodFramesOverThreshold); }},
+        {"horizon_culled_fraction", [](const S& s) { return number(s.horizonCulledFraction); }},
     };
     return writeCsv<S>(path, columns, summaries);
 }

@@ -28,6 +28,8 @@ struct FrameRecord {
     glm::dvec3 cameraPosition{0.0};  ///< world metres, so any frame can be looked at again
     double cameraYawDeg = 0.0;
     double cameraPitchDeg = 0.0;
+    /// Above the surface's datum: the DEM's zero on the plane, the ellipsoid on the globe.
+    double cameraHeightM = kNoValue;
 
     // Speed.
     std::uint64_t triangles = 0;  ///< GL_PRIMITIVES_GENERATED of the LOD draw (skirts included)
@@ -37,6 +39,9 @@ struct FrameRecord {
     /// culled and bintree nodes visited).
     std::uint64_t patchesCulled = 0;
     std::uint64_t lodNodes = 0;
+    /// Patches behind the horizon (the globe's) and nodes the culling walk visited.
+    std::uint64_t horizonCulled = 0;
+    std::uint64_t lodVisited = 0;
     std::uint64_t drawCalls = 0;
     double lodUpdateUs = kNoValue;    ///< the frame's first LOD update for this camera
     double gpuMs = kNoValue;          ///< GL_TIME_ELAPSED of the draw (CPU time on llvmpipe)
@@ -59,6 +64,10 @@ struct FrameRecord {
     /// The largest error of any one pixel measured at exactly its drawn x, y, without the
     /// horizontal tolerance (ScreenSpaceError.h): larger only on very steep slopes.
     double errorMaxExactPositionPx = kNoValue;
+    /// Against the probe's second truth, where it has one (on the globe the pyramid's own
+    /// finest level: the LOD's error alone, without the finest level's resampling of the
+    /// sources; AccuracyProbe.h).
+    double lodErrorMaxPx = kNoValue;
     /// Where errorMaxPx was found: pixel (x right, y down from the top row) and the drawn
     /// surface point there, world metres.
     int errorWorstX = -1;
@@ -99,6 +108,7 @@ struct ThresholdSummary {
     double trianglesMean = 0.0;
     std::uint64_t trianglesMax = 0;
     double patchesMean = 0.0;
+    std::uint64_t patchesMax = 0;
     std::uint64_t drawCallsMax = 0;
     double lodUpdateUsMean = kNoValue;
     double lodUpdateUsP95 = kNoValue;
@@ -111,12 +121,18 @@ struct ThresholdSummary {
     double errorMaxMedianPx = kNoValue;  ///< median over frames of each frame's largest
     double errorMeanPx = kNoValue;       ///< mean over frames of each frame's mean
     double errorP99MeanPx = kNoValue;    ///< mean over frames of each frame's p99
+    double errorP99MaxPx = kNoValue;     ///< largest over frames of each frame's p99
     /// Frames whose error max > ε + tolerance, or with a pixel that could not be measured.
     std::uint64_t framesOverThreshold = 0;
     std::uint64_t nonFinitePixelsTotal = 0;
     double errorFixedDiagonalMaxPx = kNoValue;
     double errorMaxSinglePixelPx = kNoValue;
     double errorMaxExactPositionPx = kNoValue;
+    double lodErrorMaxPx = kNoValue;  ///< FrameRecord::lodErrorMaxPx, largest over every frame
+    /// Frames whose lodErrorMaxPx > ε + tolerance (0 without a second truth).
+    std::uint64_t lodFramesOverThreshold = 0;
+    /// Patches behind the horizon over nodes the culling walk visited, all frames.
+    double horizonCulledFraction = kNoValue;
     double rmseMean = kNoValue;
     double psnrDbMean = kNoValue;
     double psnrDbMin = kNoValue;

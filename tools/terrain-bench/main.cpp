@@ -1,27 +1,34 @@
-// terrain-bench: speed against accuracy (issue 6; docs/accuracy.md). Flies a camera path
-// through a pyramid once per LOD method (--methods; docs/lod-methods.md) and error threshold
-// ε — one strategy per (method, threshold), so no flight inherits another's LOD — and
-// measures every frame: triangles, patches,
-// draw calls, LOD µs, GPU ms, resident bytes, and against the reference renderer (drawn
-// once per frame, shared by every threshold) the measured screen-space error, RMSE/PSNR,
-// cracks and popping. Writes frames.csv, summary.csv, one telemetry CSV per threshold and
-// bench.json; --report DIR also runs the chart tool for PNG charts and report.md.
+// terrain-bench: speed against accuracy (issue 6; docs/accuracy.md), on the plane and on the
+// globe alike. Flies a camera path through a pyramid once per LOD method (--methods;
+// docs/lod-methods.md) and error threshold ε — one strategy per (method, threshold), so no
+// flight inherits another's LOD; on the globe also once without horizon culling — and
+// measures every frame: triangles, patches, draw calls, LOD µs, GPU ms, resident bytes, and
+// against the truth (BenchTruth: the finest level on the plane, the sources and the finest
+// level on the globe) and its reference image (drawn once per frame, shared by every run) the
+// measured screen-space error, RMSE/PSNR, cracks and popping. The surface's own figures come
+// from its SurfaceKit (the time to full detail after arriving) and GlobeFigures. Writes
+// frames.csv, summary.csv, one telemetry CSV per run and bench.json; --report DIR also runs
+// the chart tool for PNG charts and report.md.
 #include "BenchRecords.h"
+#include "BenchTruth.h"
 #include "ChartScript.h"
 #include "DemOpenFlags.h"
 #include "FrameSizeFlags.h"
+#include "FullDetailAfterArrival.h"
 #include "GlImagePng.h"
 #include "GlInfoJson.h"
-#include "GlobeBench.h"
+#include "GlobeFigures.h"
 #include "StreamingBudgetFlags.h"
 #include "StressPoses.h"
+#include "SurfaceKit.h"
 
 #include "terrain/base/AtomicFile.h"
 #include "terrain/cache/GpuTilePool.h"
 #include "terrain/gl/HeadlessGlContext.h"
 #include "terrain/pyramid/PyramidManifest.h"
+#include "terrain/pyramid/VirtualPlanetPyramid.h"
 #include "terrain/runtime/AccuracyProbe.h"
-#include "terrain/runtime/CameraPath.h"
+#include "terrain/runtime/FlightPath.h"
 #include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/LodStrategyFactory.h"
 #include "terrain/runtime/PlaneSurface.h"
@@ -80,7 +87,17 @@ struct BenchOptions {
     std::string commandLine;
     std::vector<std::string> sources;  ///< globe pyramids: the DEMs it was built from
     tools::DemOpenFlags sourceFlags;
+    io::DemOpenOptions sourceOptions;  ///< sourceFlags', once parsed
 };
+
+/// The run the globe flies besides the thresholds: horizon culling off, at this ε (2 px, the
+/// paper's, when measured; else the first threshold), so that what the culling saves and
+/// whether it costs a pixel show side by side.
+double horizonComparisonPx(const std::vector<double>& thresholdsPx) {
+    return std::find(thresholdsPx.begin(), thresholdsPx.end(), 2.0) != thresholdsPx.end()
+               ? 2.0
+               : thresholdsPx.front();
+}
 
 int fail(const std::string& message) {
     fmt::print(stderr, "terrain-bench: {}\n", message);
@@ -93,8 +110,8 @@ Status writePng(const runtime::FrameImages& images, const fs::path& path) {
 
 std::string thresholdName(double px) { return fmt::format("{}", px); }
 
-/// The method's part of a per-run file name: none for the default method and its variants
-/// (the names the single-method bench has always written), else "METHOD-".
+/// The method's part of a per-run file name: none for the default method and its draw
+/// variants (the names the single-method bench has always written), else "METHOD-".
 std::string fileTag(const std::string& methodName) {
     return methodName.starts_with("yusov2011") ? "" : methodName + "-";
 }
@@ -107,15 +124,20 @@ nlohmann::json summaryJson(const tools::ThresholdSummary& s) {
             {"triangles_mean", v(s.trianglesMean)},
             {"triangles_max", s.trianglesMax},
             {"patches_mean", v(s.patchesMean)},
+            {"patches_max", s.patchesMax},
             {"draw_calls_max", s.drawCallsMax},
             {"lod_update_us_mean", v(s.lodUpdateUsMean)},
+            {"lod_update_us_p95", v(s.lodUpdateUsP95)},
             {"gpu_ms_mean", v(s.gpuMsMean)},
             {"frame_ms_mean", v(s.frameMsMean)},
             {"resident_bytes_max", s.residentBytesMax},
             {"error_max_px", v(s.errorMaxPx)},
             {"error_max_median_px", v(s.errorMaxMedianPx)},
             {"error_mean_px", v(s.errorMeanPx)},
+            {"error_p99_max_px", v(s.errorP99MaxPx)},
             {"frames_over_threshold", s.framesOverThreshold},
+            {"lod_error_max_px", v(s.lodErrorMaxPx)},
+            {"lod_frames_over_threshold", s.lodFramesOverThreshold},
             {"non_finite_pixels_total", s.nonFinitePixelsTotal},
             {"psnr_db_mean", v(s.psnrDbMean)},
             {"psnr_db_min", v(s.psnrDbMin)},
@@ -125,15 +147,20 @@ nlohmann::json summaryJson(const tools::ThresholdSummary& s) {
             {"lod_switch_levels_mean", v(s.lodSwitchLevelsMean)},
             {"lod_switch_jump_share_mean", v(s.lodSwitchJumpShareMean)},
             {"frames_waited", s.framesWaited},
-            {"frames_unsettled", s.framesUnsettled}};
+            {"frames_unsettled", s.framesUnsettled},
+            {"horizon_culled_fraction", v(s.horizonCulledFraction)}};
 }
 
 /// One (method, threshold) flight: its own strategy, its telemetry log and its previous
 /// frame.
 struct ThresholdRun {
     runtime::LodMethod method = runtime::LodMethod::Yusov2011;
-    std::string methodName;  ///< as recorded: the method, "-coarse-only" when asked
+    /// As recorded: the method, "-coarse-only" when asked, "-no-horizon-culling" for the
+    /// globe's comparison run.
+    std::string methodName;
+    std::string fileTag;  ///< its part of the telemetry and sample file names
     double thresholdPx = 0.0;
+    runtime::TerrainSessionOptions options;  ///< as opened (the arrival opens it afresh)
     std::unique_ptr<runtime::LodStrategy> session;
     std::optional<runtime::TelemetryCsvWriter> telemetry;
     std::optional<runtime::LodCapture> previous;
@@ -171,6 +198,26 @@ int run(const BenchOptions& o, const char* argv0) {
         if (!(t > 0.0) || !std::isfinite(t))
             return fail(fmt::format("--thresholds: {} is not a positive number of pixels", t));
     }
+    // Its reference render walks every present patch down to the deepest one in view, which
+    // for the virtual planet means generating tens of thousands of patches a frame.
+    if (io::isVirtualPlanetName(o.pyramid))
+        return fail(o.pyramid +
+                    ": the virtual planet is not measured here (its reference render would "
+                    "generate every patch of every level in view); build a box of it with "
+                    "terrain-build 'planet:level=L,west=…,south=…,east=…,north=…' --globe and "
+                    "measure that pyramid with the same name as --source");
+    auto manifest = io::readManifest(o.pyramid);
+    if (!manifest) return fail(manifest.error().message);
+    const std::unique_ptr<tools::SurfaceKit> kit = tools::SurfaceKit::of(manifest.value());
+    const bool globe = kit->kind() == runtime::SurfaceKind::Globe;
+    for (const runtime::LodMethod method : methods.value()) {
+        if (auto supported = kit->supports(o.pyramid, method); !supported)
+            return fail(supported.error().message);
+    }
+    if (globe && o.stability)
+        return fail(
+            o.pyramid +
+            ": a globe pyramid; --stability finds its stress poses in planar pyramids only");
     std::optional<tools::ChartScript> chart;
     if (!o.reportDir.empty()) {
         auto found = tools::findChartScript(argv0);
@@ -195,56 +242,77 @@ int run(const BenchOptions& o, const char* argv0) {
     const bool llvmpipe = gl.renderer.find("llvmpipe") != std::string::npos;
     const std::string gpuMsSource = llvmpipe ? "llvmpipe-cpu" : "gl-timer-query";
 
-    runtime::TerrainSessionOptions sessionOptions;
-    o.budgets.applyTo(sessionOptions.streaming);
+    // The truth first: a globe without its sources fails before any flight is opened.
+    auto truth = tools::BenchTruth::open(manifest.value(),
+                                         {.pyramid = o.pyramid,
+                                          .referencePyramid = o.referencePyramid,
+                                          .sources = o.sources,
+                                          .sourceOptions = o.sourceOptions,
+                                          .probe = {.widthPx = o.widthPx,
+                                                    .heightPx = o.heightPx,
+                                                    .clearColor = kit->measureBackground()}});
+    if (!truth) return fail(truth.error().message);
+    runtime::AccuracyProbe& probe = truth.value()->probe();
+
     std::vector<ThresholdRun> runs;
+    const auto openRun = [&](runtime::LodMethod method, double threshold,
+                             bool horizonCulling) -> Status {
+        runtime::TerrainSessionOptions sessionOptions;
+        o.budgets.applyTo(sessionOptions.streaming);
+        sessionOptions.method = method;
+        sessionOptions.lod.errorPx = threshold;
+        sessionOptions.lod.horizonCulling = horizonCulling;
+        sessionOptions.renderer.fragmentNormals = !o.vertexNormals;
+        sessionOptions.valdetaro = o.valdetaro;
+        sessionOptions.ripolles.coherence = !o.ripollesNoCoherence;
+        auto opened = runtime::openLodStrategy(o.pyramid, sessionOptions);
+        if (!opened) return opened.error();
+        ThresholdRun r;
+        r.method = method;
+        r.methodName = std::string(runtime::lodMethodName(method));
+        if (o.coarseOnly && method == runtime::LodMethod::Yusov2011)
+            r.methodName += "-coarse-only";
+        else if (o.blocksOnly && method == runtime::LodMethod::Yusov2011)
+            r.methodName += "-blocks-only";
+        // The methods the terrain draw (TerrainRenderer) draws: the others shade their own way.
+        if (o.vertexNormals &&
+            (method == runtime::LodMethod::Yusov2011 || method == runtime::LodMethod::ChunkedLod ||
+             method == runtime::LodMethod::Uniform))
+            r.methodName += "-vertex-normals";
+        r.fileTag = fileTag(r.methodName);
+        if (!horizonCulling) {
+            r.methodName += "-no-horizon-culling";
+            r.fileTag += "no-horizon-culling-";
+        }
+        r.thresholdPx = threshold;
+        r.options = sessionOptions;
+        r.session = std::move(opened).value();
+        auto csv = runtime::TelemetryCsvWriter::create(
+            outputDir / fmt::format("telemetry-{}eps-{}.csv", r.fileTag, thresholdName(threshold)));
+        if (!csv) return csv.error();
+        r.telemetry.emplace(std::move(csv).value());
+        runs.push_back(std::move(r));
+        return {};
+    };
     for (const runtime::LodMethod method : methods.value()) {
         for (const double threshold : o.thresholdsPx) {
-            sessionOptions.method = method;
-            sessionOptions.lod.errorPx = threshold;
-            sessionOptions.renderer.fragmentNormals = !o.vertexNormals;
-            sessionOptions.valdetaro = o.valdetaro;
-            sessionOptions.ripolles.coherence = !o.ripollesNoCoherence;
-            auto opened = runtime::openLodStrategy(o.pyramid, sessionOptions);
-            if (!opened) return fail(opened.error().message);
-            ThresholdRun r;
-            r.method = method;
-            r.methodName = std::string(runtime::lodMethodName(method));
-            if (o.coarseOnly && method == runtime::LodMethod::Yusov2011)
-                r.methodName += "-coarse-only";
-            else if (o.blocksOnly && method == runtime::LodMethod::Yusov2011)
-                r.methodName += "-blocks-only";
-            // The methods the terrain draw (TerrainRenderer) draws: the others shade their own way.
-            if (o.vertexNormals &&
-                (method == runtime::LodMethod::Yusov2011 ||
-                 method == runtime::LodMethod::ChunkedLod || method == runtime::LodMethod::Uniform))
-                r.methodName += "-vertex-normals";
-            r.thresholdPx = threshold;
-            r.session = std::move(opened).value();
-            auto csv = runtime::TelemetryCsvWriter::create(
-                outputDir / fmt::format("telemetry-{}eps-{}.csv", fileTag(r.methodName),
-                                        thresholdName(threshold)));
-            if (!csv) return fail(csv.error().message);
-            r.telemetry.emplace(std::move(csv).value());
-            runs.push_back(std::move(r));
+            if (auto opened = openRun(method, threshold, true); !opened)
+                return fail(opened.error().message);
         }
     }
-    const runtime::TerrainGeometry& geometry = runtime::planeGeometry(runs.front().session->surface());
-
-    std::optional<runtime::CameraPath> path;
-    if (o.pathFile.empty()) {
-        path = runtime::CameraPath::defaultFor(geometry, o.durationS);
-    } else {
-        auto loaded = runtime::CameraPath::load(o.pathFile);
-        if (!loaded) return fail(loaded.error().message);
-        path = std::move(loaded).value();
+    if (globe) {
+        if (auto opened = openRun(runs.front().method, horizonComparisonPx(o.thresholdsPx), false);
+            !opened)
+            return fail(opened.error().message);
     }
-    if (auto saved = path->save(outputDir / "camera-path.json"); !saved)
-        return fail(saved.error().message);
+    const runtime::Surface& surface = runs.front().session->surface();
+    const io::PyramidLayout& layout = manifest.value().layout;
 
-    auto probe = runtime::AccuracyProbe::create(
-        o.pyramid, {.widthPx = o.widthPx, .heightPx = o.heightPx}, o.referencePyramid);
-    if (!probe) return fail(probe.error().message);
+    auto flown = kit->flight(o.pyramid, surface, o.pathFile, o.durationS, tools::GlobeFlags{});
+    if (!flown) return fail(flown.error().message);
+    const runtime::FlightPath& path = flown.value();
+    if (auto saved = path.save(outputDir / "camera-path.json"); !saved)
+        return fail(saved.error().message);
 
     runtime::Camera pathCamera;
     pathCamera.viewportWidth = o.widthPx;
@@ -264,7 +332,7 @@ int run(const BenchOptions& o, const char* argv0) {
         runtime::TerrainStyle style;
         style.measure = true;
         style.fogDensityPerM = static_cast<float>(o.fogDensity);
-        if (o.coarseOnly) style.fixedTessFactor = geometry.layout().blockQuads();
+        if (o.coarseOnly) style.fixedTessFactor = layout.blockQuads();
         style.coarseCells = !o.blocksOnly;
         tools::FrameRecord rec;
         rec.method = r.methodName;
@@ -274,6 +342,7 @@ int run(const BenchOptions& o, const char* argv0) {
         rec.cameraPosition = camera.position;
         rec.cameraYawDeg = camera.yaw * 180.0 / std::numbers::pi;
         rec.cameraPitchDeg = camera.pitch * 180.0 / std::numbers::pi;
+        rec.cameraHeightM = kit->cameraHeightM(camera);
 
         // The previous frame's LOD, still the session's, drawn from this camera: what the
         // image would be without this frame's switch (FrameRecord::lodSwitchLevels).
@@ -282,7 +351,7 @@ int run(const BenchOptions& o, const char* argv0) {
             runtime::TerrainStyle heldStyle = style;
             heldStyle.measure = false;
             heldStyle.lodCamera = *r.previousCamera;
-            held = probe.value()->captureLod(session, camera, heldStyle);
+            held = probe.captureLod(session, camera, heldStyle);
         }
         auto frameStart = Clock::now();
         runtime::LodUpdateStats lodStats = session.beginFrame(camera);
@@ -314,7 +383,7 @@ int run(const BenchOptions& o, const char* argv0) {
             frameStart = Clock::now();
             lodStats = session.beginFrame(camera);
         }
-        runtime::LodCapture lod = probe.value()->captureLod(session, camera, style);
+        runtime::LodCapture lod = probe.captureLod(session, camera, style);
         runtime::FrameTelemetry telemetry;
         session.endFrame(telemetry);
         rec.frameMs = std::chrono::duration<double, std::milli>(Clock::now() - frameStart).count();
@@ -324,6 +393,8 @@ int run(const BenchOptions& o, const char* argv0) {
         rec.patches = telemetry.patchesDrawn;
         rec.patchesCulled = lodStats.culled;
         rec.lodNodes = lodStats.nodes;
+        rec.horizonCulled = lodStats.horizonCulled;
+        rec.lodVisited = lodStats.visited;
         rec.drawCalls = telemetry.drawCalls;
         rec.residentBytes = session.memoryBytes();
         telemetry.frame = frame;
@@ -331,9 +402,9 @@ int run(const BenchOptions& o, const char* argv0) {
         telemetry.frameMs = rec.frameMs;
         if (flight) r.telemetry->write(telemetry);
 
-        auto accuracy = probe.value()->compare(camera, lod, reference, r.thresholdPx,
-                                               flight && r.previous ? &*r.previous : nullptr,
-                                               flight ? previousReference : nullptr);
+        auto accuracy = probe.compare(camera, lod, reference, r.thresholdPx,
+                                      flight && r.previous ? &*r.previous : nullptr,
+                                      flight ? previousReference : nullptr);
         if (!accuracy) return accuracy.error();
         const runtime::FrameAccuracy& a = accuracy.value();
         rec.errorMaxPx = a.error.maxPx;
@@ -344,6 +415,7 @@ int run(const BenchOptions& o, const char* argv0) {
         rec.errorFixedDiagonalMaxPx = a.error.maxFixedDiagonalPx;
         rec.errorMaxSinglePixelPx = a.error.maxSinglePixelPx;
         rec.errorMaxExactPositionPx = a.error.maxExactPositionPx;
+        if (a.lodError) rec.lodErrorMaxPx = a.lodError->maxPx;
         rec.errorWorstX = a.error.worstX;
         rec.errorWorstY = a.error.worstY < 0 ? -1 : o.heightPx - 1 - a.error.worstY;
         rec.errorWorstWorld = a.error.worstWorld;
@@ -379,10 +451,10 @@ int run(const BenchOptions& o, const char* argv0) {
     const bool progress = isatty(STDERR_FILENO) != 0;
     for (int frame = 0; frame < o.frames; ++frame) {
         const double t =
-            path->startS() + (o.frames > 1 ? path->durationS() * frame / (o.frames - 1) : 0.0);
-        path->apply(t, pathCamera);
-        auto reference = probe.value()->renderReference(
-            pathCamera, {.fogDensityPerM = static_cast<float>(o.fogDensity)});
+            path.startS() + (o.frames > 1 ? path.durationS() * frame / (o.frames - 1) : 0.0);
+        path.apply(t, pathCamera);
+        auto reference =
+            probe.renderReference(pathCamera, {.fogDensityPerM = static_cast<float>(o.fogDensity)});
         if (!reference) return fail(reference.error().message);
         if (frame == sampleFrame) {
             if (auto w = writePng(reference.value().images, outputDir / "sample-reference.png"); !w)
@@ -396,9 +468,8 @@ int run(const BenchOptions& o, const char* argv0) {
             const tools::FrameRecord& rec = measured.value().first;
             runtime::LodCapture& lod = measured.value().second;
             if (frame == sampleFrame) {
-                const auto file =
-                    outputDir / fmt::format("sample-{}eps-{}.png", fileTag(r.methodName),
-                                            thresholdName(r.thresholdPx));
+                const auto file = outputDir / fmt::format("sample-{}eps-{}.png", r.fileTag,
+                                                          thresholdName(r.thresholdPx));
                 if (auto w = writePng(lod.images, file); !w) return fail(w.error().message);
             }
             records.push_back(rec);
@@ -431,8 +502,8 @@ int run(const BenchOptions& o, const char* argv0) {
                  {"camera_position", {c.position.x, c.position.y, c.position.z}},
                  {"camera_yaw_deg", c.yaw * 180.0 / std::numbers::pi},
                  {"camera_pitch_deg", c.pitch * 180.0 / std::numbers::pi}});
-            auto reference = probe.value()->renderReference(
-                c, {.fogDensityPerM = static_cast<float>(o.fogDensity)});
+            auto reference =
+                probe.renderReference(c, {.fogDensityPerM = static_cast<float>(o.fogDensity)});
             if (!reference) return fail(reference.error().message);
             const auto picture = outputDir / fmt::format("stability-{}-reference.png", pose.name);
             if (auto w = writePng(reference.value().images, picture); !w)
@@ -462,29 +533,55 @@ int run(const BenchOptions& o, const char* argv0) {
         r.session->drain(std::chrono::seconds(10));
     }
 
+    // Where the flight arrives at the ground (the globe's), how long each run's view takes to
+    // full detail from nothing loaded, drawn as a user would see it.
+    std::vector<nlohmann::json> arrivals(runs.size());
+    if (kit->measuresArrival()) {
+        auto target = gl::Framebuffer::create(o.widthPx, o.heightPx, "terrain-bench arrival");
+        if (!target) return fail(target.error().message);
+        for (std::size_t i = 0; i < runs.size(); ++i) {
+            auto arrival = tools::fullDetailAfterArrival(o.pyramid, runs[i].options, pathCamera,
+                                                         target.value(), std::chrono::seconds(120));
+            if (!arrival) return fail(arrival.error().message);
+            arrivals[i] = std::move(arrival).value();
+        }
+    }
+    nlohmann::json surfaceFigures = nullptr;
+    if (globe) {
+        runtime::TerrainSessionOptions options = runs.front().options;
+        options.lod.errorPx = horizonComparisonPx(o.thresholdsPx);
+        options.lod.horizonCulling = true;
+        auto figures =
+            tools::globeFigures(o.pyramid, manifest.value(), options, o.widthPx, o.heightPx);
+        if (!figures) return fail(figures.error().message);
+        surfaceFigures = std::move(figures).value();
+        surfaceFigures["sources"] = o.sources;
+    }
+
     const std::vector<tools::ThresholdSummary> summaries = tools::summarise(records, o.tolerancePx);
     if (auto w = tools::writeFramesCsv(outputDir / "frames.csv", records, gpuMsSource); !w)
         return fail(w.error().message);
     if (auto w = tools::writeSummaryCsv(outputDir / "summary.csv", summaries, gpuMsSource); !w)
         return fail(w.error().message);
 
-    const io::PyramidLayout& layout = geometry.layout();
     nlohmann::json thresholds = nlohmann::json::array();
-    for (const tools::ThresholdSummary& s : summaries) thresholds.push_back(summaryJson(s));
-    const nlohmann::json out{
+    for (const tools::ThresholdSummary& s : summaries) {
+        nlohmann::json summary = summaryJson(s);
+        if (kit->measuresArrival()) {
+            for (std::size_t i = 0; i < runs.size(); ++i) {
+                if (runs[i].methodName == s.method && runs[i].thresholdPx == s.thresholdPx)
+                    summary["full_detail_after_arrival"] = arrivals[i];
+            }
+        }
+        thresholds.push_back(std::move(summary));
+    }
+    nlohmann::json out{
         {"tool", "terrain-bench"},
         {"command", o.commandLine},
         {"pyramid", o.pyramid},
-        {"referencePyramid", o.referencePyramid.empty() ? o.pyramid : o.referencePyramid},
-        {"raster",
-         {{"width", layout.rasterWidth()},
-          {"height", layout.rasterHeight()},
-          {"patch_samples", layout.patchSamples()},
-          {"block_quads", layout.blockQuads()},
-          {"levels", layout.levelCount()},
-          {"sample_spacing_m", {geometry.sampleSpacing().x, geometry.sampleSpacing().y}}}},
+        {"tiling", kit->tiling()},
         {"path", o.pathFile.empty() ? nlohmann::json("default") : nlohmann::json(o.pathFile)},
-        {"path_duration_s", path->durationS()},
+        {"path_duration_s", path.durationS()},
         {"frames", o.frames},
         {"width_px", o.widthPx},
         {"height_px", o.heightPx},
@@ -506,6 +603,19 @@ int run(const BenchOptions& o, const char* argv0) {
         {"total_seconds", std::chrono::duration<double>(Clock::now() - start).count()},
         {"gl", tools::glInfoJson(*context.value())},
     };
+    if (globe) {
+        out["globe"] = surfaceFigures;
+    } else {
+        const runtime::TerrainGeometry& geometry = runtime::planeGeometry(surface);
+        out["referencePyramid"] = o.referencePyramid.empty() ? o.pyramid : o.referencePyramid;
+        out["raster"] = {
+            {"width", layout.rasterWidth()},
+            {"height", layout.rasterHeight()},
+            {"patch_samples", layout.patchSamples()},
+            {"block_quads", layout.blockQuads()},
+            {"levels", layout.levelCount()},
+            {"sample_spacing_m", {geometry.sampleSpacing().x, geometry.sampleSpacing().y}}};
+    }
     if (auto w = writeAtomically(
             outputDir / "bench.json",
             [&](const fs::path& temporary) -> Status {
@@ -537,14 +647,20 @@ int run(const BenchOptions& o, const char* argv0) {
             "terrain-bench: {} ε = {:>5} px: triangles {:>9.0f}, measured error max {:.3f} px "
             "(median of frame maxima {:.3f}, mean {:.3f}), PSNR {:.2f} dB, {} of {} frames "
             "over ε + {} px, "
-            "{} crack pixels, {} unmeasurable (non-finite) pixels{}\n",
+            "{} crack pixels, {} unmeasurable (non-finite) pixels{}{}\n",
             s.method, s.thresholdPx, s.trianglesMean, s.errorMaxPx, s.errorMaxMedianPx,
             s.errorMeanPx, s.psnrDbMean, s.framesOverThreshold, s.frames, o.tolerancePx,
             s.crackPixelsTotal, s.nonFinitePixelsTotal,
             std::isnan(s.lodSwitchLevelsMean)
                 ? std::string()
                 : fmt::format(", LOD switches {:.4f} levels a frame, {:.4f} % of pixels jumping",
-                              s.lodSwitchLevelsMean, 100.0 * s.lodSwitchJumpShareMean));
+                              s.lodSwitchLevelsMean, 100.0 * s.lodSwitchJumpShareMean),
+            std::isnan(s.lodErrorMaxPx)
+                ? std::string()
+                : fmt::format("; the LOD's own error (against the finest level) max {:.3f} px, "
+                              "{} frames over; horizon-culled {:.1f} % of visited",
+                              s.lodErrorMaxPx, s.lodFramesOverThreshold,
+                              100.0 * s.horizonCulledFraction));
     }
     return 0;
 }
@@ -637,41 +753,6 @@ int main(int argc, char** argv) {
     app.add_flag("--json", o.json, "Print the JSON summary on stdout");
     CLI11_PARSE(app, argc, argv);
     for (int i = 0; i < argc; ++i) o.commandLine += (i == 0 ? "" : " ") + std::string(argv[i]);
-    if (auto manifest = io::readManifest(o.pyramid); manifest && manifest.value().globe) {
-        if (o.methods != "yusov2011")
-            return fail(o.pyramid +
-                        ": a globe pyramid; only yusov2011 draws globes (the other methods "
-                        "compare on planar pyramids)");
-        if (o.stability)
-            return fail(o.pyramid +
-                        ": a globe pyramid; --stability finds its stress poses in planar "
-                        "pyramids only");
-        tools::GlobeBenchOptions globe;
-        globe.pyramid = o.pyramid;
-        globe.sources = o.sources;
-        globe.pathFile = o.pathFile;
-        globe.sourceOptions = o.sourceFlags.options();
-        globe.thresholdsPx = o.thresholdsPx;
-        globe.frames = o.frames;
-        globe.widthPx = o.widthPx;
-        globe.heightPx = o.heightPx;
-        globe.outputDir = !o.outputDir.empty()   ? o.outputDir
-                          : !o.reportDir.empty() ? o.reportDir
-                                                 : "out/bench";
-        globe.tolerancePx = o.tolerancePx;
-        globe.budgets = o.budgets;
-        globe.json = o.json;
-        globe.commandLine = o.commandLine;
-        if (!o.reportDir.empty()) {
-            auto found = tools::findChartScript(argv[0]);
-            if (!found) return fail(found.error().message);
-            // Before the flight, not after it: a missing matplotlib fails at once.
-            if (auto usable = tools::runChartScript(found.value(), {"--check"}); !usable)
-                return fail(usable.error().message);
-            globe.reportDir = o.reportDir;
-            globe.chart = found.value();
-        }
-        return tools::runGlobeBench(globe);
-    }
+    o.sourceOptions = o.sourceFlags.options();
     return run(o, argv[0]);
 }
