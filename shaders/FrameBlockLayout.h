@@ -41,7 +41,8 @@
     VEC4(demExtent)                                                                            \
     /* xyz: towards the sun, unit length, world frame.                                       */ \
     VEC4(sunDirection)                                                                         \
-    /* xy: the heights the hypsometric tint spans, metres.                                   */ \
+    /* xy: the heights the hypsometric tint spans, metres; z: sea level, metres; w: 1 where  */ \
+    /* what lies at or below it is drawn as water (the globe), 0 where not (the plane).      */ \
     VEC4(heightRange)                                                                          \
     /* rgb: the sky and fog colour; w: the fog density per metre (0: none).                  */ \
     VEC4(sky)

@@ -25,8 +25,8 @@ void main() {
         any(greaterThan(i_demSample, extent.zw + kSlack))) {
         discard;
     }
-    o_color = vec4(terrainShade(TerrainShading(u_frame.sunDirection.xyz, u_frame.heightRange.xy,
-                                               u_frame.sky.rgb, u_frame.sky.w),
-                                i_normal, i_heightM, i_fromCameraM), 1.0);
+    TerrainShading shading = TerrainShading(u_frame.sunDirection.xyz, u_frame.heightRange.xy,
+                                            u_frame.sky.rgb, u_frame.sky.w, u_frame.heightRange.zw);
+    o_color = vec4(terrainShade(shading, i_normal, i_heightM, i_fromCameraM), 1.0);
     o_heightM = i_heightM;
 }

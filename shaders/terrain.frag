@@ -89,7 +89,7 @@ void main() {
     vec3 normal = i_normal;
 #endif
     TerrainShading shading = TerrainShading(u_frame.sunDirection.xyz, u_frame.heightRange.xy,
-                                            u_frame.sky.rgb, u_frame.sky.w);
+                                            u_frame.sky.rgb, u_frame.sky.w, u_frame.heightRange.zw);
     int debugView = u_frame.options.y;  // TerrainDebugView: 0 shaded, 1 level, 2 tess factor
     if (debugView == 0) {
         o_color = vec4(terrainShade(shading, normal, i_heightM, i_fromCameraM), 1.0);

@@ -100,7 +100,9 @@ void GlobePlacement::beginFrame(const Camera& camera, FrameBlock& block) {
     block.sunDirection = {static_cast<float>(sun.x), static_cast<float>(sun.y),
                           static_cast<float>(sun.z), 0.0f};
     const std::array<float, 2> range = globeHeightRange(m_manifest);
-    block.heightRange = {range[0], range[1], 0.0f, 0.0f};
+    // The sea at the sources' zero (their vertical datum, mean sea level for SRTM and ETOPO),
+    // drawn as water.
+    block.heightRange = {range[0], range[1], 0.0f, 1.0f};
 }
 
 PatchInstance GlobePlacement::place(const PatchDraw& p, const cache::GpuTilePool& pool) const {
