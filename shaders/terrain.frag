@@ -15,45 +15,40 @@ layout(location = 5) in vec2 i_demSample;
 layout(location = TERRAIN_FRAG_COLOR) out vec4 o_color;
 
 #ifdef TERRAIN_FRAGMENT_NORMALS
-// The plane's terrain draw (terrain.tese) shades with the normal of the patch's own
-// full-resolution mesh at the fragment rather than the one interpolated between the drawn
-// vertices: shading then does not depend on the tessellation, so a block or a coarse cell
-// (runtime/lod CoarseCells.h) that changes level changes the geometry only, within its
-// bound, and not the light across it. The reference renderer's mesh is the same one at the
-// finest level, so at full resolution both shade alike.
-layout(binding = TERRAIN_BINDING_HEIGHTS) uniform sampler2DArray u_heights;
+// The terrain draw shades with the normal of the patch's own full-resolution mesh at the
+// fragment rather than the one interpolated between the drawn vertices: shading then does not
+// depend on the tessellation, so a block or a coarse cell (runtime/lod CoarseCells.h) that
+// changes level changes the geometry only, within its bound, and not the light across it (and
+// fine data drawn with few vertices does not shade as a hatching of its triangles). The
+// reference renderers' mesh is the same one at the finest level, so at full resolution both
+// shade alike. The normals at the samples are the surface's (surfaceShadingNormal: the map
+// frame's on the plane, tilted from the ellipsoid normal on the globe).
+#include "terrain_surface.glsl"
+
 layout(location = 6) in vec2 i_patchSample;  // the patch's samples, apron excluded
-layout(location = 7) flat in int i_layer;
-layout(location = 8) flat in vec2 i_metresPerSample;
+layout(location = 7) flat in int i_instance;
+layout(location = 8) in vec3 i_up;
 
-float heightAt(ivec2 texel) {
-    return texelFetch(u_heights, ivec3(texel, i_layer), 0).r;
-}
-
-// The normal at patch sample s: central differences, as the evaluation stage and the
-// reference renderer take them. Rows run south: +row is −y.
-vec3 sampleNormal(ivec2 s) {
-    ivec2 texel = s + 1;  // the apron
-    float dx = heightAt(texel + ivec2(1, 0)) - heightAt(texel - ivec2(1, 0));
-    float dy = heightAt(texel - ivec2(0, 1)) - heightAt(texel + ivec2(0, 1));
-    return normalize(
-        vec3(-dx / (2.0 * i_metresPerSample.x), -dy / (2.0 * i_metresPerSample.y), 1.0));
+vec3 sampleNormal(PatchInstance patch_, ivec2 s) {
+    bool between = patch_.texelMap.w != 0.0;
+    return surfaceShadingNormal(patch_, tileTexel(patch_.texelMap, vec2(s)), between, i_up);
 }
 
 // The normal of the full-resolution mesh at patch sample p: its cell split along the
 // north-west–south-east diagonal, as the reference renderer splits it, and the corners'
 // normals blended barycentrically, as the rasteriser blends the reference's vertices'.
 vec3 fragmentNormal(vec2 p) {
-    ivec2 lastCell = textureSize(u_heights, 0).xy - 4;  // N + 2 texels, N − 1 cells
-    ivec2 cell = clamp(ivec2(floor(p)), ivec2(0), lastCell);
+    PatchInstance patch_ = u_instances[i_instance];
+    int lastCell = u_frame.tessellation.z - 1;  // N − 1 cells a side
+    ivec2 cell = clamp(ivec2(floor(p)), ivec2(0), ivec2(lastCell));
     vec2 f = clamp(p - vec2(cell), 0.0, 1.0);
-    vec3 a = sampleNormal(cell);
-    vec3 d = sampleNormal(cell + ivec2(1, 1));
+    vec3 a = sampleNormal(patch_, cell);
+    vec3 d = sampleNormal(patch_, cell + ivec2(1, 1));
     if (f.x >= f.y) {
-        vec3 b = sampleNormal(cell + ivec2(1, 0));
+        vec3 b = sampleNormal(patch_, cell + ivec2(1, 0));
         return a + (b - a) * f.x + (d - b) * f.y;
     }
-    vec3 c = sampleNormal(cell + ivec2(0, 1));
+    vec3 c = sampleNormal(patch_, cell + ivec2(0, 1));
     return a + (d - c) * f.x + (c - a) * f.y;
 }
 #endif

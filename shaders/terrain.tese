@@ -23,11 +23,11 @@ layout(location = 3) flat out int o_level;
 layout(location = 4) flat out int o_tessFactor;
 layout(location = 5) out vec2 o_demSample;  // minus the anchor: the fragment stage clips
 #ifdef TERRAIN_FRAGMENT_NORMALS
-// For the fragment stage's normals (terrain.frag): where in the patch's samples, in which
-// layer, and how far apart its samples are.
+// For the fragment stage's normals (terrain.frag): where in the patch's samples, which
+// patch, and the surface's vertical there.
 layout(location = 6) out vec2 o_patchSample;
-layout(location = 7) flat out int o_layer;
-layout(location = 8) flat out vec2 o_metresPerSample;
+layout(location = 7) flat out int o_instance;
+layout(location = 8) out vec3 o_up;
 #endif
 
 void main() {
@@ -50,8 +50,8 @@ void main() {
     o_demSample = surfaceDemSample(patch_, vec2(sampleXY));
 #ifdef TERRAIN_FRAGMENT_NORMALS
     o_patchSample = vec2(sampleXY);
-    o_layer = layer;
-    o_metresPerSample = patchSampleSpacingM(patch_);
+    o_instance = i_instance[0];
+    o_up = up;
 #endif
     o_fromCameraM = position;
     gl_Position = u_frame.viewProjection * vec4(position, 1.0);

@@ -24,10 +24,8 @@ Result<TerrainRenderer> TerrainRenderer::create(const Surface& surface, int maxI
     ProgramBuilder builder("terrain (" + name + ")");
     builder.stage("terrain.vert").stage("terrain.tesc").stage("terrain.tese").stage("terrain.frag");
     placement->defineSurface(builder);
-    // Shading from the full-resolution mesh at each fragment is the plane's draw's so far: its
-    // normals are the map frame's (terrain.frag).
-    if (options.fragmentNormals && surface.kind() == SurfaceKind::Plane)
-        builder.define("TERRAIN_FRAGMENT_NORMALS");
+    // Shading from the full-resolution mesh at each fragment (terrain.frag), on either surface.
+    if (options.fragmentNormals) builder.define("TERRAIN_FRAGMENT_NORMALS");
     if (options.recordTessFactors) builder.define("TERRAIN_DEBUG_TESS_FACTORS");
     auto program = builder.build();
     if (!program) return program.error();
