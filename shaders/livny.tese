@@ -20,6 +20,8 @@ layout(location = 1) out vec3 o_normal;
 layout(location = 2) out float o_heightM;
 layout(location = 3) flat out int o_level;
 layout(location = 4) flat out int o_tessFactor;
+// The draw instance (the patch) for the patch-id view (TerrainDebugView::PatchId).
+layout(location = 9) flat out int o_patch;
 layout(location = 5) out vec2 o_demSample;
 
 void main() {
@@ -32,6 +34,7 @@ void main() {
     o_heightM = h;
     o_level = patch_.layerLevel.y;
     o_tessFactor = i_debugFactor;
+    o_patch = i_instance[0];
     o_demSample = terrainDemSample(patch_, s);
     precise vec3 position = terrainPositionM(patch_, s, h);
     o_fromCameraM = position;

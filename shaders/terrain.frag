@@ -12,6 +12,7 @@ layout(location = 2) in float i_heightM;
 layout(location = 3) flat in int i_level;
 layout(location = 4) flat in int i_tessFactor;
 layout(location = 5) in vec2 i_demSample;
+layout(location = 9) flat in int i_patch;
 layout(location = TERRAIN_FRAG_COLOR) out vec4 o_color;
 
 #ifdef TERRAIN_FRAGMENT_NORMALS
@@ -73,6 +74,13 @@ vec3 tessFactorColor(int factor) {
     return palette[clamp(findMSB(max(factor, 1)), 0, 6)];
 }
 
+// The patch-id view: draw instance + 1 in the colour's bytes, R low, unlit and unfogged, so
+// the image decodes exactly (runtime/truth BoundaryArtefacts.h, patchIdsOf); 0 is no patch.
+vec3 patchIdColor(int instance) {
+    int id = instance + 1;
+    return vec3(float(id & 255), float((id >> 8) & 255), float((id >> 16) & 255)) / 255.0;
+}
+
 void main() {
     if (any(lessThan(i_demSample, u_frame.demExtent.xy - kEdgeToleranceSamples)) ||
         any(greaterThan(i_demSample, u_frame.demExtent.zw + kEdgeToleranceSamples))) {
@@ -85,7 +93,11 @@ void main() {
 #endif
     TerrainShading shading = TerrainShading(u_frame.sunDirection.xyz, u_frame.heightRange.xy,
                                             u_frame.sky.rgb, u_frame.sky.w, u_frame.heightRange.zw);
-    int debugView = u_frame.options.y;  // TerrainDebugView: 0 shaded, 1 level, 2 tess factor
+    int debugView = u_frame.options.y;  // TerrainDebugView: 0 shaded, 1 level, 2 tess, 3 patch
+    if (debugView == 3) {
+        o_color = vec4(patchIdColor(i_patch), 1.0);
+        return;
+    }
     if (debugView == 0) {
         o_color = vec4(terrainShade(shading, normal, i_heightM, i_fromCameraM), 1.0);
         return;

@@ -21,6 +21,8 @@ layout(location = 1) out vec3 o_normal;
 layout(location = 2) out float o_heightM;
 layout(location = 3) flat out int o_level;
 layout(location = 4) flat out int o_tessFactor;
+// The draw instance (the patch) for the patch-id view (TerrainDebugView::PatchId).
+layout(location = 9) flat out int o_patch;
 layout(location = 5) out vec2 o_demSample;  // minus the anchor: the fragment stage clips
 #ifdef TERRAIN_FRAGMENT_NORMALS
 // For the fragment stage's normals (terrain.frag): where in the patch's samples, which
@@ -47,6 +49,7 @@ void main() {
     o_heightM = h;
     o_level = patch_.layerLevel.y;
     o_tessFactor = i_debugFactor;
+    o_patch = i_instance[0];
     o_demSample = surfaceDemSample(patch_, vec2(sampleXY));
 #ifdef TERRAIN_FRAGMENT_NORMALS
     o_patchSample = vec2(sampleXY);

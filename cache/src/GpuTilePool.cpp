@@ -6,6 +6,7 @@
 #include "terrain/pyramid/CoarseCellErrors.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <utility>
@@ -311,9 +312,15 @@ bool GpuTilePool::upload(const io::PatchRecord& record) {
     }
     found->second.resident = true;
     found->second.info = record.info;
+    // λ(d) = +∞ is a simplification too coarse to store (a half beyond 65,504 m: a globe
+    // face's root tile at d ≥ 3, where its blocks' chords sag tens of kilometres under the
+    // ellipsoid). The control stage never picks it (∞ · px/m is never below ε), so it bounds
+    // nothing drawn; counting it made every skirt of the frame infinitely deep, a vertex at
+    // infinity, and no skirt was drawn at all.
     float maxBlockError = 0.0f;
     for (const io::BlockErrors& errors : record.blockErrors) {
-        for (const float lambda : errors) maxBlockError = std::max(maxBlockError, lambda);
+        for (const float lambda : errors)
+            if (std::isfinite(lambda)) maxBlockError = std::max(maxBlockError, lambda);
     }
     m_maxBlockErrorM[static_cast<std::size_t>(layer)] = maxBlockError;
     if (m_coarseCellsPerLayer > 0) {

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <random>
 #include <span>
@@ -325,6 +326,38 @@ TEST_F(GpuTilePoolTest, PinnedCountFollowsPinAndUnpin) {
     pool.release(b);
     EXPECT_EQ(pool.layersFree(), pool.capacity());
     EXPECT_EQ(pool.checkInvariants(), std::nullopt);
+    pool.endFrame();
+}
+
+TEST_F(GpuTilePoolTest, MaxBlockErrorLeavesOutSimplificationsTooCoarseToStore) {
+    // A globe face's root tile stores λ(d) = +∞ where its blocks' chords sag more than a
+    // half can hold; the control stage never draws those d. The largest error is the
+    // largest finite one: an infinite one made every skirt of the frame infinitely deep
+    // (a vertex at infinity draws nothing), which opened cracks on the globe.
+    cache::GpuTilePool pool = makePool(2, 2 * cache::GpuTilePool::bytesPerLayer(layout()));
+    pool.beginFrame();
+    const io::PatchId root{.level = 0, .x = 0, .y = 0};
+    io::PatchRecord record = makeRecord(root);
+    const float inf = std::numeric_limits<float>::infinity();
+    float largestFinite = 0.0f;
+    for (io::BlockErrors& errors : record.blockErrors) {
+        errors[2] = inf;
+        errors[3] = inf;
+        largestFinite = std::max({largestFinite, errors[0], errors[1]});
+    }
+    ASSERT_TRUE(pool.allocate(root));
+    ASSERT_TRUE(pool.upload(record));
+    const std::optional<float> maxError = pool.maxBlockErrorM(root);
+    ASSERT_TRUE(maxError.has_value());
+    EXPECT_EQ(*maxError, largestFinite);
+
+    // Nothing finite at all: nothing drawable beyond Err(P).
+    const io::PatchId other{.level = 0, .x = 1, .y = 0};
+    io::PatchRecord unbounded = makeRecord(other);
+    for (io::BlockErrors& errors : unbounded.blockErrors) errors.fill(inf);
+    ASSERT_TRUE(pool.allocate(other));
+    ASSERT_TRUE(pool.upload(unbounded));
+    EXPECT_EQ(pool.maxBlockErrorM(other), std::optional<float>(0.0f));
     pool.endFrame();
 }
 

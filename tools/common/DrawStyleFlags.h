@@ -21,9 +21,10 @@ struct DrawStyleFlags {
     /// Adds --debug-view, --wireframe, --no-skirts and --fog; returns --fog.
     CLI::Option* addTo(CLI::App& app) {
         app.add_option("--debug-view", debugView,
-                       "shaded, level (colour by patch level) or tess (by tessellation factor)")
+                       "shaded, level (colour by patch level), tess (by tessellation factor) or "
+                       "patch (each patch's draw index in the colour's bytes, unlit)")
             ->capture_default_str()
-            ->check(CLI::IsMember({"shaded", "level", "tess"}));
+            ->check(CLI::IsMember({"shaded", "level", "tess", "patch"}));
         app.add_flag("--wireframe", wireframe, "Draw triangle edges");
         app.add_flag("--no-skirts", noSkirts,
                      "Leave out the skirts (shows cracks between patches)");
@@ -34,6 +35,7 @@ struct DrawStyleFlags {
     runtime::TerrainDebugView debugViewValue() const {
         if (debugView == "level") return runtime::TerrainDebugView::Level;
         if (debugView == "tess") return runtime::TerrainDebugView::TessFactor;
+        if (debugView == "patch") return runtime::TerrainDebugView::PatchId;
         return runtime::TerrainDebugView::Shaded;
     }
 

@@ -6,6 +6,7 @@
 //  - no hole: every pixel whose view ray meets the ellipsoid lowered below the deepest drawn
 //    point shows terrain, not the clear colour (the terrain lies above that ellipsoid);
 //  - horizon culling never removes a visible pixel: the images with it on and off are equal;
+//  - every drawn patch's skirt depth and error are finite (else no skirt is drawn);
 //  - one draw call, data patches drawn where the data is;
 //  - against the globe reference image (ReferenceRenderer, GlobeReferenceScene): no crack, PSNR at
 //  ε = 1 px
@@ -189,6 +190,14 @@ TEST_F(GlobeSessionTest, EveryStabilityCaseHasNoHoleAndHorizonCullingChangesNoPi
             render(session, framebuffer.value(), camera, &all);
         EXPECT_EQ(drawn.drawCalls, 1);
         EXPECT_GT(culled.drawn - culled.drawnBare, 0u) << "no data patch drawn";
+        // A face's root tile stores λ(d) = +∞ where its chords sag more than a half holds:
+        // a skirt depth taken from it was infinite, every skirt a vertex at infinity (none
+        // drawn), and the gaps between patches showed the far side or the sky.
+        for (const PatchDraw& draw : session.draws()) {
+            EXPECT_TRUE(std::isfinite(draw.skirtDepthM) && std::isfinite(draw.errorM))
+                << "patch level " << draw.id.level << ": skirt depth " << draw.skirtDepthM
+                << " m, error " << draw.errorM << " m";
+        }
         EXPECT_LE(culled.drawn, all.drawn);
         int differing = 0, holes = 0, checked = 0;
         for (int y = 0; y < kHeight; ++y) {

@@ -100,9 +100,9 @@ public:
     /// The summary of a resident patch (bounds and error, from its record), or null.
     /// Render thread only.
     const io::PatchInfo* info(const io::PatchId& id) const;
-    /// The largest block error λ(d) (all blocks, d = 1..4) of a resident patch, metres,
-    /// from its uploaded record; nullopt unless resident. With Err(P) it bounds the
-    /// patch's Λ (SkirtDepth.h). Render thread only.
+    /// The largest finite block error λ(d) (all blocks, d = 1..4) of a resident patch,
+    /// metres, from its uploaded record; nullopt unless resident. With Err(P) it bounds the
+    /// patch's drawn Λ (SkirtDepth.h): an infinite λ(d) is never drawn. Render thread only.
     std::optional<float> maxBlockErrorM(const io::PatchId& id) const;
     /// io::coarseCellErrors of a resident patch, from its uploaded record: for every cell of
     /// 2^k × 2^k blocks, k = 1.., how far it may lie from the patch's own surface when drawn

@@ -16,6 +16,9 @@ enum class TerrainDebugView {
     Shaded,      ///< hillshaded hypsometric tint
     Level,       ///< a colour per patch level
     TessFactor,  ///< a colour per block inner tessellation factor (blue coarse … red fine)
+    /// Each patch's draw instance + 1 in the colour's bytes (R low), unlit: where patch
+    /// boundaries lie on screen (runtime/truth BoundaryArtefacts.h decodes it; 0 no patch).
+    PatchId,
 };
 
 /// How the terrain is drawn. ε is not part of it: the LOD holds it (LodOptions::errorPx), and

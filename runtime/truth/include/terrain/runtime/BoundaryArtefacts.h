@@ -1,0 +1,53 @@
+// BoundaryArtefacts: pixels on patch boundaries that the draw got wrong on its own (issue 46,
+// "boundary artefacts"): a pixel where two patches meet whose colour differs from both of its
+// neighbours across the boundary and from the reference image. A pinhole where two patches'
+// edges do not quite meet shows the sky or the far side of the globe there; a shading step
+// that the reference has too is not one. Where the boundaries lie comes from the patch-id view
+// (TerrainDebugView::PatchId). Pure CPU functions of images of equal size, any row order (the
+// same in every argument).
+#pragma once
+
+#include "terrain/runtime/FrameImages.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace terrain::runtime {
+
+/// The patch-id view's pixels (RGBA8) decoded: draw instance + 1, 0 where no patch drew.
+std::vector<std::uint32_t> patchIdsOf(std::span<const std::uint8_t> patchViewRgba);
+
+struct BoundaryArtefacts {
+    /// Default threshold: the largest R, G or B difference, 8-bit levels, above which two
+    /// colours differ (a step a viewer sees; fog and shading vary far less between adjacent
+    /// pixels of one surface).
+    static constexpr int kDefaultThresholdLevels = 32;
+
+    /// Two depths (reversed Z, near / distance) within this relative difference are one
+    /// surface's.
+    static constexpr double kSameSurface = 0.05;
+
+    std::uint64_t boundaryPixels = 0;  ///< pixels with a neighbour (4-connected) of another patch
+    std::vector<std::size_t> pixels;   ///< the artefacts' pixel indices, ascending
+};
+
+/// The boundary artefacts of `lod` against `reference` (same camera and size): pixel p with
+/// neighbours a and b on either side of it along a row or a column, p's patch differing from
+/// a's or b's (p lies on a boundary along that line), and p's colour differing by more than
+/// `thresholdLevels` (R, G or B) from a's, from b's and from the reference's p; and either
+///  - p belongs to neither a's patch nor b's: a sliver between them, the sky or a farther
+///    surface seen through a gap (a pinhole, whatever its colour), or
+///  - p shows the reference's surface there (depths within kSameSurface) and a and b match
+///    the reference's colours: p's colour alone is wrong (shading at the patch's edge). Where
+///    the sides differ from the reference too, the LOD's detail differs (a coarser level's
+///    shading, aliasing): not the boundary's doing.
+/// A silhouette the LOD draws a pixel off the reference's shows another surface at p that
+/// belongs to one side: the LOD's error within ε, not an artefact. `patchIds` is patchIdsOf
+/// the same frame's patch-id view.
+BoundaryArtefacts findBoundaryArtefacts(
+    const FrameImages& lod, std::span<const std::uint32_t> patchIds, const FrameImages& reference,
+    int thresholdLevels = BoundaryArtefacts::kDefaultThresholdLevels);
+
+}  // namespace terrain::runtime
