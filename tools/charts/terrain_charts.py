@@ -72,6 +72,11 @@ def number(row, key, path="CSV"):
         fail(f"{path}: column '{key}' holds '{text}', not a number")
 
 
+def optional_number(row, key, path="CSV"):
+    """A column older files lack (NaN there, as an empty field)."""
+    return number(row, key, path) if key in row else math.nan
+
+
 def by_method(rows):
     methods = {}
     for row in rows:
@@ -387,6 +392,10 @@ def method_sections(bench, summary_rows, summary_path, tol):
                 failures.append(what if bounds else what + " — it promises no bound")
             if n("crack_pixels_total") > 0:
                 failures.append(f"{int(n('crack_pixels_total'))} crack pixels at ε = {eps:g}")
+            artefacts = optional_number(r, "boundary_artefact_pixels_total", summary_path)
+            if artefacts > 0:
+                failures.append(f"{int(artefacts)} boundary-artefact pixels at ε = {eps:g} "
+                                "(where patches meet)")
             unsettled = n("frames_unsettled") if "frames_unsettled" in r else 0
             if unsettled > 0:
                 failures.append(f"streaming never settled in {int(unsettled)} of {int(n('frames'))} "
@@ -504,8 +513,8 @@ def write_report(out_dir, bench, summary_rows, charts, summary_path, stability_r
     lines += ["## Per threshold", "",
               "| method | ε px | triangles | patches | draw calls | LOD µs | GPU ms | frame ms | "
               "resident MiB | error max px | median frame max px | mean px | frames > ε+tol | "
-              "PSNR dB (min) | cracks | popping |",
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+              "PSNR dB (min) | cracks | boundary artefacts | popping |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in summary_rows:
         n = lambda key: number(r, key, summary_path)
         lines.append(
@@ -516,11 +525,16 @@ def write_report(out_dir, bench, summary_rows, charts, summary_path, stability_r
             f"{fmt(n('error_max_median_px'))} | {fmt(n('error_mean_px'), 3)} | "
             f"{fmt(n('frames_over_threshold'), 0)} / {fmt(n('frames'), 0)} | "
             f"{fmt(n('psnr_db_mean'), 1)} ({fmt(n('psnr_db_min'), 1)}) | "
-            f"{fmt(n('crack_pixels_total'), 0)} | {fmt(n('popping_levels_mean'), 3)} |")
+            f"{fmt(n('crack_pixels_total'), 0)} | "
+            f"{fmt(optional_number(r, 'boundary_artefact_pixels_total', summary_path), 0)} | "
+            f"{fmt(n('popping_levels_mean'), 3)} |")
     lines += ["", f"*error*: measured screen-space error against the full-resolution reference "
               f"(largest over all frames, the median of the frames' largest, and the mean over "
               f"pixels); *frames > ε+tol*: frames whose largest error exceeds ε + {tol:g} px "
-              f"(the rasterisation tolerance); *popping*: LOD image change beyond the "
+              f"(the rasterisation tolerance); *boundary artefacts*: pixels where two patches "
+              f"meet that differ from both sides and from the reference (a pinhole, an edge "
+              f"shaded wrong; – for a method that draws no patch ids); *popping*: LOD image "
+              f"change beyond the "
               f"reference's, in 8-bit levels. Definitions: docs/accuracy.md.", ""]
     if bench and bench.get("tiling") == "globe":
         lines += globe_section(bench)

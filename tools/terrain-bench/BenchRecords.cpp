@@ -135,6 +135,11 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
             s.framesOverThreshold += over ? 1 : 0;
             s.nonFinitePixelsTotal += r.nonFinitePixels;
             s.crackPixelsTotal += r.crackPixels;
+            if (!std::isnan(r.boundaryArtefactPixels))
+                s.boundaryArtefactPixelsTotal =
+                    (std::isnan(s.boundaryArtefactPixelsTotal) ? 0.0
+                                                               : s.boundaryArtefactPixelsTotal) +
+                    r.boundaryArtefactPixels;
             s.framesWaited += r.waitedForStreaming ? 1 : 0;
             s.framesUnsettled += r.settled ? 0 : 1;
         }
@@ -232,6 +237,7 @@ Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRe
         {"horizon_culled", [](const R& r) { return number(r.horizonCulled); }},
         {"lod_visited", [](const R& r) { return number(r.lodVisited); }},
         {"lod_error_max_px", [](const R& r) { return number(r.lodErrorMaxPx); }},
+        {"boundary_artefact_pixels", [](const R& r) { return number(r.boundaryArtefactPixels); }},
     };
     if (withPose) columns.insert(columns.begin() + 2, {"pose", [](const R& r) { return r.pose; }});
     return writeCsv<R>(path, columns, records);
@@ -282,6 +288,8 @@ Status writeSummaryCsv(const std::filesystem::path& path,
         {"lod_error_max_px", [](const S& s) { return number(s.lodErrorMaxPx); }},
         {"lod_frames_over_threshold", [](const S& s) { return number(s.lodFramesOverThreshold); }},
         {"horizon_culled_fraction", [](const S& s) { return number(s.horizonCulledFraction); }},
+        {"boundary_artefact_pixels_total",
+         [](const S& s) { return number(s.boundaryArtefactPixelsTotal); }},
     };
     return writeCsv<S>(path, columns, summaries);
 }

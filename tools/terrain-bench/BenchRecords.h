@@ -84,6 +84,9 @@ struct FrameRecord {
     double psnrDb = kNoValue;
     std::uint64_t crackPixels = 0;
     std::uint64_t uncoveredPixels = 0;
+    /// Pixels where two patches meet that stand out from both sides and from the reference
+    /// (AccuracyProbe, BoundaryArtefacts.h); NaN for a method that draws no patch ids.
+    double boundaryArtefactPixels = kNoValue;
     /// Enclosed uncovered pixels where the reference is thinner than a pixel: not cracks.
     std::uint64_t diagonalUncoveredPixels = 0;
     double poppingLevels = kNoValue;
@@ -137,6 +140,8 @@ struct ThresholdSummary {
     double psnrDbMean = kNoValue;
     double psnrDbMin = kNoValue;
     std::uint64_t crackPixelsTotal = 0;
+    /// FrameRecord::boundaryArtefactPixels over every frame; NaN where never measured.
+    double boundaryArtefactPixelsTotal = kNoValue;
     double poppingLevelsMean = kNoValue;
     double lodSwitchLevelsMean = kNoValue;
     double lodSwitchJumpShareMean = kNoValue;

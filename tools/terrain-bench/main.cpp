@@ -148,7 +148,8 @@ nlohmann::json summaryJson(const tools::ThresholdSummary& s) {
             {"lod_switch_jump_share_mean", v(s.lodSwitchJumpShareMean)},
             {"frames_waited", s.framesWaited},
             {"frames_unsettled", s.framesUnsettled},
-            {"horizon_culled_fraction", v(s.horizonCulledFraction)}};
+            {"horizon_culled_fraction", v(s.horizonCulledFraction)},
+            {"boundary_artefact_pixels_total", v(s.boundaryArtefactPixelsTotal)}};
 }
 
 /// One (method, threshold) flight: its own strategy, its telemetry log and its previous
@@ -427,6 +428,8 @@ int run(const BenchOptions& o, const char* argv0) {
         rec.psnrDb = a.image.psnrDb;
         rec.crackPixels = a.crackPixels;
         rec.uncoveredPixels = a.uncoveredPixels;
+        if (a.boundaryArtefactPixels)
+            rec.boundaryArtefactPixels = static_cast<double>(*a.boundaryArtefactPixels);
         rec.diagonalUncoveredPixels = a.diagonalUncoveredPixels;
         rec.poppingLevels = a.poppingLevels;
         if (held) {
@@ -647,10 +650,15 @@ int run(const BenchOptions& o, const char* argv0) {
             "terrain-bench: {} ε = {:>5} px: triangles {:>9.0f}, measured error max {:.3f} px "
             "(median of frame maxima {:.3f}, mean {:.3f}), PSNR {:.2f} dB, {} of {} frames "
             "over ε + {} px, "
-            "{} crack pixels, {} unmeasurable (non-finite) pixels{}{}\n",
+            "{} crack pixels, {} boundary-artefact pixels, {} unmeasurable (non-finite) "
+            "pixels{}{}\n",
             s.method, s.thresholdPx, s.trianglesMean, s.errorMaxPx, s.errorMaxMedianPx,
             s.errorMeanPx, s.psnrDbMean, s.framesOverThreshold, s.frames, o.tolerancePx,
-            s.crackPixelsTotal, s.nonFinitePixelsTotal,
+            s.crackPixelsTotal,
+            std::isnan(s.boundaryArtefactPixelsTotal)
+                ? std::string("no")
+                : fmt::format("{:.0f}", s.boundaryArtefactPixelsTotal),
+            s.nonFinitePixelsTotal,
             std::isnan(s.lodSwitchLevelsMean)
                 ? std::string()
                 : fmt::format(", LOD switches {:.4f} levels a frame, {:.4f} % of pixels jumping",

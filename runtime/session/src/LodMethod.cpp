@@ -13,38 +13,38 @@ constexpr std::array kMethods{
     LodMethodInfo{LodMethod::Yusov2011, "yusov2011",
                   "Yusov & Shevtsov 2011: patch quadtree + per-edge hardware tessellation from "
                   "block errors",
-                  true, true, false, true},
+                  true, true, false, true, true},
     LodMethodInfo{LodMethod::ChunkedLod, "chunked-lod",
                   "Ulrich 2002: chunk quadtree split on projected geometric error, full-resolution "
                   "chunks with skirts",
-                  true, true, false, false},
+                  true, true, false, false, true},
     LodMethodInfo{LodMethod::Uniform, "uniform",
                   "the uniform full-resolution grid: every finest patch in view, fully tessellated",
-                  true, true, false, false},
+                  true, true, false, false, true},
     LodMethodInfo{LodMethod::Livny2007, "livny2007",
                   "Livny et al. 2007: patch quadtree by edge distance (Eq. 1), four triangular "
                   "tiles a patch at their edges' resolutions",
-                  false, false, false, false},
+                  false, false, false, false, true},
     LodMethodInfo{LodMethod::Valdetaro2011, "valdetaro2011",
                   "Valdetaro et al. 2011: flat grid of tiles, per-tile hardware tessellation from "
                   "its height-acceleration map, screen error and distance",
-                  false, false, false, false},
+                  false, false, false, false, true},
     LodMethodInfo{LodMethod::Cdlod, "cdlod",
                   "Strugar 2009: patch quadtree by distance ranges, regular grids morphed towards "
                   "the coarser level",
-                  false, false, false, false},
+                  false, false, false, false, true},
     LodMethodInfo{LodMethod::Lee2011, "lee2011",
                   "Lee & Shin 2011: the whole finest level's quadtree built on the GPU by vertex "
                   "splitting (roughness, Eq. 2-3), T-junctions removed by triangle splitting",
-                  false, false, true, false},
+                  false, false, true, false, false},
     LodMethodInfo{LodMethod::Ripolles, "ripolles",
                   "Ripolles et al.: GPU tessellation of four input triangles by distance with "
                   "Schmiade's seven patterns, one step a frame from the previous tessellation",
-                  false, false, true, false},
+                  false, false, true, false, false},
     LodMethodInfo{LodMethod::Rtin, "rtin",
                   "view-dependent RTIN from the full-resolution samples, exact per-vertex errors "
                   "(the fewest-triangles yardstick)",
-                  true, false, true, false},
+                  true, false, true, false, false},
 };
 
 std::string_view trimmed(std::string_view s) {

@@ -2,6 +2,8 @@
 // the measures.
 #include "terrain/runtime/AccuracyProbe.h"
 
+#include "terrain/runtime/BoundaryArtefacts.h"
+
 #include "terrain/pyramid/PyramidManifest.h"
 
 #include "terrain/runtime/PlaneReferenceScene.h"
@@ -170,6 +172,17 @@ LodCapture AccuracyProbe::captureLod(LodStrategy& session, const Camera& camera,
         }
         capture.depthWithoutSkirts = m_lodTarget.readDepth();
     }
+    if (style.debugView == TerrainDebugView::Shaded && lodMethodInfo(session.method()).patchIds) {
+        TerrainStyle patches = style;
+        patches.debugView = TerrainDebugView::PatchId;
+        patches.measure = false;
+        m_lodTarget.clear({0.0f, 0.0f, 0.0f, 0.0f}, 0.0f);
+        {
+            const TargetScope scope(m_lodTarget);
+            session.draw(camera, patches);
+        }
+        capture.patchIds = patchIdsOf(m_lodTarget.readColorRgba8());
+    }
     return capture;
 }
 
@@ -212,6 +225,9 @@ Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapt
         ++(covered.value() ? a.crackPixels : a.diagonalUncoveredPixels);
     }
     a.uncoveredPixels = uncovered.uncovered;
+    if (!lod.patchIds.empty())
+        a.boundaryArtefactPixels =
+            findBoundaryArtefacts(lod.images, lod.patchIds, reference.images).pixels.size();
     for (std::size_t i = 0; i < reference.images.pixels(); ++i) {
         a.referencePixels += reference.images.drawn(i) ? 1 : 0;
         a.lodPixels += lod.images.drawn(i) ? 1 : 0;

@@ -76,6 +76,9 @@ struct LodMethodInfo {
     /// Draws globe pyramids too (the WGS84 cube-sphere); the others draw planar ones only,
     /// and a globe is refused with a message that says so (lodMethodSupports).
     bool globe;
+    /// Its fragments go through terrain.frag, so it draws TerrainDebugView::PatchId: where its
+    /// patches meet on screen, for the boundary-artefact measure (BoundaryArtefacts.h).
+    bool patchIds;
 };
 
 /// Every method, the default first.

@@ -43,6 +43,9 @@ struct LodCapture {
     FrameImages images;  ///< as drawn, with the style's skirts
     /// The same frame drawn without skirts (empty when the style or the method has none).
     std::vector<float> depthWithoutSkirts;
+    /// Where its patches lie on screen: patchIdsOf the same frame's patch-id view (empty when
+    /// the method draws none, LodMethodInfo::patchIds, or the style is a debug view).
+    std::vector<std::uint32_t> patchIds;
     TerrainDrawStats draw;  ///< of the first draw (triangles, GPU ms when style.measure)
     double drawMs = 0.0;    ///< wall time of the first draw up to glFinish
 };
@@ -72,6 +75,9 @@ struct FrameAccuracy {
     /// The other enclosed clear pixels: some choice of diagonals leaves them clear too, so
     /// they are no evidence of a hole (cells so steep that the diagonals are pixels apart).
     std::uint64_t diagonalUncoveredPixels = 0;
+    /// Pixels where two patches meet that stand out from both sides and from the reference
+    /// (findBoundaryArtefacts, BoundaryArtefacts.h); nullopt when the capture has no patch ids.
+    std::optional<std::uint64_t> boundaryArtefactPixels;
     /// All clear-colour LOD pixels where the reference drew terrain, silhouettes included.
     std::uint64_t uncoveredPixels = 0;
     std::uint64_t referencePixels = 0;  ///< pixels where the reference drew terrain
@@ -113,8 +119,8 @@ public:
     Result<ReferenceCapture> renderReference(const Camera& camera, const ReferenceStyle& style);
 
     /// Draws the strategy's frame for `camera` (between its beginFrame and endFrame) with
-    /// `style`, then (for a method with skirts) without them, and reads both back. Any LOD
-    /// method (LodStrategy.h).
+    /// `style`, then (for a method with skirts) without them, then (for a method that draws
+    /// them, a shaded style) its patch ids, and reads them back. Any LOD method (LodStrategy.h).
     LodCapture captureLod(LodStrategy& session, const Camera& camera, const TerrainStyle& style);
 
     /// The measures of `lod` against `reference` (same camera); with the previous frame's
