@@ -155,6 +155,39 @@ TEST(NoDataFill, VoidsTouchingTheEdgesTakeTheValidRim) {
     for (std::int64_t x = 100; x < 160; ++x) EXPECT_NEAR(r.at(x, 190), r.at(x, 189), 8.0);
 }
 
+// A void whose box holds more than 2^20 samples is solved on a grid coarsened by two and
+// interpolated back (memory stays bounded): a plane still comes out as the plane, and over a
+// surface beneath, the surface plus the rim's difference.
+TEST(NoDataFill, AVoidTooLargeToSolveWholeIsSolvedCoarsened) {
+    const auto plane = [](double x, double y) { return 300.0 + 0.5 * x + 0.25 * y; };
+    Raster r = sampled(1100, 1100, plane);
+    punch(r, 20, 20, 1080, 1080);  // a box of 1062² samples
+    std::vector<std::uint8_t> valid(r.heights.size());
+    EXPECT_EQ(fillNoData(r.width, r.height, r.heights, valid), 1060 * 1060);
+    EXPECT_LT(largestError(r, valid), 0.5);
+
+    Raster over = sampled(1100, 1100, plane);
+    punch(over, 20, 20, 1080, 1080);
+    // The surface beneath: 40 m lower, with a bump the fill must follow.
+    const SurfaceBeneath beneath = [&](std::int64_t x, std::int64_t y) -> std::optional<double> {
+        return plane(double(x), double(y)) - 40.0 + 80.0 * std::sin(double(x) / 90.0);
+    };
+    std::vector<std::uint8_t> overValid(over.heights.size());
+    fillNoData(over.width, over.height, over.heights, overValid, std::nullopt, &beneath);
+    double largest = 0.0;  // from the surface beneath, 40 m up
+    for (std::int64_t y = 20; y < 1080; ++y)
+        for (std::int64_t x = 20; x < 1080; ++x)
+            largest = std::max(largest, std::abs(double(over.at(x, y)) - (*beneath(x, y) + 40.0)));
+    // The rim's difference is 40 m less the bump there: the fill departs from the surface
+    // beneath, 40 m up, by no more than the bump's 80 m (the maximum principle).
+    EXPECT_LT(largest, 80.0 + 0.5);
+    // And meets the rim without a step, though solved at every other sample.
+    for (std::int64_t x = 20; x < 1080; x += 7) {
+        EXPECT_NEAR(over.at(x, 20), plane(double(x), 20.0), 3.0) << x;
+        EXPECT_NEAR(over.at(x, 1079), plane(double(x), 1079.0), 3.0) << x;
+    }
+}
+
 // Holes punched in a fine tile over a coarse global grid: each takes the grid's surface plus
 // the difference at its rim, so it matches the fine surface to within what the grid's
 // resolution misses of it (the fine detail's amplitude), with no step at the rim.
