@@ -30,7 +30,18 @@ std::atomic<bool> g_interrupted{false};
 
 extern "C" void onInterrupt(int) { g_interrupted.store(true); }
 
+// Per source, its filled no-data samples (the manifest's noData.sources).
+nlohmann::json filledSamplesJson(const terrain::io::ManifestNoData& noData) {
+    nlohmann::json sources = nlohmann::json::array();
+    for (const terrain::io::ManifestFilledSource& source : noData.sources)
+        sources.push_back({{"input", source.input},
+                           {"samples", source.samples},
+                           {"overBeneath", source.overBeneath}});
+    return sources;
+}
+
 // "1GiB", "512MiB", "64M", "1073741824" → bytes.
+
 std::optional<std::uint64_t> parseBytes(const std::string& text) {
     std::size_t end = 0;
     double value = 0.0;
@@ -364,6 +375,8 @@ int main(int argc, char** argv) {
             {"parentPrediction", options.parentPrediction && !globe},
             {"rootErrorM", s.manifest.statistics.rootError},
             {"noDataSamples", s.manifest.noData.samples},
+            {"noDataFill", s.manifest.noData.fill},
+            {"filledSamples", filledSamplesJson(s.manifest.noData)},
             {"warnings", warnings},
             {"gl", nullptr},
         };

@@ -60,6 +60,9 @@ void printText(const io::PyramidReader& reader, const inspect::Inspection& inspe
                    m.noData.sourceValue ? fmt::format("{}", *m.noData.sourceValue) : "none");
     else
         fmt::print("no-data: none\n");
+    for (const io::ManifestFilledSource& source : m.noData.sources)
+        fmt::print("  filled: {} samples of {}, {} of them over the sources beneath\n",
+                   source.samples, source.input, source.overBeneath);
     fmt::print("statistics: heights {} to {} m over {} valid samples; root Err(P) {} m\n",
                m.statistics.minHeight, m.statistics.maxHeight, m.statistics.validSamples,
                m.statistics.rootError);
@@ -284,6 +287,14 @@ int main(int argc, char** argv) {
                              : fmt::format("DEM sample ({}, {}) is {:.6f} m from the surface, "
                                            "beyond Err(P) = {:.6f} m",
                                            v.x, v.y, v.distanceM, v.boundM)));
+            if (sourceCheck->filledBeyondRimCount > 0)
+                inspection.problems.push_back(inspect::Problem{
+                    sources.front(), std::nullopt,
+                    fmt::format("{} filled samples are drawn further from the source beneath "
+                                "than the largest difference at a void's rim ({:.3f} m) and "
+                                "their patch's Err(P)",
+                                sourceCheck->filledBeyondRimCount,
+                                sourceCheck->largestRimDifferenceM)});
         }
     }
     if (json) {
@@ -297,7 +308,11 @@ int main(int argc, char** argv) {
                 {"tightestRatioPerLevel", sourceCheck->tightestRatio},
                 {"storedSamplesChecked", sourceCheck->storedSamplesChecked},
                 {"storedViolations", sourceCheck->storedViolationCount},
-                {"largestStoredDifferencePerLevelM", sourceCheck->largestStoredDifference}};
+                {"largestStoredDifferencePerLevelM", sourceCheck->largestStoredDifference},
+                {"filledSamplesChecked", sourceCheck->filledSamplesChecked},
+                {"largestFilledDeviationM", sourceCheck->largestFilledDeviationM},
+                {"largestRimDifferenceM", sourceCheck->largestRimDifferenceM},
+                {"filledBeyondRim", sourceCheck->filledBeyondRimCount}};
         summary["ok"] = inspection.problems.empty();
         std::printf("%s\n", summary.dump(2).c_str());
     } else {
@@ -317,6 +332,13 @@ int main(int argc, char** argv) {
                 for (double d : sourceCheck->largestStoredDifference) fmt::print(" {:.4g}", d);
                 fmt::print("\n");
             }
+            if (sourceCheck->filledSamplesChecked > 0)
+                fmt::print(
+                    "filled samples: {} over a source beneath, drawn at most {:.3f} m from it "
+                    "(the largest difference at a void's rim {:.3f} m), {} beyond that and "
+                    "Err(P)\n",
+                    sourceCheck->filledSamplesChecked, sourceCheck->largestFilledDeviationM,
+                    sourceCheck->largestRimDifferenceM, sourceCheck->filledBeyondRimCount);
         }
     }
     if (!inspection.problems.empty()) {

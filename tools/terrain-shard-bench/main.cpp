@@ -63,20 +63,16 @@ Result<std::vector<io::PatchRecord>> patchPool(io::DemReader& dem, const io::Pyr
     std::mt19937 rng(seed);
     std::uniform_int_distribution<std::int64_t> px(0, info.width - tile), py(0, info.height - tile);
     std::vector<io::PatchRecord> pool;
-    std::vector<std::uint8_t> valid(static_cast<std::size_t>(tile));
+    std::vector<std::uint8_t> valid(static_cast<std::size_t>(tile) *
+                                    static_cast<std::size_t>(tile));
     for (int p = 0; p < count; ++p) {
         io::PatchRecord r;
         r.heights.resize(static_cast<std::size_t>(tile) * static_cast<std::size_t>(tile));
         if (Status read = dem.readWindow(px(rng), py(rng), tile, tile, r.heights); !read)
             return read.error();
-        if (withMask) r.valid.resize(r.heights.size());
-        for (int j = 0; j < tile; ++j) {
-            std::span<float> row(&r.heights[static_cast<std::size_t>(j * tile)],
-                                 static_cast<std::size_t>(tile));
-            io::fillNoDataRow(row, valid);
-            if (withMask)
-                std::copy(valid.begin(), valid.end(), &r.valid[static_cast<std::size_t>(j * tile)]);
-        }
+        // The tile's voids filled from what the tile holds of their rims.
+        io::fillNoData(tile, tile, r.heights, valid);
+        if (withMask) r.valid = valid;
         // Filled samples count as no-data only where the mask records them.
         r.info.present = true;
         io::summariseDrawnSamples(layout, r.heights, r.valid, r.info);

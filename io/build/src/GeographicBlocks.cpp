@@ -4,15 +4,15 @@
 
 namespace terrain::io::detail {
 
-GeographicBlocks::GeographicBlocks(DemReader& reader, const GeographicGrid& grid,
-                                   std::uint64_t cacheBytes, std::int64_t blockRows,
-                                   std::int64_t blockColumns)
+GeographicBlocks::GeographicBlocks(DemReader& reader, SourceVoids& voids,
+                                   const GeographicGrid& grid, std::uint64_t cacheBytes,
+                                   std::int64_t blockRows, std::int64_t blockColumns)
     // GeographicGrid::read fills with no rounding to the source's units: so does this.
     : m_reader(reader),
       m_grid(grid),
       m_blockRows(blockRows),
       m_blockColumns(blockColumns),
-      m_fill(reader),
+      m_fill(voids),
       m_capacity(std::max<std::size_t>(
           4, static_cast<std::size_t>(cacheBytes / std::uint64_t(blockRows * blockColumns * 5)))) {}
 
@@ -38,8 +38,7 @@ Result<const GeographicBlocks::Block*> GeographicBlocks::block(std::int64_t bloc
         const auto offset = static_cast<std::size_t>(r * b->columns);
         std::span<float> row(b->heights.data() + offset, static_cast<std::size_t>(b->columns));
         std::span<std::uint8_t> valid(b->valid.data() + offset, row.size());
-        Result<std::int64_t> filled =
-            m_fill.fill(b->row0 + r, b->column0, b->column0 + b->columns, row, valid);
+        Result<std::int64_t> filled = m_fill.fill(b->row0 + r, b->column0, row, valid);
         if (!filled) return filled.error();
     }
     ++m_blocksRead;

@@ -1,7 +1,7 @@
 // GeographicBlocks: a geographic source read block by block, for the globe's region build
 // (GlobeShardTiling.cpp): what GeographicGrid holds whole, within a fixed cache, whatever the
-// raster's size. Every sample is filled exactly as GeographicGrid::read fills it (the row's
-// nearest valid samples beyond a block are read from the source, RowFill.h), and `at` is
+// raster's size. Every sample is filled exactly as GeographicGrid::read fills it (each void
+// solved alone from its own box, VoidFill.h, RowFill.h), and `at` is
 // GeographicGrid::at to the bit, so a region build resamples as the whole build does.
 // One thread at a time, like the reader under it.
 #pragma once
@@ -25,8 +25,8 @@ public:
     /// `grid` is the source's description (GeographicGrid::describe); blocks of `blockRows`
     /// × `blockColumns` samples (large ones for reading a region whole, small ones for points
     /// here and there), at least four cached whatever `cacheBytes` says.
-    GeographicBlocks(DemReader& reader, const GeographicGrid& grid, std::uint64_t cacheBytes,
-                     std::int64_t blockRows, std::int64_t blockColumns);
+    GeographicBlocks(DemReader& reader, SourceVoids& voids, const GeographicGrid& grid,
+                     std::uint64_t cacheBytes, std::int64_t blockRows, std::int64_t blockColumns);
 
     /// GeographicGrid::at of the whole source.
     Result<GeographicGrid::Resampled> at(double latitudeDeg, double longitudeDeg);

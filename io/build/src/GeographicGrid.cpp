@@ -3,7 +3,6 @@
 #include "BuildBudget.h"
 
 #include "terrain/globe/Wgs84.h"
-#include "terrain/build/NoDataFill.h"
 #include "terrain/pyramid/PatchErrors.h"
 
 #include <fmt/format.h>
@@ -99,21 +98,39 @@ Result<GeographicGrid> GeographicGrid::read(DemReader& reader, std::uint64_t mem
             return read.error();
         for (std::int64_t r = 0; r < rows; ++r) {
             const auto offset = static_cast<std::size_t>((row + r) * dem.width);
-            std::span<float> heights(grid.m_heights.data() + offset,
-                                     static_cast<std::size_t>(dem.width));
-            std::span<std::uint8_t> valid(grid.m_valid.data() + offset, heights.size());
-            fillNoDataRow(heights, valid);
-            for (std::size_t i = 0; i < heights.size(); ++i) {
-                if (!valid[i]) continue;
+            for (std::size_t i = offset; i < offset + static_cast<std::size_t>(dem.width); ++i) {
+                grid.m_valid[i] = std::isnan(grid.m_heights[i]) ? 0 : 1;
+                if (!grid.m_valid[i]) continue;
                 ++grid.m_validSamples;
-                minHeight = std::min(minHeight, double(heights[i]));
-                maxHeight = std::max(maxHeight, double(heights[i]));
+                minHeight = std::min(minHeight, double(grid.m_heights[i]));
+                maxHeight = std::max(maxHeight, double(grid.m_heights[i]));
             }
         }
     }
     grid.m_minHeight = grid.m_validSamples > 0 ? minHeight : 0.0;
     grid.m_maxHeight = grid.m_validSamples > 0 ? maxHeight : 0.0;
     return grid;
+}
+
+Status GeographicGrid::fillVoids(const detail::VoidFill::Beneath* beneath) {
+    if (m_validSamples == m_width * m_height) return {};
+    const detail::VoidFill::ReadWindow read = [this](std::int64_t x0, std::int64_t y0,
+                                                     std::int64_t width, std::int64_t rows,
+                                                     std::span<float> out) -> Status {
+        for (std::int64_t r = 0; r < rows; ++r)
+            std::copy_n(m_heights.begin() + static_cast<std::ptrdiff_t>(index(x0, y0 + r)), width,
+                        out.begin() + static_cast<std::ptrdiff_t>(r * width));
+        return {};
+    };
+    Result<detail::VoidFill> found = detail::VoidFill::find(m_width, m_height, read, beneath);
+    if (!found) return found.error();
+    const detail::VoidFill& voids = found.value();
+    for (std::int64_t row = 0; row < m_height; ++row)
+        for (std::int64_t col = 0; col < m_width; ++col)
+            if (!m_valid[index(col, row)]) m_heights[index(col, row)] = voids.at(col, row, beneath);
+    m_filledSamples = voids.samples();
+    m_filledOverBeneath = voids.samplesOverBeneath();
+    return {};
 }
 
 std::optional<GeographicGrid::Location> GeographicGrid::locate(double latitudeDeg,

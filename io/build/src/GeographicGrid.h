@@ -1,10 +1,12 @@
 // GeographicGrid: a geographic (longitude/latitude) source DEM held in memory, resampled at
-// any latitude and longitude for the globe builder. No-data samples are filled by the
-// pyramid's row-linear rule (docs/pyramid-format.md, "No-data") and remembered as invalid, so
-// a void is drawn as its fill, never as a hole to the ellipsoid. Samples are pixel areas
+// any latitude and longitude for the globe builder. No-data samples are filled (fillVoids:
+// over the sources beneath, or by the membrane, VoidFill.h; docs/pyramid-format.md,
+// "No-data") and remembered as invalid, so a void is drawn as its fill, never as a hole to
+// the ellipsoid. Samples are pixel areas
 // (Georeference.h): sample (col, row) is the value at the pixel's centre.
 #pragma once
 
+#include "VoidFill.h"
 #include "terrain/base/Result.h"
 #include "terrain/source/DemReader.h"
 
@@ -20,8 +22,9 @@ inline constexpr double kDegree = std::numbers::pi / 180.0;
 
 class GeographicGrid {
 public:
-    /// Reads the whole source. Errors: not geographic, more than 1/`shares` of
-    /// `memoryBudgetBytes` to hold (the budget is shared among sources and the patches).
+    /// Reads the whole source, its no-data samples NaN until fillVoids. Errors: not
+    /// geographic, more than 1/`shares` of `memoryBudgetBytes` to hold (the budget is shared
+    /// among sources and the patches).
     static Result<GeographicGrid> read(DemReader& reader, std::uint64_t memoryBudgetBytes,
                                        unsigned shares);
     /// The source's grid without its samples (a region build reads them block by block,
@@ -95,6 +98,13 @@ public:
     double pixelLatDeg() const { return m_pixelLat; }
     double pixelLonDeg() const { return m_pixelLon; }
 
+    /// Fills the voids of a grid `read` (VoidFill::find): over `beneath` (the sources under
+    /// this one, at this grid's samples) where it covers a void, else by the membrane.
+    Status fillVoids(const detail::VoidFill::Beneath* beneath = nullptr);
+    /// No-data samples fillVoids filled; those of them over the sources beneath.
+    std::int64_t filledSamples() const { return m_filledSamples; }
+    std::int64_t filledOverBeneath() const { return m_filledOverBeneath; }
+
     std::int64_t validSamples() const { return m_validSamples; }
     double minHeight() const { return m_minHeight; }  ///< over valid samples (0 if none)
     double maxHeight() const { return m_maxHeight; }
@@ -111,6 +121,7 @@ private:
     std::vector<float> m_heights;
     std::vector<std::uint8_t> m_valid;
     std::int64_t m_validSamples = 0;
+    std::int64_t m_filledSamples = 0, m_filledOverBeneath = 0;
     double m_minHeight = 0.0, m_maxHeight = 0.0;
 };
 

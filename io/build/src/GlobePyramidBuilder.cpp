@@ -448,12 +448,17 @@ Result<PyramidBuildSummary> buildWholeGlobePyramid(std::span<DemReader* const> r
         const double low = source.own ? source.own->minHeight : g.minHeight();
         const double high = source.own ? source.own->maxHeight : g.maxHeight();
         m.noData.samples += samples - valid;
+        if (g.filledSamples() > 0)
+            m.noData.sources.push_back({source.path, g.filledSamples(), g.filledOverBeneath()});
         m.statistics.validSamples += valid;
         if (valid == 0) continue;
         minHeight = any ? std::min(minHeight, low) : low;
         maxHeight = any ? std::max(maxHeight, high) : high;
         any = true;
     }
+    if (!m.noData.sources.empty())
+        m.noData.fill = composite.sources().size() > 1 ? ManifestNoData::kDeltaSurfaceFill
+                                                       : ManifestNoData::kMembraneFill;
     m.statistics.minHeight = minHeight;
     m.statistics.maxHeight = maxHeight;
     m.statistics.rootError = builder.rootError();

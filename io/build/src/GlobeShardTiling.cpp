@@ -395,9 +395,10 @@ struct Patch {
 
 class ShardBuilder {
 public:
-    ShardBuilder(DemReader& reader, const Source& source, const ShardPlan& plan,
-                 const ShardId& shard, const PyramidBuildOptions& options)
+    ShardBuilder(DemReader& reader, detail::SourceVoids& voids, const Source& source,
+                 const ShardPlan& plan, const ShardId& shard, const PyramidBuildOptions& options)
         : m_reader(reader),
+          m_voids(voids),
           m_source(source),
           m_plan(plan),
           m_layout(plan.layout),
@@ -436,8 +437,8 @@ public:
             blockRows = halfOf(window.row1 - window.row0, 16, 128);
             blockColumns = halfOf(widest, 64, 512);
         }
-        m_blocks = std::make_unique<detail::GeographicBlocks>(m_reader, m_source.grid, cache,
-                                                              blockRows, blockColumns);
+        m_blocks = std::make_unique<detail::GeographicBlocks>(m_reader, m_voids, m_source.grid,
+                                                              cache, blockRows, blockColumns);
         auto start = BuildClock::now();
         if (Status built = finest ? buildFinest(window) : buildCoarse(); !built) return built;
         if (measured)
@@ -919,6 +920,7 @@ private:
     }
 
     DemReader& m_reader;
+    detail::SourceVoids& m_voids;
     const Source& m_source;
     const ShardPlan& m_plan;
     const PyramidLayout& m_layout;
@@ -936,7 +938,7 @@ private:
 class GlobeShardTiling final : public detail::ShardTiling {
 public:
     GlobeShardTiling(DemReader& reader, Source source, const PyramidBuildOptions& options)
-        : m_reader(reader), m_source(std::move(source)), m_options(options) {}
+        : m_reader(reader), m_voids(reader), m_source(std::move(source)), m_options(options) {}
 
     static Result<std::unique_ptr<detail::ShardTiling>> open(DemReader& reader,
                                                              const fs::path& output,
@@ -980,7 +982,7 @@ public:
     }
 
     Result<detail::RegionCarry> buildShard(const ShardId& shard) override {
-        ShardBuilder builder(m_reader, m_source, m_plan, shard, m_options);
+        ShardBuilder builder(m_reader, m_voids, m_source, m_plan, shard, m_options);
         if (Status built = builder.run(); !built)
             return Error{m_reader.info().path + ": " + built.error().message};
         return std::move(builder.carry());
@@ -1009,12 +1011,17 @@ public:
         m.statistics.minHeight = statistics.minHeight;
         m.statistics.maxHeight = statistics.maxHeight;
         m.noData.samples = statistics.noDataSamples;
+        if (statistics.noDataSamples > 0) {  // one source: nothing beneath it
+            m.noData.fill = ManifestNoData::kMembraneFill;
+            m.noData.sources.push_back({dem.path, statistics.noDataSamples, 0});
+        }
         m.quantization = totals.quantization;
         return m;
     }
 
 private:
     DemReader& m_reader;
+    detail::SourceVoids m_voids;  // found once for every shard this process builds
     Source m_source;
     const PyramidBuildOptions& m_options;
 };

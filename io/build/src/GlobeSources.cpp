@@ -44,7 +44,22 @@ Result<GlobeSources> GlobeSources::read(std::span<DemReader* const> readers,
         }
         sources.push_back(std::move(source));
     }
-    return GlobeSources(std::move(sources));
+    GlobeSources composite(std::move(sources));
+    if (Status filled = composite.fillVoids(); !filled) return filled.error();
+    return composite;
+}
+
+Status GlobeSources::fillVoids() {
+    // Coarsest first: a source's voids are filled over the sources beneath it, already filled.
+    for (std::size_t k = m_sources.size(); k-- > 0;) {
+        GeographicGrid& grid = m_sources[k].grid;
+        const detail::VoidFill::Beneath under = [&](std::int64_t column, std::int64_t row) {
+            return beneath(k, grid.latitudeOf(row), grid.longitudeOf(column));
+        };
+        if (Status filled = grid.fillVoids(&under); !filled)
+            return Error{m_sources[k].path + ": " + filled.error().message};
+    }
+    return {};
 }
 
 Result<GlobeSources::OwnSamples> GlobeSources::readOwnSamples(DemReader& reader,
@@ -103,21 +118,36 @@ int GlobeSources::finestFaceLevel() const {
     return level;
 }
 
-GlobeSources::Shown GlobeSources::shownAt(double latitudeDeg, double longitudeDeg,
-                                          int level) const {
+std::optional<double> GlobeSources::beneath(std::size_t k, double latitudeDeg,
+                                            double longitudeDeg) const {
+    const Shown under = shownAt(latitudeDeg, longitudeDeg, 0, k + 1);
+    if (under.rank > 1) return std::nullopt;  // no source beneath, or only its edge's extension
+    return double(under.value.height);
+}
+
+std::optional<GlobeSources::FilledSample> GlobeSources::filledSample(std::size_t k,
+                                                                     std::int64_t col,
+                                                                     std::int64_t row) const {
+    const GeographicGrid& grid = m_sources[k].grid;
+    if (grid.validAt(col, row)) return std::nullopt;
+    const double latitude = grid.latitudeOf(row), longitude = grid.longitudeOf(col);
+    if (shownAt(latitude, longitude, 0).source != static_cast<int>(k)) return std::nullopt;
+    return FilledSample{latitude, longitude, grid.heightAt(col, row),
+                        beneath(k, latitude, longitude)};
+}
+
+GlobeSources::Shown GlobeSources::shownAt(double latitudeDeg, double longitudeDeg, int level,
+                                          std::size_t first) const {
     Shown shown;
-    int rank = 3;  // of shown.value: 0 valid, 1 a filled void, 2 an extended edge pixel, 3 none
-    double voidSpacing = 0.0;  // the source whose void is being filled, its spacing
+    int& rank = shown.rank;
     bool inside = false;
-    for (std::size_t k = 0; k < m_sources.size(); ++k) {
+    for (std::size_t k = first; k < m_sources.size(); ++k) {
         const Source& source = m_sources[k];
         const GeographicGrid::Resampled value = source.grid.at(latitudeDeg, longitudeDeg);
         inside = inside || (value.inside && source.finestFaceLevel >= level);
         if (value.valid) {
-            // A void falls through to this source only if it is of comparable resolution.
-            const bool fills = rank > 1 || (rank == 1 && source.grid.finestSpacingMetres() <=
-                                                             kVoidFillRatio * voidSpacing);
-            if (fills) {
+            // A filled void of a finer source holds: its fill already follows this source.
+            if (rank > 1) {
                 shown = {static_cast<int>(k), value,
                          source.grid.featherAt(latitudeDeg, longitudeDeg)};
                 rank = 0;
@@ -137,7 +167,6 @@ GlobeSources::Shown GlobeSources::shownAt(double latitudeDeg, double longitudeDe
             shown = {static_cast<int>(k), value,
                      candidate == 1 ? source.grid.featherAt(latitudeDeg, longitudeDeg) : 1.0};
             rank = candidate;
-            if (candidate == 1) voidSpacing = source.grid.finestSpacingMetres();
         }
     }
     shown.value.inside = inside;

@@ -1,16 +1,17 @@
 // GlobeSources: the geographic sources of one globe pyramid, composited by osgEarth's rule:
-// at every point the finest source with a valid sample there wins, and no-data falls through
-// to coarser sources, of comparable resolution (at most kVoidFillRatio coarser). A much
-// coarser filler would put steps of hundreds of metres into a fine DEM's voids (ETOPO's 37 km
-// grid lies 2 km under SRTM's summit voids on Mount Rainier); there the fine source's own
-// row-linear fill holds, which is what a delta-surface fill (Grohman et al. 2006) comes to
-// when the filler is that much coarser than the void. Sources are held finest first (by their
+// at every point the finest source with a valid sample there wins. A source's voids are
+// filled over the composite of the sources beneath it, the difference at the void's rim
+// spread smoothly into the void (the delta-surface fill, VoidFill.h), so a void follows the
+// coarser surface without a step at its rim (ETOPO's 37 km grid lies 2 km under SRTM's summit
+// voids on Mount Rainier: the difference carries the SRTM's height, ETOPO the shape); with
+// nothing beneath, by the membrane from the void's rim. The filled void shows, not the source
+// beneath. Sources are held finest first (by their
+// finest sample spacing); each knows its finest face level, the level down to which it makes
+// patches exist.
 // Where a finer source ends over a coarser one it is feathered into it over its last
 // GeographicGrid::kFeatherPixels pixels (smoothstep), so the two meet without a step (a 90 m
 // tile and a 37 km grid disagree by hundreds of metres at the tile's edge); the builder, the
 // source check and the truth all use this composite.
-// finest sample spacing); each knows its finest face level, the level down to which it makes
-// patches exist.
 #pragma once
 
 #include "GeographicGrid.h"
@@ -85,8 +86,18 @@ public:
     std::optional<MeasuredSample> measuredSample(std::size_t k, std::int64_t col,
                                                  std::int64_t row) const;
 
-    /// A void falls through to a source at most this many times coarser.
-    static constexpr double kVoidFillRatio = 4.0;
+    /// The surface beneath source `k` at a point: the composite of the coarser sources, where
+    /// one holds the point (a valid or a filled sample); what source k's voids are filled over.
+    std::optional<double> beneath(std::size_t k, double latitudeDeg, double longitudeDeg) const;
+
+    struct FilledSample {
+        double latitudeDeg = 0.0, longitudeDeg = 0.0;
+        double height = 0.0;            ///< the fill
+        std::optional<double> beneath;  ///< the surface beneath it, if any
+    };
+    /// Grid sample (col, row) of source `k` when it is a filled one the composite shows.
+    std::optional<FilledSample> filledSample(std::size_t k, std::int64_t col,
+                                             std::int64_t row) const;
 
 private:
     static Result<OwnSamples> readOwnSamples(DemReader& reader, const GeographicGrid& grid,
@@ -97,8 +108,12 @@ private:
         double feather = 1.0;  ///< the shown source's weight against the next coarser valid one
         bool blended = false;  ///< value is feathered into a coarser source's
         double under = 0.0;    ///< that coarser source's value, when blended
+        int rank = 3;  ///< of value: 0 valid, 1 a filled void, 2 an extended edge pixel, 3 none
     };
-    Shown shownAt(double latitudeDeg, double longitudeDeg, int level) const;
+    /// The composite of sources `first` … (the surface beneath source first − 1).
+    Shown shownAt(double latitudeDeg, double longitudeDeg, int level, std::size_t first = 0) const;
+    /// Fills every source's voids (GeographicGrid::fillVoids), over the sources beneath it.
+    Status fillVoids();
 
     std::vector<Source> m_sources;
 };

@@ -112,14 +112,15 @@ public:
 
 class FinestRows final : public LevelRows {
 public:
-    FinestRows(DemReader& reader, const OwnedSamples& owned, DemEdges& edges, DemStatistics& stats)
+    FinestRows(DemReader& reader, SourceVoids& voids, const OwnedSamples& owned, DemEdges& edges,
+               DemStatistics& stats)
         : m_reader(reader),
           m_w(reader.info().width),
           m_h(reader.info().height),
           m_owned(owned),
           m_edges(edges),
           m_stats(stats),
-          m_fill(reader, wholeSourceUnits(reader.info())) {
+          m_fill(voids, wholeSourceUnits(reader.info())) {
         m_edges.firstRow = owned.y0;
         m_edges.lastColumnHeights.assign(static_cast<std::size_t>(owned.y1 - owned.y0), 0.0f);
         m_nextStatisticsRow = owned.y0;
@@ -145,7 +146,7 @@ public:
                                      static_cast<std::size_t>(columns));
                 std::span<std::uint8_t> rowValid(valid + (a - band.firstColumn), row.size());
                 std::copy_n(m_scratch.data() + (r - first) * columns, columns, row.data());
-                Result<std::int64_t> filled = m_fill.fill(r, a, b, row, rowValid);
+                Result<std::int64_t> filled = m_fill.fill(r, a, row, rowValid);
                 if (!filled) return filled.error();
                 if (r >= m_nextStatisticsRow && r < m_owned.y1) {  // bands overlap by their aprons
                     countStatistics(a, row, rowValid);
@@ -206,8 +207,7 @@ private:
     OwnedSamples m_owned;
     DemEdges& m_edges;
     DemStatistics& m_stats;
-    // The documented fill, exactly as the whole row's where a run of no-data reaches past
-    // the band (a region build).
+    // The documented fill, the same whichever band or region reads the row.
     RowFill m_fill;
     std::vector<float> m_scratch;
     std::vector<float> m_lastRow;  // padded row H − 1 (with apron)
@@ -393,9 +393,12 @@ struct ChildBounds {
 
 class LevelBuilder {
 public:
-    LevelBuilder(DemReader& reader, const PyramidLayout& layout, const PyramidBuildOptions& options,
-                 const std::filesystem::path& folder, bool withMask)
+    /// `voids`: the reader's, shared by the passes and regions of one process.
+    LevelBuilder(DemReader& reader, SourceVoids& voids, const PyramidLayout& layout,
+                 const PyramidBuildOptions& options, const std::filesystem::path& folder,
+                 bool withMask)
         : m_reader(reader),
+          m_voids(voids),
           m_original(reader.originalSamples()),
           m_layout(layout),
           m_options(options),
@@ -429,8 +432,8 @@ public:
             const PatchRect whole{0, 0, m_layout.patchesX(level), m_layout.patchesY(level)};
             std::unique_ptr<LevelRows> rows;
             if (level == finest)
-                rows = std::make_unique<FinestRows>(m_reader, OwnedSamples{0, 0, w, h}, m_edges,
-                                                    m_statistics);
+                rows = std::make_unique<FinestRows>(m_reader, m_voids, OwnedSamples{0, 0, w, h},
+                                                    m_edges, m_statistics);
             else
                 rows = std::make_unique<CoarseRows>(*inside, m_edges, m_layout.levelStep(level), w);
             if (auto pass = runLevel(level, whole, *rows, coarser.get()); !pass) return pass;
@@ -450,7 +453,7 @@ public:
     /// when the finest level is the root). bounds() then holds the rectangle's.
     Status runFinestRegion(const PatchRect& rect, const OwnedSamples& owned, EvenRows* coarser) {
         TERRAIN_ASSERT(m_original == nullptr, "region builds of resampled sources are refused");
-        FinestRows rows(m_reader, owned, m_edges, m_statistics);
+        FinestRows rows(m_reader, m_voids, owned, m_edges, m_statistics);
         return runLevel(m_layout.finestLevel(), rect, rows, coarser);
     }
 
@@ -742,6 +745,7 @@ private:
     }
 
     DemReader& m_reader;
+    SourceVoids& m_voids;
     DemReader* m_original;  // a resampled source's own samples, else null
     const PyramidLayout& m_layout;
     const PyramidBuildOptions& m_options;

@@ -1,5 +1,7 @@
 #include "terrain/build/NoDataFill.h"
 
+#include "VoidFill.h"
+
 #include "terrain/base/Assert.h"
 #include "terrain/pyramid/HeightCodes.h"
 
@@ -20,49 +22,37 @@ std::optional<VerticalTransform> wholeSourceUnits(const DemInfo& info) {
     return info.vertical;
 }
 
-std::int64_t fillNoDataRow(std::span<float> row, std::span<std::uint8_t> valid,
-                           const std::optional<VerticalTransform>& units) {
-    return fillNoDataWindow(row, valid, units, std::nullopt, std::nullopt);
-}
-
-std::int64_t fillNoDataWindow(std::span<float> row, std::span<std::uint8_t> valid,
-                              const std::optional<VerticalTransform>& units,
-                              std::optional<RowNeighbour> west, std::optional<RowNeighbour> east) {
-    TERRAIN_ASSERT(row.size() == valid.size());
-    const auto n = static_cast<std::int64_t>(row.size());
-    TERRAIN_ASSERT(!west || west->offset < 0);
-    TERRAIN_ASSERT(!east || east->offset >= n);
-    std::int64_t filled = 0;
-    std::optional<RowNeighbour> previous = west;  // the last valid sample seen
-    for (std::int64_t i = 0; i <= n; ++i) {
-        const bool isValid = i < n && !std::isnan(row[i]);
-        if (i < n) valid[i] = isValid ? 1 : 0;
-        if (!isValid && i < n) continue;
-        // Samples (previous, next) are a run of no-data between two valid ends (or an end).
-        const std::optional<RowNeighbour> next =
-            i < n ? std::optional<RowNeighbour>{{i, row[i]}} : east;
-        const std::int64_t runStart =
-            previous ? std::max<std::int64_t>(previous->offset + 1, 0) : 0;
-        if (i > runStart) {
-            filled += i - runStart;
-            for (std::int64_t k = runStart; k < i; ++k) {
-                if (previous && next) {
-                    const double t =
-                        double(k - previous->offset) / double(next->offset - previous->offset);
-                    const double h = (1.0 - t) * previous->value + t * next->value;
-                    row[k] = units ? roundToSourceUnits(h, *units) : static_cast<float>(h);
-                } else if (previous) {
-                    row[k] = previous->value;
-                } else if (next) {
-                    row[k] = next->value;
-                } else {
-                    row[k] = 0.0f;
-                }
-            }
-        }
-        if (i < n) previous = RowNeighbour{i, row[i]};
+std::int64_t fillNoData(std::int64_t width, std::int64_t height, std::span<float> heights,
+                        std::span<std::uint8_t> valid,
+                        const std::optional<VerticalTransform>& units,
+                        const SurfaceBeneath* beneath) {
+    TERRAIN_ASSERT(heights.size() == static_cast<std::size_t>(width * height));
+    TERRAIN_ASSERT(valid.size() == heights.size());
+    std::int64_t missing = 0;
+    for (std::size_t i = 0; i < heights.size(); ++i) {
+        valid[i] = std::isnan(heights[i]) ? 0 : 1;
+        missing += 1 - valid[i];
     }
-    return filled;
+    if (missing == 0) return 0;
+    const detail::VoidFill::ReadWindow read = [&](std::int64_t x0, std::int64_t y0, std::int64_t w,
+                                                  std::int64_t rows,
+                                                  std::span<float> out) -> Status {
+        for (std::int64_t r = 0; r < rows; ++r)
+            std::copy_n(heights.begin() + static_cast<std::ptrdiff_t>((y0 + r) * width + x0), w,
+                        out.begin() + static_cast<std::ptrdiff_t>(r * w));
+        return {};
+    };
+    Result<detail::VoidFill> found = detail::VoidFill::find(width, height, read, beneath);
+    TERRAIN_ASSERT(found.ok(), "reading a raster in memory cannot fail");
+    // Every void was solved by find: writing the raster now changes nothing it reads.
+    for (std::int64_t y = 0; y < height; ++y)
+        for (std::int64_t x = 0; x < width; ++x) {
+            const auto i = static_cast<std::size_t>(y * width + x);
+            if (valid[i]) continue;
+            const float h = found.value().at(x, y, beneath);
+            heights[i] = units ? roundToSourceUnits(h, *units) : h;
+        }
+    return missing;
 }
 
 }  // namespace terrain::io

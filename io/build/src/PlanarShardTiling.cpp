@@ -264,7 +264,7 @@ private:
 class PlanarShardTiling final : public detail::ShardTiling {
 public:
     PlanarShardTiling(DemReader& reader, const PyramidBuildOptions& options)
-        : m_reader(reader), m_options(options) {}
+        : m_reader(reader), m_voids(reader), m_options(options) {}
 
     static Result<std::unique_ptr<detail::ShardTiling>> open(DemReader& reader,
                                                              const fs::path& output,
@@ -316,7 +316,7 @@ public:
 
         PyramidBuildOptions taskOptions = m_options;
         taskOptions.progress = nullptr;  // a task's own fraction; the engine says the whole's
-        detail::LevelBuilder builder(m_reader, layout, taskOptions, m_plan.staging,
+        detail::LevelBuilder builder(m_reader, m_voids, layout, taskOptions, m_plan.staging,
                                      detail::planarMaskStored(dem));
         std::optional<EvenBlock> even;
         if (shard.level > 0) even.emplace(evenRangeOf(layout, shard, w, h));
@@ -373,6 +373,7 @@ public:
 
 private:
     DemReader& m_reader;
+    detail::SourceVoids m_voids;  // found once for every shard this process builds
     const PyramidBuildOptions& m_options;
 };
 

@@ -40,6 +40,10 @@ Result<PyramidManifest> planarManifest(DemReader& reader, const PyramidLayout& l
     describeSources(m, readers);
     m.noData.present = planarMaskStored(dem);
     m.noData.samples = stats.noDataSamples;
+    if (stats.noDataSamples > 0) {  // nothing filled: the manifest of versions before
+        m.noData.fill = ManifestNoData::kMembraneFill;
+        m.noData.sources.push_back({dem.path, stats.noDataSamples, 0});
+    }
     m.statistics.minHeight = stats.validSamples > 0 ? stats.minHeight : 0.0;
     m.statistics.maxHeight = stats.validSamples > 0 ? stats.maxHeight : 0.0;
     m.statistics.validSamples = stats.validSamples;
@@ -77,7 +81,8 @@ Result<PyramidBuildSummary> buildWholePlanarPyramid(DemReader& reader, const fs:
     if (!created) return created.error();
     PartialBuildFolder& partial = created.value();
 
-    LevelBuilder builder(reader, l, options, partial.path(), planarMaskStored(dem));
+    SourceVoids voids(reader);
+    LevelBuilder builder(reader, voids, l, options, partial.path(), planarMaskStored(dem));
     if (auto built = builder.run(); !built) return built.error();
 
     BuildTotals totals{builder.patches(), builder.phases(), secondsSince(start), {}};

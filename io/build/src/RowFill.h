@@ -1,39 +1,51 @@
-// RowFill: the documented no-data fill (NoDataFill.h) of a window of one DEM row, exactly as
-// the whole row's: where a run of no-data reaches past the window, the row's nearest valid
-// samples beyond it are read from the source. What lets a region build (planar or globe) fill
-// a window as the whole build fills the raster.
+// RowFill: the fill of a window of one DEM row (VoidFill.h), the same whichever window of
+// the raster a build reads (a band, a block, a shard of a region build). SourceVoids finds
+// the source's voids the first time a row holds one, so a raster without voids is read once.
 #pragma once
 
+#include "VoidFill.h"
 #include "terrain/base/Result.h"
 #include "terrain/source/DemReader.h"
-#include "terrain/build/NoDataFill.h"
 
 #include <cstdint>
 #include <optional>
 #include <span>
-#include <vector>
 
 namespace terrain::io::detail {
 
+/// A reader's voids, found on first use and then shared by every RowFill of it.
+/// One thread at a time, like the reader.
+class SourceVoids {
+public:
+    explicit SourceVoids(DemReader& reader) : m_reader(reader) {}
+    Result<const VoidFill*> get() {
+        if (!m_fill) {
+            Result<VoidFill> found = VoidFill::find(m_reader);
+            if (!found) return found.error();
+            m_fill = std::move(found).value();
+        }
+        return &*m_fill;
+    }
+
+private:
+    DemReader& m_reader;
+    std::optional<VoidFill> m_fill;
+};
+
 class RowFill {
 public:
-    explicit RowFill(DemReader& reader, std::optional<VerticalTransform> units = std::nullopt)
-        : m_reader(reader), m_units(units) {}
+    /// With `units` (a source of whole numbers, wholeSourceUnits), each fill is rounded to them.
+    explicit RowFill(SourceVoids& voids, std::optional<VerticalTransform> units = std::nullopt)
+        : m_voids(voids), m_units(units) {}
 
-    /// Fills DEM row r's columns [a, b), read into `row`, and marks `valid`; the count filled.
-    Result<std::int64_t> fill(std::int64_t r, std::int64_t a, std::int64_t b, std::span<float> row,
+    /// Fills DEM row r's columns [a, a + row.size()), read into `row`, and marks `valid`
+    /// (1 valid, 0 filled); the count filled.
+    Result<std::int64_t> fill(std::int64_t r, std::int64_t a, std::span<float> row,
                               std::span<std::uint8_t> valid);
 
 private:
-    // The first valid sample of row r from column `from` on, walking in `direction` (±1),
-    // read in growing chunks: (column, height), or nothing when the row has none that way.
-    Result<std::optional<std::pair<std::int64_t, float>>> nearestValid(std::int64_t r,
-                                                                       std::int64_t from,
-                                                                       int direction);
-
-    DemReader& m_reader;
+    SourceVoids& m_voids;
     std::optional<VerticalTransform> m_units;
-    std::vector<float> m_scratch;
 };
 
 }  // namespace terrain::io::detail

@@ -160,6 +160,15 @@ PyramidManifest parseFields(const Json& root, LayoutFields& f) {
     m.noData.sourceValue = optionalNumberField(noData, "noData", "sourceValue");
     m.noData.samples = int64Field(noData, "noData", "samples");
     m.noData.fill = stringField(noData, "noData", "fill");
+    if (noData.contains("sources")) {  // since the void fill
+        for (const Json& source : arrayField(noData, "noData", "sources")) {
+            ManifestFilledSource filled;
+            filled.input = stringField(source, "noData.sources", "input");
+            filled.samples = int64Field(source, "noData.sources", "samples");
+            filled.overBeneath = int64Field(source, "noData.sources", "overBeneath");
+            m.noData.sources.push_back(std::move(filled));
+        }
+    }
 
     const Json& stats = objectField(root, "", "statistics");
     m.statistics.minHeight = numberField(stats, "statistics", "minHeight");
@@ -383,9 +392,18 @@ Status checkManifest(const PyramidManifest& m, const std::string& name) {
             fmt::format("{}: georeference: verticalScale {} and verticalOffset {} must be "
                         "finite, the scale non-zero",
                         name, m.vertical.scale, m.vertical.offset)};
-    if (m.noData.fill != ManifestNoData::kRowLinearFill)
-        return Error{fmt::format("{}: noData.fill is \"{}\"; format version 2 knows only \"{}\"",
-                                 name, m.noData.fill, ManifestNoData::kRowLinearFill)};
+    if (m.noData.fill != ManifestNoData::kRowLinearFill &&
+        m.noData.fill != ManifestNoData::kMembraneFill &&
+        m.noData.fill != ManifestNoData::kDeltaSurfaceFill)
+        return Error{fmt::format("{}: noData.fill is \"{}\"; known are \"{}\", \"{}\" and \"{}\"",
+                                 name, m.noData.fill, ManifestNoData::kRowLinearFill,
+                                 ManifestNoData::kMembraneFill, ManifestNoData::kDeltaSurfaceFill)};
+    for (const ManifestFilledSource& source : m.noData.sources)
+        if (source.samples < 0 || source.overBeneath < 0 || source.overBeneath > source.samples)
+            return Error{
+                fmt::format("{}: noData.sources: {} has {} samples filled, {} over the "
+                            "sources beneath",
+                            name, source.input, source.samples, source.overBeneath)};
     const double rasterSamples =
         static_cast<double>(m.layout.rasterWidth()) * static_cast<double>(m.layout.rasterHeight());
     if (m.noData.samples < 0 || static_cast<double>(m.noData.samples) > rasterSamples)
@@ -441,6 +459,14 @@ std::string toJson(const PyramidManifest& m) {
                    {"sourceValue", m.noData.sourceValue ? Json(*m.noData.sourceValue) : Json()},
                    {"samples", m.noData.samples},
                    {"fill", m.noData.fill}};
+    if (!m.noData.sources.empty()) {
+        Json sources = Json::array();
+        for (const ManifestFilledSource& source : m.noData.sources)
+            sources.push_back({{"input", source.input},
+                               {"samples", source.samples},
+                               {"overBeneath", source.overBeneath}});
+        j["noData"]["sources"] = std::move(sources);
+    }
     j["statistics"] = {{"minHeight", m.statistics.minHeight},
                        {"maxHeight", m.statistics.maxHeight},
                        {"validSamples", m.statistics.validSamples},

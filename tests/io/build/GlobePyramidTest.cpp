@@ -300,10 +300,10 @@ TEST(GlobePyramid, WholeEarthWithRepeatedSeamColumnAcrossCubeEdges) {
 }
 
 // A fine regional source over a coarse global one (osgEarth's rule: the finer valid sample
-// wins, no-data falls through to a source of comparable resolution): deep levels exist only
-// under the fine source, the bound holds for every sample the composite shows, a source twice
-// as coarse fills the fine one's void where the 2° global grid would not, and every shared
-// edge still matches.
+// wins): deep levels exist only under the fine source, the bound holds for every sample the
+// composite shows, the fine one's void follows the source beneath it (a source twice as
+// coarse, 30 m lower: the delta-surface fill carries the 30 m in), and every shared edge
+// still matches.
 TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
     TempFolder temp;
     GeographicFunctionDem coarse(-180.0, 90.0, 180, 90, 2.0, 2.0, hills);
@@ -312,7 +312,7 @@ TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
         if (std::abs(lat - 40.0) < 0.03 && std::abs(lon - 21.0) < 0.03) return std::nanf("");
         return hills(lat, lon) + 50.0f;
     });
-    // 0.02° around the void, 20 m above the coarse surface: comparable, so it fills the void.
+    // 0.02° around the void, 20 m above the coarse surface: the surface beneath the void.
     GeographicFunctionDem medium(20.2, 40.6, 80, 60, 0.02, 0.02,
                                  [](double lat, double lon) { return hills(lat, lon) + 20.0f; });
     DemReader* const sources[] = {&coarse, &fine, &medium};
@@ -326,14 +326,27 @@ TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
     EXPECT_LT(m.levels.back().presentPatches, 600);
     EXPECT_NEAR(m.globe->west, 20.0, 1e-9);  // "go to the data" goes to the finest source
     EXPECT_EQ(m.statistics.validSamples, 180 * 90 + 200 * 100 - 6 * 6 + 80 * 60);
+    // The void's samples, filled over the sources beneath it.
+    EXPECT_EQ(m.noData.samples, 6 * 6);
+    EXPECT_EQ(m.noData.fill, ManifestNoData::kDeltaSurfaceFill);
+    ASSERT_EQ(m.noData.sources.size(), 1u);
+    EXPECT_EQ(m.noData.sources[0].samples, 6 * 6);
+    EXPECT_EQ(m.noData.sources[0].overBeneath, 6 * 6);
     auto report = checkErrorBoundsAgainstSources(out, sources);
     ASSERT_TRUE(report) << report.error().message;
     EXPECT_EQ(report.value().violationCount, 0);
     EXPECT_GT(report.value().samplesChecked, 100 * 50 * m.globe->faceFinestLevel);
+    // --verify --source checks the filled samples against the surface beneath them: drawn
+    // within the 30 m between the sources at the void's rim (and Err(P)).
+    EXPECT_EQ(report.value().filledSamplesChecked, 6 * 6);
+    EXPECT_NEAR(report.value().largestRimDifferenceM, 30.0, 2.0);  // the medium one resampled
+    EXPECT_LT(report.value().largestFilledDeviationM, 33.0);
+    EXPECT_EQ(report.value().filledBeyondRimCount, 0);
     expectConsistentPatches(composite);
 
-    // What a patch stores: the fine source inside it, the medium one in its void, and at its
-    // edge the coarse one: feathered in, no step.
+    // What a patch stores: the fine source inside it, in its void the medium one plus the
+    // 30 m between them at the void's rim, and at its edge the coarse one: feathered in, no
+    // step.
     auto reader = PyramidReader::open(out);
     ASSERT_TRUE(reader);
     const auto storedAt = [&](double lat, double lon, int level) {
@@ -360,8 +373,9 @@ TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
     };
     const int finest = m.globe->faceFinestLevel;
     EXPECT_NEAR(storedAt(40.2, 20.8, finest), hills(40.2, 20.8) + 50.0, 3.0);
-    // In the void, the medium source (the 2° grid is 200 times too coarse to fill it).
-    EXPECT_NEAR(storedAt(40.0, 21.0, finest), hills(40.0, 21.0) + 20.0, 25.0);
+    // In the void, the medium source's shape at the fine one's height: no step at its rim.
+    EXPECT_NEAR(storedAt(40.0, 21.0, finest), hills(40.0, 21.0) + 50.0, 3.0);
+    EXPECT_NEAR(storedAt(40.0, 21.025, finest), hills(40.0, 21.025) + 50.0, 3.0);
     // At the fine source's north edge, beyond the medium one, the coarse surface: no step.
     EXPECT_NEAR(storedAt(40.4999, 21.9, finest), coarseAt(40.4999, 21.9), 3.0);
     EXPECT_NEAR(storedAt(40.5001, 21.9, finest), coarseAt(40.5001, 21.9), 3.0);

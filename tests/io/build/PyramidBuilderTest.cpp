@@ -143,10 +143,8 @@ void checkRoundTrip(const Built& b, const fs::path& out) {
     const PyramidLayout layout = reader.value().layout();
     const std::int64_t w = b.reader->info().width, h = b.reader->info().height;
     std::vector<float> filled = b.truth;
-    std::vector<std::uint8_t> valid(static_cast<std::size_t>(w));
-    for (std::int64_t y = 0; y < h; ++y)
-        fillNoDataRow(std::span<float>(filled.data() + y * w, static_cast<std::size_t>(w)), valid,
-                      wholeSourceUnits(b.reader->info()));
+    std::vector<std::uint8_t> valid(filled.size());
+    fillNoData(w, h, filled, valid, wholeSourceUnits(b.reader->info()));
     const int level = layout.finestLevel(), q = layout.patchQuads(), t = layout.tileSamples();
     std::int64_t compared = 0;
     for (std::int64_t py = 0; py < layout.patchesY(level); ++py) {

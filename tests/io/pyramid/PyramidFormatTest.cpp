@@ -163,7 +163,7 @@ PyramidManifest sampleManifest() {
     m.georeference.pixelSizeX = 1.0 / 1200.0;
     m.georeference.pixelSizeY = 1.0 / 1200.0;
     m.vertical = {0.1, -20.5};
-    m.noData = {true, -32768.0, 9033, "row-linear"};
+    m.noData = {true, -32768.0, 9033, "membrane", {{"rainier.tif", 9033, 0}}};
     m.statistics = {263.0, 4371.25, 1433368, 1450.2000732421875};
     for (ManifestLevel& l : m.levels) l.maxError = 1.0 / 3.0 + l.level;
     m.levels[4].presentPatches = 97;
@@ -186,6 +186,10 @@ TEST_F(PyramidFormat, ManifestRoundTrip) {
     const auto plainBack = fromJson(toJson(plain), "test");
     ASSERT_TRUE(plainBack.ok()) << plainBack.error().message;
     EXPECT_EQ(plainBack.value(), plain);
+    // Nothing filled: the manifest versions before the void fill wrote, no per-source list.
+    const auto plainJson = nlohmann::json::parse(toJson(plain));
+    EXPECT_EQ(plainJson["noData"]["fill"], "row-linear");
+    EXPECT_FALSE(plainJson["noData"].contains("sources"));
 
     ASSERT_TRUE(writeManifest(m_dir, m).ok());
     const auto read = readManifest(m_dir);
@@ -203,7 +207,10 @@ TEST_F(PyramidFormat, ManifestJsonHasTheSpecsKeys) {
     EXPECT_EQ(json["georeference"]["crsKind"], "geographic");
     EXPECT_EQ(json["georeference"]["epsg"], 4326);
     EXPECT_EQ(json["georeference"]["verticalUnits"], "metre");
-    EXPECT_EQ(json["noData"]["fill"], "row-linear");
+    EXPECT_EQ(json["noData"]["fill"], "membrane");
+    EXPECT_EQ(json["noData"]["sources"][0]["input"], "rainier.tif");
+    EXPECT_EQ(json["noData"]["sources"][0]["samples"], 9033);
+    EXPECT_EQ(json["noData"]["sources"][0]["overBeneath"], 0);
     EXPECT_EQ(json["levels"].size(), 5U);
     EXPECT_EQ(json["levels"][0]["sampleStep"], 16);
     EXPECT_EQ(json["source"]["reader"], "oiio");
@@ -279,6 +286,8 @@ TEST_F(PyramidFormat, ManifestErrors) {
     EXPECT_TRUE(contains(e, "pixel size")) << e;
     e = errorFor(edited([](auto& j) { j["noData"]["fill"] = "kriging"; }));
     EXPECT_TRUE(contains(e, "noData.fill")) << e;
+    e = errorFor(edited([](auto& j) { j["noData"]["sources"][0]["overBeneath"] = 9034; }));
+    EXPECT_TRUE(contains(e, "noData.sources")) << e;
     e = errorFor(edited([](auto& j) { j["levels"][4]["presentPatches"] = 101; }));
     EXPECT_TRUE(contains(e, "presentPatches")) << e;
 }

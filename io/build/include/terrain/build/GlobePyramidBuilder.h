@@ -11,7 +11,7 @@
 // each placed by DemReader::placeOriginalSamples.
 //
 // Several sources composite into one pyramid (GlobeSources.h): where they overlap the finest
-// valid sample wins, no-data falls through to coarser sources of comparable resolution, and a
+// valid sample wins, a void is filled over the sources beneath it (VoidFill.h), and a
 // source is feathered into the one under it at its edge; each source makes patches exist down
 // to its own finest level, so a 90 m tile over a 37 km global grid adds deep levels only
 // where it lies.

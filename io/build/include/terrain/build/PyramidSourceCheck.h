@@ -38,6 +38,17 @@ struct SourceCheckReport {
     std::int64_t storedSamplesChecked = 0;
     std::int64_t storedViolationCount = 0;
     std::vector<double> largestStoredDifference;
+    /// Globe pyramids: the filled samples of a source with a surface beneath it (its voids,
+    /// filled over the sources beneath, docs/pyramid-format.md, "No-data"), drawn by the finest
+    /// patch there, against that surface: how many, the largest distance, the largest
+    /// difference between the source and the surface beneath at a void's rim, and how many lie
+    /// further from the surface than that difference, the patch's Err(P) and
+    /// kFilledToleranceM (the fill spreads the rim's difference, so none should).
+    std::int64_t filledSamplesChecked = 0;
+    double largestFilledDeviationM = 0.0;
+    double largestRimDifferenceM = 0.0;
+    std::int64_t filledBeyondRimCount = 0;
+    static constexpr double kFilledToleranceM = 0.5;
     static constexpr std::size_t kMaxListed = 20;
 };
 

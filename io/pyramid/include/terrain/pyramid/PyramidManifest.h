@@ -19,13 +19,28 @@
 
 namespace terrain::io {
 
+/// One source's filled samples (docs/pyramid-format.md, "No-data").
+struct ManifestFilledSource {
+    std::string input;             ///< as in source.inputs
+    std::int64_t samples = 0;      ///< its no-data samples, filled
+    std::int64_t overBeneath = 0;  ///< of them, filled over the sources beneath it
+    bool operator==(const ManifestFilledSource&) const = default;
+};
+
 struct ManifestNoData {
+    /// The fill rules: along the row (what versions before the void fill wrote, and what a
+    /// pyramid with nothing filled still says); every void by the membrane from its rim;
+    /// each void over the sources beneath it (the delta surface), else by the membrane.
     static constexpr std::string_view kRowLinearFill = "row-linear";
+    static constexpr std::string_view kMembraneFill = "membrane";
+    static constexpr std::string_view kDeltaSurfaceFill = "delta-surface";
 
     bool present = false;               ///< some source sample was no-data; shards carry the V mask
     std::optional<double> sourceValue;  ///< the raw value the source declared, if any
     std::int64_t samples = 0;           ///< filled samples of the DEM (not overhang)
-    std::string fill{kRowLinearFill};   ///< the fill rule; version 2 knows only row-linear
+    std::string fill{kRowLinearFill};   ///< the fill rule
+    /// Per source with a filled sample (absent from the file when none is).
+    std::vector<ManifestFilledSource> sources;
     bool operator==(const ManifestNoData&) const = default;
 };
 
