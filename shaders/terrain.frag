@@ -27,7 +27,6 @@ layout(location = TERRAIN_FRAG_COLOR) out vec4 o_color;
 #include "terrain_surface.glsl"
 
 layout(location = 6) in vec2 i_patchSample;  // the patch's samples, apron excluded
-layout(location = 7) flat in int i_instance;
 layout(location = 8) in vec3 i_up;
 
 vec3 sampleNormal(PatchInstance patch_, ivec2 s) {
@@ -39,7 +38,7 @@ vec3 sampleNormal(PatchInstance patch_, ivec2 s) {
 // north-west–south-east diagonal, as the reference renderer splits it, and the corners'
 // normals blended barycentrically, as the rasteriser blends the reference's vertices'.
 vec3 fragmentNormal(vec2 p) {
-    PatchInstance patch_ = u_instances[i_instance];
+    PatchInstance patch_ = u_instances[i_patch];
     int lastCell = u_frame.tessellation.z - 1;  // N − 1 cells a side
     ivec2 cell = clamp(ivec2(floor(p)), ivec2(0), ivec2(lastCell));
     vec2 f = clamp(p - vec2(cell), 0.0, 1.0);

@@ -25,10 +25,9 @@ layout(location = 4) flat out int o_tessFactor;
 layout(location = 9) flat out int o_patch;
 layout(location = 5) out vec2 o_demSample;  // minus the anchor: the fragment stage clips
 #ifdef TERRAIN_FRAGMENT_NORMALS
-// For the fragment stage's normals (terrain.frag): where in the patch's samples, which
-// patch, and the surface's vertical there.
+// For the fragment stage's normals (terrain.frag): where in the patch's samples, and the
+// surface's vertical there (the patch is o_patch's).
 layout(location = 6) out vec2 o_patchSample;
-layout(location = 7) flat out int o_instance;
 layout(location = 8) out vec3 o_up;
 #endif
 
@@ -53,7 +52,6 @@ void main() {
     o_demSample = surfaceDemSample(patch_, vec2(sampleXY));
 #ifdef TERRAIN_FRAGMENT_NORMALS
     o_patchSample = vec2(sampleXY);
-    o_instance = i_instance[0];
     o_up = up;
 #endif
     o_fromCameraM = position;

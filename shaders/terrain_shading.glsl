@@ -17,20 +17,25 @@ struct TerrainShading {
     vec2 sea;
 };
 
-
 vec3 terrainTint(float t) {
     const vec3 low = vec3(0.34, 0.50, 0.30), mid = vec3(0.62, 0.55, 0.42), high = vec3(0.93);
     return t < 0.6 ? mix(low, mid, t / 0.6) : mix(mid, high, (t - 0.6) / 0.4);
 }
 
-// `base` lit by the sun and fogged. `normal` need not be unit length (interpolated);
-// `fromCameraM` is camera-relative.
-vec3 terrainShadeColor(TerrainShading shading, vec3 base, vec3 normal, vec3 fromCameraM) {
+// `base` lit by the sun, `ambient` of it unlit, and fogged. `normal` need not be unit length
+// (interpolated); `fromCameraM` is camera-relative.
+vec3 terrainLitColor(TerrainShading shading, vec3 base, vec3 normal, vec3 fromCameraM,
+                     float ambient) {
     vec3 n = normalize(normal);
     float lambert = max(dot(n, shading.sunDirection), 0.0);
-    vec3 lit = base * (0.25 + 0.75 * lambert);
+    vec3 lit = base * (ambient + (1.0 - ambient) * lambert);
     float fog = 1.0 - exp(-shading.fogDensityPerM * length(fromCameraM));
     return mix(lit, shading.skyColor, fog);
+}
+
+// Land: the hillshade's ambient.
+vec3 terrainShadeColor(TerrainShading shading, vec3 base, vec3 normal, vec3 fromCameraM) {
+    return terrainLitColor(shading, base, normal, fromCameraM, 0.25);
 }
 
 // Water by depth: shallow shelves light, the abyss dark, so coasts and shelves read from orbit.
@@ -58,10 +63,7 @@ vec3 terrainShade(TerrainShading shading, vec3 normal, float heightM, vec3 fromC
     float landT = clamp((heightM - seaLevel) / max(range.y - seaLevel, 1.0), 0.0, 1.0);
     vec3 land = terrainShadeColor(shading, terrainTint(landT), normal, fromCameraM);
     float depth = clamp((seaLevel - heightM) / max(seaLevel - range.x, 1.0), 0.0, 1.0);
-    vec3 n = normalize(normal);
-    vec3 water = waterTint(depth) * (0.8 + 0.2 * max(dot(n, shading.sunDirection), 0.0));
-    float fog = 1.0 - exp(-shading.fogDensityPerM * length(fromCameraM));
-    water = mix(water, shading.skyColor, fog);
+    vec3 water = terrainLitColor(shading, waterTint(depth), normal, fromCameraM, 0.8);
     float aboveSea = heightM - (seaLevel + kSeaToleranceM);
     float landShare = clamp(0.5 + aboveSea / max(fwidth(heightM), 1.0e-3), 0.0, 1.0);
     return mix(water, land, landShare);

@@ -28,11 +28,7 @@ std::int64_t fillNoData(std::int64_t width, std::int64_t height, std::span<float
                         const SurfaceBeneath* beneath) {
     TERRAIN_ASSERT(heights.size() == static_cast<std::size_t>(width * height));
     TERRAIN_ASSERT(valid.size() == heights.size());
-    std::int64_t missing = 0;
-    for (std::size_t i = 0; i < heights.size(); ++i) {
-        valid[i] = std::isnan(heights[i]) ? 0 : 1;
-        missing += 1 - valid[i];
-    }
+    const std::int64_t missing = detail::markValidSamples(heights, valid);
     if (missing == 0) return 0;
     const detail::VoidFill::ReadWindow read = [&](std::int64_t x0, std::int64_t y0, std::int64_t w,
                                                   std::int64_t rows,

@@ -10,11 +10,7 @@ namespace terrain::io::detail {
 Result<std::int64_t> RowFill::fill(std::int64_t r, std::int64_t a, std::span<float> row,
                                    std::span<std::uint8_t> valid) {
     TERRAIN_ASSERT(row.size() == valid.size());
-    std::int64_t missing = 0;
-    for (std::size_t i = 0; i < row.size(); ++i) {
-        valid[i] = std::isnan(row[i]) ? 0 : 1;
-        missing += 1 - valid[i];
-    }
+    const std::int64_t missing = markValidSamples(row, valid);
     if (missing == 0) return std::int64_t{0};
     Result<const VoidFill*> voids = m_voids.get();
     if (!voids) return voids.error();

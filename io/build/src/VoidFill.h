@@ -13,6 +13,7 @@
 #include "terrain/base/Result.h"
 #include "terrain/source/DemReader.h"
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -75,5 +76,16 @@ private:
     std::vector<float> m_values;  // the fill of full-resolution voids, run by run
     std::int64_t m_samples = 0, m_samplesOverBeneath = 0;
 };
+
+/// Marks each of `heights` valid (1) or no-data (0, NaN) in `valid`; the no-data count.
+inline std::int64_t markValidSamples(std::span<const float> heights,
+                                     std::span<std::uint8_t> valid) {
+    std::int64_t missing = 0;
+    for (std::size_t i = 0; i < heights.size(); ++i) {
+        valid[i] = std::isnan(heights[i]) ? 0 : 1;
+        missing += 1 - valid[i];
+    }
+    return missing;
+}
 
 }  // namespace terrain::io::detail
