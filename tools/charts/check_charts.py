@@ -190,9 +190,9 @@ def check_bench(folder):
             if int(row["crack_pixels"]) != 0:
                 fail(f"{row['method']} ε = {row['threshold_px']}, frame {row['frame']}: "
                      f"{row['crack_pixels']} crack pixels against the globe reference image")
-            if row.get("boundary_artefact_pixels", "") == "":
-                fail(f"frames.csv: no boundary_artefact_pixels in {row['method']} frame "
-                     f"{row['frame']}")
+            for key in ("boundary_artefact_pixels", "shading_seam_levels"):
+                if row.get(key, "") == "":
+                    fail(f"frames.csv: no {key} in {row['method']} frame {row['frame']}")
         if not any(t["method"].endswith("-no-horizon-culling") for t in bench["thresholds"]):
             fail("bench.json: no run without horizon culling to compare with")
         for t in bench["thresholds"]:

@@ -333,6 +333,9 @@ def fmt(value, digits=2):
 
 
 YARDSTICK = "rtin"
+# A shading seam (BoundaryShading.h) above this many 8-bit luma levels is listed as a failure:
+# the uniform full-resolution grid, one level everywhere, measures 0.1-0.2 on the shared DEMs.
+SHADING_SEAM_VISIBLE_LEVELS = 1.0
 # What terrain-bench appends to a method's name for a variant of its draw or LOD.
 VARIANTS = ("-coarse-only", "-blocks-only", "-vertex-normals", "-no-horizon-culling")
 
@@ -396,6 +399,10 @@ def method_sections(bench, summary_rows, summary_path, tol):
             if artefacts > 0:
                 failures.append(f"{int(artefacts)} boundary-artefact pixels at ε = {eps:g} "
                                 "(where patches meet)")
+            seam = optional_number(r, "shading_seam_levels_max", summary_path)
+            if seam > SHADING_SEAM_VISIBLE_LEVELS:
+                failures.append(f"shading steps where patches meet: {fmt(seam, 2)} levels more "
+                                f"than inside patches (largest frame) at ε = {eps:g}")
             unsettled = n("frames_unsettled") if "frames_unsettled" in r else 0
             if unsettled > 0:
                 failures.append(f"streaming never settled in {int(unsettled)} of {int(n('frames'))} "
@@ -513,8 +520,8 @@ def write_report(out_dir, bench, summary_rows, charts, summary_path, stability_r
     lines += ["## Per threshold", "",
               "| method | ε px | triangles | patches | draw calls | LOD µs | GPU ms | frame ms | "
               "resident MiB | error max px | median frame max px | mean px | frames > ε+tol | "
-              "PSNR dB (min) | cracks | boundary artefacts | popping |",
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+              "PSNR dB (min) | cracks | boundary artefacts | shading seam | popping |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in summary_rows:
         n = lambda key: number(r, key, summary_path)
         lines.append(
@@ -527,13 +534,18 @@ def write_report(out_dir, bench, summary_rows, charts, summary_path, stability_r
             f"{fmt(n('psnr_db_mean'), 1)} ({fmt(n('psnr_db_min'), 1)}) | "
             f"{fmt(n('crack_pixels_total'), 0)} | "
             f"{fmt(optional_number(r, 'boundary_artefact_pixels_total', summary_path), 0)} | "
+            f"{fmt(optional_number(r, 'shading_seam_levels_max', summary_path), 2)} | "
             f"{fmt(n('popping_levels_mean'), 3)} |")
     lines += ["", f"*error*: measured screen-space error against the full-resolution reference "
               f"(largest over all frames, the median of the frames' largest, and the mean over "
               f"pixels); *frames > ε+tol*: frames whose largest error exceeds ε + {tol:g} px "
               f"(the rasterisation tolerance); *boundary artefacts*: pixels where two patches "
               f"meet that differ from both sides and from the reference (a pinhole, an edge "
-              f"shaded wrong; – for a method that draws no patch ids); *popping*: LOD image "
+              f"shaded wrong; – for a method that draws no patch ids); *shading seam*: how much "
+              f"more the LOD's brightness steps between neighbouring pixels of two patches than "
+              f"between neighbouring pixels of one patch, each against the reference's step "
+              f"there (8-bit luma levels, the largest frame; a seam where levels meet); "
+              f"*popping*: LOD image "
               f"change beyond the "
               f"reference's, in 8-bit levels. Definitions: docs/accuracy.md.", ""]
     if bench and bench.get("tiling") == "globe":

@@ -101,7 +101,7 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
         s.thresholdPx = threshold;
         std::vector<double> triangles, patches, lodUs, gpuMs, drawMs, frameMs, errorMax, errorMean,
             errorP99, fixedMax, rawMax, exactMax, lodErrorMax, rmse, psnr, popping, lodSwitch,
-            jumps;
+            jumps, shadingSeam;
         std::uint64_t horizonCulled = 0, visited = 0;
         for (const FrameRecord& r : records) {
             if (r.method != method || r.thresholdPx != threshold) continue;
@@ -140,8 +140,13 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
                     (std::isnan(s.boundaryArtefactPixelsTotal) ? 0.0
                                                                : s.boundaryArtefactPixelsTotal) +
                     r.boundaryArtefactPixels;
+            if (!std::isnan(r.shadingSeamLevels)) shadingSeam.push_back(r.shadingSeamLevels);
             s.framesWaited += r.waitedForStreaming ? 1 : 0;
             s.framesUnsettled += r.settled ? 0 : 1;
+        }
+        if (!shadingSeam.empty()) {
+            s.shadingSeamLevelsMax = maxOf(shadingSeam);
+            s.shadingSeamLevelsMean = mean(shadingSeam);
         }
         s.trianglesMean = mean(triangles);
         s.patchesMean = mean(patches);
@@ -238,6 +243,11 @@ Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRe
         {"lod_visited", [](const R& r) { return number(r.lodVisited); }},
         {"lod_error_max_px", [](const R& r) { return number(r.lodErrorMaxPx); }},
         {"boundary_artefact_pixels", [](const R& r) { return number(r.boundaryArtefactPixels); }},
+        {"shading_step_boundary_levels",
+         [](const R& r) { return number(r.shadingStepBoundaryLevels); }},
+        {"shading_step_interior_levels",
+         [](const R& r) { return number(r.shadingStepInteriorLevels); }},
+        {"shading_seam_levels", [](const R& r) { return number(r.shadingSeamLevels); }},
     };
     if (withPose) columns.insert(columns.begin() + 2, {"pose", [](const R& r) { return r.pose; }});
     return writeCsv<R>(path, columns, records);
@@ -290,6 +300,8 @@ Status writeSummaryCsv(const std::filesystem::path& path,
         {"horizon_culled_fraction", [](const S& s) { return number(s.horizonCulledFraction); }},
         {"boundary_artefact_pixels_total",
          [](const S& s) { return number(s.boundaryArtefactPixelsTotal); }},
+        {"shading_seam_levels_max", [](const S& s) { return number(s.shadingSeamLevelsMax); }},
+        {"shading_seam_levels_mean", [](const S& s) { return number(s.shadingSeamLevelsMean); }},
     };
     return writeCsv<S>(path, columns, summaries);
 }

@@ -87,6 +87,12 @@ struct FrameRecord {
     /// Pixels where two patches meet that stand out from both sides and from the reference
     /// (AccuracyProbe, BoundaryArtefacts.h); NaN for a method that draws no patch ids.
     double boundaryArtefactPixels = kNoValue;
+    /// The shading step the LOD adds across patch boundaries and inside patches, and their
+    /// difference, 8-bit luma levels (AccuracyProbe, BoundaryShading.h); NaN without patch
+    /// ids.
+    double shadingStepBoundaryLevels = kNoValue;
+    double shadingStepInteriorLevels = kNoValue;
+    double shadingSeamLevels = kNoValue;
     /// Enclosed uncovered pixels where the reference is thinner than a pixel: not cracks.
     std::uint64_t diagonalUncoveredPixels = 0;
     double poppingLevels = kNoValue;
@@ -142,6 +148,9 @@ struct ThresholdSummary {
     std::uint64_t crackPixelsTotal = 0;
     /// FrameRecord::boundaryArtefactPixels over every frame; NaN where never measured.
     double boundaryArtefactPixelsTotal = kNoValue;
+    /// FrameRecord::shadingSeamLevels: the largest and the mean over the frames.
+    double shadingSeamLevelsMax = kNoValue;
+    double shadingSeamLevelsMean = kNoValue;
     double poppingLevelsMean = kNoValue;
     double lodSwitchLevelsMean = kNoValue;
     double lodSwitchJumpShareMean = kNoValue;

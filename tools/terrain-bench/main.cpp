@@ -42,6 +42,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -149,7 +150,9 @@ nlohmann::json summaryJson(const tools::ThresholdSummary& s) {
             {"frames_waited", s.framesWaited},
             {"frames_unsettled", s.framesUnsettled},
             {"horizon_culled_fraction", v(s.horizonCulledFraction)},
-            {"boundary_artefact_pixels_total", v(s.boundaryArtefactPixelsTotal)}};
+            {"boundary_artefact_pixels_total", v(s.boundaryArtefactPixelsTotal)},
+            {"shading_seam_levels_max", v(s.shadingSeamLevelsMax)},
+            {"shading_seam_levels_mean", v(s.shadingSeamLevelsMean)}};
 }
 
 /// One (method, threshold) flight: its own strategy, its telemetry log and its previous
@@ -430,6 +433,24 @@ int run(const BenchOptions& o, const char* argv0) {
         rec.uncoveredPixels = a.uncoveredPixels;
         if (a.boundaryArtefactPixels)
             rec.boundaryArtefactPixels = static_cast<double>(*a.boundaryArtefactPixels);
+        if (a.boundaryShading) {
+            rec.shadingStepBoundaryLevels = a.boundaryShading->boundaryExcessLevels;
+            rec.shadingStepInteriorLevels = a.boundaryShading->interiorExcessLevels;
+            rec.shadingSeamLevels = a.boundaryShading->seamLevels();
+        }
+        if (flight && frame == static_cast<std::uint64_t>(sampleFrame) &&
+            !a.boundaryArtefacts.empty()) {
+            // Where the boundary artefacts are: the sample frame with them in yellow (the probe
+            // clears the plane's background to magenta).
+            runtime::FrameImages marked = lod.images;
+            for (const std::size_t i : a.boundaryArtefacts) {
+                const std::array<std::uint8_t, 4> yellow{255, 255, 0, 255};
+                std::copy(yellow.begin(), yellow.end(), marked.rgba.begin() + 4 * i);
+            }
+            const auto file = outputDir / fmt::format("sample-{}eps-{}-artefacts.png", r.fileTag,
+                                                      thresholdName(r.thresholdPx));
+            if (auto w = writePng(marked, file); !w) return w.error();
+        }
         rec.diagonalUncoveredPixels = a.diagonalUncoveredPixels;
         rec.poppingLevels = a.poppingLevels;
         if (held) {
@@ -650,14 +671,16 @@ int run(const BenchOptions& o, const char* argv0) {
             "terrain-bench: {} ε = {:>5} px: triangles {:>9.0f}, measured error max {:.3f} px "
             "(median of frame maxima {:.3f}, mean {:.3f}), PSNR {:.2f} dB, {} of {} frames "
             "over ε + {} px, "
-            "{} crack pixels, {} boundary-artefact pixels, {} unmeasurable (non-finite) "
-            "pixels{}{}\n",
+            "{} crack pixels, {} boundary-artefact pixels, shading seam {} levels (max), {} "
+            "unmeasurable (non-finite) pixels{}{}\n",
             s.method, s.thresholdPx, s.trianglesMean, s.errorMaxPx, s.errorMaxMedianPx,
             s.errorMeanPx, s.psnrDbMean, s.framesOverThreshold, s.frames, o.tolerancePx,
             s.crackPixelsTotal,
             std::isnan(s.boundaryArtefactPixelsTotal)
                 ? std::string("no")
                 : fmt::format("{:.0f}", s.boundaryArtefactPixelsTotal),
+            std::isnan(s.shadingSeamLevelsMax) ? std::string("no")
+                                               : fmt::format("{:.2f}", s.shadingSeamLevelsMax),
             s.nonFinitePixelsTotal,
             std::isnan(s.lodSwitchLevelsMean)
                 ? std::string()

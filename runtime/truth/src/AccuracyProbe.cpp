@@ -225,9 +225,14 @@ Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapt
         ++(covered.value() ? a.crackPixels : a.diagonalUncoveredPixels);
     }
     a.uncoveredPixels = uncovered.uncovered;
-    if (!lod.patchIds.empty())
-        a.boundaryArtefactPixels =
-            findBoundaryArtefacts(lod.images, lod.patchIds, reference.images).pixels.size();
+    if (!lod.patchIds.empty()) {
+        // The LOD may draw any surface up to ε pixels off the reference's.
+        a.boundaryArtefacts = findBoundaryArtefacts(lod.images, lod.patchIds, reference.images,
+                                                    static_cast<int>(std::ceil(thresholdPx)))
+                                  .pixels;
+        a.boundaryArtefactPixels = a.boundaryArtefacts.size();
+        a.boundaryShading = measureBoundaryShading(lod.images, lod.patchIds, reference.images);
+    }
     for (std::size_t i = 0; i < reference.images.pixels(); ++i) {
         a.referencePixels += reference.images.drawn(i) ? 1 : 0;
         a.lodPixels += lod.images.drawn(i) ? 1 : 0;

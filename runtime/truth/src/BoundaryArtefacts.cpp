@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdlib>
 
 namespace terrain::runtime {
@@ -33,7 +34,8 @@ std::vector<std::uint32_t> patchIdsOf(std::span<const std::uint8_t> patchViewRgb
 
 BoundaryArtefacts findBoundaryArtefacts(const FrameImages& lod,
                                         std::span<const std::uint32_t> patchIds,
-                                        const FrameImages& reference, int thresholdLevels) {
+                                        const FrameImages& reference, int shiftPx,
+                                        int thresholdLevels) {
     const std::size_t w = static_cast<std::size_t>(lod.width);
     const std::size_t pixels = lod.pixels();
     TERRAIN_ASSERT(lod.width == reference.width && lod.height == reference.height &&
@@ -58,18 +60,41 @@ BoundaryArtefacts findBoundaryArtefacts(const FrameImages& lod,
         const bool referenceSurface =
             std::abs(depth - referenceDepth) <=
             BoundaryArtefacts::kSameSurface * std::max(depth, referenceDepth);
+        // Whether the reference shows i's colour within shiftPx of it (the LOD may draw a
+        // surface that far off).
+        const auto referenceShowsNearby = [&] {
+            const auto x0 = static_cast<std::ptrdiff_t>(x), y0 = static_cast<std::ptrdiff_t>(i / w);
+            const auto width = static_cast<std::ptrdiff_t>(w);
+            const auto height = static_cast<std::ptrdiff_t>(pixels / w);
+            for (std::ptrdiff_t y = std::max<std::ptrdiff_t>(0, y0 - shiftPx);
+                 y <= std::min(height - 1, y0 + shiftPx); ++y)
+                for (std::ptrdiff_t xx = std::max<std::ptrdiff_t>(0, x0 - shiftPx);
+                     xx <= std::min(width - 1, x0 + shiftPx); ++xx)
+                    if (!differ(colour, i, reference.rgba, static_cast<std::size_t>(y * width + xx),
+                                thresholdLevels))
+                        return true;
+            return false;
+        };
         // Along a line (a, i, b) that crosses a boundary at i: i stands out from both sides.
         // A wrongly shaded edge pixel stands out where both sides are right: where they differ
         // from the reference too, the LOD's own detail differs (a coarser level's shading,
         // aliasing), which is not the boundary's doing.
         const auto standsOut = [&](std::size_t a, std::size_t b) {
-            const bool sliver = patchIds[a] != id && patchIds[b] != id;
+            // A gap shows what lies behind both sides; a pixel of a third patch between a
+            // nearer and a farther one is a silhouette's layers.
+            const auto fartherThan = [&](std::size_t n) {
+                return double(lod.depth[i]) <
+                       double(lod.depth[n]) * (1.0 - BoundaryArtefacts::kSameSurface);
+            };
+            const bool sliver =
+                patchIds[a] != id && patchIds[b] != id && fartherThan(a) && fartherThan(b);
             const bool edge = !sliver && (patchIds[a] != id || patchIds[b] != id) &&
                               referenceSurface &&
                               !differ(colour, a, reference.rgba, a, thresholdLevels) &&
                               !differ(colour, b, reference.rgba, b, thresholdLevels);
             return (sliver || edge) && differ(colour, i, colour, a, thresholdLevels) &&
-                   differ(colour, i, colour, b, thresholdLevels);
+                   differ(colour, i, colour, b, thresholdLevels) &&
+                   !referenceShowsNearby();
         };
         if ((hasLeft && hasRight && standsOut(i - 1, i + 1)) ||
             (hasBelow && hasAbove && standsOut(i - w, i + w)))

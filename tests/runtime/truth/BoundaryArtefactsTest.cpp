@@ -1,6 +1,7 @@
 // Boundary artefacts (BoundaryArtefacts.h): on made-up images, a pinhole between two patches
-// and a wrongly shaded edge pixel count, and a silhouette a pixel off, a real ridge, a step
-// and a faint difference do not;
+// and a wrongly shaded edge pixel count, and a silhouette a pixel off, a real ridge, a step,
+// detail drawn a pixel off (within the allowed shift), a silhouette's layers and a faint
+// difference do not;
 // on real draws of the streaming test pyramid (random full views, mixed levels, the patch-id
 // view for the boundaries, the reference renderer for the truth), a draw without skirts (the
 // deliberately broken draw: its T-junction and rounding gaps show the clear colour) has
@@ -10,6 +11,7 @@
 #include "TerrainViewChecks.h"
 #include "terrain/runtime/AccuracyProbe.h"
 #include "terrain/runtime/BoundaryArtefacts.h"
+#include "terrain/runtime/BoundaryShading.h"
 #include "terrain/runtime/TerrainSession.h"
 
 #include <gtest/gtest.h>
@@ -47,8 +49,8 @@ struct Images {
         for (std::size_t c = 0; c < 3; ++c)
             image.rgba[4 * at(x, y) + c] = static_cast<std::uint8_t>(rgb[c]);
     }
-    std::size_t findAll() const {
-        return runtime::findBoundaryArtefacts(lod, ids, reference).pixels.size();
+    std::size_t findAll(int shiftPx = 0) const {
+        return runtime::findBoundaryArtefacts(lod, ids, reference, shiftPx).pixels.size();
     }
 };
 
@@ -104,6 +106,15 @@ TEST(BoundaryArtefacts, PinholesAndEdgeShadingCountAndNothingElseDoes) {
     Images::put(silhouette.lod, 4, 3, {10, 10, 10});
     silhouette.lod.depth[Images::at(4, 3)] = kNearDepth / 2.0f;
     EXPECT_EQ(silhouette.findAll(), 0u);
+    // A silhouette's layers: between a near patch and a far one, a pixel of a third patch
+    // at a depth between theirs (a ridge seen between the two), not a gap.
+    Images layers = twoPatches();
+    for (int y = 0; y < kH; ++y)
+        for (int x = kW / 2; x < kW; ++x) layers.lod.depth[Images::at(x, y)] = kNearDepth / 4.0f;
+    Images::put(layers.lod, 4, 2, {10, 10, 10});
+    layers.ids[Images::at(4, 2)] = 3;
+    layers.lod.depth[Images::at(4, 2)] = kNearDepth / 2.0f;
+    EXPECT_EQ(layers.findAll(), 0u);
     // On the boundary and standing out, but the reference has it too (a real ridge).
     Images ridge = twoPatches();
     Images::put(ridge.lod, 4, 3, {250, 250, 250});
@@ -114,11 +125,63 @@ TEST(BoundaryArtefacts, PinholesAndEdgeShadingCountAndNothingElseDoes) {
     for (int y = 0; y < kH; ++y)
         for (int x = kW / 2; x < kW; ++x) Images::put(step.lod, x, y, {40, 40, 40});
     EXPECT_EQ(step.findAll(), 0u);
+    // Detailed ground drawn a pixel off (within ε = 1 px): the edge pixel shows a dark
+    // feature the reference has one pixel lower. Counted when no shift is allowed, not when
+    // the LOD's ε allows one.
+    Images shifted = twoPatches();
+    Images::put(shifted.lod, 4, 2, {10, 10, 10});
+    Images::put(shifted.reference, 4, 3, {10, 10, 10});
+    EXPECT_EQ(shifted.findAll(0), 1u);
+    EXPECT_EQ(shifted.findAll(1), 0u);
+    // The same shift allowance does not excuse a dark pixel the reference shows nowhere near,
+    // nor a pinhole.
+    EXPECT_EQ(edge.findAll(1), 1u);
+    EXPECT_EQ(hole.findAll(1), 1u);
     // Just under the threshold: not a visible artefact.
     Images faint = twoPatches();
     const int grey = 120 + 4 * 4 - runtime::BoundaryArtefacts::kDefaultThresholdLevels;
     Images::put(faint.lod, 4, 2, {grey + 4, grey + 4, grey + 4});
     EXPECT_EQ(faint.findAll(), 0u);
+}
+
+// The shading-step measure (BoundaryShading.h) on the same made-up images: a patch shaded
+// apart from its neighbour steps at the boundary; a step the reference has, a silhouette and
+// detail inside a patch do not count as a seam.
+TEST(BoundaryShading, AStepTheReferenceLacksIsASeamAndNothingElseIs) {
+    const auto measure = [](const Images& images) {
+        return runtime::measureBoundaryShading(images.lod, images.ids, images.reference);
+    };
+    const Images clean = twoPatches();
+    EXPECT_EQ(measure(clean).boundaryPairs, std::uint64_t{kH});
+    EXPECT_EQ(measure(clean).seamLevels(), 0.0);
+
+    // The right patch 40 levels brighter than the reference: every boundary pair steps by
+    // 40 more than the reference, no interior pair does.
+    Images brighter = twoPatches();
+    for (int y = 0; y < kH; ++y)
+        for (int x = kW / 2; x < kW; ++x)
+            Images::put(brighter.lod, x, y, {160 + 4 * x, 160 + 4 * x, 160 + 4 * x});
+    EXPECT_NEAR(measure(brighter).boundaryExcessLevels, 40.0, 1e-9);
+    EXPECT_NEAR(measure(brighter).interiorExcessLevels, 0.0, 1e-9);
+    EXPECT_NEAR(measure(brighter).seamLevels(), 40.0, 1e-9);
+    // The reference has the same step (a real change of slope along the boundary): no seam.
+    Images ridge = brighter;
+    ridge.reference = ridge.lod;
+    EXPECT_NEAR(measure(ridge).seamLevels(), 0.0, 1e-9);
+    // The right side is another, farther surface (a silhouette): not compared.
+    Images silhouette = brighter;
+    for (int y = 0; y < kH; ++y)
+        for (int x = kW / 2; x < kW; ++x)
+            silhouette.lod.depth[Images::at(x, y)] = kNearDepth / 4.0f;
+    EXPECT_EQ(measure(silhouette).boundaryPairs, 0u);
+    // Noise inside the patches as much as across their boundary: no seam.
+    Images noisy = twoPatches();
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x)
+            if ((x + y) % 2 == 0) Images::put(noisy.lod, x, y, {200, 200, 200});
+    const runtime::BoundaryShading noise = measure(noisy);
+    EXPECT_GT(noise.interiorExcessLevels, 10.0);
+    EXPECT_NEAR(noise.seamLevels(), 0.0, 12.0);
 }
 
 class BoundaryArtefactsDrawTest : public GlTest {};
@@ -142,6 +205,7 @@ TEST_F(BoundaryArtefactsDrawTest, ADrawWithoutSkirtsHasThemAndTheDrawHasNone) {
 
     std::mt19937_64 random(11);
     std::uint64_t withSkirts = 0, withoutSkirts = 0, boundaryPixels = 0;
+    double shadedSeam = 0.0, levelColourSeam = 0.0;
     for (int pose = 0; pose < kPoses; ++pose) {
         const runtime::Camera camera = randomFullView(g, kWidth, kHeight, random);
         // ε from 1 to 8 px: views that mix patch levels.
@@ -162,6 +226,18 @@ TEST_F(BoundaryArtefactsDrawTest, ADrawWithoutSkirtsHasThemAndTheDrawHasNone) {
                 shaded.images, runtime::patchIdsOf(patches.images.rgba), reference.value().images);
             (skirts ? withSkirts : withoutSkirts) += found.pixels.size();
             if (skirts) {
+                shadedSeam += runtime::measureBoundaryShading(
+                                  shaded.images, runtime::patchIdsOf(patches.images.rgba),
+                                  reference.value().images)
+                                  .seamLevels();
+                // The deliberately broken shading for the seam measure: each patch coloured
+                // by its level (TerrainDebugView::Level), which steps wherever levels meet.
+                style.debugView = runtime::TerrainDebugView::Level;
+                const runtime::LodCapture levels = probe.captureLod(session, camera, style);
+                levelColourSeam += runtime::measureBoundaryShading(
+                                       levels.images, runtime::patchIdsOf(patches.images.rgba),
+                                       reference.value().images)
+                                       .seamLevels();
                 boundaryPixels += found.boundaryPixels;
                 EXPECT_TRUE(found.pixels.empty())
                     << "pose " << pose << ": " << found.pixels.size()
@@ -173,11 +249,19 @@ TEST_F(BoundaryArtefactsDrawTest, ADrawWithoutSkirtsHasThemAndTheDrawHasNone) {
     }
     std::cout << "[          ] " << kPoses << " poses, " << boundaryPixels
               << " boundary pixels: boundary artefacts " << withSkirts << " drawn as it is, "
-              << withoutSkirts << " without skirts\n";
+              << withoutSkirts << " without skirts; shading seam " << shadedSeam / kPoses
+              << " levels a pose, " << levelColourSeam / kPoses << " coloured by level\n";
     EXPECT_GT(boundaryPixels, 0u) << "no patch boundary in view: the test shows nothing";
     EXPECT_EQ(withSkirts, 0u);
     // The control: the broken draw does show them, so the detector can fail.
     EXPECT_GT(withoutSkirts, 0u);
+    // The seam measure sees a draw whose colour depends on the patch's level. (The shaded draw
+    // still has a seam of its own where levels meet, about 2 levels on the benches: its
+    // normals are its level's, issue 46 item 4; so it is reported here, not held to 0.)
+    // (Same-level boundaries, where the level colours do not step, dilute the mean: about
+    // 1.4 levels a pose against 0.3 shaded here.)
+    EXPECT_GT(levelColourSeam / kPoses, 1.0);
+    EXPECT_GT(levelColourSeam, 3.0 * shadedSeam);
 }
 
 }  // namespace

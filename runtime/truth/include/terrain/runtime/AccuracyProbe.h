@@ -10,6 +10,7 @@
 #include "terrain/base/Result.h"
 #include "terrain/gl/Framebuffer.h"
 #include "terrain/runtime/Camera.h"
+#include "terrain/runtime/BoundaryShading.h"
 #include "terrain/runtime/FrameImages.h"
 #include "terrain/runtime/FullResolutionSurface.h"
 #include "terrain/runtime/ImageComparison.h"
@@ -78,6 +79,11 @@ struct FrameAccuracy {
     /// Pixels where two patches meet that stand out from both sides and from the reference
     /// (findBoundaryArtefacts, BoundaryArtefacts.h); nullopt when the capture has no patch ids.
     std::optional<std::uint64_t> boundaryArtefactPixels;
+    /// Those pixels' indices (the images' row order), ascending: where to look.
+    std::vector<std::size_t> boundaryArtefacts;
+    /// The shading steps across patch boundaries and inside patches against the reference's
+    /// (measureBoundaryShading, BoundaryShading.h); nullopt without patch ids.
+    std::optional<BoundaryShading> boundaryShading;
     /// All clear-colour LOD pixels where the reference drew terrain, silhouettes included.
     std::uint64_t uncoveredPixels = 0;
     std::uint64_t referencePixels = 0;  ///< pixels where the reference drew terrain

@@ -37,17 +37,24 @@ struct BoundaryArtefacts {
 /// neighbours a and b on either side of it along a row or a column, p's patch differing from
 /// a's or b's (p lies on a boundary along that line), and p's colour differing by more than
 /// `thresholdLevels` (R, G or B) from a's, from b's and from the reference's p; and either
-///  - p belongs to neither a's patch nor b's: a sliver between them, the sky or a farther
-///    surface seen through a gap (a pinhole, whatever its colour), or
+///  - p belongs to neither a's patch nor b's and lies farther than both (depths more than
+///    kSameSurface apart): a sliver between them, the sky or a farther surface seen through a
+///    gap (a pinhole, whatever its colour); a third patch between a nearer and a farther side
+///    is a silhouette's layers, not a gap; or
 ///  - p shows the reference's surface there (depths within kSameSurface) and a and b match
 ///    the reference's colours: p's colour alone is wrong (shading at the patch's edge). Where
 ///    the sides differ from the reference too, the LOD's detail differs (a coarser level's
-///    shading, aliasing): not the boundary's doing.
+///    shading, aliasing): not the boundary's doing;
+/// and no reference pixel within `shiftPx` of p (rows and columns) has p's colour. Where the
+/// reference shows it that near, the LOD drew that surface up to shiftPx off (its error,
+/// within ε when shiftPx is ε rounded up): on detailed ground a pixel then differs from its
+/// neighbours and from the reference's p, and a silhouette's notch shows the sky, without
+/// anything wrong at the boundary.
 /// A silhouette the LOD draws a pixel off the reference's shows another surface at p that
 /// belongs to one side: the LOD's error within ε, not an artefact. `patchIds` is patchIdsOf
 /// the same frame's patch-id view.
 BoundaryArtefacts findBoundaryArtefacts(
     const FrameImages& lod, std::span<const std::uint32_t> patchIds, const FrameImages& reference,
-    int thresholdLevels = BoundaryArtefacts::kDefaultThresholdLevels);
+    int shiftPx = 0, int thresholdLevels = BoundaryArtefacts::kDefaultThresholdLevels);
 
 }  // namespace terrain::runtime
