@@ -10,6 +10,10 @@ layout(location = 0) out vec3 o_fromCameraM;
 layout(location = 1) out vec3 o_normal;
 layout(location = 2) out float o_heightM;
 layout(location = 3) out vec2 o_demSample;  // reference.frag's clip: nothing to clip on a globe
+// For reference.frag's footprint-filtered normal: the region, where in its samples, and up.
+layout(location = 4) flat out int o_instance;
+layout(location = 5) out vec2 o_sample;
+layout(location = 6) out vec3 o_up;
 
 void main() {
     PatchInstance region = u_instances[gl_InstanceID];
@@ -24,6 +28,9 @@ void main() {
     vec3 position = globePositionM(region, uv, h, direction);
     o_normal = globeShadingNormal(region, texel, between, direction);
     o_heightM = h;
+    o_instance = gl_InstanceID;
+    o_sample = s;
+    o_up = direction;
     o_demSample = vec2(0.0);
     o_fromCameraM = position;
     gl_Position = u_frame.viewProjection * vec4(position, 1.0);

@@ -16,7 +16,21 @@ layout(location = 3) in vec2 i_demSample;
 layout(location = TERRAIN_FRAG_COLOR) out vec4 o_color;
 layout(location = 1) out float o_heightM;
 
+#ifdef TERRAIN_REFERENCE_FOOTPRINT
+// The reference renderers' draws (runtime/truth ReferenceBatch): the normal filtered to the
+// pixel's footprint as the patch draws filter theirs (terrain_footprint.glsl), over the
+// instance's tile; the comparison methods that share this stage shade their vertices'.
+#include "terrain_surface.glsl"
+#include "terrain_footprint.glsl"
+layout(location = 4) flat in int i_instance;
+layout(location = 5) in vec2 i_sample;  // the instance's samples, apron excluded
+layout(location = 6) in vec3 i_up;
+#endif
+
 void main() {
+#ifdef TERRAIN_REFERENCE_FOOTPRINT
+    float footprint = sampleFootprint(i_sample);
+#endif
     // A thousandth of a sample of slack: the interpolated position of the DEM's own last
     // column or row may round to just beyond it.
     const float kSlack = 1.0e-3;
@@ -27,6 +41,12 @@ void main() {
     }
     TerrainShading shading = TerrainShading(u_frame.sunDirection.xyz, u_frame.heightRange.xy,
                                             u_frame.sky.rgb, u_frame.sky.w, u_frame.heightRange.zw);
-    o_color = vec4(terrainShade(shading, i_normal, i_heightM, i_fromCameraM), 1.0);
+#ifdef TERRAIN_REFERENCE_FOOTPRINT
+    vec3 normal = footprintNormal(u_instances[i_instance], i_sample, footprint,
+                                  normalize(i_normal), normalize(i_up));
+#else
+    vec3 normal = i_normal;
+#endif
+    o_color = vec4(terrainShade(shading, normal, i_heightM, i_fromCameraM), 1.0);
     o_heightM = i_heightM;
 }

@@ -16,6 +16,10 @@ layout(location = 0) out vec3 o_fromCameraM;
 layout(location = 1) out vec3 o_normal;
 layout(location = 2) out float o_heightM;
 layout(location = 3) out vec2 o_demSample;  // DEM sample (x east, y south) minus the anchor
+// For reference.frag's footprint-filtered normal: the instance, where in its samples, and up.
+layout(location = 4) flat out int o_instance;
+layout(location = 5) out vec2 o_sample;
+layout(location = 6) out vec3 o_up;
 
 void main() {
     PatchInstance tile = u_instances[gl_InstanceID];
@@ -31,6 +35,9 @@ void main() {
     float dy = heightAt(texel - ivec2(0, 1), layer) - heightAt(texel + ivec2(0, 1), layer);
     o_normal = normalize(vec3(-dx / (2.0 * spacing.x), -dy / (2.0 * spacing.y), 1.0));
     o_heightM = h;
+    o_instance = gl_InstanceID;
+    o_sample = vec2(s);
+    o_up = vec3(0.0, 0.0, 1.0);
     precise vec2 demSample = tile.placement0.xy + vec2(s);
     o_demSample = demSample;
     precise vec2 metres = (demSample - u_frame.planeCamera.xy) * spacing;

@@ -103,6 +103,17 @@ vec3 surfacePositionM(PatchInstance patch_, vec2 s, float h, float dropM, out ve
     return position;
 }
 
+// The shading normal of slopes `slope` (metres of height per patch sample, along s and t):
+// the ellipsoid normal `up` tilted as globeShadingNormal tilts it. placement4 is metres per
+// tile sample; a virtual patch's sample spans texelMap.z of its ancestor's.
+vec3 surfaceNormalFromSlopes(PatchInstance p, vec2 slope, vec3 up) {
+    int face = p.layerLevel.z;
+    vec3 east = normalize(kFaceRight[face] - dot(kFaceRight[face], up) * up);
+    vec3 south = normalize(kFaceDown[face] - dot(kFaceDown[face], up) * up);
+    vec2 metresPerSample = p.placement4.xy * p.texelMap.z;
+    return normalize(up - slope.x / metresPerSample.x * east - slope.y / metresPerSample.y * south);
+}
+
 vec3 surfaceShadingNormal(PatchInstance patch_, vec2 texel, bool between, vec3 up) {
     return globeShadingNormal(patch_, texel, between, up);
 }

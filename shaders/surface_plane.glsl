@@ -47,6 +47,13 @@ vec3 surfacePositionM(PatchInstance patch_, vec2 s, float h, float dropM, out ve
     return position;
 }
 
+// The shading normal of slopes `slope` (metres of height per patch sample, along the samples'
+// x, east, and y, south).
+vec3 surfaceNormalFromSlopes(PatchInstance patch_, vec2 slope, vec3 up) {
+    vec2 metresPerSample = patchSampleSpacingM(patch_);
+    return normalize(vec3(-slope.x / metresPerSample.x, slope.y / metresPerSample.y, 1.0));
+}
+
 // The shading normal at tile sample `texel`: central differences, which the one-sample apron
 // makes available on the patch border too. Rows run south: +row is −y in the world.
 vec3 surfaceShadingNormal(PatchInstance patch_, vec2 texel, bool between, vec3 up) {

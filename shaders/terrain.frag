@@ -23,8 +23,11 @@ layout(location = TERRAIN_FRAG_COLOR) out vec4 o_color;
 // fine data drawn with few vertices does not shade as a hatching of its triangles). The
 // reference renderers' mesh is the same one at the finest level, so at full resolution both
 // shade alike. The normals at the samples are the surface's (surfaceShadingNormal: the map
-// frame's on the plane, tilted from the ellipsoid normal on the globe).
+// frame's on the plane, tilted from the ellipsoid normal on the globe). Where a pixel spans
+// several samples the normal is filtered to its footprint (terrain_footprint.glsl), as the
+// reference's is.
 #include "terrain_surface.glsl"
+#include "terrain_footprint.glsl"
 
 layout(location = 6) in vec2 i_patchSample;  // the patch's samples, apron excluded
 layout(location = 8) in vec3 i_up;
@@ -51,6 +54,7 @@ vec3 fragmentNormal(vec2 p) {
     vec3 c = sampleNormal(patch_, cell + ivec2(0, 1));
     return a + (d - c) * f.x + (c - a) * f.y;
 }
+
 #endif
 
 // Interpolation may put the DEM's own edge a hair outside it.
@@ -81,12 +85,16 @@ vec3 patchIdColor(int instance) {
 }
 
 void main() {
+#ifdef TERRAIN_FRAGMENT_NORMALS
+    float footprint = sampleFootprint(i_patchSample);
+#endif
     if (any(lessThan(i_demSample, u_frame.demExtent.xy - kEdgeToleranceSamples)) ||
         any(greaterThan(i_demSample, u_frame.demExtent.zw + kEdgeToleranceSamples))) {
         discard;
     }
 #ifdef TERRAIN_FRAGMENT_NORMALS
-    vec3 normal = fragmentNormal(i_patchSample);
+    vec3 normal = footprintNormal(u_instances[i_patch], i_patchSample, footprint,
+                                  fragmentNormal(i_patchSample), normalize(i_up));
 #else
     vec3 normal = i_normal;
 #endif

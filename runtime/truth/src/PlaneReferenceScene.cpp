@@ -90,6 +90,7 @@ Result<bool> PlaneReferenceScene::addInstances(const Camera& camera, ReferenceBa
                     PatchInstance tile;
                     tile.placement0 = {static_cast<float>(originX), static_cast<float>(originY),
                                        1.0f, 0.0f};
+                    tile.texelMap = {0.0f, 0.0f, 1.0f, 0.0f};  // its own tile, sample for sample
                     tile.layerLevel = {layer.value(), finest, 0, 0};
                     batch.add(tile);
                 }

@@ -12,9 +12,11 @@
 namespace terrain::runtime {
 
 Result<ReferenceBatch> ReferenceBatch::create(const std::string& label,
-                                              const std::string& vertexStage, int gridQuads,
-                                              int tileSamples) {
+                                              const std::string& vertexStage, bool globe,
+                                              int gridQuads, int tileSamples) {
     ProgramBuilder builder(label);
+    builder.define("TERRAIN_REFERENCE_FOOTPRINT");
+    if (globe) builder.define("TERRAIN_SURFACE_GLOBE");
     builder.stage(vertexStage).stage("reference.frag");
     auto program = builder.build();
     if (!program) return program.error();

@@ -9,8 +9,8 @@
 namespace terrain::runtime {
 
 Result<ReferenceRenderer> ReferenceRenderer::create(std::unique_ptr<ReferenceScene> scene) {
-    auto batch = ReferenceBatch::create(scene->name(), scene->vertexStage(), scene->gridQuads(),
-                                        scene->tileSamples());
+    auto batch = ReferenceBatch::create(scene->name(), scene->vertexStage(), scene->globe(),
+                                        scene->gridQuads(), scene->tileSamples());
     if (!batch) return batch.error();
     ReferenceRenderer r;
     r.m_scene = std::move(scene);

@@ -37,6 +37,7 @@ public:
 
     std::string name() const override { return "globe reference"; }
     std::string vertexStage() const override { return "globe_reference.vert"; }
+    bool globe() const override { return true; }
     int gridQuads() const override { return m_layout.patchQuads(); }
     int tileSamples() const override { return m_layout.tileSamples(); }
     void beginFrame(const Camera& camera, FrameBlock& block) override;

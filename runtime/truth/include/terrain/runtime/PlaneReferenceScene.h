@@ -25,6 +25,7 @@ public:
 
     std::string name() const override { return "reference"; }
     std::string vertexStage() const override { return "reference.vert"; }
+    bool globe() const override { return false; }
     int gridQuads() const override { return m_tileQuads; }
     int tileSamples() const override { return m_tileQuads + 3; }  // with a one-sample apron
     void beginFrame(const Camera& camera, FrameBlock& block) override;

@@ -29,10 +29,12 @@ public:
     /// at most one tile, so a full batch never runs out of layers).
     static constexpr int kInstances = 32;
 
-    /// A batch drawn with `vertexStage`, instances of a grid of `gridQuads`² cells reading
-    /// tiles of `tileSamples`² heights. Errors: the program does not build.
+    /// A batch drawn with `vertexStage` and reference.frag (its normals filtered to the
+    /// pixel's footprint, on the globe's surface when `globe`), instances of a grid of
+    /// `gridQuads`² cells reading tiles of `tileSamples`² heights. Errors: the program does not
+    /// build.
     static Result<ReferenceBatch> create(const std::string& label, const std::string& vertexStage,
-                                         int gridQuads, int tileSamples);
+                                         bool globe, int gridQuads, int tileSamples);
 
     /// The layer of the tile `key` (unique within a draw) in this batch: uploaded from
     /// `heights` (tileSamples² floats, rows first) into the next free layer unless the batch

@@ -26,6 +26,9 @@ public:
     /// shaders/globe_reference.vert); the fragment stage is reference.frag.
     virtual std::string name() const = 0;
     virtual std::string vertexStage() const = 0;
+    /// Whether the surface is the globe (reference.frag then filters its normals with the
+    /// globe's surface functions, TERRAIN_SURFACE_GLOBE) or the plane.
+    virtual bool globe() const = 0;
     /// Quads a side of the grid each instance draws, and samples a side of its tile.
     virtual int gridQuads() const = 0;
     virtual int tileSamples() const = 0;
