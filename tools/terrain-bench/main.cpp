@@ -33,6 +33,7 @@
 #include "terrain/runtime/LodStrategyFactory.h"
 #include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
+#include "LodFlags.h"
 #include "terrain/runtime/TerrainSession.h"
 
 #include <epoxy/gl.h>
@@ -76,6 +77,7 @@ struct BenchOptions {
     bool coarseOnly = false;
     bool blocksOnly = false;
     bool vertexNormals = false;
+    double maxSamplePx = runtime::LodOptions{}.maxSamplePx;
     bool stability = false;
     bool ripollesNoCoherence = false;
     runtime::ValdetaroParameters valdetaro;
@@ -266,6 +268,7 @@ int run(const BenchOptions& o, const char* argv0) {
         sessionOptions.method = method;
         sessionOptions.lod.errorPx = threshold;
         sessionOptions.lod.horizonCulling = horizonCulling;
+        sessionOptions.lod.maxSamplePx = o.maxSamplePx;
         sessionOptions.renderer.fragmentNormals = !o.vertexNormals;
         sessionOptions.valdetaro = o.valdetaro;
         sessionOptions.ripolles.coherence = !o.ripollesNoCoherence;
@@ -611,6 +614,7 @@ int run(const BenchOptions& o, const char* argv0) {
         {"height_px", o.heightPx},
         {"settle", !o.noSettle},
         {"tolerance_px", o.tolerancePx},
+        {"max_sample_px", o.maxSamplePx},
         {"methods", methodNames(runs)},
         {"method_info", methodInfo(runs)},
         {"ripolles", {{"coherence", !o.ripollesNoCoherence}}},
@@ -770,6 +774,7 @@ int main(int argc, char** argv) {
                  "fragment's from the height texture (docs/accuracy.md, \"Image measures\"): "
                  "what shading independent of the tessellation saves; method suffix "
                  "-vertex-normals");
+    tools::addMaxSamplePxFlag(app, o.maxSamplePx);
     app.add_option("--tolerance-px", o.tolerancePx,
                    "Rasterisation tolerance added to ε when counting frames over ε")
         ->capture_default_str();

@@ -53,6 +53,7 @@ struct RenderOptions {
     int widthPx = 960;
     int heightPx = 540;
     double errorPx = 2.0;
+    double maxSamplePx = runtime::LodOptions{}.maxSamplePx;
     std::string method = "yusov2011";
     bool ripollesNoCoherence = false;
     double fps = 30.0;
@@ -96,6 +97,7 @@ int run(const RenderOptions& o) {
     runtime::TerrainSessionOptions sessionOptions;
     o.budgets.applyTo(sessionOptions.streaming);
     sessionOptions.lod.errorPx = o.errorPx;
+    sessionOptions.lod.maxSamplePx = o.maxSamplePx;
     sessionOptions.lod.horizonCulling = !o.globe.noHorizonCulling;
     auto method = runtime::parseLodMethod(o.method);
     if (!method) return fail("--method: " + method.error().message);
@@ -267,6 +269,7 @@ int run(const RenderOptions& o) {
             {"height_px", o.heightPx},
             {"method", o.method},
             {"error_px", o.errorPx},
+            {"max_sample_px", o.maxSamplePx},
             {"settle", o.settle},
             {"triangles",
              {{"p50", triangles.percentile(50.0) * 1000.0},
@@ -316,6 +319,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     tools::addFrameSizeFlags(app, o.widthPx, o.heightPx);
     tools::addErrorPxFlag(app, o.errorPx);
+    tools::addMaxSamplePxFlag(app, o.maxSamplePx);
     tools::addMethodFlag(app, o.method);
     app.add_flag("--ripolles-no-coherence", o.ripollesNoCoherence,
                  "ripolles: each frame starts again from the input mesh (the paper's Table 3, "

@@ -96,8 +96,14 @@ double LodQuadtree::screenError(const Node& node) const {
 }
 
 double LodQuadtree::metricM(const Node& node) const {
-    if (m_options.splitRule == SplitRule::ProjectedError) return static_cast<double>(node.splitM);
-    return m_surface.sampleSpacingM(node.id.level);
+    if (m_options.splitRule != SplitRule::ProjectedError)
+        return m_surface.sampleSpacingM(node.id.level);
+    const double error = static_cast<double>(node.splitM);
+    if (m_options.maxSamplePx <= 0.0 || !node.finerData) return error;
+    // γ · s / ρ > maxSamplePx  ⇔  γ · (s · ε_c / maxSamplePx) / ρ > ε_c: one metric, so the
+    // split and merge thresholds and the scheduling of checks hold both rules.
+    return std::max(error,
+                    m_surface.sampleSpacingM(node.id.level) * coarseErrorPx() / m_options.maxSamplePx);
 }
 
 double LodQuadtree::decisionDistance(const Node& node) const {
