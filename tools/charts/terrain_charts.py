@@ -655,7 +655,7 @@ def globe_section(bench):
     if seams:
         lines += ["### Seams between the sources", "",
                   "Where a finer source ends over a coarser one it is blended into it across a band "
-                  "that follows the height step there (docs/globe.md, \"Compositing\"): *seam slope* "
+                  "that follows the height step there (docs/globe.md, \"How it works\"): *seam slope* "
                   "is the largest slope that blend adds, against the source's own 99th-percentile "
                   "slope (the target: no steeper) and against its 99th-percentile slope over a "
                   "baseline as wide as the band (*band scale*, ≤ 1 unless the band is capped).", "",

@@ -1,7 +1,7 @@
 // The "seams" of the tools' JSON summaries (terrain-build --json, terrain-inspect --json,
 // terrain-bench's bench.json): a globe pyramid's manifest globe.seams, each with whether the
 // slope its blend adds stays within its source's 99th-percentile slope (docs/globe.md,
-// "Compositing"). An empty array for a pyramid without them (a plane, one source, or one
+// "How it works"). An empty array for a pyramid without them (a plane, one source, or one
 // built before the band followed the step).
 #pragma once
 

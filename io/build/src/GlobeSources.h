@@ -110,7 +110,7 @@ public:
     /// The share of a source's slopes its seams stay within: the 99th percentile.
     static constexpr double kSeamSlopeShare = 0.99;
     /// Where source `k` is blended into a coarser one at its edges (docs/globe.md,
-    /// "Compositing"): nothing where it is blended into none. The seam's slope is the slope
+    /// "How it works"): nothing where it is blended into none. The seam's slope is the slope
     /// the blend adds to the composite: across the band the composite is c + w (f − c) of the
     /// source f and the one beneath c, whose gradient is the weighted mix of the two surfaces'
     /// own, w ∇f + (1 − w) ∇c, plus (f − c) ∇w: that last term, the step times the weight's

@@ -1,4 +1,4 @@
-// Seams between globe sources (docs/globe.md, "Compositing"; SeamBand.h): where a finer
+// Seams between globe sources (docs/globe.md, "How it works"; SeamBand.h): where a finer
 // source ends over a coarser one, the band it is blended across follows the height step, so
 // the slope the blend adds stays within the source's own 99th-percentile slope (the issue's
 // target) instead of a wall over a fixed 24 pixels; the band is continuous at the corners,

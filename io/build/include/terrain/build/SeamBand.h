@@ -1,5 +1,5 @@
 // SeamBand: where a finer globe source ends over a coarser one (GlobeSources, docs/globe.md,
-// "Compositing"), the band over which it is blended into the coarser one, as wide along each
+// "How it works"), the band over which it is blended into the coarser one, as wide along each
 // edge as the height step there needs for the slope the blend adds to stay within the
 // source's own steep slopes: a 90 m tile 2 km above a 37 km grid at its edge gets a ramp as
 // steep as its own mountainsides, not a wall over a fixed 24 pixels.

@@ -69,7 +69,7 @@ struct ManifestLevel {
 };
 
 /// Where a finer source of a globe pyramid is blended into a coarser one at its edges
-/// (docs/pyramid-format.md, "Globe pyramids"; docs/globe.md, "Compositing"): the largest slope
+/// (docs/pyramid-format.md, "Globe pyramids"; docs/globe.md, "How it works"): the largest slope
 /// the blend adds (the step between the two times the weight's slope) against the source's own
 /// 99th-percentile slope, which it should stay within.
 struct ManifestSeam {
