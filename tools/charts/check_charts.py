@@ -201,6 +201,9 @@ def check_bench(folder):
         for key in ("same_view_straight_down_10km", "storage", "sources"):
             if not (bench.get("globe") or {}).get(key):
                 fail(f"bench.json: no globe.{key}")
+        # One per source over a coarser one: none for a pyramid of one source.
+        if not isinstance((bench.get("globe") or {}).get("seams"), list):
+            fail("bench.json: no globe.seams")
     check_report(folder, CHARTS + (GLOBE_CHARTS if globe else []), bench["command"],
                  "## The globe" if globe else "| yusov2011 |")
     # One curve, one table row set and one failure line per method flown.

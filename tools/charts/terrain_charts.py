@@ -636,7 +636,7 @@ def globe_charts(frame_rows, frames_path, out_dir):
 def globe_section(bench):
     """The globe's own figures: the LOD's error apart from the sources', horizon culling on
     and off, the time to full detail after arriving, the same view at a pole, on the equator
-    and over the cube, and what the pyramid stores."""
+    and over the cube, the seams between the sources, and what the pyramid stores."""
     globe = bench.get("globe") or {}
     lines = ["## The globe", "",
              "| method | ε px | LOD error max px | frames > ε+tol (LOD) | error vs sources max px "
@@ -662,6 +662,36 @@ def globe_section(bench):
         lines += ["### The same view at a pole, on the equator and over the cube", "",
                   "| place | patches | data patches |", "|---|---|---|"]
         lines += [f"| {v['place']} | {v['patches']} | {v['data_patches']} |" for v in same]
+        lines.append("")
+    seams = globe.get("seams")
+    if seams:
+        lines += ["### Seams between the sources", "",
+                  "Where a finer source ends over a coarser one it is blended into it across a band "
+                  "that follows the height step there (docs/globe.md, \"How it works\"): *seam slope* "
+                  "is the largest slope that blend adds, against the source's own 99th-percentile "
+                  "slope (the target: no steeper) and against its 99th-percentile slope over a "
+                  "baseline as wide as the band (*band scale*, ≤ 1 unless the band is capped).", "",
+                  "| source | band px | band km | largest step m | seam slope | 99th pct slope "
+                  "| band scale | capped px |", "|---|---|---|---|---|---|---|---|"]
+        for seam in seams:
+            lines.append(
+                f"| `{seam['input']}` | {seam['bandPixels'][0]:.0f}–{seam['bandPixels'][1]:.0f} | "
+                f"{seam['bandMetres'][0] / 1e3:.1f}–{seam['bandMetres'][1] / 1e3:.1f} | "
+                f"{seam['largestStepM']:.0f} | {seam['seamSlope']:.3f} | "
+                f"{seam['sourceSlopeP99']:.3f} | {seam['bandScaleRatio']:.2f} | "
+                f"{seam['cappedPixels']} |")
+        lines.append("")
+        for seam in seams:
+            if not seam["withinSourceSlopes"]:
+                lines.append(f"- **The seam of `{seam['input']}` fails**: its blend adds a slope of "
+                             f"{seam['seamSlope']:.3f}, steeper than the source's 99th-percentile "
+                             f"slope {seam['sourceSlopeP99']:.3f}: a wall along its edge.")
+            elif seam["bandScaleRatio"] > 1.0:
+                lines.append(f"- **The seam of `{seam['input']}` stands out**: its blend adds "
+                             f"{seam['bandScaleRatio']:.2f} times the source's 99th-percentile "
+                             f"slope over the band's width"
+                             + (f" (the band is capped along {seam['cappedPixels']} pixels)"
+                                if seam["cappedPixels"] else "") + ".")
         lines.append("")
     storage = globe.get("storage")
     if storage:

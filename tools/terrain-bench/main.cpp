@@ -18,6 +18,7 @@
 #include "GlImagePng.h"
 #include "GlInfoJson.h"
 #include "GlobeFigures.h"
+#include "SeamsJson.h"
 #include "StreamingBudgetFlags.h"
 #include "StressPoses.h"
 #include "SurfaceKit.h"
@@ -583,6 +584,7 @@ int run(const BenchOptions& o, const char* argv0) {
         if (!figures) return fail(figures.error().message);
         surfaceFigures = std::move(figures).value();
         surfaceFigures["sources"] = o.sources;
+        surfaceFigures["seams"] = tools::seamsJson<nlohmann::json>(manifest.value());
     }
 
     const std::vector<tools::ThresholdSummary> summaries = tools::summarise(records, o.tolerancePx);

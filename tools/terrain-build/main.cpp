@@ -2,6 +2,7 @@
 // on-disk pyramid with guaranteed error bounds (docs/pyramid-format.md). Streaming: peak
 // memory stays under --memory whatever the input size.
 #include "DemOpenFlags.h"
+#include "SeamsJson.h"
 
 #include "terrain/dem/OpenDem.h"
 #include "terrain/base/PeakMemory.h"
@@ -377,6 +378,7 @@ int main(int argc, char** argv) {
             {"noDataSamples", s.manifest.noData.samples},
             {"noDataFill", s.manifest.noData.fill},
             {"filledSamples", filledSamplesJson(s.manifest.noData)},
+            {"seams", terrain::tools::seamsJson<nlohmann::json>(s.manifest)},
             {"warnings", warnings},
             {"gl", nullptr},
         };

@@ -12,11 +12,13 @@
 #include <nlohmann/json.hpp>
 
 #include "DemOpenFlags.h"
+#include "SeamsJson.h"
 #include "terrain/build/PyramidSourceCheck.h"
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -63,6 +65,19 @@ void printText(const io::PyramidReader& reader, const inspect::Inspection& inspe
     for (const io::ManifestFilledSource& source : m.noData.sources)
         fmt::print("  filled: {} samples of {}, {} of them over the sources beneath\n",
                    source.samples, source.input, source.overBeneath);
+    if (m.globe)
+        for (const io::ManifestSeam& s : m.globe->seams)
+            fmt::print(
+                "  seam: {} blended into the sources beneath over {:.0f}–{:.0f} pixels "
+                "({:.0f}–{:.0f} m{}); a step up to {:.0f} m adds a slope of {:.3f} ({:.1f}°), "
+                "{} its 99th-percentile slope {:.3f} ({:.1f}°); at most {:.2f} of its "
+                "99th-percentile slope over the band's width\n",
+                s.input, s.bandPixels[0], s.bandPixels[1], s.bandMetres[0], s.bandMetres[1],
+                s.cappedPixels > 0 ? fmt::format(", widest allowed along {} pixels", s.cappedPixels)
+                                   : "",
+                s.largestStepM, s.seamSlope, std::atan(s.seamSlope) * 180.0 / std::numbers::pi,
+                tools::seamWithinSourceSlopes(s) ? "within" : "OVER", s.sourceSlopeP99,
+                std::atan(s.sourceSlopeP99) * 180.0 / std::numbers::pi, s.bandScaleRatio);
     fmt::print("statistics: heights {} to {} m over {} valid samples; root Err(P) {} m\n",
                m.statistics.minHeight, m.statistics.maxHeight, m.statistics.validSamples,
                m.statistics.rootError);
@@ -134,6 +149,7 @@ Json summaryJson(const io::PyramidReader& reader, const inspect::Inspection& ins
              {"error", {{"min", l.minError}, {"median", l.medianError}, {"max", l.maxError}}}});
     }
     j["levels"] = std::move(levels);
+    j["seams"] = tools::seamsJson<Json>(reader.manifest());
     if (verify) {
         j["verify"] = {{"patchesChecked", inspection.patchesVerified},
                        {"seconds", inspection.verifySeconds},

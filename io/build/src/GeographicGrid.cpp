@@ -256,21 +256,39 @@ std::optional<GeographicGrid::Cell> GeographicGrid::cellAt(double latitudeDeg,
     return cell;
 }
 
-double GeographicGrid::featherAt(double latitudeDeg, double longitudeDeg) const {
-    // Distance inside the extent, in pixels, to the nearest edge that is an edge: a pole is a
-    // point of a grid reaching it, and a grid wrapping the globe has no east or west edge.
-    const double y = m_north - latitudeDeg;
-    double inside = std::numeric_limits<double>::infinity();
-    if (m_north < 90.0 - 1e-6) inside = std::min(inside, y / m_pixelLat);
-    if (southDeg() > -90.0 + 1e-6)
-        inside = std::min(inside, (double(m_height) * m_pixelLat - y) / m_pixelLat);
-    if (!m_wraps) {
-        double x = std::fmod(longitudeDeg - m_west, 360.0);
-        if (x < 0.0) x += 360.0;
-        inside = std::min(inside, std::min(x, double(m_width) * m_pixelLon - x) / m_pixelLon);
-    }
-    const double t = std::clamp(inside / kFeatherPixels, 0.0, 1.0);
-    return t * t * (3.0 - 2.0 * t);
+std::pair<double, double> GeographicGrid::pixelPosition(double latitudeDeg,
+                                                        double longitudeDeg) const {
+    double x = std::fmod(longitudeDeg - m_west, 360.0);
+    if (x < 0.0) x += 360.0;
+    // A point west of the grid is nearer its west edge across the antimeridian than its east.
+    const double width = double(m_width) * m_pixelLon;
+    if (!m_wraps && x > width && x - width > 360.0 - x) x -= 360.0;
+    return {x / m_pixelLon, (m_north - latitudeDeg) / m_pixelLat};
+}
+
+std::array<bool, kSeamEdges> GeographicGrid::edges() const {
+    std::array<bool, kSeamEdges> edges{};
+    edges[static_cast<std::size_t>(SeamEdge::West)] = !m_wraps;
+    edges[static_cast<std::size_t>(SeamEdge::East)] = !m_wraps;
+    edges[static_cast<std::size_t>(SeamEdge::North)] = m_north < 90.0 - 1e-6;
+    edges[static_cast<std::size_t>(SeamEdge::South)] = southDeg() > -90.0 + 1e-6;
+    return edges;
+}
+
+double GeographicGrid::eastWestMetres(double latitudeDeg) const {
+    // The parallel's radius: the prime vertical's, N = a / √(1 − e² sin² φ), times cos φ.
+    const double s = std::sin(latitudeDeg * kDegree);
+    const double n = globe::Wgs84::kEquatorialRadius /
+                     std::sqrt(1.0 - globe::Wgs84::kEccentricitySquared * s * s);
+    return m_pixelLon * kDegree * n * std::cos(latitudeDeg * kDegree);
+}
+
+double GeographicGrid::northSouthMetres(double latitudeDeg) const {
+    // The meridian's radius of curvature, M = a (1 − e²) / (1 − e² sin² φ)^1.5.
+    const double s = std::sin(latitudeDeg * kDegree);
+    const double e2 = globe::Wgs84::kEccentricitySquared;
+    const double m = globe::Wgs84::kEquatorialRadius * (1.0 - e2) / std::pow(1.0 - e2 * s * s, 1.5);
+    return m_pixelLat * kDegree * m;
 }
 
 double GeographicGrid::finestSpacingMetres() const {

@@ -8,11 +8,14 @@
 
 #include "VoidFill.h"
 #include "terrain/base/Result.h"
+#include "terrain/build/SeamBand.h"
 #include "terrain/source/DemReader.h"
 
+#include <array>
 #include <cstdint>
 #include <numbers>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace terrain::io {
@@ -66,12 +69,17 @@ public:
         double latitude[2] = {0.0, 0.0};   ///< of the cell's rows (north, south)
         double longitude[2] = {0.0, 0.0};  ///< of its columns (west, east)
     };
-    /// Pixels over which a source is feathered into a coarser one at its extent's edge.
-    static constexpr double kFeatherPixels = 24.0;
-    /// The weight of this source at a point against a coarser one under it: 0 at the edge of
-    /// its extent, rising by smoothstep to 1 kFeatherPixels pixels inside (a grid that wraps
-    /// the globe has no east or west edge).
-    double featherAt(double latitudeDeg, double longitudeDeg) const;
+    /// Where a point lies on the grid, pixels east of its west edge and south of its north
+    /// edge (pixel areas: 0 on the edge; across the antimeridian for a point just west of
+    /// the grid): what SeamBand::weight takes.
+    std::pair<double, double> pixelPosition(double latitudeDeg, double longitudeDeg) const;
+    /// Which edges of the extent are edges (SeamEdge's order): a pole is a point of a grid
+    /// reaching it, and a grid wrapping the globe has no east or west edge.
+    std::array<bool, kSeamEdges> edges() const;
+    /// A pixel's ground size at a latitude, metres: east–west (along the parallel) and
+    /// north–south (along the meridian), on the ellipsoid.
+    double eastWestMetres(double latitudeDeg) const;
+    double northSouthMetres(double latitudeDeg) const;
     std::optional<Cell> cellAt(double latitudeDeg, double longitudeDeg) const;
 
     std::int64_t width() const { return m_width; }

@@ -86,7 +86,8 @@ PyramidManifest globeManifest(const PyramidLayout& layout, int faceFinestLevel,
                             .west = finest.wrapsLongitude() ? -180.0 : finest.westDeg(),
                             .south = std::max(-90.0, finest.southDeg()),
                             .east = finest.wrapsLongitude() ? 180.0 : east,
-                            .north = std::min(90.0, finest.northDeg())};
+                            .north = std::min(90.0, finest.northDeg()),
+                            .seams = {}};
     describeSources(m, readers);
     // The mask always: samples beyond the sources are not data on a globe.
     m.noData.present = true;

@@ -456,6 +456,16 @@ Result<PyramidBuildSummary> buildWholeGlobePyramid(std::span<DemReader* const> r
         maxHeight = any ? std::max(maxHeight, high) : high;
         any = true;
     }
+    m.globe->seams = composite.seams();
+    for (const ManifestSeam& seam : m.globe->seams)
+        if (seam.cappedPixels > 0)
+            totals.warnings.push_back(fmt::format(
+                "{}: the height step at its edge (up to {:.0f} m) needs a blend band wider than "
+                "a quarter of the source along {} pixels: the blend adds up to {:.2f} times the "
+                "source's 99th-percentile slope over the band's width (seam slope {:.2f}, its "
+                "99th-percentile slope {:.2f})",
+                seam.input, seam.largestStepM, seam.cappedPixels, seam.bandScaleRatio,
+                seam.seamSlope, seam.sourceSlopeP99));
     if (!m.noData.sources.empty())
         m.noData.fill = composite.sources().size() > 1 ? ManifestNoData::kDeltaSurfaceFill
                                                        : ManifestNoData::kMembraneFill;

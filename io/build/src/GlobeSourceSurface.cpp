@@ -24,3 +24,9 @@ std::pair<double, double> GlobeSourceSurface::heightsAt(double latitudeDeg,
 }
 
 }  // namespace terrain::io
+
+namespace terrain::io {
+
+std::vector<ManifestSeam> GlobeSourceSurface::seams() const { return m_sources->seams(); }
+
+}  // namespace terrain::io

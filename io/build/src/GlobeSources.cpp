@@ -46,6 +46,7 @@ Result<GlobeSources> GlobeSources::read(std::span<DemReader* const> readers,
     }
     GlobeSources composite(std::move(sources));
     if (Status filled = composite.fillVoids(); !filled) return filled.error();
+    composite.fitSeamBands();
     return composite;
 }
 
@@ -60,6 +61,113 @@ Status GlobeSources::fillVoids() {
             return Error{m_sources[k].path + ": " + filled.error().message};
     }
     return {};
+}
+
+void GlobeSources::fitSeamBands() {
+    for (std::size_t k = 0; k < m_sources.size(); ++k) {
+        Source& source = m_sources[k];
+        const GeographicGrid& grid = source.grid;
+        if (k + 1 == m_sources.size()) {  // nothing beneath the coarsest: never blended
+            source.band = SeamBand(grid.width(), grid.height(), grid.edges());
+            continue;
+        }
+        SeamBand::Source fit;
+        fit.width = grid.width();
+        fit.height = grid.height();
+        fit.edges = grid.edges();
+        source.slopes =
+            SourceSlopes(grid, kSeamSlopeShare,
+                         SeamBand::kWidestShare * double(std::max(grid.width(), grid.height())));
+        fit.slopeLimit = [&](SeamEdge edge, double widthPx) {
+            return source.slopes.over(edge == SeamEdge::West || edge == SeamEdge::East, widthPx);
+        };
+        fit.eastWestMetres = [&](std::int64_t row) {
+            return grid.eastWestMetres(grid.latitudeOf(row));
+        };
+        fit.northSouthMetres = [&](std::int64_t row) {
+            return grid.northSouthMetres(grid.latitudeOf(row));
+        };
+        fit.step = [&](std::int64_t column, std::int64_t row) {
+            return blendStepAt(k, column, row);
+        };
+        source.band = SeamBand::fit(fit);
+    }
+}
+
+double GlobeSources::featherAt(std::size_t k, double latitudeDeg, double longitudeDeg) const {
+    const Source& source = m_sources[k];
+    const auto [x, y] = source.grid.pixelPosition(latitudeDeg, longitudeDeg);
+    return source.band.weight(x, y);
+}
+
+std::optional<double> GlobeSources::blendStepAt(std::size_t k, std::int64_t column,
+                                                std::int64_t row) const {
+    const GeographicGrid& grid = m_sources[k].grid;
+    const double latitude = grid.latitudeOf(row), longitude = grid.longitudeOf(column);
+    for (std::size_t j = k + 1; j < m_sources.size(); ++j) {
+        const GeographicGrid::Resampled under = m_sources[j].grid.at(latitude, longitude);
+        if (under.valid) return double(grid.heightAt(column, row)) - double(under.height);
+    }
+    return std::nullopt;
+}
+
+std::optional<ManifestSeam> GlobeSources::seamOf(std::size_t k) const {
+    const Source& source = m_sources[k];
+    const GeographicGrid& grid = source.grid;
+    const SeamBand& band = source.band;
+    ManifestSeam seam;
+    seam.input = source.path;
+    seam.sourceSlopeP99 = source.slopes.gradient();
+    seam.bandPixels = {band.narrowestPixels(), band.widestPixels()};
+    seam.bandMetres = {INFINITY, 0.0};
+    seam.cappedPixels = band.cappedPixels();
+    bool blended = false;
+    for (const SeamEdge edge : {SeamEdge::West, SeamEdge::East, SeamEdge::North, SeamEdge::South}) {
+        if (!band.hasEdge(edge)) continue;
+        const bool acrossColumns = edge == SeamEdge::West || edge == SeamEdge::East;
+        for (std::int64_t t = 0; t < band.along(edge); ++t) {
+            const double width = band.widthAt(edge, double(t));
+            const double edgeLatitude = grid.latitudeOf(band.pixelAt(edge, t, 0).second);
+            const double metres = width * (acrossColumns ? grid.eastWestMetres(edgeLatitude)
+                                                         : grid.northSouthMetres(edgeLatitude));
+            seam.bandMetres[0] = std::min(seam.bandMetres[0], metres);
+            seam.bandMetres[1] = std::max(seam.bandMetres[1], metres);
+            const auto depth =
+                std::min(band.across(edge), static_cast<std::int64_t>(std::ceil(width)));
+            for (std::int64_t d = 0; d < depth; ++d) {
+                const auto [column, row] = band.pixelAt(edge, t, d);
+                // Each sample once, with the band its weight follows.
+                if (band.governingEdge(double(column) + 0.5, double(row) + 0.5) != edge) continue;
+                const double latitude = grid.latitudeOf(row), longitude = grid.longitudeOf(column);
+                const Shown shown = shownAt(latitude, longitude, 0);
+                if (shown.source != static_cast<int>(k) || !shown.blended) continue;
+                blended = true;
+                const double step = double(grid.heightAt(column, row)) - shown.under;
+                const double halfLat = 0.5 * grid.pixelLatDeg(), halfLon = 0.5 * grid.pixelLonDeg();
+                const double northward = (featherAt(k, latitude + halfLat, longitude) -
+                                          featherAt(k, latitude - halfLat, longitude)) /
+                                         grid.northSouthMetres(latitude);
+                const double eastward = (featherAt(k, latitude, longitude + halfLon) -
+                                         featherAt(k, latitude, longitude - halfLon)) /
+                                        grid.eastWestMetres(latitude);
+                seam.largestStepM = std::max(seam.largestStepM, std::abs(step));
+                const double added = std::abs(step) * std::hypot(northward, eastward);
+                seam.seamSlope = std::max(seam.seamSlope, added);
+                const double limit = source.slopes.over(acrossColumns, width);
+                // (A flat source's limit is 0: any step is over it, by a finite figure.)
+                seam.bandScaleRatio = std::max(seam.bandScaleRatio, added / std::max(limit, 1e-6));
+            }
+        }
+    }
+    if (!blended) return std::nullopt;
+    return seam;
+}
+
+std::vector<ManifestSeam> GlobeSources::seams() const {
+    std::vector<ManifestSeam> seams;
+    for (std::size_t k = 0; k < m_sources.size(); ++k)
+        if (std::optional<ManifestSeam> seam = seamOf(k)) seams.push_back(std::move(*seam));
+    return seams;
 }
 
 Result<GlobeSources::OwnSamples> GlobeSources::readOwnSamples(DemReader& reader,
@@ -148,8 +256,7 @@ GlobeSources::Shown GlobeSources::shownAt(double latitudeDeg, double longitudeDe
         if (value.valid) {
             // A filled void of a finer source holds: its fill already follows this source.
             if (rank > 1) {
-                shown = {static_cast<int>(k), value,
-                         source.grid.featherAt(latitudeDeg, longitudeDeg)};
+                shown = {static_cast<int>(k), value, featherAt(k, latitudeDeg, longitudeDeg)};
                 rank = 0;
             } else if (rank <= 1 && !shown.blended && shown.feather < 1.0) {
                 // The next coarser valid source under the shown one (valid or a filled void of
@@ -165,7 +272,7 @@ GlobeSources::Shown GlobeSources::shownAt(double latitudeDeg, double longitudeDe
         const int candidate = value.inside ? 1 : value.covered ? 2 : 3;
         if (candidate < rank) {
             shown = {static_cast<int>(k), value,
-                     candidate == 1 ? source.grid.featherAt(latitudeDeg, longitudeDeg) : 1.0};
+                     candidate == 1 ? featherAt(k, latitudeDeg, longitudeDeg) : 1.0};
             rank = candidate;
         }
     }

@@ -8,13 +8,17 @@
 // beneath. Sources are held finest first (by their
 // finest sample spacing); each knows its finest face level, the level down to which it makes
 // patches exist.
-// Where a finer source ends over a coarser one it is feathered into it over its last
-// GeographicGrid::kFeatherPixels pixels (smoothstep), so the two meet without a step (a 90 m
-// tile and a 37 km grid disagree by hundreds of metres at the tile's edge); the builder, the
-// source check and the truth all use this composite.
+// Where a finer source ends over a coarser one it is blended into it across a band at its
+// edge (smoothstep, SeamBand.h) as wide as the height step there needs for the slope the
+// blend adds to stay within the finer source's 99th-percentile slope, 24 pixels at least (a
+// 90 m tile and a 37 km grid disagree by up to kilometres at the tile's edge: over a fixed
+// 24 pixels that was a wall); the builder, the source check and the truth all use this
+// composite.
 #pragma once
 
 #include "GeographicGrid.h"
+#include "SourceSlopes.h"
+#include "terrain/pyramid/PyramidManifest.h"
 
 #include <cstdint>
 #include <optional>
@@ -42,6 +46,10 @@ public:
         int finestFaceLevel = 0;
         std::string path;
         std::optional<OwnSamples> own;
+        /// Where it is blended into the sources beneath at its edges, and how steep it is
+        /// (what that blend may add): GlobeSources::read fits them.
+        SeamBand band{};
+        SourceSlopes slopes{};
     };
 
     /// `sources` in any order; kept finest first.
@@ -99,6 +107,23 @@ public:
     std::optional<FilledSample> filledSample(std::size_t k, std::int64_t col,
                                              std::int64_t row) const;
 
+    /// The share of a source's slopes its seams stay within: the 99th percentile.
+    static constexpr double kSeamSlopeShare = 0.99;
+    /// Where source `k` is blended into a coarser one at its edges (docs/globe.md,
+    /// "How it works"): nothing where it is blended into none. The seam's slope is the slope
+    /// the blend adds to the composite: across the band the composite is c + w (f − c) of the
+    /// source f and the one beneath c, whose gradient is the weighted mix of the two surfaces'
+    /// own, w ∇f + (1 − w) ∇c, plus (f − c) ∇w: that last term, the step times the weight's
+    /// slope, is what a too narrow band turns into a wall. Measured at every grid sample of
+    /// the band where the composite blends, with ∇w by central differences (half a pixel
+    /// either side) of the composite's own weight, in metres on the ellipsoid; the step
+    /// (f − c) there too. The band is fitted to the source's slopes over a baseline as wide as
+    /// the band (SourceSlopes::over, never above the gradient's percentile), so it stays
+    /// within both but where the band is capped.
+    std::optional<ManifestSeam> seamOf(std::size_t k) const;
+    /// seamOf of every source that has one, finest first: the manifest's globe.seams.
+    std::vector<ManifestSeam> seams() const;
+
 private:
     static Result<OwnSamples> readOwnSamples(DemReader& reader, const GeographicGrid& grid,
                                              std::uint64_t memoryBudgetBytes, unsigned shares);
@@ -114,6 +139,13 @@ private:
     Shown shownAt(double latitudeDeg, double longitudeDeg, int level, std::size_t first = 0) const;
     /// Fills every source's voids (GeographicGrid::fillVoids), over the sources beneath it.
     Status fillVoids();
+    /// Fits every source's SeamBand to the steps at its edges (after fillVoids).
+    void fitSeamBands();
+    /// Source `k`'s weight against the coarser one it is blended into at a point.
+    double featherAt(std::size_t k, double latitudeDeg, double longitudeDeg) const;
+    /// Grid sample (column, row) of source `k` minus the next coarser source valid there
+    /// (what shownAt blends it into); nothing where none is.
+    std::optional<double> blendStepAt(std::size_t k, std::int64_t column, std::int64_t row) const;
 
     std::vector<Source> m_sources;
 };

@@ -270,7 +270,27 @@ PyramidManifest parseFields(const Json& root, LayoutFields& f) {
                                 .west = extent[0].get<double>(),
                                 .south = extent[1].get<double>(),
                                 .east = extent[2].get<double>(),
-                                .north = extent[3].get<double>()};
+                                .north = extent[3].get<double>(),
+                                .seams = {}};
+        if (globe.contains("seams")) {  // since the band followed the step
+            for (const Json& seam : arrayField(globe, "globe", "seams")) {
+                ManifestSeam s;
+                s.input = stringField(seam, "globe.seams", "input");
+                s.seamSlope = numberField(seam, "globe.seams", "seamSlope");
+                s.sourceSlopeP99 = numberField(seam, "globe.seams", "sourceSlopeP99");
+                s.bandScaleRatio = numberField(seam, "globe.seams", "bandScaleRatio");
+                s.largestStepM = numberField(seam, "globe.seams", "largestStepM");
+                for (const auto& [key, pair] : {std::pair{"bandPixels", &s.bandPixels},
+                                                std::pair{"bandMetres", &s.bandMetres}}) {
+                    const Json& range = arrayField(seam, "globe.seams", key);
+                    if (range.size() != 2 || !range[0].is_number() || !range[1].is_number())
+                        throw FieldError{fmt::format("globe.seams.{}", key), "[narrowest, widest]"};
+                    *pair = {range[0].get<double>(), range[1].get<double>()};
+                }
+                s.cappedPixels = int64Field(seam, "globe.seams", "cappedPixels");
+                m.globe->seams.push_back(std::move(s));
+            }
+        }
     }
     return m;
 }
@@ -310,6 +330,21 @@ Status checkGlobe(const PyramidManifest& m, const std::string& name) {
     if (m.georeference.crsKind != CrsKind::Geographic)
         return Error{fmt::format("{}: globe: the georeference must be geographic, not {}", name,
                                  crsKindName(m.georeference.crsKind))};
+    for (const ManifestSeam& s : m.globe->seams) {
+        const bool finite = std::isfinite(s.seamSlope) && std::isfinite(s.sourceSlopeP99) &&
+                            std::isfinite(s.bandScaleRatio) && s.bandScaleRatio >= 0.0 &&
+                            std::isfinite(s.largestStepM) && std::isfinite(s.bandPixels[1]) &&
+                            std::isfinite(s.bandMetres[1]);
+        if (!finite || s.seamSlope < 0.0 || s.sourceSlopeP99 < 0.0 || s.largestStepM < 0.0 ||
+            s.bandPixels[0] < 0.0 || s.bandPixels[0] > s.bandPixels[1] || s.bandMetres[0] < 0.0 ||
+            s.bandMetres[0] > s.bandMetres[1] || s.cappedPixels < 0)
+            return Error{fmt::format(
+                "{}: globe.seams: {} has seam slope {}, 99th-percentile slope {}, step {} m, "
+                "band {}–{} px ({}–{} m), {} capped pixels: slopes, steps and widths are "
+                "finite and ≥ 0, the narrowest no wider than the widest",
+                name, s.input, s.seamSlope, s.sourceSlopeP99, s.largestStepM, s.bandPixels[0],
+                s.bandPixels[1], s.bandMetres[0], s.bandMetres[1], s.cappedPixels)};
+    }
     for (const ManifestLevel& level : m.levels) {
         if (level.level < ManifestGlobe::kLevelOffset &&
             (level.presentPatches != 0 || !level.presentShards.empty()))
@@ -505,12 +540,26 @@ std::string toJson(const PyramidManifest& m) {
                              {"finestLargestErrorM", q->finestLargestErrorM}};
     j["build"] = {
         {"tool", m.build.tool}, {"version", m.build.version}, {"seconds", m.build.seconds}};
-    if (m.globe)
+    if (m.globe) {
         j["globe"] = {
             {"tiling", ManifestGlobe::kTiling},
             {"levelOffset", ManifestGlobe::kLevelOffset},
             {"faceFinestLevel", m.globe->faceFinestLevel},
             {"sourceExtent", {m.globe->west, m.globe->south, m.globe->east, m.globe->north}}};
+        if (!m.globe->seams.empty()) {
+            Json seams = Json::array();
+            for (const ManifestSeam& s : m.globe->seams)
+                seams.push_back({{"input", s.input},
+                                 {"seamSlope", s.seamSlope},
+                                 {"sourceSlopeP99", s.sourceSlopeP99},
+                                 {"bandScaleRatio", s.bandScaleRatio},
+                                 {"largestStepM", s.largestStepM},
+                                 {"bandPixels", s.bandPixels},
+                                 {"bandMetres", s.bandMetres},
+                                 {"cappedPixels", s.cappedPixels}});
+            j["globe"]["seams"] = std::move(seams);
+        }
+    }
     return j.dump(2) + "\n";
 }
 

@@ -93,7 +93,8 @@ Result<VirtualPlanetPyramid> VirtualPlanetPyramid::open(const std::filesystem::p
                             .west = summit.longitude - 0.5,
                             .south = summit.latitude - 0.5,
                             .east = summit.longitude + 0.5,
-                            .north = summit.latitude + 0.5};
+                            .north = summit.latitude + 0.5,
+                            .seams = {}};
     m.georeference = Georeference{.originX = -180.0,
                                   .originY = 90.0,
                                   .pixelSizeX = 1.0,

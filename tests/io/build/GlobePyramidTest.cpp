@@ -20,6 +20,7 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <glm/geometric.hpp>
 
 #include <cmath>
@@ -332,6 +333,23 @@ TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
     ASSERT_EQ(m.noData.sources.size(), 1u);
     EXPECT_EQ(m.noData.sources[0].samples, 6 * 6);
     EXPECT_EQ(m.noData.sources[0].overBeneath, 6 * 6);
+    // The seams of the fine and the medium source (each over the ones beneath), within their
+    // slopes: written to the manifest, read back; one without them (before the band followed
+    // the step) still opens.
+    ASSERT_EQ(m.globe->seams.size(), 2u);
+    for (const ManifestSeam& seam : m.globe->seams) {
+        EXPECT_LE(seam.seamSlope, seam.sourceSlopeP99) << seam.input;
+        EXPECT_GE(seam.bandPixels[0], 24.0) << seam.input;
+    }
+    EXPECT_GT(m.globe->seams[0].largestStepM, 50.0);  // the 2° grid misses the hills' ridges
+    auto reread = readManifest(out);
+    ASSERT_TRUE(reread) << reread.error().message;
+    EXPECT_EQ(reread.value().globe->seams, m.globe->seams);
+    nlohmann::json before = nlohmann::json::parse(toJson(m));
+    before["globe"].erase("seams");
+    auto old = fromJson(before.dump(), "manifest without seams");
+    ASSERT_TRUE(old) << old.error().message;
+    EXPECT_TRUE(old.value().globe->seams.empty());
     auto report = checkErrorBoundsAgainstSources(out, sources);
     ASSERT_TRUE(report) << report.error().message;
     EXPECT_EQ(report.value().violationCount, 0);

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "terrain/base/Result.h"
+#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/source/DemReader.h"
 
 #include <cstdint>
@@ -13,6 +14,7 @@
 #include <optional>
 #include <span>
 #include <utility>
+#include <vector>
 
 namespace terrain::io {
 
@@ -32,6 +34,10 @@ public:
     /// The surface's heights at a place for the two diagonals of its cell (a–d, b–c), metres;
     /// (0, 0) where no source covers it.
     std::pair<double, double> heightsAt(double latitudeDeg, double longitudeDeg) const;
+
+    /// Where each source is blended into a coarser one at its edges, as the builder writes it
+    /// to the manifest (globe.seams).
+    std::vector<ManifestSeam> seams() const;
 
 private:
     explicit GlobeSourceSurface(std::unique_ptr<GlobeSources> sources);

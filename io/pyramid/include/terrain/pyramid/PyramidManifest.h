@@ -68,6 +68,27 @@ struct ManifestLevel {
     bool operator==(const ManifestLevel&) const = default;
 };
 
+/// Where a finer source of a globe pyramid is blended into a coarser one at its edges
+/// (docs/pyramid-format.md, "Globe pyramids"; docs/globe.md, "How it works"): the largest slope
+/// the blend adds (the step between the two times the weight's slope) against the source's own
+/// 99th-percentile slope, which it should stay within.
+struct ManifestSeam {
+    std::string input;            ///< as in source.inputs
+    double seamSlope = 0.0;       ///< metres per metre
+    double sourceSlopeP99 = 0.0;  ///< metres per metre
+    /// The largest ratio of the slope the blend adds to the source's 99th-percentile slope
+    /// over a baseline as wide as the band there (what the band is fitted to): ≤ 1 but where
+    /// capped.
+    double bandScaleRatio = 0.0;
+    double largestStepM = 0.0;           ///< the largest height step across the band
+    std::array<double, 2> bandPixels{};  ///< the band's narrowest and widest, source pixels
+    std::array<double, 2> bandMetres{};  ///< the same, metres
+    /// Pixels along the edges where the band reached its widest (a quarter of the source)
+    /// short of the width the step needed.
+    std::int64_t cappedPixels = 0;
+    bool operator==(const ManifestSeam&) const = default;
+};
+
 /// A globe pyramid's tiling (format version 3, docs/pyramid-format.md, "Globe pyramids"):
 /// the six cube faces of terrain::globe side by side in one layout. Face level l of face f
 /// is layout level l + kLevelOffset, its patch (x, y) the layout patch (f · 2^l + x, y).
@@ -80,6 +101,9 @@ struct ManifestGlobe {
     /// The source's extent, degrees (west may exceed east across the antimeridian): where
     /// "go to the data" goes.
     double west = -180.0, south = -90.0, east = 180.0, north = 90.0;
+    /// One per source blended into a coarser one (optional in the file: absent before the
+    /// band followed the step, and where no source lies over another).
+    std::vector<ManifestSeam> seams;
     bool operator==(const ManifestGlobe&) const = default;
 };
 
