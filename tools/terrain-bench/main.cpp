@@ -78,7 +78,7 @@ struct BenchOptions {
     bool coarseOnly = false;
     bool blocksOnly = false;
     bool vertexNormals = false;
-    double maxSamplePx = runtime::LodOptions{}.maxSamplePx;
+    double maxSamplePx = runtime::TerrainSessionOptions{}.lod.maxSamplePx;
     bool stability = false;
     bool ripollesNoCoherence = false;
     runtime::ValdetaroParameters valdetaro;

@@ -53,7 +53,7 @@ struct RenderOptions {
     int widthPx = 960;
     int heightPx = 540;
     double errorPx = 2.0;
-    double maxSamplePx = runtime::LodOptions{}.maxSamplePx;
+    double maxSamplePx = runtime::TerrainSessionOptions{}.lod.maxSamplePx;
     std::string method = "yusov2011";
     bool ripollesNoCoherence = false;
     double fps = 30.0;

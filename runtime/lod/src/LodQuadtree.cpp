@@ -100,10 +100,11 @@ double LodQuadtree::metricM(const Node& node) const {
         return m_surface.sampleSpacingM(node.id.level);
     const double error = static_cast<double>(node.splitM);
     if (m_options.maxSamplePx <= 0.0 || !node.finerData) return error;
+    const double spacing = m_surface.sampleSpacingM(node.id.level);
+    if (error <= spacing * LodOptions::kShadingSlopeTolerance) return error;
     // γ · s / ρ > maxSamplePx  ⇔  γ · (s · ε_c / maxSamplePx) / ρ > ε_c: one metric, so the
     // split and merge thresholds and the scheduling of checks hold both rules.
-    return std::max(error,
-                    m_surface.sampleSpacingM(node.id.level) * coarseErrorPx() / m_options.maxSamplePx);
+    return std::max(error, spacing * coarseErrorPx() / m_options.maxSamplePx);
 }
 
 double LodQuadtree::decisionDistance(const Node& node) const {

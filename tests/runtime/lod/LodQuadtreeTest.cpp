@@ -283,6 +283,40 @@ TEST_F(LodQuadtreeTest, ChangingTheThresholdReevaluatesEverything) {
     EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
 }
 
+// LodOptions::maxSamplePx: at an ε so large that the geometric rule alone draws a coarse cut,
+// the sample rule refines it (only refines: every patch at least as deep as in the geometric
+// cut) until a sample spans at most a pixel where the finer data shades differently, and
+// the tree keeps its invariants.
+TEST_F(LodQuadtreeTest, SamplesSpanAtMostAPixelWhereFinerDataShadesDifferently) {
+    const Camera c = camera(0.3, 0.3, 400.0, 0.7, 0.7);
+    m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_surface,
+                                           runtime::LodOptions{.errorPx = 50.0});
+    settle(c);
+    const std::vector<PatchDraw> geometric = m_draws;
+    m_tree = std::make_unique<LodQuadtree>(
+        *m_residency, *m_surface, runtime::LodOptions{.errorPx = 50.0, .maxSamplePx = 1.0});
+    settle(c);
+    EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
+    EXPECT_GT(m_draws.size(), 2 * geometric.size());
+    const auto levelAt = [](const std::vector<PatchDraw>& cut, const io::PatchId& id) {
+        for (const PatchDraw& d : cut) {
+            const int up = id.level - d.id.level;
+            if (up >= 0 && (id.x >> up) == d.id.x && (id.y >> up) == d.id.y) return d.id.level;
+        }
+        return -1;  // culled in that cut
+    };
+    for (const PatchDraw& d : m_draws) {
+        const int before = levelAt(geometric, d.id);
+        if (before >= 0) {
+            EXPECT_GE(d.id.level, before) << "patch " << d.id.x << "," << d.id.y;
+        }
+    }
+    // Back to the geometric rule: the coarse cut again (merging where it may).
+    m_tree->setOptions({.errorPx = 50.0});
+    settle(c);
+    EXPECT_LE(m_draws.size(), geometric.size() + geometric.size() / 4);
+}
+
 // Never a hole while streaming: teleports far faster than tiles arrive (3 frames late, 2 a
 // frame), a pool of 40 layers for 341 patches and one load in ten failing. Every frame the
 // drawn and culled leaves tile the domain exactly once, every drawn patch is resident on its

@@ -84,16 +84,21 @@ struct LodOptions {
     /// comparisons.
     bool horizonCulling = true;
     /// The most pixels one of a drawn patch's samples may span (the projected rule:
-    /// γ · s_l / ρ ≤ maxSamplePx, s_l the level's sample spacing), where finer data exists;
-    /// 0: no limit (the geometric bound alone, for comparisons). The shading (normals, tint,
-    /// the sea's coast, a source's edge) comes from the drawn patch's samples, so a patch
-    /// whose samples span several pixels shades coarser than the data, and differently from a
-    /// finer neighbour: the geometric bound alone lets a smooth patch stay coarse long after
-    /// its detail would show (a Rainier tile seen from 300 km drew blurred, 35.4 dB against
-    /// 41.8 dB with this rule). With it a pixel's shading data is as fine as the pixel,
-    /// whichever level draws it; finer than a pixel it is filtered to the pixel's footprint
-    /// (shaders/terrain_footprint.glsl).
-    double maxSamplePx = 1.0;
+    /// γ · s_l / ρ ≤ maxSamplePx, s_l the level's sample spacing), where finer data would
+    /// shade differently (Err(P) > s_l · kShadingSlopeTolerance); 0: no limit, the geometric
+    /// bound alone (Yusov's rule; the sessions' default is 1, TerrainSessionOptions). The
+    /// shading (normals, tint, the sea's coast, a source's edge) comes from the drawn patch's
+    /// samples, so a patch whose samples span several pixels shades coarser than the data,
+    /// and differently from a finer neighbour: the geometric bound alone lets a smooth patch
+    /// stay coarse long after its detail would show (a Rainier tile seen from 300 km drew
+    /// blurred, 35.4 dB against 41.8 dB with this rule). With it a pixel's shading data is as
+    /// fine as the pixel, whichever level draws it; finer than a pixel it is filtered to the
+    /// pixel's footprint (shaders/terrain_footprint.glsl).
+    double maxSamplePx = 0.0;
+    /// A patch within Err(P) of the finer data tilts no normal by more than about
+    /// 2 · Err(P) / s_l radians: below 1/255 (a Lambertian brightness change under one 8-bit
+    /// level) splitting it changes nothing a viewer sees, and a flat patch is never split.
+    static constexpr double kShadingSlopeTolerance = 1.0 / 510.0;
 
     /// The coarse stage's share of ε on `surface` when coarseShare is unset.
     static double defaultCoarseShare(SurfaceKind surface);

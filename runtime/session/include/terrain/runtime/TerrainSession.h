@@ -55,7 +55,9 @@ struct TerrainSessionOptions {
     ValdetaroParameters valdetaro;  ///< Valdetaro2011 only
     RipollesParameters ripolles;    ///< Ripolles only (openLodStrategy)
     TileStreamerOptions streaming;
-    LodOptions lod;
+    /// A drawn patch's samples span at most a pixel (LodOptions::maxSamplePx): the picture's
+    /// shading is as fine as its pixels.
+    LodOptions lod{.maxSamplePx = 1.0};
     TerrainRendererOptions renderer;
 };
 
