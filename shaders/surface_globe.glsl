@@ -79,18 +79,25 @@ vec3 globePositionM(PatchInstance p, vec2 uv, float h, out vec3 direction) {
     return position;
 }
 
+// The ellipsoid normal `up` tilted by `slope`, metres of height per metre east (along s) and
+// south (along t).
+vec3 globeTiltedNormal(PatchInstance p, vec2 slope, vec3 up) {
+    int face = p.layerLevel.z;
+    vec3 east = normalize(kFaceRight[face] - dot(kFaceRight[face], up) * up);
+    vec3 south = normalize(kFaceDown[face] - dot(kFaceDown[face], up) * up);
+    return normalize(up - slope.x * east - slope.y * south);
+}
+
 // The shading normal at tile sample `texel`: the ellipsoid normal `direction` tilted by the
 // height differences across it over the patch's sample spacing (metres along s and t).
 vec3 globeShadingNormal(PatchInstance p, vec2 texel, bool between, vec3 direction) {
     int layer = p.layerLevel.x;
-    int face = p.layerLevel.z;
-    vec3 east = normalize(kFaceRight[face] - dot(kFaceRight[face], direction) * direction);
-    vec3 south = normalize(kFaceDown[face] - dot(kFaceDown[face], direction) * direction);
     float dx = between ? heightBetween(texel + vec2(1, 0), layer) - heightBetween(texel - vec2(1, 0), layer)
                        : heightAt(ivec2(texel) + ivec2(1, 0), layer) - heightAt(ivec2(texel) - ivec2(1, 0), layer);
     float dy = between ? heightBetween(texel + vec2(0, 1), layer) - heightBetween(texel - vec2(0, 1), layer)
                        : heightAt(ivec2(texel) + ivec2(0, 1), layer) - heightAt(ivec2(texel) - ivec2(0, 1), layer);
-    return normalize(direction - dx / (2.0 * p.placement4.x) * east - dy / (2.0 * p.placement4.y) * south);
+    return globeTiltedNormal(p, vec2(dx / (2.0 * p.placement4.x), dy / (2.0 * p.placement4.y)),
+                             direction);
 }
 
 // A vertex: patch sample `s` at height h, lowered by `dropM` (a skirt's) down the ellipsoid
@@ -107,11 +114,8 @@ vec3 surfacePositionM(PatchInstance patch_, vec2 s, float h, float dropM, out ve
 // the ellipsoid normal `up` tilted as globeShadingNormal tilts it. placement4 is metres per
 // tile sample; a virtual patch's sample spans texelMap.z of its ancestor's.
 vec3 surfaceNormalFromSlopes(PatchInstance p, vec2 slope, vec3 up) {
-    int face = p.layerLevel.z;
-    vec3 east = normalize(kFaceRight[face] - dot(kFaceRight[face], up) * up);
-    vec3 south = normalize(kFaceDown[face] - dot(kFaceDown[face], up) * up);
     vec2 metresPerSample = p.placement4.xy * p.texelMap.z;
-    return normalize(up - slope.x / metresPerSample.x * east - slope.y / metresPerSample.y * south);
+    return globeTiltedNormal(p, slope / metresPerSample, up);
 }
 
 vec3 surfaceShadingNormal(PatchInstance patch_, vec2 texel, bool between, vec3 up) {

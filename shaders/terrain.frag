@@ -93,8 +93,11 @@ void main() {
         discard;
     }
 #ifdef TERRAIN_FRAGMENT_NORMALS
-    vec3 normal = footprintNormal(u_instances[i_patch], i_patchSample, footprint,
-                                  fragmentNormal(i_patchSample), normalize(i_up));
+    // From two samples of footprint up the filtered normal alone shows (footprintNormal's
+    // blend weight is 1): the mesh's normal is not worth its texel fetches there.
+    vec3 mesh = footprint < 2.0 ? fragmentNormal(i_patchSample) : vec3(0.0, 0.0, 1.0);
+    vec3 normal =
+        footprintNormal(u_instances[i_patch], i_patchSample, footprint, mesh, normalize(i_up));
 #else
     vec3 normal = i_normal;
 #endif

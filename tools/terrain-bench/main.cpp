@@ -447,10 +447,9 @@ int run(const BenchOptions& o, const char* argv0) {
             // Where the boundary artefacts are: the sample frame with them in yellow (the probe
             // clears the plane's background to magenta).
             runtime::FrameImages marked = lod.images;
-            for (const std::size_t i : a.boundaryArtefacts) {
-                const std::array<std::uint8_t, 4> yellow{255, 255, 0, 255};
-                std::copy(yellow.begin(), yellow.end(), marked.rgba.begin() + 4 * i);
-            }
+            constexpr std::array<std::uint8_t, 4> kYellow{255, 255, 0, 255};
+            for (const std::size_t i : a.boundaryArtefacts)
+                std::copy(kYellow.begin(), kYellow.end(), marked.rgba.begin() + 4 * i);
             const auto file = outputDir / fmt::format("sample-{}eps-{}-artefacts.png", r.fileTag,
                                                       thresholdName(r.thresholdPx));
             if (auto w = writePng(marked, file); !w) return w.error();

@@ -1,6 +1,7 @@
 // BoundaryArtefacts: one pass over the pixels, each checked along its row and its column.
 #include "terrain/runtime/BoundaryArtefacts.h"
 
+#include "PatchBoundaryImages.h"
 #include "terrain/base/Assert.h"
 
 #include <algorithm>
@@ -32,17 +33,20 @@ std::vector<std::uint32_t> patchIdsOf(std::span<const std::uint8_t> patchViewRgb
     return ids;
 }
 
+bool onPatchBoundary(std::span<const std::uint32_t> patchIds, int width, std::size_t i) {
+    const auto w = static_cast<std::size_t>(width);
+    const std::uint32_t id = patchIds[i];
+    return (i % w > 0 && patchIds[i - 1] != id) || (i % w + 1 < w && patchIds[i + 1] != id) ||
+           (i >= w && patchIds[i - w] != id) || (i + w < patchIds.size() && patchIds[i + w] != id);
+}
+
 BoundaryArtefacts findBoundaryArtefacts(const FrameImages& lod,
                                         std::span<const std::uint32_t> patchIds,
                                         const FrameImages& reference, int shiftPx,
                                         int thresholdLevels) {
+    detail::assertSameFrame(lod, patchIds, reference);
     const std::size_t w = static_cast<std::size_t>(lod.width);
     const std::size_t pixels = lod.pixels();
-    TERRAIN_ASSERT(lod.width == reference.width && lod.height == reference.height &&
-                       lod.rgba.size() == 4 * pixels && reference.rgba.size() == 4 * pixels &&
-                       lod.depth.size() == pixels && reference.depth.size() == pixels &&
-                       patchIds.size() == pixels,
-                   "findBoundaryArtefacts: sizes differ");
     const std::span<const std::uint8_t> colour(lod.rgba);
     BoundaryArtefacts result;
     for (std::size_t i = 0; i < pixels; ++i) {
@@ -50,16 +54,10 @@ BoundaryArtefacts findBoundaryArtefacts(const FrameImages& lod,
         const bool hasLeft = x > 0, hasRight = x + 1 < w;
         const bool hasBelow = i >= w, hasAbove = i + w < pixels;
         const std::uint32_t id = patchIds[i];
-        const bool onBoundary =
-            (hasLeft && patchIds[i - 1] != id) || (hasRight && patchIds[i + 1] != id) ||
-            (hasBelow && patchIds[i - w] != id) || (hasAbove && patchIds[i + w] != id);
-        if (!onBoundary) continue;
+        if (!onPatchBoundary(patchIds, lod.width, i)) continue;
         ++result.boundaryPixels;
         if (!differ(colour, i, reference.rgba, i, thresholdLevels)) continue;
-        const double depth = lod.depth[i], referenceDepth = reference.depth[i];
-        const bool referenceSurface =
-            std::abs(depth - referenceDepth) <=
-            BoundaryArtefacts::kSameSurface * std::max(depth, referenceDepth);
+        const bool referenceSurface = detail::onReferenceSurface(lod, reference, i);
         // Whether the reference shows i's colour within shiftPx of it (the LOD may draw a
         // surface that far off).
         const auto referenceShowsNearby = [&] {

@@ -1,8 +1,7 @@
 // BoundaryShading: one pass over the pixels, each paired with its right and upper neighbour.
 #include "terrain/runtime/BoundaryShading.h"
 
-#include "terrain/base/Assert.h"
-#include "terrain/runtime/BoundaryArtefacts.h"
+#include "PatchBoundaryImages.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,23 +18,17 @@ double luma(std::span<const std::uint8_t> rgba, std::size_t i) {
 BoundaryShading measureBoundaryShading(const FrameImages& lod,
                                        std::span<const std::uint32_t> patchIds,
                                        const FrameImages& reference) {
+    detail::assertSameFrame(lod, patchIds, reference);
     const std::size_t w = static_cast<std::size_t>(lod.width);
     const std::size_t pixels = lod.pixels();
-    TERRAIN_ASSERT(lod.width == reference.width && lod.height == reference.height &&
-                       lod.rgba.size() == 4 * pixels && reference.rgba.size() == 4 * pixels &&
-                       lod.depth.size() == pixels && reference.depth.size() == pixels &&
-                       patchIds.size() == pixels,
-                   "measureBoundaryShading: sizes differ");
-    const auto onReferenceSurface = [&](std::size_t i) {
-        const double depth = lod.depth[i], referenceDepth = reference.depth[i];
+    const auto compared = [&](std::size_t i) {
         return patchIds[i] != 0 && lod.drawn(i) && reference.drawn(i) &&
-               std::abs(depth - referenceDepth) <=
-                   BoundaryArtefacts::kSameSurface * std::max(depth, referenceDepth);
+               detail::onReferenceSurface(lod, reference, i);
     };
     BoundaryShading result;
     double boundarySum = 0.0, interiorSum = 0.0;
     const auto pair = [&](std::size_t a, std::size_t b) {
-        if (!onReferenceSurface(a) || !onReferenceSurface(b)) return;
+        if (!compared(a) || !compared(b)) return;
         const double lodStep = std::abs(luma(lod.rgba, a) - luma(lod.rgba, b));
         const double referenceStep = std::abs(luma(reference.rgba, a) - luma(reference.rgba, b));
         const double excess = std::max(0.0, lodStep - referenceStep);

@@ -235,13 +235,9 @@ TEST_F(BoundaryArtefactsDrawTest, ADrawWithoutSkirtsHasThemAndTheDrawHasNone) {
                 // the edge pixels of every other patch (odd draw index) 40 levels darker, a
                 // patch edge shaded apart from its neighbour.
                 runtime::FrameImages broken = shaded.images;
-                const std::size_t w = static_cast<std::size_t>(broken.width);
                 for (std::size_t i = 0; i < ids.size(); ++i) {
-                    const bool edge = (i % w > 0 && ids[i - 1] != ids[i]) ||
-                                      (i % w + 1 < w && ids[i + 1] != ids[i]) ||
-                                      (i >= w && ids[i - w] != ids[i]) ||
-                                      (i + w < ids.size() && ids[i + w] != ids[i]);
-                    if (!edge || ids[i] % 2 == 0) continue;
+                    if (ids[i] % 2 == 0 || !runtime::onPatchBoundary(ids, broken.width, i))
+                        continue;
                     for (std::size_t c = 0; c < 3; ++c)
                         broken.rgba[4 * i + c] = static_cast<std::uint8_t>(
                             std::max(0, int{broken.rgba[4 * i + c]} - 40));

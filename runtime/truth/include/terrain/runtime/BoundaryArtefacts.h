@@ -33,6 +33,10 @@ struct BoundaryArtefacts {
     std::vector<std::size_t> pixels;   ///< the artefacts' pixel indices, ascending
 };
 
+/// Pixel i of an image `width` pixels wide has a 4-neighbour of another patch (`patchIds`,
+/// patchIdsOf a patch-id view).
+bool onPatchBoundary(std::span<const std::uint32_t> patchIds, int width, std::size_t i);
+
 /// The boundary artefacts of `lod` against `reference` (same camera and size): pixel p with
 /// neighbours a and b on either side of it along a row or a column, p's patch differing from
 /// a's or b's (p lies on a boundary along that line), and p's colour differing by more than
