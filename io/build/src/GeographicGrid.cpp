@@ -136,9 +136,9 @@ Status GeographicGrid::fillVoids(const detail::VoidFill::Beneath* beneath) {
 std::optional<GeographicGrid::Location> GeographicGrid::locate(double latitudeDeg,
                                                                double longitudeDeg) const {
     // Within one pixel beyond the extent the edge pixels are extended (not valid, not
-    // inside): the face grid is at least as fine as a pixel, so the drop to the bare
-    // ellipsoid happens outside every cell that holds a source sample, and Err(P) measures
-    // the source, not the cliff at its border.
+    // inside), tapered to the bare ellipsoid (edgeTaper): the face grid is at least as fine
+    // as a pixel, so the drop happens outside every cell that holds a source sample, and
+    // Err(P) measures the source, not the cliff at its border.
     const double y = m_north - latitudeDeg;
     const double height = double(m_height) * m_pixelLat;
     if (y < -m_pixelLat || y > height + m_pixelLat) return std::nullopt;
@@ -151,6 +151,7 @@ std::optional<GeographicGrid::Location> GeographicGrid::locate(double latitudeDe
     }
     Location where;
     where.inside = y >= 0.0 && y <= height && (m_wraps || (x >= 0.0 && x <= width));
+    where.taper = edgeTaper(y, x);
     const Axis rows = clampedAxis(y / m_pixelLat - 0.5, m_height);
     Axis columns;
     if (m_wraps) {
@@ -173,6 +174,46 @@ std::optional<GeographicGrid::Location> GeographicGrid::locate(double latitudeDe
     return where;
 }
 
+double GeographicGrid::edgeTaper(double y, double x) const {
+    // Linear in the distance beyond each edge, so the face grid's triangles draw the drop
+    // along the extent's own outline wherever its vertices fall: a step to 0 at a fixed
+    // distance would draw a staircase of cells where the grid runs askew to the edge.
+    const double height = double(m_height) * m_pixelLat;
+    const double beyondRows = std::max(-y, y - height) / m_pixelLat;
+    double taper = 1.0 - std::clamp(beyondRows, 0.0, 1.0);
+    if (!m_wraps) {
+        const double width = double(m_width) * m_pixelLon;
+        const double beyondColumns = std::max(-x, x - width) / m_pixelLon;
+        taper *= 1.0 - std::clamp(beyondColumns, 0.0, 1.0);
+    }
+    return taper;
+}
+
+std::vector<std::pair<double, double>> GeographicGrid::taperPlaces() const {
+    std::vector<std::pair<double, double>> places;
+    const std::array<bool, kSeamEdges> present = edges();
+    const auto has = [&](SeamEdge e) { return present[static_cast<std::size_t>(e)]; };
+    // Pixel-centre coordinates of the edge (d = 0) and a pixel beyond it (d = 1).
+    for (const double beyond : {0.0, 1.0}) {
+        for (std::int64_t col = -1; col <= m_width; ++col) {
+            const double longitude = longitudeAt(double(col));
+            if (has(SeamEdge::North)) places.emplace_back(latitudeAt(-0.5 - beyond), longitude);
+            if (has(SeamEdge::South))
+                places.emplace_back(latitudeAt(double(m_height) - 0.5 + beyond), longitude);
+        }
+        for (std::int64_t row = -1; row <= m_height; ++row) {
+            const double latitude = latitudeAt(double(row));
+            if (has(SeamEdge::West)) places.emplace_back(latitude, longitudeAt(-0.5 - beyond));
+            if (has(SeamEdge::East))
+                places.emplace_back(latitude, longitudeAt(double(m_width) - 0.5 + beyond));
+        }
+    }
+    places.erase(std::remove_if(places.begin(), places.end(),
+                                [](const auto& p) { return std::abs(p.first) > 90.0; }),
+                 places.end());
+    return places;
+}
+
 GeographicGrid::Resampled GeographicGrid::interpolate(const Location& where,
                                                       const float corner[2][2],
                                                       const bool valid[2][2]) {
@@ -191,10 +232,10 @@ GeographicGrid::Resampled GeographicGrid::interpolate(const Location& where,
             if (w > 0.0) out.valid = out.valid && valid[r][c];
         }
     }
-    out.height =
-        static_cast<float>(cellSurfaceHeights(corner[0][0], corner[0][1], corner[1][0],
-                                              corner[1][1], where.columnWeight, where.rowWeight)
-                               .first);
+    out.height = static_cast<float>(
+        where.taper * cellSurfaceHeights(corner[0][0], corner[0][1], corner[1][0], corner[1][1],
+                                         where.columnWeight, where.rowWeight)
+                          .first);
     return out;
 }
 
@@ -243,6 +284,7 @@ std::optional<GeographicGrid::Cell> GeographicGrid::cellAt(double latitudeDeg,
         u = col1 > col0 ? col - double(col0) : 0.0;
     }
     Cell cell;
+    cell.taper = edgeTaper(y, x);
     cell.latitude[0] = latitudeOf(row0);
     cell.latitude[1] = latitudeOf(row1);
     cell.longitude[0] = longitudeOf(col0);

@@ -36,14 +36,15 @@ public:
     static Result<GeographicGrid> describe(const DemInfo& dem);
 
     struct Resampled {
-        float height = 0.0f;   ///< metres; 0 more than a pixel beyond the source
+        float height = 0.0f;   ///< metres; tapered to 0 over the pixel beyond the source
         bool inside = false;   ///< within the source's extent (pixel areas)
         bool valid = false;    ///< inside, and every sample it interpolates is valid
         bool covered = false;  ///< inside, or within the one pixel its edge pixels extend to
     };
     /// On the triangles between the pixel centres around the point (each cell split along its
     /// north-west – south-east diagonal), clamped to the edge pixels up to one pixel beyond the
-    /// extent; across the antimeridian when the grid spans 360°.
+    /// extent and tapered there linearly to 0 (the bare ellipsoid) at that pixel's far side;
+    /// across the antimeridian when the grid spans 360°.
     Resampled at(double latitudeDeg, double longitudeDeg) const;
 
     /// Where `at` reads: the two rows and two columns of pixel centres around the point (the
@@ -53,6 +54,7 @@ public:
         std::int64_t columns[2] = {0, 0};
         double rowWeight = 0.0, columnWeight = 0.0;  ///< of rows[1] and columns[1]
         bool inside = false;
+        double taper = 1.0;  ///< what the height is multiplied by (edgeTaper)
     };
     /// Nothing more than a pixel beyond the extent (where `at` gives height 0, not covered).
     std::optional<Location> locate(double latitudeDeg, double longitudeDeg) const;
@@ -66,6 +68,7 @@ public:
     struct Cell {
         double a = 0.0, b = 0.0, c = 0.0, d = 0.0;
         double u = 0.0, v = 0.0;
+        double taper = 1.0;  ///< beyond the extent, what the surface is multiplied by
         double latitude[2] = {0.0, 0.0};   ///< of the cell's rows (north, south)
         double longitude[2] = {0.0, 0.0};  ///< of its columns (west, east)
     };
@@ -81,6 +84,14 @@ public:
     double eastWestMetres(double latitudeDeg) const;
     double northSouthMetres(double latitudeDeg) const;
     std::optional<Cell> cellAt(double latitudeDeg, double longitudeDeg) const;
+    /// 1 within the extent, falling linearly to 0 over the pixel beyond each edge (a product
+    /// at a corner); y and x in degrees south of the north edge and east of the west edge.
+    double edgeTaper(double y, double x) const;
+    /// Where the taper runs, as (latitude, longitude): along each edge of the extent, one
+    /// place per pixel (and past the corners) on the edge and one a pixel beyond it. Between
+    /// them the surface is linear across the edge, so Err(P) measured at these places holds a
+    /// coarse patch's ramp from the edge down to the bare ellipsoid.
+    std::vector<std::pair<double, double>> taperPlaces() const;
 
     std::int64_t width() const { return m_width; }
     std::int64_t height() const { return m_height; }

@@ -40,6 +40,19 @@ inline std::int64_t patchIndex(double coordinate, std::int64_t n) {
 /// extent's outer half pixel without holding a sample centre).
 void addPatchesAround(PatchKey key, int level, std::unordered_set<PatchKey>& out);
 
+/// Calls `visit` with each of the patch's three siblings (the other children of its parent;
+/// none at face level 0). Every present patch's siblings are present too, so a parent is
+/// never drawn in part by a child and in part by its own coarser tile.
+template <typename Visit> void forEachSibling(PatchKey key, int level, Visit&& visit) {
+    if (level == 0) return;
+    const globe::GlobePatchId id = idOf(key, level);
+    const std::int64_t x0 = id.x & ~std::int64_t{1}, y0 = id.y & ~std::int64_t{1};
+    for (int c = 0; c < 4; ++c) {
+        const PatchKey sibling = keyOf(id.face, x0 + (c & 1), y0 + (c >> 1));
+        if (sibling != key) visit(sibling);
+    }
+}
+
 /// Completes a globe patch whose tile heights (rounded, in a lossy build) are final: its
 /// PatchInfo (Err(P) = `error`, the children present, the drawn samples' summary; a lossy
 /// build's quantError from δ_l and the largest rounding `quantized`) and its block errors.

@@ -119,10 +119,12 @@ public:
 
     Status run() {
         auto start = BuildClock::now();
-        for (const GlobeSources::Source& source : m_sources.sources()) {
+        for (std::size_t k = 0; k < m_sources.sources().size(); ++k) {
+            const GlobeSources::Source& source = m_sources.sources()[k];
             m_places.push_back(placeSamples(source.grid, m_threads));
             m_ownPlaces.push_back(
                 source.own ? std::optional(placeOwnSamples(*source.own, m_threads)) : std::nullopt);
+            m_taperSamples.push_back(taperSamples(k));
         }
         m_phases.readSeconds += secondsSince(start);
         std::unordered_map<PatchKey, float> finerErrors;
@@ -206,6 +208,26 @@ private:
         });
         for (std::size_t i = 0; i < keys.size(); ++i)
             if (keep[i]) patches.emplace(keys[i], std::move(built[i]));
+
+        // A present patch's siblings exist too (detail::forEachSibling): else the LOD draws their
+        // quarters of the parent's tile, whose coarse cells ramp from a source's edge to the
+        // bare ellipsoid in teeth as wide as the parent's cells.
+        std::vector<PatchKey> siblings;
+        for (const auto& [key, patch] : patches)
+            detail::forEachSibling(key, level, [&](PatchKey sibling) {
+                if (!patches.contains(sibling)) siblings.push_back(sibling);
+            });
+        std::sort(siblings.begin(), siblings.end());
+        siblings.erase(std::unique(siblings.begin(), siblings.end()), siblings.end());
+        std::vector<LevelPatch> added(siblings.size());
+        parallelFor(std::ssize(siblings), m_threads, [&](std::int64_t k) {
+            const auto i = static_cast<std::size_t>(k);
+            resample(idOf(siblings[i], level), added[i].record, level);
+            if (m_quantization)
+                added[i].quantized = quantizeHeights(added[i].record.heights, halfStep(level));
+        });
+        for (std::size_t i = 0; i < siblings.size(); ++i)
+            patches.emplace(siblings[i], std::move(added[i]));
     }
 
     // The patch's tile from the source; true when some drawn sample lies inside its extent.
@@ -238,7 +260,56 @@ private:
     // this level does not exist (a coarse source, finer than its own finest level) is drawn
     // by an ancestor there, whose bound already holds it.
     void measureErrors(int level, std::map<PatchKey, LevelPatch>& patches) const {
-        for (std::size_t k = 0; k < m_places.size(); ++k) measureErrors(level, k, patches);
+        for (std::size_t k = 0; k < m_places.size(); ++k) {
+            measureErrors(level, k, patches);
+            measureTaper(level, m_taperSamples[k], patches);
+        }
+    }
+
+    // Where a source's edge tapers to the bare ellipsoid (GeographicGrid::taperPlaces; not
+    // where a coarser source lies beneath), the composite's heights: measured as the samples
+    // are, so a coarse patch's ramp past the edge counts in its Err(P) and the LOD refines
+    // along the edge until it is drawn within ε.
+    struct TaperSample {
+        glm::dvec3 normal{};
+        double s = 0.0, t = 0.0;
+        int face = 0;
+        double height = 0.0;
+    };
+    std::vector<TaperSample> taperSamples(std::size_t k) const {
+        std::vector<TaperSample> samples;
+        for (const auto& [latitude, longitude] : m_sources.sources()[k].grid.taperPlaces()) {
+            if (m_sources.beneath(k, latitude, longitude)) continue;
+            TaperSample sample;
+            sample.normal = globe::Wgs84::normalAt(latitude, longitude);
+            const globe::FacePoint p = globe::facePointOf(sample.normal);
+            sample.face = p.face;
+            sample.s = p.s;
+            sample.t = p.t;
+            sample.height = double(m_sources.at(latitude, longitude, 0).height);
+            samples.push_back(sample);
+        }
+        return samples;
+    }
+
+    void measureTaper(int level, const std::vector<TaperSample>& samples,
+                      std::map<PatchKey, LevelPatch>& patches) const {
+        const std::int64_t n = globe::patchesPerFaceSide(level);
+        std::unordered_map<PatchKey, std::unique_ptr<GlobePatchSurface>> surfaces;
+        for (const TaperSample& sample : samples) {
+            const PatchKey key =
+                keyOf(sample.face, patchIndex(sample.s, n), patchIndex(sample.t, n));
+            const auto patch = patches.find(key);
+            if (patch == patches.end()) continue;  // an ancestor draws it, and measured it
+            auto& surface = surfaces[key];
+            if (!surface)
+                surface = std::make_unique<GlobePatchSurface>(
+                    idOf(key, level), m_layout.patchQuads(), patch->second.record.heights);
+            const auto [alongAD, alongBC] = surface->drawnHeights(sample.normal);
+            patch->second.measuredError =
+                std::max({patch->second.measuredError, std::abs(sample.height - alongAD),
+                          std::abs(sample.height - alongBC)});
+        }
     }
 
     void measureErrors(int level, std::size_t k, std::map<PatchKey, LevelPatch>& patches) const {
@@ -350,6 +421,7 @@ private:
     std::vector<SamplePlaces> m_places;  // one per source, in GlobeSources' order
     // A resampled source's own samples' places, where Err(P) is measured for it.
     std::vector<std::optional<SamplePlaces>> m_ownPlaces;
+    std::vector<std::vector<TaperSample>> m_taperSamples;  // per source, as m_places
     PyramidBuildPhases m_phases;
     std::int64_t m_patches = 0;
     std::vector<double> m_levelMaxError;

@@ -443,6 +443,7 @@ public:
         if (Status built = finest ? buildFinest(window) : buildCoarse(); !built) return built;
         if (measured)
             if (Status made = measureAtSamples(window); !made) return made;
+        if (Status made = measureTaper(); !made) return made;
         m_carry.phases.readSeconds += secondsSince(start);
         start = BuildClock::now();
         std::vector<const PatchRecord*> records;
@@ -659,7 +660,25 @@ private:
         for (std::size_t k = 0; k < keys.size(); ++k)
             if (!(holding.contains(keys[k]) || inside.value()[k] || m_level == 0))
                 m_patches.erase(keys[k]);
+        if (Status siblings = addSiblings(); !siblings) return siblings;
         for (auto& [key, patch] : m_patches) keepEvensAndRound(patch);
+        return {};
+    }
+
+    // The present patches' siblings, from the source, as the whole build adds them
+    // (detail::forEachSibling). A shard holds whole sibling sets: it is aligned to an even
+    // number of patches.
+    Status addSiblings() {
+        std::set<PatchKey> siblings;
+        for (const auto& [key, patch] : m_patches)
+            detail::forEachSibling(key, m_level, [&](PatchKey sibling) {
+                if (!m_patches.contains(sibling)) siblings.insert(sibling);
+            });
+        const std::vector<PatchKey> keys(siblings.begin(), siblings.end());
+        for (const PatchKey key : keys) addPatch(key);
+        Result<std::vector<std::uint8_t>> resampled =
+            resample(keys, [](std::size_t, int, int) { return true; });
+        if (!resampled) return resampled.error();
         return {};
     }
 
@@ -719,6 +738,43 @@ private:
         return {};
     }
 
+    // Where the source's edge tapers to the bare ellipsoid (GeographicGrid::taperPlaces), on
+    // every level, as the whole build measures there (one source: nothing lies beneath it). A
+    // nested level needs it too: a patch's quarter without a child has no intervals from it.
+    Status measureTaper() {
+        const double n = double(globe::patchesPerFaceSide(m_level));
+        const std::int64_t perSide = globe::patchesPerFaceSide(m_level);
+        std::unordered_map<PatchKey, std::unique_ptr<GlobePatchSurface>> surfaces;
+        for (const auto& [latitude, longitude] : m_source.grid.taperPlaces()) {
+            const glm::dvec3 normal = globe::Wgs84::normalAt(latitude, longitude);
+            const globe::FacePoint p = globe::facePointOf(normal);
+            const PatchKey key = keyOf(p.face, patchIndex(p.s, perSide), patchIndex(p.t, perSide));
+            const auto patch = m_patches.find(key);
+            if (patch == m_patches.end()) continue;
+            std::unique_ptr<GlobePatchSurface>& surface = surfaces[key];
+            if (!surface)
+                surface = std::make_unique<GlobePatchSurface>(idOf(key, m_level), m_quads,
+                                                              patch->second.record.heights);
+            Result<GeographicGrid::Resampled> value = m_blocks->at(latitude, longitude);
+            if (!value) return value.error();
+            const GlobePatchId id = idOf(key, m_level);
+            const auto quadOf = [&](double coordinate, std::int64_t first) {
+                const double at =
+                    std::clamp((coordinate * n - double(first)) * m_quads, 0.0, double(m_quads));
+                return std::min(static_cast<int>(at), m_quads - 1);
+            };
+            const int quad = quadOf(p.t, id.y) * m_quads + quadOf(p.s, id.x);
+            const auto [alongAD, alongBC] = surface->drawnHeights(normal);
+            const double height = double(value.value().height);
+            patch->second.quads.widen(static_cast<std::size_t>(quad),
+                                      std::min(alongAD, alongBC) - height,
+                                      std::max(alongAD, alongBC) - height);
+        }
+        for (auto& [key, patch] : m_patches)
+            patch.error = std::max(patch.error, patch.quads.largest());
+        return {};
+    }
+
     // A coarser level: from the carries of the shards beneath.
     Status buildCoarse() {
         struct Child {
@@ -752,7 +808,9 @@ private:
                     c.parentHigh.empty() ? nullptr : c.parentHigh.data() + k * quadCount};
         for (const auto& [childKey, child] : children) {
             const GlobePatchId id = idOf(childKey, m_level + 1);
-            addPatch(keyOf(id.face, id.x / 2, id.y / 2));
+            const PatchKey parent = keyOf(id.face, id.x / 2, id.y / 2);
+            addPatch(parent);
+            detail::forEachSibling(parent, m_level, [&](PatchKey sibling) { addPatch(sibling); });
         }
         if (m_level == 0)
             for (const FaceRect& r : faceRectsOf(m_layout, m_shard)) addPatch(keyOf(r.face, 0, 0));

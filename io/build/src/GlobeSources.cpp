@@ -292,8 +292,11 @@ std::optional<std::pair<double, double>> GlobeSources::surfaceHeightsAt(double l
     const GeographicGrid& grid = m_sources[static_cast<std::size_t>(shown.source)].grid;
     const auto cell = grid.cellAt(latitudeDeg, longitudeDeg);
     if (!cell) return std::nullopt;
-    if (!shown.blended)
-        return cellSurfaceHeights(cell->a, cell->b, cell->c, cell->d, cell->u, cell->v);
+    if (!shown.blended) {
+        const auto [alongAD, alongBC] =
+            cellSurfaceHeights(cell->a, cell->b, cell->c, cell->d, cell->u, cell->v);
+        return std::pair{cell->taper * alongAD, cell->taper * alongBC};
+    }
     // In a feathered border the mesh's corners are the composite's values there.
     const auto composite = [&](int dx, int dy) {
         return double(shownAt(cell->latitude[dy], cell->longitude[dx], 0).value.height);

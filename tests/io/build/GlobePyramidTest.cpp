@@ -87,6 +87,12 @@ void expectConsistentPatches(const Built& built) {
                     ASSERT_TRUE(info) << info.error().message;
                     if (!info.value().present) continue;
                     if (level + 1 < faceLevels) {
+                        // All four children or none: a parent is never drawn in part by its
+                        // own coarser tile (GlobePatchBuild.h, forEachSibling).
+                        EXPECT_TRUE(info.value().presentChildren == 0 ||
+                                    info.value().presentChildren == 0xF)
+                            << "patch " << face << "/" << level << "/" << x << "/" << y
+                            << " has children " << int(info.value().presentChildren);
                         for (int c = 0; c < 4; ++c) {
                             auto child = reader.patchInfo(layoutPatchOf(
                                 {face, level + 1, 2 * x + (c & 1), 2 * y + (c >> 1)}));
@@ -211,6 +217,71 @@ TEST(GlobePyramid, RegionalSourceAtHighLatitude) {
     ASSERT_FALSE(missing);
     EXPECT_NE(missing.error().message.find("the shard file is missing"), std::string::npos)
         << missing.error().message;
+}
+
+// A regional source alone on the globe, standing 300 m above the ellipsoid: its edge drops to
+// the bare ellipsoid within one of its pixels beyond the extent, on every level the drop is
+// held by Err(P) (so the LOD refines along the edge until it is drawn within ε), every
+// present patch's siblings are present (so no coarse tile draws the drop in teeth), and
+// beyond that pixel and one cell of the finest level nothing is drawn above the ellipsoid.
+TEST(GlobePyramid, RegionalSourceAloneEndsAtItsExtent) {
+    TempFolder temp;
+    constexpr double kWest = 10.0, kNorth = 60.25, kPixel = 0.005;
+    constexpr std::int64_t kWidth = 100, kHeight = 50;
+    GeographicFunctionDem source(kWest, kNorth, kWidth, kHeight, kPixel, kPixel,
+                                 [](double lat, double lon) { return hills(lat, lon) + 300.0f; });
+    const Built built = build(source, temp, "alone");
+    expectBoundsHold(built, source);
+    expectConsistentPatches(built);
+    auto reader = PyramidReader::open(built.folder);
+    ASSERT_TRUE(reader) << reader.error().message;
+    const int quads = reader.value().layout().patchQuads();
+    const int finest = built.summary.manifest.globe->faceFinestLevel;
+    // The drawn height (either diagonal) of the present patch of `level` at a place, and its
+    // Err(P); nothing where that patch is absent.
+    struct Drawn {
+        double low = 0.0, high = 0.0, error = 0.0;
+    };
+    const auto drawnAt = [&](double lat, double lon, int level) -> std::optional<Drawn> {
+        const glm::dvec3 normal = globe::Wgs84::normalAt(lat, lon);
+        const globe::FacePoint p = globe::facePointOf(normal);
+        const std::int64_t n = globe::patchesPerFaceSide(level);
+        const GlobePatchId id{p.face, level,
+                              std::min(static_cast<std::int64_t>(p.s * double(n)), n - 1),
+                              std::min(static_cast<std::int64_t>(p.t * double(n)), n - 1)};
+        auto info = reader.value().patchInfo(layoutPatchOf(id));
+        if (!info || !info.value().present) return std::nullopt;
+        auto record = reader.value().readPatch(layoutPatchOf(id));
+        EXPECT_TRUE(record) << record.error().message;
+        const auto [ad, bc] =
+            GlobePatchSurface(id, quads, record.value().heights).drawnHeights(normal);
+        return Drawn{std::min(ad, bc), std::max(ad, bc), double(record.value().info.error)};
+    };
+    // Along the four edges, a pixel beyond them, abreast of each edge pixel (where the build
+    // measures, as it measures the source at its samples: GeographicGrid::taperPlaces), the
+    // composite shows the ellipsoid, and every present patch's Err(P) holds that.
+    int checked = 0;
+    for (int k = 0; k < 50; ++k) {
+        const double lon = kWest + (2 * k + 0.5) * kPixel, lat = kNorth - (k + 0.5) * kPixel;
+        const double south = kNorth - kHeight * kPixel, east = kWest + kWidth * kPixel;
+        const std::pair<double, double> beyond[] = {
+            {kNorth + kPixel, lon}, {south - kPixel, lon}, {lat, kWest - kPixel}, {lat, east + kPixel}};
+        for (const auto& [la, lo] : beyond)
+            for (int level = 0; level <= finest; ++level) {
+                const std::optional<Drawn> d = drawnAt(la, lo, level);
+                if (!d) continue;
+                ++checked;
+                EXPECT_LE(std::max(std::abs(d->low), std::abs(d->high)), d->error + 1e-3)
+                    << "a pixel beyond the edge at (" << la << ", " << lo << "), level " << level;
+            }
+        // Two pixels beyond (more than a pixel and a finest cell): the bare ellipsoid.
+        const std::optional<Drawn> far = drawnAt(kNorth + 2.0 * kPixel, lon, finest);
+        if (far) {
+            EXPECT_NEAR(far->low, 0.0, 1e-3) << lon;
+            EXPECT_NEAR(far->high, 0.0, 1e-3) << lon;
+        }
+    }
+    EXPECT_GT(checked, 4 * 50);
 }
 
 // A lossy globe pyramid (terrain-build --globe --max-error-m): the stored heights are
