@@ -55,6 +55,30 @@ vec3 fragmentNormal(vec2 p) {
     return a + (d - c) * f.x + (c - a) * f.y;
 }
 
+float sampleHeight(PatchInstance patch_, ivec2 s) {
+    bool between = patch_.texelMap.w != 0.0;
+    return tileHeight(tileTexel(patch_.texelMap, vec2(s)), between, patch_.layerLevel.x);
+}
+
+// The full-resolution mesh's height at patch sample p, on fragmentNormal's triangles, and its
+// slope there (per sample, x and y): the tint (and where the sea ends) follows the patch's
+// samples, not its tessellation, so a coarsely tessellated block does not draw a coast or a
+// data edge in teeth of its cells.
+vec3 fragmentHeight(vec2 p) {
+    PatchInstance patch_ = u_instances[i_patch];
+    int lastCell = u_frame.tessellation.z - 1;
+    ivec2 cell = clamp(ivec2(floor(p)), ivec2(0), ivec2(lastCell));
+    vec2 f = clamp(p - vec2(cell), 0.0, 1.0);
+    float a = sampleHeight(patch_, cell);
+    float d = sampleHeight(patch_, cell + ivec2(1, 1));
+    if (f.x >= f.y) {
+        float b = sampleHeight(patch_, cell + ivec2(1, 0));
+        return vec3(a + (b - a) * f.x + (d - b) * f.y, b - a, d - b);
+    }
+    float c = sampleHeight(patch_, cell + ivec2(0, 1));
+    return vec3(a + (d - c) * f.x + (c - a) * f.y, d - c, c - a);
+}
+
 #endif
 
 // Interpolation may put the DEM's own edge a hair outside it.
@@ -87,6 +111,8 @@ vec3 patchIdColor(int instance) {
 void main() {
 #ifdef TERRAIN_FRAGMENT_NORMALS
     float footprint = sampleFootprint(i_patchSample);
+    // Before the discard, as derivatives need.
+    vec2 sampleDx = dFdx(i_patchSample), sampleDy = dFdy(i_patchSample);
 #endif
     if (any(lessThan(i_demSample, u_frame.demExtent.xy - kEdgeToleranceSamples)) ||
         any(greaterThan(i_demSample, u_frame.demExtent.zw + kEdgeToleranceSamples))) {
@@ -109,7 +135,18 @@ void main() {
         return;
     }
     if (debugView == 0) {
-        o_color = vec4(terrainShade(shading, normal, i_heightM, i_fromCameraM), 1.0);
+#ifdef TERRAIN_FRAGMENT_NORMALS
+        // The coast blends over the mesh's own change across the pixel, from its slope and
+        // the interpolated sample's derivatives (a computed height's own derivative is not
+        // defined beside a discard, and a helper lane's fetches may lie off the patch).
+        vec3 mesh = fragmentHeight(i_patchSample);
+        float heightM = mesh.x;
+        float coastWidthM = abs(dot(mesh.yz, sampleDx)) + abs(dot(mesh.yz, sampleDy));
+#else
+        float heightM = i_heightM;
+        float coastWidthM = fwidth(i_heightM);
+#endif
+        o_color = vec4(terrainShade(shading, normal, heightM, coastWidthM, i_fromCameraM), 1.0);
         return;
     }
     vec3 base = debugView == 1 ? levelColor(i_level) : tessFactorColor(i_tessFactor);

@@ -53,7 +53,9 @@ const float kSeaToleranceM = 0.5;
 // faintly, as under water), and the land's tint spans sea level to the highest height. Fragment
 // stage only: the coast is blended over the pixel's footprint (fwidth of the height), so it
 // neither aliases nor jumps a whole pixel when the LOD moves the surface by a fraction of one.
-vec3 terrainShade(TerrainShading shading, vec3 normal, float heightM, vec3 fromCameraM) {
+// `coastWidthM`: how much the height changes across the pixel (fwidth of a height).
+vec3 terrainShade(TerrainShading shading, vec3 normal, float heightM, float coastWidthM,
+                  vec3 fromCameraM) {
     vec2 range = shading.heightRangeM;
     if (shading.sea.y < 0.5) {
         float t = clamp((heightM - range.x) / max(range.y - range.x, 1.0), 0.0, 1.0);
@@ -65,8 +67,12 @@ vec3 terrainShade(TerrainShading shading, vec3 normal, float heightM, vec3 fromC
     float depth = clamp((seaLevel - heightM) / max(seaLevel - range.x, 1.0), 0.0, 1.0);
     vec3 water = terrainLitColor(shading, waterTint(depth), normal, fromCameraM, 0.8);
     float aboveSea = heightM - (seaLevel + kSeaToleranceM);
-    float landShare = clamp(0.5 + aboveSea / max(fwidth(heightM), 1.0e-3), 0.0, 1.0);
+    float landShare = clamp(0.5 + aboveSea / max(coastWidthM, 1.0e-3), 0.0, 1.0);
     return mix(water, land, landShare);
+}
+
+vec3 terrainShade(TerrainShading shading, vec3 normal, float heightM, vec3 fromCameraM) {
+    return terrainShade(shading, normal, heightM, fwidth(heightM), fromCameraM);
 }
 
 #endif  // TERRAIN_SHADING_GLSL
