@@ -29,8 +29,10 @@ public:
                        "Raw no-data value (overrides the file's)");
         app.add_option("-b,--band", m_options.band,
                        "Raster band to read heights from, 1-based as GDAL numbers them "
-                       "(default 1, with a warning when the input has several)")
-            ->check(CLI::PositiveNumber);
+                       "(default 1, with a warning when the input has several)");
+        // No range check here: opening the DEM refuses a band it lacks, 0 and negative
+        // ones included, naming the file and its bands (CLI11's check printed its own
+        // range, 0 to DBL_MAX in full, and exited 105).
     }
 
     const io::DemOpenOptions& options() {

@@ -146,9 +146,12 @@ Result<DemInfo> describeGdalDataset(GDALDataset& dataset, const std::string& pat
         return fail("GDAL finds no raster band in it");
     }
     const int bandIndex = bandNumber.value_or(1);
+    // Band 0 and negative bands are refused here, with the file's band count, rather than by
+    // the command line's parser, which knows nothing of the file.
     if (bandIndex < 1 || bandIndex > bands)
-        return fail(fmt::format("no band {}: it has {} band{} (1 to {})", bandIndex, bands,
-                                bands == 1 ? "" : "s", bands));
+        return fail(fmt::format("band {} does not exist: {}", bandIndex,
+                                bands == 1 ? std::string("it has one band, band 1")
+                                           : fmt::format("bands are numbered 1 to {}", bands)));
     GDALRasterBand* band = dataset.GetRasterBand(bandIndex);
     const GDALDataType type = band->GetRasterDataType();
     const char* typeName = sampleTypeName(type);

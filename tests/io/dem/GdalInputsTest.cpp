@@ -106,9 +106,19 @@ TEST_F(GdalInputsTest, BandIsChosenAndSeveralBandsAreWarnedAbout) {
     }
     const auto missing = test::openOne(tiff, bandOption(4));
     ASSERT_FALSE(missing);
-    EXPECT_NE(missing.error().message.find("no band 4: it has 3 bands"), std::string::npos)
+    EXPECT_NE(missing.error().message.find("band 4 does not exist: bands are numbered 1 to 3"),
+              std::string::npos)
         << missing.error().message;
     EXPECT_TRUE(missing.error().message.starts_with(tiff)) << missing.error().message;
+    // Band 0 and negative bands the same way (GDAL numbers bands from 1).
+    for (const int band : {0, -1}) {
+        const auto none = test::openOne(tiff, bandOption(band));
+        ASSERT_FALSE(none) << band;
+        EXPECT_NE(none.error().message.find(tiff + ": band " + std::to_string(band) +
+                                            " does not exist: bands are numbered 1 to 3"),
+                  std::string::npos)
+            << none.error().message;
+    }
 
     // An RGB PNG: its channels are bands too.
     GDALDataset* bytes = memoryDataset(3, kNorthUp, GDT_Byte);
@@ -120,7 +130,11 @@ TEST_F(GdalInputsTest, BandIsChosenAndSeveralBandsAreWarnedAbout) {
     // A single-band file takes -b 1 and refuses -b 2; so do the procedural source and .hgt.
     EXPECT_TRUE(
         test::openOne(copyTo(memoryDataset(1, kNorthUp), "GTiff", "one.tif"), bandOption(1)));
-    EXPECT_FALSE(test::openOne(m_dir.file("one.tif"), bandOption(2)));
+    const auto second = test::openOne(m_dir.file("one.tif"), bandOption(2));
+    ASSERT_FALSE(second);
+    EXPECT_NE(second.error().message.find("band 2 does not exist: it has one band, band 1"),
+              std::string::npos)
+        << second.error().message;
     EXPECT_FALSE(test::openOne("procedural:size=65", bandOption(2)));
 }
 
