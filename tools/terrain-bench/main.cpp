@@ -362,14 +362,15 @@ int run(const BenchOptions& o, const char* argv0) {
             held = probe.captureLod(session, camera, heldStyle);
         }
         auto frameStart = Clock::now();
+        runtime::FrameTelemetry beforeSettle;
         runtime::LodUpdateStats lodStats = session.beginFrame(camera);
         const runtime::LodUpdateStats first = lodStats;
         rec.lodUpdateUs = session.lodUpdateUs();
         if (!o.noSettle && (first.waitingSplits > 0 || session.loadsOutstanding() > 0)) {
             // Let streaming catch up so the figures are the LOD method's, not the
-            // disk's; LOD µs stays the first update's.
-            runtime::FrameTelemetry discarded;
-            session.endFrame(discarded);
+            // disk's; LOD µs stays the first update's, and the frame's telemetry row counts
+            // the streaming of the first update and of settling as well as its own.
+            session.endFrame(beforeSettle);
             // A method whose view cannot fit the GPU pool (the uniform grid or a flat grid
             // over a large DEM) never settles: its frames are measured as drawn and marked,
             // and after the first such frame it is not waited for again.
@@ -394,6 +395,7 @@ int run(const BenchOptions& o, const char* argv0) {
         runtime::LodCapture lod = probe.captureLod(session, camera, style);
         runtime::FrameTelemetry telemetry;
         session.endFrame(telemetry);
+        runtime::addStreamingCounts(telemetry, beforeSettle);
         rec.frameMs = std::chrono::duration<double, std::milli>(Clock::now() - frameStart).count();
         rec.drawMs = lod.drawMs;
         rec.triangles = lod.draw.triangles;

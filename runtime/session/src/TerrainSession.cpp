@@ -195,6 +195,8 @@ TerrainDrawStats TerrainSession::draw(const Camera& camera, const TerrainStyle& 
 
 void TerrainSession::endFrame(FrameTelemetry& t) {
     m_streamer->endFrame(t);
+    addStreamingCounts(t, m_unreportedCounts);
+    m_unreportedCounts = {};
     t.patchesDrawn = m_lodStats.drawn;
     t.patchesCulled = m_lodStats.culled + m_lodStats.horizonCulled;
     t.patchesHorizonCulled = m_lodStats.horizonCulled;
@@ -223,8 +225,11 @@ bool TerrainSession::settle(const Camera& camera, std::chrono::milliseconds time
         if (fatalFault() != nullptr) return false;  // it would wait for nothing
         const bool settled = !m_draws.empty() && lod.waitingSplits == 0 && lod.splits == 0 &&
                              lod.merges == 0 && m_streamer->loadsOutstanding() == 0;
-        FrameTelemetry ignored;
-        m_streamer->endFrame(ignored);
+        // Its streaming is reported with the next frame the caller ends: without it a
+        // settled flight's telemetry would show none of the loads that settled it.
+        FrameTelemetry frame;
+        m_streamer->endFrame(frame);
+        addStreamingCounts(m_unreportedCounts, frame);
         if (settled) return true;
         const auto now = Clock::now();
         if (now > deadline) return false;

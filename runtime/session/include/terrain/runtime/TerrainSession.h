@@ -81,13 +81,15 @@ public:
     /// whatever `style` asks.
     TerrainDrawStats draw(const Camera& camera, const TerrainStyle& style) override;
     /// Ends the frame and fills every column of `t` but frame, time_s and frame_ms (LOD
-    /// and draw columns from this frame's beginFrame and its last draw).
+    /// and draw columns from this frame's beginFrame and its last draw). Its streaming and
+    /// cache counts include those of the frames settle() ran since the last endFrame.
     void endFrame(FrameTelemetry& t) override;
 
     /// Runs frames (without drawing) for `camera` until no split waits for tiles and
     /// nothing is loading, so the next frame shows the settled view; false on timeout, or
     /// at once when fatalFault() says nothing can be drawn. Between endFrame and the next
-    /// beginFrame. A frozen LOD is settled as it is.
+    /// beginFrame. A frozen LOD is settled as it is. Its frames' requests, uploads and
+    /// disk reads are counted in the next endFrame's telemetry.
     bool settle(const Camera& camera, std::chrono::milliseconds timeout) override;
 
     /// The fault no frame can draw around: a root patch failed to read, so there is no
@@ -154,6 +156,8 @@ private:
     TerrainDrawStats m_lastDraw;
     LodMethod m_method = LodMethod::Yusov2011;
     std::uint64_t m_memoryBytes = 0;
+    /// The streaming counts of settle()'s frames, for the next endFrame.
+    FrameTelemetry m_unreportedCounts;
     bool m_lodFrozen = false;
 };
 

@@ -68,6 +68,28 @@ struct FrameTelemetry {
     std::uint64_t patchesHorizonCulled = 0;
 };
 
+/// Adds the streaming and cache counts of frame scope in `frame` (requests, cache lookups
+/// and evictions, uploads, loads made resident, disk bytes: what TileStreamer::endFrame
+/// counts) to those of `into`; its levels, windows and LOD and draw columns are left as they
+/// are. A frame that is run but not recorded (TerrainSession::settle's) hands its counts on
+/// to the next recorded one this way, so the log's sums stay every request made.
+constexpr void addStreamingCounts(FrameTelemetry& into, const FrameTelemetry& frame) {
+    into.requestsMade += frame.requestsMade;
+    into.requestsCancelled += frame.requestsCancelled;
+    into.requestsCompleted += frame.requestsCompleted;
+    into.requestsFailed += frame.requestsFailed;
+    into.cpuCacheHits += frame.cpuCacheHits;
+    into.cpuCacheMisses += frame.cpuCacheMisses;
+    into.cpuCacheEvictions += frame.cpuCacheEvictions;
+    into.gpuEvictions += frame.gpuEvictions;
+    into.gpuUploads += frame.gpuUploads;
+    into.gpuUploadBytes += frame.gpuUploadBytes;
+    into.gpuUploadsDeferred += frame.gpuUploadsDeferred;
+    into.gpuRingStalls += frame.gpuRingStalls;
+    into.loadsResident += frame.loadsResident;
+    into.diskReadBytes += frame.diskReadBytes;
+}
+
 /// How a column's value is stored and written.
 enum class TelemetryValueKind {
     Count,  ///< std::uint64_t, written as a decimal integer
