@@ -695,7 +695,6 @@ private:
             surfaces.find(key)->second = std::make_unique<GlobePatchSurface>(
                 idOf(key, m_level), m_quads, m_patches.at(key).record.heights);
         });
-        const double n = double(globe::patchesPerFaceSide(m_level));
         for (auto& [key, patch] : m_patches)
             patch.quads.reset(static_cast<std::size_t>(m_quads * m_quads));
         std::mutex merge;
@@ -706,15 +705,7 @@ private:
                 if (!r.valid[c]) continue;
                 const auto surface = surfaces.find(r.keys[c]);
                 if (surface == surfaces.end()) continue;
-                // The quad GlobePatchSurface::drawnHeights draws the sample on.
-                const GlobePatchId id = idOf(r.keys[c], m_level);
-                const auto quadOf = [&](double coordinate, std::int64_t first) {
-                    const double at = std::clamp((coordinate * n - double(first)) * m_quads, 0.0,
-                                                 double(m_quads));
-                    return std::min(static_cast<int>(at), m_quads - 1);
-                };
-                const int quad =
-                    quadOf(r.points[c].t, id.y) * m_quads + quadOf(r.points[c].s, id.x);
+                const int quad = quadOf(r.keys[c], r.points[c].s, r.points[c].t);
                 const auto [alongAD, alongBC] = surface->second->drawnHeights(r.normals[c]);
                 const double height = double(r.heights[c]);
                 const double lowest = std::min(alongAD, alongBC) - height;
@@ -738,11 +729,23 @@ private:
         return {};
     }
 
+    // The quad of patch `key` (this level) that GlobePatchSurface::drawnHeights draws the
+    // point at face coordinates (s, t) on, the point clamped into the patch.
+    int quadOf(PatchKey key, double s, double t) const {
+        const double n = double(globe::patchesPerFaceSide(m_level));
+        const GlobePatchId id = idOf(key, m_level);
+        const auto along = [&](double coordinate, std::int64_t first) {
+            const double at =
+                std::clamp((coordinate * n - double(first)) * m_quads, 0.0, double(m_quads));
+            return std::min(static_cast<int>(at), m_quads - 1);
+        };
+        return along(t, id.y) * m_quads + along(s, id.x);
+    }
+
     // Where the source's edge tapers to the bare ellipsoid (GeographicGrid::taperPlaces), on
     // every level, as the whole build measures there (one source: nothing lies beneath it). A
     // nested level needs it too: a patch's quarter without a child has no intervals from it.
     Status measureTaper() {
-        const double n = double(globe::patchesPerFaceSide(m_level));
         const std::int64_t perSide = globe::patchesPerFaceSide(m_level);
         std::unordered_map<PatchKey, std::unique_ptr<GlobePatchSurface>> surfaces;
         for (const auto& [latitude, longitude] : m_source.grid.taperPlaces()) {
@@ -757,13 +760,7 @@ private:
                                                               patch->second.record.heights);
             Result<GeographicGrid::Resampled> value = m_blocks->at(latitude, longitude);
             if (!value) return value.error();
-            const GlobePatchId id = idOf(key, m_level);
-            const auto quadOf = [&](double coordinate, std::int64_t first) {
-                const double at =
-                    std::clamp((coordinate * n - double(first)) * m_quads, 0.0, double(m_quads));
-                return std::min(static_cast<int>(at), m_quads - 1);
-            };
-            const int quad = quadOf(p.t, id.y) * m_quads + quadOf(p.s, id.x);
+            const int quad = quadOf(key, p.s, p.t);
             const auto [alongAD, alongBC] = surface->drawnHeights(normal);
             const double height = double(value.value().height);
             patch->second.quads.widen(static_cast<std::size_t>(quad),
