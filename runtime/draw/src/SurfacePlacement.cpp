@@ -24,19 +24,27 @@ std::array<float, 2> floats(const glm::dvec2& v) {
 }
 
 // Metres per tile sample along s and t at patch coordinates (u, v), for the shading normal:
-// a patch sample's spacing over `texelStep` (tile samples per patch sample).
+// a patch sample's spacing over `texelStep` (tile samples per patch sample). The difference
+// is taken over the part of u ± kStep (v ± kStep) inside the patch and divided by that part's
+// length: (u, v) is the patch's point nearest the camera, on its edge for every patch the
+// camera is not above, and a central quotient clamped there measured half a step over a whole
+// one, halving the spacing and doubling every slope of the patch (a shading seam along the
+// edges of the patches ahead of the camera, issue 46).
 std::array<float, 4> sampleSpacing(const globe::GlobePatchId& id, int quads, double u, double v,
                                    double texelStep) {
     constexpr double kStep = 1e-3;
     const auto at = [&](double pu, double pv) {
-        const globe::FacePoint p =
-            globe::patchPoint(id, std::clamp(pu, 0.0, 1.0), std::clamp(pv, 0.0, 1.0));
+        const globe::FacePoint p = globe::patchPoint(id, pu, pv);
         return globe::Wgs84::pointAlongNormal(globe::directionOf(p.face, p.s, p.t), 0.0);
     };
-    const double du =
-        glm::distance(at(u - kStep, v), at(u + kStep, v)) / (2.0 * kStep) / quads / texelStep;
-    const double dv =
-        glm::distance(at(u, v - kStep), at(u, v + kStep)) / (2.0 * kStep) / quads / texelStep;
+    const auto metresPerSample = [&](double from, double to, const glm::dvec3& a,
+                                     const glm::dvec3& b) {
+        return glm::distance(a, b) / (to - from) / quads / texelStep;
+    };
+    const double u0 = std::max(u - kStep, 0.0), u1 = std::min(u + kStep, 1.0);
+    const double v0 = std::max(v - kStep, 0.0), v1 = std::min(v + kStep, 1.0);
+    const double du = metresPerSample(u0, u1, at(u0, v), at(u1, v));
+    const double dv = metresPerSample(v0, v1, at(u, v0), at(u, v1));
     return {static_cast<float>(du), static_cast<float>(dv), 0.0f, 0.0f};
 }
 
