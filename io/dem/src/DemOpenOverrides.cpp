@@ -58,6 +58,29 @@ void assumeMissingGeoreference(DemInfo& info) {
                          : "Give --epsg CODE if the map units are not metres"));
 }
 
+// A longitude/latitude grid placed by the flags must lie on the globe: --spacing and --origin
+// are in degrees there, so an SRTM tile given --spacing 1 (meant as metres) would reach
+// latitude −1154° and every later step would meet a NaN. Half a sample beyond ±90° is a
+// global grid whose samples are centred on the poles (pixel-is-area edges), so one sample of
+// slack; across longitudes, 360° and one sample.
+Status checkGeographicPlacement(const DemInfo& info) {
+    const Georeference& geo = info.georeference;
+    if (geo.crsKind != CrsKind::Geographic) return {};
+    const double north = geo.originY;
+    const double south = geo.originY - geo.pixelSizeY * static_cast<double>(info.height);
+    const double span = geo.pixelSizeX * static_cast<double>(info.width);
+    if (north <= 90.0 + geo.pixelSizeY && south >= -90.0 - geo.pixelSizeY &&
+        span <= 360.0 + geo.pixelSizeX)
+        return {};
+    return Error{fmt::format(
+        "{}: placed by --spacing/--origin on a longitude/latitude CRS (EPSG:{}), its {} × {} "
+        "samples {:g}° × {:g}° apart span latitudes {:g}° to {:g}° and {:g}° of longitude, "
+        "beyond the globe (±90°, 360°): a geographic grid's spacing and origin are degrees; "
+        "give --epsg CODE of a projected CRS for metres",
+        info.path, geo.epsg, info.width, info.height, geo.pixelSizeX, geo.pixelSizeY, north,
+        south, span)};
+}
+
 }  // namespace
 
 Status applyDemOpenOptions(DemInfo& info, const DemOpenOptions& options) {
@@ -98,7 +121,7 @@ Status applyDemOpenOptions(DemInfo& info, const DemOpenOptions& options) {
         geo.epsg = Georeference::kUnknownProjectedCrs;
     }
     info.hasGeoreference = true;
-    return {};
+    return checkGeographicPlacement(info);
 }
 
 }  // namespace terrain::io::detail
