@@ -566,7 +566,7 @@ TEST_F(DemReaderWritten, SpacingWithoutCrsIsMetresWithAWarning) {
 TEST_F(DemReaderWritten, OptionsOverrideTheFile) {
     const std::string path = writeWithGdal("over.tif", GDT_Int16, {"TILED=YES"});
     DemOpenOptions options;
-    options.pixelSize = 0.5;
+    options.pixelSize = 0.1;  // degrees: 613 × 389 samples from 60° N reach 21.1° N
     options.originX = -10.0;
     options.originY = 60.0;
     options.epsg = 4326;
@@ -579,8 +579,8 @@ TEST_F(DemReaderWritten, OptionsOverrideTheFile) {
     EXPECT_EQ(info.georeference.crsKind, CrsKind::Geographic);
     EXPECT_EQ(info.georeference.epsg, 4326);
     EXPECT_NE(info.georeference.wkt.find("WGS 84"), std::string::npos);
-    EXPECT_EQ(info.georeference.pixelSizeX, 0.5);
-    EXPECT_EQ(info.georeference.pixelSizeY, 0.5);
+    EXPECT_EQ(info.georeference.pixelSizeX, 0.1);
+    EXPECT_EQ(info.georeference.pixelSizeY, 0.1);
     EXPECT_EQ(info.georeference.originX, -10.0);
     EXPECT_EQ(info.georeference.originY, 60.0);
     const std::vector<float> all = readAll(*reader);
@@ -591,6 +591,17 @@ TEST_F(DemReaderWritten, OptionsOverrideTheFile) {
         else
             ASSERT_EQ(all[i], raw[i] * 2.0F + 1.0F) << i;
     }
+
+    // Degrees that carry the grid past a pole are refused, naming the file (0.5° from 60° N
+    // reaches 134.5° S).
+    DemOpenOptions beyondThePole = options;
+    beyondThePole.pixelSize = 0.5;
+    auto refused = openOne(path, beyondThePole);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("over.tif: placed by --spacing/--origin"),
+              std::string::npos)
+        << refused.error().message;
+    EXPECT_NE(refused.error().message.find("beyond the globe"), std::string::npos);
 
     // A placement for a raster that has none is projected metres, unless an EPSG says.
     const std::string png = m_dir.file("plain.png");
