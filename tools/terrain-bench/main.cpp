@@ -445,13 +445,16 @@ int run(const BenchOptions& o, const char* argv0) {
             rec.shadingSeamLevels = a.boundaryShading->seamLevels();
         }
         if (flight && frame == static_cast<std::uint64_t>(sampleFrame) &&
-            !a.boundaryArtefacts.empty()) {
-            // Where the boundary artefacts are: the sample frame with them in yellow (the probe
-            // clears the plane's background to magenta).
+            (!a.boundaryArtefacts.empty() || !a.cracks.empty())) {
+            // Where the boundary artefacts and the cracks are: the sample frame with them in
+            // yellow and cyan (the probe clears the plane's background to magenta).
             runtime::FrameImages marked = lod.images;
             constexpr std::array<std::uint8_t, 4> kYellow{255, 255, 0, 255};
+            constexpr std::array<std::uint8_t, 4> kCyan{0, 255, 255, 255};
             for (const std::size_t i : a.boundaryArtefacts)
                 std::copy(kYellow.begin(), kYellow.end(), marked.rgba.begin() + 4 * i);
+            for (const std::size_t i : a.cracks)
+                std::copy(kCyan.begin(), kCyan.end(), marked.rgba.begin() + 4 * i);
             const auto file = outputDir / fmt::format("sample-{}eps-{}-artefacts.png", r.fileTag,
                                                       thresholdName(r.thresholdPx));
             if (auto w = writePng(marked, file); !w) return w.error();

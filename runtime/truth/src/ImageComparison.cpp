@@ -73,11 +73,22 @@ UncoveredPixels countUncoveredPixels(const FrameImages& lod, const FrameImages& 
         if (i >= w) visit(i - w);
         if (i + w < pixels) visit(i + w);
     }
+    // A clear pixel that touches the sky only at a corner is a silhouette's notch: where a
+    // silhouette drawn up to ε off the reference's runs askew to the pixel grid, a pixel of
+    // it can be clear with terrain on all four sides (a DEM's edge seen along its length,
+    // issue 52). One step only, not a flood: a crack one pixel wide running diagonally to
+    // the silhouette still counts, all but its last pixel.
+    const auto touchesSkyAtACorner = [&](std::size_t i) {
+        const std::size_t x = i % w;
+        const bool up = i >= w, down = i + w < pixels, left = x > 0, right = x + 1 < w;
+        return (up && left && state[i - w - 1] == 2) || (up && right && state[i - w + 1] == 2) ||
+               (down && left && state[i + w - 1] == 2) || (down && right && state[i + w + 1] == 2);
+    };
     UncoveredPixels counts;
     for (std::size_t i = 0; i < pixels; ++i) {
         if (state[i] == 0 || !reference.drawn(i)) continue;
         ++counts.uncovered;
-        if (state[i] == 1) counts.cracks.push_back(i);
+        if (state[i] == 1 && !touchesSkyAtACorner(i)) counts.cracks.push_back(i);
     }
     return counts;
 }

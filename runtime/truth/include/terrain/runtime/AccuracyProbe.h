@@ -73,6 +73,8 @@ struct FrameAccuracy {
     /// (countUncoveredPixels), and covered by the full-resolution surface whichever
     /// diagonal splits each cell (everyTriangulationCovers): cracks and holes.
     std::uint64_t crackPixels = 0;
+    /// Those pixels' indices (the images' row order), ascending: where to look.
+    std::vector<std::size_t> cracks;
     /// The other enclosed clear pixels: some choice of diagonals leaves them clear too, so
     /// they are no evidence of a hole (cells so steep that the diagonals are pixels apart).
     std::uint64_t diagonalUncoveredPixels = 0;

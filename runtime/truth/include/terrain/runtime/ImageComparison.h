@@ -32,8 +32,10 @@ struct UncoveredPixels {
     /// The uncovered pixels enclosed by terrain: not 4-connected, through pixels of the
     /// clear colour in the LOD image, to a pixel where neither image shows terrain (the
     /// sky, seen past a silhouette). Cracks between patches and holes; a silhouette that
-    /// is drawn too low is connected to the sky above it and is not counted here. Pixel
-    /// indices, rows bottom-up.
+    /// is drawn too low is connected to the sky above it and is not counted here, nor is a
+    /// pixel whose only way to the sky is through a corner (a notch of a silhouette askew to
+    /// the pixel grid; one step, so a diagonal crack line counts but for its last pixel).
+    /// Pixel indices, rows bottom-up.
     std::vector<std::size_t> cracks;
 };
 
