@@ -4,9 +4,9 @@
 // from the band, the placement from the geotransform and the CRS from the dataset's spatial
 // reference.
 #include "GdalDemReader.h"
+#include "NetCdfClassicExtent.h"
 #include "terrain/dem/OpenDem.h"
 #include "terrain/source/DemSampleConversion.h"
-#include "NetCdfClassicExtent.h"
 
 #include <cpl_string.h>
 #include <fmt/format.h>
@@ -24,6 +24,7 @@
 #include <optional>
 #include <string_view>
 #include <system_error>
+#include <vector>
 
 namespace terrain::io::detail {
 
@@ -99,6 +100,87 @@ void describeCrs(GDALDataset& dataset, Georeference& geo) {
     geo.wkt = wktOf(*srs);
 }
 
+// The names a container lists for its subdatasets (its SUBDATASETS metadata's *_NAME
+// entries), as a user gives them: NETCDF:"f.nc":elevation.
+std::vector<std::string> subdatasetNames(GDALDataset& dataset) {
+    std::vector<std::string> names;
+    for (CSLConstList item = dataset.GetMetadata("SUBDATASETS");
+         item != nullptr && *item != nullptr; ++item) {
+        const std::string_view entry(*item);
+        const std::size_t equals = entry.find('=');
+        if (equals == std::string_view::npos || !entry.substr(0, equals).ends_with("_NAME"))
+            continue;
+        names.emplace_back(entry.substr(equals + 1));
+    }
+    return names;
+}
+
+std::string subdatasetList(const std::vector<std::string>& names) {
+    std::string list;
+    for (const std::string& name : names) list += fmt::format("\n  {}", name);
+    return list;
+}
+
+bool isRegularFile(const std::string& path) {
+    std::error_code error;
+    return !path.empty() && std::filesystem::is_regular_file(path, error);
+}
+
+// The file a subdataset name points into, and the name's part that picks the subdataset
+// inside it: DRIVER:"file":part (netCDF, HDF5), DRIVER:file:part, or DRIVER:part:file
+// (GTIFF_DIR:2:f.tif). Nothing when no part of the name is an existing file.
+struct SubdatasetName {
+    std::string container;
+    std::string part;
+};
+
+std::optional<SubdatasetName> splitSubdatasetName(const std::string& name) {
+    const std::size_t driverEnd = name.find(':');
+    if (driverEnd == std::string::npos) return std::nullopt;
+    const std::string rest = name.substr(driverEnd + 1);
+    if (rest.starts_with('"')) {
+        const std::size_t close = rest.find('"', 1);
+        if (close == std::string::npos) return std::nullopt;
+        const std::string file = rest.substr(1, close - 1);
+        std::string part = rest.substr(close + 1);
+        if (part.starts_with(':')) part.erase(0, 1);
+        if (!isRegularFile(file)) return std::nullopt;
+        return SubdatasetName{file, part};
+    }
+    const std::size_t last = rest.rfind(':');
+    if (last == std::string::npos) return std::nullopt;
+    if (isRegularFile(rest.substr(0, last)))
+        return SubdatasetName{rest.substr(0, last), rest.substr(last + 1)};
+    const std::size_t first = rest.find(':');
+    if (isRegularFile(rest.substr(first + 1)))
+        return SubdatasetName{rest.substr(first + 1), rest.substr(0, first)};
+    return std::nullopt;
+}
+
+// A subdataset name GDAL cannot open whose file opens: said in our words with the file's
+// subdatasets (what a container opened without one lists), not the driver's (netCDF's
+// "netcdf error #-49 … netcdfdataset.cpp" for a variable the file lacks). Nothing when the
+// file does not open or lists the name after all (GDAL's own message is then the better one).
+std::optional<Error> missingSubdataset(const std::string& name) {
+    const std::optional<SubdatasetName> split = splitSubdatasetName(name);
+    if (!split) return std::nullopt;
+    GdalErrorCapture errors;  // the container's own complaints are not the user's problem
+    GdalDataset container(
+        GDALDataset::Open(split->container.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+    if (!container) return std::nullopt;
+    const std::vector<std::string> names = subdatasetNames(*container);
+    if (std::find(names.begin(), names.end(), name) != names.end()) return std::nullopt;
+    const std::string missing = split->part.empty() ? std::string("the subdataset")
+                                                    : fmt::format("subdataset {}", split->part);
+    if (names.empty())
+        return Error{fmt::format(
+            "{}: {} does not exist: {} holds no subdatasets; give the file itself as the input",
+            name, missing, split->container)};
+    return Error{fmt::format(
+        "{}: {} does not exist: {} holds {} subdatasets; give one of them as the input:{}", name,
+        missing, split->container, names.size(), subdatasetList(names))};
+}
+
 }  // namespace
 
 std::optional<double> metresPerHeightUnit(std::string_view unit) {
@@ -127,22 +209,12 @@ Result<DemInfo> describeGdalDataset(GDALDataset& dataset, const std::string& pat
     if (bands < 1) {
         // A container (netCDF or HDF with several variables, a multi-page TIFF): name what
         // a user could open instead, as gdalinfo lists it.
-        std::string list;
-        int count = 0;
-        for (CSLConstList item = dataset.GetMetadata("SUBDATASETS");
-             item != nullptr && *item != nullptr; ++item) {
-            const std::string_view entry(*item);
-            const std::size_t equals = entry.find('=');
-            if (equals == std::string_view::npos || !entry.substr(0, equals).ends_with("_NAME"))
-                continue;
-            list += fmt::format("\n  {}", entry.substr(equals + 1));
-            ++count;
-        }
-        if (count > 0)
+        const std::vector<std::string> names = subdatasetNames(dataset);
+        if (!names.empty())
             return fail(fmt::format(
                 "holds {} subdatasets and no raster band of its own; give one of them as the "
                 "input:{}",
-                count, list));
+                names.size(), subdatasetList(names)));
         return fail("GDAL finds no raster band in it");
     }
     const int bandIndex = bandNumber.value_or(1);
@@ -365,10 +437,13 @@ Result<GdalDataset> openGdalDataset(const std::string& path) {
     GdalErrorCapture errors;
     GdalDataset dataset(
         GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY | GDAL_OF_VERBOSE_ERROR));
-    if (!dataset)
+    if (!dataset) {
+        if (isGdalDatasetName(path))
+            if (std::optional<Error> refusal = missingSubdataset(path)) return *refusal;
         return Error{
             fmt::format("{}: {}", path,
                         libraryMessage(errors.message("GDAL cannot open it as a raster"), path))};
+    }
     if (Status blocks = checkBlockBytes(*dataset, path); !blocks) return blocks.error();
     if (Status rows = checkTextGridRows(*dataset, path); !rows) return rows.error();
     return dataset;

@@ -3,9 +3,9 @@
 // cache keeps decoded blocks between the builder's bands).
 #pragma once
 
-#include "terrain/dem/OpenDem.h"
 #include <optional>
 #include <string_view>
+#include "terrain/dem/OpenDem.h"
 
 #include "DemReaderFactories.h"
 #include "GdalSession.h"
@@ -80,7 +80,8 @@ DemReaderResult openGeographicGdalDem(const std::string& path, const DemOpenOpti
 
 /// Opens `path` (a file checked first: exists, not empty, not a truncated netCDF classic
 /// file; a GDAL dataset name as GDAL takes it) for reading. Errors start with the path and
-/// carry GDAL's message.
+/// carry GDAL's message, but for a subdataset its file does not hold, which lists the ones
+/// it does.
 Result<GdalDataset> openGdalDataset(const std::string& path);
 
 }  // namespace terrain::io::detail

@@ -180,11 +180,26 @@ TEST_F(GdalInputsTest, ContainerListsItsSubdatasetsAndOpensOneByName) {
     for (const float v : all) EXPECT_GE(v, storedValue(2, 0, 0));
     EXPECT_EQ(*std::max_element(all.begin(), all.end()), storedValue(2, kWidth - 1, kHeight - 1));
 
-    // A name GDAL cannot open is an error naming it, not "no such file".
-    const auto wrong = test::openOne("NETCDF:\"" + path + "\":slope");
+    // A name GDAL cannot open is an error naming it, not "no such file"; a variable the file
+    // lacks is said so, naming the file, with the subdatasets it does hold (issue 52: it was
+    // netCDF's "netcdf error #-49 … netcdfdataset.cpp").
+    const std::string slope = "NETCDF:\"" + path + "\":slope";
+    const auto wrong = test::openOne(slope);
     ASSERT_FALSE(wrong);
-    EXPECT_TRUE(wrong.error().message.starts_with("NETCDF:")) << wrong.error().message;
-    EXPECT_EQ(wrong.error().message.find("no such file"), std::string::npos);
+    const std::string& refusal = wrong.error().message;
+    EXPECT_TRUE(refusal.starts_with(slope + ": subdataset slope does not exist: " + path +
+                                    " holds 2 subdatasets; give one of them as the input:"))
+        << refusal;
+    EXPECT_NE(refusal.find("\n  " + quality), std::string::npos) << refusal;
+    EXPECT_NE(refusal.find("\n  NETCDF:\"" + path + "\":elevation"), std::string::npos) << refusal;
+    EXPECT_EQ(refusal.find("no such file"), std::string::npos);
+    EXPECT_EQ(refusal.find("netcdf error"), std::string::npos) << refusal;
+    // The file part unquoted, as GDAL takes it too.
+    const auto unquoted = test::openOne("NETCDF:" + path + ":slope");
+    ASSERT_FALSE(unquoted);
+    EXPECT_NE(unquoted.error().message.find("subdataset slope does not exist: " + path),
+              std::string::npos)
+        << unquoted.error().message;
 }
 
 TEST_F(GdalInputsTest, InlineVrtIsADataset) {
