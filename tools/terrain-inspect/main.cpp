@@ -1,6 +1,7 @@
 // terrain-inspect: what a pyramid on disk holds (docs/pyramid-format.md), and with --verify
 // whether every stored patch is intact and self-consistent.
 #include "PyramidInspection.h"
+#include "SourceBand.h"
 
 #include "terrain/dem/OpenDem.h"
 #include "terrain/pyramid/PyramidManifest.h"
@@ -251,6 +252,17 @@ int main(int argc, char** argv) {
     }
     if (io::isVirtualPlanetName(folder))
         return describeVirtualPlanet(reader.value().manifest(), folder, json, verify);
+    // The source is read as it was built: the band the manifest records (refused before the
+    // patches are read when -b names another).
+    io::DemOpenOptions openOptions = demFlags.options();
+    if (!sources.empty()) {
+        auto band = inspect::sourceBand(reader.value().manifest().source, openOptions.band, folder);
+        if (!band) {
+            std::fprintf(stderr, "terrain-inspect: %s\n", band.error().message.c_str());
+            return 1;
+        }
+        openOptions.band = band.value();
+    }
     inspect::InspectOptions options;
     options.verify = verify;
     const bool showProgress = isatty(STDERR_FILENO) == 1;
@@ -276,7 +288,6 @@ int main(int argc, char** argv) {
         std::vector<std::unique_ptr<io::DemReader>> opened;
         std::vector<io::DemReader*> openedPointers;
         // Opened as the build opened them: projected ones onto longitude/latitude grids.
-        io::DemOpenOptions openOptions = demFlags.options();
         openOptions.geographicGrid = globe;
         for (std::size_t i = 0; i < (globe ? sources.size() : 1); ++i) {
             auto one =
