@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <utility>
 
@@ -35,6 +36,8 @@ public:
         m_info.noDataValue = -32768.0;
     }
     const io::DemInfo& info() const override { return m_info; }
+    /// The raw value it declares as no-data (metadata only: its voids are NaN heights).
+    void setNoDataValue(std::optional<double> value) { m_info.noDataValue = value; }
     Status readWindow(std::int64_t x0, std::int64_t y0, std::int64_t width, std::int64_t rows,
                       std::span<float> out) override {
         const io::Georeference& g = m_info.georeference;

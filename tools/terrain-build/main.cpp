@@ -2,6 +2,7 @@
 // on-disk pyramid with guaranteed error bounds (docs/pyramid-format.md). Streaming: peak
 // memory stays under --memory whatever the input size.
 #include "DemOpenFlags.h"
+#include "NoDataSourcesJson.h"
 #include "SeamsJson.h"
 
 #include "terrain/dem/OpenDem.h"
@@ -30,16 +31,6 @@ namespace {
 std::atomic<bool> g_interrupted{false};
 
 extern "C" void onInterrupt(int) { g_interrupted.store(true); }
-
-// Per source, its filled no-data samples (the manifest's noData.sources).
-nlohmann::json filledSamplesJson(const terrain::io::ManifestNoData& noData) {
-    nlohmann::json sources = nlohmann::json::array();
-    for (const terrain::io::ManifestFilledSource& source : noData.sources)
-        sources.push_back({{"input", source.input},
-                           {"samples", source.samples},
-                           {"overBeneath", source.overBeneath}});
-    return sources;
-}
 
 // "1GiB", "512MiB", "64M", "1073741824" → bytes.
 
@@ -377,7 +368,7 @@ int main(int argc, char** argv) {
             {"rootErrorM", s.manifest.statistics.rootError},
             {"noDataSamples", s.manifest.noData.samples},
             {"noDataFill", s.manifest.noData.fill},
-            {"filledSamples", filledSamplesJson(s.manifest.noData)},
+            {"filledSamples", terrain::tools::noDataSourcesJson<nlohmann::json>(s.manifest.noData)},
             {"seams", terrain::tools::seamsJson<nlohmann::json>(s.manifest)},
             {"warnings", warnings},
             {"gl", nullptr},

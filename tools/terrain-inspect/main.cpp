@@ -13,9 +13,11 @@
 #include <nlohmann/json.hpp>
 
 #include "DemOpenFlags.h"
+#include "NoDataSourcesJson.h"
 #include "SeamsJson.h"
 #include "terrain/build/PyramidSourceCheck.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -57,15 +59,32 @@ void printText(const io::PyramidReader& reader, const inspect::Inspection& inspe
                io::crsKindName(g.crsKind), g.epsg != 0 ? fmt::format(" EPSG:{}", g.epsg) : "",
                g.originX, g.originY, g.pixelSizeX, g.pixelSizeY, m.vertical.scale,
                m.vertical.offset, g.wkt.empty() ? "" : " (WKT given)");
+    // Each source's no-data value and filled samples: a composite's sources declare their
+    // own (a global grid's −9.99e33, SRTM's −32768). The pyramid's one value only where the
+    // manifest records none per source (then the first source's).
+    const auto valueText = [](const std::optional<double>& value) {
+        return value ? fmt::format("{}", *value) : std::string("none");
+    };
+    const bool perSourceValues =
+        std::any_of(m.noData.sources.begin(), m.noData.sources.end(),
+                    [](const io::ManifestSourceNoData& s) { return s.sourceValueRecorded; });
     if (m.noData.present)
-        fmt::print("no-data: {} samples filled ({}), source value {}; shards carry the V mask\n",
-                   m.noData.samples, m.noData.fill,
-                   m.noData.sourceValue ? fmt::format("{}", *m.noData.sourceValue) : "none");
+        fmt::print("no-data: {} samples filled ({}){}; shards carry the V mask\n", m.noData.samples,
+                   m.noData.fill,
+                   perSourceValues
+                       ? ""
+                       : fmt::format(
+                             ", source value {}{}", valueText(m.noData.sourceValue),
+                             m.source.inputs.size() > 1 && m.globe ? " (the first source's)" : ""));
     else
         fmt::print("no-data: none\n");
-    for (const io::ManifestFilledSource& source : m.noData.sources)
-        fmt::print("  filled: {} samples of {}, {} of them over the sources beneath\n",
-                   source.samples, source.input, source.overBeneath);
+    for (const io::ManifestSourceNoData& source : m.noData.sources)
+        fmt::print("  {}: no-data value {}, {} samples filled{}\n", source.input,
+                   source.sourceValueRecorded ? valueText(source.sourceValue) : "not recorded",
+                   source.samples,
+                   source.samples > 0 && m.noData.fill == io::ManifestNoData::kDeltaSurfaceFill
+                       ? fmt::format(", {} of them over the sources beneath", source.overBeneath)
+                       : "");
     if (m.globe)
         for (const io::ManifestSeam& s : m.globe->seams)
             fmt::print(
@@ -150,6 +169,7 @@ Json summaryJson(const io::PyramidReader& reader, const inspect::Inspection& ins
              {"error", {{"min", l.minError}, {"median", l.medianError}, {"max", l.maxError}}}});
     }
     j["levels"] = std::move(levels);
+    j["noDataSources"] = tools::noDataSourcesJson<Json>(reader.manifest().noData);
     j["seams"] = tools::seamsJson<Json>(reader.manifest());
     if (verify) {
         j["verify"] = {{"patchesChecked", inspection.patchesVerified},

@@ -520,8 +520,11 @@ Result<PyramidBuildSummary> buildWholeGlobePyramid(std::span<DemReader* const> r
         const double low = source.own ? source.own->minHeight : g.minHeight();
         const double high = source.own ? source.own->maxHeight : g.maxHeight();
         m.noData.samples += samples - valid;
-        if (g.filledSamples() > 0)
-            m.noData.sources.push_back({source.path, g.filledSamples(), g.filledOverBeneath()});
+        // Every source of a composite, each with the no-data value it declared (theirs
+        // differ: a global grid's and SRTM's); one source only where it had voids.
+        if (composite.sources().size() > 1 || g.filledSamples() > 0)
+            m.noData.sources.push_back(
+                {source.path, source.noDataValue, true, g.filledSamples(), g.filledOverBeneath()});
         m.statistics.validSamples += valid;
         if (valid == 0) continue;
         minHeight = any ? std::min(minHeight, low) : low;
@@ -538,7 +541,8 @@ Result<PyramidBuildSummary> buildWholeGlobePyramid(std::span<DemReader* const> r
                 "99th-percentile slope {:.2f})",
                 seam.input, seam.largestStepM, seam.cappedPixels, seam.bandScaleRatio,
                 seam.seamSlope, seam.sourceSlopeP99));
-    if (!m.noData.sources.empty())
+    if (std::any_of(m.noData.sources.begin(), m.noData.sources.end(),
+                    [](const ManifestSourceNoData& s) { return s.samples > 0; }))
         m.noData.fill = composite.sources().size() > 1 ? ManifestNoData::kDeltaSurfaceFill
                                                        : ManifestNoData::kMembraneFill;
     m.statistics.minHeight = minHeight;

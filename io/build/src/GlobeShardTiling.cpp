@@ -1068,7 +1068,8 @@ public:
         m.noData.samples = statistics.noDataSamples;
         if (statistics.noDataSamples > 0) {  // one source: nothing beneath it
             m.noData.fill = ManifestNoData::kMembraneFill;
-            m.noData.sources.push_back({dem.path, statistics.noDataSamples, 0});
+            m.noData.sources.push_back(
+                {dem.path, dem.noDataValue, true, statistics.noDataSamples, 0});
         }
         m.quantization = totals.quantization;
         return m;

@@ -36,6 +36,7 @@ Result<GlobeSources> GlobeSources::read(std::span<DemReader* const> readers,
         if (!grid) return grid.error();
         const int level = finestFaceLevelOf(grid.value(), quads);
         Source source{std::move(grid).value(), level, reader->info().path, std::nullopt};
+        source.noDataValue = reader->info().noDataValue;
         if (reader->info().resampledFrom) {
             Result<OwnSamples> own =
                 readOwnSamples(*reader, source.grid, memoryBudgetBytes, shares);

@@ -50,6 +50,7 @@ public:
         /// (what that blend may add): GlobeSources::read fits them.
         SeamBand band{};
         SourceSlopes slopes{};
+        std::optional<double> noDataValue{};  ///< the raw value it declared (DemInfo)
     };
 
     /// `sources` in any order; kept finest first.

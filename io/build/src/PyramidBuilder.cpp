@@ -42,7 +42,7 @@ Result<PyramidManifest> planarManifest(DemReader& reader, const PyramidLayout& l
     m.noData.samples = stats.noDataSamples;
     if (stats.noDataSamples > 0) {  // nothing filled: the manifest of versions before
         m.noData.fill = ManifestNoData::kMembraneFill;
-        m.noData.sources.push_back({dem.path, stats.noDataSamples, 0});
+        m.noData.sources.push_back({dem.path, dem.noDataValue, true, stats.noDataSamples, 0});
     }
     m.statistics.minHeight = stats.validSamples > 0 ? stats.minHeight : 0.0;
     m.statistics.maxHeight = stats.validSamples > 0 ? stats.maxHeight : 0.0;

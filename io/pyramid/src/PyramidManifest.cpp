@@ -162,11 +162,13 @@ PyramidManifest parseFields(const Json& root, LayoutFields& f) {
     m.noData.fill = stringField(noData, "noData", "fill");
     if (noData.contains("sources")) {  // since the void fill
         for (const Json& source : arrayField(noData, "noData", "sources")) {
-            ManifestFilledSource filled;
-            filled.input = stringField(source, "noData.sources", "input");
-            filled.samples = int64Field(source, "noData.sources", "samples");
-            filled.overBeneath = int64Field(source, "noData.sources", "overBeneath");
-            m.noData.sources.push_back(std::move(filled));
+            ManifestSourceNoData entry;
+            entry.input = stringField(source, "noData.sources", "input");
+            entry.sourceValueRecorded = source.contains("sourceValue");  // since issue 52
+            entry.sourceValue = optionalNumberField(source, "noData.sources", "sourceValue");
+            entry.samples = int64Field(source, "noData.sources", "samples");
+            entry.overBeneath = int64Field(source, "noData.sources", "overBeneath");
+            m.noData.sources.push_back(std::move(entry));
         }
     }
 
@@ -292,6 +294,14 @@ PyramidManifest parseFields(const Json& root, LayoutFields& f) {
             }
         }
     }
+    // Written before each source's value was: a pyramid of one source (a plane's, mosaic or
+    // not, or a globe of one input) declared the pyramid's.
+    if (!m.globe || m.source.inputs.size() == 1)
+        for (ManifestSourceNoData& entry : m.noData.sources)
+            if (!entry.sourceValueRecorded) {
+                entry.sourceValue = m.noData.sourceValue;
+                entry.sourceValueRecorded = true;
+            }
     return m;
 }
 
@@ -433,7 +443,7 @@ Status checkManifest(const PyramidManifest& m, const std::string& name) {
         return Error{fmt::format("{}: noData.fill is \"{}\"; known are \"{}\", \"{}\" and \"{}\"",
                                  name, m.noData.fill, ManifestNoData::kRowLinearFill,
                                  ManifestNoData::kMembraneFill, ManifestNoData::kDeltaSurfaceFill)};
-    for (const ManifestFilledSource& source : m.noData.sources)
+    for (const ManifestSourceNoData& source : m.noData.sources)
         if (source.samples < 0 || source.overBeneath < 0 || source.overBeneath > source.samples)
             return Error{
                 fmt::format("{}: noData.sources: {} has {} samples filled, {} over the "
@@ -496,10 +506,14 @@ std::string toJson(const PyramidManifest& m) {
                    {"fill", m.noData.fill}};
     if (!m.noData.sources.empty()) {
         Json sources = Json::array();
-        for (const ManifestFilledSource& source : m.noData.sources)
-            sources.push_back({{"input", source.input},
-                               {"samples", source.samples},
-                               {"overBeneath", source.overBeneath}});
+        for (const ManifestSourceNoData& source : m.noData.sources) {
+            Json entry = {{"input", source.input}};
+            if (source.sourceValueRecorded)
+                entry["sourceValue"] = source.sourceValue ? Json(*source.sourceValue) : Json();
+            entry["samples"] = source.samples;
+            entry["overBeneath"] = source.overBeneath;
+            sources.push_back(std::move(entry));
+        }
         j["noData"]["sources"] = std::move(sources);
     }
     j["statistics"] = {{"minHeight", m.statistics.minHeight},

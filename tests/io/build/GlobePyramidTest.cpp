@@ -264,8 +264,10 @@ TEST(GlobePyramid, RegionalSourceAloneEndsAtItsExtent) {
     for (int k = 0; k < 50; ++k) {
         const double lon = kWest + (2 * k + 0.5) * kPixel, lat = kNorth - (k + 0.5) * kPixel;
         const double south = kNorth - kHeight * kPixel, east = kWest + kWidth * kPixel;
-        const std::pair<double, double> beyond[] = {
-            {kNorth + kPixel, lon}, {south - kPixel, lon}, {lat, kWest - kPixel}, {lat, east + kPixel}};
+        const std::pair<double, double> beyond[] = {{kNorth + kPixel, lon},
+                                                    {south - kPixel, lon},
+                                                    {lat, kWest - kPixel},
+                                                    {lat, east + kPixel}};
         for (const auto& [la, lo] : beyond)
             for (int level = 0; level <= finest; ++level) {
                 const std::optional<Drawn> d = drawnAt(la, lo, level);
@@ -387,6 +389,9 @@ TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
     // 0.02° around the void, 20 m above the coarse surface: the surface beneath the void.
     GeographicFunctionDem medium(20.2, 40.6, 80, 60, 0.02, 0.02,
                                  [](double lat, double lon) { return hills(lat, lon) + 20.0f; });
+    // Each declares its own no-data value (a global grid's and SRTM's differ).
+    coarse.setNoDataValue(-9.99e33);
+    medium.setNoDataValue(std::nullopt);
     DemReader* const sources[] = {&coarse, &fine, &medium};
     const std::filesystem::path out = temp.path() / "composite.pyramid";
     auto built = buildGlobePyramid(sources, out, smallPatches());
@@ -401,9 +406,19 @@ TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
     // The void's samples, filled over the sources beneath it.
     EXPECT_EQ(m.noData.samples, 6 * 6);
     EXPECT_EQ(m.noData.fill, ManifestNoData::kDeltaSurfaceFill);
-    ASSERT_EQ(m.noData.sources.size(), 1u);
-    EXPECT_EQ(m.noData.sources[0].samples, 6 * 6);
-    EXPECT_EQ(m.noData.sources[0].overBeneath, 6 * 6);
+    // Every source, finest first, with the no-data value it declared and its filled samples
+    // (issue 52: only the first source's value was kept, for the whole pyramid).
+    ASSERT_EQ(m.noData.sources.size(), 3u);
+    const std::optional<double> declared[] = {-32768.0, std::nullopt, -9.99e33};
+    const std::int64_t filled[] = {6 * 6, 0, 0};
+    for (std::size_t k = 0; k < 3; ++k) {
+        const ManifestSourceNoData& source = m.noData.sources[k];
+        EXPECT_TRUE(source.sourceValueRecorded) << k;
+        EXPECT_EQ(source.sourceValue, declared[k]) << k;
+        EXPECT_EQ(source.samples, filled[k]) << k;
+        EXPECT_EQ(source.overBeneath, filled[k]) << k;
+    }
+    EXPECT_EQ(m.noData.sourceValue, -9.99e33);  // the first source given, as before
     // The seams of the fine and the medium source (each over the ones beneath), within their
     // slopes: written to the manifest, read back; one without them (before the band followed
     // the step) still opens.
@@ -418,9 +433,15 @@ TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
     EXPECT_EQ(reread.value().globe->seams, m.globe->seams);
     nlohmann::json before = nlohmann::json::parse(toJson(m));
     before["globe"].erase("seams");
+    // Nor each source's no-data value: of several sources, only the first one's is known.
+    for (nlohmann::json& source : before["noData"]["sources"]) source.erase("sourceValue");
     auto old = fromJson(before.dump(), "manifest without seams");
     ASSERT_TRUE(old) << old.error().message;
     EXPECT_TRUE(old.value().globe->seams.empty());
+    for (const ManifestSourceNoData& source : old.value().noData.sources)
+        EXPECT_FALSE(source.sourceValueRecorded);
+    EXPECT_FALSE(
+        nlohmann::json::parse(toJson(old.value()))["noData"]["sources"][0].contains("sourceValue"));
     auto report = checkErrorBoundsAgainstSources(out, sources);
     ASSERT_TRUE(report) << report.error().message;
     EXPECT_EQ(report.value().violationCount, 0);

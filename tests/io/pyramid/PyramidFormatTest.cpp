@@ -163,7 +163,7 @@ PyramidManifest sampleManifest() {
     m.georeference.pixelSizeX = 1.0 / 1200.0;
     m.georeference.pixelSizeY = 1.0 / 1200.0;
     m.vertical = {0.1, -20.5};
-    m.noData = {true, -32768.0, 9033, "membrane", {{"rainier.tif", 9033, 0}}};
+    m.noData = {true, -32768.0, 9033, "membrane", {{"rainier.tif", -32768.0, true, 9033, 0}}};
     m.statistics = {263.0, 4371.25, 1433368, 1450.2000732421875};
     for (ManifestLevel& l : m.levels) l.maxError = 1.0 / 3.0 + l.level;
     m.levels[4].presentPatches = 97;
@@ -209,12 +209,33 @@ TEST_F(PyramidFormat, ManifestJsonHasTheSpecsKeys) {
     EXPECT_EQ(json["georeference"]["verticalUnits"], "metre");
     EXPECT_EQ(json["noData"]["fill"], "membrane");
     EXPECT_EQ(json["noData"]["sources"][0]["input"], "rainier.tif");
+    EXPECT_EQ(json["noData"]["sources"][0]["sourceValue"], -32768);
     EXPECT_EQ(json["noData"]["sources"][0]["samples"], 9033);
     EXPECT_EQ(json["noData"]["sources"][0]["overBeneath"], 0);
     EXPECT_EQ(json["levels"].size(), 5U);
     EXPECT_EQ(json["levels"][0]["sampleStep"], 16);
     EXPECT_EQ(json["source"]["reader"], "oiio");
     EXPECT_EQ(json["build"]["tool"], "terrain-build");
+}
+
+// Each source's no-data value (issue 52): written per source; a manifest from before, whose
+// entries lack it, read back with the pyramid's value where it has one source (a plane's).
+TEST_F(PyramidFormat, ManifestNoDataValuePerSource) {
+    PyramidManifest m = sampleManifest();
+    m.noData.sources.front().sourceValue.reset();  // declared none: written as null
+    auto back = fromJson(toJson(m), "test");
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_EQ(back.value(), m);
+    EXPECT_TRUE(nlohmann::json::parse(toJson(m))["noData"]["sources"][0]["sourceValue"].is_null());
+
+    auto older = nlohmann::json::parse(toJson(sampleManifest()));
+    older["noData"]["sources"][0].erase("sourceValue");
+    auto read = fromJson(older.dump(), "older");
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    const ManifestSourceNoData& source = read.value().noData.sources.front();
+    EXPECT_TRUE(source.sourceValueRecorded);
+    EXPECT_EQ(source.sourceValue, -32768.0);
+    EXPECT_EQ(read.value(), sampleManifest());
 }
 
 TEST_F(PyramidFormat, ManifestErrors) {

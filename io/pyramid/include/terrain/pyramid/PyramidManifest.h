@@ -19,12 +19,19 @@
 
 namespace terrain::io {
 
-/// One source's filled samples (docs/pyramid-format.md, "No-data").
-struct ManifestFilledSource {
-    std::string input;             ///< as in source.inputs
+/// One source's no-data: the value it declared and its filled samples (docs/pyramid-format.md,
+/// "No-data"). A globe composite's sources each declare their own (a global grid's
+/// −9.99e33, SRTM's −32768), so the pyramid's one noData.sourceValue cannot say it.
+struct ManifestSourceNoData {
+    std::string input;  ///< as in source.inputs
+    /// The raw value the source declared as no-data, if any; meaningful when
+    /// sourceValueRecorded (manifests before it was recorded per source, read back, know it
+    /// only for a pyramid of one source: noData.sourceValue).
+    std::optional<double> sourceValue;
+    bool sourceValueRecorded = false;
     std::int64_t samples = 0;      ///< its no-data samples, filled
     std::int64_t overBeneath = 0;  ///< of them, filled over the sources beneath it
-    bool operator==(const ManifestFilledSource&) const = default;
+    bool operator==(const ManifestSourceNoData&) const = default;
 };
 
 struct ManifestNoData {
@@ -35,12 +42,14 @@ struct ManifestNoData {
     static constexpr std::string_view kMembraneFill = "membrane";
     static constexpr std::string_view kDeltaSurfaceFill = "delta-surface";
 
-    bool present = false;               ///< some source sample was no-data; shards carry the V mask
-    std::optional<double> sourceValue;  ///< the raw value the source declared, if any
-    std::int64_t samples = 0;           ///< filled samples of the DEM (not overhang)
-    std::string fill{kRowLinearFill};   ///< the fill rule
-    /// Per source with a filled sample (absent from the file when none is).
-    std::vector<ManifestFilledSource> sources;
+    bool present = false;  ///< some source sample was no-data; shards carry the V mask
+    /// The raw value the (first) source declared, if any; each source's is in `sources`.
+    std::optional<double> sourceValue;
+    std::int64_t samples = 0;          ///< filled samples of the DEM (not overhang)
+    std::string fill{kRowLinearFill};  ///< the fill rule
+    /// Every source of a globe composite; else the one source when it had a sample filled
+    /// (absent from the file when it had none, as before the void fill).
+    std::vector<ManifestSourceNoData> sources;
     bool operator==(const ManifestNoData&) const = default;
 };
 
