@@ -27,13 +27,6 @@ DemReaderResult openGdalDem(const std::string& path, const DemOpenOptions& optio
 /// Several GDAL inputs as one raster through an in-memory VRT (GdalDemMosaic.cpp).
 DemReaderResult openGdalMosaic(const std::vector<std::string>& paths,
                                const DemOpenOptions& options);
-/// The most one block a reader decodes at once may take. Decoders allocate a block before
-/// they read it, so a damaged header that claims more would make them allocate it (8 GB for
-/// a 232-byte EXR claiming 8.4M columns, found by fuzz-dem-exr; 5.1 GB for a 300-byte file
-/// GDAL took for an NGS geoid grid, found by fuzz-dem-asc). A 1.3M-sample-wide float32
-/// planet's row is 5 MB, a 256-row block of it 1.3 GB.
-constexpr std::uint64_t kMaxDecodeBytes = std::uint64_t{2} << 30U;
-
 /// A regular, non-empty file; else an Error "<path>: no such file" / "<path>: empty
 /// file (0 bytes)" / … Returns its size in bytes.
 Result<std::uint64_t> checkDemInputFile(const std::string& path);

@@ -82,7 +82,7 @@ DemReaderResult openGdalMosaic(const std::vector<std::string>& paths,
     std::vector<MosaicInput> inputs;
     inputs.reserve(paths.size());
     for (const std::string& path : paths) {
-        Result<GdalDataset> opened = openGdalDataset(path);
+        Result<GdalDataset> opened = openGdalDataset(path, options.maxDecodeBytes);
         if (!opened) return opened.error();
         GdalDataset dataset = std::move(opened).value();
         Result<DemInfo> info = describeGdalDataset(*dataset, path, options.band);

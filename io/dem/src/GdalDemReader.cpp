@@ -384,7 +384,8 @@ namespace {
 // GDAL decodes and caches whole blocks, and a damaged header can make one gigabytes: a
 // 300-byte file GDAL took for an NGS geoid grid of 1,283,027,553 columns asked for a 5.1 GB
 // line (found by fuzz-dem-asc). The OpenImageIO reader's limit applies, before any read.
-Status checkBlockBytes(GDALDataset& dataset, const std::string& path) {
+Status checkBlockBytes(GDALDataset& dataset, const std::string& path,
+                       std::uint64_t maxDecodeBytes) {
     if (dataset.GetRasterCount() < 1) return {};  // describeGdalDataset names it
     GDALRasterBand* band = dataset.GetRasterBand(1);
     int blockColumns = 0, blockRows = 0;
@@ -392,12 +393,12 @@ Status checkBlockBytes(GDALDataset& dataset, const std::string& path) {
     const std::uint64_t blockBytes =
         std::uint64_t(std::max(blockColumns, 0)) * std::uint64_t(std::max(blockRows, 0)) *
         std::uint64_t(GDALGetDataTypeSizeBytes(band->GetRasterDataType()));
-    if (blockBytes <= kMaxDecodeBytes) return {};
+    if (blockBytes <= maxDecodeBytes) return {};
     return Error{fmt::format(
         "{}: {} × {} samples in blocks of {} × {}: a block decodes to {} MiB, more than the {} "
         "MiB a read may take (a damaged header?)",
         path, dataset.GetRasterXSize(), dataset.GetRasterYSize(), blockColumns, blockRows,
-        blockBytes >> 20U, kMaxDecodeBytes >> 20U)};
+        blockBytes >> 20U, maxDecodeBytes >> 20U)};
 }
 
 Status checkTextGridRows(GDALDataset& dataset, const std::string& path) {
@@ -421,7 +422,7 @@ Status checkTextGridRows(GDALDataset& dataset, const std::string& path) {
 
 }  // namespace
 
-Result<GdalDataset> openGdalDataset(const std::string& path) {
+Result<GdalDataset> openGdalDataset(const std::string& path, std::uint64_t maxDecodeBytes) {
     std::error_code missing;
     if (!isGdalDatasetName(path) || std::filesystem::exists(path, missing)) {
         const Result<std::uint64_t> size = checkDemInputFile(path);
@@ -444,13 +445,14 @@ Result<GdalDataset> openGdalDataset(const std::string& path) {
             fmt::format("{}: {}", path,
                         libraryMessage(errors.message("GDAL cannot open it as a raster"), path))};
     }
-    if (Status blocks = checkBlockBytes(*dataset, path); !blocks) return blocks.error();
+    if (Status blocks = checkBlockBytes(*dataset, path, maxDecodeBytes); !blocks)
+        return blocks.error();
     if (Status rows = checkTextGridRows(*dataset, path); !rows) return rows.error();
     return dataset;
 }
 
 DemReaderResult openGdalDem(const std::string& path, const DemOpenOptions& options) {
-    Result<GdalDataset> opened = openGdalDataset(path);
+    Result<GdalDataset> opened = openGdalDataset(path, options.maxDecodeBytes);
     if (!opened) return opened.error();
     GdalDataset dataset = std::move(opened).value();
     Result<DemInfo> info =

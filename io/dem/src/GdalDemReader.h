@@ -81,7 +81,8 @@ DemReaderResult openGeographicGdalDem(const std::string& path, const DemOpenOpti
 /// Opens `path` (a file checked first: exists, not empty, not a truncated netCDF classic
 /// file; a GDAL dataset name as GDAL takes it) for reading. Errors start with the path and
 /// carry GDAL's message, but for a subdataset its file does not hold, which lists the ones
-/// it does.
-Result<GdalDataset> openGdalDataset(const std::string& path);
+/// it does. A dataset whose first band's blocks decode to more than maxDecodeBytes
+/// (DemOpenOptions::maxDecodeBytes) is an Error too.
+Result<GdalDataset> openGdalDataset(const std::string& path, std::uint64_t maxDecodeBytes);
 
 }  // namespace terrain::io::detail

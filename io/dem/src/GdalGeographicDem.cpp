@@ -251,7 +251,7 @@ DemReaderResult openGeographicGdalDem(const std::string& path, const DemOpenOpti
             "{}: a projected source goes onto the globe where its own geotransform places it; "
             "--spacing and --origin cannot be given for it",
             path)};
-    Result<GdalDataset> opened = openGdalDataset(path);
+    Result<GdalDataset> opened = openGdalDataset(path, options.maxDecodeBytes);
     if (!opened) return opened.error();
     GdalDataset dataset = std::move(opened).value();
     Result<DemInfo> described =

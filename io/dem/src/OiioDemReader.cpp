@@ -34,7 +34,7 @@ constexpr std::size_t kMinCacheBytes = std::size_t{64} << 20U;
 constexpr std::size_t kCachedBlockRows = 3;  // block rows of the whole width that fit
 // OpenImageIO decodes scan-line files in chunks of up to 256 rows of the whole width (every
 // channel, at least 4 bytes a sample), and a tiled file a row of tiles at a time; either
-// must fit kMaxDecodeBytes.
+// must fit DemOpenOptions::maxDecodeBytes.
 constexpr std::uint64_t kDecoderChunkRows = 256;
 // The largest tile side we read beyond the image's own size (rounded up to the 16 samples
 // TIFF tiles are multiples of): writers use 256 or 512; OpenImageIO allocates and clears a
@@ -324,12 +324,12 @@ DemReaderResult openOiioDem(const std::string& path, const DemOpenOptions& optio
               : spec.width;
     const std::uint64_t rowBytes = decodedRowBytes(spec, rowColumns);
     const std::uint64_t blockRows = tiled ? std::uint64_t(spec.tile_height) : kDecoderChunkRows;
-    if (rowBytes * blockRows > kMaxDecodeBytes)
+    if (rowBytes * blockRows > options.maxDecodeBytes)
         return fail(fmt::format(
             "{} × {} samples of {} channels: a {} decodes to {} MiB, more "
             "than the {} MiB a read may take (a damaged header?)",
             spec.width, spec.height, spec.nchannels, tiled ? "row of tiles" : "block of 256 rows",
-            (rowBytes * blockRows) >> 20U, kMaxDecodeBytes >> 20U));
+            (rowBytes * blockRows) >> 20U, options.maxDecodeBytes >> 20U));
 
     DemInfo info;
     info.path = path;

@@ -127,6 +127,43 @@ TEST_F(DemReaderErrorsTest, GarbageWithADemExtension) {
     expectErrorStartingWithPath(header);
 }
 
+TEST_F(DemReaderErrorsTest, DecodeLimitIsAnOpenOption) {
+    // The fuzz targets lower DemOpenOptions::maxDecodeBytes so that inputs near the 2 GiB
+    // default cost milliseconds; both readers must take it. A 4096-column float32 TIFF
+    // decodes 256 rows (or a row of 256-row tiles) at once, 4 MiB, which a 1 MiB limit
+    // refuses and the default reads.
+    const std::string tiff = m_dir.file("4096-columns.tif");
+    const std::vector<float> heights(4096 * 2, 100.0F);
+    ASSERT_TRUE(writeHeightImage(tiff, 4096, 2, heights).ok());
+    DemOpenOptions oneMiB;
+    oneMiB.maxDecodeBytes = std::uint64_t{1} << 20U;
+    const Result<std::unique_ptr<DemReader>> refused = openOne(tiff, oneMiB);
+    ASSERT_FALSE(refused.ok()) << tiff << " opened under a 1 MiB decode limit";
+    EXPECT_TRUE(refused.error().message.starts_with(tiff + ":")) << refused.error().message;
+    EXPECT_NE(refused.error().message.find("decodes to 4 MiB, more than the 1 MiB"),
+              std::string::npos)
+        << refused.error().message;
+    EXPECT_FALSE(firstError(tiff).has_value()) << *firstError(tiff);
+
+    // GDAL's blocks: an ASCII grid's block is one row, 600,000 int32 samples (2.3 MiB); the
+    // file holds the first (GDAL opens no grid without a value).
+    const std::string grid = m_dir.file("600000-columns.asc");
+    const std::string header =
+        "ncols 600000\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 30\n1\n";
+    test::writeBytes(grid, std::vector<char>(header.begin(), header.end()));
+    const Result<std::unique_ptr<DemReader>> refusedGrid = openOne(grid, oneMiB);
+    ASSERT_FALSE(refusedGrid.ok()) << grid << " opened under a 1 MiB decode limit";
+    EXPECT_TRUE(refusedGrid.error().message.starts_with(grid + ":")) << refusedGrid.error().message;
+    EXPECT_NE(refusedGrid.error().message.find("a block decodes to 2 MiB, more than the 1 MiB"),
+              std::string::npos)
+        << refusedGrid.error().message;
+    // Under the default the header passes the limit; the missing row is the error.
+    const Result<std::unique_ptr<DemReader>> underDefault = openOne(grid);
+    ASSERT_FALSE(underDefault.ok()) << grid << " opened without its samples";
+    EXPECT_EQ(underDefault.error().message.find("a block decodes to"), std::string::npos)
+        << underDefault.error().message;
+}
+
 TEST_F(DemReaderErrorsTest, AsciiGridThatBreaksOffIsRefusedAtOpen) {
     // GDAL's ASCII grid driver finds a line by reading the unknown lines before it,
     // recursively: in a file that ends early, reading the last of 40 rows first took 2^40

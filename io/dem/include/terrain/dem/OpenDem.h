@@ -5,12 +5,21 @@
 #include "terrain/base/Result.h"
 #include "terrain/source/DemReader.h"
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace terrain::io {
+
+/// The most one block a reader decodes at once may take, unless DemOpenOptions lowers it.
+/// Decoders allocate a block before they read it, so a damaged header that claims more would
+/// make them allocate it (8 GB for a 232-byte EXR claiming 8.4M columns, found by
+/// fuzz-dem-exr; 5.1 GB for a 300-byte file GDAL took for an NGS geoid grid, found by
+/// fuzz-dem-asc). A 1.3M-sample-wide float32 planet's row is 5 MB, a 256-row block of it
+/// 1.3 GB.
+inline constexpr std::uint64_t kDefaultMaxDecodeBytes = std::uint64_t{2} << 30U;
 
 /// What the command line may say about the inputs; each set field overrides the file.
 struct DemOpenOptions {
@@ -29,6 +38,11 @@ struct DemOpenOptions {
     /// holds every sample of it, at its finest spacing (DemInfo::resampledFrom). Geographic
     /// north-up sources and sources without a CRS open as they are.
     bool geographicGrid = false;
+    /// A header whose block (a group of rows, a row of tiles, a GDAL block) decodes to more
+    /// is an Error naming the file, before anything is allocated. Programs keep the default;
+    /// the DEM fuzz targets lower it, since an input just under 2 GiB costs seconds a run
+    /// under AddressSanitizer and a corpus of them leaves the fuzzer a few runs a second.
+    std::uint64_t maxDecodeBytes = kDefaultMaxDecodeBytes;
 };
 
 /// Whether `input` is a GDAL dataset name rather than a file: a subdataset
