@@ -121,6 +121,16 @@ TEST_F(DemReaderErrorsTest, GarbageWithADemExtension) {
                      test::readBytes(fs::path(TERRAIN_SOURCE_DIR) / "tests" / "fuzz" / "dem-asc" /
                                      "ngs-geoid-header-claiming-1283027553-columns.asc"));
     expectErrorStartingWithPath(geoid, "a block decodes to 4894 MiB");
+    // A 16 × 12 TIFF claiming 16,129 pixel-interleaved float32 bands in 256 × 256 tiles:
+    // refused before GDAL allocates one tile of every band to read the first (4.2 GB; found
+    // by fuzz-dem-tiff).
+    const std::string interleaved = m_dir.file("16129-interleaved-bands-in-256x256-tiles.tif");
+    test::writeBytes(interleaved,
+                     test::readBytes(fs::path(TERRAIN_SOURCE_DIR) / "tests" / "fuzz" / "dem-tiff" /
+                                     "16129-interleaved-bands-in-256x256-tiles.tif"));
+    expectErrorStartingWithPath(interleaved,
+                                "of 16129 interleaved bands in blocks of 256 × 256: a block "
+                                "decodes to 4032 MiB");
     // A TIFF header and nothing else.
     const std::string header = m_dir.file("header_only.tif");
     test::writeBytes(header, {'I', 'I', 42, 0, 8, 0, 0, 0});
