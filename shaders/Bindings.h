@@ -54,5 +54,9 @@
 #define TERRAIN_BINDING_RIPOLLES_FAMILIES 10
 #define TERRAIN_BINDING_RIPOLLES_FREE_SLOTS 11
 #define TERRAIN_BINDING_RIPOLLES_FREED_SLOTS 12
+// The tiles above each drawn patch's own that its footprint-filtered normals read
+// (terrain_footprint.glsl, runtime/draw ShadingTiles.h): TERRAIN_SHADING_ANCESTORS per instance.
+#define TERRAIN_BINDING_SHADING_TILES 9
+#define TERRAIN_SHADING_ANCESTORS 8
 
 #endif  // TERRAIN_BINDINGS_H

@@ -42,8 +42,8 @@ void main() {
     TerrainShading shading = TerrainShading(u_frame.sunDirection.xyz, u_frame.heightRange.xy,
                                             u_frame.sky.rgb, u_frame.sky.w, u_frame.heightRange.zw);
 #ifdef TERRAIN_REFERENCE_FOOTPRINT
-    vec3 normal = footprintNormal(u_instances[i_instance], i_sample, footprint,
-                                  normalize(i_normal), normalize(i_up));
+    vec3 normal =
+        footprintNormal(i_instance, i_sample, footprint, normalize(i_normal), normalize(i_up));
 #else
     vec3 normal = i_normal;
 #endif

@@ -123,7 +123,7 @@ void main() {
     // blend weight is 1): the mesh's normal is not worth its texel fetches there.
     vec3 mesh = footprint < 2.0 ? fragmentNormal(i_patchSample) : vec3(0.0, 0.0, 1.0);
     vec3 normal =
-        footprintNormal(u_instances[i_patch], i_patchSample, footprint, mesh, normalize(i_up));
+        footprintNormal(i_patch, i_patchSample, footprint, mesh, normalize(i_up));
 #else
     vec3 normal = i_normal;
 #endif

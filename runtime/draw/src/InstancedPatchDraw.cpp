@@ -48,6 +48,10 @@ TerrainDrawStats issueInstancedPatchDraw(const cache::GpuTilePool& pool,
     glBindBufferBase(GL_UNIFORM_BUFFER, TERRAIN_BINDING_FRAME_BLOCK, draw.frame.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_PATCH_INSTANCES,
                      draw.instances.id());
+    if (draw.shadingTiles != nullptr) {
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_SHADING_TILES,
+                         draw.shadingTiles->id());
+    }
     if (draw.tessFactors != nullptr) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_DEBUG_TESS_FACTORS,
                          draw.tessFactors->id());

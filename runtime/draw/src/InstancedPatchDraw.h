@@ -22,6 +22,8 @@ struct InstancedPatchDraw {
     const gl::VertexArray& vertexArray;
     const gl::Buffer& frame;  ///< the FrameBlock, bound at TERRAIN_BINDING_FRAME_BLOCK
     const gl::Buffer& instances;
+    /// Bound at TERRAIN_BINDING_SHADING_TILES when the program reads them (ShadingTiles.h).
+    const gl::Buffer* shadingTiles = nullptr;
     const gl::Buffer* tessFactors = nullptr;  ///< bound for TERRAIN_DEBUG_TESS_FACTORS
     int verticesPerInstance = 0;  ///< GL_PATCHES of 4 vertices each (indexCount 0)
     /// > 0: indexed GL_TRIANGLES from the vertex array's index buffer instead (a draw

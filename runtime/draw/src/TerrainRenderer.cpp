@@ -48,6 +48,9 @@ Result<TerrainRenderer> TerrainRenderer::create(const Surface& surface, int maxI
     r.m_instances =
         gl::Buffer::create(sizeof(PatchInstance) * static_cast<std::size_t>(maxInstances),
                            GL_DYNAMIC_STORAGE_BIT, "terrain patch instances");
+    r.m_shadingTiles = gl::Buffer::create(sizeof(ShadingTile) * kShadingAncestors *
+                                              static_cast<std::size_t>(maxInstances),
+                                          GL_DYNAMIC_STORAGE_BIT, "terrain shading tiles");
     r.m_frameBuffer = FrameBlockBuffer::create("terrain frame block");
     if (options.recordTessFactors) {
         r.m_tessFactors = gl::Buffer::create(
@@ -56,6 +59,7 @@ Result<TerrainRenderer> TerrainRenderer::create(const Surface& surface, int maxI
             0, "terrain tessellation factors (debug)");
     }
     r.m_staging.reserve(static_cast<std::size_t>(maxInstances));
+    r.m_shadingStaging.reserve(static_cast<std::size_t>(maxInstances) * kShadingAncestors);
     return r;
 }
 
@@ -104,6 +108,24 @@ void TerrainRenderer::prepare(const Camera& camera, const cache::GpuTilePool& po
         }
     }
     m_instances.upload(0, std::as_bytes(std::span(m_staging)));
+    // The tiles above each patch's own for its footprint-filtered normals: resident, as the
+    // LOD pins its patches' ancestors (a tile not resident ends the list).
+    const int patchQuads = m_surface->layout().patchQuads();
+    m_shadingStaging.resize(patches.size() * kShadingAncestors);
+    for (std::size_t i = 0; i < patches.size(); ++i) {
+        const PatchDraw& p = patches[i];
+        shadingTilesOf({.id = p.tileId,
+                        .texelOffset = p.texelOffset,
+                        .texelStep = p.texelStep,
+                        .layer = p.layer},
+                       patchQuads,
+                       [&pool](AncestorTile& a) {
+                           return pool.isResident(a.id) ? pool.layerOf(a.id) : std::nullopt;
+                       },
+                       std::span<ShadingTile, kShadingAncestors>(
+                           m_shadingStaging.data() + i * kShadingAncestors, kShadingAncestors));
+    }
+    m_shadingTiles.upload(0, std::as_bytes(std::span(m_shadingStaging)));
 
     setCameraFrame(m_frame, camera, lodCamera, errorPx);
     setTessellation(m_frame, m_blocksPerSide, m_blockQuads, m_surface->layout().patchQuads(),
@@ -118,6 +140,7 @@ TerrainDrawStats TerrainRenderer::submit(const cache::GpuTilePool& pool) {
                .vertexArray = m_vertexArray,
                .frame = m_frameBuffer.buffer(),
                .instances = m_instances,
+               .shadingTiles = &m_shadingTiles,
                .tessFactors = m_tessFactors.valid() ? &m_tessFactors : nullptr,
                .verticesPerInstance = 4 * primitivesPerInstance(m_skirts),
                .instanceCount = m_preparedInstances,

@@ -36,7 +36,7 @@ Result<FullResolutionSurface> FullResolutionSurface::open(const std::filesystem:
 }
 
 Result<const io::PatchRecord*> FullResolutionSurface::patch(const io::PatchId& id) {
-    TERRAIN_ASSERT(id.level == finestLevel(), "FullResolutionSurface: finest-level patches only");
+    TERRAIN_ASSERT(id.level >= 0 && id.level <= finestLevel(), "FullResolutionSurface: no such level");
     if (const auto it = m_index.find(id); it != m_index.end()) {
         m_lru.splice(m_lru.begin(), m_lru, it->second);
         return &it->second->record;

@@ -7,6 +7,7 @@
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/runtime/GlobeFrustum.h"
+#include "terrain/runtime/ShadingTiles.h"
 #include "terrain/runtime/SurfacePlacement.h"
 
 #include <fmt/format.h>
@@ -152,13 +153,15 @@ Status GlobeReferenceScene::addRegion(const Region& region) {
     draw.maxHeight = region.maxHeight;
     // The bare ellipsoid has no tile: layer −1 draws height 0. A tile is uploaded once a
     // batch, however many regions (quadrants, parts split for the curvature) draw from it.
+    const auto layerOfTile = [&](const io::PatchId& layoutId) {
+        return m_batch->layerOf(tileKey(layoutId), [&]() -> Result<std::span<const float>> {
+            auto tile = tileOf(io::globePatchOf(layoutId));
+            if (!tile) return tile.error();
+            return std::span<const float>(tile.value()->heights);
+        });
+    };
     if (!region.bare) {
-        auto layer = m_batch->layerOf(tileKey(io::layoutPatchOf(region.tileId)),
-                                      [&]() -> Result<std::span<const float>> {
-                                          auto tile = tileOf(region.tileId);
-                                          if (!tile) return tile.error();
-                                          return std::span<const float>(tile.value()->heights);
-                                      });
+        auto layer = layerOfTile(io::layoutPatchOf(region.tileId));
         if (!layer) return layer.error();
         draw.layer = layer.value();
     }
@@ -167,7 +170,28 @@ Status GlobeReferenceScene::addRegion(const Region& region) {
     draw.texelOffset = {static_cast<float>(region.texelOffsetX),
                         static_cast<float>(region.texelOffsetY)};
     draw.texelStep = static_cast<float>(region.texelStep);
-    m_batch->add(globePatchInstance(draw, m_camera->position, m_cameraUp, m_layout.patchQuads()));
+    // The tiles above it for the footprint-filtered normals, as the LOD draw reads them
+    // (ShadingTiles.h): every ancestor of a tile with data holds data, up to the face's root.
+    std::array<ShadingTile, kShadingAncestors> shading;
+    Status read;
+    shadingTilesOf({.id = draw.tileId,
+                    .texelOffset = draw.texelOffset,
+                    .texelStep = draw.texelStep,
+                    .layer = draw.layer},
+                   m_layout.patchQuads(),
+                   [&](AncestorTile& a) -> std::optional<int> {
+                       if (a.id.level < io::ManifestGlobe::kLevelOffset || !read) return {};
+                       auto layer = layerOfTile(a.id);
+                       if (!layer) {
+                           read = layer.error();
+                           return {};
+                       }
+                       return layer.value();
+                   },
+                   shading);
+    if (!read) return read;
+    m_batch->add(globePatchInstance(draw, m_camera->position, m_cameraUp, m_layout.patchQuads()),
+                 shading);
     return {};
 }
 

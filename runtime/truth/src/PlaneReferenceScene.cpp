@@ -2,9 +2,11 @@
 // with an apron and added to the batch.
 #include "terrain/runtime/PlaneReferenceScene.h"
 
+#include "terrain/runtime/ShadingTiles.h"
 #include "terrain/runtime/SurfacePlacement.h"
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 
 namespace terrain::runtime {
@@ -22,6 +24,37 @@ void PlaneReferenceScene::beginFrame(const Camera& camera, FrameBlock& block) {
     m_anchor = glm::floor(m_surface.geometry().sampleOfWorld(camera.position.x, camera.position.y));
 }
 
+namespace {
+
+// A tile's key in a batch (unique in a draw): its level, patch, and which window of it.
+std::uint64_t windowKey(const io::PatchId& id, int windowX, int windowY) {
+    return (static_cast<std::uint64_t>(id.level) << 58) ^
+           (static_cast<std::uint64_t>(id.y) << 38) ^ (static_cast<std::uint64_t>(id.x) << 16) ^
+           (static_cast<std::uint64_t>(windowY) << 8) ^ static_cast<std::uint64_t>(windowX);
+}
+
+}  // namespace
+
+Result<std::span<const float>> PlaneReferenceScene::cutWindow(const io::PatchId& id,
+                                                              int windowX, int windowY) {
+    // The window's samples plus a one-sample apron, cut from the patch's tile (which has its
+    // own apron, so every window has neighbours for normals).
+    auto read = m_surface.patch(id);
+    if (!read) return read.error();
+    const io::PatchRecord& record = *read.value();
+    const int tileSide = tileSamples();
+    const auto recordSide = static_cast<std::size_t>(m_surface.layout().tileSamples());
+    const auto firstColumn = static_cast<std::size_t>(windowX) * static_cast<std::size_t>(m_tileQuads);
+    const auto firstRow = static_cast<std::size_t>(windowY) * static_cast<std::size_t>(m_tileQuads);
+    for (int row = 0; row < tileSide; ++row) {
+        std::memcpy(m_tileScratch.data() + static_cast<std::size_t>(row * tileSide),
+                    record.heights.data() + (firstRow + static_cast<std::size_t>(row)) * recordSide +
+                        firstColumn,
+                    static_cast<std::size_t>(tileSide) * sizeof(float));
+    }
+    return std::span<const float>(m_tileScratch);
+}
+
 Result<bool> PlaneReferenceScene::addInstances(const Camera& camera, ReferenceBatch& batch,
                                                std::uint64_t) {
     const TerrainGeometry& geometry = m_surface.geometry();
@@ -29,8 +62,6 @@ Result<bool> PlaneReferenceScene::addInstances(const Camera& camera, ReferenceBa
     const int finest = layout.finestLevel();
     const int quads = m_tileQuads;
     const int tilesPerPatch = layout.patchQuads() / quads;
-    const int tileSide = tileSamples();
-    const auto recordSide = static_cast<std::size_t>(layout.tileSamples());
     const Frustum frustum = camera.frustum();
     const glm::dvec2 tileSizeM = geometry.sampleSpacing() * static_cast<double>(quads);
     for (std::int64_t py = 0; py < layout.patchesY(finest); ++py) {
@@ -39,7 +70,6 @@ Result<bool> PlaneReferenceScene::addInstances(const Camera& camera, ReferenceBa
             auto info = m_surface.info(id);
             if (!info) return info.error();
             const glm::dvec2 patchNorthWest = geometry.patchNorthWest(id);
-            const io::PatchRecord* record = nullptr;
             for (int ty = 0; ty < tilesPerPatch; ++ty) {
                 for (int tx = 0; tx < tilesPerPatch; ++tx) {
                     // Tiles wholly beyond the DEM (in the last patches' overhang) draw nothing.
@@ -54,34 +84,39 @@ Result<bool> PlaneReferenceScene::addInstances(const Camera& camera, ReferenceBa
                                    .max = {nw.x + tileSizeM.x, nw.y,
                                            static_cast<double>(info.value().maxHeight)}};
                     if (!frustum.intersects(box)) continue;
-                    if (record == nullptr) {
-                        auto read = m_surface.patch(id);
-                        if (!read) return read.error();
-                        record = read.value();
-                    }
-                    // The tile's samples plus a one-sample apron, cut from the patch's tile
-                    // (which has its own apron, so every tile has neighbours for normals).
-                    const auto cut = [&]() -> Result<std::span<const float>> {
-                        const std::size_t firstColumn =
-                            static_cast<std::size_t>(tx) * static_cast<std::size_t>(quads);
-                        const std::size_t firstRow =
-                            static_cast<std::size_t>(ty) * static_cast<std::size_t>(quads);
-                        for (int row = 0; row < tileSide; ++row) {
-                            std::memcpy(
-                                m_tileScratch.data() + static_cast<std::size_t>(row * tileSide),
-                                record->heights.data() +
-                                    (firstRow + static_cast<std::size_t>(row)) * recordSide +
-                                    firstColumn,
-                                static_cast<std::size_t>(tileSide) * sizeof(float));
-                        }
-                        return std::span<const float>(m_tileScratch);
-                    };
-                    // Each tile is drawn once a frame: its key need only be unique in it.
-                    const std::uint64_t key = (static_cast<std::uint64_t>(py) << 40) |
-                                              (static_cast<std::uint64_t>(px) << 16) |
-                                              static_cast<std::uint64_t>(ty * tilesPerPatch + tx);
-                    auto layer = batch.layerOf(key, cut);
+                    // Each window is drawn once a frame: its key need only be unique in it.
+                    auto layer = batch.layerOf(windowKey(id, tx, ty),
+                                               [&] { return cutWindow(id, tx, ty); });
                     if (!layer) return layer.error();
+                    // The tiles above it for the footprint-filtered normals, as the LOD draw
+                    // reads them (ShadingTiles.h): of each, the window of kMaxTileQuads its
+                    // samples lie in (they span at most that many: they never straddle two).
+                    std::array<ShadingTile, kShadingAncestors> shading;
+                    Status read;
+                    shadingTilesOf(
+                        {.id = id,
+                         .texelOffset = {static_cast<float>(tx * quads),
+                                         static_cast<float>(ty * quads)},
+                         .texelStep = 1.0f,
+                         .layer = layer.value()},
+                        layout.patchQuads(),
+                        [&](AncestorTile& a) -> std::optional<int> {
+                            if (!read) return {};
+                            const int windowX = static_cast<int>(a.texelOffset[0]) / quads;
+                            const int windowY = static_cast<int>(a.texelOffset[1]) / quads;
+                            auto window = batch.layerOf(windowKey(a.id, windowX, windowY), [&] {
+                                return cutWindow(a.id, windowX, windowY);
+                            });
+                            if (!window) {
+                                read = window.error();
+                                return {};
+                            }
+                            a.texelOffset[0] -= static_cast<float>(windowX * quads);
+                            a.texelOffset[1] -= static_cast<float>(windowY * quads);
+                            return window.value();
+                        },
+                        shading);
+                    if (!read) return read.error();
                     // Double → float only after subtracting the anchor.
                     const double originX =
                         static_cast<double>(layout.patchOriginX(id) + tx * quads) - m_anchor.x;
@@ -90,9 +125,9 @@ Result<bool> PlaneReferenceScene::addInstances(const Camera& camera, ReferenceBa
                     PatchInstance tile;
                     tile.placement0 = {static_cast<float>(originX), static_cast<float>(originY),
                                        1.0f, 0.0f};
-                    tile.texelMap = {0.0f, 0.0f, 1.0f, 0.0f};  // its own tile, sample for sample
+                    tile.texelMap = {0.0f, 0.0f, 1.0f, 0.0f};  // its own window, sample for sample
                     tile.layerLevel = {layer.value(), finest, 0, 0};
-                    batch.add(tile);
+                    batch.add(tile, shading);
                 }
             }
         }

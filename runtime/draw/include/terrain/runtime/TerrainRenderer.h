@@ -19,6 +19,7 @@
 #include "terrain/runtime/FrameBlock.h"
 #include "terrain/runtime/PatchDraw.h"
 #include "terrain/runtime/PatchInstance.h"
+#include "terrain/runtime/ShadingTiles.h"
 #include "terrain/runtime/Surface.h"
 #include "terrain/runtime/SurfacePlacement.h"
 #include "terrain/runtime/TerrainStyle.h"
@@ -106,11 +107,13 @@ private:
     gl::Program m_program;
     gl::VertexArray m_vertexArray;
     gl::Buffer m_instances;
+    gl::Buffer m_shadingTiles;  // kShadingAncestors per instance (ShadingTiles.h)
     FrameBlockBuffer m_frameBuffer;
     gl::Buffer m_tessFactors;  // recordTessFactors only
     gl::Query m_primitivesQuery;
     gl::Query m_timeQuery;
     std::vector<PatchInstance> m_staging;  // capacity maxInstances
+    std::vector<ShadingTile> m_shadingStaging;  // capacity maxInstances · kShadingAncestors
     FrameBlock m_frame;
     int m_maxInstances = 0;
     int m_preparedInstances = 0;

@@ -57,9 +57,10 @@ public:
     const io::PyramidLayout& layout() const { return m_reader.layout(); }
     int finestLevel() const { return layout().finestLevel(); }
 
-    /// A finest-level patch with heights (apron included), read on first use; the pointer
-    /// is valid until the next call of patch() or heightAt(), which may evict it. Errors
-    /// name the shard file and the patch.
+    /// A patch with heights (apron included), read on first use: the finest level's, or a
+    /// coarser one's (the reference's footprint-filtered normals read them, ShadingTiles.h).
+    /// The pointer is valid until the next call of patch() or heightAt(), which may evict
+    /// it. Errors name the shard file and the patch.
     Result<const io::PatchRecord*> patch(const io::PatchId& id);
 
     /// A finest-level patch's summary (min/max height), cached: for culling.

@@ -11,6 +11,7 @@
 #include "terrain/runtime/ReferenceScene.h"
 
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace terrain::runtime {
@@ -33,6 +34,10 @@ public:
                               std::uint64_t maxRegions) override;
 
 private:
+    /// Window (windowX, windowY) of kMaxTileQuads quads a side of patch `id`'s tile, with a
+    /// one-sample apron, in the scratch (valid until the next call).
+    Result<std::span<const float>> cutWindow(const io::PatchId& id, int windowX, int windowY);
+
     FullResolutionSurface& m_surface;
     int m_tileQuads = 0;
     glm::dvec2 m_anchor{0.0};  // DEM samples, this frame's

@@ -12,6 +12,7 @@
 #include "terrain/gl/Texture.h"
 #include "terrain/runtime/PatchInstance.h"
 #include "terrain/runtime/SampleGrid.h"
+#include "terrain/runtime/ShadingTiles.h"
 
 #include <cstdint>
 #include <functional>
@@ -25,9 +26,11 @@ namespace terrain::runtime {
 /// instances are added.
 class ReferenceBatch {
 public:
-    /// Instances a draw call takes, and layers its texture array holds (each instance reads
-    /// at most one tile, so a full batch never runs out of layers).
+    /// Instances a draw call takes.
     static constexpr int kInstances = 32;
+    /// Layers its texture array holds: each instance reads at most one tile of its own and
+    /// kShadingAncestors above it, so a full batch never runs out of layers.
+    static constexpr int kLayers = kInstances * (1 + kShadingAncestors);
 
     /// A batch drawn with `vertexStage` and reference.frag (its normals filtered to the
     /// pixel's footprint, on the globe's surface when `globe`), instances of a grid of
@@ -42,9 +45,11 @@ public:
     Result<int> layerOf(std::uint64_t key,
                         const std::function<Result<std::span<const float>>()>& heights);
 
-    /// Adds an instance (its layer from layerOf, or −1 for none); draws the batch once it
-    /// holds kInstances.
-    void add(const PatchInstance& instance);
+    /// Adds an instance (its layer from layerOf, or −1 for none) and the tiles above its own
+    /// that its footprint-filtered normals read (ShadingTiles.h, their layers from layerOf);
+    /// draws the batch once it holds kInstances.
+    void add(const PatchInstance& instance,
+             std::span<const ShadingTile, kShadingAncestors> shadingTiles);
 
     /// Draws what the batch holds, if anything; forgets its tiles.
     void flush();
@@ -61,10 +66,12 @@ private:
     gl::Program m_program;
     SampleGrid m_grid;
     gl::Buffer m_instances;
-    gl::Texture m_heights;  // kInstances layers of tileSamples²
+    gl::Buffer m_shadingTiles;  // kShadingAncestors per instance
+    gl::Texture m_heights;      // kLayers layers of tileSamples²
     int m_gridQuads = 0;
     int m_tileSamples = 0;
     std::vector<PatchInstance> m_staging;
+    std::vector<ShadingTile> m_shadingStaging;
     std::vector<std::uint64_t> m_layerTiles;  // the tile in each layer of this batch
     std::uint64_t m_instancesDrawn = 0;
     int m_batchesDrawn = 0;
