@@ -76,18 +76,29 @@ Status writeGlobeShard(const std::filesystem::path& folder, const PyramidLayout&
     return writer.value().finish();
 }
 
+ManifestGlobeSource globeSourceOf(const GeographicGrid& grid, std::string input) {
+    const double east = grid.eastDeg() > 180.0 ? grid.eastDeg() - 360.0 : grid.eastDeg();
+    return ManifestGlobeSource{.input = std::move(input),
+                               .west = grid.wrapsLongitude() ? -180.0 : grid.westDeg(),
+                               .south = std::max(-90.0, grid.southDeg()),
+                               .east = grid.wrapsLongitude() ? 180.0 : east,
+                               .north = std::min(90.0, grid.northDeg())};
+}
+
 PyramidManifest globeManifest(const PyramidLayout& layout, int faceFinestLevel,
-                              const GeographicGrid& finest, std::span<DemReader* const> readers) {
+                              std::vector<ManifestGlobeSource> sources,
+                              std::span<DemReader* const> readers) {
+    TERRAIN_ASSERT(!sources.empty(), "globeManifest needs a source");
     PyramidManifest m = PyramidManifest::forLayout(layout);
     m.formatVersion = PyramidManifest::kGlobeFormatVersion;
-    const double east = finest.eastDeg() > 180.0 ? finest.eastDeg() - 360.0 : finest.eastDeg();
-    // A grid whose first or last row is centred on a pole reaches half a pixel beyond it.
+    const ManifestGlobeSource& finest = sources.front();
     m.globe = ManifestGlobe{.faceFinestLevel = faceFinestLevel,
-                            .west = finest.wrapsLongitude() ? -180.0 : finest.westDeg(),
-                            .south = std::max(-90.0, finest.southDeg()),
-                            .east = finest.wrapsLongitude() ? 180.0 : east,
-                            .north = std::min(90.0, finest.northDeg()),
-                            .seams = {}};
+                            .west = finest.west,
+                            .south = finest.south,
+                            .east = finest.east,
+                            .north = finest.north,
+                            .seams = {},
+                            .sources = std::move(sources)};
     describeSources(m, readers);
     // The mask always: samples beyond the sources are not data on a globe.
     m.noData.present = true;

@@ -71,11 +71,17 @@ Status writeGlobeShard(const std::filesystem::path& folder, const PyramidLayout&
                        const ShardWriterOptions& options,
                        const std::optional<ManifestQuantization>& quantization);
 
-/// The manifest's fields every globe build fills alike: the layout, the extent "go to the
-/// data" goes to (`finest`'s), the first source's georeference, vertical units and no-data
-/// value, every source's inputs, the build tool. Statistics, levels and bounds are the
-/// builder's.
+/// The manifest's record of a source on `grid`: its extent, clamped to the poles (a grid whose
+/// first or last row is centred on a pole reaches half a pixel beyond it), −180 … 180 when it
+/// wraps around the Earth.
+ManifestGlobeSource globeSourceOf(const GeographicGrid& grid, std::string input);
+
+/// The manifest's fields every globe build fills alike: the layout, every source's extent
+/// (`sources`, finest first) and the extent "go to the data" goes to (the finest's), the first
+/// source's georeference, vertical units and no-data value, every source's inputs, the build
+/// tool. Statistics, levels and bounds are the builder's.
 PyramidManifest globeManifest(const PyramidLayout& layout, int faceFinestLevel,
-                              const GeographicGrid& finest, std::span<DemReader* const> readers);
+                              std::vector<ManifestGlobeSource> sources,
+                              std::span<DemReader* const> readers);
 
 }  // namespace terrain::io::detail

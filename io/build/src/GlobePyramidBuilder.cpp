@@ -506,8 +506,11 @@ Result<PyramidBuildSummary> buildWholeGlobePyramid(std::span<DemReader* const> r
     if (Status built = builder.run(); !built)
         return Error{first.path + ": " + built.error().message};
 
-    // "Go to the data" goes to the finest source.
-    PyramidManifest m = globeManifest(l, faceLevel, composite.sources().front().grid, readers);
+    // "Go to the data" goes to the finest source; the default flight visits each local one.
+    std::vector<ManifestGlobeSource> extents;
+    for (const GlobeSources::Source& source : composite.sources())
+        extents.push_back(globeSourceOf(source.grid, source.path));
+    PyramidManifest m = globeManifest(l, faceLevel, std::move(extents), readers);
     double minHeight = 0.0, maxHeight = 0.0;
     bool any = false;
     for (std::size_t k = 0; k < composite.sources().size(); ++k) {

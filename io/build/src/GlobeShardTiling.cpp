@@ -1054,7 +1054,8 @@ public:
             return covered.error();
         DemReader* const readers[] = {&m_reader};
         PyramidManifest m =
-            detail::globeManifest(m_plan.layout, m_plan.faceFinestLevel, m_source.grid, readers);
+            detail::globeManifest(m_plan.layout, m_plan.faceFinestLevel,
+                                  {detail::globeSourceOf(m_source.grid, dem.path)}, readers);
         for (ManifestLevel& level : m.levels) {  // what the shards hold
             const auto i = static_cast<std::size_t>(level.level);
             level.presentPatches = totals.presentPatches[i];

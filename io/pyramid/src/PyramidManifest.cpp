@@ -273,7 +273,24 @@ PyramidManifest parseFields(const Json& root, LayoutFields& f) {
                                 .south = extent[1].get<double>(),
                                 .east = extent[2].get<double>(),
                                 .north = extent[3].get<double>(),
-                                .seams = {}};
+                                .seams = {},
+                                .sources = {}};
+        if (globe.contains("sources")) {  // since each source's extent was recorded
+            for (const Json& entry : arrayField(globe, "globe", "sources")) {
+                ManifestGlobeSource s;
+                s.input = stringField(entry, "globe.sources", "input");
+                const Json& box = arrayField(entry, "globe.sources", "extent");
+                if (box.size() != 4 || !std::all_of(box.begin(), box.end(),
+                                                    [](const Json& v) { return v.is_number(); }))
+                    throw FieldError{"globe.sources.extent",
+                                     "[west, south, east, north] in degrees"};
+                s.west = box[0].get<double>();
+                s.south = box[1].get<double>();
+                s.east = box[2].get<double>();
+                s.north = box[3].get<double>();
+                m.globe->sources.push_back(std::move(s));
+            }
+        }
         if (globe.contains("seams")) {  // since the band followed the step
             for (const Json& seam : arrayField(globe, "globe", "seams")) {
                 ManifestSeam s;
@@ -355,6 +372,13 @@ Status checkGlobe(const PyramidManifest& m, const std::string& name) {
                 name, s.input, s.seamSlope, s.sourceSlopeP99, s.largestStepM, s.bandPixels[0],
                 s.bandPixels[1], s.bandMetres[0], s.bandMetres[1], s.cappedPixels)};
     }
+    for (const ManifestGlobeSource& s : m.globe->sources)
+        if (!(std::abs(s.west) <= 180.0 && std::abs(s.east) <= 180.0 && s.south >= -90.0 &&
+              s.south <= s.north && s.north <= 90.0))
+            return Error{fmt::format(
+                "{}: globe.sources: {} has the extent [{}, {}, {}, {}]: west and east lie within "
+                "-180 … 180, south and north within -90 … 90, south no further north than north",
+                name, s.input, s.west, s.south, s.east, s.north)};
     for (const ManifestLevel& level : m.levels) {
         if (level.level < ManifestGlobe::kLevelOffset &&
             (level.presentPatches != 0 || !level.presentShards.empty()))
@@ -572,6 +596,13 @@ std::string toJson(const PyramidManifest& m) {
                                  {"bandMetres", s.bandMetres},
                                  {"cappedPixels", s.cappedPixels}});
             j["globe"]["seams"] = std::move(seams);
+        }
+        if (!m.globe->sources.empty()) {
+            Json sources = Json::array();
+            for (const ManifestGlobeSource& s : m.globe->sources)
+                sources.push_back(
+                    {{"input", s.input}, {"extent", {s.west, s.south, s.east, s.north}}});
+            j["globe"]["sources"] = std::move(sources);
         }
     }
     return j.dump(2) + "\n";

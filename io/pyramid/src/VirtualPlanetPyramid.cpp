@@ -94,7 +94,8 @@ Result<VirtualPlanetPyramid> VirtualPlanetPyramid::open(const std::filesystem::p
                             .south = summit.latitude - 0.5,
                             .east = summit.longitude + 0.5,
                             .north = summit.latitude + 0.5,
-                            .seams = {}};
+                            .seams = {},
+                            .sources = {}};
     m.georeference = Georeference{.originX = -180.0,
                                   .originY = 90.0,
                                   .pixelSizeX = 1.0,

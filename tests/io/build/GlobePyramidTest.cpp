@@ -28,6 +28,7 @@
 #include <map>
 #include <numbers>
 #include <string>
+#include <tuple>
 
 namespace terrain::io {
 namespace {
@@ -431,13 +432,43 @@ TEST(GlobePyramid, FineSourceCompositedOverACoarseGlobalOne) {
     auto reread = readManifest(out);
     ASSERT_TRUE(reread) << reread.error().message;
     EXPECT_EQ(reread.value().globe->seams, m.globe->seams);
+    // Every source's extent, finest first (issue 52: only the finest one's was kept, so the
+    // default flight visited it alone); the finest's is sourceExtent.
+    ASSERT_EQ(m.globe->sources.size(), 3u);
+    for (std::size_t k = 0; k < 3; ++k)
+        EXPECT_EQ(m.globe->sources[k].input, m.noData.sources[k].input) << k;
+    const auto extentOf = [](const ManifestGlobeSource& e) {
+        return std::tuple(e.west, e.south, e.east, e.north);
+    };
+    EXPECT_EQ(extentOf(m.globe->sources[0]),
+              std::tuple(m.globe->west, m.globe->south, m.globe->east, m.globe->north));
+    const ManifestGlobeSource& mediumExtent = m.globe->sources[1];
+    EXPECT_NEAR(mediumExtent.west, 20.2, 1e-9);
+    EXPECT_NEAR(mediumExtent.east, 21.8, 1e-9);
+    EXPECT_NEAR(mediumExtent.south, 39.4, 1e-9);
+    EXPECT_NEAR(mediumExtent.north, 40.6, 1e-9);
+    EXPECT_EQ(extentOf(m.globe->sources[2]), std::tuple(-180.0, -90.0, 180.0, 90.0));
+    EXPECT_EQ(reread.value().globe->sources, m.globe->sources);
     nlohmann::json before = nlohmann::json::parse(toJson(m));
     before["globe"].erase("seams");
+    before["globe"].erase("sources");
     // Nor each source's no-data value: of several sources, only the first one's is known.
     for (nlohmann::json& source : before["noData"]["sources"]) source.erase("sourceValue");
     auto old = fromJson(before.dump(), "manifest without seams");
     ASSERT_TRUE(old) << old.error().message;
     EXPECT_TRUE(old.value().globe->seams.empty());
+    EXPECT_TRUE(old.value().globe->sources.empty());
+    nlohmann::json badExtent = nlohmann::json::parse(toJson(m));
+    badExtent["globe"]["sources"][1]["extent"] = {20.2, 40.6, 21.8, 39.4};  // south > north
+    auto refused = fromJson(badExtent.dump(), "m.json");
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("m.json: globe.sources: "), std::string::npos)
+        << refused.error().message;
+    badExtent["globe"]["sources"][1]["extent"] = {20.2, 40.6};
+    refused = fromJson(badExtent.dump(), "m.json");
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("globe.sources.extent"), std::string::npos)
+        << refused.error().message;
     for (const ManifestSourceNoData& source : old.value().noData.sources)
         EXPECT_FALSE(source.sourceValueRecorded);
     EXPECT_FALSE(

@@ -98,6 +98,16 @@ struct ManifestSeam {
     bool operator==(const ManifestSeam&) const = default;
 };
 
+/// One source of a globe pyramid and where it lies (docs/pyramid-format.md, "Globe pyramids"):
+/// what the default flight visits (a composite's sourceExtent is its finest source's only).
+struct ManifestGlobeSource {
+    std::string input;  ///< as in source.inputs
+    /// Its extent, degrees, as sourceExtent (west may exceed east across the antimeridian; a
+    /// source around the whole Earth is −180 … 180).
+    double west = -180.0, south = -90.0, east = 180.0, north = 90.0;
+    bool operator==(const ManifestGlobeSource&) const = default;
+};
+
 /// A globe pyramid's tiling (format version 3, docs/pyramid-format.md, "Globe pyramids"):
 /// the six cube faces of terrain::globe side by side in one layout. Face level l of face f
 /// is layout level l + kLevelOffset, its patch (x, y) the layout patch (f · 2^l + x, y).
@@ -113,6 +123,9 @@ struct ManifestGlobe {
     /// One per source blended into a coarser one (optional in the file: absent before the
     /// band followed the step, and where no source lies over another).
     std::vector<ManifestSeam> seams;
+    /// Every source, finest first (optional in the file: absent before it was recorded; a
+    /// reader then knows the finest source's extent only).
+    std::vector<ManifestGlobeSource> sources;
     bool operator==(const ManifestGlobe&) const = default;
 };
 
