@@ -168,6 +168,81 @@ GlobeCameraPath GlobeCameraPath::fromOrbit(double latitudeDeg, double longitudeD
     return std::move(path).value();
 }
 
+namespace {
+
+// fromTour's share of each stop: the climb, the crossing and the hold end at these fractions of
+// it; the descent fills what is left before the hold (fromOrbit's: straight down for 60 % of
+// it, then tilting).
+constexpr double kTourClimbEnds = 0.15, kTourCrossingEnds = 0.35, kTourHoldStarts = 0.85;
+constexpr double kTourLowestHopM = 10e3;
+
+// The distance between two places along the sphere of the ellipsoid's equatorial radius:
+// what the height of the hop between them is made from (no more exact than that needs).
+double roughDistanceM(const GlobeTourStop& a, const GlobeTourStop& b) {
+    constexpr double kRadiansPerDegree = std::numbers::pi / 180.0, kRadiusM = 6378137.0;
+    const double phi1 = a.latitudeDeg * kRadiansPerDegree;
+    const double phi2 = b.latitudeDeg * kRadiansPerDegree;
+    const double dPhi = phi2 - phi1;
+    const double dLambda = (b.longitudeDeg - a.longitudeDeg) * kRadiansPerDegree;
+    const double sinHalfPhi = std::sin(dPhi / 2), sinHalfLambda = std::sin(dLambda / 2);
+    const double h =
+        sinHalfPhi * sinHalfPhi + std::cos(phi1) * std::cos(phi2) * sinHalfLambda * sinHalfLambda;
+    return 2.0 * kRadiusM * std::asin(std::min(1.0, std::sqrt(h)));  // haversine
+}
+
+}  // namespace
+
+double GlobeCameraPath::tourArrivalS(std::size_t index, std::size_t count, double durationS) {
+    const double share = durationS / double(count);
+    return index + 1 == count ? durationS : (double(index) + kTourHoldStarts) * share;
+}
+
+GlobeCameraPath GlobeCameraPath::fromTour(std::span<const GlobeTourStop> stops, double durationS) {
+    TERRAIN_ASSERT(!stops.empty(), "GlobeCameraPath::fromTour needs a stop");
+    TERRAIN_ASSERT(std::isfinite(durationS) && durationS > 0.0,
+                   "GlobeCameraPath::fromTour needs a positive duration");
+    if (stops.size() == 1)
+        return fromOrbit(stops[0].latitudeDeg, stops[0].longitudeDeg, stops[0].endHeightM,
+                         durationS);
+    const std::size_t n = stops.size();
+    const double share = durationS / double(n);
+    std::vector<GlobeKeyframe> keyframes;
+    const auto add = [&](double timeS, const GlobeTourStop& at, double heightM, double pitchDeg) {
+        keyframes.push_back({.timeS = timeS,
+                             .pose = {{at.latitudeDeg, at.longitudeDeg, heightM}, 0.0, pitchDeg},
+                             .fovYDegrees = kDefaultFovYDegrees});
+    };
+    // Straight down from `fromM` at `startS` to the stop at `arriveS`, height linear in asinh,
+    // tilting over the last 40 %; then held until the next stop's share.
+    const auto descend = [&](const GlobeTourStop& to, double fromM, double startS, double arriveS) {
+        const double from = std::asinh(fromM), end = std::asinh(to.endHeightM);
+        add(startS, to, fromM, -90.0);
+        add(startS + 0.6 * (arriveS - startS), to, std::sinh(from + 0.6 * (end - from)), -90.0);
+        add(arriveS, to, to.endHeightM, -5.0);
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+        const double startS = double(i) * share;
+        const double arriveS = tourArrivalS(i, n, durationS);
+        if (i == 0) {
+            descend(stops[0], kOrbitHeightM, 0.0, arriveS);
+        } else {
+            const GlobeTourStop& from = stops[i - 1];
+            const GlobeTourStop& to = stops[i];
+            // High enough for both to be in view on the way across (the view is about as wide
+            // as the height), and well above either end.
+            const double lowest = std::max({from.endHeightM, to.endHeightM, 0.0}) + kTourLowestHopM;
+            const double hopM = std::min(std::max(roughDistanceM(from, to), lowest), kOrbitHeightM);
+            add(startS + kTourClimbEnds * share, from, hopM, -90.0);
+            descend(to, hopM, startS + kTourCrossingEnds * share, arriveS);
+        }
+        // The hold: the same pose again, so the spline stops there (PathSpline's true hold).
+        if (i + 1 < n) add(double(i + 1) * share, stops[i], stops[i].endHeightM, -5.0);
+    }
+    auto path = fromKeyframes(std::move(keyframes));
+    TERRAIN_ASSERT(path.ok(), "GlobeCameraPath::fromTour built an invalid path");
+    return std::move(path).value();
+}
+
 GlobeCameraPath::Segment GlobeCameraPath::segmentAt(double timeS) const {
     const std::size_t n = m_keyframes.size();
     double t = timeS;

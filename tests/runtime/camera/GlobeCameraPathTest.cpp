@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -91,6 +92,73 @@ TEST(GlobeCameraPath, FromOrbitDescendsExponentiallyToTheGivenHeight) {
         EXPECT_GE(h, -429.0 - 1e-6) << t;
         previous = h;
     }
+}
+
+// The default flight over several places (issue 52: it visited one source of a composite):
+// each stop reached and held in turn, never below the lower of two stops' ends on the way
+// between them (straight up, across high, straight down: no ground is crossed low), across the
+// antimeridian the short way; one stop is fromOrbit exactly.
+TEST(GlobeCameraPath, FromTourVisitsEveryStopInTurn) {
+    const std::vector<GlobeTourStop> stops = {
+        {46.85, -121.76, 4392.0}, {57.5, 11.5, 51.0}, {-17.5, 179.5, 1.0}, {-16.5, -179.0, 2.0}};
+    const double duration = 40.0;
+    const GlobeCameraPath path = GlobeCameraPath::fromTour(stops, duration);
+    EXPECT_EQ(path.durationS(), duration);
+    const GlobePose first = path.poseAt(0.0);
+    EXPECT_NEAR(first.where.height, GlobeCameraPath::kOrbitHeightM, 1e-3);
+    EXPECT_DOUBLE_EQ(first.where.latitudeDeg, 46.85);
+    EXPECT_DOUBLE_EQ(first.where.longitudeDeg, -121.76);
+    for (std::size_t i = 0; i < stops.size(); ++i) {
+        const double arrival = GlobeCameraPath::tourArrivalS(i, stops.size(), duration);
+        const double shareEnd = duration * double(i + 1) / double(stops.size());
+        EXPECT_LE(arrival, shareEnd) << i;
+        EXPECT_GT(arrival, duration * double(i) / double(stops.size())) << i;
+        for (const double t : {arrival, 0.5 * (arrival + shareEnd), shareEnd}) {  // held
+            const GlobePose p = path.poseAt(t);
+            EXPECT_NEAR(p.where.latitudeDeg, stops[i].latitudeDeg, 1e-9) << i << " at " << t;
+            EXPECT_NEAR(std::remainder(p.where.longitudeDeg - stops[i].longitudeDeg, 360.0), 0.0,
+                        1e-9)
+                << i << " at " << t;
+            EXPECT_NEAR(p.where.height, stops[i].endHeightM, 1e-6) << i << " at " << t;
+            EXPECT_NEAR(p.pitchDeg, -5.0, 1e-9) << i << " at " << t;
+        }
+    }
+    EXPECT_EQ(GlobeCameraPath::tourArrivalS(3, 4, duration), duration);
+    // Between two stops: never below the lower end, and above 10 km wherever the camera is
+    // away from both.
+    for (std::size_t i = 1; i < stops.size(); ++i) {
+        const double from = GlobeCameraPath::tourArrivalS(i - 1, stops.size(), duration);
+        const double to = GlobeCameraPath::tourArrivalS(i, stops.size(), duration);
+        const double lowest = std::min(stops[i - 1].endHeightM, stops[i].endHeightM);
+        for (double t = from; t <= to; t += 0.01) {
+            const GlobePose p = path.poseAt(t);
+            EXPECT_GE(p.where.height, lowest - 1e-6) << t;
+            const auto at = [&](const GlobeTourStop& s) {
+                return std::abs(p.where.latitudeDeg - s.latitudeDeg) < 1e-9 &&
+                       std::abs(std::remainder(p.where.longitudeDeg - s.longitudeDeg, 360.0)) <
+                           1e-9;
+            };
+            if (!at(stops[i - 1]) && !at(stops[i])) {
+                EXPECT_GE(p.where.height, 10e3) << t;
+            }
+            if (i == 3) {
+                EXPECT_GE(std::abs(p.where.longitudeDeg), 179.0 - 1e-9) << t;
+            }
+        }
+    }
+    // Rainier to Sweden: high enough for both to be in view (the distance, ~7,900 km).
+    EXPECT_GT(path.poseAt(0.3 * duration / 4.0 + duration / 4.0).where.height, 7e6);
+
+    const GlobeTourStop one[] = {{46.85, -121.76, 4392.0}};
+    const GlobeCameraPath alone = GlobeCameraPath::fromTour(one, 20.0);
+    const GlobeCameraPath orbit = GlobeCameraPath::fromOrbit(46.85, -121.76, 4392.0, 20.0);
+    ASSERT_EQ(alone.keyframes().size(), orbit.keyframes().size());
+    for (std::size_t k = 0; k < orbit.keyframes().size(); ++k) {
+        EXPECT_EQ(alone.keyframes()[k].timeS, orbit.keyframes()[k].timeS);
+        EXPECT_EQ(alone.keyframes()[k].pose.where.height, orbit.keyframes()[k].pose.where.height);
+        EXPECT_EQ(alone.keyframes()[k].pose.pitchDeg, orbit.keyframes()[k].pose.pitchDeg);
+    }
+    EXPECT_EQ(GlobeCameraPath::tourArrivalS(0, 1, 20.0), 20.0);
 }
 
 TEST(GlobeCameraPath, ApplyPlacesTheCameraOnTheGlobe) {

@@ -15,7 +15,9 @@
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/GlobeCamera.h"
 
+#include <cstddef>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -25,6 +27,14 @@ struct GlobeKeyframe {
     double timeS = 0.0;
     GlobePose pose;  ///< latitude within ±90°, any longitude and heading, pitch within ±90°
     double fovYDegrees = 60.0;
+};
+
+/// A place the default flight visits: where, and the height it arrives at (the ground there
+/// plus the clearance wanted).
+struct GlobeTourStop {
+    double latitudeDeg = 0.0;
+    double longitudeDeg = 0.0;
+    double endHeightM = 0.0;
 };
 
 /// An immutable, checked list of keyframes and its spline tangents; poseAt and apply are
@@ -54,6 +64,16 @@ public:
     /// the last 40 % of `durationS`.
     static GlobeCameraPath fromOrbit(double latitudeDeg, double longitudeDeg, double endHeightM,
                                      double durationS = 20.0);
+
+    /// The default flight over several places in turn, each given durationS / n: from orbit
+    /// down to the first as fromOrbit does, then to each next one up (straight up to a height
+    /// as great as the distance between the two, so both are in view), across at that height
+    /// and straight down as fromOrbit ends, tilting to the horizon. Every stop but the last is
+    /// held for the last 15 % of its share, so its detail shows; the last is reached at the
+    /// end. One stop: fromOrbit exactly. Asserts a stop and a positive duration.
+    static GlobeCameraPath fromTour(std::span<const GlobeTourStop> stops, double durationS = 20.0);
+    /// When fromTour(stops, durationS) arrives at stop `index` of `count`.
+    static double tourArrivalS(std::size_t index, std::size_t count, double durationS);
 
     double startS() const { return m_keyframes.front().timeS; }
     double endS() const { return m_keyframes.back().timeS; }
