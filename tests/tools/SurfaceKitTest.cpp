@@ -109,11 +109,11 @@ TEST(SurfaceKit, ReadsAPathFileAsItsOwnSurfacesPath) {
 
     auto planeDefault = plane.flight("p.pyramid", surface, "", 7.0, noFlags);
     ASSERT_TRUE(planeDefault) << planeDefault.error().message;
-    EXPECT_EQ(planeDefault.value().frame(), runtime::PathFrame::Plane);
-    EXPECT_EQ(planeDefault.value().durationS(), 7.0);
+    EXPECT_EQ(planeDefault.value().path.frame(), runtime::PathFrame::Plane);
+    EXPECT_EQ(planeDefault.value().path.durationS(), 7.0);
     auto planeFile = plane.flight("p.pyramid", surface, planarFile, 7.0, noFlags);
     ASSERT_TRUE(planeFile) << planeFile.error().message;
-    EXPECT_EQ(planeFile.value().durationS(), 6.0);
+    EXPECT_EQ(planeFile.value().path.durationS(), 6.0);
     auto planeRefuses = plane.flight("p.pyramid", surface, globeFile, 7.0, noFlags);
     ASSERT_FALSE(planeRefuses);
     EXPECT_EQ(planeRefuses.error().message, runtime::CameraPath::load(globeFile).error().message);
@@ -121,7 +121,16 @@ TEST(SurfaceKit, ReadsAPathFileAsItsOwnSurfacesPath) {
     // The globe's flight from a file reads no surface; the plane's stands in.
     auto globeFromFile = globe.flight("g.pyramid", surface, globeFile, 7.0, noFlags);
     ASSERT_TRUE(globeFromFile) << globeFromFile.error().message;
-    EXPECT_EQ(globeFromFile.value().frame(), runtime::PathFrame::Globe);
+    EXPECT_EQ(globeFromFile.value().path.frame(), runtime::PathFrame::Globe);
+    // --visit picks a place of the default flight: a path file has none.
+    const ParsedGlobeFlags visit({"--visit", "2"});
+    auto visitAndPath = globe.flight("g.pyramid", surface, globeFile, 7.0, visit.flags);
+    ASSERT_FALSE(visitAndPath);
+    EXPECT_EQ(visitAndPath.error().message,
+              "g.pyramid: --visit picks a place of the default flight; --path " + globeFile +
+                  " gives a flight of its own");
+    EXPECT_EQ(visit.flags.given(), std::vector<std::string>{"--visit"});
+    EXPECT_FALSE(visit.flags.fixedPose());
     auto globeRefuses = globe.flight("g.pyramid", surface, planarFile, 7.0, noFlags);
     ASSERT_FALSE(globeRefuses);
     EXPECT_EQ(globeRefuses.error().message,

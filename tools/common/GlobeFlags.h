@@ -1,6 +1,6 @@
 // GlobeFlags: the flags of a flight over a globe pyramid, declared once: a fixed pose (--lat,
-// --lon, --altitude, --heading, --pitch) and --no-horizon-culling. A planar pyramid refuses
-// them by name (SurfaceKit::refuseForeignFlags).
+// --lon, --altitude, --heading, --pitch), --no-horizon-culling and --visit (one place of the
+// default flight). A planar pyramid refuses them by name (SurfaceKit::refuseForeignFlags).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -18,6 +18,18 @@ struct GlobeFlags {
     double headingDeg = 0.0;
     double pitchDeg = -90.0;
     bool noHorizonCulling = false;
+    /// The one place of the default flight to fly to (1 = its first; the program lists them),
+    /// or the place whose centre a fixed pose defaults to; else every place in turn.
+    std::optional<int> visit;
+
+    /// Adds --visit alone, bound to `visit` (a program with no other globe flag).
+    void addVisitTo(CLI::App& app) {
+        m_options.push_back(
+            app.add_option("--visit", visit,
+                           "Globe pyramids: fly to place N of the default flight only (1: the "
+                           "first; the program prints the places, one per local source)")
+                ->check(CLI::PositiveNumber));
+    }
 
     /// Adds the flags, bound to these members (the defaults shown).
     void addTo(CLI::App& app) {
@@ -38,6 +50,7 @@ struct GlobeFlags {
             app.add_flag("--no-horizon-culling", noHorizonCulling,
                          "Globe pyramids: draw patches behind the horizon too (for comparison)"),
         };
+        addVisitTo(app);
     }
 
     /// Whether --lat, --lon or --altitude asks for a fixed pose.

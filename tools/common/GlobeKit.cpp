@@ -7,34 +7,119 @@
 #include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/runtime/GlobeCamera.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 
 namespace terrain::tools {
 
-Result<GlobeFlightTarget> globeFlightTarget(const std::filesystem::path& pyramid) {
+Result<GlobeFlightPlan> globeFlightPlan(const std::filesystem::path& pyramid,
+                                        std::optional<int> visit) {
     auto query = io::GlobeGroundQuery::open(pyramid);
     if (!query) return query.error();
-    const std::optional<io::ManifestGlobe>& g = query.value().reader().manifest().globe;
-    // The extent's centre; west > east means it crosses the antimeridian.
-    const double span = g->east >= g->west ? g->east - g->west : g->east + 360.0 - g->west;
-    GlobeFlightTarget target;
-    target.latitudeDeg = 0.5 * (g->south + g->north);
-    target.longitudeDeg = std::remainder(g->west + 0.5 * span, 360.0);
-    auto ground = query.value().at(target.latitudeDeg, target.longitudeDeg);
-    if (!ground) return ground.error();
-    target.groundM = ground.value().heightM;
-    target.groundLevel = ground.value().faceLevel;
-    return target;
+    const io::PyramidManifest& manifest = query.value().reader().manifest();
+    GlobeFlightPlan plan;
+    plan.tour = planGlobeTour(*manifest.globe);
+    plan.visit = visit;
+    plan.inputCount = manifest.source.inputs.size();
+    const std::size_t places = plan.tour.places.size();
+    if (visit && (*visit < 1 || std::size_t(*visit) > places))
+        return Error{fmt::format("{}: --visit {}: the default flight visits {} {} (1{})",
+                                 pyramid.string(), *visit, places, places == 1 ? "place" : "places",
+                                 places == 1 ? "" : fmt::format(" … {}", places))};
+    for (std::size_t i = 0; i < places; ++i) {
+        if (visit && std::size_t(*visit) != i + 1) continue;
+        const GlobeTourPlace& place = plan.tour.places[i];
+        auto ground = query.value().at(place.latitudeDeg, place.longitudeDeg);
+        if (!ground) return ground.error();
+        plan.stops.push_back({place, ground.value().heightM, ground.value().faceLevel});
+    }
+    return plan;
 }
 
-Result<runtime::GlobeCameraPath> globeOrbitFlight(const std::filesystem::path& pyramid,
-                                                  double durationS, double clearanceM) {
-    auto found = globeFlightTarget(pyramid);
-    if (!found) return found.error();
-    return runtime::GlobeCameraPath::fromOrbit(found.value().latitudeDeg,
-                                               found.value().longitudeDeg,
-                                               found.value().groundM + clearanceM, durationS);
+runtime::GlobeCameraPath globeTourFlight(const GlobeFlightPlan& plan, double durationS,
+                                         double clearanceM) {
+    std::vector<runtime::GlobeTourStop> stops;
+    for (const GlobeFlightStop& s : plan.stops)
+        stops.push_back({s.place.latitudeDeg, s.place.longitudeDeg, s.groundM + clearanceM});
+    return runtime::GlobeCameraPath::fromTour(stops, durationS);
+}
+
+namespace {
+
+// "46.50° N, 121.50° W".
+std::string whereText(double latitudeDeg, double longitudeDeg) {
+    return fmt::format("{:.2f}° {}, {:.2f}° {}", std::abs(latitudeDeg),
+                       latitudeDeg < 0.0 ? 'S' : 'N', std::abs(longitudeDeg),
+                       longitudeDeg < 0.0 ? 'W' : 'E');
+}
+
+// A place's sources by file name: "N57E011.hgt", "N57E011.hgt + 3 more".
+std::string namesText(const std::vector<std::string>& inputs) {
+    if (inputs.empty()) return "the data";
+    const std::string first = std::filesystem::path(inputs.front()).filename().string();
+    return inputs.size() == 1 ? first : fmt::format("{} + {} more", first, inputs.size() - 1);
+}
+
+std::string placeText(const GlobeTourPlace& place) {
+    return fmt::format("{} ({})", namesText(place.inputs),
+                       whereText(place.latitudeDeg, place.longitudeDeg));
+}
+
+}  // namespace
+
+std::string describeFlightPlan(const GlobeFlightPlan& plan, double durationS) {
+    const std::vector<GlobeTourPlace>& places = plan.tour.places;
+    std::string line;
+    if (!plan.tour.perSource) {
+        line = fmt::format("the default flight goes to the centre of the data ({})",
+                           whereText(places.front().latitudeDeg, places.front().longitudeDeg));
+        if (plan.inputCount > 1)
+            line += fmt::format(
+                ", the finest of its {} sources: the manifest records no other source's extent "
+                "(rebuild the pyramid with this terrain-build to visit each, or give --lat and "
+                "--lon)",
+                plan.inputCount);
+        return line;
+    }
+    if (plan.visit) {
+        line = fmt::format("the flight goes to place {} of {} (--visit {}): {}", *plan.visit,
+                           places.size(), *plan.visit,
+                           placeText(places[std::size_t(*plan.visit - 1)]));
+        if (places.size() > 1)
+            line += fmt::format("; without --visit it visits all {} in turn", places.size());
+    } else if (places.size() == 1) {
+        line = "the default flight goes to " + placeText(places.front());
+    } else {
+        line = fmt::format("the default flight visits {} places, {:.3g} s each:", places.size(),
+                           durationS / double(places.size()));
+        for (std::size_t i = 0; i < places.size(); ++i)
+            line += fmt::format("{} {}. {}", i == 0 ? "" : ",", i + 1, placeText(places[i]));
+    }
+    if (!plan.tour.global.empty())
+        line += fmt::format("; it passes over {} (global)", namesText(plan.tour.global));
+    if (!plan.visit && places.size() > 1) line += "; --visit N flies to place N only";
+    return line;
+}
+
+nlohmann::json flightPlanJson(const GlobeFlightPlan& plan, double durationS) {
+    nlohmann::json visits = nlohmann::json::array();
+    for (std::size_t i = 0; i < plan.stops.size(); ++i) {
+        const GlobeFlightStop& s = plan.stops[i];
+        visits.push_back({{"inputs", s.place.inputs},
+                          {"latitude_deg", s.place.latitudeDeg},
+                          {"longitude_deg", s.place.longitudeDeg},
+                          {"extent", {s.place.west, s.place.south, s.place.east, s.place.north}},
+                          {"ground_m", s.groundM},
+                          {"ground_level", s.groundLevel},
+                          {"arrival_s", runtime::GlobeCameraPath::tourArrivalS(i, plan.stops.size(),
+                                                                               durationS)}});
+    }
+    return {{"flight_visits", std::move(visits)},
+            {"flight_passes_over", plan.tour.global},
+            {"flight_visit", plan.visit ? nlohmann::json(*plan.visit) : nlohmann::json()},
+            {"flight_places", plan.tour.places.size()}};
 }
 
 namespace {
@@ -46,29 +131,43 @@ public:
     runtime::SurfaceKind kind() const override { return runtime::SurfaceKind::Globe; }
     runtime::PathFrame pathFrame() const override { return runtime::PathFrame::Globe; }
 
-    Result<runtime::FlightPath> flight(const std::string& pyramid,
-                                       const runtime::Surface& /*surface*/,
-                                       const std::string& pathFile, double durationS,
-                                       const GlobeFlags& globe) const override {
+    Result<Flight> flight(const std::string& pyramid, const runtime::Surface& /*surface*/,
+                          const std::string& pathFile, double durationS,
+                          const GlobeFlags& globe) const override {
+        if (!pathFile.empty() && globe.visit)
+            return Error{
+                fmt::format("{}: --visit picks a place of the default flight; --path {} "
+                            "gives a flight of its own",
+                            pyramid, pathFile)};
         if (globe.fixedPose()) {
-            // One keyframe: the pose given, the data's centre where --lat or --lon is not.
-            auto found = globeFlightTarget(pyramid);
-            if (!found) return found.error();
+            // One keyframe: the pose given, the place's centre (the --visit one, else the
+            // tour's first) where --lat or --lon is not.
+            auto plan = globeFlightPlan(pyramid, globe.visit.value_or(1));
+            if (!plan) return plan.error();
+            const GlobeTourPlace& place = plan.value().stops.front().place;
             auto pose = runtime::GlobeCameraPath::fromKeyframes(
                 {{0.0,
-                  {{globe.latitudeDeg.value_or(found.value().latitudeDeg),
-                    globe.longitudeDeg.value_or(found.value().longitudeDeg),
+                  {{globe.latitudeDeg.value_or(place.latitudeDeg),
+                    globe.longitudeDeg.value_or(place.longitudeDeg),
                     globe.heightM.value_or(runtime::GlobeCameraPath::kOrbitHeightM)},
                    globe.headingDeg,
                    globe.pitchDeg},
                   runtime::GlobeCameraPath::kDefaultFovYDegrees}});
             if (!pose) return pose.error();
-            return runtime::FlightPath(std::move(pose).value());
+            Flight flown{runtime::FlightPath(std::move(pose).value()), {}, nullptr};
+            if (globe.visit) flown.said = describeFlightPlan(plan.value(), durationS);
+            return flown;
         }
-        if (!pathFile.empty()) return runtime::FlightPath::load(pathFile, pathFrame());
-        auto orbit = globeOrbitFlight(pyramid, durationS);
-        if (!orbit) return orbit.error();
-        return runtime::FlightPath(std::move(orbit).value());
+        if (!pathFile.empty()) {
+            auto loaded = runtime::FlightPath::load(pathFile, pathFrame());
+            if (!loaded) return loaded.error();
+            return Flight{std::move(loaded).value(), {}, nullptr};
+        }
+        auto plan = globeFlightPlan(pyramid, globe.visit);
+        if (!plan) return plan.error();
+        return Flight{runtime::FlightPath(globeTourFlight(plan.value(), durationS)),
+                      describeFlightPlan(plan.value(), durationS),
+                      flightPlanJson(plan.value(), durationS)};
     }
 
     double frameTimeS(const runtime::FlightPath& path, std::uint64_t frame, std::uint64_t frames,

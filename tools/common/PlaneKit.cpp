@@ -15,13 +15,18 @@ public:
     runtime::SurfaceKind kind() const override { return runtime::SurfaceKind::Plane; }
     runtime::PathFrame pathFrame() const override { return runtime::PathFrame::Plane; }
 
-    Result<runtime::FlightPath> flight(const std::string& /*pyramid*/,
-                                       const runtime::Surface& surface, const std::string& pathFile,
-                                       double durationS,
-                                       const GlobeFlags& /*globe: refused*/) const override {
-        if (!pathFile.empty()) return runtime::FlightPath::load(pathFile, pathFrame());
-        return runtime::FlightPath(
-            runtime::CameraPath::defaultFor(runtime::planeGeometry(surface), durationS));
+    Result<Flight> flight(const std::string& /*pyramid*/, const runtime::Surface& surface,
+                          const std::string& pathFile, double durationS,
+                          const GlobeFlags& /*globe: refused*/) const override {
+        if (!pathFile.empty()) {
+            auto loaded = runtime::FlightPath::load(pathFile, pathFrame());
+            if (!loaded) return loaded.error();
+            return Flight{std::move(loaded).value(), {}, nullptr};
+        }
+        return Flight{runtime::FlightPath(runtime::CameraPath::defaultFor(
+                          runtime::planeGeometry(surface), durationS)),
+                      {},
+                      nullptr};
     }
 
     double frameTimeS(const runtime::FlightPath& path, std::uint64_t frame,

@@ -44,6 +44,18 @@ struct FlightFacts {
     nlohmann::json arrival;           ///< full detail after arrival (measuresArrival), or null
 };
 
+/// A flight and what the program says of it (SurfaceKit::flight).
+struct Flight {
+    runtime::FlightPath path;
+    /// On the globe, where the flight goes and how to pick another place (GlobeKit's
+    /// describeFlightPlan): one line for stderr; empty where there is nothing to say (a path
+    /// file, the plane).
+    std::string said;
+    /// The report's fields of the globe's default flight (flightPlanJson): the places it
+    /// visits; null otherwise.
+    nlohmann::json report;
+};
+
 class SurfaceKit {
 public:
     virtual ~SurfaceKit() = default;
@@ -67,11 +79,11 @@ public:
 
     /// The flight: on the globe a fixed pose where `globe` gives one; else `pathFile` read as
     /// this surface's path (the other surface's format refused by name); else the surface's
-    /// default flight, `durationS` long, over `surface` (the pyramid's).
-    virtual Result<runtime::FlightPath> flight(const std::string& pyramid,
-                                               const runtime::Surface& surface,
-                                               const std::string& pathFile, double durationS,
-                                               const GlobeFlags& globe) const = 0;
+    /// default flight, `durationS` long, over `surface` (the pyramid's): on the globe every
+    /// place of the data in turn, or the one --visit picks (GlobeKit.h).
+    virtual Result<Flight> flight(const std::string& pyramid, const runtime::Surface& surface,
+                                  const std::string& pathFile, double durationS,
+                                  const GlobeFlags& globe) const = 0;
 
     /// The path time of frame `frame` of `frames`: every 1 / fps from the start on the plane,
     /// spread evenly over the whole path on the globe (start to end whatever the fps).

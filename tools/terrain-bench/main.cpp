@@ -67,6 +67,7 @@ struct BenchOptions {
     std::string methods = "yusov2011";
     std::vector<double> thresholdsPx{0.5, 1.0, 2.0, 4.0, 8.0, 16.0};
     std::string pathFile;
+    tools::GlobeFlags globe;  ///< --visit only
     double durationS = 20.0;
     int frames = 48;
     int widthPx = 640;
@@ -221,6 +222,8 @@ int run(const BenchOptions& o, const char* argv0) {
         if (auto supported = kit->supports(o.pyramid, method); !supported)
             return fail(supported.error().message);
     }
+    if (Status own = kit->refuseForeignFlags(o.pyramid, o.globe); !own)
+        return fail(own.error().message);
     if (globe && o.stability)
         return fail(
             o.pyramid +
@@ -316,9 +319,10 @@ int run(const BenchOptions& o, const char* argv0) {
     const runtime::Surface& surface = runs.front().session->surface();
     const io::PyramidLayout& layout = manifest.value().layout;
 
-    auto flown = kit->flight(o.pyramid, surface, o.pathFile, o.durationS, tools::GlobeFlags{});
+    auto flown = kit->flight(o.pyramid, surface, o.pathFile, o.durationS, o.globe);
     if (!flown) return fail(flown.error().message);
-    const runtime::FlightPath& path = flown.value();
+    if (!flown.value().said.empty()) fmt::print(stderr, "terrain-bench: {}\n", flown.value().said);
+    const runtime::FlightPath& path = flown.value().path;
     if (auto saved = path.save(outputDir / "camera-path.json"); !saved)
         return fail(saved.error().message);
 
@@ -589,6 +593,7 @@ int run(const BenchOptions& o, const char* argv0) {
         surfaceFigures = std::move(figures).value();
         surfaceFigures["sources"] = o.sources;
         surfaceFigures["seams"] = tools::seamsJson<nlohmann::json>(manifest.value());
+        if (!flown.value().report.is_null()) surfaceFigures.update(flown.value().report);
     }
 
     const std::vector<tools::ThresholdSummary> summaries = tools::summarise(records, o.tolerancePx);
@@ -729,6 +734,7 @@ int main(int argc, char** argv) {
     app.add_option("--duration-s", o.durationS, "Length of the default path, seconds")
         ->capture_default_str()
         ->check(CLI::PositiveNumber);
+    o.globe.addVisitTo(app);
     app.add_option("--frames", o.frames, "Frames, evenly spread over the path")
         ->capture_default_str()
         ->check(CLI::Range(1, 100000));

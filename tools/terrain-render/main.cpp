@@ -113,11 +113,13 @@ int run(const RenderOptions& o) {
     // The streaming methods' streamer: faults, load latencies (null for the RTIN).
     auto* const streaming = dynamic_cast<runtime::TerrainSession*>(opened.value().get());
 
-    auto path = kit->flight(o.pyramid, session.surface(), o.pathFile,
-                            o.durationS > 0.0 ? o.durationS : 20.0, o.globe);
-    if (!path) return fail(path.error().message);
+    auto flown = kit->flight(o.pyramid, session.surface(), o.pathFile,
+                             o.durationS > 0.0 ? o.durationS : 20.0, o.globe);
+    if (!flown) return fail(flown.error().message);
+    if (!flown.value().said.empty()) fmt::print(stderr, "terrain-render: {}\n", flown.value().said);
+    const runtime::FlightPath& path = flown.value().path;
     if (!o.savePath.empty()) {
-        if (auto saved = path.value().save(o.savePath); !saved) return fail(saved.error().message);
+        if (auto saved = path.save(o.savePath); !saved) return fail(saved.error().message);
     }
 
     std::error_code ec;
@@ -139,7 +141,7 @@ int run(const RenderOptions& o) {
     camera.viewportWidth = o.widthPx;
     camera.viewportHeight = o.heightPx;
     camera.nearPlane = 0.5;  // the plane's; a globe path sets its own (placeOnGlobe)
-    const double durationS = path.value().durationS();
+    const double durationS = path.durationS();
     const std::uint64_t frames =
         o.frames > 0 ? o.frames : static_cast<std::uint64_t>(std::floor(durationS * o.fps)) + 1;
     const std::set<std::uint64_t> chosen(o.frameList.begin(), o.frameList.end());
@@ -184,7 +186,7 @@ int run(const RenderOptions& o) {
     const auto loopStart = Clock::now();
     auto previous = loopStart;
     for (std::uint64_t frame = 0; frame < frames; ++frame) {
-        path.value().apply(kit->frameTimeS(path.value(), frame, frames, o.fps), camera);
+        path.apply(kit->frameTimeS(path, frame, frames, o.fps), camera);
         if (o.settle && !session.settle(camera, std::chrono::seconds(60))) {
             if (auto broken = fatal()) return fail(*broken);
             return fail(fmt::format("frame {}: streaming did not settle within 60 s", frame));
@@ -287,6 +289,7 @@ int run(const RenderOptions& o) {
             {"gl", tools::glInfoJson(*context.value())},
         };
         out.update(surfaceFields);
+        if (!flown.value().report.is_null()) out.update(flown.value().report);
         std::puts(out.dump(2).c_str());
     }
     fmt::print(
