@@ -366,7 +366,7 @@ inline std::string describe(const runtime::FrameAccuracy& a) {
            std::to_string(e.outsidePixels) + "; non-finite " + std::to_string(e.nonFinitePixels) +
            "; unbounded comparison " + std::to_string(e.unboundedComparisonPixels) +
            "; single-pixel max " + std::to_string(e.maxSinglePixelPx) + "; PSNR " +
-           std::to_string(a.image.psnrDb) + " dB; cracks " + std::to_string(a.crackPixels) +
+           std::to_string(a.image.psnrDb) + " dB; cracks " + std::to_string(a.crackPixels()) +
            " (uncovered " + std::to_string(a.uncoveredPixels) + ", diagonal " +
            std::to_string(a.diagonalUncoveredPixels) + ")";
 }
@@ -394,7 +394,7 @@ inline void expectStable(const std::string& what, const runtime::Camera& camera,
         EXPECT_TRUE(a.finite()) << what << ": NaN or infinite figures, " << describe(camera);
     }
     if (promises.noCracks) {
-        EXPECT_EQ(a.crackPixels, 0u)
+        EXPECT_EQ(a.crackPixels(), 0u)
             << what << ": cracks, " << describe(camera) << ": " << describe(a);
     }
     EXPECT_EQ(a.error.outsidePixels, 0u) << what << ", " << describe(camera);

@@ -52,7 +52,7 @@ inline void sweepOtherMethods(const std::filesystem::path& pyramid, const std::v
                     EXPECT_TRUE(std::isfinite(m.accuracy.image.psnrDb)) << what;
                     unmeasurable += m.accuracy.error.nonFinitePixels;
                 }
-                if (!method.skirts) cracks += m.accuracy.crackPixels;
+                if (!method.skirts) cracks += m.accuracy.crackPixels();
                 ++frames;
                 over += m.accuracy.error.maxPx > errorPx + kRasterTolerancePx ? 1 : 0;
                 worstRatio = std::max(worstRatio, m.accuracy.error.maxPx / errorPx);

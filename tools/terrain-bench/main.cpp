@@ -439,7 +439,7 @@ int run(const BenchOptions& o, const char* argv0) {
         rec.nonFinitePixels = a.error.nonFinitePixels;
         rec.rmse = a.image.rmse;
         rec.psnrDb = a.image.psnrDb;
-        rec.crackPixels = a.crackPixels;
+        rec.crackPixels = a.crackPixels();
         rec.uncoveredPixels = a.uncoveredPixels;
         if (a.boundaryArtefactPixels)
             rec.boundaryArtefactPixels = static_cast<double>(*a.boundaryArtefactPixels);

@@ -222,8 +222,11 @@ Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapt
                            static_cast<int>(i % w), static_cast<int>(i / w), 0.5f);
         auto covered = m_truths.front()->everyTriangulationCovers(camera.position, along);
         if (!covered) return covered.error();
-        if (covered.value()) a.cracks.push_back(i);
-        ++(covered.value() ? a.crackPixels : a.diagonalUncoveredPixels);
+        if (covered.value()) {
+            a.cracks.push_back(i);
+        } else {
+            ++a.diagonalUncoveredPixels;
+        }
     }
     a.uncoveredPixels = uncovered.uncovered;
     if (!lod.patchIds.empty()) {

@@ -197,7 +197,7 @@ TEST_F(LodTriangleBudgetTest, FlatPlainIsOnePatchOfMinimumTriangles) {
         EXPECT_TRUE(m.accuracy.finite());
         EXPECT_LE(m.accuracy.error.maxPx, kRasterTolerancePx)
             << describe(camera) << ": " << describe(m.accuracy);
-        EXPECT_EQ(m.accuracy.crackPixels, 0u);
+        EXPECT_EQ(m.accuracy.crackPixels(), 0u);
         EXPECT_GT(m.accuracy.image.psnrDb, 40.0) << describe(camera);
     }
     std::cout << "[          ] flat plain: 1 patch, as blocks at least " << minimum

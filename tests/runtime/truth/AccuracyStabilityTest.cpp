@@ -343,8 +343,8 @@ TEST_F(AccuracyStabilityTest, TeleportsFasterThanStreaming) {
             ASSERT_TRUE(measured) << measured.error().message;
             const runtime::FrameAccuracy& a = measured.value();
             waitingFrames += lod.waitingSplits > 0 ? 1 : 0;
-            cracks += a.crackPixels;
-            EXPECT_EQ(a.crackPixels, 0u)
+            cracks += a.crackPixels();
+            EXPECT_EQ(a.crackPixels(), 0u)
                 << "frame " << frames << ", " << describe(camera) << ": " << describe(a);
             EXPECT_TRUE(a.finite()) << "frame " << frames << ", " << describe(camera);
             if (lod.waitingSplits > 0) worstWaitingPx = std::max(worstWaitingPx, a.error.maxPx);

@@ -105,14 +105,14 @@ TEST_F(GlobeAccuracyProbeTest, MeasuresAGlobeFrameAgainstItsSourcesAndItsFinestL
         const runtime::FrameAccuracy& a = m.accuracy;
         std::cout << name << ": error max " << a.error.maxPx << " px over " << a.error.pixels
                   << " pixels, the LOD's own " << (a.lodError ? a.lodError->maxPx : -1.0)
-                  << " px, PSNR " << a.image.psnrDb << " dB, " << a.crackPixels << " cracks\n";
+                  << " px, PSNR " << a.image.psnrDb << " dB, " << a.crackPixels() << " cracks\n";
         EXPECT_TRUE(a.comparedWithReference);
         EXPECT_GT(a.error.pixels, static_cast<std::uint64_t>(kWidth * kHeight / 4));
         EXPECT_LE(a.error.maxPx, 2.0 + kRasterTolerancePx);
         ASSERT_TRUE(a.lodError.has_value());
         EXPECT_EQ(a.lodError->pixels, a.error.pixels);
         EXPECT_LE(a.lodError->maxPx, 2.0 + kRasterTolerancePx);
-        EXPECT_EQ(a.crackPixels, 0u);
+        EXPECT_EQ(a.crackPixels(), 0u);
         EXPECT_GT(a.referencePixels, 0u);
         EXPECT_GE(a.image.psnrDb, 25.0);
         EXPECT_TRUE(a.finite());
@@ -154,7 +154,7 @@ TEST_F(GlobeAccuracyProbeTest, APartialReferenceImageIsNotCompared) {
     const runtime::FrameAccuracy& a = measured.value();
     EXPECT_FALSE(a.comparedWithReference);
     EXPECT_EQ(a.referencePixels, 0u);
-    EXPECT_EQ(a.crackPixels + a.uncoveredPixels, 0u);
+    EXPECT_EQ(a.crackPixels() + a.uncoveredPixels, 0u);
     EXPECT_TRUE(std::isnan(a.poppingLevels));
     EXPECT_FALSE(a.lodError.has_value()) << "one truth: no lodError";
     // The error is still measured, over every drawn pixel rather than those the reference

@@ -129,7 +129,7 @@ TEST_F(ReferenceRendererTest, FullResolutionLodMeasuresWithinTheTolerance) {
         EXPECT_TRUE(a.finite()) << describe(camera);
         EXPECT_GT(a.error.pixels, 0u);
         EXPECT_LE(a.error.maxPx, kRasterTolerancePx) << describe(camera) << ": " << describe(a);
-        EXPECT_EQ(a.crackPixels, 0u) << describe(camera);
+        EXPECT_EQ(a.crackPixels(), 0u) << describe(camera);
         EXPECT_EQ(a.error.outsidePixels, 0u) << describe(camera);
     }
 }

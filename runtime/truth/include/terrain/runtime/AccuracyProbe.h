@@ -71,10 +71,10 @@ struct FrameAccuracy {
     ImageDifference image;
     /// Clear colour in the LOD where the reference drew terrain, enclosed by terrain
     /// (countUncoveredPixels), and covered by the full-resolution surface whichever
-    /// diagonal splits each cell (everyTriangulationCovers): cracks and holes.
-    std::uint64_t crackPixels = 0;
-    /// Those pixels' indices (the images' row order), ascending: where to look.
+    /// diagonal splits each cell (everyTriangulationCovers): cracks and holes. Their pixel
+    /// indices (the images' row order), ascending: where to look.
     std::vector<std::size_t> cracks;
+    std::uint64_t crackPixels() const { return cracks.size(); }
     /// The other enclosed clear pixels: some choice of diagonals leaves them clear too, so
     /// they are no evidence of a hole (cells so steep that the diagonals are pixels apart).
     std::uint64_t diagonalUncoveredPixels = 0;

@@ -71,7 +71,7 @@ public:
 
     /// Whether the truth covers the ray from `cameraPosition` along `along` whichever
     /// diagonal splits each of its cells: a clear LOD pixel there is a crack, else only
-    /// evidence of the choice of diagonals (AccuracyProbe's crackPixels).
+    /// evidence of the choice of diagonals (AccuracyProbe.s crackPixels()).
     virtual Result<bool> everyTriangulationCovers(const glm::dvec3& cameraPosition,
                                                   const glm::dvec3& along) = 0;
 };
