@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Pyramid build benchmark: terrain-build against GDAL's COG build on the same inputs.
 
-For every real DEM in ../shared/data and a 16,385² float32 procedural DEM written as a
-tiled GeoTIFF, runs (one at a time, same machine, same thread count)
+For every real DEM in ../shared/data, two 8-bit grey PNGs without georeference made from
+them (gdal_translate -ot Byte -scale -outsize 1200 1200 -of PNG), and a 16,385² float32
+procedural DEM written as a tiled GeoTIFF, runs (one at a time, same machine, same thread count)
   terrain-build INPUT -o PYRAMID --threads 2                         (zstd level 3)
   terrain-build INPUT -o PYRAMID --threads 2 --compression-level 0   (the same, uncompressed)
   terrain-build INPUT -o PYRAMID --threads 2 --max-error-m 1  (lossy, Yusov §4's quantizer)
@@ -40,6 +41,14 @@ REAL_DEMS = [
     ("luxembourg_elev_30s.tif", []),
 ]
 
+# 8-bit grey PNGs without georeference made from real DEMs (issue 52: such a DEM's pyramid was
+# larger than its COG), as a user's `gdal_translate -ot Byte -scale -of PNG` makes them:
+# (name, source in the shared data, side).
+GREY_DEMS = [
+    ("rainier_8bit_1200.png", "srtm3_n46w122_rainier.tif", 1200),
+    ("N57E011_8bit_1200.png", "srtm/N57E011.hgt", 1200),
+]
+
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -70,6 +79,14 @@ def main():
     scratch.mkdir(parents=True, exist_ok=True)
 
     inputs = [(Path(args.shared) / name, flags) for name, flags in REAL_DEMS]
+    for name, source, side in GREY_DEMS:
+        grey = scratch / name
+        if not grey.exists():
+            # No .aux.xml beside it: the PNG carries no georeference and no no-data value.
+            run(["gdal_translate", "-q", "--config", "GDAL_PAM_ENABLED", "NO", "-ot", "Byte",
+                 "-scale", "-a_nodata", "none", "-outsize", str(side), str(side), "-of", "PNG",
+                 Path(args.shared) / source, grey], scratch / "gdal.log")
+        inputs.append((grey, []))
     big = scratch / f"procedural-{args.size}.tif"
     if not args.no_procedural and not big.exists():
         print(f"writing {big} (float32, tiled 256², uncompressed) ...", flush=True)

@@ -24,6 +24,8 @@ static_assert(std::endian::native == std::endian::little,
 constexpr std::uint8_t kStored = 0;
 constexpr std::uint8_t kZstd = 1;
 constexpr std::size_t kHeaderWords = 2;
+// zstd's shortest match searched for (ZSTD_c_minMatch; its largest is 7).
+constexpr int kMinMatch = 7;
 
 struct CompressContextDeleter {
     void operator()(ZSTD_CCtx* c) const { ZSTD_freeCCtx(c); }
@@ -55,6 +57,52 @@ int codeBytes(std::span<const std::uint32_t> codes) {
     return largest < (1U << 8) ? 1 : largest < (1U << 16) ? 2 : largest < (1U << 24) ? 3 : 4;
 }
 
+std::vector<std::size_t>& sectionsScratch() {
+    thread_local std::vector<std::size_t> offsets;
+    return offsets;
+}
+
+// What compressSections may write at most: zstd's bound for the whole, plus a block header
+// (3 bytes) for each section that may end a block early.
+std::size_t sectionsBound(std::size_t bytes, std::size_t sections) {
+    return ZSTD_compressBound(bytes) + 3 * sections;
+}
+
+// One zstd frame (RFC 8878) of `bytes`, with a block ending at each offset in `sections`
+// (ZSTD_e_flush): each block carries its own entropy tables, so the busy low byte plane of
+// the codes, their nearly empty high planes, the mask and λ's low and high bytes are each
+// coded with statistics of their own instead of one table for all (issue 52: 5 % of an 8-bit
+// DEM's pyramid). Matches still reach back across blocks, and any zstd decoder reads the
+// frame as before. Matches shorter than 7 bytes are not looked for: in runs of small codes
+// they cost more than the literals they replace (2 % more on the same DEM).
+std::size_t compressSections(std::span<const std::uint8_t> bytes,
+                             std::span<const std::size_t> sections, int level, std::uint8_t* out,
+                             std::size_t capacity) {
+    ZSTD_CCtx& context = compressContext();
+    ZSTD_CCtx_reset(&context, ZSTD_reset_session_and_parameters);
+    ZSTD_CCtx_setParameter(&context, ZSTD_c_compressionLevel, level);
+    ZSTD_CCtx_setParameter(&context, ZSTD_c_minMatch, kMinMatch);
+    ZSTD_CCtx_setPledgedSrcSize(&context, bytes.size());
+    ZSTD_outBuffer output{out, capacity, 0};
+    for (std::size_t k = 0; k < sections.size(); ++k) {
+        const bool last = k + 1 == sections.size();
+        const std::size_t end = last ? bytes.size() : sections[k + 1];
+        TERRAIN_ASSERT(sections[k] <= end && end <= bytes.size(), "compressSections: offsets");
+        if (end == sections[k] && !last) continue;
+        ZSTD_inBuffer input{bytes.data() + sections[k], end - sections[k], 0};
+        std::size_t pending = 0;
+        do {
+            const std::size_t before = output.pos + input.pos;
+            pending =
+                ZSTD_compressStream2(&context, &output, &input, last ? ZSTD_e_end : ZSTD_e_flush);
+            TERRAIN_ASSERT(!ZSTD_isError(pending), "ZSTD_compressStream2 failed");
+            TERRAIN_ASSERT(pending == 0 || output.pos + input.pos > before,
+                           "compressSections: output buffer too small");
+        } while (pending != 0);
+    }
+    return output.pos;
+}
+
 std::size_t unpackedBytes(const PayloadShape& shape, int bytesPerCode) {
     const auto samples =
         static_cast<std::size_t>(shape.tileSamples) * static_cast<std::size_t>(shape.tileSamples);
@@ -82,6 +130,14 @@ void packPatchPayload(std::span<const std::uint32_t> codes, HeightPrediction pre
         const int shift = 8 * plane;
         for (const std::uint32_t code : codes) *out++ = static_cast<std::uint8_t>(code >> shift);
     }
+    // Where each part of the data starts: the codes' byte planes, the mask, λ's low and
+    // high bytes.
+    std::vector<std::size_t>& sections = sectionsScratch();
+    sections.clear();
+    for (int plane = 0; plane <= bytesPerCode; ++plane)
+        sections.push_back(codes.size() * static_cast<std::size_t>(plane));
+    sections.push_back(sections.back() + valid.size());
+    sections.push_back(sections.back() + halfLambdas.size());
     out = std::copy(valid.begin(), valid.end(), out);
     // λ(1) of every block, then λ(2) …: neighbouring blocks' bounds are alike, one block's
     // four are not.
@@ -92,13 +148,12 @@ void packPatchPayload(std::span<const std::uint32_t> codes, HeightPrediction pre
 
     std::uint8_t codec = kStored;
     std::size_t length = planes.size();
-    words.assign(wordsFor(level > 0 ? ZSTD_compressBound(planes.size()) : planes.size()), 0U);
+    words.assign(
+        wordsFor(level > 0 ? sectionsBound(planes.size(), sections.size()) : planes.size()), 0U);
     auto* data = reinterpret_cast<std::uint8_t*>(words.data() + kHeaderWords);
     if (level > 0) {
         const std::size_t packed =
-            ZSTD_compressCCtx(&compressContext(), data, (words.size() - kHeaderWords) * 4,
-                              planes.data(), planes.size(), level);
-        TERRAIN_ASSERT(!ZSTD_isError(packed), "ZSTD_compressCCtx failed");
+            compressSections(planes, sections, level, data, (words.size() - kHeaderWords) * 4);
         if (packed < planes.size()) {
             codec = kZstd;
             length = packed;
