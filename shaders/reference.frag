@@ -30,7 +30,10 @@ layout(location = 6) in vec3 i_up;
 void main() {
 #ifdef TERRAIN_REFERENCE_FOOTPRINT
     float footprint = sampleFootprint(i_sample);
+    // Before the discard, as derivatives need.
+    vec2 sampleDx = dFdx(i_sample), sampleDy = dFdy(i_sample);
 #endif
+    float meshCoastWidthM = fwidth(i_heightM);
     // A thousandth of a sample of slack: the interpolated position of the DEM's own last
     // column or row may round to just beyond it.
     const float kSlack = 1.0e-3;
@@ -42,11 +45,16 @@ void main() {
     TerrainShading shading = TerrainShading(u_frame.sunDirection.xyz, u_frame.heightRange.xy,
                                             u_frame.sky.rgb, u_frame.sky.w, u_frame.heightRange.zw);
 #ifdef TERRAIN_REFERENCE_FOOTPRINT
-    vec3 normal =
-        footprintNormal(i_instance, i_sample, footprint, normalize(i_normal), normalize(i_up));
+    FootprintSurface ground = footprintSurface(i_instance, i_sample, footprint);
+    vec3 normal = footprintNormal(i_instance, ground, normalize(i_normal), normalize(i_up));
+    float heightM = mix(i_heightM, ground.heightM, ground.weight);
+    float coastWidthM = mix(meshCoastWidthM, heightAcrossPixel(ground.slope, sampleDx, sampleDy),
+                            ground.weight);
 #else
     vec3 normal = i_normal;
+    float heightM = i_heightM;
+    float coastWidthM = meshCoastWidthM;
 #endif
-    o_color = vec4(terrainShade(shading, normal, i_heightM, i_fromCameraM), 1.0);
+    o_color = vec4(terrainShade(shading, normal, heightM, coastWidthM, i_fromCameraM), 1.0);
     o_heightM = i_heightM;
 }

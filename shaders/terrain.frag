@@ -121,9 +121,9 @@ void main() {
 #ifdef TERRAIN_FRAGMENT_NORMALS
     // From two samples of footprint up the filtered normal alone shows (footprintNormal's
     // blend weight is 1): the mesh's normal is not worth its texel fetches there.
-    vec3 mesh = footprint < 2.0 ? fragmentNormal(i_patchSample) : vec3(0.0, 0.0, 1.0);
-    vec3 normal =
-        footprintNormal(i_patch, i_patchSample, footprint, mesh, normalize(i_up));
+    vec3 meshNormal = footprint < 2.0 ? fragmentNormal(i_patchSample) : vec3(0.0, 0.0, 1.0);
+    FootprintSurface ground = footprintSurface(i_patch, i_patchSample, footprint);
+    vec3 normal = footprintNormal(i_patch, ground, meshNormal, normalize(i_up));
 #else
     vec3 normal = i_normal;
 #endif
@@ -139,9 +139,12 @@ void main() {
         // The coast blends over the mesh's own change across the pixel, from its slope and
         // the interpolated sample's derivatives (a computed height's own derivative is not
         // defined beside a discard, and a helper lane's fetches may lie off the patch).
+        // Where the pixel spans several samples the height and slope are the footprint's,
+        // as the normal is: the tint and the coast then do not depend on the level drawn.
         vec3 mesh = fragmentHeight(i_patchSample);
-        float heightM = mesh.x;
-        float coastWidthM = abs(dot(mesh.yz, sampleDx)) + abs(dot(mesh.yz, sampleDy));
+        float heightM = mix(mesh.x, ground.heightM, ground.weight);
+        float coastWidthM =
+            heightAcrossPixel(mix(mesh.yz, ground.slope, ground.weight), sampleDx, sampleDy);
 #else
         float heightM = i_heightM;
         float coastWidthM = fwidth(i_heightM);

@@ -29,10 +29,11 @@ vec4 shadingTile(int instance, PatchInstance patch_, int k) {
     return u_shadingTiles[instance * TERRAIN_SHADING_ANCESTORS + k - 1];
 }
 
-// The mean slope (per patch sample, x and y) of tile t's mesh over the box of half-width r
-// around patch sample p: the difference quotient across the box, taken over its four corners.
-// The box is cut to the tile's samples (its apron's included, −1 … N + 1).
-vec2 boxSlope(vec4 t, vec2 p, float r) {
+// Tile t's mesh over the box of half-width r around patch sample p: its height at p (x) and
+// its mean slope over the box (y, z: per patch sample), the difference quotient across the box
+// taken over its four corners. The box is cut to the tile's samples (its apron's included,
+// −1 … N + 1).
+vec3 boxSurface(vec4 t, vec2 p, float r) {
     float n = float(u_frame.tessellation.z);
     vec2 lo = max(p - r, (vec2(-1.0) - t.xy) / t.z);
     vec2 hi = min(p + r, (vec2(n + 1.0) - t.xy) / t.z);
@@ -41,32 +42,55 @@ vec2 boxSlope(vec4 t, vec2 p, float r) {
     float h10 = heightBetween(tileTexel(t, vec2(hi.x, lo.y)), layer);
     float h01 = heightBetween(tileTexel(t, vec2(lo.x, hi.y)), layer);
     float h11 = heightBetween(tileTexel(t, hi), layer);
-    return vec2((h10 - h00) + (h11 - h01), (h01 - h00) + (h11 - h10)) / (2.0 * (hi - lo));
+    vec2 slope = vec2((h10 - h00) + (h11 - h01), (h01 - h00) + (h11 - h10)) / (2.0 * (hi - lo));
+    return vec3(heightBetween(tileTexel(t, p), layer), slope);
 }
 
-// The normal at patch sample p of `instance` (a pixel spanning `footprint` of its samples):
-// `meshNormal`, the mesh's own, up to one sample of footprint; beyond, that of the mean slope
-// over the footprint, taken from the pyramid's level whose samples are a half to a whole
-// footprint apart, blended with the next coarser one by where the footprint lies between
-// their spacings (trilinear, as a mip chain is sampled). The level is the footprint's in
-// metres, whichever level's patch draws the pixel: two patches of different levels on either
-// side of a boundary (and the reference's finest tiles) take the same pixel's normal from the
-// same data, and a box of at most two of that level's samples never reaches past its tile's
-// apron, so it is not cut at the patch's edge. Only beyond TERRAIN_SHADING_ANCESTORS levels up
-// (or above the pyramid's root) is the coarsest tile's box cut. `up`: the surface's vertical.
-vec3 footprintNormal(int instance, vec2 p, float footprint, vec3 meshNormal, vec3 up) {
-    if (footprint <= 1.0) return meshNormal;
+// The ground under a pixel as its shading sees it: height and slopes filtered to the pixel's
+// footprint, and how much they show over the mesh's own at the fragment.
+struct FootprintSurface {
+    float heightM;
+    vec2 slope;    // mean over the footprint, per patch sample (x, y)
+    float weight;  // 0 up to one sample of footprint, 1 from two: mix(mesh's, these, weight)
+};
+
+// The ground at patch sample p of `instance` for a pixel spanning `footprint` of its samples:
+// beyond one sample, the height and mean slope over the footprint, taken from the pyramid's
+// level whose samples are a half to a whole footprint apart, blended with the next coarser
+// one by where the footprint lies between their spacings (trilinear, as a mip chain is
+// sampled). The level is the footprint's in metres, whichever level's patch draws the pixel:
+// two patches of different levels on either side of a boundary (and the reference's finest
+// tiles) take a pixel's normal, tint and coast from the same data, and a box of at most two
+// of that level's samples never reaches past its tile's apron, so it is not cut at the
+// patch's edge. Only beyond TERRAIN_SHADING_ANCESTORS levels up (or above the pyramid's
+// root) is the coarsest tile's box cut.
+FootprintSurface footprintSurface(int instance, vec2 p, float footprint) {
+    if (footprint <= 1.0) return FootprintSurface(0.0, vec2(0.0), 0.0);
     PatchInstance patch_ = u_instances[instance];
     float octave = log2(footprint);
     int k = min(int(floor(octave)), TERRAIN_SHADING_ANCESTORS);
     float r = 0.5 * footprint;
-    vec2 slope = boxSlope(shadingTile(instance, patch_, k), p, r);
+    vec3 ground = boxSurface(shadingTile(instance, patch_, k), p, r);
     if (k < TERRAIN_SHADING_ANCESTORS) {
-        vec2 coarser = boxSlope(shadingTile(instance, patch_, k + 1), p, r);
-        slope = mix(slope, coarser, clamp(octave - float(k), 0.0, 1.0));
+        vec3 coarser = boxSurface(shadingTile(instance, patch_, k + 1), p, r);
+        ground = mix(ground, coarser, clamp(octave - float(k), 0.0, 1.0));
     }
-    vec3 filtered = surfaceNormalFromSlopes(patch_, slope, up);
-    return normalize(mix(meshNormal, filtered, smoothstep(1.0, 2.0, footprint)));
+    return FootprintSurface(ground.x, ground.yz, smoothstep(1.0, 2.0, footprint));
+}
+
+// The shading normal: the mesh's own (`meshNormal`) blended into the footprint's; `up`: the
+// surface's vertical.
+vec3 footprintNormal(int instance, FootprintSurface ground, vec3 meshNormal, vec3 up) {
+    if (ground.weight <= 0.0) return meshNormal;
+    vec3 filtered = surfaceNormalFromSlopes(u_instances[instance], ground.slope, up);
+    return normalize(mix(meshNormal, filtered, ground.weight));
+}
+
+// How much the ground changes across a pixel whose patch samples change by sampleDx and
+// sampleDy from it to its neighbours, from its slope (per patch sample): where the coast is
+// blended (terrainShade's coastWidthM).
+float heightAcrossPixel(vec2 slope, vec2 sampleDx, vec2 sampleDy) {
+    return abs(dot(slope, sampleDx)) + abs(dot(slope, sampleDy));
 }
 
 #endif  // TERRAIN_FOOTPRINT_GLSL
