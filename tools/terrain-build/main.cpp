@@ -20,6 +20,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <optional>
@@ -127,6 +128,13 @@ int main(int argc, char** argv) {
         "a planar sheet around the centre (projected ones, e.g. UTM, first onto a "
         "longitude/latitude grid by GDAL's warper, the bounds still made against their own "
         "samples); several inputs composite there, the finest valid sample winning");
+    auto* seaLevelOption =
+        app.add_option("--sea-level", options.globeSeaLevelM,
+                       "Globe pyramids: the sea's height in the sources' vertical datum, metres "
+                       "(default 0: mean sea level, as SRTM, ETOPO and GEBCO state heights); what "
+                       "lies at or below it is drawn as water. For sources whose zero is not the "
+                       "sea, such as heights above the ellipsoid. Region builds take it at the "
+                       "merge");
     app.add_option("--measured-levels", options.globeMeasuredLevels,
                    "Globe region builds: the levels above the finest whose error bounds are "
                    "measured at the source's samples (each a pass over the source) before the "
@@ -171,6 +179,10 @@ int main(int argc, char** argv) {
     const auto budget = parseBytes(memory);
     if (!budget) return fail("--memory '" + memory + "': expected a size such as 1GiB or 512MiB");
     options.memoryBudgetBytes = *budget;
+    if (seaLevelOption->count() > 0 && !globe)
+        return fail("--sea-level is for globe pyramids (--globe): a planar pyramid draws no sea");
+    if (!std::isfinite(options.globeSeaLevelM))
+        return fail("--sea-level: expected a finite number of metres");
     options.parentPrediction = !independentPatches;
     const bool tasks = plan || merge || !shardTexts.empty();
     std::vector<io::ShardId> shards;

@@ -98,7 +98,8 @@ PyramidManifest globeManifest(const PyramidLayout& layout, int faceFinestLevel,
                             .east = finest.east,
                             .north = finest.north,
                             .seams = {},
-                            .sources = std::move(sources)};
+                            .sources = std::move(sources),
+                            .seaLevelM = 0.0};
     describeSources(m, readers);
     // The mask always: samples beyond the sources are not data on a globe.
     m.noData.present = true;

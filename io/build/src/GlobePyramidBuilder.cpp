@@ -511,6 +511,7 @@ Result<PyramidBuildSummary> buildWholeGlobePyramid(std::span<DemReader* const> r
     for (const GlobeSources::Source& source : composite.sources())
         extents.push_back(globeSourceOf(source.grid, source.path));
     PyramidManifest m = globeManifest(l, faceLevel, std::move(extents), readers);
+    m.globe->seaLevelM = options.globeSeaLevelM;
     double minHeight = 0.0, maxHeight = 0.0;
     bool any = false;
     for (std::size_t k = 0; k < composite.sources().size(); ++k) {

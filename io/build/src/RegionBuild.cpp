@@ -164,6 +164,7 @@ Result<PyramidBuildSummary> mergePyramidShards(PyramidSurface surface, DemReader
     }
     auto manifest = tiling.manifest(totals, totals.build.warnings);
     if (!manifest) return manifest.error();
+    if (manifest.value().globe) manifest.value().globe->seaLevelM = options.globeSeaLevelM;
 
     auto adopted = PartialBuildFolder::adopt(output, plan.staging, options.overwrite);
     if (!adopted) return adopted.error();

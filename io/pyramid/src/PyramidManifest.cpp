@@ -274,7 +274,11 @@ PyramidManifest parseFields(const Json& root, LayoutFields& f) {
                                 .east = extent[2].get<double>(),
                                 .north = extent[3].get<double>(),
                                 .seams = {},
-                                .sources = {}};
+                                .sources = {},
+                                .seaLevelM = optionalNumberField(globe, "globe", "seaLevelM")
+                                                 .value_or(0.0)};
+        if (!std::isfinite(m.globe->seaLevelM))
+            throw FieldError{"globe.seaLevelM", "a finite number of metres"};
         if (globe.contains("sources")) {  // since each source's extent was recorded
             for (const Json& entry : arrayField(globe, "globe", "sources")) {
                 ManifestGlobeSource s;
@@ -604,6 +608,7 @@ std::string toJson(const PyramidManifest& m) {
                     {{"input", s.input}, {"extent", {s.west, s.south, s.east, s.north}}});
             j["globe"]["sources"] = std::move(sources);
         }
+        if (m.globe->seaLevelM != 0.0) j["globe"]["seaLevelM"] = m.globe->seaLevelM;
     }
     return j.dump(2) + "\n";
 }

@@ -108,9 +108,10 @@ void GlobePlacement::beginFrame(const Camera& camera, FrameBlock& block) {
     block.sunDirection = {static_cast<float>(sun.x), static_cast<float>(sun.y),
                           static_cast<float>(sun.z), 0.0f};
     const std::array<float, 2> range = globeHeightRange(m_manifest);
-    // The sea at the sources' zero (their vertical datum, mean sea level for SRTM and ETOPO),
-    // drawn as water.
-    block.heightRange = {range[0], range[1], 0.0f, 1.0f};
+    // The sea at the level the sources state (their zero, mean sea level, for SRTM and
+    // ETOPO), drawn as water.
+    block.heightRange = {range[0], range[1], static_cast<float>(globeSeaLevel(m_manifest)),
+                         1.0f};
 }
 
 PatchInstance GlobePlacement::place(const PatchDraw& p, const cache::GpuTilePool& pool) const {
@@ -143,9 +144,14 @@ glm::dvec3 globeSunDirection(const Camera& camera) {
     return glm::normalize(2.0 * up + camera.right() - 0.5 * camera.forward());
 }
 
+double globeSeaLevel(const io::PyramidManifest& manifest) {
+    return manifest.globe ? manifest.globe->seaLevelM : 0.0;
+}
+
 std::array<float, 2> globeHeightRange(const io::PyramidManifest& manifest) {
-    return {static_cast<float>(std::min(manifest.statistics.minHeight, 0.0)),
-            static_cast<float>(std::max(manifest.statistics.maxHeight, 1.0))};
+    const double sea = globeSeaLevel(manifest);
+    return {static_cast<float>(std::min({manifest.statistics.minHeight, 0.0, sea})),
+            static_cast<float>(std::max({manifest.statistics.maxHeight, 1.0, sea + 1.0}))};
 }
 
 }  // namespace terrain::runtime

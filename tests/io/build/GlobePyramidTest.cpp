@@ -290,6 +290,36 @@ TEST(GlobePyramid, RegionalSourceAloneEndsAtItsExtent) {
 // A lossy globe pyramid (terrain-build --globe --max-error-m): the stored heights are
 // whole steps of 2δ_l, every patch's δ at least δ_l, and Err(P), measured on the stored
 // surface, holds every source sample; the pyramid is smaller than the lossless one.
+TEST(GlobePyramid, AStatedSeaLevelIsRecorded) {
+    TempFolder temp;
+    GeographicFunctionDem source(10.0, 60.25, 40, 20, 0.005, 0.005,
+                                 [](double lat, double lon) { return hills(lat, lon) + 30.0f; });
+    // Heights above the ellipsoid, say, where the sea lies 42.5 m up.
+    PyramidBuildOptions options = smallPatches();
+    options.globeSeaLevelM = 42.5;
+    auto built = buildGlobePyramid(source, temp.path() / "sea.pyramid", options);
+    ASSERT_TRUE(built) << built.error().message;
+    EXPECT_EQ(built.value().manifest.globe->seaLevelM, 42.5);
+    auto reread = readManifest(temp.path() / "sea.pyramid");
+    ASSERT_TRUE(reread) << reread.error().message;
+    EXPECT_EQ(reread.value().globe->seaLevelM, 42.5);
+    // Mean sea level, the default, is not written: manifests from before read the same.
+    nlohmann::json plain = nlohmann::json::parse(toJson(reread.value()));
+    plain["globe"]["seaLevelM"] = 0.0;
+    auto atZero = fromJson(plain.dump(), "m.json");
+    ASSERT_TRUE(atZero) << atZero.error().message;
+    EXPECT_EQ(nlohmann::json::parse(toJson(atZero.value()))["globe"].count("seaLevelM"), 0u);
+    plain["globe"].erase("seaLevelM");
+    auto without = fromJson(plain.dump(), "m.json");
+    ASSERT_TRUE(without) << without.error().message;
+    EXPECT_EQ(without.value().globe->seaLevelM, 0.0);
+    plain["globe"]["seaLevelM"] = "high";
+    auto refused = fromJson(plain.dump(), "m.json");
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("globe.seaLevelM"), std::string::npos)
+        << refused.error().message;
+}
+
 TEST(GlobePyramid, LossyRegionalSourceKeepsItsBounds) {
     TempFolder temp;
     GeographicFunctionDem source(10.0, 60.25, 100, 50, 0.005, 0.005, hills);

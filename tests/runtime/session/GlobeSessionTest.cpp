@@ -18,6 +18,7 @@
 #include "terrain/build/GlobePyramidBuilder.h"
 #include "terrain/build/GlobeSourceSurface.h"
 #include "terrain/gl/Framebuffer.h"
+#include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/FrameImages.h"
 #include "terrain/runtime/GlobeCamera.h"
@@ -36,6 +37,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <numbers>
 #include <string>
@@ -220,6 +222,42 @@ TEST_F(GlobeSessionTest, EveryStabilityCaseHasNoHoleAndHorizonCullingChangesNoPi
 // The measured screen-space error (ScreenSpaceError.h, GlobeTruth.h) against the sources'
 // full-resolution surface on every stability case, at ε = 1, 2 and 4 px: the drawn surface
 // stays within ε + kRasterTolerancePx on every pose (the worst error two adjacent pixels show).
+// Water pixels of an image (the shaded view's sea is blue; land is green, brown or grey).
+std::size_t waterPixels(const std::vector<std::uint8_t>& image) {
+    std::size_t water = 0;
+    for (std::size_t i = 0; i + 3 < image.size(); i += 4) {
+        const bool clear = image[i] == 255 && image[i + 1] == 0 && image[i + 2] == 255;
+        water += !clear && int{image[i + 2]} > int{image[i]} + 24 ? 1 : 0;
+    }
+    return water;
+}
+
+// A pyramid whose sources state their sea 600 m above their zero (heights above the
+// ellipsoid, say): more of the planet is drawn as water, and the sea floor in view is as
+// before.
+TEST_F(GlobeSessionTest, AStatedSeaLevelFloodsWhatLiesBelowIt) {
+    const test::TempFolder folder;
+    const std::filesystem::path flooded = folder.path() / "flooded.pyramid";
+    std::filesystem::copy(s_pyramid, flooded, std::filesystem::copy_options::recursive);
+    auto manifest = io::readManifest(flooded);
+    ASSERT_TRUE(manifest) << manifest.error().message;
+    manifest.value().globe->seaLevelM = 600.0;
+    ASSERT_TRUE(io::writeManifest(flooded, manifest.value()));
+    auto framebuffer = gl::Framebuffer::create(kWidth, kHeight, "globe test");
+    ASSERT_TRUE(framebuffer) << framebuffer.error().message;
+    const Camera camera = cameraFor({{20.0, 30.0, 20e6}, 0.0, -90.0});
+    std::size_t water[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+        auto opened = TerrainSession::open(k == 0 ? s_pyramid : flooded, sessionOptions());
+        ASSERT_TRUE(opened) << opened.error().message;
+        water[k] = waterPixels(render(*opened.value(), framebuffer.value(), camera));
+    }
+    std::cout << "[          ] water pixels from 20,000 km: " << water[0] << " at sea level 0, "
+              << water[1] << " at 600 m\n";
+    EXPECT_GT(water[0], 0u);
+    EXPECT_GT(water[1], water[0] + water[0] / 5);
+}
+
 TEST_F(GlobeSessionTest, MeasuredErrorStaysWithinEpsilonOnEveryStabilityCase) {
     test::GeographicFunctionDem source(-180.0, 90.0, 720, 360, 0.5, 0.5, test::reliefPlanet);
     io::DemReader* const sources[] = {&source};

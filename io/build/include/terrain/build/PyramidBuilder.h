@@ -47,6 +47,9 @@ struct PyramidBuildOptions {
     /// measured at the source's samples before the nested bound takes over; −1 is 2, and every
     /// level of a shard whose surroundings hold at most 2^24 samples.
     int globeMeasuredLevels = -1;
+    /// A globe pyramid's sea level in its sources' vertical datum, metres
+    /// (ManifestGlobe::seaLevelM).
+    double globeSeaLevelM = 0.0;
     bool overwrite = false;  ///< replace an existing pyramid at the output path
     /// Called on the building thread after every band.
     std::function<void(const PyramidBuildProgress&)> progress;

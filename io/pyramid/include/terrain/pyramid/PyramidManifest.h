@@ -126,6 +126,11 @@ struct ManifestGlobe {
     /// Every source, finest first (optional in the file: absent before it was recorded; a
     /// reader then knows the finest source's extent only).
     std::vector<ManifestGlobeSource> sources;
+    /// The height of the sea in the sources' vertical datum, metres (optional in the file,
+    /// 0: mean sea level, as SRTM and ETOPO state it): what lies at or below it is drawn as
+    /// water. A source whose zero is not the sea (heights above the ellipsoid, a lake's
+    /// surface) states its own (terrain-build --sea-level).
+    double seaLevelM = 0.0;
     bool operator==(const ManifestGlobe&) const = default;
 };
 

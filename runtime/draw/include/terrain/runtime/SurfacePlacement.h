@@ -91,7 +91,10 @@ PatchInstance globePatchInstance(const PatchDraw& patch, const glm::dvec3& camer
 /// wherever it is (unit length, ECEF axes).
 glm::dvec3 globeSunDirection(const Camera& camera);
 
-/// The heights a globe's tint spans: the data's, sea level included (bare patches are at 0).
+/// The heights a globe's tint spans: the data's, sea level and 0 included (bare patches are
+/// at 0).
 std::array<float, 2> globeHeightRange(const io::PyramidManifest& manifest);
+/// The sea level a globe pyramid states (ManifestGlobe::seaLevelM), metres; 0 without one.
+double globeSeaLevel(const io::PyramidManifest& manifest);
 
 }  // namespace terrain::runtime
