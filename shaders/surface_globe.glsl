@@ -174,7 +174,8 @@ bool blocksOutsideFrustum(PatchInstance patch_, ivec2 first, ivec2 last, float d
     return false;
 }
 
-// The globe has no edge: no block lies beyond it.
+// The globe has no edge: no block lies beyond it, and every skirt has a neighbour.
 bool blockBeyondExtent(PatchInstance patch_, ivec2 block) { return false; }
+bool skirtAlongSurfaceEdge(PatchInstance patch_, ivec2 block, int edge) { return false; }
 
 #endif  // SURFACE_GLOBE_GLSL

@@ -10,6 +10,7 @@
 
 #include "terrain_heights.glsl"
 #include "terrain_patches.glsl"
+#include "terrain_primitives.glsl"
 
 // The plane's coarse stage splits at half of ε (LodOptions::defaultCoarseShare): every edge
 // meets ε with Err(P) included.
@@ -159,6 +160,21 @@ bool blocksOutsideFrustum(PatchInstance patch_, ivec2 first, ivec2 last, float d
 bool blockBeyondExtent(PatchInstance patch_, ivec2 block) {
     vec2 first = terrainDemSample(patch_, vec2(block * u_frame.tessellation.y));
     return any(greaterThan(first, u_frame.demExtent.zw));
+}
+
+// Whether the skirt hanging from edge `edge` (GL order: west, north, east, south) of border
+// block `block` lies along the DEM's own edge: no patch lies beyond it, so there is no crack
+// for it to hide, and it would show as a wall hanging below the data's outline (issue 46,
+// "exact data edges"; on a needle field, seen between the needles, up to 21 px tall).
+bool skirtAlongSurfaceEdge(PatchInstance patch_, ivec2 block, int edge) {
+    ivec2 a, b;
+    terrainEdgeEnds(edge, a, b);
+    vec2 onEdge = terrainDemSample(patch_, vec2((block + a) * u_frame.tessellation.y));
+    const float kHalf = 0.5;  // samples: the edge's coordinates are whole samples
+    return edge == 0   ? onEdge.x <= u_frame.demExtent.x + kHalf
+           : edge == 1 ? onEdge.y <= u_frame.demExtent.y + kHalf
+           : edge == 2 ? onEdge.x >= u_frame.demExtent.z - kHalf
+                       : onEdge.y >= u_frame.demExtent.w - kHalf;
 }
 
 #endif  // SURFACE_PLANE_GLSL

@@ -224,6 +224,7 @@ void main() {
     bool merged = cellQuads > 0 && !drawsCoarseCell(block, isSkirt, edge, cellBlocks);
     ivec2 first = cellQuads > 0 ? (block / cellBlocks) * cellBlocks : block;
     bool culled = !merged && (blockBeyondExtent(patch_, first) ||
+                              (isSkirt && skirtAlongSurfaceEdge(patch_, block, edge)) ||
                               (u_frame.options.x != 0 &&
                                blocksOutsideFrustum(patch_, first, first + (cellBlocks - 1),
                                                     o_skirtDropM)));

@@ -1,7 +1,8 @@
 // The surface of the patch draw: the globe's (surface_globe.glsl) when the program is built
 // with TERRAIN_SURFACE_GLOBE, else the plane's (surface_plane.glsl). Both define the same
 // functions (surfacePositionM, surfaceShadingNormal, surfaceDemSample, blocksPxPerM,
-// blocksOutsideFrustum, blockBeyondExtent, kCoarseStageTakesWholeEpsilon); the stages that
+// blocksOutsideFrustum, blockBeyondExtent, skirtAlongSurfaceEdge,
+// kCoarseStageTakesWholeEpsilon); the stages that
 // include this are written once for both surfaces.
 #ifndef TERRAIN_SURFACE_GLSL
 #define TERRAIN_SURFACE_GLSL

@@ -30,16 +30,17 @@ namespace {
 constexpr int kWidth = 256;
 constexpr int kHeight = 192;
 
-/// Triangles of one patch drawn as blocks at their minimum: 2 per block (K²) and 2 per
-/// skirt (4K).
+/// Triangles of a patch that is the whole DEM drawn as blocks at their minimum: 2 per block
+/// (K²); no skirt, since its four edges are the DEM's own (skirtAlongSurfaceEdge: no patch
+/// lies beyond them to crack against).
 std::uint64_t minimumBlockTriangles(const io::PyramidLayout& layout) {
     const auto k = static_cast<std::uint64_t>(layout.blocksPerSide());
-    return 2 * k * k + 2 * 4 * k;
+    return 2 * k * k;
 }
 
-/// Triangles of one patch drawn as a single coarse cell (CoarseCells.h): 2, and 2 for each
-/// of its four skirts.
-constexpr std::uint64_t kOneCellTriangles = 2 + 4 * 2;
+/// Triangles of a patch that is the whole DEM drawn as a single coarse cell
+/// (CoarseCells.h): 2, and no skirt (as above).
+constexpr std::uint64_t kOneCellTriangles = 2;
 
 /// Whether the K² + 4K records of a patch are one coarse cell: block 0 and the first skirt
 /// of each side at factor 1, every other primitive merged into them.
@@ -201,7 +202,7 @@ TEST_F(LodTriangleBudgetTest, FlatPlainIsOnePatchOfMinimumTriangles) {
         EXPECT_GT(m.accuracy.image.psnrDb, 40.0) << describe(camera);
     }
     std::cout << "[          ] flat plain: 1 patch, as blocks at least " << minimum
-              << " triangles (2·K² + 8·K, K = " << k << "), as one cell " << kOneCellTriangles
+              << " triangles (2·K², K = " << k << "), as one cell " << kOneCellTriangles
               << "\n";
 }
 
