@@ -190,7 +190,8 @@ def check_bench(folder):
             if int(row["crack_pixels"]) != 0:
                 fail(f"{row['method']} ε = {row['threshold_px']}, frame {row['frame']}: "
                      f"{row['crack_pixels']} crack pixels against the globe reference image")
-            for key in ("boundary_artefact_pixels", "shading_seam_levels"):
+            for key in ("boundary_artefact_pixels", "boundary_silhouette_pixels",
+                        "shading_seam_levels"):
                 if row.get(key, "") == "":
                     fail(f"frames.csv: no {key} in {row['method']} frame {row['frame']}")
         if not any(t["method"].endswith("-no-horizon-culling") for t in bench["thresholds"]):

@@ -77,6 +77,14 @@ def optional_number(row, key, path="CSV"):
     return number(row, key, path) if key in row else math.nan
 
 
+def boundary_artefacts_cell(row, path):
+    """The boundary artefacts, and in brackets the edge pixels at silhouettes that the
+    detector cannot judge (newer files)."""
+    artefacts = fmt(optional_number(row, "boundary_artefact_pixels_total", path), 0)
+    silhouettes = optional_number(row, "boundary_silhouette_pixels_total", path)
+    return artefacts if not math.isfinite(silhouettes) else f"{artefacts} ({fmt(silhouettes, 0)})"
+
+
 def by_method(rows):
     methods = {}
     for row in rows:
@@ -395,10 +403,21 @@ def method_sections(bench, summary_rows, summary_path, tol):
                 failures.append(what if bounds else what + " — it promises no bound")
             if n("crack_pixels_total") > 0:
                 failures.append(f"{int(n('crack_pixels_total'))} crack pixels at ε = {eps:g}")
+            overdrawn = optional_number(r, "overdrawn_pixels_total", summary_path)
+            if overdrawn > 0:
+                failures.append(f"{int(overdrawn)} pixels of terrain where the reference shows "
+                                f"none within ε at ε = {eps:g} (a wall, a skirt seen from "
+                                "beneath, terrain beyond the data)")
             artefacts = optional_number(r, "boundary_artefact_pixels_total", summary_path)
             if artefacts > 0:
                 failures.append(f"{int(artefacts)} boundary-artefact pixels at ε = {eps:g} "
                                 "(where patches meet)")
+            steep = optional_number(r, "frames_seam_over_source_slope", summary_path)
+            if steep > 0:
+                failures.append(f"a source seam steeper than its source's 99th-percentile slope "
+                                f"in view in {int(steep)} frames (largest "
+                                f"{fmt(optional_number(r, 'seam_slope_max', summary_path), 2)}) "
+                                f"at ε = {eps:g}")
             seam = optional_number(r, "shading_seam_levels_max", summary_path)
             if seam > SHADING_SEAM_VISIBLE_LEVELS:
                 failures.append(f"shading steps where patches meet: {fmt(seam, 2)} levels more "
@@ -533,7 +552,7 @@ def write_report(out_dir, bench, summary_rows, charts, summary_path, stability_r
             f"{fmt(n('frames_over_threshold'), 0)} / {fmt(n('frames'), 0)} | "
             f"{fmt(n('psnr_db_mean'), 1)} ({fmt(n('psnr_db_min'), 1)}) | "
             f"{fmt(n('crack_pixels_total'), 0)} | "
-            f"{fmt(optional_number(r, 'boundary_artefact_pixels_total', summary_path), 0)} | "
+            f"{boundary_artefacts_cell(r, summary_path)} | "
             f"{fmt(optional_number(r, 'shading_seam_levels_max', summary_path), 2)} | "
             f"{fmt(n('popping_levels_mean'), 3)} |")
     lines += ["", f"*error*: measured screen-space error against the full-resolution reference "
@@ -541,7 +560,9 @@ def write_report(out_dir, bench, summary_rows, charts, summary_path, stability_r
               f"pixels); *frames > ε+tol*: frames whose largest error exceeds ε + {tol:g} px "
               f"(the rasterisation tolerance); *boundary artefacts*: pixels where two patches "
               f"meet that differ from both sides and from the reference (a pinhole, an edge "
-              f"shaded wrong; – for a method that draws no patch ids); *shading seam*: how much "
+              f"shaded wrong; – for a method that draws no patch ids), in brackets those at "
+              f"silhouettes, which the LOD's own error may move and the detector cannot judge; "
+              f"*shading seam*: how much "
               f"more the LOD's brightness steps between neighbouring pixels of two patches than "
               f"between neighbouring pixels of one patch, each against the reference's step "
               f"there (8-bit luma levels, the largest frame; a seam where levels meet); "

@@ -135,11 +135,17 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
             s.framesOverThreshold += over ? 1 : 0;
             s.nonFinitePixelsTotal += r.nonFinitePixels;
             s.crackPixelsTotal += r.crackPixels;
-            if (!std::isnan(r.boundaryArtefactPixels))
-                s.boundaryArtefactPixelsTotal =
-                    (std::isnan(s.boundaryArtefactPixelsTotal) ? 0.0
-                                                               : s.boundaryArtefactPixelsTotal) +
-                    r.boundaryArtefactPixels;
+            s.overdrawnPixelsTotal += r.overdrawnPixels;
+            const auto addTo = [](double& total, double value) {
+                if (!std::isnan(value)) total = (std::isnan(total) ? 0.0 : total) + value;
+            };
+            addTo(s.boundaryArtefactPixelsTotal, r.boundaryArtefactPixels);
+            addTo(s.boundarySilhouettePixelsTotal, r.boundarySilhouettePixels);
+            if (!std::isnan(r.seamSlope)) {
+                s.seamSlopeMax =
+                    std::isnan(s.seamSlopeMax) ? r.seamSlope : std::max(s.seamSlopeMax, r.seamSlope);
+                s.framesSeamOverSourceSlope += r.seamSlope > r.seamSourceSlopeP99 ? 1 : 0;
+            }
             if (!std::isnan(r.shadingSeamLevels)) shadingSeam.push_back(r.shadingSeamLevels);
             s.framesWaited += r.waitedForStreaming ? 1 : 0;
             s.framesUnsettled += r.settled ? 0 : 1;
@@ -242,7 +248,12 @@ Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRe
         {"horizon_culled", [](const R& r) { return number(r.horizonCulled); }},
         {"lod_visited", [](const R& r) { return number(r.lodVisited); }},
         {"lod_error_max_px", [](const R& r) { return number(r.lodErrorMaxPx); }},
+        {"overdrawn_pixels", [](const R& r) { return number(r.overdrawnPixels); }},
         {"boundary_artefact_pixels", [](const R& r) { return number(r.boundaryArtefactPixels); }},
+        {"boundary_silhouette_pixels",
+         [](const R& r) { return number(r.boundarySilhouettePixels); }},
+        {"seam_slope", [](const R& r) { return number(r.seamSlope); }},
+        {"seam_source_slope_p99", [](const R& r) { return number(r.seamSourceSlopeP99); }},
         {"shading_step_boundary_levels",
          [](const R& r) { return number(r.shadingStepBoundaryLevels); }},
         {"shading_step_interior_levels",
@@ -298,8 +309,14 @@ Status writeSummaryCsv(const std::filesystem::path& path,
         {"lod_error_max_px", [](const S& s) { return number(s.lodErrorMaxPx); }},
         {"lod_frames_over_threshold", [](const S& s) { return number(s.lodFramesOverThreshold); }},
         {"horizon_culled_fraction", [](const S& s) { return number(s.horizonCulledFraction); }},
+        {"overdrawn_pixels_total", [](const S& s) { return number(s.overdrawnPixelsTotal); }},
         {"boundary_artefact_pixels_total",
          [](const S& s) { return number(s.boundaryArtefactPixelsTotal); }},
+        {"boundary_silhouette_pixels_total",
+         [](const S& s) { return number(s.boundarySilhouettePixelsTotal); }},
+        {"seam_slope_max", [](const S& s) { return number(s.seamSlopeMax); }},
+        {"frames_seam_over_source_slope",
+         [](const S& s) { return number(s.framesSeamOverSourceSlope); }},
         {"shading_seam_levels_max", [](const S& s) { return number(s.shadingSeamLevelsMax); }},
         {"shading_seam_levels_mean", [](const S& s) { return number(s.shadingSeamLevelsMean); }},
     };

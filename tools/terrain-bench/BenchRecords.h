@@ -84,9 +84,18 @@ struct FrameRecord {
     double psnrDb = kNoValue;
     std::uint64_t crackPixels = 0;
     std::uint64_t uncoveredPixels = 0;
+    /// LOD terrain where the reference shows none within ⌈ε⌉ (FrameAccuracy::overdrawnPixels).
+    std::uint64_t overdrawnPixels = 0;
     /// Pixels where two patches meet that stand out from both sides and from the reference
     /// (AccuracyProbe, BoundaryArtefacts.h); NaN for a method that draws no patch ids.
     double boundaryArtefactPixels = kNoValue;
+    /// Edge pixels standing out at silhouettes, which the detector cannot judge
+    /// (BoundaryArtefacts::silhouettePixels); NaN without patch ids.
+    double boundarySilhouettePixels = kNoValue;
+    /// The steepest slope a source seam in view adds (metres per metre) and that seam's
+    /// source's 99th-percentile slope (SeamsInView.h); NaN with no seam in view.
+    double seamSlope = kNoValue;
+    double seamSourceSlopeP99 = kNoValue;
     /// The shading step the LOD adds across patch boundaries and inside patches, and their
     /// difference, 8-bit luma levels (AccuracyProbe, BoundaryShading.h); NaN without patch
     /// ids.
@@ -146,8 +155,15 @@ struct ThresholdSummary {
     double psnrDbMean = kNoValue;
     double psnrDbMin = kNoValue;
     std::uint64_t crackPixelsTotal = 0;
+    std::uint64_t overdrawnPixelsTotal = 0;  ///< FrameRecord::overdrawnPixels over every frame
     /// FrameRecord::boundaryArtefactPixels over every frame; NaN where never measured.
     double boundaryArtefactPixelsTotal = kNoValue;
+    /// FrameRecord::boundarySilhouettePixels over every frame; NaN where never measured.
+    double boundarySilhouettePixelsTotal = kNoValue;
+    /// FrameRecord::seamSlope: the largest over the frames (NaN where no seam was in view),
+    /// and the frames where it exceeded its source's 99th-percentile slope.
+    double seamSlopeMax = kNoValue;
+    std::uint64_t framesSeamOverSourceSlope = 0;
     /// FrameRecord::shadingSeamLevels: the largest and the mean over the frames.
     double shadingSeamLevelsMax = kNoValue;
     double shadingSeamLevelsMean = kNoValue;

@@ -18,6 +18,7 @@
 #include "GlImagePng.h"
 #include "GlInfoJson.h"
 #include "GlobeFigures.h"
+#include "SeamsInView.h"
 #include "SeamsJson.h"
 #include "StreamingBudgetFlags.h"
 #include "StressPoses.h"
@@ -154,7 +155,11 @@ nlohmann::json summaryJson(const tools::ThresholdSummary& s) {
             {"frames_waited", s.framesWaited},
             {"frames_unsettled", s.framesUnsettled},
             {"horizon_culled_fraction", v(s.horizonCulledFraction)},
+            {"overdrawn_pixels_total", s.overdrawnPixelsTotal},
             {"boundary_artefact_pixels_total", v(s.boundaryArtefactPixelsTotal)},
+            {"boundary_silhouette_pixels_total", v(s.boundarySilhouettePixelsTotal)},
+            {"seam_slope_max", v(s.seamSlopeMax)},
+            {"frames_seam_over_source_slope", s.framesSeamOverSourceSlope},
             {"shading_seam_levels_max", v(s.shadingSeamLevelsMax)},
             {"shading_seam_levels_mean", v(s.shadingSeamLevelsMean)}};
 }
@@ -441,8 +446,14 @@ int run(const BenchOptions& o, const char* argv0) {
         rec.psnrDb = a.image.psnrDb;
         rec.crackPixels = a.crackPixels();
         rec.uncoveredPixels = a.uncoveredPixels;
+        rec.overdrawnPixels = a.overdrawnPixels;
         if (a.boundaryArtefactPixels)
             rec.boundaryArtefactPixels = static_cast<double>(*a.boundaryArtefactPixels);
+        if (a.boundarySilhouettePixels)
+            rec.boundarySilhouettePixels = static_cast<double>(*a.boundarySilhouettePixels);
+        const tools::SeamsSeen seams = tools::seamsInView(manifest.value(), camera, lod.images.depth);
+        rec.seamSlope = seams.seamSlope;
+        rec.seamSourceSlopeP99 = seams.sourceSlopeP99;
         if (a.boundaryShading) {
             rec.shadingStepBoundaryLevels = a.boundaryShading->boundaryExcessLevels;
             rec.shadingStepInteriorLevels = a.boundaryShading->interiorExcessLevels;
@@ -686,14 +697,17 @@ int run(const BenchOptions& o, const char* argv0) {
             "terrain-bench: {} ε = {:>5} px: triangles {:>9.0f}, measured error max {:.3f} px "
             "(median of frame maxima {:.3f}, mean {:.3f}), PSNR {:.2f} dB, {} of {} frames "
             "over ε + {} px, "
-            "{} crack pixels, {} boundary-artefact pixels, shading seam {} levels (max), {} "
+            "{} crack pixels, {} overdrawn, {} boundary-artefact pixels ({} at silhouettes), shading seam {} levels (max), {} "
             "unmeasurable (non-finite) pixels{}{}\n",
             s.method, s.thresholdPx, s.trianglesMean, s.errorMaxPx, s.errorMaxMedianPx,
             s.errorMeanPx, s.psnrDbMean, s.framesOverThreshold, s.frames, o.tolerancePx,
-            s.crackPixelsTotal,
+            s.crackPixelsTotal, s.overdrawnPixelsTotal,
             std::isnan(s.boundaryArtefactPixelsTotal)
                 ? std::string("no")
                 : fmt::format("{:.0f}", s.boundaryArtefactPixelsTotal),
+            std::isnan(s.boundarySilhouettePixelsTotal)
+                ? std::string("no")
+                : fmt::format("{:.0f}", s.boundarySilhouettePixelsTotal),
             std::isnan(s.shadingSeamLevelsMax) ? std::string("no")
                                                : fmt::format("{:.2f}", s.shadingSeamLevelsMax),
             s.nonFinitePixelsTotal,

@@ -214,13 +214,21 @@ Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapt
     // The reference splits every cell along one diagonal; the LOD's tessellator chooses its
     // own. On cells steep enough that the two are pixels apart, that choice decides which
     // pixel centres are covered, so a clear pixel is a crack only if every choice covers it.
+    // And the LOD may lie up to ε pixels below the truth: where the ray grazes the truth
+    // (a sky sliver between needles, narrower than a pixel, whose tip then reaches a pixel
+    // further) it is a crack only if the truth lowered that much still covers it. ε pixels
+    // of height seen square-on at distance D are ε · D · (the pixel's angle) metres; seen
+    // obliquely they are more, so this lowers the truth by the least the bound allows.
     const glm::dmat4 inverse = glm::inverse(camera.relativeViewProjection());
     const auto w = static_cast<std::size_t>(camera.viewportWidth);
+    const double lowerPerMetre =
+        thresholdPx * 2.0 * std::tan(0.5 * camera.fovY) / double(camera.viewportHeight);
     for (const std::size_t i : uncovered.cracks) {
         const glm::dvec3 along =
             unprojectPixel(inverse, camera.viewportWidth, camera.viewportHeight,
                            static_cast<int>(i % w), static_cast<int>(i / w), 0.5f);
-        auto covered = m_truths.front()->everyTriangulationCovers(camera.position, along);
+        auto covered =
+            m_truths.front()->everyTriangulationCovers(camera.position, along, lowerPerMetre);
         if (!covered) return covered.error();
         if (covered.value()) {
             a.cracks.push_back(i);
@@ -229,12 +237,15 @@ Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapt
         }
     }
     a.uncoveredPixels = uncovered.uncovered;
+    a.overdrawnPixels = countOverdrawnPixels(lod.images, reference.images,
+                                             static_cast<int>(std::ceil(thresholdPx)));
     if (!lod.patchIds.empty()) {
         // The LOD may draw any surface up to ε pixels off the reference's.
-        a.boundaryArtefacts = findBoundaryArtefacts(lod.images, lod.patchIds, reference.images,
-                                                    static_cast<int>(std::ceil(thresholdPx)))
-                                  .pixels;
+        BoundaryArtefacts found = findBoundaryArtefacts(
+            lod.images, lod.patchIds, reference.images, static_cast<int>(std::ceil(thresholdPx)));
+        a.boundaryArtefacts = std::move(found.pixels);
         a.boundaryArtefactPixels = a.boundaryArtefacts.size();
+        a.boundarySilhouettePixels = found.silhouettePixels;
         a.boundaryShading = measureBoundaryShading(lod.images, lod.patchIds, reference.images);
     }
     for (std::size_t i = 0; i < reference.images.pixels(); ++i) {

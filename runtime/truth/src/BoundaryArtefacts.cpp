@@ -20,6 +20,50 @@ bool differ(std::span<const std::uint8_t> a, std::size_t i, std::span<const std:
     return false;
 }
 
+/// Whether pixel i of a depth image `w` pixels wide lies on a silhouette
+/// (BoundaryArtefacts::kSilhouetteCurvature): its depth bends sharply along its row or its
+/// column, or it draws something next to a pixel that draws nothing, or the other way.
+bool onSilhouette(std::span<const float> depth, std::size_t w, std::size_t i) {
+    const std::size_t x = i % w;
+    const double d = depth[i];
+    const auto empty = [&](std::size_t n) { return (depth[n] > 0.0f) != (d > 0.0); };
+    const auto bends = [&](std::size_t a, std::size_t b) {
+        return empty(a) || empty(b) ||
+               std::abs(double(depth[a]) - 2.0 * d + double(depth[b])) >
+                   BoundaryArtefacts::kSilhouetteCurvature * d;
+    };
+    const bool hasLeft = x > 0, hasRight = x + 1 < w;
+    const bool hasBelow = i >= w, hasAbove = i + w < depth.size();
+    if (hasLeft && hasRight && bends(i - 1, i + 1)) return true;
+    if (hasBelow && hasAbove && bends(i - w, i + w)) return true;
+    // At the image's border only the one-sided test of a drawn pixel beside an empty one.
+    return (hasLeft && empty(i - 1)) || (hasRight && empty(i + 1)) ||
+           (hasBelow && empty(i - w)) || (hasAbove && empty(i + w));
+}
+
+/// Whether a silhouette of `lod` or `reference` lies within `radius` pixels of pixel i
+/// (rows and columns).
+bool nearSilhouette(const FrameImages& lod, const FrameImages& reference, std::size_t i,
+                    int radius) {
+    const auto w = static_cast<std::ptrdiff_t>(lod.width);
+    const auto h = static_cast<std::ptrdiff_t>(lod.height);
+    const auto x0 = static_cast<std::ptrdiff_t>(i) % w, y0 = static_cast<std::ptrdiff_t>(i) / w;
+    const auto width = static_cast<std::size_t>(w);
+    for (std::ptrdiff_t y = std::max<std::ptrdiff_t>(0, y0 - radius);
+         y <= std::min(h - 1, y0 + radius); ++y) {
+        for (std::ptrdiff_t x = std::max<std::ptrdiff_t>(0, x0 - radius);
+             x <= std::min(w - 1, x0 + radius); ++x) {
+            const auto q = static_cast<std::size_t>(y * w + x);
+            if (onSilhouette(lod.depth, width, q) || onSilhouette(reference.depth, width, q))
+                return true;
+        }
+    }
+    return false;
+}
+
+/// What a boundary pixel is, seen along one line across the boundary.
+enum class Standing { Blends, Artefact, AtSilhouette };
+
 }  // namespace
 
 std::vector<std::uint32_t> patchIdsOf(std::span<const std::uint8_t> patchViewRgba) {
@@ -90,13 +134,22 @@ BoundaryArtefacts findBoundaryArtefacts(const FrameImages& lod,
                               referenceSurface &&
                               !differ(colour, a, reference.rgba, a, thresholdLevels) &&
                               !differ(colour, b, reference.rgba, b, thresholdLevels);
-            return (sliver || edge) && differ(colour, i, colour, a, thresholdLevels) &&
-                   differ(colour, i, colour, b, thresholdLevels) &&
-                   !referenceShowsNearby();
+            if (!(sliver || edge) || !differ(colour, i, colour, a, thresholdLevels) ||
+                !differ(colour, i, colour, b, thresholdLevels) || referenceShowsNearby())
+                return Standing::Blends;
+            // An edge pixel at a silhouette shows what the LOD's own error puts there.
+            if (edge && nearSilhouette(lod, reference, i, std::max(1, shiftPx)))
+                return Standing::AtSilhouette;
+            return Standing::Artefact;
         };
-        if ((hasLeft && hasRight && standsOut(i - 1, i + 1)) ||
-            (hasBelow && hasAbove && standsOut(i - w, i + w)))
+        const Standing row = hasLeft && hasRight ? standsOut(i - 1, i + 1) : Standing::Blends;
+        const Standing column =
+            row != Standing::Artefact && hasBelow && hasAbove ? standsOut(i - w, i + w)
+                                                              : Standing::Blends;
+        if (row == Standing::Artefact || column == Standing::Artefact)
             result.pixels.push_back(i);
+        else if (row == Standing::AtSilhouette || column == Standing::AtSilhouette)
+            ++result.silhouettePixels;
     }
     return result;
 }

@@ -38,6 +38,37 @@ ImageDifference compareImages(std::span<const std::uint8_t> a, std::span<const s
     return result;
 }
 
+std::uint64_t countOverdrawnPixels(const FrameImages& lod, const FrameImages& reference,
+                                   int shiftPx) {
+    TERRAIN_ASSERT(lod.width == reference.width && lod.height == reference.height &&
+                       lod.depth.size() == lod.pixels() &&
+                       reference.depth.size() == reference.pixels(),
+                   "countOverdrawnPixels: sizes differ");
+    const auto w = static_cast<std::ptrdiff_t>(lod.width);
+    const auto h = static_cast<std::ptrdiff_t>(lod.height);
+    const auto at = [w](std::ptrdiff_t x, std::ptrdiff_t y) {
+        return static_cast<std::size_t>(y * w + x);
+    };
+    // The reference's coverage grown by shiftPx: along the rows, then along the columns.
+    std::vector<std::uint8_t> rows(lod.pixels(), 0), grown(lod.pixels(), 0);
+    for (std::ptrdiff_t y = 0; y < h; ++y)
+        for (std::ptrdiff_t x = 0; x < w; ++x)
+            if (reference.drawn(at(x, y)))
+                for (std::ptrdiff_t k = std::max<std::ptrdiff_t>(0, x - shiftPx);
+                     k <= std::min(w - 1, x + shiftPx); ++k)
+                    rows[at(k, y)] = 1;
+    for (std::ptrdiff_t y = 0; y < h; ++y)
+        for (std::ptrdiff_t x = 0; x < w; ++x)
+            if (rows[at(x, y)] != 0)
+                for (std::ptrdiff_t k = std::max<std::ptrdiff_t>(0, y - shiftPx);
+                     k <= std::min(h - 1, y + shiftPx); ++k)
+                    grown[at(x, k)] = 1;
+    std::uint64_t overdrawn = 0;
+    for (std::size_t i = 0; i < lod.pixels(); ++i)
+        overdrawn += lod.drawn(i) && grown[i] == 0 ? 1 : 0;
+    return overdrawn;
+}
+
 UncoveredPixels countUncoveredPixels(const FrameImages& lod, const FrameImages& reference,
                                      const std::array<std::uint8_t, 3>& clearRgb) {
     TERRAIN_ASSERT(lod.width == reference.width && lod.height == reference.height &&

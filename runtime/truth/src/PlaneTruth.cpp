@@ -58,8 +58,8 @@ Result<TruthVertical> PlaneTruth::widened(const TruthVertical& vertical, const g
 }
 
 Result<bool> PlaneTruth::everyTriangulationCovers(const glm::dvec3& cameraPosition,
-                                                  const glm::dvec3& along) {
-    return runtime::everyTriangulationCovers(m_surface, cameraPosition, along);
+                                                  const glm::dvec3& along, double lowerPerMetre) {
+    return runtime::everyTriangulationCovers(m_surface, cameraPosition, along, lowerPerMetre);
 }
 
 }  // namespace terrain::runtime

@@ -35,7 +35,7 @@ bool rayMeetsTriangle(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3
 }  // namespace
 
 Result<bool> everyTriangulationCovers(FullResolutionSurface& surface, const glm::dvec3& origin,
-                                      const glm::dvec3& direction) {
+                                      const glm::dvec3& direction, double lowerPerMetre) {
     const TerrainGeometry& g = surface.geometry();
     const io::PyramidLayout& l = surface.layout();
     // The ray in sample space: (column, row, height in metres).
@@ -84,8 +84,15 @@ Result<bool> everyTriangulationCovers(FullResolutionSurface& surface, const glm:
             const std::int64_t ci = i + (k & 1), cj = j + (k >> 1);
             auto h = surface.sample(ci, cj);
             if (!h) return h.error();
+            double height = static_cast<double>(h.value());
+            if (lowerPerMetre > 0.0) {
+                const glm::dvec3 world{g.worldOfSample(static_cast<double>(ci),
+                                                       static_cast<double>(cj)),
+                                       height};
+                height -= lowerPerMetre * glm::length(world - origin);
+            }
             corner[static_cast<std::size_t>(k)] = {static_cast<double>(ci), static_cast<double>(cj),
-                                                   static_cast<double>(h.value())};
+                                                   height};
         }
         const auto& [c00, c10, c01, c11] = corner;
         const bool alongMain =

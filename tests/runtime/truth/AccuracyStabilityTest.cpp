@@ -206,6 +206,7 @@ TEST_F(AccuracyStabilityTest, NoSkirtHangsFromTheDemsOwnEdge) {
     // LOD draws beyond the reference's are what a wall would add (the silhouette, within ε,
     // takes or gives a pixel here and there).
     EXPECT_LE(a.lodPixels, a.referencePixels + a.referencePixels / 500) << describe(a);
+    EXPECT_EQ(a.overdrawnPixels, 0u) << describe(a);
     EXPECT_EQ(a.crackPixels(), 0u) << describe(a);
 }
 

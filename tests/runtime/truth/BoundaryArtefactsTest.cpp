@@ -1,5 +1,6 @@
 // Boundary artefacts (BoundaryArtefacts.h): on made-up images, a pinhole between two patches
-// and a wrongly shaded edge pixel count, and a silhouette a pixel off, a real ridge, a step,
+// and a wrongly shaded edge pixel count, and a silhouette a pixel off, an occluding crest a
+// pixel off, a real ridge, a step,
 // detail drawn a pixel off (within the allowed shift), a silhouette's layers and a faint
 // difference do not;
 // on real draws of the streaming test pyramid (random full views, mixed levels, the patch-id
@@ -107,6 +108,29 @@ TEST(BoundaryArtefacts, PinholesAndEdgeShadingCountAndNothingElseDoes) {
     Images::put(silhouette.lod, 4, 3, {10, 10, 10});
     silhouette.lod.depth[Images::at(4, 3)] = kNearDepth / 2.0f;
     EXPECT_EQ(silhouette.findAll(), 0u);
+    // An occluding edge the LOD draws a pixel off: the edge pixel lies on the reference's
+    // surface (depths within kSameSurface) but a nearer ridge's crest, shaded apart, covers
+    // it in the LOD and the row above in the reference; the ground rises in depth as a
+    // plane's does (reversed Z affine in screen space), the crest stands 1 % nearer.
+    Images crest = twoPatches();
+    for (Images* images : {&crest, &edge}) {
+        for (int y = 0; y < kH; ++y) {
+            for (int x = 0; x < kW; ++x) {
+                const float depth = kNearDepth * (1.0f + 0.002f * float(y));
+                images->lod.depth[Images::at(x, y)] = depth;
+                images->reference.depth[Images::at(x, y)] = depth;
+            }
+        }
+    }
+    for (int x = 0; x < kW; ++x) {
+        crest.lod.depth[Images::at(x, 3)] *= 1.01f;
+        crest.lod.depth[Images::at(x, 4)] *= 1.01f;
+        crest.reference.depth[Images::at(x, 4)] *= 1.01f;
+    }
+    Images::put(crest.lod, 4, 3, {10, 10, 10});
+    EXPECT_EQ(crest.findAll(), 0u);
+    // The same dark edge pixel on the smooth ramp, no silhouette near: counted.
+    EXPECT_EQ(edge.findAll(), 1u);
     // A silhouette's layers: between a near patch and a far one, a pixel of a third patch
     // at a depth between theirs (a ridge seen between the two), not a gap.
     Images layers = twoPatches();
@@ -205,12 +229,15 @@ TEST_F(BoundaryArtefactsDrawTest, ADrawWithoutSkirtsHasThemAndTheDrawHasNone) {
     const runtime::TerrainGeometry& g = probe.surface().geometry();
 
     std::mt19937_64 random(11);
-    std::uint64_t withSkirts = 0, withoutSkirts = 0, boundaryPixels = 0;
+    std::uint64_t withSkirts = 0, withoutSkirts = 0, boundaryPixels = 0, darkenedEdges = 0;
+    std::uint64_t cracksWithSkirts = 0, cracksWithoutSkirts = 0;
     double shadedSeam = 0.0, brokenSeam = 0.0;
     for (int pose = 0; pose < kPoses; ++pose) {
         const runtime::Camera camera = randomFullView(g, kWidth, kHeight, random);
         // ε from 1 to 8 px: views that mix patch levels.
-        session.setErrorPx(std::pow(8.0, std::uniform_real_distribution<double>(0.0, 1.0)(random)));
+        const double errorPx =
+            std::pow(8.0, std::uniform_real_distribution<double>(0.0, 1.0)(random));
+        session.setErrorPx(errorPx);
         ASSERT_TRUE(session.settle(camera, std::chrono::seconds(60)));
         session.beginFrame(camera);
         runtime::TerrainStyle style;
@@ -226,6 +253,11 @@ TEST_F(BoundaryArtefactsDrawTest, ADrawWithoutSkirtsHasThemAndTheDrawHasNone) {
             const runtime::BoundaryArtefacts found = runtime::findBoundaryArtefacts(
                 shaded.images, runtime::patchIdsOf(patches.images.rgba), reference.value().images);
             (skirts ? withSkirts : withoutSkirts) += found.pixels.size();
+            // The probe's crack count (the truth covering the ray even lowered by ε) sees
+            // the same gaps.
+            auto accuracy = probe.compare(camera, shaded, reference.value(), errorPx);
+            ASSERT_TRUE(accuracy) << accuracy.error().message;
+            (skirts ? cracksWithSkirts : cracksWithoutSkirts) += accuracy.value().crackPixels();
             if (skirts) {
                 const std::vector<std::uint32_t> ids = runtime::patchIdsOf(patches.images.rgba);
                 shadedSeam +=
@@ -245,6 +277,10 @@ TEST_F(BoundaryArtefactsDrawTest, ADrawWithoutSkirtsHasThemAndTheDrawHasNone) {
                 brokenSeam +=
                     runtime::measureBoundaryShading(broken, ids, reference.value().images)
                         .seamLevels();
+                // The artefact detector sees those edge pixels too, away from silhouettes.
+                darkenedEdges += runtime::findBoundaryArtefacts(broken, ids,
+                                                                reference.value().images)
+                                     .pixels.size();
                 boundaryPixels += found.boundaryPixels;
                 EXPECT_TRUE(found.pixels.empty())
                     << "pose " << pose << ": " << found.pixels.size()
@@ -256,12 +292,17 @@ TEST_F(BoundaryArtefactsDrawTest, ADrawWithoutSkirtsHasThemAndTheDrawHasNone) {
     }
     std::cout << "[          ] " << kPoses << " poses, " << boundaryPixels
               << " boundary pixels: boundary artefacts " << withSkirts << " drawn as it is, "
-              << withoutSkirts << " without skirts; shading seam " << shadedSeam / kPoses
+              << withoutSkirts << " without skirts, " << darkenedEdges
+              << " with patch edges shaded apart; crack pixels " << cracksWithSkirts << " and "
+              << cracksWithoutSkirts << "; shading seam " << shadedSeam / kPoses
               << " levels a pose, " << brokenSeam / kPoses << " with patch edges shaded apart\n";
     EXPECT_GT(boundaryPixels, 0u) << "no patch boundary in view: the test shows nothing";
     EXPECT_EQ(withSkirts, 0u);
     // The control: the broken draw does show them, so the detector can fail.
     EXPECT_GT(withoutSkirts, 0u);
+    EXPECT_GT(darkenedEdges, boundaryPixels / 10);
+    EXPECT_EQ(cracksWithSkirts, 0u);
+    EXPECT_GT(cracksWithoutSkirts, 0u);
     // The seam measure sees patch edges shaded apart (about half the boundary pairs step by
     // 40 levels); the draw as it is stays under the report's 1 level.
     EXPECT_GT(brokenSeam / kPoses, 10.0);

@@ -1,5 +1,6 @@
 // The image measures of accuracy (ImageComparison.h) on small hand-made images: RMSE and
-// PSNR, cracks told apart from silhouettes, popping as the LOD's change beyond the
+// PSNR, cracks told apart from silhouettes, terrain the reference shows nowhere near
+// (overdrawn), popping as the LOD's change beyond the
 // reference's, and a LOD switch's change where both frames show terrain.
 #include "terrain/runtime/ImageComparison.h"
 
@@ -109,6 +110,29 @@ TEST(ImageComparison, ASilhouettesNotchAtACornerIsNoCrack) {
     const UncoveredPixels d = countUncoveredPixels(diagonal, reference, kClear);
     EXPECT_EQ(d.uncovered, 4u);  // row 4, column 4 is clear in the reference too: sky
     EXPECT_EQ(d.cracks, (std::vector<std::size_t>{8, 16}));  // rows 1 and 2; not row 3
+}
+
+TEST(ImageComparison, OverdrawnIsTerrainTheReferenceShowsNowhereNear) {
+    // The reference's terrain ends at row 2; the LOD's silhouette a row lower (its error
+    // within ε = 1 px), and a wall hanging three rows below the outline at columns 5-6.
+    const FrameImages reference = image({"TTTTTTTT",  //
+                                         "TTTTTTTT",  //
+                                         "TTTTTTTT",  //
+                                         "........",  //
+                                         "........",  //
+                                         "........"});
+    const FrameImages lod = image({"TTTTTTTT",  //
+                                   "TTTTTTTT",  //
+                                   "TTTTTTTT",  //
+                                   "TTTTTTTT",  //
+                                   ".....TT.",  //
+                                   ".....TT."});
+    EXPECT_EQ(countOverdrawnPixels(lod, reference, 0), 12u);
+    EXPECT_EQ(countOverdrawnPixels(lod, reference, 1), 4u);  // the wall's lower two rows
+    EXPECT_EQ(countOverdrawnPixels(lod, reference, 3), 0u);
+    EXPECT_EQ(countOverdrawnPixels(reference, reference, 0), 0u);
+    // The reference's own silhouette lower than the LOD's: uncovered, not overdrawn.
+    EXPECT_EQ(countOverdrawnPixels(reference, lod, 0), 0u);
 }
 
 TEST(ImageComparison, PoppingIsTheLodChangeTheReferenceDoesNotShow) {

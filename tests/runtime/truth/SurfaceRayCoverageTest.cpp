@@ -1,7 +1,8 @@
 // everyTriangulationCovers: a pixel's ray is covered by the full-resolution surface whatever
 // diagonal splits each cell only if some cell is hit along both of its diagonals. Checked on a
 // flat DEM (any ray that goes down meets it; one that goes up does not) and on one needle,
-// whose cell is a ridge along one diagonal and a flat half along the other.
+// whose cell is a ridge along one diagonal and a flat half along the other; and lowered by
+// the LOD's allowed error, a ray that only grazes the ground is no longer covered.
 #include "AccuracyScenes.h"
 #include "TempFolder.h"
 #include "terrain/runtime/SurfaceRayCoverage.h"
@@ -30,8 +31,8 @@ struct Surface {
     glm::dvec3 at(double column, double row, double z) const {
         return {surface->geometry().worldOfSample(column, row), z};
     }
-    bool covers(const glm::dvec3& from, const glm::dvec3& to) {
-        auto covered = runtime::everyTriangulationCovers(*surface, from, to - from);
+    bool covers(const glm::dvec3& from, const glm::dvec3& to, double lowerPerMetre = 0.0) {
+        auto covered = runtime::everyTriangulationCovers(*surface, from, to - from, lowerPerMetre);
         EXPECT_TRUE(covered) << covered.error().message;
         return covered && covered.value();
     }
@@ -61,6 +62,20 @@ TEST(SurfaceRayCoverage, ANeedleCellCoversOnlyWhereBothDiagonalsRise) {
     EXPECT_TRUE(needle.covers(needle.at(1.2, 7.2, 100.0), needle.at(4.2, 4.2, 100.0)));
     // Any ray that goes down meets the ground, needle or not.
     EXPECT_TRUE(needle.covers(needle.at(4.8, 4.8, 2000.0), needle.at(4.8, 4.8, 0.0)));
+}
+
+TEST(SurfaceRayCoverage, LoweredByTheAllowedErrorAGrazingRayIsNotCovered) {
+    Surface flat([](std::int64_t, std::int64_t) { return 10.0F; });
+    ASSERT_TRUE(flat.surface);
+    // Descending 2.1 m over 8 m of ground, the ray meets the 10 m plane 0.4 m before the
+    // DEM's far edge. Lowered by 5 cm a metre (about 0.4 m there), the plane lets it
+    // through: a LOD within that error may leave its pixel clear.
+    const glm::dvec3 from = flat.at(0.0, 4.0, 12.0), to = flat.at(8.0, 4.0, 9.9);
+    EXPECT_TRUE(flat.covers(from, to));
+    EXPECT_FALSE(flat.covers(from, to, 0.05));
+    // A ray that meets the ground squarely is covered however the ground is lowered that much.
+    EXPECT_TRUE(flat.covers(flat.at(4.3, 4.6, 50.0), flat.at(4.3, 4.6, 0.0), 0.05));
+    EXPECT_TRUE(flat.covers(flat.at(-20.0, 3.0, 50.0), flat.at(6.0, 5.0, 0.0), 0.05));
 }
 
 }  // namespace

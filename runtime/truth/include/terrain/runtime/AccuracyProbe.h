@@ -83,11 +83,16 @@ struct FrameAccuracy {
     std::optional<std::uint64_t> boundaryArtefactPixels;
     /// Those pixels' indices (the images' row order), ascending: where to look.
     std::vector<std::size_t> boundaryArtefacts;
+    /// Edge pixels standing out as artefacts would, at silhouettes, where the comparison
+    /// with the reference cannot judge them (BoundaryArtefacts::silhouettePixels).
+    std::optional<std::uint64_t> boundarySilhouettePixels;
     /// The shading steps across patch boundaries and inside patches against the reference's
     /// (measureBoundaryShading, BoundaryShading.h); nullopt without patch ids.
     std::optional<BoundaryShading> boundaryShading;
     /// All clear-colour LOD pixels where the reference drew terrain, silhouettes included.
     std::uint64_t uncoveredPixels = 0;
+    /// LOD terrain pixels with no reference terrain within ⌈ε⌉ (countOverdrawnPixels).
+    std::uint64_t overdrawnPixels = 0;
     std::uint64_t referencePixels = 0;  ///< pixels where the reference drew terrain
     std::uint64_t lodPixels = 0;        ///< pixels where the LOD drew anything
     /// ImageComparison's poppingLevels and its two terms; NaN without a previous frame.

@@ -29,8 +29,20 @@ struct BoundaryArtefacts {
     /// surface's.
     static constexpr double kSameSurface = 0.05;
 
+    /// A pixel q lies on a silhouette (an occluding edge, or a crest sharp enough to look
+    /// like one) where its depth's second difference along a row or a column, relative to
+    /// its depth, exceeds this: reversed Z is affine in screen space across a plane, so its
+    /// second difference is 0 on a plane, about 1e-5 to 1e-4 of the depth on rough ground
+    /// seen obliquely, and 5e-3 or more where one surface occludes another (Puget Sound and
+    /// Rainier benches, issue 46). A pixel beside one that draws nothing is on one too.
+    static constexpr double kSilhouetteCurvature = 2e-3;
+
     std::uint64_t boundaryPixels = 0;  ///< pixels with a neighbour (4-connected) of another patch
     std::vector<std::size_t> pixels;   ///< the artefacts' pixel indices, ascending
+    /// Edge pixels that stand out as an artefact would but lie at a silhouette, where the
+    /// reference cannot tell a wrong shade from the LOD's own error (not artefacts; reported
+    /// so that what the detector cannot judge is seen).
+    std::uint64_t silhouettePixels = 0;
 };
 
 /// Pixel i of an image `width` pixels wide has a 4-neighbour of another patch (`patchIds`,
@@ -49,11 +61,15 @@ bool onPatchBoundary(std::span<const std::uint32_t> patchIds, int width, std::si
 ///    the reference's colours: p's colour alone is wrong (shading at the patch's edge). Where
 ///    the sides differ from the reference too, the LOD's detail differs (a coarser level's
 ///    shading, aliasing): not the boundary's doing;
-/// and no reference pixel within `shiftPx` of p (rows and columns) has p's colour. Where the
-/// reference shows it that near, the LOD drew that surface up to shiftPx off (its error,
-/// within ε when shiftPx is ε rounded up): on detailed ground a pixel then differs from its
-/// neighbours and from the reference's p, and a silhouette's notch shows the sky, without
-/// anything wrong at the boundary.
+/// and, in the second case, no silhouette (kSilhouetteCurvature) in either image within
+/// max(1, shiftPx) of p (the LOD may move an occluding edge or a crest up to ε pixels, and
+/// the pixel on it shows whichever side, or the crest's own shading, by where the edge
+/// falls inside it: counted in silhouettePixels instead); and no reference pixel within
+/// `shiftPx` of p (rows and columns) has p's colour. Where the reference shows it that near,
+/// the LOD drew that surface up to shiftPx off (its error, within ε when shiftPx is ε
+/// rounded up): on detailed ground a pixel then differs from its neighbours and from the
+/// reference's p, and a silhouette's notch shows the sky, without anything wrong at the
+/// boundary.
 /// A silhouette the LOD draws a pixel off the reference's shows another surface at p that
 /// belongs to one side: the LOD's error within ε, not an artefact. `patchIds` is patchIdsOf
 /// the same frame's patch-id view.

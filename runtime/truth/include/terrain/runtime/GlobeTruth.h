@@ -37,7 +37,7 @@ public:
                                   double) override {
         return vertical;
     }
-    Result<bool> everyTriangulationCovers(const glm::dvec3&, const glm::dvec3&) override {
+    Result<bool> everyTriangulationCovers(const glm::dvec3&, const glm::dvec3&, double) override {
         return true;
     }
 

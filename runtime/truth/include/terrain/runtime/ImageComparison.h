@@ -45,6 +45,14 @@ struct UncoveredPixels {
 UncoveredPixels countUncoveredPixels(const FrameImages& lod, const FrameImages& reference,
                                      const std::array<std::uint8_t, 3>& clearRgb);
 
+/// Pixels where the LOD drew terrain (depth > 0) and the reference drew none within
+/// `shiftPx` of them (rows and columns): what the LOD adds beyond the truth's outline, which
+/// the error measure cannot see (it compares pixels both drew) — a wall hanging below a data
+/// edge, a skirt seen from beneath the surface, terrain beyond the data. The LOD may draw a
+/// silhouette up to ε off the reference's, hence the allowance (⌈ε⌉).
+std::uint64_t countOverdrawnPixels(const FrameImages& lod, const FrameImages& reference,
+                                   int shiftPx);
+
 /// Mean over pixels of the per-pixel change |a − b| (mean of the R, G, B differences),
 /// 8-bit levels.
 double meanImageChange(std::span<const std::uint8_t> a, std::span<const std::uint8_t> b);

@@ -35,7 +35,7 @@ public:
     Result<TruthVertical> widened(const TruthVertical& vertical, const glm::dvec3& world,
                                   double radiusM) override;
     Result<bool> everyTriangulationCovers(const glm::dvec3& cameraPosition,
-                                          const glm::dvec3& along) override;
+                                          const glm::dvec3& along, double lowerPerMetre) override;
 
 private:
     FullResolutionSurface& m_surface;

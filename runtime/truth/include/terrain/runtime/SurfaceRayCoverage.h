@@ -16,8 +16,11 @@ namespace terrain::runtime {
 
 /// True when the ray from world point `origin` along `direction` (z up, metres) meets the
 /// full-resolution surface whichever diagonal splits each of its cells; false when some
-/// choice lets it through (or it crosses no cell). Errors: a patch that cannot be read.
+/// choice lets it through (or it crosses no cell). With `lowerPerMetre` > 0 the surface is
+/// first lowered, at each sample, by that much per metre of the sample's distance from
+/// `origin`: the ray must meet it even so (see TruthSurface::everyTriangulationCovers).
+/// Errors: a patch that cannot be read.
 Result<bool> everyTriangulationCovers(FullResolutionSurface& surface, const glm::dvec3& origin,
-                                      const glm::dvec3& direction);
+                                      const glm::dvec3& direction, double lowerPerMetre = 0.0);
 
 }  // namespace terrain::runtime

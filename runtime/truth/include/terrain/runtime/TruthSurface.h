@@ -70,10 +70,15 @@ public:
                                           double radiusM) = 0;
 
     /// Whether the truth covers the ray from `cameraPosition` along `along` whichever
-    /// diagonal splits each of its cells: a clear LOD pixel there is a crack, else only
-    /// evidence of the choice of diagonals (AccuracyProbe.s crackPixels()).
+    /// diagonal splits each of its cells, even lowered by `lowerPerMetre` per metre of
+    /// distance from the camera (a surface that far below the truth is still within the
+    /// LOD's error bound: ε pixels' angle per metre): a clear LOD pixel there is a crack,
+    /// else only evidence of the choice of diagonals or of the LOD's allowed error, such as
+    /// a sky sliver's tip between needles reaching a pixel further (AccuracyProbe's
+    /// crackPixels()).
     virtual Result<bool> everyTriangulationCovers(const glm::dvec3& cameraPosition,
-                                                  const glm::dvec3& along) = 0;
+                                                  const glm::dvec3& along,
+                                                  double lowerPerMetre) = 0;
 };
 
 }  // namespace terrain::runtime
