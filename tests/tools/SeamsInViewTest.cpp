@@ -53,17 +53,17 @@ TEST(SeamsInView, ASeamIsSeenWhereItsBandIsDrawn) {
     // Near the western edge too (0.04° of longitude at 45.5° N is 3.1 km).
     EXPECT_EQ(seenFrom(45.5, 10.04).seams, 1);
     // The tile's middle, 55 km from any edge; outside the tile; nothing drawn.
-    for (const SeamsSeen& none : {seenFrom(45.5, 10.5), seenFrom(44.98, 10.5),
-                                  seenFrom(45.02, 10.5, 0.0f)}) {
+    for (const SeamsSeen& none :
+         {seenFrom(45.5, 10.5), seenFrom(44.98, 10.5), seenFrom(45.02, 10.5, 0.0f)}) {
         EXPECT_EQ(none.seams, 0);
         EXPECT_TRUE(std::isnan(none.seamSlope));
     }
     // A plane has no seam.
     runtime::Camera camera;
     camera.viewportWidth = camera.viewportHeight = kSide;
-    EXPECT_EQ(seamsInView(io::PyramidManifest{}, camera, std::vector<float>(kSide * kSide, 1.0f))
-                  .seams,
-              0);
+    EXPECT_EQ(
+        seamsInView(io::PyramidManifest{}, camera, std::vector<float>(kSide * kSide, 1.0f)).seams,
+        0);
 }
 
 }  // namespace

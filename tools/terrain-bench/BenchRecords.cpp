@@ -142,8 +142,8 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
             addTo(s.boundaryArtefactPixelsTotal, r.boundaryArtefactPixels);
             addTo(s.boundarySilhouettePixelsTotal, r.boundarySilhouettePixels);
             if (!std::isnan(r.seamSlope)) {
-                s.seamSlopeMax =
-                    std::isnan(s.seamSlopeMax) ? r.seamSlope : std::max(s.seamSlopeMax, r.seamSlope);
+                s.seamSlopeMax = std::isnan(s.seamSlopeMax) ? r.seamSlope
+                                                            : std::max(s.seamSlopeMax, r.seamSlope);
                 s.framesSeamOverSourceSlope += r.seamSlope > r.seamSourceSlopeP99 ? 1 : 0;
             }
             if (!std::isnan(r.shadingSeamLevels)) shadingSeam.push_back(r.shadingSeamLevels);

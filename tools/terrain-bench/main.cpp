@@ -451,7 +451,8 @@ int run(const BenchOptions& o, const char* argv0) {
             rec.boundaryArtefactPixels = static_cast<double>(*a.boundaryArtefactPixels);
         if (a.boundarySilhouettePixels)
             rec.boundarySilhouettePixels = static_cast<double>(*a.boundarySilhouettePixels);
-        const tools::SeamsSeen seams = tools::seamsInView(manifest.value(), camera, lod.images.depth);
+        const tools::SeamsSeen seams =
+            tools::seamsInView(manifest.value(), camera, lod.images.depth);
         rec.seamSlope = seams.seamSlope;
         rec.seamSourceSlopeP99 = seams.sourceSlopeP99;
         if (a.boundaryShading) {
@@ -697,7 +698,8 @@ int run(const BenchOptions& o, const char* argv0) {
             "terrain-bench: {} ε = {:>5} px: triangles {:>9.0f}, measured error max {:.3f} px "
             "(median of frame maxima {:.3f}, mean {:.3f}), PSNR {:.2f} dB, {} of {} frames "
             "over ε + {} px, "
-            "{} crack pixels, {} overdrawn, {} boundary-artefact pixels ({} at silhouettes), shading seam {} levels (max), {} "
+            "{} crack pixels, {} overdrawn, {} boundary-artefact pixels ({} at silhouettes), "
+            "shading seam {} levels (max), {} "
             "unmeasurable (non-finite) pixels{}{}\n",
             s.method, s.thresholdPx, s.trianglesMean, s.errorMaxPx, s.errorMaxMedianPx,
             s.errorMeanPx, s.psnrDbMean, s.framesOverThreshold, s.frames, o.tolerancePx,

@@ -268,15 +268,15 @@ PyramidManifest parseFields(const Json& root, LayoutFields& f) {
         if (extent.size() != 4 ||
             !std::all_of(extent.begin(), extent.end(), [](const Json& v) { return v.is_number(); }))
             throw FieldError{"globe.sourceExtent", "[west, south, east, north] in degrees"};
-        m.globe = ManifestGlobe{.faceFinestLevel = intField(globe, "globe", "faceFinestLevel"),
-                                .west = extent[0].get<double>(),
-                                .south = extent[1].get<double>(),
-                                .east = extent[2].get<double>(),
-                                .north = extent[3].get<double>(),
-                                .seams = {},
-                                .sources = {},
-                                .seaLevelM = optionalNumberField(globe, "globe", "seaLevelM")
-                                                 .value_or(0.0)};
+        m.globe = ManifestGlobe{
+            .faceFinestLevel = intField(globe, "globe", "faceFinestLevel"),
+            .west = extent[0].get<double>(),
+            .south = extent[1].get<double>(),
+            .east = extent[2].get<double>(),
+            .north = extent[3].get<double>(),
+            .seams = {},
+            .sources = {},
+            .seaLevelM = optionalNumberField(globe, "globe", "seaLevelM").value_or(0.0)};
         if (!std::isfinite(m.globe->seaLevelM))
             throw FieldError{"globe.seaLevelM", "a finite number of metres"};
         if (globe.contains("sources")) {  // since each source's extent was recorded

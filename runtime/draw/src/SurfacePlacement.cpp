@@ -110,8 +110,7 @@ void GlobePlacement::beginFrame(const Camera& camera, FrameBlock& block) {
     const std::array<float, 2> range = globeHeightRange(m_manifest);
     // The sea at the level the sources state (their zero, mean sea level, for SRTM and
     // ETOPO), drawn as water.
-    block.heightRange = {range[0], range[1], static_cast<float>(globeSeaLevel(m_manifest)),
-                         1.0f};
+    block.heightRange = {range[0], range[1], static_cast<float>(globeSeaLevel(m_manifest)), 1.0f};
 }
 
 PatchInstance GlobePlacement::place(const PatchDraw& p, const cache::GpuTilePool& pool) const {

@@ -241,8 +241,8 @@ Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapt
                                              static_cast<int>(std::ceil(thresholdPx)));
     if (!lod.patchIds.empty()) {
         // The LOD may draw any surface up to ε pixels off the reference's.
-        BoundaryArtefacts found = findBoundaryArtefacts(
-            lod.images, lod.patchIds, reference.images, static_cast<int>(std::ceil(thresholdPx)));
+        BoundaryArtefacts found = findBoundaryArtefacts(lod.images, lod.patchIds, reference.images,
+                                                        static_cast<int>(std::ceil(thresholdPx)));
         a.boundaryArtefacts = std::move(found.pixels);
         a.boundaryArtefactPixels = a.boundaryArtefacts.size();
         a.boundarySilhouettePixels = found.silhouettePixels;

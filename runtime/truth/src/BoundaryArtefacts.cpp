@@ -37,8 +37,8 @@ bool onSilhouette(std::span<const float> depth, std::size_t w, std::size_t i) {
     if (hasLeft && hasRight && bends(i - 1, i + 1)) return true;
     if (hasBelow && hasAbove && bends(i - w, i + w)) return true;
     // At the image's border only the one-sided test of a drawn pixel beside an empty one.
-    return (hasLeft && empty(i - 1)) || (hasRight && empty(i + 1)) ||
-           (hasBelow && empty(i - w)) || (hasAbove && empty(i + w));
+    return (hasLeft && empty(i - 1)) || (hasRight && empty(i + 1)) || (hasBelow && empty(i - w)) ||
+           (hasAbove && empty(i + w));
 }
 
 /// Whether a silhouette of `lod` or `reference` lies within `radius` pixels of pixel i
@@ -143,9 +143,9 @@ BoundaryArtefacts findBoundaryArtefacts(const FrameImages& lod,
             return Standing::Artefact;
         };
         const Standing row = hasLeft && hasRight ? standsOut(i - 1, i + 1) : Standing::Blends;
-        const Standing column =
-            row != Standing::Artefact && hasBelow && hasAbove ? standsOut(i - w, i + w)
-                                                              : Standing::Blends;
+        const Standing column = row != Standing::Artefact && hasBelow && hasAbove
+                                    ? standsOut(i - w, i + w)
+                                    : Standing::Blends;
         if (row == Standing::Artefact || column == Standing::Artefact)
             result.pixels.push_back(i);
         else if (row == Standing::AtSilhouette || column == Standing::AtSilhouette)

@@ -86,9 +86,8 @@ Result<bool> everyTriangulationCovers(FullResolutionSurface& surface, const glm:
             if (!h) return h.error();
             double height = static_cast<double>(h.value());
             if (lowerPerMetre > 0.0) {
-                const glm::dvec3 world{g.worldOfSample(static_cast<double>(ci),
-                                                       static_cast<double>(cj)),
-                                       height};
+                const glm::dvec3 world{
+                    g.worldOfSample(static_cast<double>(ci), static_cast<double>(cj)), height};
                 height -= lowerPerMetre * glm::length(world - origin);
             }
             corner[static_cast<std::size_t>(k)] = {static_cast<double>(ci), static_cast<double>(cj),

@@ -202,8 +202,7 @@ TEST_F(LodTriangleBudgetTest, FlatPlainIsOnePatchOfMinimumTriangles) {
         EXPECT_GT(m.accuracy.image.psnrDb, 40.0) << describe(camera);
     }
     std::cout << "[          ] flat plain: 1 patch, as blocks at least " << minimum
-              << " triangles (2·K², K = " << k << "), as one cell " << kOneCellTriangles
-              << "\n";
+              << " triangles (2·K², K = " << k << "), as one cell " << kOneCellTriangles << "\n";
 }
 
 TEST_F(LodTriangleBudgetTest, FlatPatchesOfABumpyDemGetTheMinimum) {

@@ -200,8 +200,8 @@ TEST_F(AccuracyStabilityTest, NoSkirtHangsFromTheDemsOwnEdge) {
     const SettledMeasure m = measureSettled(*opened.value(), *probe.value(), camera, 2.0);
     const runtime::FrameAccuracy& a = m.accuracy;
     std::cout << "[          ] whole hills from beyond the edge: " << a.lodPixels
-              << " terrain pixels drawn, the reference " << a.referencePixels << "; "
-              << describe(a) << "\n";
+              << " terrain pixels drawn, the reference " << a.referencePixels << "; " << describe(a)
+              << "\n";
     // Where the reference shows the sky the measure has nothing to compare: the pixels the
     // LOD draws beyond the reference's are what a wall would add (the silhouette, within ε,
     // takes or gives a pixel here and there).

@@ -278,9 +278,9 @@ TEST_F(BoundaryArtefactsDrawTest, ADrawWithoutSkirtsHasThemAndTheDrawHasNone) {
                     runtime::measureBoundaryShading(broken, ids, reference.value().images)
                         .seamLevels();
                 // The artefact detector sees those edge pixels too, away from silhouettes.
-                darkenedEdges += runtime::findBoundaryArtefacts(broken, ids,
-                                                                reference.value().images)
-                                     .pixels.size();
+                darkenedEdges +=
+                    runtime::findBoundaryArtefacts(broken, ids, reference.value().images)
+                        .pixels.size();
                 boundaryPixels += found.boundaryPixels;
                 EXPECT_TRUE(found.pixels.empty())
                     << "pose " << pose << ": " << found.pixels.size()

@@ -34,8 +34,8 @@ public:
     double horizontalTolerancePx() const override { return m_horizontalTolerancePx; }
     Result<TruthVertical> widened(const TruthVertical& vertical, const glm::dvec3& world,
                                   double radiusM) override;
-    Result<bool> everyTriangulationCovers(const glm::dvec3& cameraPosition,
-                                          const glm::dvec3& along, double lowerPerMetre) override;
+    Result<bool> everyTriangulationCovers(const glm::dvec3& cameraPosition, const glm::dvec3& along,
+                                          double lowerPerMetre) override;
 
 private:
     FullResolutionSurface& m_surface;
