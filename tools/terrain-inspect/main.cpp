@@ -98,6 +98,11 @@ void printText(const io::PyramidReader& reader, const inspect::Inspection& inspe
                 s.largestStepM, s.seamSlope, std::atan(s.seamSlope) * 180.0 / std::numbers::pi,
                 tools::seamWithinSourceSlopes(s) ? "within" : "OVER", s.sourceSlopeP99,
                 std::atan(s.sourceSlopeP99) * 180.0 / std::numbers::pi, s.bandScaleRatio);
+    if (m.globe)
+        fmt::print(
+            "sea: at {} m in the sources' vertical datum ({}); at or below it is water\n",
+            m.globe->seaLevelM,
+            m.globe->seaLevelM == 0.0 ? "mean sea level" : "stated, terrain-build --sea-level");
     fmt::print("statistics: heights {} to {} m over {} valid samples; root Err(P) {} m\n",
                m.statistics.minHeight, m.statistics.maxHeight, m.statistics.validSamples,
                m.statistics.rootError);
@@ -171,6 +176,7 @@ Json summaryJson(const io::PyramidReader& reader, const inspect::Inspection& ins
     j["levels"] = std::move(levels);
     j["noDataSources"] = tools::noDataSourcesJson<Json>(reader.manifest().noData);
     j["seams"] = tools::seamsJson<Json>(reader.manifest());
+    if (reader.manifest().globe) j["seaLevelM"] = reader.manifest().globe->seaLevelM;
     if (verify) {
         j["verify"] = {{"patchesChecked", inspection.patchesVerified},
                        {"seconds", inspection.verifySeconds},
