@@ -24,14 +24,10 @@ struct SeamBand {
 
 /// Metres of one degree of latitude and of longitude at `latitudeDeg` (WGS84).
 std::pair<double, double> metresPerDegree(double latitudeDeg) {
-    using W = globe::Wgs84;
-    const double phi = latitudeDeg * std::numbers::pi / 180.0;
-    const double s = std::sin(phi);
-    const double w = std::sqrt(1.0 - W::kEccentricitySquared * s * s);
-    const double meridian = W::kEquatorialRadius * (1.0 - W::kEccentricitySquared) / (w * w * w);
-    const double primeVertical = W::kEquatorialRadius / w;
-    const double perRadian = std::numbers::pi / 180.0;
-    return {meridian * perRadian, primeVertical * std::cos(phi) * perRadian};
+    const globe::CurvatureRadii r = globe::Wgs84::curvatureRadiiAt(latitudeDeg);
+    const double perDegree = std::numbers::pi / 180.0;
+    return {r.meridian * perDegree,
+            r.primeVertical * std::cos(latitudeDeg * perDegree) * perDegree};
 }
 
 /// Whether (lat, lon) lies inside `e` within `bandM` of its edge.

@@ -5,9 +5,10 @@
 // (GdalResampledDem.cpp), the source's own samples stay readable and each is placed on the
 // new grid through the CRS transform (PROJ, through OGR), so the pyramid's Err(P) is made
 // and checked against the samples the user gave, not against the resampled grid.
-#include "terrain/dem/OpenDem.h"
 #include "GdalDemReader.h"
 #include "GdalWarp.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/globe/Wgs84.h"
 
 #include <fmt/format.h>
 #include <ogr_spatialref.h>
@@ -34,14 +35,8 @@ using CoordinateTransform =
     std::unique_ptr<OGRCoordinateTransformation, CoordinateTransformDeleter>;
 
 // WGS84's meridional (M) and prime-vertical (N) radii of curvature at a latitude, metres.
-struct Radii {
-    double meridian = 0.0, primeVertical = 0.0;
-};
-Radii radiiAt(double latitudeDeg) {
-    constexpr double a = 6378137.0, f = 1.0 / 298.257223563, e2 = f * (2.0 - f);
-    const double s = std::sin(latitudeDeg * std::numbers::pi / 180.0);
-    const double w = std::sqrt(1.0 - e2 * s * s);
-    return {a * (1.0 - e2) / (w * w * w), a / w};
+terrain::globe::CurvatureRadii radiiAt(double latitudeDeg) {
+    return terrain::globe::Wgs84::curvatureRadiiAt(latitudeDeg);
 }
 
 // The source's own samples and where each lies in longitude and latitude.
@@ -151,7 +146,7 @@ Result<GeographicTarget> targetFor(const std::string& path, const SamplePlacer& 
     double spacing = INFINITY;
     constexpr double kRadians = std::numbers::pi / 180.0;
     for (std::size_t k = edgePoints; k + 2 < lon.size(); k += 3) {
-        const Radii radii = radiiAt(lat[k]);
+        const terrain::globe::CurvatureRadii radii = radiiAt(lat[k]);
         const double cosLat = std::cos(lat[k] * kRadians);
         for (const std::size_t n : {k + 1, k + 2}) {
             const double north = (lat[n] - lat[k]) * kRadians * radii.meridian;

@@ -35,6 +35,12 @@ Geodetic Wgs84::toGeodetic(const glm::dvec3& ecef) {
     return point;
 }
 
+CurvatureRadii Wgs84::curvatureRadiiAt(double latitudeDeg) {
+    const double s = std::sin(latitudeDeg * kDegree);
+    const double w = std::sqrt(1.0 - kEccentricitySquared * s * s);
+    return {kEquatorialRadius * (1.0 - kEccentricitySquared) / (w * w * w), kEquatorialRadius / w};
+}
+
 glm::dvec3 Wgs84::normalAt(double latitudeDeg, double longitudeDeg) {
     const double lat = latitudeDeg * kDegree;
     const double lon = longitudeDeg * kDegree;

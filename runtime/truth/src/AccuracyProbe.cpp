@@ -237,12 +237,12 @@ Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapt
         }
     }
     a.uncoveredPixels = uncovered.uncovered;
-    a.overdrawnPixels = countOverdrawnPixels(lod.images, reference.images,
-                                             static_cast<int>(std::ceil(thresholdPx)));
+    // The LOD may draw any surface up to ε pixels off the reference's.
+    const int shiftPx = static_cast<int>(std::ceil(thresholdPx));
+    a.overdrawnPixels = countOverdrawnPixels(lod.images, reference.images, shiftPx);
     if (!lod.patchIds.empty()) {
-        // The LOD may draw any surface up to ε pixels off the reference's.
-        BoundaryArtefacts found = findBoundaryArtefacts(lod.images, lod.patchIds, reference.images,
-                                                        static_cast<int>(std::ceil(thresholdPx)));
+        BoundaryArtefacts found =
+            findBoundaryArtefacts(lod.images, lod.patchIds, reference.images, shiftPx);
         a.boundaryArtefacts = std::move(found.pixels);
         a.boundaryArtefactPixels = a.boundaryArtefacts.size();
         a.boundarySilhouettePixels = found.silhouettePixels;

@@ -16,6 +16,14 @@ struct Geodetic {
     double height = 0.0;
 };
 
+/// The ellipsoid's principal radii of curvature at a latitude, metres: along the meridian (M)
+/// and across it (the prime vertical, N); a degree of latitude is M·π/180 metres there, a
+/// degree of longitude N·cos φ·π/180.
+struct CurvatureRadii {
+    double meridian = 0.0;
+    double primeVertical = 0.0;
+};
+
 struct Wgs84 {
     static constexpr double kEquatorialRadius = 6378137.0;      ///< a, metres
     static constexpr double kFlattening = 1.0 / 298.257223563;  ///< f
@@ -27,6 +35,9 @@ struct Wgs84 {
     /// The largest, a²/b (at the poles).
     static constexpr double kMaxCurvatureRadius =
         kEquatorialRadius * kEquatorialRadius / kPolarRadius;
+
+    /// M = a(1 − e²)/w³ and N = a/w, w = √(1 − e² sin² φ).
+    static CurvatureRadii curvatureRadiiAt(double latitudeDeg);
 
     /// ECEF position of a geodetic point (GeographicLib::Geocentric::Forward).
     static glm::dvec3 toEcef(const Geodetic& point);
