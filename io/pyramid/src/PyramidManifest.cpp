@@ -253,6 +253,27 @@ PyramidManifest parseFields(const Json& root, LayoutFields& f) {
         quantization.finestLargestErrorM = numberField(q, p, "finestLargestErrorM");
     }
 
+    if (root.contains("imagery")) {  // since imagery was draped (issue 47)
+        for (const Json& entry : arrayField(root, "", "imagery")) {
+            const std::string p = "imagery";
+            ManifestImageryLayer layer;
+            layer.name = stringField(entry, p, "name");
+            layer.kind = stringField(entry, p, "kind");
+            if (layer.kind != ManifestImageryLayer::kStoredKind &&
+                layer.kind != ManifestImageryLayer::kPlanetKind)
+                throw FieldError{p + ".kind", fmt::format("\"{}\" or \"{}\"",
+                                                          ManifestImageryLayer::kStoredKind,
+                                                          ManifestImageryLayer::kPlanetKind)};
+            layer.folder = stringField(entry, p, "folder");
+            layer.input = stringField(entry, p, "input");
+            layer.codec = stringField(entry, p, "codec");
+            layer.coarsestLevel = intField(entry, p, "coarsestLevel");
+            layer.finestLevel = intField(entry, p, "finestLevel");
+            layer.opacity = numberField(entry, p, "opacity");
+            m.imagery.push_back(std::move(layer));
+        }
+    }
+
     const Json& build = objectField(root, "", "build");
     m.build.tool = stringField(build, "build", "tool");
     m.build.version = stringField(build, "build", "version");
@@ -408,6 +429,43 @@ Status checkGlobe(const PyramidManifest& m, const std::string& name) {
     return {};
 }
 
+// Imagery layers: unique names, levels from the pyramid's root down (at most the deepest a
+// patch key holds), an opacity in 0 … 1, a folder inside the pyramid for stored tiles, and
+// "planet" layers only on the virtual planet (which has no folder to read).
+Status checkImagery(const PyramidManifest& m, const std::string& name) {
+    const int rootLevel = m.globe ? ManifestGlobe::kLevelOffset : 0;
+    // Imagery may be finer than the DEM, up to 2^16 times on the plane.
+    const int deepest = m.globe ? ManifestGlobe::kLevelOffset + kMaxGlobeFaceLevel
+                                : m.layout.finestLevel() + 16;
+    for (std::size_t i = 0; i < m.imagery.size(); ++i) {
+        const ManifestImageryLayer& l = m.imagery[i];
+        const std::string at = fmt::format("{}: imagery[{}] (\"{}\")", name, i, l.name);
+        if (l.name.empty()) return Error{at + ": a layer needs a name"};
+        for (std::size_t j = 0; j < i; ++j)
+            if (m.imagery[j].name == l.name)
+                return Error{fmt::format("{}: the name is also imagery[{}]'s", at, j)};
+        if (l.coarsestLevel != rootLevel || l.finestLevel < l.coarsestLevel ||
+            l.finestLevel > deepest)
+            return Error{fmt::format("{}: levels {} … {}: the first must be the root level {}, "
+                                     "the last from it to {}",
+                                     at, l.coarsestLevel, l.finestLevel, rootLevel, deepest)};
+        if (!(l.opacity >= 0.0 && l.opacity <= 1.0))
+            return Error{fmt::format("{}: opacity {} is outside 0 … 1", at, l.opacity)};
+        if (l.kind == ManifestImageryLayer::kStoredKind) {
+            const std::filesystem::path folder(l.folder);
+            if (l.folder.empty() || folder.is_absolute() ||
+                std::any_of(folder.begin(), folder.end(),
+                            [](const std::filesystem::path& part) { return part == ".."; }))
+                return Error{fmt::format("{}: folder \"{}\" must be a relative path inside "
+                                         "the pyramid",
+                                         at, l.folder)};
+        } else if (!m.globe) {
+            return Error{at + ": a \"planet\" layer belongs to the virtual planet"};
+        }
+    }
+    return {};
+}
+
 Status checkManifest(const PyramidManifest& m, const std::string& name) {
     if (Status globe = checkGlobe(m, name); !globe) return globe;
     if (m.quantization &&
@@ -416,6 +474,7 @@ Status checkManifest(const PyramidManifest& m, const std::string& name) {
             fmt::format("{}: quantization.maxErrorM must be a finite number of metres "
                         "> 0, not {}",
                         name, m.quantization->maxErrorM)};
+    if (Status imagery = checkImagery(m, name); !imagery) return imagery;
     // A layout is only made by PyramidLayout::create; one that create rejects is a default
     // (empty) one.
     const PyramidLayout& layout = m.layout;
@@ -580,6 +639,19 @@ std::string toJson(const PyramidManifest& m) {
         j["quantization"] = {{"rule", ManifestQuantization::kRule},
                              {"maxErrorM", q->maxErrorM},
                              {"finestLargestErrorM", q->finestLargestErrorM}};
+    if (!m.imagery.empty()) {
+        Json layers = Json::array();
+        for (const ManifestImageryLayer& l : m.imagery)
+            layers.push_back({{"name", l.name},
+                              {"kind", l.kind},
+                              {"folder", l.folder},
+                              {"input", l.input},
+                              {"codec", l.codec},
+                              {"coarsestLevel", l.coarsestLevel},
+                              {"finestLevel", l.finestLevel},
+                              {"opacity", l.opacity}});
+        j["imagery"] = std::move(layers);
+    }
     j["build"] = {
         {"tool", m.build.tool}, {"version", m.build.version}, {"seconds", m.build.seconds}};
     if (m.globe) {

@@ -177,6 +177,28 @@ struct ManifestQuantization {
     bool operator==(const ManifestQuantization&) const = default;
 };
 
+/// One imagery layer draped on the terrain (issue 47, docs/imagery.md): its tiles lie on the
+/// pyramid's own tiling (ImageryTile.h). Layers are drawn in the manifest's order, each later
+/// one composited over those before it by its alpha times its opacity.
+struct ManifestImageryLayer {
+    /// Tiles stored in the layer's folder ("tiles"), or generated where they are read: the
+    /// virtual planet's colours from its heights ("planet").
+    static constexpr std::string_view kStoredKind = "tiles";
+    static constexpr std::string_view kPlanetKind = "planet";
+    std::string name;    ///< unique within the pyramid; what the tools and the viewer show
+    std::string kind{kStoredKind};
+    std::string folder;  ///< relative to the pyramid folder ("imagery/<name>"); "" for "planet"
+    std::string input;   ///< the image it was built from, as given ("" for "planet")
+    std::string codec;   ///< how tiles are stored ("webp"; "" for "planet")
+    /// Layout levels of its tiles: coarsestLevel … finestLevel (finestLevel may exceed the
+    /// pyramid's finest: imagery finer than the DEM). coarsestLevel is the pyramid's root
+    /// level (0; ManifestGlobe::kLevelOffset on the globe).
+    int coarsestLevel = 0;
+    int finestLevel = 0;
+    double opacity = 1.0;  ///< 0 … 1, times each texel's alpha
+    bool operator==(const ManifestImageryLayer&) const = default;
+};
+
 struct ManifestBuild {
     std::string tool;
     std::string version;
@@ -214,6 +236,8 @@ struct PyramidManifest {
     std::optional<ManifestGlobe> globe;
     /// Set for a lossy pyramid (optional in the file).
     std::optional<ManifestQuantization> quantization;
+    /// Imagery layers, bottom first (optional in the file: absent, none).
+    std::vector<ManifestImageryLayer> imagery;
 
     /// A manifest for `layout`: the layout and one level entry per level (patch and shard
     /// counts, sample step; presentPatches = all patches, maxError = 0), the rest default.
