@@ -58,5 +58,14 @@
 // (terrain_footprint.glsl, runtime/draw ShadingTiles.h): TERRAIN_SHADING_ANCESTORS per instance.
 #define TERRAIN_BINDING_SHADING_TILES 9
 #define TERRAIN_SHADING_ANCESTORS 8
+// Imagery draped on the terrain (issue 47; runtime/lod ImagerySelection.h,
+// terrain_imagery.glsl): the texture array of imagery tiles (a texture unit), the frame's
+// listed tiles, their children and each drawn patch's roots (storage blocks), and how many
+// layers one draw composites.
+#define TERRAIN_BINDING_IMAGERY_TILES 7
+#define TERRAIN_BINDING_IMAGERY_NODES 13
+#define TERRAIN_BINDING_IMAGERY_CHILDREN 14
+#define TERRAIN_BINDING_IMAGERY_ROOTS 15
+#define TERRAIN_MAX_IMAGERY_LAYERS 4
 
 #endif  // TERRAIN_BINDINGS_H

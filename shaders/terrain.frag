@@ -28,6 +28,7 @@ layout(location = TERRAIN_FRAG_COLOR) out vec4 o_color;
 // reference's is.
 #include "terrain_surface.glsl"
 #include "terrain_footprint.glsl"
+#include "terrain_imagery.glsl"
 
 layout(location = 6) in vec2 i_patchSample;  // the patch's samples, apron excluded
 layout(location = 8) in vec3 i_up;
@@ -149,7 +150,22 @@ void main() {
         float heightM = i_heightM;
         float coastWidthM = fwidth(i_heightM);
 #endif
-        o_color = vec4(terrainShade(shading, normal, heightM, coastWidthM, i_fromCameraM), 1.0);
+        vec3 color = terrainShade(shading, normal, heightM, coastWidthM, i_fromCameraM);
+#ifdef TERRAIN_FRAGMENT_NORMALS
+        // Imagery over the tint (terrain_imagery.glsl), at the patch's (u, v): its samples
+        // over its N − 1 quads a side. Lit as the land is, or drawn as it is, fogged alike.
+        if (u_frame.options.z > 0) {
+            float quads = float(u_frame.tessellation.z);
+            vec4 imagery =
+                drapedImagery(i_patch, i_patchSample / quads, sampleDx / quads, sampleDy / quads);
+            if (imagery.a > 0.0) {
+                float ambient = u_frame.options.w != 0 ? 0.25 : 1.0;
+                vec3 draped = terrainLitColor(shading, imagery.rgb, normal, i_fromCameraM, ambient);
+                color = mix(color, draped, imagery.a);
+            }
+        }
+#endif
+        o_color = vec4(color, 1.0);
         return;
     }
     vec3 base = debugView == 1 ? levelColor(i_level) : tessFactorColor(i_tessFactor);

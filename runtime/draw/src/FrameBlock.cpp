@@ -51,7 +51,9 @@ void setTessellation(FrameBlock& block, int blocksPerSide, int blockQuads, int p
 }
 
 void setLook(FrameBlock& block, const TerrainStyle& style) {
-    block.options = {style.cullBlocks ? 1 : 0, static_cast<std::int32_t>(style.debugView), 0, 0};
+    // Imagery layers (options.z) and their opacities are the renderer's: it knows the layers.
+    block.options = {style.cullBlocks ? 1 : 0, static_cast<std::int32_t>(style.debugView), 0,
+                     style.imageryLighting ? 1 : 0};
     block.sky = {style.skyColor[0], style.skyColor[1], style.skyColor[2], style.fogDensityPerM};
 }
 

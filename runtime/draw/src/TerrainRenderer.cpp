@@ -16,6 +16,22 @@
 
 namespace terrain::runtime {
 
+static_assert(kMaxDrawnImageryLayers == TERRAIN_MAX_IMAGERY_LAYERS);
+
+namespace {
+
+/// Uploads `items` into `buffer`, first replacing it with a larger one when they do not fit
+/// (twice what they need: a few frames grow it, then it stays).
+template <typename T>
+void uploadGrowing(gl::Buffer& buffer, std::span<const T> items, const char* label) {
+    const std::size_t bytes = std::max<std::size_t>(items.size_bytes(), sizeof(T));
+    if (!buffer.valid() || buffer.sizeBytes() < bytes)
+        buffer = gl::Buffer::create(2 * bytes, GL_DYNAMIC_STORAGE_BIT, label);
+    if (!items.empty()) buffer.upload(0, std::as_bytes(items));
+}
+
+}  // namespace
+
 Result<TerrainRenderer> TerrainRenderer::create(const Surface& surface, int maxInstances,
                                                 const TerrainRendererOptions& options) {
     TERRAIN_ASSERT(maxInstances >= 1);
@@ -69,14 +85,15 @@ int TerrainRenderer::primitivesPerInstance(bool skirts) const {
 
 TerrainDrawStats TerrainRenderer::draw(const Camera& camera, const cache::GpuTilePool& pool,
                                        std::span<const PatchDraw> patches,
-                                       const TerrainStyle& style, double errorPx) {
-    prepare(camera, pool, patches, style, errorPx);
+                                       const TerrainStyle& style, double errorPx,
+                                       const DrapedImagery* imagery) {
+    prepare(camera, pool, patches, style, errorPx, imagery);
     return submit(pool);
 }
 
 void TerrainRenderer::prepare(const Camera& camera, const cache::GpuTilePool& pool,
                               std::span<const PatchDraw> patches, const TerrainStyle& style,
-                              double errorPx) {
+                              double errorPx, const DrapedImagery* imagery) {
     TERRAIN_ASSERT(patches.size() <= static_cast<std::size_t>(m_maxInstances),
                    "TerrainRenderer: more patches than instances");
     m_preparedInstances = static_cast<int>(patches.size());
@@ -131,10 +148,42 @@ void TerrainRenderer::prepare(const Camera& camera, const cache::GpuTilePool& po
     setTessellation(m_frame, m_blocksPerSide, m_blockQuads, m_surface->layout().patchQuads(),
                     fixedSimplification(style.fixedTessFactor, m_blockQuads));
     setLook(m_frame, style);
+    m_imageryTiles = nullptr;
+    if (imagery != nullptr && style.imagery && style.debugView == TerrainDebugView::Shaded)
+        m_frame.options[2] = prepareImagery(*imagery, patches.size(), style);
     m_frameBuffer.upload(m_frame);
 }
 
+int TerrainRenderer::prepareImagery(const DrapedImagery& imagery, std::size_t patches,
+                                    const TerrainStyle& style) {
+    const ImagerySelection& selection = imagery.selection;
+    const int layers = std::min(selection.layerCount(), kMaxDrawnImageryLayers);
+    if (layers == 0) return 0;
+    TERRAIN_ASSERT(selection.roots().size() == patches * static_cast<std::size_t>(layers),
+                   "TerrainRenderer: the imagery was selected for other patches");
+    uploadGrowing(m_imageryRoots, selection.roots(), "terrain imagery roots");
+    uploadGrowing(m_imageryNodes, selection.nodes(), "terrain imagery nodes");
+    uploadGrowing(m_imageryChildren, selection.children(), "terrain imagery children");
+    for (int l = 0; l < kMaxDrawnImageryLayers; ++l) {
+        const auto i = static_cast<std::size_t>(l);
+        m_frame.imageryOpacity[i] =
+            l < layers ? static_cast<float>(selection.layerOpacity(l)) * style.imageryOpacity[i]
+                       : 0.0f;
+    }
+    m_imageryTiles = &imagery.tiles;
+    return layers;
+}
+
 TerrainDrawStats TerrainRenderer::submit(const cache::GpuTilePool& pool) {
+    if (m_imageryTiles != nullptr) {
+        glBindTextureUnit(TERRAIN_BINDING_IMAGERY_TILES, m_imageryTiles->id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_IMAGERY_ROOTS,
+                         m_imageryRoots.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_IMAGERY_NODES,
+                         m_imageryNodes.id());
+        glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_IMAGERY_CHILDREN,
+                         m_imageryChildren.id());
+    }
     const TerrainDrawStats stats = issueInstancedPatchDraw(
         pool, {.program = m_program,
                .vertexArray = m_vertexArray,
@@ -147,6 +196,12 @@ TerrainDrawStats TerrainRenderer::submit(const cache::GpuTilePool& pool) {
                .wireframe = m_wireframe,
                .primitivesQuery = m_measure ? &m_primitivesQuery : nullptr,
                .timeQuery = m_measure ? &m_timeQuery : nullptr});
+    if (m_imageryTiles != nullptr) {
+        for (const int binding : {TERRAIN_BINDING_IMAGERY_ROOTS, TERRAIN_BINDING_IMAGERY_NODES,
+                                  TERRAIN_BINDING_IMAGERY_CHILDREN})
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(binding), 0);
+        glBindTextureUnit(TERRAIN_BINDING_IMAGERY_TILES, 0);
+    }
     m_preparedInstances = 0;
     return stats;
 }

@@ -14,9 +14,11 @@
 #include "terrain/gl/Buffer.h"
 #include "terrain/gl/Program.h"
 #include "terrain/gl/Query.h"
+#include "terrain/gl/Texture.h"
 #include "terrain/gl/VertexArray.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/FrameBlock.h"
+#include "terrain/runtime/ImagerySelection.h"
 #include "terrain/runtime/PatchDraw.h"
 #include "terrain/runtime/PatchInstance.h"
 #include "terrain/runtime/ShadingTiles.h"
@@ -66,6 +68,13 @@ struct RecordedTessFactors {
 };
 static_assert(sizeof(RecordedTessFactors) == 32);  // std430 TessFactorRecord, terrain.tesc
 
+/// The imagery a draw drapes (issue 47): the frame's selection, made for the same patches in
+/// the same order, and the texture array its nodes' layers index.
+struct DrapedImagery {
+    const ImagerySelection& selection;
+    const gl::Texture& tiles;
+};
+
 /// Render thread only; draws into the framebuffer bound by the caller. Holds its own GL
 /// objects; the depth test, reversed-Z clip control, polygon mode and program state it
 /// sets are put back to GL's defaults after each draw.
@@ -80,14 +89,16 @@ public:
     /// TERRAIN_ASSERT) seen by `camera` at ε = `errorPx`: prepare() then submit(). Depth must
     /// be cleared to 0 (reversed Z). Give the patches their skirt depth first
     /// (assignSkirtDepths, SkirtDepth.h), or skirts may be short.
+    /// With `imagery` (and style.imagery, in the shaded view) the patches wear its layers.
     TerrainDrawStats draw(const Camera& camera, const cache::GpuTilePool& pool,
                           std::span<const PatchDraw> patches, const TerrainStyle& style,
-                          double errorPx);
+                          double errorPx, const DrapedImagery* imagery = nullptr);
 
     /// The CPU half of draw(): writes the instance records (camera-relative, from double)
     /// and the frame block into their buffers. Allocates nothing.
     void prepare(const Camera& camera, const cache::GpuTilePool& pool,
-                 std::span<const PatchDraw> patches, const TerrainStyle& style, double errorPx);
+                 std::span<const PatchDraw> patches, const TerrainStyle& style, double errorPx,
+                 const DrapedImagery* imagery = nullptr);
     /// The GL half: binds the pool's textures and issues the one instanced draw of what
     /// prepare() wrote. (Drivers may allocate inside the draw call: Mesa's tessellator does.)
     TerrainDrawStats submit(const cache::GpuTilePool& pool);
@@ -101,6 +112,9 @@ private:
     /// Quad patch primitives per instance: blocksPerSide² blocks, then 4 · blocksPerSide
     /// skirts when the style has them.
     int primitivesPerInstance(bool skirts) const;
+    /// Uploads the selection's lists; the number of layers the frame draws.
+    int prepareImagery(const DrapedImagery& imagery, std::size_t patches,
+                       const TerrainStyle& style);
 
     const Surface* m_surface = nullptr;
     std::unique_ptr<SurfacePlacement> m_placement;
@@ -108,6 +122,12 @@ private:
     gl::VertexArray m_vertexArray;
     gl::Buffer m_instances;
     gl::Buffer m_shadingTiles;  // kShadingAncestors per instance (ShadingTiles.h)
+    // The imagery selection's lists (ImagerySelection.h), grown as frames need, and the
+    // texture array the prepared frame samples (null: no imagery).
+    gl::Buffer m_imageryRoots;
+    gl::Buffer m_imageryNodes;
+    gl::Buffer m_imageryChildren;
+    const gl::Texture* m_imageryTiles = nullptr;
     FrameBlockBuffer m_frameBuffer;
     gl::Buffer m_tessFactors;  // recordTessFactors only
     gl::Query m_primitivesQuery;

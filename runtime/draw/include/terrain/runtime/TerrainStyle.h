@@ -44,6 +44,14 @@ struct TerrainStyle {
     bool coarseCells = true;
     std::array<float, 3> skyColor{0.72f, 0.80f, 0.90f};
     float fogDensityPerM = 0.0f;  ///< 0: no fog
+    /// Imagery layers draped over the tint (issue 47), when the pyramid has them and the
+    /// session hands the draw its selection; false: the tint alone.
+    bool imagery = true;
+    /// Imagery lit by the sun as the tint is (true), or drawn as it is, fogged only (false:
+    /// imagery often has its shadows baked in).
+    bool imageryLighting = true;
+    /// Each layer's opacity times the manifest's (bottom first; 0 hides a layer).
+    std::array<float, 4> imageryOpacity{1.0f, 1.0f, 1.0f, 1.0f};
     /// submit() measures the draw (GL_PRIMITIVES_GENERATED, GL_TIME_ELAPSED) and waits for
     /// both results; false issues no queries.
     bool measure = false;

@@ -1,0 +1,193 @@
+// ImagerySelection: the frame's imagery tiles, a tree per layer shared by the drawn patches.
+#include "terrain/runtime/ImagerySelection.h"
+
+#include "terrain/base/Assert.h"
+#include "terrain/runtime/PlaneSurface.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace terrain::runtime {
+namespace {
+
+/// The layout patch `levels` above `id` (x and y halved: on the globe's layout too).
+io::PatchId ancestorOf(const io::PatchId& id, int levels) {
+    return {id.level - levels, id.x >> levels, id.y >> levels};
+}
+
+/// Where patch `id`'s (u, v) lies on its ancestor `levels` above: offset + (u, v) · scale.
+ImageryRoot placeInAncestor(const io::PatchId& id, int levels) {
+    const double scale = std::ldexp(1.0, -levels);
+    const std::int64_t mask = (std::int64_t{1} << levels) - 1;
+    return {.offset = {static_cast<float>(static_cast<double>(id.x & mask) * scale),
+                       static_cast<float>(static_cast<double>(id.y & mask) * scale)},
+            .scale = static_cast<float>(scale),
+            .node = -1};
+}
+
+}  // namespace
+
+ImagerySelection::ImagerySelection(const Surface& surface, const io::PyramidManifest& manifest)
+    : m_surface(surface), m_manifest(manifest) {
+    for (const io::ManifestImageryLayer& layer : manifest.imagery)
+        m_layers.push_back({layer.coarsestLevel, layer.finestLevel, layer.opacity});
+}
+
+ImagerySelectionStats ImagerySelection::select(const Camera& camera,
+                                               std::span<const PatchDraw> draws,
+                                               ImageryResidency& imagery,
+                                               const TileResidency& heights) {
+    m_imagery = &imagery;
+    m_heights = &heights;
+    m_view = m_surface.view(camera);
+    // Pixels per radian on the view axis: a texel of t metres at distance d spans t/d rad.
+    m_pixelsPerRadian = camera.errorScale();
+    m_stats = {};
+    m_roots.clear();
+    m_nodes.clear();
+    m_children.clear();
+    m_nodeOf.clear();
+    const int layers = layerCount();
+    m_roots.reserve(draws.size() * static_cast<std::size_t>(layers));
+    for (const PatchDraw& draw : draws) {
+        for (int l = 0; l < layers; ++l) {
+            const Layer& layer = m_layers[static_cast<std::size_t>(l)];
+            // A few levels above the patch, or above the layer's finest where the patch is
+            // finer than the imagery: either way on the patch's line of ancestors.
+            const int rootLevel =
+                std::max(layer.coarsestLevel,
+                         std::min(draw.id.level, layer.finestLevel) - kImageryRootLevelsAbove);
+            const int above = draw.id.level - rootLevel;
+            ImageryRoot root = placeInAncestor(draw.id, above);
+            root.node = nodeOf(l, ancestorOf(draw.id, above));
+            m_roots.push_back(root);
+        }
+    }
+    m_stats.nodes = static_cast<int>(m_nodes.size());
+    m_imagery = nullptr;
+    m_heights = nullptr;
+    return m_stats;
+}
+
+int ImagerySelection::nodeOf(int layer, const io::PatchId& id) {
+    const auto [found, isNew] = m_nodeOf.try_emplace(NodeKey{layer, id}, 0);
+    if (!isNew) return found->second;
+    const int index = static_cast<int>(m_nodes.size());
+    found->second = index;
+    m_nodes.push_back({});
+    ImageryNode& node = m_nodes.back();
+    node.level = id.level;
+    if (const std::optional<int> gpu = m_imagery->gpuLayer(layer, id)) {
+        node.gpuLayer = *gpu;
+        ++m_stats.residentNodes;
+    } else {
+        // Not resident: drawn from the finest resident ancestor's texels until it arrives.
+        // A root's ancestors are listed as nodes of their own only through this lookup.
+        // Asked for unless it lies outside the view (a child of a tile the view cuts).
+        if (const double pixels = texelPixels(id); pixels > 0.0) {
+            m_imagery->want(layer, id, static_cast<float>(pixels));
+            ++m_stats.wanted;
+        }
+        const int coarsest = m_layers[static_cast<std::size_t>(layer)].coarsestLevel;
+        for (int up = 1; id.level - up >= coarsest; ++up) {
+            const io::PatchId ancestor = ancestorOf(id, up);
+            if (const std::optional<int> held = m_imagery->gpuLayer(layer, ancestor)) {
+                const ImageryRoot place = placeInAncestor(id, up);
+                m_nodes[static_cast<std::size_t>(index)].gpuLayer = *held;
+                m_nodes[static_cast<std::size_t>(index)].map = {place.offset[0], place.offset[1],
+                                                                place.scale, 0.0f};
+                break;
+            }
+        }
+        return index;  // its children are unknown until it is read
+    }
+    expand(layer, index, id);
+    return index;
+}
+
+void ImagerySelection::expand(int layer, int index, const io::PatchId& id) {
+    if (id.level >= m_layers[static_cast<std::size_t>(layer)].finestLevel) return;
+    const io::ImageryTileInfo* info = m_imagery->tileInfo(layer, id);
+    if (info == nullptr || info->presentChildren == 0) return;
+    if (texelPixels(id) <= 1.0) return;
+    const int entry = static_cast<int>(m_children.size());
+    m_children.push_back({-1, -1, -1, -1});
+    m_nodes[static_cast<std::size_t>(index)].children = entry;
+    const ImageryNode parent = m_nodes[static_cast<std::size_t>(index)];
+    for (int q = 0; q < 4; ++q) {
+        const io::PatchId child{id.level + 1, 2 * id.x + (q & 1), 2 * id.y + (q >> 1)};
+        int childIndex;
+        if ((info->presentChildren & (1u << q)) != 0) {
+            childIndex = nodeOf(layer, child);
+        } else {
+            // No finer imagery here: the child draws its parent's quadrant (transparent where
+            // the parent is).
+            childIndex = static_cast<int>(m_nodes.size());
+            ImageryNode inherited = parent;
+            inherited.children = -1;
+            inherited.level = child.level;
+            inherited.map = {parent.map[0] + parent.map[2] * 0.5f * static_cast<float>(q & 1),
+                             parent.map[1] + parent.map[2] * 0.5f * static_cast<float>(q >> 1),
+                             parent.map[2] * 0.5f, 0.0f};
+            m_nodes.push_back(inherited);
+        }
+        m_children[static_cast<std::size_t>(entry)][static_cast<std::size_t>(q)] = childIndex;
+    }
+}
+
+double ImagerySelection::texelMetres(int level) const {
+    if (m_surface.kind() == SurfaceKind::Plane) {
+        const TerrainGeometry& geometry = planeGeometry(m_surface);
+        const int finest = geometry.layout().finestLevel();
+        const glm::dvec2 size = geometry.patchSize(std::min(level, finest));
+        return std::ldexp(std::max(size.x, size.y), std::min(0, finest - level)) /
+               io::kImageryInteriorTexels;
+    }
+    const int deepest = m_surface.maxLevel();
+    return std::ldexp(m_surface.sampleSpacingM(std::min(level, deepest)),
+                      std::min(0, deepest - level)) *
+           m_surface.layout().patchQuads() / io::kImageryInteriorTexels;
+}
+
+PatchVolume ImagerySelection::volumeOf(const io::PatchId& id) const {
+    // Heights from the finest resident patch at or above the tile (the LOD keeps the drawn
+    // patches' ancestors resident); none (the globe's bare ellipsoid): 0.
+    const int deepest = m_surface.maxLevel();
+    const io::PatchId clamped = ancestorOf(id, std::max(0, id.level - deepest));
+    float minHeight = 0.0f, maxHeight = 0.0f;
+    const int rootLevel = m_surface.roots().front().level;
+    for (int up = 0; clamped.level - up >= rootLevel; ++up) {
+        if (const io::PatchInfo* info = m_heights->residentInfo(ancestorOf(clamped, up))) {
+            minHeight = info->minHeight;
+            maxHeight = info->maxHeight;
+            break;
+        }
+    }
+    if (m_surface.kind() == SurfaceKind::Plane && id.level > deepest) {
+        // Past the DEM's finest level: the finest patch's box cut to the tile's footprint.
+        const TerrainGeometry& geometry = planeGeometry(m_surface);
+        Aabb box = std::get<Aabb>(m_surface.volume(clamped, minHeight, maxHeight));
+        const io::PlanarSamplePoint a = io::planarImageryPoint(geometry.layout(), id, 0.0, 0.0);
+        const io::PlanarSamplePoint b = io::planarImageryPoint(geometry.layout(), id, 1.0, 1.0);
+        const glm::dvec2 wa = geometry.worldOfSample(a.column, a.row);
+        const glm::dvec2 wb = geometry.worldOfSample(b.column, b.row);
+        box.min.x = std::min(wa.x, wb.x);
+        box.max.x = std::max(wa.x, wb.x);
+        box.min.y = std::min(wa.y, wb.y);
+        box.max.y = std::max(wa.y, wb.y);
+        return box;
+    }
+    // On the globe a tile past the deepest level the surface splits to takes that level's
+    // volume (nearer than its own: it may be listed a level early, never late).
+    return m_surface.volume(clamped, minHeight, maxHeight);
+}
+
+double ImagerySelection::texelPixels(const io::PatchId& id) const {
+    const PatchVolume volume = volumeOf(id);
+    int planes = 0b11111;
+    if (m_surface.outsideFrustum(m_view, volume, planes)) return 0.0;
+    const double distance = std::max(m_surface.distance(m_view.camera, volume), 1.0e-3);
+    return texelMetres(id.level) * m_pixelsPerRadian / distance;
+}
+
+}  // namespace terrain::runtime
