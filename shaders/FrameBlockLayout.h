@@ -47,7 +47,9 @@
     VEC4(heightRange)                                                                              \
     /* rgb: the sky and fog colour; w: the fog density per metre (0: none).                  */    \
     VEC4(sky)                                                                                      \
-    /* The imagery layers' opacities, bottom first (options.z of them are drawn).            */    \
-    VEC4(imageryOpacity)
+    /* The imagery layers' opacities, by the manifest's index (options.z of them drawn).    */     \
+    VEC4(imageryOpacity)                                                                           \
+    /* The imagery layers in the order they are composited, bottom first: manifest indices.  */    \
+    IVEC4(imageryOrder)
 
 #endif  // TERRAIN_FRAME_BLOCK_LAYOUT_H

@@ -6,7 +6,8 @@
 // and a tile's mip 1 holds what its parent's mip 0 does, so the level's change across the
 // view is continuous. A tile's 4-texel border holds its neighbours' texels
 // (io/pyramid ImageryTile.h), so filtering near its edge reads what the neighbour would.
-// Layers are composited bottom first, each over those before by its alpha times its opacity.
+// Layers are composited bottom first (the manifest's order, or the one the style gives), each
+// over those before by its alpha times its opacity.
 #ifndef TERRAIN_IMAGERY_GLSL
 #define TERRAIN_IMAGERY_GLSL
 
@@ -84,7 +85,8 @@ vec4 drapedImagery(int instance, vec2 uv, vec2 dx, vec2 dy) {
     int layerCount = u_frame.options.z;
     vec3 premultiplied = vec3(0.0);
     float alpha = 0.0;
-    for (int l = 0; l < layerCount; ++l) {
+    for (int drawn = 0; drawn < layerCount; ++drawn) {
+        int l = u_frame.imageryOrder[drawn];
         float opacity = u_frame.imageryOpacity[l];
         if (opacity <= 0.0) continue;
         vec4 c = imageryLayerColor(instance, l, layerCount, uv, dx, dy);

@@ -23,6 +23,7 @@ void SurfaceKit::applyLook(runtime::TerrainStyle& style, const DrawStyleFlags& l
     style.wireframe = look.wireframe;
     style.skirts = !look.noSkirts;
     style.debugView = look.debugViewValue();
+    look.applyImagery(style);
     skyAndFog(style, look, surface);
 }
 

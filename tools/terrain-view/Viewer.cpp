@@ -96,6 +96,11 @@ Viewer::Viewer(const ViewerOptions& options, std::unique_ptr<tools::SurfaceKit> 
     m_settings.wireframe = options.look.wireframe;
     m_settings.skirts = !options.look.noSkirts;
     m_settings.fog = !options.noFog;
+    m_settings.imagery = !options.look.noImagery;
+    m_settings.imageryLit = !options.look.imageryUnlit;
+    for (std::size_t l = 0; l < m_settings.imageryOpacity.size(); ++l)
+        if (l < options.look.imageryOpacity.size())
+            m_settings.imageryOpacity[l] = options.look.imageryOpacity[l];
     m_settings.vsync = options.vsync;
     m_settings.measureEvery = std::max(1, options.measureEvery);
     m_settings.overlayVisible = !options.hideOverlay;
@@ -300,6 +305,12 @@ void Viewer::applySettings() {
     m_style.wireframe = m_settings.wireframe;
     m_style.skirts = m_settings.skirts;
     m_style.fogDensityPerM = m_settings.fog ? m_settings.fogDensityPerM : 0.0f;
+    m_style.imagery = m_settings.imagery;
+    m_style.imageryLighting = m_settings.imageryLit;
+    m_style.imageryOrder = m_settings.imageryOrder;
+    for (std::size_t l = 0; l < m_style.imageryOpacity.size(); ++l)
+        m_style.imageryOpacity[l] =
+            m_settings.imageryShown[l] ? m_settings.imageryOpacity[l] : 0.0f;
     m_applied = m_settings;
 }
 
@@ -422,6 +433,8 @@ OverlayModel Viewer::overlayModel(const runtime::FrameTelemetry& frame) const {
     m.gpuLayersCapacity = m_appliedGpuLayers;
     m.cpuCacheBudgetMiB = m_appliedCpuCacheMiB;
     m.lodNodes = m_session->lodStats().nodes;
+    for (const io::ManifestImageryLayer& layer : m_session->manifest().imagery)
+        m.imageryNames.push_back(layer.name);
     m.glErrors = m_glErrorsReported;
     m.camera = &m_camera;
     m.controls = m_controls.get();

@@ -60,6 +60,7 @@ OverlayRequests ViewerOverlay::draw(const OverlayModel& model, ViewerSettings& s
     if (ImGui::Begin("terrain-view", nullptr, flags)) {
         drawTelemetry(model);
         drawView(settings, out);
+        drawImagery(model, settings);
         drawCamera(model, settings, out);
         drawCaches(model, settings, out);
         drawPathAndOutput(model, out);
@@ -184,6 +185,41 @@ void ViewerOverlay::drawView(ViewerSettings& settings, OverlayRequests&) {
         ImGui::SetTooltip(
             "Triangles and GPU time need the CPU to wait for the GPU; "
             "measuring every frame costs frame rate.");
+    }
+}
+
+// The imagery layers, top first as a layer list reads: each shown or not, its opacity, and
+// buttons that move it up or down the composite.
+void ViewerOverlay::drawImagery(const OverlayModel& model, ViewerSettings& settings) {
+    const int layers = std::min<int>(static_cast<int>(model.imageryNames.size()), 4);
+    if (layers == 0 || !ImGui::CollapsingHeader("Imagery", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    ImGui::Checkbox("imagery", &settings.imagery);
+    ImGui::SameLine();
+    ImGui::Checkbox("lit by the sun", &settings.imageryLit);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Off: drawn as it is (imagery often has its shadows baked in).");
+    for (int drawn = layers - 1; drawn >= 0; --drawn) {
+        const auto d = static_cast<std::size_t>(drawn);
+        const int layer = settings.imageryOrder[d];
+        const auto l = static_cast<std::size_t>(layer);
+        ImGui::PushID(layer);
+        ImGui::Checkbox("##shown", &settings.imageryShown[l]);
+        ImGui::SameLine();
+        ImGui::BeginDisabled(drawn == layers - 1);
+        if (ImGui::ArrowButton("##up", ImGuiDir_Up))
+            std::swap(settings.imageryOrder[d], settings.imageryOrder[d + 1]);
+        ImGui::EndDisabled();
+        ImGui::SameLine();
+        ImGui::BeginDisabled(drawn == 0);
+        if (ImGui::ArrowButton("##down", ImGuiDir_Down))
+            std::swap(settings.imageryOrder[d], settings.imageryOrder[d - 1]);
+        ImGui::EndDisabled();
+        ImGui::SameLine();
+        ImGui::SetNextItemWidth(-150.0f);
+        ImGui::SliderFloat("##opacity", &settings.imageryOpacity[l], 0.0f, 1.0f, "%.2f");
+        ImGui::SameLine();
+        ImGui::TextUnformatted(model.imageryNames[l].c_str());
+        ImGui::PopID();
     }
 }
 

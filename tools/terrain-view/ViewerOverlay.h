@@ -53,6 +53,9 @@ struct OverlayModel {
     std::string_view logFile;
     std::uint64_t logRows = 0;
 
+    /// The pyramid's imagery layers (the manifest's, bottom first; at most 4 are drawn).
+    std::vector<std::string> imageryNames;
+
     std::string_view status;  ///< the latest message (a file written, an error)
     bool statusIsError = false;
 };
@@ -88,6 +91,7 @@ private:
     void drawTelemetry(const OverlayModel& model);
     void drawCamera(const OverlayModel& model, ViewerSettings& settings, OverlayRequests& out);
     void drawView(ViewerSettings& settings, OverlayRequests& out);
+    void drawImagery(const OverlayModel& model, ViewerSettings& settings);
     void drawCaches(const OverlayModel& model, ViewerSettings& settings, OverlayRequests& out);
     void drawPathAndOutput(const OverlayModel& model, OverlayRequests& out);
     void drawKeys();

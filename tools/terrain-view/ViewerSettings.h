@@ -4,6 +4,8 @@
 
 #include "terrain/runtime/TerrainRenderer.h"
 
+#include <array>
+
 namespace terrain::view {
 
 struct ViewerSettings {
@@ -18,6 +20,14 @@ struct ViewerSettings {
     bool keepAboveGround = true;
     int measureEvery = 30;  ///< frames between measured draws (triangles, GPU time); 1: all
     bool overlayVisible = true;
+    // Imagery (issue 47): drawn or not, lit or as it is, and per manifest layer whether it is
+    // shown and its opacity (times the manifest's), composited in `imageryOrder` (bottom
+    // first, manifest indices).
+    bool imagery = true;
+    bool imageryLit = true;
+    std::array<bool, 4> imageryShown{true, true, true, true};
+    std::array<float, 4> imageryOpacity{1.0f, 1.0f, 1.0f, 1.0f};
+    std::array<int, 4> imageryOrder{0, 1, 2, 3};
 
     // Cache budgets as edited in the overlay; they take effect when the user applies them,
     // which re-opens the pyramid (TileStreamer's budgets are fixed when it opens).

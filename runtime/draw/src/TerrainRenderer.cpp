@@ -170,6 +170,17 @@ int TerrainRenderer::prepareImagery(const DrapedImagery& imagery, std::size_t pa
             l < layers ? static_cast<float>(selection.layerOpacity(l)) * style.imageryOpacity[i]
                        : 0.0f;
     }
+    // The style's order where it is a permutation of the layers drawn, else the manifest's.
+    std::array<bool, kMaxDrawnImageryLayers> seen{};
+    bool permutation = true;
+    for (int d = 0; d < layers; ++d) {
+        const int l = style.imageryOrder[static_cast<std::size_t>(d)];
+        permutation = permutation && l >= 0 && l < layers && !seen[static_cast<std::size_t>(l)];
+        if (permutation) seen[static_cast<std::size_t>(l)] = true;
+    }
+    for (int d = 0; d < kMaxDrawnImageryLayers; ++d)
+        m_frame.imageryOrder[static_cast<std::size_t>(d)] =
+            permutation && d < layers ? style.imageryOrder[static_cast<std::size_t>(d)] : d;
     m_imageryTiles = &imagery.tiles;
     return layers;
 }

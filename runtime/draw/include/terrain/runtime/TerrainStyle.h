@@ -50,8 +50,11 @@ struct TerrainStyle {
     /// Imagery lit by the sun as the tint is (true), or drawn as it is, fogged only (false:
     /// imagery often has its shadows baked in).
     bool imageryLighting = true;
-    /// Each layer's opacity times the manifest's (bottom first; 0 hides a layer).
+    /// Each layer's opacity times the manifest's, by the manifest's index (0 hides a layer).
     std::array<float, 4> imageryOpacity{1.0f, 1.0f, 1.0f, 1.0f};
+    /// The order layers are composited in, bottom first, as manifest indices (a permutation
+    /// of the layers drawn; the manifest's own order by default).
+    std::array<int, 4> imageryOrder{0, 1, 2, 3};
     /// submit() measures the draw (GL_PRIMITIVES_GENERATED, GL_TIME_ELAPSED) and waits for
     /// both results; false issues no queries.
     bool measure = false;
