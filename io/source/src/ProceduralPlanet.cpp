@@ -115,9 +115,81 @@ double ProceduralPlanet::heightAt(double x, double y, double z) const {
         s[i] = 2.0 * (kRidgeTop - std::sqrt(s[i] * s[i] + kRidgeSoftness * kRidgeSoftness)) /
                    kRidgeSpan -
                1.0;
-    double height = 0.0;
+    // m_offset is 0 for the planet itself (not low-passed): its heights keep their bits.
+    double height = m_offset;
     for (std::size_t i = 0; i < kWaves; ++i) height += w.amplitude[i] * s[i];
     return height;
+}
+
+namespace {
+
+// Moments of the ridge profile w = 2 r − 1 over its period π (midpoint sums; smooth and
+// periodic, so they converge fast): its mean, its variance and the mean square of w'(u).
+struct RidgeMoments {
+    double mean = 0.0, variance = 0.0, slopeSquare = 0.0;
+};
+
+RidgeMoments ridgeMoments() {
+    constexpr int kSteps = 256;
+    RidgeMoments m;
+    double square = 0.0;
+    for (int i = 0; i < kSteps; ++i) {
+        const double u = std::numbers::pi * (i + 0.5) / kSteps;
+        const double sine = std::sin(u);
+        const double q = std::sqrt(sine * sine + kRidgeSoftness * kRidgeSoftness);
+        const double w = 2.0 * (kRidgeTop - q) / kRidgeSpan - 1.0;
+        const double slope = -2.0 * sine * std::cos(u) / (q * kRidgeSpan);
+        m.mean += w;
+        square += w * w;
+        m.slopeSquare += slope * slope;
+    }
+    m.mean /= kSteps;
+    m.variance = square / kSteps - m.mean * m.mean;
+    m.slopeSquare /= kSteps;
+    return m;
+}
+
+}  // namespace
+
+double ProceduralPlanet::keptFraction(std::size_t i, double sigma) const {
+    // A Gaussian's response to a sine of angular frequency f. The ridge's profile repeats
+    // every half period, so its fundamental is 2f, and its sharp crest carries harmonics
+    // above that: it is damped as a sine of 3f, so that its crests fade before they are
+    // sharper than the footprint (damped as 2f, they alias into a hatching).
+    const double f = m_waves.frequency[i] * (i >= kSmoothWaves ? 3.0 : 1.0) * sigma;
+    return std::exp(-0.5 * f * f);
+}
+
+ProceduralPlanet ProceduralPlanet::lowPassed(double sigma) const {
+    ProceduralPlanet planet = *this;
+    if (!(sigma > 0.0)) return planet;
+    const double ridgeMean = ridgeMoments().mean;
+    for (std::size_t i = 0; i < kWaves; ++i) {
+        const double kept = keptFraction(i, sigma);
+        const double a = m_waves.amplitude[i];
+        planet.m_waves.amplitude[i] = a * kept;
+        if (i >= kSmoothWaves) planet.m_offset += a * (1.0 - kept) * ridgeMean;
+    }
+    return planet;
+}
+
+ProceduralPlanet::Roughness ProceduralPlanet::lostRoughness(double sigma, double radiusM) const {
+    Roughness lost;
+    if (!(sigma > 0.0)) return lost;
+    const RidgeMoments ridge = ridgeMoments();
+    for (std::size_t i = 0; i < kWaves; ++i) {
+        const double kept = keptFraction(i, sigma);
+        const double a = m_waves.amplitude[i];
+        // A wave's energy at a frequency the filter passes by `kept` is lost by 1 − kept².
+        const double lostShare = 1.0 - kept * kept;
+        const bool isRidge = i >= kSmoothWaves;
+        lost.heightVarianceM2 += a * a * (isRidge ? ridge.variance : 0.5) * lostShare;
+        // |∇| on the sphere: a w'(u) f |d⊥| / R, where |d⊥|² averages 2/3 over directions.
+        const double f = m_waves.frequency[i] / radiusM;
+        lost.slopeVariance +=
+            a * a * f * f * (isRidge ? ridge.slopeSquare : 0.5) * (2.0 / 3.0) * lostShare;
+    }
+    return lost;
 }
 
 double ProceduralPlanet::heightAtDegrees(double latitudeDeg, double longitudeDeg) const {

@@ -41,6 +41,43 @@ TEST(ProceduralPlanet, SeamlessAcrossTheAntimeridianAndAtThePoles) {
               ProceduralPlanet::create({.seed = 10}).heightAtDegrees(10.0, 20.0));
 }
 
+// lowPassed keeps the planet's waves longer than the footprint and lostRoughness tells what
+// it took away: the variance of the planet about its low-passed self, measured, matches it.
+TEST(ProceduralPlanet, LowPassedKeepsTheLongWavesAndCountsTheRest) {
+    const ProceduralPlanet planet = ProceduralPlanet::create({.seed = 4});
+    const ProceduralPlanet same = planet.lowPassed(0.0);
+    EXPECT_EQ(same.heightAtDegrees(12.3, 45.6), planet.heightAtDegrees(12.3, 45.6));
+    EXPECT_EQ(planet.lostRoughness(0.0, 6.371e6).heightVarianceM2, 0.0);
+
+    // σ of 10 km on the ground: the continents stay, the mountains' fine octaves go.
+    const double sigma = 1e4 / 6.371e6;
+    const ProceduralPlanet smooth = planet.lowPassed(sigma);
+    const ProceduralPlanet::Roughness lost = planet.lostRoughness(sigma, 6.371e6);
+    double sumSquares = 0.0, sumPlanet = 0.0;
+    int count = 0;
+    for (int lat = -80; lat <= 80; lat += 2) {
+        for (int lon = -180; lon < 180; lon += 2) {
+            const double residual = planet.heightAtDegrees(lat + 0.37, lon + 0.61) -
+                                    smooth.heightAtDegrees(lat + 0.37, lon + 0.61);
+            sumSquares += residual * residual;
+            sumPlanet += planet.heightAtDegrees(lat, lon) * planet.heightAtDegrees(lat, lon);
+            ++count;
+        }
+    }
+    const double measured = sumSquares / count;
+    EXPECT_GT(lost.heightVarianceM2, 0.0);
+    EXPECT_LT(lost.heightVarianceM2, 0.1 * sumPlanet / count);  // the continents stay
+    // A Gaussian's response is not a box's: the residual's variance is the lost energy's
+    // order, not equal to it.
+    EXPECT_GT(measured, 0.3 * lost.heightVarianceM2);
+    EXPECT_LT(measured, 3.0 * lost.heightVarianceM2);
+    EXPECT_GT(lost.slopeVariance, 0.0);
+    // A wider footprint loses more.
+    const ProceduralPlanet::Roughness wider = planet.lostRoughness(4.0 * sigma, 6.371e6);
+    EXPECT_GT(wider.heightVarianceM2, lost.heightVarianceM2);
+    EXPECT_GT(wider.slopeVariance, lost.slopeVariance);
+}
+
 TEST(ProceduralPlanet, ReadsAsAGeographicDemWindowByWindow) {
     auto whole = openProceduralDem("planet:seed=9");
     ASSERT_TRUE(whole) << whole.error().message;

@@ -52,7 +52,27 @@ public:
     /// |H| never exceeds this (the sum of the waves' amplitudes), metres.
     double heightBound() const { return m_heightBound; }
 
+    /// The planet seen through a Gaussian footprint of standard deviation `sigma` (unit-sphere
+    /// distance ≥ 0): each wave's amplitude times exp(−(f σ)² / 2), the attenuation of a
+    /// sine of angular frequency f (3f for a ridge: its profile repeats every half period and
+    /// its crest is sharp), and the rest of the wave replaced by its mean. Evaluated by heightAt as
+    /// the planet is, so a map of it with texels about 2σ apart (the imagery's colours) shows the
+    /// waves it can resolve and not the aliases of those it cannot. lowPassed(0) is the planet.
+    ProceduralPlanet lowPassed(double sigma) const;
+
+    /// What lowPassed(sigma) takes away, as variances over the planet: the same everywhere,
+    /// as every wave spans the whole planet. A map of the low-passed planet adds them back to
+    /// know how much its texels' heights and slopes vary within them.
+    struct Roughness {
+        double heightVarianceM2 = 0.0;  ///< of the height, m²
+        double slopeVariance = 0.0;     ///< of the slope (|∇H| on a sphere of `radiusM`)
+    };
+    Roughness lostRoughness(double sigma, double radiusM) const;
+
 private:
+    /// Wave i's share kept by lowPassed(sigma).
+    double keptFraction(std::size_t i, double sigma) const;
+
     // One array per term, so the evaluation vectorises over the waves.
     struct Waves {
         std::array<double, kWaves> x{}, y{}, z{};  // f · d
@@ -63,6 +83,7 @@ private:
     ProceduralPlanetParameters m_parameters;
     Waves m_waves;
     double m_heightBound = 0.0;
+    double m_offset = 0.0;  ///< the damped waves' means (0 unless low-passed)
 };
 
 }  // namespace terrain::io
