@@ -1,5 +1,8 @@
 #include "terrain/pyramid/ImageryTileSource.h"
 
+#include "terrain/pyramid/PlanetImagery.h"
+#include "terrain/pyramid/VirtualPlanetPyramid.h"
+
 #include <fmt/format.h>
 
 namespace terrain::io {
@@ -7,7 +10,21 @@ namespace terrain::io {
 Result<std::unique_ptr<ImageryTileSource>> openImageryTiles(const std::filesystem::path& pyramidDir,
                                                             const PyramidManifest& manifest,
                                                             const ManifestImageryLayer& layer) {
-    (void)manifest;
+    if (layer.kind == ManifestImageryLayer::kPlanetKind) {
+        // Generated from the virtual planet the name describes (its seed), at the sea level
+        // its manifest states.
+        if (!isVirtualPlanetName(pyramidDir) || !manifest.globe)
+            return Error{
+                fmt::format("{}: imagery layer \"{}\" (planet): only the virtual "
+                            "planet (\"{}…\") has the planet's colours",
+                            pyramidDir.string(), layer.name, VirtualPlanetPyramid::kPrefix)};
+        Result<VirtualPlanetPyramid> planet = VirtualPlanetPyramid::open(pyramidDir);
+        if (!planet)
+            return Error{fmt::format("{}: imagery layer \"{}\": {}", pyramidDir.string(),
+                                     layer.name, planet.error().message)};
+        return std::unique_ptr<ImageryTileSource>(std::make_unique<PlanetImagery>(
+            planet.value().planet(), manifest.globe->seaLevelM, layer.finestLevel, layer.name));
+    }
     return Error{fmt::format("{}: imagery layer \"{}\" ({}): not readable yet",
                              pyramidDir.string(), layer.name, layer.kind)};
 }

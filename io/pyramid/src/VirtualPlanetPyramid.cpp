@@ -67,14 +67,17 @@ Result<VirtualPlanetPyramid> VirtualPlanetPyramid::open(const std::filesystem::p
             fmt::format("{}: not the virtual planet (it starts with '{}')", spec, kPrefix)};
     ProceduralPlanetParameters parameters;
     int faceLevel = kDefaultFaceLevel;
+    int imagery = 1;
     const Status parsed = parseKeyValueSpec(
-        spec, kPrefix, "seed, level", [&](std::string_view key, std::string_view value) {
+        spec, kPrefix, "seed, level, imagery", [&](std::string_view key, std::string_view value) {
             bool ok = true;
             if (key == "seed")
                 ok = parseSpecNumber(value, parameters.seed);
             else if (key == "level")
                 ok = parseSpecNumber(value, faceLevel) && faceLevel >= 0 &&
                      faceLevel <= kMaxGlobeFaceLevel;
+            else if (key == "imagery")
+                ok = parseSpecNumber(value, imagery) && (imagery == 0 || imagery == 1);
             else
                 return SpecKey::Unknown;
             return ok ? SpecKey::Taken : SpecKey::BadValue;
@@ -117,6 +120,23 @@ Result<VirtualPlanetPyramid> VirtualPlanetPyramid::open(const std::filesystem::p
     m.source.reader = "planet";
     m.source.sampleType = "float32";
     m.build.tool = "virtual";
+    if (imagery == 1) {
+        // The planet's colours (PlanetImagery), two face levels finer than its heights: a
+        // tile's 248 texels over a patch's 128 quads make about 7.75 texels per finest height
+        // quad (2–3 m at face level 12), so close to the ground a pixel still finds a texel
+        // no larger than itself. Generated, they cost no storage, and how many tiles a view
+        // needs is set by the screen, not by the finest level.
+        m.imagery.push_back(ManifestImageryLayer{
+            .name = std::string(kImageryLayerName),
+            .kind = std::string(ManifestImageryLayer::kPlanetKind),
+            .folder = "",
+            .input = "",
+            .codec = "",
+            .coarsestLevel = ManifestGlobe::kLevelOffset,
+            .finestLevel = ManifestGlobe::kLevelOffset +
+                           std::min(faceLevel + kImageryExtraLevels, kMaxGlobeFaceLevel),
+            .opacity = 1.0});
+    }
     return pyramid;
 }
 

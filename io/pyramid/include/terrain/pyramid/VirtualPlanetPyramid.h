@@ -3,7 +3,8 @@
 // planet at full resolution without terabytes). It is named in place of a pyramid folder:
 //
 //     planet:                    seed 1, face levels 0 … 12 (samples 17–25 m apart)
-//     planet:seed=7,level=14     keys: seed, level (0 … kMaxGlobeFaceLevel)
+//     planet:seed=7,level=14     keys: seed, level (0 … kMaxGlobeFaceLevel),
+//     planet:imagery=0           imagery (1: the default; 0: no imagery layer)
 //
 // readManifest and PyramidReader::open accept the name, so the I/O thread, the streamer,
 // the ground queries and every tool that opens a pyramid open the planet too. A patch is the
@@ -13,7 +14,9 @@
 // of its level plus the ellipsoid's bulge: a bound against the planet's continuous surface,
 // which is finer than any level, so it holds against every finer level too. Every patch of
 // every face level is present. "Go to the data" (the manifest's extent) is a 1° box around
-// the highest summit a search of the planet finds.
+// the highest summit a search of the planet finds. Its manifest lists one imagery layer,
+// "planet-colours" (kind "planet": PlanetImagery, generated as the heights are), from the
+// faces' root down to two face levels below the heights' finest, unless imagery=0.
 #pragma once
 
 #include "terrain/base/Result.h"
@@ -33,6 +36,9 @@ class VirtualPlanetPyramid {
 public:
     static constexpr std::string_view kPrefix = "planet:";
     static constexpr int kDefaultFaceLevel = 12;
+    static constexpr std::string_view kImageryLayerName = "planet-colours";
+    /// Face levels of imagery below the heights' finest (up to kMaxGlobeFaceLevel).
+    static constexpr int kImageryExtraLevels = 2;
 
     /// Parses the name; errors name it and the bad key.
     static Result<VirtualPlanetPyramid> open(const std::filesystem::path& name);
