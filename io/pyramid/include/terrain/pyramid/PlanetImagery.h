@@ -69,7 +69,8 @@ public:
 
     /// The ground at face point `point` seen by the texels of face level `faceLevel`: what
     /// readTile computes for a texel centred there (its slope from the heights one texel
-    /// either side along s and t).
+    /// either side along s and t). The calling thread's source, as readTile: it makes the
+    /// level's low-passed planet the first time a level is asked.
     PlanetGround groundAt(int faceLevel, const globe::FacePoint& point) const;
 
 private:
