@@ -1,5 +1,5 @@
-// IoThread: one loop that pops the highest-priority request under the mutex, reads it with
-// the mutex released, and files the outcome for poll().
+// IoThread: one loop that pops the highest-priority request under the mutex, reads it (a
+// heights patch or an imagery tile) with the mutex released, and files the outcome for poll().
 #include "terrain/iothread/IoThread.h"
 
 #include "terrain/base/Assert.h"
@@ -23,6 +23,10 @@ std::uint64_t recordBytes(const PatchRecord& r) {
                                       sizeof(PatchInfo));
 }
 
+std::string tileName(const TileKey& key) {
+    return fmt::format("tile L{} ({}, {})", key.id.level, key.id.x, key.id.y);
+}
+
 }  // namespace
 
 Result<std::unique_ptr<IoThread>> IoThread::start(const std::filesystem::path& pyramidDir,
@@ -33,14 +37,40 @@ Result<std::unique_ptr<IoThread>> IoThread::start(const std::filesystem::path& p
     TERRAIN_ASSERT(options.faults.addedLatencyMs >= 0.0, "IoThread: negative addedLatencyMs");
     auto reader = PyramidReader::open(pyramidDir, options.maxOpenShards);
     if (!reader) return reader.error();
-    return std::unique_ptr<IoThread>(new IoThread(std::move(reader).value(), options));
+    // Each imagery layer on its own: one that cannot be opened fails its own requests only.
+    const PyramidManifest& manifest = reader.value().manifest();
+    ImagerySources imagery;
+    std::vector<std::string> openErrors;
+    for (std::size_t k = 0; k < manifest.imagery.size(); ++k) {
+        auto source = options.openImagery
+                          ? options.openImagery(manifest, static_cast<int>(k))
+                          : openImageryTiles(pyramidDir, manifest, manifest.imagery[k]);
+        if (source && source.value() == nullptr)
+            source = Error{fmt::format("{}: imagery layer \"{}\": no source",
+                                       pyramidDir.string(), manifest.imagery[k].name)};
+        if (source) {
+            imagery.push_back(std::move(source).value());
+            openErrors.emplace_back();
+        } else {
+            imagery.push_back(nullptr);
+            openErrors.push_back(source.error().message);
+        }
+    }
+    return std::unique_ptr<IoThread>(new IoThread(std::move(reader).value(), std::move(imagery),
+                                                  std::move(openErrors), options));
 }
 
-IoThread::IoThread(PyramidReader reader, const IoThreadOptions& options)
-    : m_options(options), m_layout(reader.layout()), m_reader(std::move(reader)) {
+IoThread::IoThread(PyramidReader reader, ImagerySources imagery,
+                   std::vector<std::string> openErrors, const IoThreadOptions& options)
+    : m_options(options),
+      m_layout(reader.layout()),
+      m_reader(std::move(reader)),
+      m_imagery(std::move(imagery)),
+      m_imageryOpenErrors(std::move(openErrors)) {
     // Up front, so recycling never allocates, and neither do the completions of reads
     // (their count is capped; only cancels beyond the cap can grow m_ready).
     m_pool.reserve(poolBound(m_options));
+    m_imageryPool.reserve(poolBound(m_options));
     m_ready.reserve(m_options.maxUnpolled);
     // Started last: the thread sees every member constructed (thread start synchronises).
     m_thread = std::jthread([this](const std::stop_token& stop) { run(stop); });
@@ -52,44 +82,52 @@ IoThread::~IoThread() {
     m_thread.join();
 }
 
-bool IoThread::submit(const PatchId& id, float priority) {
+std::string_view IoThread::imageryOpenError(int layer) const {
+    TERRAIN_ASSERT(layer >= 0 && layer < imageryLayerCount(), "IoThread: no such imagery layer");
+    return m_imageryOpenErrors[static_cast<std::size_t>(layer)];
+}
+
+bool IoThread::submit(const TileKey& key, float priority) {
     TERRAIN_ASSERT(!std::isnan(priority), "IoThread::submit: NaN priority");
+    TERRAIN_ASSERT(key.imageryLayer >= TileKey::kHeights && key.imageryLayer < imageryLayerCount(),
+                   "IoThread::submit: no such imagery layer");
     {
         const std::lock_guard lock(m_mutex);
-        if (m_inFlight && m_inFlight->id == id && !m_inFlight->cancelled) return false;
-        if (!m_pending.request(id, priority)) return false;  // re-prioritised
-        addRequestTimeLocked(id, Clock::now());
+        if (m_inFlight && m_inFlight->key == key && !m_inFlight->cancelled) return false;
+        if (!m_pending.request(key, priority)) return false;  // re-prioritised
+        addRequestTimeLocked(key, Clock::now());
         ++m_stats.requested;
     }
     m_wake.notify_all();
     return true;
 }
 
-bool IoThread::reprioritise(const PatchId& id, float priority) {
+bool IoThread::reprioritise(const TileKey& key, float priority) {
     TERRAIN_ASSERT(!std::isnan(priority), "IoThread::reprioritise: NaN priority");
     const std::lock_guard lock(m_mutex);
-    if (!m_pending.contains(id)) return false;
-    m_pending.request(id, priority);  // re-prioritises in place: allocates nothing
+    if (!m_pending.contains(key)) return false;
+    m_pending.request(key, priority);  // re-prioritises in place: allocates nothing
     return true;
 }
 
-bool IoThread::cancel(const PatchId& id) {
+bool IoThread::cancel(const TileKey& key) {
     {
         const std::lock_guard lock(m_mutex);
-        // A pending request wins over an in-flight one: after cancel + submit of the same id
+        // A pending request wins over an in-flight one: after cancel + submit of the same key
         // the pending one is the newer request.
-        if (m_pending.cancel(id)) {
+        if (m_pending.cancel(key)) {
             // No record, no error text: creating it allocates nothing.
             Completion c;
-            c.id = id;
+            c.id = key.id;
+            c.imageryLayer = key.imageryLayer;
             c.status = CompletionStatus::Cancelled;
-            c.requestTime = takeRequestTimeLocked(id);
+            c.requestTime = takeRequestTimeLocked(key);
             c.completeTime = Clock::now();
             ++m_stats.cancelled;
             m_ready.push_back(std::move(c));
             return true;
         }
-        if (!m_inFlight || m_inFlight->id != id || m_inFlight->cancelled) return false;
+        if (!m_inFlight || m_inFlight->key != key || m_inFlight->cancelled) return false;
         m_inFlight->cancelled = true;  // the I/O thread reports it when the read ends
     }
     m_wake.notify_all();  // cuts an injected latency short
@@ -112,6 +150,11 @@ void IoThread::recycle(PatchRecord&& record) {
     const std::lock_guard lock(m_mutex);
     // Bounded: at most one buffer per result the cap allows, plus the one being read.
     if (m_pool.size() < poolBound(m_options)) m_pool.push_back(std::move(record));
+}
+
+void IoThread::recycle(ImageryTile&& tile) {
+    const std::lock_guard lock(m_mutex);
+    if (m_imageryPool.size() < poolBound(m_options)) m_imageryPool.push_back(std::move(tile));
 }
 
 bool IoThread::waitForCompletion(std::chrono::milliseconds timeout) {
@@ -144,7 +187,9 @@ void IoThread::finishLocked(Completion&& completion) {
     switch (completion.status) {
         case CompletionStatus::Completed:
             ++m_stats.completed;
-            m_stats.bytesRead += recordBytes(completion.record);
+            m_stats.bytesRead += completion.imageryLayer == TileKey::kHeights
+                                     ? recordBytes(completion.record)
+                                     : completion.imagery.rgba.size();
             break;
         case CompletionStatus::Failed:
             ++m_stats.failed;
@@ -157,10 +202,10 @@ void IoThread::finishLocked(Completion&& completion) {
     m_stateChanged.notify_all();
 }
 
-void IoThread::addRequestTimeLocked(const PatchId& id, Clock::time_point time) {
+void IoThread::addRequestTimeLocked(const TileKey& key, Clock::time_point time) {
     if (m_spareTimeNodes.empty()) {
         // A new high-water request count: the only time this map allocates or rehashes.
-        m_requestTimes.emplace(id, time);
+        m_requestTimes.emplace(key, time);
         const std::size_t nodeCount = m_requestTimes.size();  // nothing is parked now
         if (m_spareTimeNodes.capacity() < nodeCount)
             m_spareTimeNodes.reserve(std::max(nodeCount, 2 * m_spareTimeNodes.capacity()));
@@ -168,17 +213,37 @@ void IoThread::addRequestTimeLocked(const PatchId& id, Clock::time_point time) {
     }
     RequestTimes::node_type node = std::move(m_spareTimeNodes.back());
     m_spareTimeNodes.pop_back();
-    node.key() = id;
+    node.key() = key;
     node.mapped() = time;
     m_requestTimes.insert(std::move(node));
 }
 
-IoThread::Clock::time_point IoThread::takeRequestTimeLocked(const PatchId& id) {
-    RequestTimes::node_type node = m_requestTimes.extract(id);
+IoThread::Clock::time_point IoThread::takeRequestTimeLocked(const TileKey& key) {
+    RequestTimes::node_type node = m_requestTimes.extract(key);
     TERRAIN_ASSERT(!node.empty(), "IoThread: a pending request without its request time");
     const Clock::time_point time = node.mapped();
     m_spareTimeNodes.push_back(std::move(node));  // within capacity: see addRequestTimeLocked
     return time;
+}
+
+Status IoThread::readImagery(const TileKey& key, ImageryTile& out) {
+    const auto layer = static_cast<std::size_t>(key.imageryLayer);
+    ImageryTileSource* source = m_imagery[layer].get();
+    if (source == nullptr) return Error{m_imageryOpenErrors[layer]};
+    if (Status read = source->readTile(key.id, out); !read) return read;
+    out.id = key.id;
+    if (!out.info.present) {
+        out.rgba.clear();  // keeps its capacity for the next tile
+        return {};
+    }
+    // The pool uploads exactly one tile's texels: a source that hands out anything else is
+    // a broken source, reported as this tile's failure rather than a crash on the GPU side.
+    if (out.rgba.size() != kImageryTileBytes)
+        return Error{fmt::format("{}: imagery layer \"{}\": {} has {} bytes of texels, not {}",
+                                 m_reader.folder().string(),
+                                 m_reader.manifest().imagery[layer].name, tileName(key),
+                                 out.rgba.size(), kImageryTileBytes)};
+    return {};
 }
 
 void IoThread::run(const std::stop_token& stop) {
@@ -192,12 +257,19 @@ void IoThread::run(const std::stop_token& stop) {
         if (!ready) return;  // stop requested
 
         const auto request = m_pending.popHighest();
-        m_inFlight = InFlight{request->id, takeRequestTimeLocked(request->id), false};
+        const TileKey key = request->key();
+        m_inFlight = InFlight{key, takeRequestTimeLocked(key), false};
         m_stateChanged.notify_all();
+        const bool imagery = key.isImagery();
         PatchRecord record;
-        if (!m_pool.empty()) {
+        ImageryTile tile;
+        if (!imagery && !m_pool.empty()) {
             record = std::move(m_pool.back());
             m_pool.pop_back();
+        }
+        if (imagery && !m_imageryPool.empty()) {
+            tile = std::move(m_imageryPool.back());
+            m_imageryPool.pop_back();
         }
 
         if (latency.count() > 0) {
@@ -206,36 +278,48 @@ void IoThread::run(const std::stop_token& stop) {
             if (stop.stop_requested()) return;
         }
 
-        const PatchId id = m_inFlight->id;
+        const PatchId id = key.id;
         std::optional<Status> outcome;
         bool injected = false;
         if (!m_inFlight->cancelled) {
-            injected = m_options.faults.failsRead(id);
+            injected = !imagery && m_options.faults.failsRead(id);
             lock.unlock();
-            outcome =
-                injected
-                    ? Status(Error{fmt::format("{}: injected fault reading patch L{} ({}, {})",
-                                               m_reader.folder().string(), id.level, id.x, id.y)})
-                    : m_reader.readPatch(id, record);
+            if (imagery) {
+                outcome = readImagery(key, tile);
+            } else {
+                outcome = injected ? Status(Error{
+                                         fmt::format("{}: injected fault reading patch L{} ({}, {})",
+                                                     m_reader.folder().string(), id.level, id.x,
+                                                     id.y)})
+                                   : m_reader.readPatch(id, record);
+            }
             lock.lock();
         }
 
         Completion c;
         c.id = id;
+        c.imageryLayer = key.imageryLayer;
         c.requestTime = m_inFlight->requestTime;
         c.completeTime = Clock::now();
         if (m_inFlight->cancelled) {
             c.status = CompletionStatus::Cancelled;
         } else if (outcome->ok()) {
             c.status = CompletionStatus::Completed;
-            c.record = std::move(record);
+            if (imagery) {
+                c.imagery = std::move(tile);
+            } else {
+                c.record = std::move(record);
+            }
         } else {
             c.status = CompletionStatus::Failed;
             c.error = outcome->error().message;
             if (injected) ++m_stats.injectedFaults;
         }
-        if (c.status != CompletionStatus::Completed && m_pool.size() < poolBound(m_options))
-            m_pool.push_back(std::move(record));
+        if (c.status != CompletionStatus::Completed) {
+            if (imagery && m_imageryPool.size() < poolBound(m_options))
+                m_imageryPool.push_back(std::move(tile));
+            if (!imagery && m_pool.size() < poolBound(m_options)) m_pool.push_back(std::move(record));
+        }
         m_inFlight.reset();
         finishLocked(std::move(c));
     }

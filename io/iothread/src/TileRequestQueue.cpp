@@ -24,21 +24,21 @@ void reserveToPark(std::vector<Node>& spares, std::size_t nodeCount) {
 
 }  // namespace
 
-bool TileRequestQueue::request(const PatchId& id, float priority) {
+bool TileRequestQueue::request(const TileKey& key, float priority) {
     TERRAIN_ASSERT(!std::isnan(priority), "TileRequestQueue: NaN priority");
-    if (const auto found = m_byId.find(id); found != m_byId.end()) {
+    if (const auto found = m_byId.find(key); found != m_byId.end()) {
         // Re-keyed in its own node; the sequence (first arrival) stays.
         Order::node_type node = m_order.extract(found->second);
         node.value().priority = priority;
         found->second = m_order.insert(std::move(node)).position;
         return false;
     }
-    const Entry entry{priority, m_nextSequence++, id};
+    const Entry entry{priority, m_nextSequence++, key};
     if (m_spareEntries.empty()) {
         // A new high-water count: the only time the queue allocates, and the only time the
         // map may rehash.
         const auto inserted = m_order.insert(entry).first;
-        m_byId.emplace(id, inserted);
+        m_byId.emplace(key, inserted);
         reserveToPark(m_spareEntries, m_byId.size());  // nothing is parked now
         reserveToPark(m_spareIds, m_byId.size());
         return true;
@@ -49,14 +49,14 @@ bool TileRequestQueue::request(const PatchId& id, float priority) {
     const auto inserted = m_order.insert(std::move(entryNode)).position;
     IdMap::node_type idNode = std::move(m_spareIds.back());
     m_spareIds.pop_back();
-    idNode.key() = id;
+    idNode.key() = key;
     idNode.mapped() = inserted;
     m_byId.insert(std::move(idNode));
     return true;
 }
 
-bool TileRequestQueue::cancel(const PatchId& id) {
-    const auto found = m_byId.find(id);
+bool TileRequestQueue::cancel(const TileKey& key) {
+    const auto found = m_byId.find(key);
     if (found == m_byId.end()) return false;
     park(found->second, found);
     return true;
@@ -65,15 +65,15 @@ bool TileRequestQueue::cancel(const PatchId& id) {
 std::optional<TileRequestQueue::Request> TileRequestQueue::popHighest() {
     if (m_order.empty()) return std::nullopt;
     const auto top = m_order.begin();
-    const Request popped{top->id, top->priority};
-    const auto found = m_byId.find(popped.id);
+    const Request popped{top->key.id, top->priority, top->key.imageryLayer};
+    const auto found = m_byId.find(top->key);
     TERRAIN_ASSERT(found != m_byId.end(), "TileRequestQueue: entry missing from its index");
     park(top, found);
     return popped;
 }
 
-std::optional<float> TileRequestQueue::priority(const PatchId& id) const {
-    const auto found = m_byId.find(id);
+std::optional<float> TileRequestQueue::priority(const TileKey& key) const {
+    const auto found = m_byId.find(key);
     if (found == m_byId.end()) return std::nullopt;
     return found->second->priority;
 }

@@ -1,12 +1,20 @@
 // IoThread: the background I/O thread of streaming. It reads patches from a pyramid in
 // priority order with its own PyramidReader and hands plain CPU records to the render
-// thread, which never waits on disk (docs: DESIGN.md, "Streaming and caches").
+// thread, which never waits on disk (docs: DESIGN.md, "Streaming and caches"). The same
+// thread and the same request queue read the tiles of the pyramid's imagery layers (issue
+// 47), one ImageryTileSource per layer: a request is keyed by TileKey (a PatchId alone is the
+// heights'), and heights and imagery are served in one priority order.
+//
+// Imagery layers that cannot be opened: start() still succeeds, so the terrain draws without
+// the layer; every request for that layer ends Failed with the error of opening it
+// (imageryOpenError()), and the runtime keeps drawing what it had (issue 47: never a hole).
 //
 // Threading contract
 // - The owner thread (the render thread) calls every public function; calls are serialised
 //   by one mutex that is held only for queue and list operations, never during a read.
-// - The I/O thread owns the PyramidReader (opened by start() before the thread begins, then
-//   touched only by the I/O thread) and the record it is reading into.
+// - The I/O thread owns the PyramidReader and the imagery sources (opened by start() before
+//   the thread begins, then touched only by the I/O thread) and the record or imagery tile
+//   it is reading into.
 // - Every request (a submit that returned true) ends exactly once, as one Completion handed
 //   out by poll(): Completed, Failed or Cancelled. A request cancelled while it is being
 //   read ends as Cancelled (its record is recycled); a request already finished but not yet
@@ -15,8 +23,9 @@
 // - Backpressure: the thread starts a read only while the records being read plus the
 //   completions waiting for poll() are fewer than maxUnpolled; otherwise it waits for
 //   poll(). Cancelled completions are created on the owner thread and may exceed the cap.
-// - Buffers: recycle() returns a record's storage to a pool the thread reads into
-//   (PyramidReader::readPatch(id, out)), so steady streaming does not allocate.
+// - Buffers: recycle() returns a record's (an imagery tile's) storage to a pool the thread
+//   reads into (PyramidReader::readPatch(id, out), ImageryTileSource::readTile(id, out)), so
+//   steady streaming does not allocate.
 //
 // Allocation on the owner thread: once the request count, the completions waiting for
 // poll() and the caller's `out` vector have reached their high-water marks, submit(),
@@ -28,6 +37,9 @@
 
 #include "terrain/base/Result.h"
 #include "terrain/iothread/FaultInjection.h"
+#include "terrain/iothread/TileKey.h"
+#include "terrain/pyramid/ImageryTile.h"
+#include "terrain/pyramid/ImageryTileSource.h"
 #include "terrain/pyramid/PatchRecord.h"
 #include "terrain/pyramid/PyramidLayout.h"
 #include "terrain/pyramid/PyramidReader.h"
@@ -44,16 +56,27 @@
 #include <optional>
 #include <stop_token>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <unordered_map>
 #include <vector>
 
 namespace terrain::io {
 
+/// Opens the source of one imagery layer of the manifest (`index`: its place in
+/// manifest.imagery) for the I/O thread.
+using ImagerySourceOpener = std::function<Result<std::unique_ptr<ImageryTileSource>>(
+    const PyramidManifest& manifest, int index)>;
+
 struct IoThreadOptions {
     std::size_t maxUnpolled = 8;  ///< cap on records being read + completions not yet polled
     int maxOpenShards = PyramidReader::kDefaultOpenShards;
+    /// Injected errors are the heights' only (imagery has its own failures); an added
+    /// latency delays every read.
     FaultInjection faults;
+    /// How start() opens each imagery layer; empty: openImageryTiles (the layer's files, or
+    /// the virtual planet's colours). Tests pass their own sources here.
+    ImagerySourceOpener openImagery;
 };
 
 enum class CompletionStatus { Completed, Failed, Cancelled };
@@ -63,11 +86,15 @@ struct Completion {
     using Clock = std::chrono::steady_clock;
 
     PatchId id;
+    int imageryLayer = TileKey::kHeights;  ///< whose tile: the heights' or an imagery layer's
     CompletionStatus status = CompletionStatus::Completed;
-    PatchRecord record;  ///< the patch when Completed; recycle() it when done
-    std::string error;   ///< when Failed: names the file or "injected fault" and the patch
+    PatchRecord record;    ///< the heights' patch when Completed; recycle() it when done
+    ImageryTile imagery;   ///< an imagery tile when Completed (maybe absent); recycle() it
+    std::string error;     ///< when Failed: names the file or "injected fault" and the patch
     Clock::time_point requestTime;   ///< the submit that created the request
     Clock::time_point completeTime;  ///< when the outcome was known
+
+    TileKey key() const { return {id, imageryLayer}; }
 };
 
 /// A snapshot of the counters; requested == completed + failed + cancelled + queueDepth +
@@ -86,7 +113,9 @@ struct IoThreadStats {
 
 class IoThread {
 public:
-    /// Opens the pyramid (its manifest) and starts the thread. Owner thread.
+    /// Opens the pyramid (its manifest) and its imagery layers and starts the thread. An
+    /// imagery layer that cannot be opened is no error here (see imageryOpenError()).
+    /// Owner thread.
     static Result<std::unique_ptr<IoThread>> start(const std::filesystem::path& pyramidDir,
                                                    const IoThreadOptions& options = {});
 
@@ -96,20 +125,22 @@ public:
     IoThread(const IoThread&) = delete;
     IoThread& operator=(const IoThread&) = delete;
 
-    /// Requests `id` (higher priority first; every frame is fine). A pending request for `id`
-    /// is re-prioritised instead and false is returned; so is a request being read (which
-    /// ignores the new priority). Returns true when a new request was created, which will
-    /// end in exactly one Completion. `priority` must not be NaN. Owner thread.
-    bool submit(const PatchId& id, float priority);
+    /// Requests `key` (higher priority first; every frame is fine; a PatchId alone is the
+    /// heights' patch, an imagery key's layer must be below imageryLayerCount()). A pending
+    /// request for `key` is re-prioritised instead and false is returned; so is a request
+    /// being read (which ignores the new priority). Returns true when a new request was
+    /// created, which will end in exactly one Completion. `priority` must not be NaN.
+    /// Owner thread.
+    bool submit(const TileKey& key, float priority);
 
-    /// Changes the priority of the pending request for `id` and returns true; returns false
-    /// and does nothing when `id` has no pending request (never requested, being read, or
+    /// Changes the priority of the pending request for `key` and returns true; returns false
+    /// and does nothing when `key` has no pending request (never requested, being read, or
     /// finished). Unlike submit() it never creates a request. Owner thread.
-    bool reprioritise(const PatchId& id, float priority);
+    bool reprioritise(const TileKey& key, float priority);
 
-    /// Cancels the pending or in-progress request for `id`; it will end as a Cancelled
-    /// Completion. False when `id` has no live request. Owner thread.
-    bool cancel(const PatchId& id);
+    /// Cancels the pending or in-progress request for `key`; it will end as a Cancelled
+    /// Completion. False when `key` has no live request. Owner thread.
+    bool cancel(const TileKey& key);
 
     /// Appends every finished Completion to `out` and returns how many; never waits on disk.
     /// Owner thread.
@@ -117,6 +148,9 @@ public:
 
     /// Returns a record's storage to the pool the thread reads into. Owner thread.
     void recycle(PatchRecord&& record);
+    /// Returns an imagery tile's storage to the pool the thread reads imagery into.
+    /// Owner thread.
+    void recycle(ImageryTile&& tile);
 
     /// Waits until a Completion is ready for poll(), or until the thread has nothing to
     /// read (no pending request, none in flight), or `timeout`; true when one is ready.
@@ -134,28 +168,40 @@ public:
 
     IoThreadStats stats() const;  ///< Owner thread (any thread is safe).
     const PyramidLayout& layout() const { return m_layout; }  ///< Any thread.
+    /// The manifest's imagery layers (opened or not). Any thread.
+    int imageryLayerCount() const { return static_cast<int>(m_imageryOpenErrors.size()); }
+    /// Why imagery layer `layer` could not be opened (its requests end Failed with this), or
+    /// empty when it was. Any thread.
+    std::string_view imageryOpenError(int layer) const;
 
 private:
     using Clock = Completion::Clock;
 
     struct InFlight {
-        PatchId id;
+        TileKey key;
         Clock::time_point requestTime;
         bool cancelled = false;
     };
 
-    using RequestTimes = std::unordered_map<PatchId, Clock::time_point, PatchIdHash>;
+    using RequestTimes = std::unordered_map<TileKey, Clock::time_point, TileKeyHash>;
+    using ImagerySources = std::vector<std::unique_ptr<ImageryTileSource>>;
 
-    IoThread(PyramidReader reader, const IoThreadOptions& options);
+    IoThread(PyramidReader reader, ImagerySources imagery, std::vector<std::string> openErrors,
+             const IoThreadOptions& options);
+    Status readImagery(const TileKey& key, ImageryTile& out);  // I/O thread, mutex released
     IoThreadStats statsLocked() const;
     void run(const std::stop_token& stop);
     void finishLocked(Completion&& completion);
-    void addRequestTimeLocked(const PatchId& id, Clock::time_point time);
-    Clock::time_point takeRequestTimeLocked(const PatchId& id);  // parks its node
+    void addRequestTimeLocked(const TileKey& key, Clock::time_point time);
+    Clock::time_point takeRequestTimeLocked(const TileKey& key);  // parks its node
 
     const IoThreadOptions m_options;
     const PyramidLayout m_layout;
     PyramidReader m_reader;  // I/O thread only, after start()
+    // Per imagery layer: its source (I/O thread only, after start()), null where it could
+    // not be opened, and then why (immutable after start()).
+    const ImagerySources m_imagery;
+    const std::vector<std::string> m_imageryOpenErrors;
 
     mutable std::mutex m_mutex;
     std::condition_variable_any m_wake;  // work, room for results, cancel, or stop
@@ -168,6 +214,7 @@ private:
     std::optional<InFlight> m_inFlight;
     std::vector<Completion> m_ready;  // finished, not yet polled
     std::vector<PatchRecord> m_pool;  // recycled record storage; reserved to its bound
+    std::vector<ImageryTile> m_imageryPool;  // recycled imagery storage; the same bound
     IoThreadStats m_stats;            // queueDepth / inFlight / unpolled filled by stats()
 
     std::jthread m_thread;  // last: stops and joins before the members above go

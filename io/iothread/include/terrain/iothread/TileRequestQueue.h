@@ -1,9 +1,10 @@
-// TileRequestQueue: the pending patch requests of the streaming I/O thread, highest priority
-// first (the LOD tree's screen-space error), ties first come first served. Single-threaded:
-// IoThread wraps it in its mutex.
+// TileRequestQueue: the pending tile requests of the streaming I/O thread, highest priority
+// first (the LOD tree's screen-space error), ties first come first served. A request is keyed
+// by TileKey: the heights' patch or an imagery layer's tile, in one order (issue 47).
+// Single-threaded: IoThread wraps it in its mutex.
 #pragma once
 
-#include "terrain/pyramid/PatchIdHash.h"
+#include "terrain/iothread/TileKey.h"
 #include "terrain/pyramid/PyramidLayout.h"
 
 #include <cstddef>
@@ -30,24 +31,27 @@ public:
     struct Request {
         PatchId id;
         float priority = 0.0f;  ///< higher is served first
+        int imageryLayer = TileKey::kHeights;
+        TileKey key() const { return {id, imageryLayer}; }
         bool operator==(const Request&) const = default;
     };
 
-    /// Adds a request, or changes the priority of the pending request for `id`. A
+    /// Adds a request, or changes the priority of the pending request for `key` (a PatchId
+    /// alone is the heights'). A
     /// re-prioritised request keeps its place among equal priorities (its first arrival).
     /// Returns true when the request is new. `priority` must not be NaN.
-    bool request(const PatchId& id, float priority);
+    bool request(const TileKey& key, float priority);
 
-    /// Removes the pending request for `id`; false when there is none.
-    bool cancel(const PatchId& id);
+    /// Removes the pending request for `key`; false when there is none.
+    bool cancel(const TileKey& key);
 
     /// Removes and returns the highest-priority request (the earliest among equals).
     std::optional<Request> popHighest();
 
-    /// Priority of the pending request for `id`, if any.
-    std::optional<float> priority(const PatchId& id) const;
+    /// Priority of the pending request for `key`, if any.
+    std::optional<float> priority(const TileKey& key) const;
 
-    bool contains(const PatchId& id) const { return m_byId.contains(id); }
+    bool contains(const TileKey& key) const { return m_byId.contains(key); }
     std::size_t size() const { return m_byId.size(); }
     bool empty() const { return m_byId.empty(); }
     /// Removes every request, keeping their nodes for reuse.
@@ -57,7 +61,7 @@ private:
     struct Entry {
         float priority;
         std::uint64_t sequence;  // arrival order: breaks ties first come first served
-        PatchId id;
+        TileKey key;
     };
     struct EntryOrder {
         bool operator()(const Entry& a, const Entry& b) const {
@@ -66,7 +70,7 @@ private:
         }
     };
     using Order = std::set<Entry, EntryOrder>;
-    using IdMap = std::unordered_map<PatchId, Order::iterator, PatchIdHash>;
+    using IdMap = std::unordered_map<TileKey, Order::iterator, TileKeyHash>;
 
     void park(Order::iterator entry, IdMap::iterator byId);
 
