@@ -21,6 +21,15 @@ int glInteger(GLenum name) {
 
 }  // namespace
 
+float maxTextureAnisotropy() {
+    if (epoxy_gl_version() < 46 && !epoxy_has_gl_extension("GL_ARB_texture_filter_anisotropic") &&
+        !epoxy_has_gl_extension("GL_EXT_texture_filter_anisotropic"))
+        return 1.0f;
+    GLfloat value = 1.0f;
+    glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY, &value);
+    return value >= 1.0f ? value : 1.0f;
+}
+
 GlInfo queryCurrentGlInfo(std::string platform, std::string platformDetail) {
     GlInfo info;
     info.platform = std::move(platform);
@@ -40,6 +49,7 @@ GlInfo queryCurrentGlInfo(std::string platform, std::string platformDetail) {
     }
     info.maxTextureSize = glInteger(GL_MAX_TEXTURE_SIZE);
     info.maxArrayTextureLayers = glInteger(GL_MAX_ARRAY_TEXTURE_LAYERS);
+    info.maxTextureAnisotropy = maxTextureAnisotropy();
     return info;
 }
 

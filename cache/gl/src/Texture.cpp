@@ -176,6 +176,17 @@ void Texture::setSampling(GLenum minFilter, GLenum magFilter, GLenum wrap) {
     glTextureParameteri(id(), GL_TEXTURE_WRAP_T, static_cast<GLint>(wrap));
 }
 
+void Texture::setMaxLevel(int level) {
+    TERRAIN_ASSERT(valid() && level >= 0 && level < m_levels);
+    glTextureParameteri(id(), GL_TEXTURE_MAX_LEVEL, level);
+}
+
+void Texture::setMaxAnisotropy(float anisotropy) {
+    TERRAIN_ASSERT(valid() && anisotropy >= 1.0f);
+    if (anisotropy <= 1.0f) return;  // the default; the context may not know the parameter
+    glTextureParameterf(id(), GL_TEXTURE_MAX_ANISOTROPY, anisotropy);
+}
+
 TextureRegion Texture::wholeLevel(int level) const {
     TERRAIN_ASSERT(level >= 0 && level < m_levels);
     return TextureRegion{.level = level,

@@ -21,11 +21,19 @@ struct GlInfo {
     int maxPatchVertices = 0;       ///< GL_MAX_PATCH_VERTICES
     int maxTextureSize = 0;         ///< GL_MAX_TEXTURE_SIZE
     int maxArrayTextureLayers = 0;  ///< GL_MAX_ARRAY_TEXTURE_LAYERS
+    /// GL_MAX_TEXTURE_MAX_ANISOTROPY, or 1 where anisotropic filtering is unavailable
+    /// (maxTextureAnisotropy()).
+    float maxTextureAnisotropy = 1.0f;
 
     bool atLeast(int wantMajor, int wantMinor) const {
         return major > wantMajor || (major == wantMajor && minor >= wantMinor);
     }
 };
+
+/// The largest GL_TEXTURE_MAX_ANISOTROPY the current context takes: core in GL 4.6, and an
+/// extension before (ARB_ or EXT_texture_filter_anisotropic, the same enums); 1 when the
+/// context has neither, where setting the parameter would be a GL error. Render thread only.
+float maxTextureAnisotropy();
 
 /// Reads strings, version and limits of the current context. Render thread only.
 GlInfo queryCurrentGlInfo(std::string platform, std::string platformDetail);

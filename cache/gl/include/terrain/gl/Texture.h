@@ -55,6 +55,12 @@ public:
     /// Sets filtering and wrapping (texture object state, not global state).
     /// Render thread only.
     void setSampling(GLenum minFilter, GLenum magFilter, GLenum wrap);
+    /// GL_TEXTURE_MAX_LEVEL: the finest `level` … this one are sampled. Render thread only.
+    void setMaxLevel(int level);
+    /// GL_TEXTURE_MAX_ANISOTROPY; `anisotropy` ≥ 1 and at most gl::maxTextureAnisotropy()
+    /// (which is 1 where the context has no anisotropic filtering: then this does nothing).
+    /// Render thread only.
+    void setMaxAnisotropy(float anisotropy);
 
     /// The whole of one mip level, all layers.
     TextureRegion wholeLevel(int level = 0) const;

@@ -1,0 +1,74 @@
+// ImageryMips: a 256-entry decode table; encoding picks the nearest table entry by binary
+// search, so encode(decode(b)) == b and no pow() runs per texel.
+#include "terrain/cache/ImageryMips.h"
+
+#include "terrain/base/Assert.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+
+namespace terrain::cache {
+namespace {
+
+const std::array<float, 256>& decodeTable() {
+    static const std::array<float, 256> table = [] {
+        std::array<float, 256> t{};
+        for (std::size_t i = 0; i < t.size(); ++i) {
+            const double c = static_cast<double>(i) / 255.0;
+            t[i] = static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+        }
+        return t;
+    }();
+    return table;
+}
+
+}  // namespace
+
+float linearFromSrgb(std::uint8_t encoded) { return decodeTable()[encoded]; }
+
+std::uint8_t srgbFromLinear(float linear) {
+    const std::array<float, 256>& t = decodeTable();
+    const auto above = std::lower_bound(t.begin(), t.end(), linear);
+    if (above == t.begin()) return 0;
+    if (above == t.end()) return 255;
+    const auto index = static_cast<std::size_t>(above - t.begin());
+    // The nearer of the two neighbours, in linear light.
+    return static_cast<std::uint8_t>(linear - t[index - 1] < *above - linear ? index - 1 : index);
+}
+
+void halveImagery(std::span<const std::uint8_t> source, int side, std::span<std::uint8_t> out) {
+    TERRAIN_ASSERT(side >= 2 && side % 2 == 0, "halveImagery: the side must be even");
+    const auto s = static_cast<std::size_t>(side);
+    const std::size_t half = s / 2;
+    TERRAIN_ASSERT(source.size() == s * s * 4 && out.size() == half * half * 4,
+                   "halveImagery: buffer sizes do not match the side");
+    const std::array<float, 256>& decode = decodeTable();
+    for (std::size_t y = 0; y < half; ++y) {
+        for (std::size_t x = 0; x < half; ++x) {
+            std::array<float, 3> weighted{};  // Σ alpha · linear colour
+            std::array<float, 3> plain{};     // Σ linear colour, for a transparent block
+            unsigned alphaSum = 0;
+            for (std::size_t dy = 0; dy < 2; ++dy) {
+                for (std::size_t dx = 0; dx < 2; ++dx) {
+                    const std::uint8_t* texel = &source[((2 * y + dy) * s + 2 * x + dx) * 4];
+                    const auto alpha = static_cast<float>(texel[3]);
+                    alphaSum += texel[3];
+                    for (std::size_t c = 0; c < 3; ++c) {
+                        weighted[c] += alpha * decode[texel[c]];
+                        plain[c] += decode[texel[c]];
+                    }
+                }
+            }
+            std::uint8_t* target = &out[(y * half + x) * 4];
+            for (std::size_t c = 0; c < 3; ++c) {
+                target[c] = srgbFromLinear(alphaSum > 0 ? weighted[c] / static_cast<float>(alphaSum)
+                                                        : plain[c] / 4.0f);
+            }
+            target[3] = static_cast<std::uint8_t>((alphaSum + 2) / 4);  // rounded mean
+        }
+    }
+}
+
+}  // namespace terrain::cache
