@@ -46,6 +46,18 @@ void TelemetrySummary::add(const FrameTelemetry& frame) {
     m_peakCpuCacheBytes = std::max(m_peakCpuCacheBytes, frame.cpuCacheBytes);
     m_peakGpuLayersUsed = std::max(m_peakGpuLayersUsed, frame.gpuLayersUsed);
 
+    m_imageryRequestsMade += frame.imageryRequestsMade;
+    m_imageryRequestsCancelled += frame.imageryRequestsCancelled;
+    m_imageryRequestsCompleted += frame.imageryRequestsCompleted;
+    m_imageryRequestsFailed += frame.imageryRequestsFailed;
+    m_imageryGpuUploads += frame.imageryGpuUploads;
+    m_imageryGpuUploadBytes += frame.imageryGpuUploadBytes;
+    m_imageryGpuEvictions += frame.imageryGpuEvictions;
+    m_imageryFaults = std::max(m_imageryFaults, frame.imageryFaultsTotal);
+    m_peakImageryTilesResident = std::max(m_peakImageryTilesResident, frame.imageryTilesResident);
+    m_peakImageryGpuBytes = std::max(m_peakImageryGpuBytes, frame.imageryGpuBytes);
+    m_peakImageryCpuCacheBytes = std::max(m_peakImageryCpuCacheBytes, frame.imageryCpuCacheBytes);
+
     if (!std::isnan(frame.frameMs)) m_frameMs.add(frame.frameMs);
 }
 
@@ -81,6 +93,25 @@ nlohmann::json TelemetrySummary::toJson() const {
         {"queue_depth", m_peakQueueDepth},
         {"cpu_cache_bytes", m_peakCpuCacheBytes},
         {"gpu_layers_used", m_peakGpuLayersUsed},
+    };
+    summary["imagery"] = {
+        {"totals",
+         {
+             {"requests_made", m_imageryRequestsMade},
+             {"requests_cancelled", m_imageryRequestsCancelled},
+             {"requests_completed", m_imageryRequestsCompleted},
+             {"requests_failed", m_imageryRequestsFailed},
+             {"gpu_uploads", m_imageryGpuUploads},
+             {"gpu_upload_bytes", m_imageryGpuUploadBytes},
+             {"gpu_evictions", m_imageryGpuEvictions},
+             {"faults", m_imageryFaults},
+         }},
+        {"peaks",
+         {
+             {"tiles_resident", m_peakImageryTilesResident},
+             {"gpu_bytes", m_peakImageryGpuBytes},
+             {"cpu_cache_bytes", m_peakImageryCpuCacheBytes},
+         }},
     };
     summary["frame_ms"] = {
         {"p50", numberOrNull(m_frameMs.percentile(50))},

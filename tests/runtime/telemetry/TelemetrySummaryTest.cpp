@@ -60,6 +60,20 @@ const std::set<std::string> kExpectedKeys = {
     "load_latency_ms.p99",
     "load_latency_ms.max",
     "load_latency_ms.mean",
+    "imagery",
+    "imagery.totals",
+    "imagery.totals.requests_made",
+    "imagery.totals.requests_cancelled",
+    "imagery.totals.requests_completed",
+    "imagery.totals.requests_failed",
+    "imagery.totals.gpu_uploads",
+    "imagery.totals.gpu_upload_bytes",
+    "imagery.totals.gpu_evictions",
+    "imagery.totals.faults",
+    "imagery.peaks",
+    "imagery.peaks.tiles_resident",
+    "imagery.peaks.gpu_bytes",
+    "imagery.peaks.cpu_cache_bytes",
 };
 
 void collectKeys(const json& object, const std::string& prefix, std::set<std::string>& keys) {

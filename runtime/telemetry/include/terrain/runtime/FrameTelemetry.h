@@ -66,6 +66,27 @@ struct FrameTelemetry {
     std::uint64_t lodMerges = 0;
     /// Globe only: patches the horizon hid (EllipsoidalOccluder), also in patchesCulled.
     std::uint64_t patchesHorizonCulled = 0;
+
+    // Imagery (issue 47): its tiles' requests on the same I/O thread, its own CPU cache and
+    // GPU texture array (ImageryStreamer). All layers together.
+    std::uint64_t imageryRequestsMade = 0;
+    std::uint64_t imageryRequestsCancelled = 0;
+    std::uint64_t imageryRequestsCompleted = 0;  ///< absent tiles included (no texels)
+    std::uint64_t imageryRequestsFailed = 0;
+    std::uint64_t imageryRequestsPending = 0;  ///< submitted, not ended, at the end of the frame
+    std::uint64_t imageryTilesResident = 0;    ///< texture-array layers holding a tile, end
+    std::uint64_t imageryGpuBytes = 0;         ///< GPU bytes of those layers, mips included
+    std::uint64_t imageryGpuUploads = 0;
+    std::uint64_t imageryGpuUploadBytes = 0;
+    std::uint64_t imageryGpuEvictions = 0;
+    std::uint64_t imageryCpuCacheEntries = 0;  ///< at the end of the frame
+    std::uint64_t imageryCpuCacheBytes = 0;    ///< at the end of the frame
+    std::uint64_t imageryLoadsResident = 0;    ///< tiles that became GPU-resident this frame
+    /// First wanted → resident latency percentiles over the last 256 imagery loads; NaN
+    /// until the first.
+    double imageryLoadLatencyP50Ms = kNoValue;
+    double imageryLoadLatencyP95Ms = kNoValue;
+    std::uint64_t imageryFaultsTotal = 0;  ///< cumulative: imagery tiles that failed so far
 };
 
 /// Adds the streaming and cache counts of frame scope in `frame` (requests, cache lookups
@@ -88,6 +109,14 @@ constexpr void addStreamingCounts(FrameTelemetry& into, const FrameTelemetry& fr
     into.gpuRingStalls += frame.gpuRingStalls;
     into.loadsResident += frame.loadsResident;
     into.diskReadBytes += frame.diskReadBytes;
+    into.imageryRequestsMade += frame.imageryRequestsMade;
+    into.imageryRequestsCancelled += frame.imageryRequestsCancelled;
+    into.imageryRequestsCompleted += frame.imageryRequestsCompleted;
+    into.imageryRequestsFailed += frame.imageryRequestsFailed;
+    into.imageryGpuUploads += frame.imageryGpuUploads;
+    into.imageryGpuUploadBytes += frame.imageryGpuUploadBytes;
+    into.imageryGpuEvictions += frame.imageryGpuEvictions;
+    into.imageryLoadsResident += frame.imageryLoadsResident;
 }
 
 /// How a column's value is stored and written.
@@ -156,6 +185,22 @@ inline constexpr std::array kTelemetryColumns = {
     detail::countColumn("lod_splits", &FrameTelemetry::lodSplits),
     detail::countColumn("lod_merges", &FrameTelemetry::lodMerges),
     detail::countColumn("patches_horizon_culled", &FrameTelemetry::patchesHorizonCulled),
+    detail::countColumn("imagery_requests_made", &FrameTelemetry::imageryRequestsMade),
+    detail::countColumn("imagery_requests_cancelled", &FrameTelemetry::imageryRequestsCancelled),
+    detail::countColumn("imagery_requests_completed", &FrameTelemetry::imageryRequestsCompleted),
+    detail::countColumn("imagery_requests_failed", &FrameTelemetry::imageryRequestsFailed),
+    detail::countColumn("imagery_requests_pending", &FrameTelemetry::imageryRequestsPending),
+    detail::countColumn("imagery_tiles_resident", &FrameTelemetry::imageryTilesResident),
+    detail::countColumn("imagery_gpu_bytes", &FrameTelemetry::imageryGpuBytes),
+    detail::countColumn("imagery_gpu_uploads", &FrameTelemetry::imageryGpuUploads),
+    detail::countColumn("imagery_gpu_upload_bytes", &FrameTelemetry::imageryGpuUploadBytes),
+    detail::countColumn("imagery_gpu_evictions", &FrameTelemetry::imageryGpuEvictions),
+    detail::countColumn("imagery_cpu_cache_entries", &FrameTelemetry::imageryCpuCacheEntries),
+    detail::countColumn("imagery_cpu_cache_bytes", &FrameTelemetry::imageryCpuCacheBytes),
+    detail::countColumn("imagery_loads_resident", &FrameTelemetry::imageryLoadsResident),
+    detail::realColumn("imagery_load_latency_p50_ms", &FrameTelemetry::imageryLoadLatencyP50Ms),
+    detail::realColumn("imagery_load_latency_p95_ms", &FrameTelemetry::imageryLoadLatencyP95Ms),
+    detail::countColumn("imagery_faults_total", &FrameTelemetry::imageryFaultsTotal),
 };
 
 namespace detail {

@@ -58,6 +58,17 @@ private:
     std::uint64_t m_gpuUploadsDeferred = 0;
     std::uint64_t m_diskReadBytes = 0;
     std::uint64_t m_faults = 0;  // faults_total is cumulative: the latest, not a sum
+    std::uint64_t m_imageryRequestsMade = 0;
+    std::uint64_t m_imageryRequestsCancelled = 0;
+    std::uint64_t m_imageryRequestsCompleted = 0;
+    std::uint64_t m_imageryRequestsFailed = 0;
+    std::uint64_t m_imageryGpuUploads = 0;
+    std::uint64_t m_imageryGpuUploadBytes = 0;
+    std::uint64_t m_imageryGpuEvictions = 0;
+    std::uint64_t m_imageryFaults = 0;
+    std::uint64_t m_peakImageryTilesResident = 0;
+    std::uint64_t m_peakImageryGpuBytes = 0;
+    std::uint64_t m_peakImageryCpuCacheBytes = 0;
 
     std::uint64_t m_peakQueueDepth = 0;
     std::uint64_t m_peakCpuCacheBytes = 0;
