@@ -1,6 +1,6 @@
-// StreamingBudgetFlags: --cpu-cache-mib, --gpu-layers and --upload-mib-per-frame, the
-// streaming budgets of every program that flies through a pyramid, with one meaning and
-// one range each.
+// StreamingBudgetFlags: --cpu-cache-mib, --gpu-layers, --upload-mib-per-frame,
+// --imagery-gpu-mib and --imagery-cache-mib, the streaming budgets of every program that
+// flies through a pyramid, with one meaning and one range each.
 #pragma once
 
 #include "terrain/runtime/TileStreamer.h"
@@ -16,21 +16,28 @@ struct StreamingBudgets {
     double cpuCacheMiB = 256.0;
     int gpuLayers = 1024;
     double uploadMiBPerFrame = 16.0;
+    double imageryGpuMiB = 256.0;    ///< the imagery texture array, mips included
+    double imageryCacheMiB = 128.0;  ///< the CPU imagery cache
 
     static std::size_t bytesOfMiB(double mib) {
         return static_cast<std::size_t>(mib * 1024.0 * 1024.0);
     }
-    /// The budgets as the streamer's options (its I/O options untouched).
+    /// The budgets as the streamer's options (its I/O options untouched). Imagery uploads
+    /// get a budget of their own of the same size as the heights'.
     void applyTo(runtime::TileStreamerOptions& options) const {
         options.cpuCacheBytes = bytesOfMiB(cpuCacheMiB);
         options.gpuLayers = gpuLayers;
         options.uploadBytesPerFrame = bytesOfMiB(uploadMiBPerFrame);
+        options.imagery.gpuBytes = bytesOfMiB(imageryGpuMiB);
+        options.imagery.cpuCacheBytes = bytesOfMiB(imageryCacheMiB);
+        options.imagery.uploadBytesPerFrame = bytesOfMiB(uploadMiBPerFrame);
     }
 };
 
-/// Adds the three flags, bound to `budgets`, whose values are the defaults shown; `scope`
+/// Adds the five flags, bound to `budgets`, whose values are the defaults shown; `scope`
 /// ends each description (" per threshold", say). A CPU cache too small for one tile is
-/// refused when the pyramid is opened (TileStreamer::open), which knows the tile size.
+/// refused when the pyramid is opened (TileStreamer::open), which knows the tile size; so
+/// are imagery budgets below one imagery tile, when the pyramid has imagery.
 inline void addStreamingBudgetFlags(CLI::App& app, StreamingBudgets& budgets,
                                     const std::string& scope = "") {
     app.add_option("--cpu-cache-mib", budgets.cpuCacheMiB, "CPU tile cache budget, MiB" + scope)
@@ -44,6 +51,15 @@ inline void addStreamingBudgetFlags(CLI::App& app, StreamingBudgets& budgets,
                    "GPU upload budget per frame, MiB (at least one tile a frame)" + scope)
         ->capture_default_str()
         ->check(CLI::Range(0.0, 4096.0));
+    app.add_option("--imagery-gpu-mib", budgets.imageryGpuMiB,
+                   "GPU imagery texture array budget, MiB (mips included; a tile is 0.33 MiB)" +
+                       scope)
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1024.0 * 1024.0));
+    app.add_option("--imagery-cache-mib", budgets.imageryCacheMiB,
+                   "CPU imagery tile cache budget, MiB (a tile is 0.25 MiB)" + scope)
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1024.0 * 1024.0));
 }
 
 }  // namespace terrain::tools

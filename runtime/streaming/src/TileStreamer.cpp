@@ -38,14 +38,19 @@ Result<std::unique_ptr<TileStreamer>> TileStreamer::open(const std::filesystem::
     if (!pool) return Error{pyramid.string() + ": " + pool.error().message};
     auto io = io::IoThread::start(pyramid, options.io);
     if (!io) return io.error();
-    return std::unique_ptr<TileStreamer>(new TileStreamer(
-        std::move(manifest).value(), std::move(io).value(), std::move(pool).value(), options));
+    auto imagery = ImageryStreamer::create(*io.value(), options.imagery);
+    if (!imagery) return Error{pyramid.string() + ": " + imagery.error().message};
+    return std::unique_ptr<TileStreamer>(
+        new TileStreamer(std::move(manifest).value(), std::move(io).value(),
+                         std::move(imagery).value(), std::move(pool).value(), options));
 }
 
 TileStreamer::TileStreamer(io::PyramidManifest manifest, std::unique_ptr<io::IoThread> io,
-                           cache::GpuTilePool pool, const TileStreamerOptions& options)
+                           std::unique_ptr<ImageryStreamer> imagery, cache::GpuTilePool pool,
+                           const TileStreamerOptions& options)
     : m_manifest(std::move(manifest)),
       m_io(std::move(io)),
+      m_imagery(std::move(imagery)),
       m_cache(options.cpuCacheBytes),
       m_pool(std::move(pool)) {
     // Sized for the busiest frames up front; the map and vectors keep their high-water
@@ -63,6 +68,7 @@ void TileStreamer::beginFrame() {
     m_frameCounts = {};
     m_cache.resetCounters();
     m_pool.beginFrame();
+    m_imagery->beginFrame();
     takeCompletions();
 }
 
@@ -70,6 +76,10 @@ void TileStreamer::takeCompletions() {
     m_completions.clear();
     m_io->poll(m_completions);
     for (io::Completion& c : m_completions) {
+        if (c.key().isImagery()) {
+            m_imagery->takeCompletion(c);
+            continue;
+        }
         const auto load = m_loads.find(c.id);
         if (load != m_loads.end()) --load->second.liveRequests;
         switch (c.status) {
@@ -193,6 +203,7 @@ void TileStreamer::endFrame(FrameTelemetry& t) {
         it = next;
     }
     m_pool.endFrame();
+    m_imagery->endFrame(t);
 
     const io::IoThreadStats io = m_io->stats();
     const cache::TileCacheCounters& cpu = m_cache.counters();
@@ -252,6 +263,7 @@ bool TileStreamer::drain(std::chrono::milliseconds timeout) {
             load.cancelRequested = true;
         }
     }
+    m_imagery->cancelAll();
     const auto deadline = Clock::now() + timeout;
     while (true) {
         takeCompletions();
@@ -266,11 +278,14 @@ bool TileStreamer::drain(std::chrono::milliseconds timeout) {
         if (it->second.liveRequests == 0) eraseLoad(it);
         it = next;
     }
-    return m_ledger.ended() == m_ledger.submitted;
+    m_imagery->forgetIdleLoads();
+    return m_ledger.ended() == m_ledger.submitted &&
+           m_imagery->ledger().ended() == m_imagery->ledger().submitted;
 }
 
 std::optional<std::string> TileStreamer::checkInvariants() const {
     if (auto broken = m_pool.checkInvariants()) return "GPU tile pool: " + *broken;
+    if (auto broken = m_imagery->checkInvariants()) return *broken;
     if (m_cache.bytes() > m_cache.budgetBytes()) {
         return fmt::format("CPU tile cache holds {} bytes over its budget of {}", m_cache.bytes(),
                            m_cache.budgetBytes());

@@ -11,12 +11,17 @@
 // Faults: a tile that fails to read is reported once (faults()), counted, and never asked
 // for again; acquire() keeps answering null for it, so the LOD keeps drawing its nearest
 // resident ancestor and no hole appears.
+//
+// Imagery (issue 47): the pyramid's imagery layers stream through the same I/O thread and
+// request queue, into their own CPU cache and GPU texture array (ImageryStreamer, owned here
+// and driven by the same beginFrame/endFrame); imagery() is the draw's ImageryResidency.
 #pragma once
 
 #include "terrain/base/Result.h"
 #include "terrain/cache/GpuTilePool.h"
 #include "terrain/cache/TileCache.h"
 #include "terrain/iothread/IoThread.h"
+#include "terrain/runtime/ImageryStreamer.h"
 #include "terrain/pyramid/PatchIdHash.h"
 #include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/FrameTelemetry.h"
@@ -44,6 +49,8 @@ struct TileStreamerOptions {
     int gpuLayers = 256;
     std::size_t uploadBytesPerFrame = std::size_t{4} << 20;
     io::IoThreadOptions io;
+    /// The imagery layers' budgets (used only when the pyramid has imagery).
+    ImageryStreamerOptions imagery;
 };
 
 struct TileFault {
@@ -73,8 +80,10 @@ struct TileRequestLedger {
 /// LOD as its TileResidency: resident means uploaded to a layer of the GPU pool.
 class TileStreamer final : public TileResidency {
 public:
-    /// Opens the pyramid, starts the I/O thread, creates the GPU pool. Errors name the
-    /// pyramid or the budget that does not fit.
+    /// Opens the pyramid, starts the I/O thread, creates the GPU pools (heights, and
+    /// imagery when the pyramid has imagery layers). Errors name the pyramid or the budget
+    /// that does not fit. An imagery layer that cannot be opened is no error: its tiles fail
+    /// (imagery().faults()) and the terrain draws without it.
     static Result<std::unique_ptr<TileStreamer>> open(const std::filesystem::path& pyramid,
                                                       const TileStreamerOptions& options);
     ~TileStreamer() override;
@@ -105,12 +114,22 @@ public:
 
     /// Waits until a read has finished (taken by the next beginFrame), the I/O thread has
     /// nothing left to read, or `timeout`: for callers that must wait for streaming
-    /// (settling a view, tests) instead of sleeping. Between frames.
-    void waitForReads(std::chrono::milliseconds timeout) { m_io->waitForCompletion(timeout); }
+    /// (settling a view, tests) instead of sleeping; true when a read has finished (heights
+    /// or imagery). Between frames.
+    bool waitForReads(std::chrono::milliseconds timeout) {
+        return m_io->waitForCompletion(timeout);
+    }
 
-    /// Cancels every request and waits until all have ended; false on timeout.
-    /// For shutdown checks: afterwards ledger() must balance.
+    /// Cancels every request (heights and imagery) and waits until all have ended; false on
+    /// timeout. For shutdown checks: afterwards ledger() and imagery().ledger() must balance.
     bool drain(std::chrono::milliseconds timeout);
+
+    /// The imagery layers' streaming: the draw's ImageryResidency. Render thread only.
+    ImageryStreamer& imagery() { return *m_imagery; }
+    const ImageryStreamer& imagery() const { return *m_imagery; }
+    /// The imagery texture array the draw samples (ImageryStreamer::texture()); invalid when
+    /// the pyramid has no imagery layer.
+    const gl::Texture& imageryTiles() const { return m_imagery->texture(); }
 
     const std::vector<TileFault>& faults() const { return m_faults; }
     /// The fault of `id` if it failed to read; nullptr otherwise.
@@ -150,7 +169,8 @@ private:
     using LoadMap = std::unordered_map<io::PatchId, LoadState, io::PatchIdHash>;
 
     TileStreamer(io::PyramidManifest manifest, std::unique_ptr<io::IoThread> io,
-                 cache::GpuTilePool pool, const TileStreamerOptions& options);
+                 std::unique_ptr<ImageryStreamer> imagery, cache::GpuTilePool pool,
+                 const TileStreamerOptions& options);
     bool uploadFromCache(const io::PatchId& id);
     LoadState& loadStateOf(const io::PatchId& id);
     void eraseLoad(LoadMap::iterator it);
@@ -158,6 +178,7 @@ private:
 
     io::PyramidManifest m_manifest;
     std::unique_ptr<io::IoThread> m_io;
+    std::unique_ptr<ImageryStreamer> m_imagery;  // uses m_io: declared after it, gone before
     cache::TileCache m_cache;
     cache::GpuTilePool m_pool;
 
