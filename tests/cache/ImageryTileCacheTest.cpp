@@ -47,6 +47,13 @@ TEST(ImageryTileCacheTest, EvictsTheLeastRecentlyUsedWithinTheBudget) {
     EXPECT_FALSE(cache.erase({b, 0}));
 }
 
+TEST(ImageryTileCacheTest, ATileIsChargedTheStorageItHolds) {
+    io::ImageryTile absent = tile({2, 0, 0}, false);
+    EXPECT_EQ(ImageryTileCache::tileBytes(absent), ImageryTileCache::kEntryOverheadBytes);
+    absent.rgba.reserve(io::kImageryTileBytes);  // read into a recycled buffer
+    EXPECT_EQ(ImageryTileCache::tileBytes(absent), ImageryTileCache::kPresentTileBytes);
+}
+
 TEST(ImageryTileCacheTest, ATileOverTheWholeBudgetIsRefusedUnmoved) {
     ImageryTileCache cache(ImageryTileCache::kPresentTileBytes - 1);
     io::ImageryTile t = tile({0, 0, 0});

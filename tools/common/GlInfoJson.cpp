@@ -19,6 +19,7 @@ nlohmann::json glInfoJson(const gl::GlContext& context) {
         {"maxTessGenLevel", info.maxTessGenLevel},
         {"maxTextureSize", info.maxTextureSize},
         {"maxArrayTextureLayers", info.maxArrayTextureLayers},
+        {"maxTextureAnisotropy", info.maxTextureAnisotropy},
         {"driverWorkarounds",
          {{"llvmpipeHeapTrimOff", applied.llvmpipeHeapTrimOff},
           {"driModulePinnedForLeakChecks", applied.driModulePinnedForLeakChecks},

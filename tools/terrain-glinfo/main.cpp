@@ -34,10 +34,11 @@ int main(int argc, char** argv) {
     } else {
         fmt::print(
             "platform:  {} ({})\nvendor:    {}\nrenderer:  {}\nversion:   {}\nGLSL:      {}\n"
-            "max tessellation level: {}\nmax texture size: {}\nmax array layers: {}\n",
+            "max tessellation level: {}\nmax texture size: {}\nmax array layers: {}\n"
+            "max anisotropy: {}\n",
             info.platform, info.platformDetail, info.vendor, info.renderer, info.version,
             info.glslVersion, info.maxTessGenLevel, info.maxTextureSize,
-            info.maxArrayTextureLayers);
+            info.maxArrayTextureLayers, info.maxTextureAnisotropy);
     }
     return 0;
 }

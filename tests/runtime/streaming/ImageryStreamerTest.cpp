@@ -43,14 +43,16 @@ protected:
     }
 
     std::unique_ptr<TileStreamer> open(const FakeImageryRules& rules, int gpuTiles = 8,
-                                       std::uint32_t failToOpen = 0, double latencyMs = 0.0) {
+                                       std::uint32_t failToOpen = 0, double latencyMs = 0.0,
+                                       std::size_t cpuCacheBytes =
+                                           16 * cache::ImageryTileCache::kPresentTileBytes) {
         runtime::TileStreamerOptions options;
         options.gpuLayers = 16;
         options.io.openImagery = fakeImageryOpener(rules, failToOpen);
         options.io.faults.addedLatencyMs = latencyMs;
         options.imagery.gpuBytes =
             cache::ImageryTilePool::bytesPerLayer() * static_cast<std::size_t>(gpuTiles);
-        options.imagery.cpuCacheBytes = 16 * cache::ImageryTileCache::kPresentTileBytes;
+        options.imagery.cpuCacheBytes = cpuCacheBytes;
         options.imagery.uploadBytesPerFrame = 2 * cache::ImageryTilePool::bytesPerLayer();
         options.imagery.cancelAfterFrames = 3;
         auto opened = TileStreamer::open(m_dir.path(), options);
@@ -152,6 +154,33 @@ TEST_F(ImageryStreamerTest, AnAbsentTileIsKnownAndNeverUploaded) {
     EXPECT_EQ(*rules.reads, 1);
     EXPECT_EQ(s->imagery().pool().layersUsed(), 0);
     EXPECT_EQ(s->imagery().loadsOutstanding(), 0U);
+}
+
+TEST_F(ImageryStreamerTest, AnAbsentTileReadIntoARecycledBufferIsChargedItsInfoOnly) {
+    FakeImageryRules rules;
+    rules.absent = [](int, const io::PatchId& id) { return id.level == 2; };
+    // Room for one present tile and a few absent ones.
+    auto s = open(rules, 8, 0, 0.0,
+                  cache::ImageryTileCache::kPresentTileBytes +
+                      4 * cache::ImageryTileCache::kEntryOverheadBytes);
+    ASSERT_TRUE(s);
+    // a, then b: b's arrival evicts a from the CPU cache, whose buffer goes back to the I/O
+    // thread, which reads the absent tile c into it.
+    for (const io::PatchId& id : {io::PatchId{1, 0, 0}, io::PatchId{1, 1, 0}, io::PatchId{2, 0, 0}}) {
+        for (int f = 0; f < 3; ++f) {
+            frame(*s, [&](ImageryStreamer& imagery) { imagery.want(0, id, 1.0f); });
+            if (s->imagery().requestsLive() > 0) {
+                ASSERT_TRUE(s->waitForReads(kHangTimeout));
+            }
+        }
+    }
+    const io::ImageryTileInfo* absent = s->imagery().tileInfo(0, {2, 0, 0});
+    ASSERT_NE(absent, nullptr);
+    EXPECT_FALSE(absent->present);
+    EXPECT_TRUE(s->imagery().cpuCache().contains({{1, 1, 0}, 0}))
+        << "the absent tile was charged a whole tile's buffer";
+    EXPECT_TRUE(s->imagery().pool().isResident({{1, 0, 0}, 0}));
+    EXPECT_TRUE(s->imagery().pool().isResident({{1, 1, 0}, 0}));
 }
 
 TEST_F(ImageryStreamerTest, RequestsWantedByNoFrameForAFewFramesAreCancelled) {

@@ -30,10 +30,10 @@ public:
     static constexpr std::size_t kEntryOverheadBytes = sizeof(io::ImageryTile) + 64;
     static constexpr std::size_t kMaxRecycledTiles = 4;
 
-    /// Bytes an entry of `tile` is charged: the size (not capacity) of its texels plus
-    /// kEntryOverheadBytes.
+    /// Bytes an entry of `tile` is charged: the capacity of its texels (what it holds,
+    /// though an absent tile has no texels) plus kEntryOverheadBytes.
     static std::size_t tileBytes(const io::ImageryTile& tile) {
-        return tile.rgba.size() + kEntryOverheadBytes;
+        return tile.rgba.capacity() + kEntryOverheadBytes;
     }
     /// What a present tile is charged: a budget below it holds no imagery.
     static constexpr std::size_t kPresentTileBytes = io::kImageryTileBytes + kEntryOverheadBytes;
