@@ -17,7 +17,8 @@ const std::array<float, 256>& decodeTable() {
         std::array<float, 256> t{};
         for (std::size_t i = 0; i < t.size(); ++i) {
             const double c = static_cast<double>(i) / 255.0;
-            t[i] = static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
+            t[i] =
+                static_cast<float>(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
         }
         return t;
     }();

@@ -41,9 +41,10 @@ std::size_t ImageryTilePool::bytesPerLayer() {
 Result<ImageryTilePool> ImageryTilePool::create(const ImageryTilePoolDesc& desc) {
     const std::size_t layerBytes = bytesPerLayer();
     if (desc.budgetBytes < layerBytes)
-        return Error{fmt::format("ImageryTilePool: GPU budget of {} bytes is below one imagery "
-                                 "tile ({} bytes with its mips)",
-                                 desc.budgetBytes, layerBytes)};
+        return Error{
+            fmt::format("ImageryTilePool: GPU budget of {} bytes is below one imagery "
+                        "tile ({} bytes with its mips)",
+                        desc.budgetBytes, layerBytes)};
     GLint maxLayers = 0;
     glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
     if (maxLayers < 1)

@@ -33,8 +33,8 @@ TEST(ImageryMipsTest, SrgbBytesRoundTripThroughLinearLight) {
 
 TEST(ImageryMipsTest, AlphaWeightsTheColoursInLinearLight) {
     using T = std::array<std::uint8_t, 4>;
-    EXPECT_EQ(halveBlock({T{10, 200, 30, 77}, T{10, 200, 30, 77}, T{10, 200, 30, 77},
-                          T{10, 200, 30, 77}}),
+    EXPECT_EQ(halveBlock(
+                  {T{10, 200, 30, 77}, T{10, 200, 30, 77}, T{10, 200, 30, 77}, T{10, 200, 30, 77}}),
               (T{10, 200, 30, 77}));
     // One opaque red texel among transparent green ones: red, a quarter covered.
     EXPECT_EQ(halveBlock({T{255, 0, 0, 255}, T{0, 255, 0, 0}, T{0, 255, 0, 0}, T{0, 255, 0, 0}}),
@@ -43,8 +43,8 @@ TEST(ImageryMipsTest, AlphaWeightsTheColoursInLinearLight) {
     const T clear = halveBlock({T{255, 0, 0, 0}, T{255, 0, 0, 0}, T{0, 0, 0, 0}, T{0, 0, 0, 0}});
     EXPECT_EQ(clear, (T{188, 0, 0, 0}));
     // Black and white, opaque: half the light is sRGB 188, not 128.
-    EXPECT_EQ(halveBlock({T{0, 0, 0, 255}, T{255, 255, 255, 255}, T{0, 0, 0, 255},
-                          T{255, 255, 255, 255}}),
+    EXPECT_EQ(halveBlock(
+                  {T{0, 0, 0, 255}, T{255, 255, 255, 255}, T{0, 0, 0, 255}, T{255, 255, 255, 255}}),
               (T{188, 188, 188, 255}));
 }
 

@@ -52,9 +52,9 @@ protected:
     static std::vector<std::uint8_t> readMip(const ImageryTilePool& pool, int layer, int mip) {
         const int side = io::kImageryTileTexels >> mip;
         std::vector<std::uint8_t> texels(static_cast<std::size_t>(side * side * 4));
-        pool.texture().readBack(
-            {.level = mip, .layer = layer, .width = side, .height = side}, GL_RGBA,
-            GL_UNSIGNED_BYTE, std::as_writable_bytes(std::span(texels)));
+        pool.texture().readBack({.level = mip, .layer = layer, .width = side, .height = side},
+                                GL_RGBA, GL_UNSIGNED_BYTE,
+                                std::as_writable_bytes(std::span(texels)));
         return texels;
     }
 
@@ -172,17 +172,17 @@ TEST_F(ImageryTilePoolTest, NoLayerLeaksUnderARandomStorm) {
         pool.beginFrame();
         std::vector<TileKey> usedThisFrame;
         for (int step = 0; step < 6; ++step) {
-            const TileKey key{{5, static_cast<std::int64_t>(random() % 6),
-                               static_cast<std::int64_t>(0)},
-                              static_cast<int>(random() % 3)};
+            const TileKey key{
+                {5, static_cast<std::int64_t>(random() % 6), static_cast<std::int64_t>(0)},
+                static_cast<int>(random() % 3)};
             const auto op = random() % 4;
             if (op < 2) {
                 const auto allocation = pool.allocateEvicting(key);
                 if (!allocation) {
                     // Only when every layer is used by this frame.
-                    EXPECT_EQ(static_cast<int>(usedThisFrame.size()) >= kLayers ||
-                                  pool.layersFree() == 0,
-                              true);
+                    EXPECT_EQ(
+                        static_cast<int>(usedThisFrame.size()) >= kLayers || pool.layersFree() == 0,
+                        true);
                     continue;
                 }
                 if (allocation->evicted) {

@@ -81,9 +81,9 @@ private:
 /// Opens a FakeImagerySource per layer; the layers in `failToOpen` (a bit per layer) fail.
 inline io::ImagerySourceOpener fakeImageryOpener(FakeImageryRules rules,
                                                  std::uint32_t failToOpen = 0) {
-    return [rules = std::move(rules), failToOpen](const io::PyramidManifest& manifest,
-                                                  int index)
-               -> Result<std::unique_ptr<io::ImageryTileSource>> {
+    return [rules = std::move(rules), failToOpen](
+               const io::PyramidManifest& manifest,
+               int index) -> Result<std::unique_ptr<io::ImageryTileSource>> {
         if ((failToOpen >> static_cast<unsigned>(index) & 1U) != 0)
             return Error{"fake imagery layer \"" +
                          manifest.imagery[static_cast<std::size_t>(index)].name +

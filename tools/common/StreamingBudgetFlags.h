@@ -51,9 +51,9 @@ inline void addStreamingBudgetFlags(CLI::App& app, StreamingBudgets& budgets,
                    "GPU upload budget per frame, MiB (at least one tile a frame)" + scope)
         ->capture_default_str()
         ->check(CLI::Range(0.0, 4096.0));
-    app.add_option("--imagery-gpu-mib", budgets.imageryGpuMiB,
-                   "GPU imagery texture array budget, MiB (mips included; a tile is 0.33 MiB)" +
-                       scope)
+    app.add_option(
+           "--imagery-gpu-mib", budgets.imageryGpuMiB,
+           "GPU imagery texture array budget, MiB (mips included; a tile is 0.33 MiB)" + scope)
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1024.0 * 1024.0));
     app.add_option("--imagery-cache-mib", budgets.imageryCacheMiB,

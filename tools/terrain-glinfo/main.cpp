@@ -37,8 +37,8 @@ int main(int argc, char** argv) {
             "max tessellation level: {}\nmax texture size: {}\nmax array layers: {}\n"
             "max anisotropy: {}\n",
             info.platform, info.platformDetail, info.vendor, info.renderer, info.version,
-            info.glslVersion, info.maxTessGenLevel, info.maxTextureSize,
-            info.maxArrayTextureLayers, info.maxTextureAnisotropy);
+            info.glslVersion, info.maxTessGenLevel, info.maxTextureSize, info.maxArrayTextureLayers,
+            info.maxTextureAnisotropy);
     }
     return 0;
 }

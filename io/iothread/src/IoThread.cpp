@@ -46,8 +46,8 @@ Result<std::unique_ptr<IoThread>> IoThread::start(const std::filesystem::path& p
                           ? options.openImagery(manifest, static_cast<int>(k))
                           : openImageryTiles(pyramidDir, manifest, manifest.imagery[k]);
         if (source && source.value() == nullptr)
-            source = Error{fmt::format("{}: imagery layer \"{}\": no source",
-                                       pyramidDir.string(), manifest.imagery[k].name)};
+            source = Error{fmt::format("{}: imagery layer \"{}\": no source", pyramidDir.string(),
+                                       manifest.imagery[k].name)};
         if (source) {
             imagery.push_back(std::move(source).value());
             openErrors.emplace_back();
@@ -287,10 +287,9 @@ void IoThread::run(const std::stop_token& stop) {
             if (imagery) {
                 outcome = readImagery(key, tile);
             } else {
-                outcome = injected ? Status(Error{
-                                         fmt::format("{}: injected fault reading patch L{} ({}, {})",
-                                                     m_reader.folder().string(), id.level, id.x,
-                                                     id.y)})
+                outcome = injected ? Status(Error{fmt::format(
+                                         "{}: injected fault reading patch L{} ({}, {})",
+                                         m_reader.folder().string(), id.level, id.x, id.y)})
                                    : m_reader.readPatch(id, record);
             }
             lock.lock();
@@ -318,7 +317,8 @@ void IoThread::run(const std::stop_token& stop) {
         if (c.status != CompletionStatus::Completed) {
             if (imagery && m_imageryPool.size() < poolBound(m_options))
                 m_imageryPool.push_back(std::move(tile));
-            if (!imagery && m_pool.size() < poolBound(m_options)) m_pool.push_back(std::move(record));
+            if (!imagery && m_pool.size() < poolBound(m_options))
+                m_pool.push_back(std::move(record));
         }
         m_inFlight.reset();
         finishLocked(std::move(c));

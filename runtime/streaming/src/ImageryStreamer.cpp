@@ -20,10 +20,10 @@ Result<std::unique_ptr<ImageryStreamer>> ImageryStreamer::create(
     if (io.imageryLayerCount() > 0) {
         // A tile the CPU cache cannot hold never reaches the GPU: the imagery would never show.
         if (options.cpuCacheBytes < cache::ImageryTileCache::kPresentTileBytes)
-            return Error{fmt::format("a CPU imagery cache of {} bytes holds no tile; an imagery "
-                                     "tile needs {} bytes",
-                                     options.cpuCacheBytes,
-                                     cache::ImageryTileCache::kPresentTileBytes)};
+            return Error{
+                fmt::format("a CPU imagery cache of {} bytes holds no tile; an imagery "
+                            "tile needs {} bytes",
+                            options.cpuCacheBytes, cache::ImageryTileCache::kPresentTileBytes)};
         auto created = cache::ImageryTilePool::create(
             {.budgetBytes = options.gpuBytes,
              .uploadBudgetBytesPerFrame = options.uploadBytesPerFrame,

@@ -108,8 +108,8 @@ TEST_F(IoThreadImageryTest, HeightsAndImageryShareOnePriorityOrder) {
     // Two finished results fill the cap; the thread then waits for poll().
     EXPECT_TRUE(io->submit(PatchId{0, 0, 0}, 0.0f));
     EXPECT_TRUE(io->submit(TileKey{{0, 0, 0}, 0}, 0.0f));
-    ASSERT_TRUE(io->waitForState([](const IoThreadStats& s) { return s.unpolled == 2; },
-                                 kHangTimeout));
+    ASSERT_TRUE(
+        io->waitForState([](const IoThreadStats& s) { return s.unpolled == 2; }, kHangTimeout));
     const PatchId p{1, 1, 0};
     const std::vector<std::pair<TileKey, float>> requests = {
         {TileKey{p, 0}, 2.0f}, {p, 5.0f}, {TileKey{p, 1}, 4.0f}, {PatchId{1, 0, 0}, 3.0f}};
@@ -119,8 +119,8 @@ TEST_F(IoThreadImageryTest, HeightsAndImageryShareOnePriorityOrder) {
     std::vector<Completion> done;
     ASSERT_TRUE(pollUntil(*io, done, 6));
     ASSERT_EQ(done.size(), 6U);
-    const std::vector<TileKey> order = {PatchId{0, 0, 0}, TileKey{{0, 0, 0}, 0}, TileKey{p, 0},
-                                        p, PatchId{1, 0, 0}, TileKey{p, 1}};
+    const std::vector<TileKey> order = {PatchId{0, 0, 0}, TileKey{{0, 0, 0}, 0}, TileKey{p, 0}, p,
+                                        PatchId{1, 0, 0}, TileKey{p, 1}};
     for (std::size_t i = 0; i < order.size(); ++i) {
         EXPECT_EQ(done[i].key(), order[i]) << "completion " << i;
         EXPECT_EQ(done[i].status, CompletionStatus::Completed) << done[i].error;
@@ -133,8 +133,8 @@ TEST_F(IoThreadImageryTest, CancellingAnImageryKeyLeavesTheHeightsOfItsPatch) {
     auto io = start({}, options);
     ASSERT_TRUE(io);
     EXPECT_TRUE(io->submit(PatchId{0, 0, 0}, 9.0f));
-    ASSERT_TRUE(io->waitForState([](const IoThreadStats& s) { return s.unpolled == 1; },
-                                 kHangTimeout));
+    ASSERT_TRUE(
+        io->waitForState([](const IoThreadStats& s) { return s.unpolled == 1; }, kHangTimeout));
     const PatchId p{1, 1, 0};
     EXPECT_TRUE(io->submit(p, 1.0f));
     EXPECT_TRUE(io->submit(TileKey{p, 0}, 1.0f));
@@ -159,8 +159,8 @@ TEST_F(IoThreadImageryTest, CancelDuringAnImageryReadIsReportedAsCancelled) {
     ASSERT_TRUE(io);
     const TileKey key{{1, 0, 0}, 1};
     EXPECT_TRUE(io->submit(key, 1.0f));
-    ASSERT_TRUE(io->waitForState([](const IoThreadStats& s) { return s.inFlight == 1; },
-                                 kHangTimeout));
+    ASSERT_TRUE(
+        io->waitForState([](const IoThreadStats& s) { return s.inFlight == 1; }, kHangTimeout));
     EXPECT_FALSE(io->submit(key, 3.0f));  // being read
     EXPECT_TRUE(io->cancel(key));
     std::vector<Completion> done;

@@ -42,10 +42,10 @@ protected:
         ASSERT_TRUE(addImageryLayers(m_dir.path(), 2).ok());
     }
 
-    std::unique_ptr<TileStreamer> open(const FakeImageryRules& rules, int gpuTiles = 8,
-                                       std::uint32_t failToOpen = 0, double latencyMs = 0.0,
-                                       std::size_t cpuCacheBytes =
-                                           16 * cache::ImageryTileCache::kPresentTileBytes) {
+    std::unique_ptr<TileStreamer> open(
+        const FakeImageryRules& rules, int gpuTiles = 8, std::uint32_t failToOpen = 0,
+        double latencyMs = 0.0,
+        std::size_t cpuCacheBytes = 16 * cache::ImageryTileCache::kPresentTileBytes) {
         runtime::TileStreamerOptions options;
         options.gpuLayers = 16;
         options.io.openImagery = fakeImageryOpener(rules, failToOpen);
@@ -73,11 +73,9 @@ protected:
 
     static std::vector<std::uint8_t> readLayer(const TileStreamer& s, int layer) {
         std::vector<std::uint8_t> texels(io::kImageryTileBytes);
-        s.imageryTiles().readBack({.layer = layer,
-                                   .width = io::kImageryTileTexels,
-                                   .height = io::kImageryTileTexels},
-                                  GL_RGBA, GL_UNSIGNED_BYTE,
-                                  std::as_writable_bytes(std::span(texels)));
+        s.imageryTiles().readBack(
+            {.layer = layer, .width = io::kImageryTileTexels, .height = io::kImageryTileTexels},
+            GL_RGBA, GL_UNSIGNED_BYTE, std::as_writable_bytes(std::span(texels)));
         return texels;
     }
 
@@ -166,7 +164,8 @@ TEST_F(ImageryStreamerTest, AnAbsentTileReadIntoARecycledBufferIsChargedItsInfoO
     ASSERT_TRUE(s);
     // a, then b: b's arrival evicts a from the CPU cache, whose buffer goes back to the I/O
     // thread, which reads the absent tile c into it.
-    for (const io::PatchId& id : {io::PatchId{1, 0, 0}, io::PatchId{1, 1, 0}, io::PatchId{2, 0, 0}}) {
+    for (const io::PatchId& id :
+         {io::PatchId{1, 0, 0}, io::PatchId{1, 1, 0}, io::PatchId{2, 0, 0}}) {
         for (int f = 0; f < 3; ++f) {
             frame(*s, [&](ImageryStreamer& imagery) { imagery.want(0, id, 1.0f); });
             if (s->imagery().requestsLive() > 0) {

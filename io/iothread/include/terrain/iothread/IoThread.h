@@ -38,12 +38,12 @@
 #include "terrain/base/Result.h"
 #include "terrain/iothread/FaultInjection.h"
 #include "terrain/iothread/TileKey.h"
+#include "terrain/iothread/TileRequestQueue.h"
 #include "terrain/pyramid/ImageryTile.h"
 #include "terrain/pyramid/ImageryTileSource.h"
 #include "terrain/pyramid/PatchRecord.h"
 #include "terrain/pyramid/PyramidLayout.h"
 #include "terrain/pyramid/PyramidReader.h"
-#include "terrain/iothread/TileRequestQueue.h"
 
 #include <chrono>
 #include <condition_variable>
@@ -88,9 +88,9 @@ struct Completion {
     PatchId id;
     int imageryLayer = TileKey::kHeights;  ///< whose tile: the heights' or an imagery layer's
     CompletionStatus status = CompletionStatus::Completed;
-    PatchRecord record;    ///< the heights' patch when Completed; recycle() it when done
-    ImageryTile imagery;   ///< an imagery tile when Completed (maybe absent); recycle() it
-    std::string error;     ///< when Failed: names the file or "injected fault" and the patch
+    PatchRecord record;   ///< the heights' patch when Completed; recycle() it when done
+    ImageryTile imagery;  ///< an imagery tile when Completed (maybe absent); recycle() it
+    std::string error;    ///< when Failed: names the file or "injected fault" and the patch
     Clock::time_point requestTime;   ///< the submit that created the request
     Clock::time_point completeTime;  ///< when the outcome was known
 

@@ -21,7 +21,8 @@ struct TileKey {
     constexpr TileKey() = default;
     /// Implicit from a PatchId alone: the heights' key, so the heights' callers keep passing
     /// patches where a key is asked for.
-    constexpr TileKey(const PatchId& patch, int layer = kHeights)  // NOLINT(google-explicit-constructor)
+    // NOLINTNEXTLINE(google-explicit-constructor)
+    constexpr TileKey(const PatchId& patch, int layer = kHeights)
         : id(patch), imageryLayer(layer) {}
 
     constexpr bool isImagery() const { return imageryLayer != kHeights; }
