@@ -4,7 +4,9 @@
 // its source's texels; an absent tile is known and never uploaded; requests wanted by no
 // frame for cancelAfterFrames frames are cancelled and others are not; a failing tile (and a
 // layer that cannot be opened) is reported once and never asked for again; a tiny GPU budget
-// evicts only tiles the frame does not use; every request ends once; telemetry counts it.
+// evicts only tiles the frame does not use; every request ends once; telemetry counts it;
+// warm frames that evict and re-upload from the CPU cache allocate nothing.
+#include "AllocationCounter.h"
 #include "FakeImagerySource.h"
 #include "GlTestFixture.h"
 #include "TempFolder.h"
@@ -290,6 +292,51 @@ TEST_F(ImageryStreamerTest, ATinyGpuBudgetEvictsOnlyTilesTheFrameDoesNotUse) {
     const runtime::ImageryRequestLedger& ledger = s->imagery().ledger();
     EXPECT_EQ(ledger.ended(), ledger.submitted);
     EXPECT_EQ(m_sum.imageryRequestsMade, ledger.submitted);
+}
+
+TEST_F(ImageryStreamerTest, WarmFramesAllocateNothingOnTheRenderThread) {
+    // Six tiles in the CPU cache, three GPU layers: a window of two sliding over them
+    // evicts and uploads every frame, from the CPU cache, with no read.
+    auto s = open({}, /*gpuTiles=*/3, 0, 0.0, 8 * cache::ImageryTileCache::kPresentTileBytes);
+    ASSERT_TRUE(s);
+    std::vector<io::PatchId> tiles;
+    for (std::int64_t x = 0; x < 6; ++x) tiles.push_back({2, x, 1});
+    std::optional<int> sink;
+    const auto body = [&](int f) {
+        return [&, f](ImageryStreamer& imagery) {
+            for (int i = 0; i < 2; ++i) {
+                const io::PatchId& id = tiles[static_cast<std::size_t>((f + i) % 6)];
+                imagery.want(0, id, 1.0f);
+                sink = imagery.gpuLayer(0, id);
+            }
+        };
+    };
+    // Every tile read once: all wanted until all have arrived (one read a frame at least).
+    for (int f = 0; f < 12 && s->imagery().cpuCache().entryCount() < 6; ++f) {
+        frame(*s, [&](ImageryStreamer& imagery) {
+            for (const io::PatchId& id : tiles) imagery.want(0, id, 1.0f);
+        });
+        if (s->imagery().requestsLive() > 0) {
+            ASSERT_TRUE(s->waitForReads(kHangTimeout));
+        }
+    }
+    ASSERT_EQ(s->imagery().cpuCache().entryCount(), 6U);
+    for (int f = 0; f < 24; ++f) frame(*s, body(f));  // high-water marks
+
+    const std::uint64_t uploadsBefore = s->imagery().ledger().submitted;
+    FrameTelemetry t;
+    std::uint64_t uploads = 0;
+    const AllocationScope scope;
+    for (int f = 0; f < 24; ++f) {
+        s->beginFrame();
+        body(f)(s->imagery());
+        s->endFrame(t);
+        uploads += t.imageryGpuUploads;
+    }
+    EXPECT_EQ(scope.allocations(), 0U);
+    EXPECT_GT(uploads, 0U) << "the frames measured did evict and upload";
+    EXPECT_EQ(s->imagery().ledger().submitted, uploadsBefore) << "no read: all from the cache";
+    EXPECT_EQ(s->checkInvariants(), std::nullopt);
 }
 
 }  // namespace
