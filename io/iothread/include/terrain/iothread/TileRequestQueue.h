@@ -37,9 +37,9 @@ public:
     };
 
     /// Adds a request, or changes the priority of the pending request for `key` (a PatchId
-    /// alone is the heights'). A
-    /// re-prioritised request keeps its place among equal priorities (its first arrival).
-    /// Returns true when the request is new. `priority` must not be NaN.
+    /// alone is the heights'). A re-prioritised request keeps its place among equal
+    /// priorities (its first arrival). Returns true when the request is new. `priority` must
+    /// not be NaN.
     bool request(const TileKey& key, float priority);
 
     /// Removes the pending request for `key`; false when there is none.
