@@ -39,9 +39,6 @@ const float kImageryTileTexels = 256.0;  // io::kImageryTileTexels
 const float kImageryBorderTexels = 4.0;
 const float kImageryInteriorTexels = 248.0;
 const int kMaxImageryDepth = 30;
-// What the pool's sampler allows (ImageryTilePool): the footprint's long axis counts up to
-// this many times its short one, as the hardware's anisotropic filter takes it.
-const float kImageryAnisotropy = 8.0;
 
 // Layer `layer`'s colour (linear RGB, straight alpha) at the patch's (u, v) `uv`, whose
 // change across the pixel is dx, dy.
@@ -51,7 +48,10 @@ vec4 imageryLayerColor(int instance, int layer, int layerCount, vec2 uv, vec2 dx
     vec2 p = clamp(root.offset + uv * root.scale, 0.0, 1.0);
     vec2 px = dx * root.scale, py = dy * root.scale;
     float lengthX = length(px), lengthY = length(py);
-    float footprint = max(max(lengthX, lengthY) / kImageryAnisotropy, min(lengthX, lengthY));
+    // The sampler's anisotropic filter covers the long side up to imagerySampling.x times the
+    // short one: the tile is chosen for what is left (as the hardware chooses its mip).
+    float anisotropy = u_frame.imagerySampling.x;
+    float footprint = max(max(lengthX, lengthY) / anisotropy, min(lengthX, lengthY));
     // The depth below the root whose interior texels are no larger than the footprint.
     float wanted = -log2(max(footprint * kImageryInteriorTexels, 1.0e-30));
     int depth = clamp(int(ceil(wanted)), 0, kMaxImageryDepth);

@@ -4,6 +4,7 @@
 
 #include "terrain/base/Assert.h"
 #include "terrain/cache/ImageryMips.h"
+#include "terrain/gl/DriverWorkarounds.h"
 #include "terrain/gl/GlInfo.h"
 
 #include <fmt/format.h>
@@ -65,7 +66,8 @@ Result<ImageryTilePool> ImageryTilePool::create(const ImageryTilePoolDesc& desc)
     // texels (ImageryTile.h); the draw takes the parent tile beyond it.
     pool.m_texture.setSampling(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR, GL_CLAMP_TO_EDGE);
     pool.m_texture.setMaxLevel(io::kImageryTileMips - 1);
-    pool.m_maxAnisotropy = std::clamp(desc.maxAnisotropy, 1.0f, gl::maxTextureAnisotropy());
+    pool.m_maxAnisotropy =
+        std::clamp(desc.maxAnisotropy, 1.0f, gl::textureAnisotropyWorthFiltering());
     pool.m_texture.setMaxAnisotropy(pool.m_maxAnisotropy);
 
     pool.m_uploadBudgetBytes = desc.uploadBudgetBytesPerFrame;

@@ -1,6 +1,8 @@
 // DriverWorkarounds: per-driver adjustments, keyed on the GL renderer string and the build.
 #include "terrain/gl/DriverWorkarounds.h"
 
+#include <epoxy/gl.h>
+
 #include <dlfcn.h>
 #include <link.h>
 #include <malloc.h>
@@ -25,6 +27,13 @@ int pinDriModule(struct dl_phdr_info* info, std::size_t, void* pinned) {
 #endif
 
 }  // namespace
+
+float textureAnisotropyWorthFiltering() {
+    const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    if (renderer != nullptr && std::string_view(renderer).find("llvmpipe") != std::string_view::npos)
+        return 1.0f;
+    return maxTextureAnisotropy();
+}
 
 DriverWorkaroundsApplied applyDriverWorkarounds(const GlInfo& info) {
     DriverWorkaroundsApplied applied;

@@ -181,6 +181,7 @@ int TerrainRenderer::prepareImagery(const DrapedImagery& imagery, std::size_t pa
     for (int d = 0; d < kMaxDrawnImageryLayers; ++d)
         m_frame.imageryOrder[static_cast<std::size_t>(d)] =
             permutation && d < layers ? style.imageryOrder[static_cast<std::size_t>(d)] : d;
+    m_frame.imagerySampling = {std::max(1.0f, imagery.maxAnisotropy), 0.0f, 0.0f, 0.0f};
     m_imageryTiles = &imagery.tiles;
     return layers;
 }

@@ -29,8 +29,10 @@ ImageryRoot placeInAncestor(const io::PatchId& id, int levels) {
 
 ImagerySelection::ImagerySelection(const Surface& surface, const io::PyramidManifest& manifest)
     : m_surface(surface), m_manifest(manifest) {
-    for (const io::ManifestImageryLayer& layer : manifest.imagery)
+    for (const io::ManifestImageryLayer& layer : manifest.imagery) {
+        if (static_cast<int>(m_layers.size()) == kMaxDrawnImageryLayers) break;
         m_layers.push_back({layer.coarsestLevel, layer.finestLevel, layer.opacity});
+    }
 }
 
 ImagerySelectionStats ImagerySelection::select(const Camera& camera,
@@ -84,9 +86,11 @@ int ImagerySelection::nodeOf(int layer, const io::PatchId& id) {
         // Not resident: drawn from the finest resident ancestor's texels until it arrives.
         // A root's ancestors are listed as nodes of their own only through this lookup.
         // Asked for unless it lies outside the view (a child of a tile the view cuts).
-        if (const double pixels = texelPixels(id); pixels > 0.0) {
+        if (const double pixels = texelPixels(id);
+            pixels > 0.0 && !m_imagery->hasFailed(layer, id)) {
             m_imagery->want(layer, id, static_cast<float>(pixels));
             ++m_stats.wanted;
+            ++m_stats.waiting;
         }
         const int coarsest = m_layers[static_cast<std::size_t>(layer)].coarsestLevel;
         for (int up = 1; id.level - up >= coarsest; ++up) {

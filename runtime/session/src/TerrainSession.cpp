@@ -125,6 +125,8 @@ TerrainSession::TerrainSession(std::unique_ptr<TileStreamer> streamer,
       m_tree(std::make_unique<LodQuadtree>(*m_streamer, *m_surface, lodOptionsFor(method, lod))),
       m_method(method) {
     m_draws.reserve(static_cast<std::size_t>(m_streamer->pool().capacity()));
+    if (!m_streamer->manifest().imagery.empty())
+        m_imagery = std::make_unique<ImagerySelection>(*m_surface, m_streamer->manifest());
 }
 
 TerrainSession::~TerrainSession() {
@@ -164,6 +166,7 @@ const LodUpdateStats& TerrainSession::beginFrame(const Camera& camera) {
     m_lodStats = m_tree->update(camera, m_draws);
     addTileErrorsToVirtualDraws();
     assignSkirtDepths(m_draws, m_streamer->pool());
+    if (m_imagery) m_imageryStats = m_imagery->select(camera, m_draws, m_streamer->imagery(), *m_streamer);
     m_lodUpdateUs = std::chrono::duration<double, std::micro>(Clock::now() - start).count();
     return m_lodStats;
 }
@@ -183,13 +186,20 @@ TerrainDrawStats TerrainSession::draw(const Camera& camera, const TerrainStyle& 
                                             m_draws, style, errorPx());
         return m_lastDraw;
     }
+    // The imagery of this frame's draw list (the comparison methods above draw without).
+    std::optional<DrapedImagery> draped;
+    if (m_imagery)
+        draped.emplace(DrapedImagery{*m_imagery, m_streamer->imageryTiles(),
+                                     m_streamer->imagery().pool().maxAnisotropy()});
+    const DrapedImagery* imagery = draped ? &*draped : nullptr;
     if (drawsFullPatches(m_method)) {
         TerrainStyle full = style;
         full.fixedTessFactor = m_surface->layout().blockQuads();
-        m_lastDraw = m_renderer.draw(camera, m_streamer->pool(), m_draws, full, errorPx());
+        m_lastDraw =
+            m_renderer.draw(camera, m_streamer->pool(), m_draws, full, errorPx(), imagery);
         return m_lastDraw;
     }
-    m_lastDraw = m_renderer.draw(camera, m_streamer->pool(), m_draws, style, errorPx());
+    m_lastDraw = m_renderer.draw(camera, m_streamer->pool(), m_draws, style, errorPx(), imagery);
     return m_lastDraw;
 }
 
@@ -223,8 +233,11 @@ bool TerrainSession::settle(const Camera& camera, std::chrono::milliseconds time
     while (true) {
         const LodUpdateStats& lod = beginFrame(camera);
         if (fatalFault() != nullptr) return false;  // it would wait for nothing
+        // The imagery too: every listed tile resident (or failed), none on its way.
         const bool settled = !m_draws.empty() && lod.waitingSplits == 0 && lod.splits == 0 &&
-                             lod.merges == 0 && m_streamer->loadsOutstanding() == 0;
+                             lod.merges == 0 && m_streamer->loadsOutstanding() == 0 &&
+                             m_imageryStats.waiting == 0 &&
+                             m_streamer->imagery().loadsOutstanding() == 0;
         // Its streaming is reported with the next frame the caller ends: without it a
         // settled flight's telemetry would show none of the loads that settled it.
         FrameTelemetry frame;

@@ -87,6 +87,7 @@ public:
         return id.level < m_finest ? &m_inner : &m_leaf;
     }
     void want(int, const io::PatchId&, float) override {}
+    bool hasFailed(int, const io::PatchId&) const override { return false; }
 
 private:
     static constexpr int kLayers = 400;
@@ -184,7 +185,7 @@ protected:
         runtime::TerrainStyle style;
         style.fogDensityPerM = 0.0f;
         style.imageryLighting = false;  // the imagery's own colours
-        const runtime::DrapedImagery draped{selection, imagery.texture()};
+        const runtime::DrapedImagery draped{selection, imagery.texture(), 1.0f};
         session.renderer().draw(camera, session.streamer().pool(), session.draws(), style,
                                 session.errorPx(), &draped);
         glBindFramebuffer(GL_FRAMEBUFFER, 0);

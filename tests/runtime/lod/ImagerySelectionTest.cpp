@@ -43,6 +43,7 @@ public:
     void want(int, const io::PatchId& id, float priority) override {
         wanted[{id.level, id.x, id.y}] = priority;
     }
+    bool hasFailed(int, const io::PatchId&) const override { return false; }
 
 private:
     int m_finest;

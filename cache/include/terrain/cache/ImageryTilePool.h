@@ -30,7 +30,8 @@ struct ImageryTilePoolDesc {
     std::size_t budgetBytes = 0;
     /// Bytes (all mips) uploaded per frame at most; the first upload of a frame always fits.
     std::size_t uploadBudgetBytesPerFrame = 0;
-    /// Anisotropic filtering wanted, clamped to the context's (1 where it has none).
+    /// Anisotropic filtering wanted, clamped to what the context filters with
+    /// (gl::textureAnisotropyWorthFiltering: 1 where it has none, and on llvmpipe).
     float maxAnisotropy = 16.0f;
 };
 

@@ -15,6 +15,13 @@ namespace terrain::gl {
 /// the object (and its debug label) comes into being at the first glBeginQuery (Query.cpp).
 inline constexpr bool kGenQueriesForPipelineStatistics = true;
 
+/// The anisotropy worth filtering with in the current context: maxTextureAnisotropy(), but 1
+/// (trilinear) on llvmpipe, which runs the anisotropic filter sample by sample in its
+/// fragment code. terrain-render planet: --width 480 --height 270 --frames 40 took 272 s
+/// with the imagery sampled at up to 16× (not finished in 300 s when drawn), 36 s at 1×,
+/// 29 s without imagery (2 cores). Render thread only.
+float textureAnisotropyWorthFiltering();
+
 /// What applyDriverWorkarounds() did, for tools' --json (GlContext::driverWorkarounds()).
 struct DriverWorkaroundsApplied {
     /// llvmpipe: glibc no longer trims the heap (M_TRIM_THRESHOLD raised to 2 GiB). Mesa's

@@ -26,7 +26,7 @@ struct alignas(16) FrameBlock {
     TERRAIN_FRAME_BLOCK_MEMBERS(TERRAIN_CPP_MAT4, TERRAIN_CPP_VEC4, TERRAIN_CPP_IVEC4,
                                 TERRAIN_CPP_VEC4_ARRAY)
 };
-static_assert(sizeof(FrameBlock) == 2 * 64 + 5 * 16 + 13 * 16, "FrameBlock: std140 layout");
+static_assert(sizeof(FrameBlock) == 2 * 64 + 5 * 16 + 14 * 16, "FrameBlock: std140 layout");
 
 /// The camera's part, in float from double: the drawn camera's view-projection and frustum
 /// (relative to it), the viewport and near plane, ε; the camera whose view decides the

@@ -73,6 +73,9 @@ static_assert(sizeof(RecordedTessFactors) == 32);  // std430 TessFactorRecord, t
 struct DrapedImagery {
     const ImagerySelection& selection;
     const gl::Texture& tiles;
+    /// The anisotropy `tiles`' sampler filters with: the fragment stage picks a tile whose
+    /// texels match the footprint's short side only as far as the sampler covers its long one.
+    float maxAnisotropy = 1.0f;
 };
 
 /// Render thread only; draws into the framebuffer bound by the caller. Holds its own GL

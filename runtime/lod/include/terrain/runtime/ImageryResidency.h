@@ -35,6 +35,9 @@ public:
     /// re-prioritised every frame; the heights' requests use the same scale of pixels) unless
     /// it is resident, on its way or failed before.
     virtual void want(int layer, const io::PatchId& id, float priority) = 0;
+    /// Tile `id` of `layer` failed to load and will not be asked for again: its ancestor
+    /// draws in its place for good.
+    virtual bool hasFailed(int layer, const io::PatchId& id) const = 0;
 
 protected:
     ImageryResidency() = default;

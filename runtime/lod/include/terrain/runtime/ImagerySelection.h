@@ -68,11 +68,14 @@ struct ImagerySelectionStats {
     int nodes = 0;          ///< tiles listed, all layers
     int residentNodes = 0;  ///< of them drawn from their own tile
     int wanted = 0;         ///< want() calls (tiles not resident)
+    /// Listed tiles not resident that have not failed: the view is not settled until none
+    /// is left.
+    int waiting = 0;
 };
 
 class ImagerySelection {
 public:
-    /// Layers of `manifest` (at most kMaxDrawnImageryLayers are drawn; the session checks).
+    /// The first kMaxDrawnImageryLayers layers of `manifest` (terrain-imagery adds no more).
     ImagerySelection(const Surface& surface, const io::PyramidManifest& manifest);
 
     int layerCount() const { return static_cast<int>(m_layers.size()); }

@@ -29,6 +29,7 @@
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/CdlodRenderer.h"
 #include "terrain/runtime/FrameTelemetry.h"
+#include "terrain/runtime/ImagerySelection.h"
 #include "terrain/runtime/LivnyRenderer.h"
 #include "terrain/runtime/LodMethod.h"
 #include "terrain/runtime/LodQuadtree.h"
@@ -123,6 +124,9 @@ public:
     /// This frame's draw list (every patch resident, skirt depths assigned).
     std::span<const PatchDraw> draws() const { return m_draws; }
     const LodUpdateStats& lodStats() const { return m_lodStats; }
+    /// This frame's imagery selection (issue 47), or null when the pyramid has no imagery.
+    const ImagerySelection* imagery() const { return m_imagery.get(); }
+    const ImagerySelectionStats& imageryStats() const { return m_imageryStats; }
     double lodUpdateUs() const override { return m_lodUpdateUs; }
 
     TileStreamer& streamer() { return *m_streamer; }
@@ -151,6 +155,9 @@ private:
     std::unique_ptr<LodQuadtree> m_tree;
 
     std::vector<PatchDraw> m_draws;
+    // The imagery the draws wear (issue 47): selected in beginFrame for its draw list.
+    std::unique_ptr<ImagerySelection> m_imagery;
+    ImagerySelectionStats m_imageryStats;
     LodUpdateStats m_lodStats;
     double m_lodUpdateUs = 0.0;
     TerrainDrawStats m_lastDraw;

@@ -99,7 +99,7 @@ public:
     /// The texture array the draw samples (GL_TEXTURE_2D_ARRAY, GL_SRGB8_ALPHA8, 256² tiles,
     /// kImageryTileMips mips); invalid when the pyramid has no imagery layer.
     const gl::Texture& texture() const { return m_pool.texture(); }
-    bool hasFailed(int layer, const io::PatchId& id) const {
+    bool hasFailed(int layer, const io::PatchId& id) const override {
         return m_failed.contains(io::TileKey{id, layer});
     }
     const std::vector<ImageryFault>& faults() const { return m_faults; }
