@@ -45,6 +45,13 @@ ImageryStreamer::ImageryStreamer(io::IoThread& io, cache::ImageryTilePool pool,
     const auto capacity = static_cast<std::size_t>(m_pool.capacity());
     m_loads.reserve(2 * capacity);
     m_spareLoadNodes.reserve(2 * capacity);
+    // A layer without a source would fail every tile the draw asks for: one fault instead.
+    m_layerUnopened.assign(static_cast<std::size_t>(m_layerCount), 0);
+    for (int layer = 0; layer < m_layerCount; ++layer) {
+        if (io.imageryOpenError(layer).empty()) continue;
+        m_layerUnopened[static_cast<std::size_t>(layer)] = 1;
+        m_faults.push_back({layer, io::PatchId{}, std::string(io.imageryOpenError(layer))});
+    }
 }
 
 ImageryStreamer::~ImageryStreamer() = default;
@@ -153,7 +160,7 @@ void ImageryStreamer::want(int layer, const io::PatchId& id, float priority) {
         m_pool.touch(key);
         return;
     }
-    if (m_failed.contains(key)) return;
+    if (hasFailed(layer, id)) return;
     LoadState& load = loadStateOf(key);
     load.lastWantedFrame = m_frame;
     if (const io::ImageryTile* tile = m_cache.peek(key)) {

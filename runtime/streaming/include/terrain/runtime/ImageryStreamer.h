@@ -14,7 +14,8 @@
 // Never a hole: a tile is only ever drawn from its layer once uploaded (gpuLayer), and the
 // layer of a tile used this frame is never taken for another; until a tile arrives the draw
 // takes its finest resident ancestor. A tile that fails to read is reported once (faults())
-// and never asked for again.
+// and never asked for again; a layer the I/O thread could not open is one fault, reported
+// at creation, and none of its tiles is asked for.
 #pragma once
 
 #include "terrain/base/Result.h"
@@ -54,7 +55,7 @@ struct ImageryStreamerOptions {
 
 struct ImageryFault {
     int layer = 0;
-    io::PatchId id;
+    io::PatchId id;       ///< the tile; the default PatchId for a layer that could not be opened
     std::string message;  ///< names the layer's file (or why the layer could not be opened)
 };
 
@@ -99,8 +100,10 @@ public:
     /// The texture array the draw samples (GL_TEXTURE_2D_ARRAY, GL_SRGB8_ALPHA8, 256² tiles,
     /// kImageryTileMips mips); invalid when the pyramid has no imagery layer.
     const gl::Texture& texture() const { return m_pool.texture(); }
+    /// Whether tile `id` of `layer` failed to read, or its layer could not be opened.
     bool hasFailed(int layer, const io::PatchId& id) const override {
-        return m_failed.contains(io::TileKey{id, layer});
+        return m_layerUnopened[static_cast<std::size_t>(layer)] != 0 ||
+               m_failed.contains(io::TileKey{id, layer});
     }
     const std::vector<ImageryFault>& faults() const { return m_faults; }
     const ImageryRequestLedger& ledger() const { return m_ledger; }
@@ -144,6 +147,7 @@ private:
     LoadMap m_loads;
     std::vector<LoadMap::node_type> m_spareLoadNodes;
     std::uint64_t m_liveRequests = 0;
+    std::vector<std::uint8_t> m_layerUnopened;  // per layer: 1 when the I/O thread has no source
     std::unordered_set<io::TileKey, io::TileKeyHash> m_failed;
     std::vector<ImageryFault> m_faults;
     ImageryRequestLedger m_ledger;
