@@ -13,6 +13,7 @@ find_package(OpenGL REQUIRED COMPONENTS EGL)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(epoxy REQUIRED IMPORTED_TARGET epoxy)
 pkg_check_modules(zstd REQUIRED IMPORTED_TARGET libzstd)  # the shards' patch payloads
+pkg_check_modules(webp REQUIRED IMPORTED_TARGET libwebp)  # imagery tiles' payloads
 find_package(nlohmann_json CONFIG REQUIRED)
 find_package(fmt CONFIG REQUIRED)
 if(TERRAIN_BUILD_TOOLS OR TERRAIN_BUILD_TESTS)

@@ -35,6 +35,7 @@ packages=(
   libglfw3-dev libglm-dev libepoxy-dev libegl-dev libgl-dev
   libegl-mesa0 libgl1-mesa-dri libglx-mesa0
   libopenimageio-dev openimageio-tools libopenexr-dev libtiff-dev zlib1g-dev libzstd-dev
+  libwebp-dev
   libgeographiclib-dev libgdal-dev gdal-bin
   libcli11-dev nlohmann-json3-dev libfmt-dev libimgui-dev
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -1,5 +1,6 @@
 #include "terrain/pyramid/ImageryTileSource.h"
 
+#include "terrain/pyramid/ImageryTileReader.h"
 #include "terrain/pyramid/PlanetImagery.h"
 #include "terrain/pyramid/VirtualPlanetPyramid.h"
 
@@ -25,8 +26,16 @@ Result<std::unique_ptr<ImageryTileSource>> openImageryTiles(const std::filesyste
         return std::unique_ptr<ImageryTileSource>(std::make_unique<PlanetImagery>(
             planet.value().planet(), manifest.globe->seaLevelM, layer.finestLevel, layer.name));
     }
-    return Error{fmt::format("{}: imagery layer \"{}\" ({}): not readable yet",
-                             pyramidDir.string(), layer.name, layer.kind)};
+    if (layer.kind == ManifestImageryLayer::kStoredKind) {
+        Result<std::unique_ptr<ImageryTileReader>> reader = ImageryTileReader::open(
+            pyramidDir / layer.folder, layer.coarsestLevel, layer.finestLevel);
+        if (!reader)
+            return Error{
+                fmt::format("imagery layer \"{}\": {}", layer.name, reader.error().message)};
+        return std::unique_ptr<ImageryTileSource>(std::move(reader).value());
+    }
+    return Error{fmt::format("{}: imagery layer \"{}\": unknown kind \"{}\"", pyramidDir.string(),
+                             layer.name, layer.kind)};
 }
 
 }  // namespace terrain::io
