@@ -1,0 +1,52 @@
+// buildImageryLayer: an imagery layer of a pyramid built from an image (issue 47,
+// docs/imagery.md, "How a layer is built"). Each texel takes the image's colour where it lies
+// on the terrain (planarImageryPoint or globeImageryPoint, then the image's own CRS), from
+// the image averaged over blocks about a texel wide (no aliasing at the coarse levels); the
+// finest level is the first whose texels are no coarser than the image's pixel at its
+// centre. Only tiles the image overlaps are stored, each root tile always (transparent
+// where the image does not reach). Memory stays bounded: a tile's window of the image at a
+// time.
+#pragma once
+
+#include "terrain/base/Result.h"
+#include "terrain/pyramid/ImageryLayerWriter.h"
+#include "terrain/pyramid/PyramidManifest.h"
+#include "terrain/source/ImageryImage.h"
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+
+namespace terrain::io {
+
+struct ImageryBuildOptions {
+    std::string name;   ///< the layer's name: its folder is imagery/<name>
+    std::string input;  ///< the image as the user named it (recorded in the manifest)
+    ImageryEncoding encoding;
+    double opacity = 1.0;
+    bool replaceExisting = false;  ///< replace a layer folder of the same name
+    /// Threads encoding tiles (each opens its own image); 0: the hardware's.
+    int threads = 0;
+};
+
+struct ImageryBuildReport {
+    ManifestImageryLayer layer;      ///< what to record in the manifest
+    std::int64_t tiles = 0;          ///< present tiles written
+    std::int64_t bytes = 0;          ///< of the tile files
+    double pixelSizeAtCentre = 0.0;  ///< the image's pixel, in finest samples or radians
+    double seconds = 0.0;
+};
+
+/// Opens the image once per building thread.
+using ImageryImageOpener = std::function<Result<std::unique_ptr<ImageryImage>>()>;
+
+/// Builds the layer into `<pyramidDir>/imagery/<name>` (through ImageryLayerWriter: nothing
+/// is left behind on failure). Refuses an image that does not overlap the pyramid. Does not
+/// touch the manifest: the caller records report.layer (writeManifest).
+Result<ImageryBuildReport> buildImageryLayer(const std::filesystem::path& pyramidDir,
+                                             const PyramidManifest& manifest,
+                                             const ImageryImageOpener& openImage,
+                                             const ImageryBuildOptions& options);
+
+}  // namespace terrain::io

@@ -1,0 +1,452 @@
+// buildImageryLayer (ImageryLayerBuilder.h). Two passes: the first finds the tiles the image
+// overlaps (a coarse grid of each tile's texels placed on the image, depth first from the
+// roots), the second samples and writes them on a few threads, each with its own image.
+#include "terrain/build/ImageryLayerBuilder.h"
+
+#include "terrain/globe/CubeSphere.h"
+#include "terrain/globe/Wgs84.h"
+#include "terrain/pyramid/GlobeLayout.h"
+#include "terrain/pyramid/ImageryTile.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <numbers>
+#include <thread>
+
+namespace terrain::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+/// Points a side of the grid that tests whether a tile overlaps the image (its stored texels
+/// 0, 8, …, 256: the outer edges included).
+constexpr int kProbePoints = 33;
+/// The most blocks of the averaged image one tile reads (a tile stretched across the image,
+/// at a pole of a geographic image): past it the tile reads a coarser average.
+constexpr std::int64_t kMaxWindowBlocks = std::int64_t{4096} * 4096;
+
+/// Where texels lie on the terrain, in the terrain points ImageryImage takes.
+class TerrainFrame {
+public:
+    explicit TerrainFrame(const PyramidManifest& m) : m_manifest(m) {}
+    bool globe() const { return m_manifest.globe.has_value(); }
+    int rootLevel() const { return globe() ? ManifestGlobe::kLevelOffset : 0; }
+    std::int64_t tilesX(int level) const {
+        if (globe()) return globe::kCubeFaces * (std::int64_t{1} << (level - rootLevel()));
+        const PyramidLayout& l = m_manifest.layout;
+        if (level <= l.finestLevel()) return l.patchesX(level);
+        return l.patchesX(l.finestLevel()) << (level - l.finestLevel());
+    }
+    std::int64_t tilesY(int level) const {
+        if (globe()) return std::int64_t{1} << (level - rootLevel());
+        const PyramidLayout& l = m_manifest.layout;
+        if (level <= l.finestLevel()) return l.patchesY(level);
+        return l.patchesY(l.finestLevel()) << (level - l.finestLevel());
+    }
+    /// The terrain point of stored-texel position (a, b) (texel centres at k + 0.5).
+    void point(const PatchId& id, double a, double b, double& x, double& y) const {
+        const double u = imageryPatchLocal(a), v = imageryPatchLocal(b);
+        if (!globe()) {
+            const PlanarSamplePoint p = planarImageryPoint(m_manifest.layout, id, u, v);
+            x = p.column;
+            y = p.row;
+            return;
+        }
+        const globe::FacePoint f = globeImageryPoint(id, u, v);
+        const globe::Geodetic g =
+            globe::Wgs84::geodeticOfNormal(globe::directionOf(f.face, f.s, f.t));
+        x = g.longitudeDeg;
+        y = g.latitudeDeg;
+    }
+    /// A texel's size at `level`: finest samples (plane), radians of arc (globe, the face's
+    /// mean).
+    double texelSize(int level) const {
+        if (globe())
+            return std::numbers::pi / 2.0 / kImageryInteriorTexels /
+                   std::ldexp(1.0, level - rootLevel());
+        const PyramidLayout& l = m_manifest.layout;
+        return std::ldexp(static_cast<double>(l.patchQuads()), l.finestLevel() - level) /
+               kImageryInteriorTexels;
+    }
+    /// The distance of two terrain points in texelSize's unit.
+    double distance(double x0, double y0, double x1, double y1) const {
+        if (!globe()) return std::hypot(x1 - x0, y1 - y0);
+        const glm::dvec3 a = globe::Wgs84::normalAt(y0, x0), b = globe::Wgs84::normalAt(y1, x1);
+        return std::acos(std::clamp(a.x * b.x + a.y * b.y + a.z * b.z, -1.0, 1.0));
+    }
+    int deepestLevel() const {
+        return globe() ? rootLevel() + kMaxGlobeFaceLevel : m_manifest.layout.finestLevel() + 16;
+    }
+
+private:
+    const PyramidManifest& m_manifest;
+};
+
+/// Whether a pixel position lies on the image or within `margin` pixels of it.
+bool nearImage(const ImageryImage& image, double x, double y, double margin) {
+    if (!std::isfinite(x) || !std::isfinite(y)) return false;
+    const bool inX =
+        image.wrapsColumns() || (x > -margin && x < static_cast<double>(image.width()) + margin);
+    return inX && y > -margin && y < static_cast<double>(image.height()) + margin;
+}
+
+/// Whether tile `id` overlaps the image: a grid of its texel positions, each taken as wide
+/// as the grid's spacing there.
+bool overlaps(const TerrainFrame& frame, ImageryImage& image, const PatchId& id,
+              std::vector<double>& xs, std::vector<double>& ys) {
+    constexpr int n = kProbePoints;
+    xs.resize(n * n);
+    ys.resize(n * n);
+    const double step = static_cast<double>(kImageryTileTexels) / (n - 1);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+            frame.point(id, i * step, j * step, xs[static_cast<std::size_t>(j * n + i)],
+                        ys[static_cast<std::size_t>(j * n + i)]);
+    image.toPixels(xs, ys);
+    const double period = static_cast<double>(image.width());
+    // The spacing to a neighbour, the nearer of the two along each axis: a point beside a
+    // discontinuity of the image's CRS (the antimeridian of a geographic image) keeps the
+    // spacing of its other side.
+    const auto spacing = [&](std::size_t at, std::size_t other) {
+        double dx = std::abs(xs[other] - xs[at]);
+        if (image.wrapsColumns()) dx = std::min(dx, std::abs(period - dx));
+        return std::max(dx, std::abs(ys[other] - ys[at]));
+    };
+    // A point on the tile's edge has one neighbour along an axis, which may lie across the
+    // discontinuity: no spacing counts more than 4 times the tile's median one.
+    std::vector<double> all;
+    for (std::size_t at = 0; at + 1 < xs.size(); ++at)
+        if (const double d = spacing(at, at + 1); std::isfinite(d)) all.push_back(d);
+    if (all.empty()) return false;
+    std::nth_element(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(all.size() / 2),
+                     all.end());
+    const double largest = 4.0 * all[all.size() / 2];
+    const auto nearer = [](double a, double b) {
+        return std::isfinite(a) && std::isfinite(b) ? std::min(a, b) : std::isfinite(a) ? a : b;
+    };
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const std::size_t at = static_cast<std::size_t>(j * n + i);
+            const double inRow =
+                nearer(i > 0 ? spacing(at, at - 1) : kNaN, i + 1 < n ? spacing(at, at + 1) : kNaN);
+            const double inColumn =
+                nearer(j > 0 ? spacing(at, at - n) : kNaN, j + 1 < n ? spacing(at, at + n) : kNaN);
+            const double margin = std::min(std::max(inRow, inColumn), largest);
+            if (std::isfinite(margin) && nearImage(image, xs[at], ys[at], margin)) {
+                return true;
+            }
+        }
+    return false;
+}
+
+/// The present tiles, level by level, with their children's bits.
+struct PlannedTile {
+    PatchId id;
+    std::uint8_t presentChildren = 0;
+};
+
+struct Planner {
+    const TerrainFrame& frame;
+    ImageryImage& image;
+    int finestLevel = 0;
+    std::vector<PlannedTile> tiles;
+    std::vector<double> xs, ys;
+
+    // Depth first: whether `id` is present (it is when it overlaps, or is a root).
+    bool visit(const PatchId& id, bool root) {
+        if (!overlaps(frame, image, id, xs, ys) && !root) return false;
+        const std::size_t at = tiles.size();
+        tiles.push_back({id, 0});
+        if (id.level < finestLevel)
+            for (int c = 0; c < 4; ++c) {
+                const PatchId child{id.level + 1, id.x * 2 + (c & 1), id.y * 2 + (c >> 1)};
+                if (visit(child, false)) tiles[at].presentChildren |= std::uint8_t(1U << c);
+            }
+        return true;
+    }
+};
+
+/// A window of the image averaged over blocks of 2^k, read for one tile.
+struct BlockWindow {
+    int k = 0;
+    std::int64_t blocksX = 0, blocksY = 0;  // of the whole averaged image
+    std::int64_t x0 = 0, y0 = 0;            // the window's first block (x0 may be < 0: wrapped)
+    int w = 0, h = 0;
+    std::vector<std::uint8_t> rgba;
+
+    // Premultiplied colour of block (bx, by) of the averaged image; 0 outside it.
+    void blockAt(std::int64_t bx, std::int64_t by, double out[4]) const {
+        out[0] = out[1] = out[2] = out[3] = 0.0;
+        const std::int64_t lx = bx - x0, ly = by - y0;
+        if (ly < 0 || ly >= h || lx < 0 || lx >= w) return;
+        if (by < 0 || by >= blocksY) return;
+        const std::uint8_t* p = &rgba[static_cast<std::size_t>(ly * w + lx) * 4];
+        const double a = p[3] / 255.0;
+        out[0] = p[0] * a;
+        out[1] = p[1] * a;
+        out[2] = p[2] * a;
+        out[3] = p[3];
+    }
+};
+
+class TileSampler {
+public:
+    TileSampler(const TerrainFrame& frame, ImageryImage& image, std::vector<int> levelK)
+        : m_frame(frame), m_image(image), m_levelK(std::move(levelK)) {}
+
+    Status sample(const PatchId& id, ImageryTile& tile) {
+        constexpr int n = kImageryTileTexels;
+        m_xs.resize(std::size_t{n} * n);
+        m_ys.resize(m_xs.size());
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i)
+                m_frame.point(id, i + 0.5, j + 0.5, m_xs[static_cast<std::size_t>(j * n + i)],
+                              m_ys[static_cast<std::size_t>(j * n + i)]);
+        m_image.toPixels(m_xs, m_ys);
+        const bool wraps = m_image.wrapsColumns();
+        const double width = static_cast<double>(m_image.width());
+        // Unwrap around the tile's centre, so that a tile across the image's east edge reads
+        // one window that continues past it.
+        if (wraps) {
+            const double centre = m_xs[static_cast<std::size_t>(n / 2 * n + n / 2)];
+            if (std::isfinite(centre))
+                for (double& x : m_xs)
+                    if (std::isfinite(x)) x += width * std::round((centre - x) / width);
+        }
+        BlockWindow& win = m_window;
+        win.k = m_levelK[static_cast<std::size_t>(id.level)];
+        for (;; ++win.k) {
+            const double scale = std::ldexp(1.0, win.k);
+            win.blocksX = (m_image.width() + (std::int64_t{1} << win.k) - 1) >> win.k;
+            win.blocksY = (m_image.height() + (std::int64_t{1} << win.k) - 1) >> win.k;
+            double minX = std::numeric_limits<double>::infinity(), maxX = -minX, minY = minX,
+                   maxY = -minX;
+            for (std::size_t t = 0; t < m_xs.size(); ++t) {
+                if (!std::isfinite(m_xs[t]) || !std::isfinite(m_ys[t])) continue;
+                minX = std::min(minX, m_xs[t] / scale);
+                maxX = std::max(maxX, m_xs[t] / scale);
+                minY = std::min(minY, m_ys[t] / scale);
+                maxY = std::max(maxY, m_ys[t] / scale);
+            }
+            if (!(minX <= maxX)) {  // nothing placed
+                win.w = win.h = 0;
+                break;
+            }
+            std::int64_t x0 = static_cast<std::int64_t>(std::floor(minX)) - 1;
+            std::int64_t x1 = static_cast<std::int64_t>(std::floor(maxX)) + 2;
+            std::int64_t y0 = static_cast<std::int64_t>(std::floor(minY)) - 1;
+            std::int64_t y1 = static_cast<std::int64_t>(std::floor(maxY)) + 2;
+            y0 = std::clamp<std::int64_t>(y0, 0, win.blocksY);
+            y1 = std::clamp<std::int64_t>(y1, 0, win.blocksY);
+            if (wraps) {
+                x1 = std::min(x1, x0 + win.blocksX);
+            } else {
+                x0 = std::clamp<std::int64_t>(x0, 0, win.blocksX);
+                x1 = std::clamp<std::int64_t>(x1, 0, win.blocksX);
+            }
+            if ((x1 - x0) * (y1 - y0) > kMaxWindowBlocks) continue;
+            win.x0 = x0;
+            win.y0 = y0;
+            win.w = static_cast<int>(x1 - x0);
+            win.h = static_cast<int>(y1 - y0);
+            break;
+        }
+        tile.id = id;
+        tile.rgba.assign(kImageryTileBytes, 0);
+        if (win.w > 0 && win.h > 0) {
+            win.rgba.resize(static_cast<std::size_t>(win.w) * static_cast<std::size_t>(win.h) * 4);
+            if (Status s = readWindow(); !s) return s;
+            const double scale = std::ldexp(1.0, win.k);
+            for (std::size_t t = 0; t < m_xs.size(); ++t) {
+                if (!std::isfinite(m_xs[t]) || !std::isfinite(m_ys[t])) continue;
+                // Bilinear between block centres, premultiplied by alpha.
+                const double bx = m_xs[t] / scale - 0.5, by = m_ys[t] / scale - 0.5;
+                const double fx = std::floor(bx), fy = std::floor(by);
+                const double wx = bx - fx, wy = by - fy;
+                const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy);
+                double c[4] = {0, 0, 0, 0}, q[4];
+                const double weights[4] = {(1 - wx) * (1 - wy), wx * (1 - wy), (1 - wx) * wy,
+                                           wx * wy};
+                for (int corner = 0; corner < 4; ++corner) {
+                    win.blockAt(ix + (corner & 1), iy + (corner >> 1), q);
+                    for (int ch = 0; ch < 4; ++ch) c[ch] += weights[corner] * q[ch];
+                }
+                std::uint8_t* out = &tile.rgba[t * 4];
+                if (c[3] <= 0.0) continue;
+                const double unpremultiply = 255.0 / c[3];
+                for (int ch = 0; ch < 3; ++ch)
+                    out[ch] = static_cast<std::uint8_t>(
+                        std::clamp(std::lround(c[ch] * unpremultiply), 0L, 255L));
+                out[3] = static_cast<std::uint8_t>(std::clamp(std::lround(c[3]), 0L, 255L));
+            }
+        }
+        tile.info.present = true;
+        tile.info.opaque = true;
+        for (int r = kImageryBorderTexels; r < n - kImageryBorderTexels && tile.info.opaque; ++r)
+            for (int col = kImageryBorderTexels; col < n - kImageryBorderTexels; ++col)
+                if (tile.rgba[(static_cast<std::size_t>(r) * n + static_cast<std::size_t>(col)) *
+                                  4 +
+                              3] != 255) {
+                    tile.info.opaque = false;
+                    break;
+                }
+        return {};
+    }
+
+private:
+    // Fills the window, in pieces where it continues past the image's east edge.
+    Status readWindow() {
+        BlockWindow& win = m_window;
+        if (win.x0 >= 0 && win.x0 + win.w <= win.blocksX)
+            return m_image.readBlocks(win.x0, win.y0, win.w, win.h, win.k, win.rgba);
+        std::int64_t done = 0;
+        while (done < win.w) {
+            const std::int64_t bx = ((win.x0 + done) % win.blocksX + win.blocksX) % win.blocksX;
+            const std::int64_t count = std::min<std::int64_t>(win.w - done, win.blocksX - bx);
+            m_piece.resize(static_cast<std::size_t>(count * win.h) * 4);
+            if (Status s =
+                    m_image.readBlocks(bx, win.y0, static_cast<int>(count), win.h, win.k, m_piece);
+                !s)
+                return s;
+            for (int row = 0; row < win.h; ++row)
+                std::copy_n(&m_piece[static_cast<std::size_t>(row * count) * 4],
+                            static_cast<std::size_t>(count) * 4,
+                            &win.rgba[static_cast<std::size_t>(row * win.w + done) * 4]);
+            done += count;
+        }
+        return {};
+    }
+
+    const TerrainFrame& m_frame;
+    ImageryImage& m_image;
+    std::vector<int> m_levelK;
+    std::vector<double> m_xs, m_ys;
+    BlockWindow m_window;
+    std::vector<std::uint8_t> m_piece;
+};
+
+/// The image's pixel at its centre, in the frame's unit: the smaller of its two sides.
+double pixelSizeAtCentre(const TerrainFrame& frame, ImageryImage& image) {
+    const double cx = static_cast<double>(image.width()) / 2.0;
+    const double cy = static_cast<double>(image.height()) / 2.0;
+    const auto c = image.toTerrain(cx, cy);
+    const auto right = image.toTerrain(cx + 1.0, cy);
+    const auto down = image.toTerrain(cx, cy + 1.0);
+    return std::min(frame.distance(c[0], c[1], right[0], right[1]),
+                    frame.distance(c[0], c[1], down[0], down[1]));
+}
+
+}  // namespace
+
+Result<ImageryBuildReport> buildImageryLayer(const fs::path& pyramidDir,
+                                             const PyramidManifest& manifest,
+                                             const ImageryImageOpener& openImage,
+                                             const ImageryBuildOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    Result<std::unique_ptr<ImageryImage>> first = openImage();
+    if (!first) return first.error();
+    ImageryImage& image = *first.value();
+    const TerrainFrame frame(manifest);
+
+    // The finest level: the first whose texel is no coarser than the image's pixel.
+    const double pixel = pixelSizeAtCentre(frame, image);
+    if (!(pixel > 0.0) || !std::isfinite(pixel))
+        return Error{
+            fmt::format("{}: cannot place the image's centre on the pyramid's terrain "
+                        "(its CRS does not transform there)",
+                        image.name())};
+    int finest = frame.rootLevel();
+    while (finest < frame.deepestLevel() && frame.texelSize(finest) > pixel) ++finest;
+    // Each level averages the image over blocks of 2^k pixels, k from its texel's size.
+    std::vector<int> levelK(static_cast<std::size_t>(finest) + 1, 0);
+    for (int l = frame.rootLevel(); l <= finest; ++l)
+        levelK[static_cast<std::size_t>(l)] =
+            std::max(0, static_cast<int>(std::floor(std::log2(frame.texelSize(l) / pixel))));
+
+    // Pass 1: which tiles.
+    Planner planner{frame, image, finest, {}, {}, {}};
+    bool any = false;
+    for (std::int64_t y = 0; y < frame.tilesY(frame.rootLevel()); ++y)
+        for (std::int64_t x = 0; x < frame.tilesX(frame.rootLevel()); ++x) {
+            const PatchId root{frame.rootLevel(), x, y};
+            any = overlaps(frame, image, root, planner.xs, planner.ys) || any;
+            planner.visit(root, true);
+        }
+    if (!any)
+        return Error{fmt::format("{}: does not overlap the pyramid {} (nothing written)",
+                                 image.name(), pyramidDir.string())};
+
+    // Pass 2: sample and write, a few threads, each with its own image.
+    const fs::path layerDir = pyramidDir / "imagery" / options.name;
+    Result<ImageryLayerWriter> writer = ImageryLayerWriter::create(layerDir, options.encoding);
+    if (!writer) return writer.error();
+    const unsigned threads = options.threads > 0
+                                 ? static_cast<unsigned>(options.threads)
+                                 : std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
+    std::atomic<std::size_t> next{0};
+    std::mutex errorMutex;
+    std::optional<Error> failure;
+    auto work = [&](ImageryImage* own) {
+        std::unique_ptr<ImageryImage> opened;
+        if (!own) {
+            Result<std::unique_ptr<ImageryImage>> o = openImage();
+            if (!o) {
+                std::lock_guard lock(errorMutex);
+                if (!failure) failure = o.error();
+                return;
+            }
+            opened = std::move(o).value();
+            own = opened.get();
+        }
+        TileSampler sampler(frame, *own, levelK);
+        ImageryTile tile;
+        for (std::size_t i = next++; i < planner.tiles.size(); i = next++) {
+            {
+                std::lock_guard lock(errorMutex);
+                if (failure) return;
+            }
+            Status s = sampler.sample(planner.tiles[i].id, tile);
+            tile.info.presentChildren = planner.tiles[i].presentChildren;
+            if (s) s = writer.value().writeTile(tile);
+            if (!s) {
+                std::lock_guard lock(errorMutex);
+                if (!failure) failure = s.error();
+                return;
+            }
+        }
+    };
+    {
+        std::vector<std::jthread> pool;
+        for (unsigned t = 1; t < std::min<std::size_t>(threads, planner.tiles.size()); ++t)
+            pool.emplace_back(work, nullptr);
+        work(&image);
+    }
+    if (failure) return *failure;
+    if (Status s = writer.value().finish(options.replaceExisting); !s) return s.error();
+
+    ImageryBuildReport report;
+    report.layer.name = options.name;
+    report.layer.kind = std::string(ManifestImageryLayer::kStoredKind);
+    report.layer.folder = (fs::path("imagery") / options.name).generic_string();
+    report.layer.input = options.input;
+    report.layer.codec = "webp";
+    report.layer.coarsestLevel = frame.rootLevel();
+    report.layer.finestLevel = finest;
+    report.layer.opacity = options.opacity;
+    report.tiles = writer.value().index().presentTiles();
+    report.bytes = writer.value().index().bytes();
+    report.pixelSizeAtCentre = pixel;
+    report.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return report;
+}
+
+}  // namespace terrain::io

@@ -1,0 +1,195 @@
+// buildImageryLayer (issue 47) over a fake image placed on a planar pyramid's samples: the
+// finest level follows the image's pixel, tiles exist where the image is (each root always),
+// borders hold what the neighbour holds, coarse levels are low-passed (no aliasing), and an
+// image beside the terrain is refused with nothing written.
+#include "TempFolder.h"
+
+#include "terrain/build/ImageryLayerBuilder.h"
+#include "terrain/pyramid/ImageryTileReader.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+namespace terrain::io {
+namespace {
+
+namespace fs = std::filesystem;
+using Colour = std::function<std::array<std::uint8_t, 4>(std::int64_t, std::int64_t)>;
+
+// Pixel (x, y) covers finest samples [x0 + x · size, …): a picture laid on the DEM's samples
+// (sample c's centre at c + 0.5 in this frame, as the image's pixel centres are).
+class FakeImage final : public ImageryImage {
+public:
+    FakeImage(std::int64_t w, std::int64_t h, double x0, double y0, double size, Colour colour)
+        : m_w(w), m_h(h), m_x0(x0), m_y0(y0), m_size(size), m_colour(std::move(colour)) {}
+    const std::string& name() const override { return m_name; }
+    std::int64_t width() const override { return m_w; }
+    std::int64_t height() const override { return m_h; }
+    bool wrapsColumns() const override { return false; }
+    void toPixels(std::span<double> xs, std::span<double> ys) override {
+        for (std::size_t i = 0; i < xs.size(); ++i) {
+            xs[i] = (xs[i] + 0.5 - m_x0) / m_size;
+            ys[i] = (ys[i] + 0.5 - m_y0) / m_size;
+        }
+    }
+    std::array<double, 2> toTerrain(double x, double y) override {
+        return {x * m_size + m_x0 - 0.5, y * m_size + m_y0 - 0.5};
+    }
+    Status readBlocks(std::int64_t bx0, std::int64_t by0, int w, int h, int k,
+                      std::span<std::uint8_t> rgba) override {
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) {
+                double sum[4] = {0, 0, 0, 0};
+                int n = 0;
+                for (std::int64_t y = (by0 + j) << k; y < std::min(m_h, (by0 + j + 1) << k); ++y)
+                    for (std::int64_t x = (bx0 + i) << k; x < std::min(m_w, (bx0 + i + 1) << k);
+                         ++x, ++n) {
+                        const auto c = m_colour(x, y);
+                        for (int ch = 0; ch < 4; ++ch) sum[ch] += c[static_cast<std::size_t>(ch)];
+                    }
+                for (int ch = 0; ch < 4; ++ch)
+                    rgba[static_cast<std::size_t>((j * w + i) * 4 + ch)] =
+                        static_cast<std::uint8_t>(std::lround(sum[ch] / std::max(n, 1)));
+            }
+        return {};
+    }
+
+private:
+    std::string m_name{"fake.tif"};
+    std::int64_t m_w, m_h;
+    double m_x0, m_y0, m_size;
+    Colour m_colour;
+};
+
+ImageryImageOpener opener(std::int64_t w, std::int64_t h, double x0, double y0, double size,
+                          Colour colour) {
+    return [=]() -> Result<std::unique_ptr<ImageryImage>> {
+        return std::unique_ptr<ImageryImage>(new FakeImage(w, h, x0, y0, size, colour));
+    };
+}
+
+std::array<std::uint8_t, 4> texel(const ImageryTile& t, int column, int row) {
+    const std::size_t at =
+        (static_cast<std::size_t>(row) * kImageryTileTexels + static_cast<std::size_t>(column)) * 4;
+    return {t.rgba[at], t.rgba[at + 1], t.rgba[at + 2], t.rgba[at + 3]};
+}
+
+// 513 × 513 samples, patches of 129: levels 0 … 2, 4 × 4 patches at the finest.
+PyramidManifest planar() {
+    return PyramidManifest::forLayout(PyramidLayout::create(513, 513).value());
+}
+
+ImageryBuildOptions lossless(const std::string& name) {
+    ImageryBuildOptions o;
+    o.name = name;
+    o.input = name + ".tif";
+    o.encoding.lossless = true;
+    o.threads = 2;
+    return o;
+}
+
+TEST(ImageryLayerBuilder, FinestLevelFollowsThePixelAndBordersMatch) {
+    test::TempFolder pyramid;
+    // Half a sample a pixel over the whole DEM: texels of ≤ 0.5 samples, 128 / 248 · 2^-l.
+    const Colour smooth = [](std::int64_t x, std::int64_t y) {
+        return std::array<std::uint8_t, 4>{static_cast<std::uint8_t>(x % 251),
+                                           static_cast<std::uint8_t>(y % 241),
+                                           static_cast<std::uint8_t>((x + y) % 199), 255};
+    };
+    const auto built = buildImageryLayer(
+        pyramid.path(), planar(), opener(1026, 1026, 0.0, 0.0, 0.5, smooth), lossless("photo"));
+    ASSERT_TRUE(built.ok()) << built.error().message;
+    EXPECT_EQ(built.value().layer.coarsestLevel, 0);
+    EXPECT_EQ(built.value().layer.finestLevel, 3);  // 128/248/2 = 0.26 ≤ 0.5 < 0.52
+    EXPECT_EQ(built.value().layer.folder, "imagery/photo");
+    auto reader = ImageryTileReader::open(pyramid.path() / "imagery" / "photo", 0, 3);
+    ASSERT_TRUE(reader.ok()) << reader.error().message;
+    EXPECT_EQ(reader.value()->index().presentTiles(), 1 + 4 + 16 + 64);
+    ImageryTile left, right, below;
+    for (int level = 1; level <= 3; ++level) {
+        ASSERT_TRUE(reader.value()->readTile({level, 0, 0}, left).ok());
+        ASSERT_TRUE(reader.value()->readTile({level, 1, 0}, right).ok());
+        ASSERT_TRUE(reader.value()->readTile({level, 0, 1}, below).ok());
+        EXPECT_TRUE(left.info.opaque);
+        EXPECT_EQ(left.info.presentChildren, level < 3 ? 0b1111 : 0);
+        // Stored texel 252 + k of a tile lies where texel 4 + k of its east neighbour does.
+        int worst = 0;
+        for (int k = -4; k < 4; ++k)
+            for (int r = 0; r < kImageryTileTexels; ++r)
+                for (int ch = 0; ch < 4; ++ch) {
+                    const auto a = texel(left, 252 + k, r), b = texel(right, 4 + k, r);
+                    const auto c = texel(left, r, 252 + k), d = texel(below, r, 4 + k);
+                    worst = std::max({worst, std::abs(int(a[ch]) - int(b[ch])),
+                                      std::abs(int(c[ch]) - int(d[ch]))});
+                }
+        EXPECT_LE(worst, 1) << "level " << level;
+    }
+}
+
+TEST(ImageryLayerBuilder, CoarseLevelsAreLowPassed) {
+    test::TempFolder pyramid;
+    // A checkerboard of single pixels, a quarter sample each: at the root a texel spans
+    // about 8 pixels, and must be grey, not a moiré of black and white.
+    const Colour checker = [](std::int64_t x, std::int64_t y) {
+        const std::uint8_t v = (x + y) % 2 == 0 ? 255 : 0;
+        return std::array<std::uint8_t, 4>{v, v, v, 255};
+    };
+    const auto built = buildImageryLayer(
+        pyramid.path(), planar(), opener(2052, 2052, 0.0, 0.0, 0.25, checker), lossless("checker"));
+    ASSERT_TRUE(built.ok()) << built.error().message;
+    EXPECT_EQ(built.value().layer.finestLevel, 4);  // past the pyramid's finest, 2
+    auto reader = ImageryTileReader::open(pyramid.path() / "imagery" / "checker", 0, 4);
+    ASSERT_TRUE(reader.ok());
+    ImageryTile root;
+    ASSERT_TRUE(reader.value()->readTile({0, 0, 0}, root).ok());
+    for (int r = 20; r < 230; r += 7)
+        for (int c = 20; c < 230; c += 5)
+            EXPECT_NEAR(texel(root, c, r)[0], 128, 8) << c << " " << r;
+}
+
+TEST(ImageryLayerBuilder, PartialImageMakesPartialLayer) {
+    test::TempFolder pyramid;
+    // One sample a pixel over the DEM's south-east quarter only.
+    const Colour grey = [](std::int64_t, std::int64_t) {
+        return std::array<std::uint8_t, 4>{90, 90, 90, 255};
+    };
+    const auto built = buildImageryLayer(
+        pyramid.path(), planar(), opener(200, 200, 300.0, 300.0, 1.0, grey), lossless("quarter"));
+    ASSERT_TRUE(built.ok()) << built.error().message;
+    EXPECT_EQ(built.value().layer.finestLevel, 2);
+    auto reader = ImageryTileReader::open(pyramid.path() / "imagery" / "quarter", 0, 2);
+    ASSERT_TRUE(reader.ok());
+    ImageryTile tile;
+    ASSERT_TRUE(reader.value()->readTile({0, 0, 0}, tile).ok());
+    EXPECT_TRUE(tile.info.present);
+    EXPECT_FALSE(tile.info.opaque);
+    EXPECT_EQ(tile.info.presentChildren, 0b1000);  // only the south-east child
+    EXPECT_EQ(texel(tile, 20, 20)[3], 0);          // north-west: clear
+    EXPECT_EQ(texel(tile, 200, 200), (std::array<std::uint8_t, 4>{90, 90, 90, 255}));
+    ASSERT_TRUE(reader.value()->readTile({1, 0, 0}, tile).ok());
+    EXPECT_FALSE(tile.info.present);
+    // Samples 300 … 500 at level 2 (128 samples a patch): patches 2 and 3 in each direction.
+    for (std::int64_t y = 0; y < 4; ++y)
+        for (std::int64_t x = 0; x < 4; ++x) {
+            ASSERT_TRUE(reader.value()->readTile({2, x, y}, tile).ok());
+            EXPECT_EQ(tile.info.present, x >= 2 && y >= 2) << x << " " << y;
+        }
+}
+
+TEST(ImageryLayerBuilder, ImageBesideTheTerrainIsRefusedAndNothingWritten) {
+    test::TempFolder pyramid;
+    const Colour grey = [](std::int64_t, std::int64_t) {
+        return std::array<std::uint8_t, 4>{90, 90, 90, 255};
+    };
+    const auto built = buildImageryLayer(
+        pyramid.path(), planar(), opener(100, 100, 5000.0, 0.0, 1.0, grey), lossless("beside"));
+    ASSERT_FALSE(built.ok());
+    EXPECT_NE(built.error().message.find("does not overlap"), std::string::npos);
+    EXPECT_NE(built.error().message.find("fake.tif"), std::string::npos);
+    EXPECT_FALSE(fs::exists(pyramid.path() / "imagery"));
+}
+
+}  // namespace
+}  // namespace terrain::io
