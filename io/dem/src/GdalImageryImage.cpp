@@ -5,14 +5,18 @@
 #include "terrain/dem/OpenImageryImage.h"
 
 #include "GdalSession.h"
+#include "ImageFileTruncation.h"
 
 #include <fmt/format.h>
 #include <gdal_utils.h>
 
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace terrain::io {
@@ -33,6 +37,45 @@ using ImageryTransform = std::unique_ptr<OGRCoordinateTransformation, ImageryTra
 std::string imageryCrsName(const OGRSpatialReference& crs) {
     const char* name = crs.GetName();
     return name != nullptr && *name != '\0' ? std::string(name) : std::string("unnamed CRS");
+}
+
+// "truncated: …" when a block of a GeoTIFF lies past the end of its file (GDAL would read the
+// blocks before it and fail only when a tile reaches the cut), or a PNG or JPEG is cut
+// (ImageFileTruncation.h). Reads the TIFF's block table, never pixels.
+std::optional<std::string> findImageryTruncation(GDALDataset* ds, const std::string& path) {
+    std::error_code ec;
+    const auto fileBytes = std::filesystem::file_size(path, ec);
+    if (ec) return std::nullopt;  // not a plain file (a VRT's sources are checked by GDAL)
+    const std::string driver = ds->GetDriver() ? ds->GetDriver()->GetDescription() : "";
+    if (driver == "PNG") return detail::findPngTruncation(path, fileBytes);
+    if (driver == "JPEG") return detail::findJpegTruncation(path, fileBytes);
+    if (driver != "GTiff") return std::nullopt;
+    const char* interleave = ds->GetMetadataItem("INTERLEAVE", "IMAGE_STRUCTURE");
+    const int bands =
+        interleave != nullptr && std::string(interleave) == "BAND" ? ds->GetRasterCount() : 1;
+    for (int b = 1; b <= bands; ++b) {
+        GDALRasterBand* band = ds->GetRasterBand(b);
+        int bw = 0, bh = 0;
+        band->GetBlockSize(&bw, &bh);
+        const int nx = (ds->GetRasterXSize() + bw - 1) / bw,
+                  ny = (ds->GetRasterYSize() + bh - 1) / bh;
+        for (int y = 0; y < ny; ++y)
+            for (int x = 0; x < nx; ++x) {
+                const char* offset =
+                    band->GetMetadataItem(fmt::format("BLOCK_OFFSET_{}_{}", x, y).c_str(), "TIFF");
+                const char* size =
+                    band->GetMetadataItem(fmt::format("BLOCK_SIZE_{}_{}", x, y).c_str(), "TIFF");
+                if (offset == nullptr || size == nullptr) continue;  // sparse
+                const unsigned long long end =
+                    std::strtoull(offset, nullptr, 10) + std::strtoull(size, nullptr, 10);
+                if (end > fileBytes)
+                    return fmt::format(
+                        "truncated: block ({}, {}) of band {} ends at byte {}, past "
+                        "the end of the file ({} bytes)",
+                        x, y, b, end, fileBytes);
+            }
+    }
+    return std::nullopt;
 }
 
 class GdalImageryImage final : public ImageryImage {
@@ -160,6 +203,8 @@ Result<std::unique_ptr<ImageryImage>> openImageryImage(const std::string& path,
         return Error{fmt::format("{}: cannot open as an image: {}", path,
                                  errors.message("GDAL does not recognise it"))};
     GDALDataset* ds = image->m_dataset.get();
+    if (const auto truncated = findImageryTruncation(ds, path))
+        return Error{fmt::format("{}: {}", path, *truncated)};
     if (ds->GetRasterCount() == 0) {
         char** subdatasets = ds->GetMetadata("SUBDATASETS");
         if (subdatasets != nullptr && subdatasets[0] != nullptr) {

@@ -192,15 +192,11 @@ TEST_F(ImageryImageTest, ATruncatedFileIsAnErrorNamingIt) {
         return (b * 31 + x * 7 + y * 13) % 256;
     });
     std::filesystem::resize_file(path, std::filesystem::file_size(path) / 2);
-    auto image = openImageryImage(path, globe());
-    if (!image.ok()) {
-        EXPECT_NE(image.error().message.find(path), std::string::npos);
-        return;
-    }
-    std::vector<std::uint8_t> rgba(std::size_t{kW} * kH * 4);
-    const Status read = image.value()->readBlocks(0, 0, kW, kH, 0, rgba);
-    ASSERT_FALSE(read.ok());
-    EXPECT_NE(read.error().message.find(path), std::string::npos);
+    // Refused at open, though the blocks before the cut would read.
+    const auto image = openImageryImage(path, globe());
+    ASSERT_FALSE(image.ok());
+    EXPECT_NE(image.error().message.find(path), std::string::npos);
+    EXPECT_NE(image.error().message.find("truncated"), std::string::npos) << image.error().message;
 }
 
 TEST_F(ImageryImageTest, MissingFileAndWholeEarthWrap) {
