@@ -22,6 +22,7 @@ namespace fs = std::filesystem;
 struct ImageryLayerWriter::State {
     fs::path layerDir;
     fs::path temporaryDir;
+    fs::path createdParent;  // the parent folder, when create() made it
     imagery::Encoding encoding;
     std::mutex mutex;  // guards everything below
     std::map<imagery::GroupId, imagery::GroupTable> tables;
@@ -33,6 +34,7 @@ struct ImageryLayerWriter::State {
         if (!finished && !temporaryDir.empty()) {
             std::error_code ec;
             fs::remove_all(temporaryDir, ec);
+            if (!createdParent.empty()) fs::remove(createdParent, ec);  // only if empty
         }
     }
 };
@@ -74,7 +76,8 @@ Result<ImageryLayerWriter> ImageryLayerWriter::create(const fs::path& layerDir,
     const fs::path temporary =
         parent / fmt::format(".{}.tmp-{}", layerDir.filename().string(), ::getpid());
     std::error_code ec;
-    fs::create_directories(parent, ec);
+    if (!fs::exists(parent, ec) && fs::create_directories(parent, ec))
+        state->createdParent = parent;
     fs::remove_all(temporary, ec);  // a stale one of this process id: ours by name
     if (!fs::create_directories(temporary, ec) || ec)
         return Error{fmt::format("{}: cannot create {}: {}", layerDir.string(), temporary.string(),
