@@ -1,5 +1,6 @@
 // terrain-inspect: what a pyramid on disk holds (docs/pyramid-format.md), and with --verify
 // whether every stored patch is intact and self-consistent.
+#include "ImageryInspection.h"
 #include "PyramidInspection.h"
 #include "SourceBand.h"
 
@@ -43,8 +44,31 @@ std::string bytesText(std::uintmax_t bytes) {
     return fmt::format("{} B", bytes);
 }
 
-void printText(const io::PyramidReader& reader, const inspect::Inspection& inspection,
-               bool verify) {
+void printImagery(const std::vector<inspect::ImageryLayerSummary>& layers) {
+    if (layers.empty()) return;
+    fmt::print("\nimagery layers, bottom first:\n");
+    for (const inspect::ImageryLayerSummary& l : layers)
+        fmt::print("  {} ({}): levels {} to {}, opacity {}, {} tiles, {}{}\n", l.name, l.kind,
+                   l.coarsestLevel, l.finestLevel, l.opacity, l.tiles, bytesText(l.bytes),
+                   l.verified >= 0 ? fmt::format("; {} tiles read and checked", l.verified) : "");
+}
+
+Json imageryJson(const std::vector<inspect::ImageryLayerSummary>& layers) {
+    Json out = Json::array();
+    for (const inspect::ImageryLayerSummary& l : layers)
+        out.push_back({{"name", l.name},
+                       {"kind", l.kind},
+                       {"coarsestLevel", l.coarsestLevel},
+                       {"finestLevel", l.finestLevel},
+                       {"opacity", l.opacity},
+                       {"tiles", l.tiles},
+                       {"bytes", l.bytes},
+                       {"tilesVerified", l.verified >= 0 ? Json(l.verified) : Json(nullptr)}});
+    return out;
+}
+
+void printText(const io::PyramidReader& reader, const inspect::Inspection& inspection, bool verify,
+               const std::vector<inspect::ImageryLayerSummary>& imagery) {
     const io::PyramidManifest& m = reader.manifest();
     const io::Georeference& g = m.georeference;
     fmt::print("pyramid {}: {} version {}\n", reader.folder().string(),
@@ -150,6 +174,7 @@ void printText(const io::PyramidReader& reader, const inspect::Inspection& inspe
                    inspection.verifySeconds > 0.0
                        ? static_cast<double>(inspection.patchesVerified) / inspection.verifySeconds
                        : 0.0);
+    printImagery(imagery);
     for (const inspect::Problem& p : inspection.problems) fmt::print("problem: {}\n", p.message);
     fmt::print("{}\n", inspection.problems.empty()
                            ? "no problems found"
@@ -307,6 +332,8 @@ int main(int argc, char** argv) {
     }
     inspect::Inspection inspection = inspect::inspectPyramid(reader.value(), options);
     if (shownPercent >= 0) std::fprintf(stderr, "\n");
+    const std::vector<inspect::ImageryLayerSummary> imagery =
+        inspect::inspectImagery(folder, reader.value().manifest(), verify, inspection.problems);
     std::optional<io::SourceCheckReport> sourceCheck;
     if (!sources.empty()) {
         const bool globe = reader.value().manifest().globe.has_value();
@@ -366,10 +393,11 @@ int main(int argc, char** argv) {
                 {"largestFilledDeviationM", sourceCheck->largestFilledDeviationM},
                 {"largestRimDifferenceM", sourceCheck->largestRimDifferenceM},
                 {"filledBeyondRim", sourceCheck->filledBeyondRimCount}};
+        summary["imagery"] = imageryJson(imagery);
         summary["ok"] = inspection.problems.empty();
         std::printf("%s\n", summary.dump(2).c_str());
     } else {
-        printText(reader.value(), inspection, verify);
+        printText(reader.value(), inspection, verify, imagery);
         if (sourceCheck) {
             fmt::print(
                 "source check: {} (sample, level) pairs, {} beyond Err(P); largest "
