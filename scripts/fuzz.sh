@@ -21,7 +21,7 @@ timeout=10
 parallel=1
 json=""
 seed=()
-targets="manifest shard camera-path dem-tiff dem-png dem-exr dem-hgt dem-netcdf dem-asc"
+targets="manifest shard imagery-tiles camera-path dem-tiff dem-png dem-exr dem-hgt dem-netcdf dem-asc"
 while [ $# -gt 0 ]; do
   case "$1" in
     # The same mutations each CI run, and a longer limit an input: CI machines are shared
