@@ -50,8 +50,8 @@
     /* The imagery layers' opacities, by the manifest's index (options.z of them drawn).    */     \
     VEC4(imageryOpacity)                                                                           \
     /* The imagery layers in the order they are composited, bottom first: manifest indices.  */    \
-    IVEC4(imageryOrder)                                                                        \
-    /* x: the anisotropy the imagery tiles' sampler filters with (1: trilinear only).      */  \
+    IVEC4(imageryOrder)                                                                            \
+    /* x: the anisotropy the imagery tiles' sampler filters with (1: trilinear only).      */      \
     VEC4(imagerySampling)
 
 #endif  // TERRAIN_FRAME_BLOCK_LAYOUT_H

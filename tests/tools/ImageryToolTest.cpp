@@ -154,6 +154,26 @@ TEST_F(ImageryTool, PugetSoundTextureOnItsDemExtent) {
     EXPECT_NE(verified.output.find("\"imagery\""), std::string::npos);
 }
 
+TEST_F(ImageryTool, AFifthLayerIsRefused) {
+    // One draw composites four layers: a fifth would be stored and never drawn.
+    TERRAIN_SHARED_DATA_OR_SKIP(dem, "puget_sound_1k.png");
+    TERRAIN_SHARED_DATA_OR_SKIP(texture, "puget_sound_texture_1k.png");
+    const fs::path puget = pyramidOf(dem, "puget-layers", "--vertical-scale 0.1 --spacing 10");
+    for (const char* name : {"a", "b", "c", "d"}) {
+        const ToolRun laid = run(TERRAIN_IMAGERY, puget.string() + " " + texture.string() +
+                                                      " --dem-extent --name " + name);
+        ASSERT_EQ(laid.status, 0) << laid.output;
+    }
+    const std::string before = manifestText(puget);
+    expectRefused(
+        run(TERRAIN_IMAGERY, puget.string() + " " + texture.string() + " --dem-extent --name e"),
+        puget, before, "already has 4 imagery layers", puget.string());
+    // Rebuilding one of the four is still possible.
+    const ToolRun replaced = run(TERRAIN_IMAGERY, puget.string() + " " + texture.string() +
+                                                      " --dem-extent --name b --replace");
+    EXPECT_EQ(replaced.status, 0) << replaced.output;
+}
+
 TEST_F(ImageryTool, BadInputIsRefusedAndNothingWritten) {
     TERRAIN_SHARED_DATA_OR_SKIP(luxembourg, "luxembourg_elev_30s.tif");
     TERRAIN_SHARED_DATA_OR_SKIP(rainier, "srtm3_n46w122_rainier.tif");

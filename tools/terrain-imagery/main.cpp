@@ -75,6 +75,14 @@ int main(int argc, char** argv) {
             fmt::format("{}: already has an imagery layer \"{}\" (--replace rebuilds it, "
                         "--name gives another)",
                         pyramid, name));
+    // One draw composites at most four layers (runtime ImagerySelection.h): a fifth would
+    // be stored and never drawn.
+    constexpr std::size_t kMostLayers = 4;
+    if (existing == manifest.imagery.size() && manifest.imagery.size() >= kMostLayers)
+        return fail(
+            fmt::format("{}: already has {} imagery layers, the most the draw "
+                        "composites (--replace rebuilds one of them by its --name)",
+                        pyramid, manifest.imagery.size()));
     const fs::path layerDir = fs::path(pyramid) / "imagery" / name;
     if (existing == manifest.imagery.size() && fs::exists(layerDir) && !replace)
         return fail(

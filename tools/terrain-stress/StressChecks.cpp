@@ -51,10 +51,14 @@ std::optional<std::string> StressChecks::streamerChecks(const runtime::TileStrea
     if (pool.layersUsed() > pool.capacity()) {
         return fmt::format("{} GPU layers used of {}", pool.layersUsed(), pool.capacity());
     }
+    // The queue holds the heights' requests and the imagery's (one I/O thread for both).
     const io::IoThreadStats io = streamer.ioStats();
-    if (io.queueDepth > streamer.loadsOutstanding()) {
-        return fmt::format("{} requests queued but the LOD wants only {} loads", io.queueDepth,
-                           streamer.loadsOutstanding());
+    const std::uint64_t imagery = streamer.imagery().requestsLive();
+    if (io.queueDepth > streamer.loadsOutstanding() + imagery) {
+        return fmt::format(
+            "{} requests queued but the LOD wants only {} loads and the "
+            "imagery {}",
+            io.queueDepth, streamer.loadsOutstanding(), imagery);
     }
     return std::nullopt;
 }
@@ -97,9 +101,17 @@ std::optional<std::string> StressChecks::afterDrain(const runtime::TileStreamer&
             io.requested, io.completed, io.cancelled, io.failed, io.queueDepth, io.inFlight,
             io.unpolled);
     }
-    if (io.requested != ledger.submitted) {
-        return fmt::format("the I/O thread saw {} requests, the streamer made {}", io.requested,
-                           ledger.submitted);
+    // One I/O thread serves the heights and the imagery: it saw both streamers' requests.
+    const runtime::ImageryRequestLedger& imagery = streamer.imagery().ledger();
+    if (imagery.submitted != imagery.ended()) {
+        return fmt::format("{} imagery requests made but {} ended", imagery.submitted,
+                           imagery.ended());
+    }
+    if (io.requested != ledger.submitted + imagery.submitted) {
+        return fmt::format(
+            "the I/O thread saw {} requests, the streamer made {} and the "
+            "imagery {}",
+            io.requested, ledger.submitted, imagery.submitted);
     }
     // Each failed patch is reported once (a patch may fail more than once: cancelled while
     // its read was ending, then requested again).

@@ -30,7 +30,8 @@ int pinDriModule(struct dl_phdr_info* info, std::size_t, void* pinned) {
 
 float textureAnisotropyWorthFiltering() {
     const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-    if (renderer != nullptr && std::string_view(renderer).find("llvmpipe") != std::string_view::npos)
+    if (renderer != nullptr &&
+        std::string_view(renderer).find("llvmpipe") != std::string_view::npos)
         return 1.0f;
     return maxTextureAnisotropy();
 }

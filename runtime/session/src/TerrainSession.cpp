@@ -166,7 +166,8 @@ const LodUpdateStats& TerrainSession::beginFrame(const Camera& camera) {
     m_lodStats = m_tree->update(camera, m_draws);
     addTileErrorsToVirtualDraws();
     assignSkirtDepths(m_draws, m_streamer->pool());
-    if (m_imagery) m_imageryStats = m_imagery->select(camera, m_draws, m_streamer->imagery(), *m_streamer);
+    if (m_imagery)
+        m_imageryStats = m_imagery->select(camera, m_draws, m_streamer->imagery(), *m_streamer);
     m_lodUpdateUs = std::chrono::duration<double, std::micro>(Clock::now() - start).count();
     return m_lodStats;
 }
@@ -195,8 +196,7 @@ TerrainDrawStats TerrainSession::draw(const Camera& camera, const TerrainStyle& 
     if (drawsFullPatches(m_method)) {
         TerrainStyle full = style;
         full.fixedTessFactor = m_surface->layout().blockQuads();
-        m_lastDraw =
-            m_renderer.draw(camera, m_streamer->pool(), m_draws, full, errorPx(), imagery);
+        m_lastDraw = m_renderer.draw(camera, m_streamer->pool(), m_draws, full, errorPx(), imagery);
         return m_lastDraw;
     }
     m_lastDraw = m_renderer.draw(camera, m_streamer->pool(), m_draws, style, errorPx(), imagery);
