@@ -101,7 +101,7 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
         s.thresholdPx = threshold;
         std::vector<double> triangles, patches, lodUs, gpuMs, drawMs, frameMs, errorMax, errorMean,
             errorP99, fixedMax, rawMax, exactMax, lodErrorMax, rmse, psnr, popping, lodSwitch,
-            jumps, shadingSeam;
+            jumps, shadingSeam, imageryPsnr, imageryTexels, imageryInRange;
         std::uint64_t horizonCulled = 0, visited = 0;
         for (const FrameRecord& r : records) {
             if (r.method != method || r.thresholdPx != threshold) continue;
@@ -147,6 +147,19 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
                 s.framesSeamOverSourceSlope += r.seamSlope > r.seamSourceSlopeP99 ? 1 : 0;
             }
             if (!std::isnan(r.shadingSeamLevels)) shadingSeam.push_back(r.shadingSeamLevels);
+            if (!std::isnan(r.imageryPsnrDb)) {
+                imageryPsnr.push_back(r.imageryPsnrDb);
+                if (std::isnan(s.imageryPsnrDbMin) || r.imageryPsnrDb < s.imageryPsnrDbMin) {
+                    s.imageryPsnrDbMin = r.imageryPsnrDb;
+                    s.imageryWorstFrame = static_cast<double>(r.frame);
+                }
+                s.imageryMaxLevels = std::isnan(s.imageryMaxLevels)
+                                         ? r.imageryMaxLevels
+                                         : std::max(s.imageryMaxLevels, r.imageryMaxLevels);
+                addTo(s.imageryVisiblePixelsTotal, r.imageryVisiblePixels);
+                imageryTexels.push_back(r.imageryTexelsPerPixel);
+                imageryInRange.push_back(r.imageryTexelsInRange);
+            }
             s.framesWaited += r.waitedForStreaming ? 1 : 0;
             s.framesUnsettled += r.settled ? 0 : 1;
         }
@@ -178,6 +191,11 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
         s.psnrDbMean = mean(psnr);
         s.psnrDbMin = minOf(psnr);
         s.poppingLevelsMean = mean(popping);
+        if (!imageryPsnr.empty()) {
+            s.imageryPsnrDbMean = mean(imageryPsnr);
+            s.imageryTexelsPerPixelMedian = percentile(imageryTexels, 50.0);
+            s.imageryTexelsInRangeMean = mean(imageryInRange);
+        }
         s.lodSwitchLevelsMean = mean(lodSwitch);
         s.lodSwitchJumpShareMean = mean(jumps);
         out.push_back(s);
@@ -234,6 +252,12 @@ Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRe
         {"non_finite_pixels", [](const R& r) { return number(r.nonFinitePixels); }},
         {"rmse", [](const R& r) { return number(r.rmse); }},
         {"psnr_db", [](const R& r) { return number(r.psnrDb); }},
+        {"imagery_psnr_db", [](const R& r) { return number(r.imageryPsnrDb); }},
+        {"imagery_max_levels", [](const R& r) { return number(r.imageryMaxLevels); }},
+        {"imagery_visible_pixels", [](const R& r) { return number(r.imageryVisiblePixels); }},
+        {"imagery_compared_pixels", [](const R& r) { return number(r.imageryComparedPixels); }},
+        {"imagery_texels_per_pixel", [](const R& r) { return number(r.imageryTexelsPerPixel); }},
+        {"imagery_texels_in_range", [](const R& r) { return number(r.imageryTexelsInRange); }},
         {"crack_pixels", [](const R& r) { return number(r.crackPixels); }},
         {"uncovered_pixels", [](const R& r) { return number(r.uncoveredPixels); }},
         {"diagonal_uncovered_pixels", [](const R& r) { return number(r.diagonalUncoveredPixels); }},
@@ -298,6 +322,16 @@ Status writeSummaryCsv(const std::filesystem::path& path,
         {"rmse_mean", [](const S& s) { return number(s.rmseMean); }},
         {"psnr_db_mean", [](const S& s) { return number(s.psnrDbMean); }},
         {"psnr_db_min", [](const S& s) { return number(s.psnrDbMin); }},
+        {"imagery_psnr_db_mean", [](const S& s) { return number(s.imageryPsnrDbMean); }},
+        {"imagery_psnr_db_min", [](const S& s) { return number(s.imageryPsnrDbMin); }},
+        {"imagery_worst_frame", [](const S& s) { return number(s.imageryWorstFrame); }},
+        {"imagery_max_levels", [](const S& s) { return number(s.imageryMaxLevels); }},
+        {"imagery_visible_pixels_total",
+         [](const S& s) { return number(s.imageryVisiblePixelsTotal); }},
+        {"imagery_texels_per_pixel_median",
+         [](const S& s) { return number(s.imageryTexelsPerPixelMedian); }},
+        {"imagery_texels_in_range_mean",
+         [](const S& s) { return number(s.imageryTexelsInRangeMean); }},
         {"crack_pixels_total", [](const S& s) { return number(s.crackPixelsTotal); }},
         {"popping_levels_mean", [](const S& s) { return number(s.poppingLevelsMean); }},
         {"lod_switch_levels_mean", [](const S& s) { return number(s.lodSwitchLevelsMean); }},

@@ -117,6 +117,17 @@ struct FrameRecord {
     double lodSwitchJumpShare = kNoValue;
     std::uint64_t referenceTriangles = 0;
     double referenceMs = kNoValue;
+    /// The draped imagery (unlit, no fog) against ImageryReference (every layer read from disk
+    /// at the level each pixel needs), over the pixels it wholly covers: PSNR (dB), the
+    /// largest channel difference (8-bit levels), pixels over ImageryFrameComparison::
+    /// kVisibleLevels, and the finest layer's texels per pixel (median; share in 0.5–2).
+    /// NaN where the pyramid has no imagery or the method drapes none.
+    double imageryPsnrDb = kNoValue;
+    double imageryMaxLevels = kNoValue;
+    double imageryVisiblePixels = kNoValue;
+    double imageryComparedPixels = kNoValue;
+    double imageryTexelsPerPixel = kNoValue;
+    double imageryTexelsInRange = kNoValue;
 };
 
 struct ThresholdSummary {
@@ -154,6 +165,14 @@ struct ThresholdSummary {
     double rmseMean = kNoValue;
     double psnrDbMean = kNoValue;
     double psnrDbMin = kNoValue;
+    /// FrameRecord::imagery*: the mean and worst (lowest) PSNR, and the worst frame.
+    double imageryPsnrDbMean = kNoValue;
+    double imageryPsnrDbMin = kNoValue;
+    double imageryWorstFrame = kNoValue;
+    double imageryMaxLevels = kNoValue;
+    double imageryVisiblePixelsTotal = kNoValue;
+    double imageryTexelsPerPixelMedian = kNoValue;
+    double imageryTexelsInRangeMean = kNoValue;
     std::uint64_t crackPixelsTotal = 0;
     std::uint64_t overdrawnPixelsTotal = 0;  ///< FrameRecord::overdrawnPixels over every frame
     /// FrameRecord::boundaryArtefactPixels over every frame; NaN where never measured.

@@ -24,6 +24,7 @@
 #include "StressPoses.h"
 #include "SurfaceKit.h"
 
+#include "LodFlags.h"
 #include "terrain/base/AtomicFile.h"
 #include "terrain/cache/GpuTilePool.h"
 #include "terrain/gl/HeadlessGlContext.h"
@@ -32,10 +33,10 @@
 #include "terrain/runtime/AccuracyProbe.h"
 #include "terrain/runtime/FlightPath.h"
 #include "terrain/runtime/ImageComparison.h"
+#include "terrain/runtime/ImageryReference.h"
 #include "terrain/runtime/LodStrategyFactory.h"
 #include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
-#include "LodFlags.h"
 #include "terrain/runtime/TerrainSession.h"
 
 #include <epoxy/gl.h>
@@ -50,6 +51,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -147,6 +149,13 @@ nlohmann::json summaryJson(const tools::ThresholdSummary& s) {
             {"non_finite_pixels_total", s.nonFinitePixelsTotal},
             {"psnr_db_mean", v(s.psnrDbMean)},
             {"psnr_db_min", v(s.psnrDbMin)},
+            {"imagery_psnr_db_mean", v(s.imageryPsnrDbMean)},
+            {"imagery_psnr_db_min", v(s.imageryPsnrDbMin)},
+            {"imagery_worst_frame", v(s.imageryWorstFrame)},
+            {"imagery_max_levels", v(s.imageryMaxLevels)},
+            {"imagery_visible_pixels_total", v(s.imageryVisiblePixelsTotal)},
+            {"imagery_texels_per_pixel_median", v(s.imageryTexelsPerPixelMedian)},
+            {"imagery_texels_in_range_mean", v(s.imageryTexelsInRangeMean)},
             {"rmse_mean", v(s.rmseMean)},
             {"crack_pixels_total", s.crackPixelsTotal},
             {"popping_levels_mean", v(s.poppingLevelsMean)},
@@ -179,6 +188,8 @@ struct ThresholdRun {
     std::optional<runtime::LodCapture> previous;
     std::optional<runtime::Camera> previousCamera;  ///< the previous flight frame's
     int unsettledFrames = 0;  ///< frames streaming did not settle for (not waited for again)
+    /// The lowest draped-imagery PSNR so far (its frame's picture is written).
+    double imageryWorstPsnrDb = std::numeric_limits<double>::infinity();
 };
 
 nlohmann::json methodNames(const std::vector<ThresholdRun>& runs) {
@@ -268,6 +279,13 @@ int run(const BenchOptions& o, const char* argv0) {
                                                     .clearColor = kit->measureBackground()}});
     if (!truth) return fail(truth.error().message);
     runtime::AccuracyProbe& probe = truth.value()->probe();
+    // The draped imagery's reference, where the pyramid has imagery (ImageryReference.h).
+    std::unique_ptr<runtime::ImageryReference> imageryReference;
+    if (!manifest.value().imagery.empty()) {
+        auto opened = runtime::ImageryReference::open(o.pyramid, manifest.value());
+        if (!opened) return fail(opened.error().message);
+        imageryReference = std::move(opened).value();
+    }
 
     std::vector<ThresholdRun> runs;
     const auto openRun = [&](runtime::LodMethod method, double threshold,
@@ -351,6 +369,8 @@ int run(const BenchOptions& o, const char* argv0) {
         style.fogDensityPerM = static_cast<float>(o.fogDensity);
         if (o.coarseOnly) style.fixedTessFactor = layout.blockQuads();
         style.coarseCells = !o.blocksOnly;
+        // The terrain's measures compare it with the reference's tint: imagery apart, below.
+        style.imagery = false;
         tools::FrameRecord rec;
         rec.method = r.methodName;
         rec.thresholdPx = r.thresholdPx;
@@ -402,6 +422,19 @@ int run(const BenchOptions& o, const char* argv0) {
             lodStats = session.beginFrame(camera);
         }
         runtime::LodCapture lod = probe.captureLod(session, camera, style);
+        // The same frame draped, unlit and without fog: where its imagery covers a pixel
+        // wholly, the pixel is the imagery's colour, which ImageryReference computes.
+        std::optional<runtime::FrameImages> draped;
+        if (imageryReference) {
+            runtime::TerrainStyle drapedStyle = style;
+            drapedStyle.imagery = true;
+            drapedStyle.imageryLighting = false;
+            drapedStyle.fogDensityPerM = 0.0f;
+            drapedStyle.measure = false;
+            runtime::TerrainDrawStats drapedStats;
+            draped = probe.captureImage(session, camera, drapedStyle, &drapedStats);
+            if (drapedStats.imageryLayers == 0) draped.reset();  // a method that drapes none
+        }
         runtime::FrameTelemetry telemetry;
         session.endFrame(telemetry);
         runtime::addStreamingCounts(telemetry, beforeSettle);
@@ -474,6 +507,46 @@ int run(const BenchOptions& o, const char* argv0) {
             const auto file = outputDir / fmt::format("sample-{}eps-{}-artefacts.png", r.fileTag,
                                                       thresholdName(r.thresholdPx));
             if (auto w = writePng(marked, file); !w) return w.error();
+        }
+        if (draped) {
+            runtime::TerrainStyle drapedStyle = style;
+            auto compared = imageryReference->compare(camera, *draped, drapedStyle);
+            if (!compared) return compared.error();
+            const runtime::ImageryFrameComparison& c = compared.value();
+            rec.imageryPsnrDb = c.psnrDb;
+            rec.imageryMaxLevels = c.maxLevels;
+            rec.imageryVisiblePixels = static_cast<double>(c.visiblePixels);
+            rec.imageryComparedPixels = static_cast<double>(c.comparedPixels);
+            rec.imageryTexelsPerPixel = c.texelsPerPixelP50;
+            rec.imageryTexelsInRange = c.texelsPerPixelInRange;
+            if (flight && c.comparedPixels > 0 && c.psnrDb < r.imageryWorstPsnrDb) {
+                // The worst frame so far: drawn, reference, and their difference × 8.
+                r.imageryWorstPsnrDb = c.psnrDb;
+                runtime::FrameImages picture = *draped;
+                const std::size_t pixels = picture.pixels();
+                picture.width = 3 * draped->width;
+                picture.rgba.assign(4 * 3 * pixels, 0);
+                for (std::size_t i = 0; i < pixels; ++i) {
+                    const std::size_t x = i % static_cast<std::size_t>(draped->width);
+                    const std::size_t y = i / static_cast<std::size_t>(draped->width);
+                    const std::size_t row = 3 * static_cast<std::size_t>(draped->width) * y;
+                    for (std::size_t k = 0; k < 4; ++k) {
+                        const int drawn = draped->rgba[4 * i + k];
+                        const int wanted = c.referenceRgba[4 * i + k];
+                        picture.rgba[4 * (row + x) + k] = static_cast<std::uint8_t>(drawn);
+                        picture.rgba[4 * (row + draped->width + x) + k] =
+                            static_cast<std::uint8_t>(k == 3 ? 255 : wanted);
+                        picture.rgba[4 * (row + 2 * draped->width + x) + k] =
+                            static_cast<std::uint8_t>(
+                                k == 3 ? 255
+                                       : std::min(255, 8 * std::abs(drawn - wanted)) *
+                                             (c.referenceRgba[4 * i + 3] / 255));
+                    }
+                }
+                const auto file = outputDir / fmt::format("imagery-worst-{}eps-{}.png", r.fileTag,
+                                                          thresholdName(r.thresholdPx));
+                if (auto w = writePng(picture, file); !w) return w.error();
+            }
         }
         rec.diagonalUncoveredPixels = a.diagonalUncoveredPixels;
         rec.poppingLevels = a.poppingLevels;

@@ -170,17 +170,7 @@ int TerrainRenderer::prepareImagery(const DrapedImagery& imagery, std::size_t pa
             l < layers ? static_cast<float>(selection.layerOpacity(l)) * style.imageryOpacity[i]
                        : 0.0f;
     }
-    // The style's order where it is a permutation of the layers drawn, else the manifest's.
-    std::array<bool, kMaxDrawnImageryLayers> seen{};
-    bool permutation = true;
-    for (int d = 0; d < layers; ++d) {
-        const int l = style.imageryOrder[static_cast<std::size_t>(d)];
-        permutation = permutation && l >= 0 && l < layers && !seen[static_cast<std::size_t>(l)];
-        if (permutation) seen[static_cast<std::size_t>(l)] = true;
-    }
-    for (int d = 0; d < kMaxDrawnImageryLayers; ++d)
-        m_frame.imageryOrder[static_cast<std::size_t>(d)] =
-            permutation && d < layers ? style.imageryOrder[static_cast<std::size_t>(d)] : d;
+    m_frame.imageryOrder = imageryDrawOrder(style, layers);
     m_frame.imagerySampling = {std::max(1.0f, imagery.maxAnisotropy), 0.0f, 0.0f, 0.0f};
     m_imageryTiles = &imagery.tiles;
     return layers;
@@ -196,7 +186,7 @@ TerrainDrawStats TerrainRenderer::submit(const cache::GpuTilePool& pool) {
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_IMAGERY_CHILDREN,
                          m_imageryChildren.id());
     }
-    const TerrainDrawStats stats = issueInstancedPatchDraw(
+    TerrainDrawStats stats = issueInstancedPatchDraw(
         pool, {.program = m_program,
                .vertexArray = m_vertexArray,
                .frame = m_frameBuffer.buffer(),
@@ -215,6 +205,7 @@ TerrainDrawStats TerrainRenderer::submit(const cache::GpuTilePool& pool) {
         glBindTextureUnit(TERRAIN_BINDING_IMAGERY_TILES, 0);
     }
     m_preparedInstances = 0;
+    stats.imageryLayers = m_frame.options[2];
     return stats;
 }
 

@@ -186,6 +186,20 @@ LodCapture AccuracyProbe::captureLod(LodStrategy& session, const Camera& camera,
     return capture;
 }
 
+FrameImages AccuracyProbe::captureImage(LodStrategy& session, const Camera& camera,
+                                        const TerrainStyle& style, TerrainDrawStats* stats) {
+    TERRAIN_ASSERT(
+        camera.viewportWidth == m_options.widthPx && camera.viewportHeight == m_options.heightPx,
+        "AccuracyProbe: the camera's viewport is not the probe's");
+    m_lodTarget.clear(m_options.clearColor, 0.0f);
+    {
+        const TargetScope scope(m_lodTarget);
+        const TerrainDrawStats drawn = session.draw(camera, style);
+        if (stats != nullptr) *stats = drawn;
+    }
+    return readFrameImages(m_lodTarget);
+}
+
 Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapture& lod,
                                              const ReferenceCapture& reference, double thresholdPx,
                                              const LodCapture* previousLod,

@@ -2,6 +2,7 @@
 // finest level follows the image's pixel, tiles exist where the image is (each root always),
 // borders hold what the neighbour holds, coarse levels are low-passed (no aliasing), and an
 // image beside the terrain is refused with nothing written.
+#include "FakeImageryImage.h"
 #include "TempFolder.h"
 
 #include "terrain/build/ImageryLayerBuilder.h"
@@ -15,61 +16,10 @@
 namespace terrain::io {
 namespace {
 
+using test::fakeImageryOpener;
+using Colour = test::ImageColour;
+
 namespace fs = std::filesystem;
-using Colour = std::function<std::array<std::uint8_t, 4>(std::int64_t, std::int64_t)>;
-
-// Pixel (x, y) covers finest samples [x0 + x · size, …): a picture laid on the DEM's samples
-// (sample c's centre at c + 0.5 in this frame, as the image's pixel centres are).
-class FakeImage final : public ImageryImage {
-public:
-    FakeImage(std::int64_t w, std::int64_t h, double x0, double y0, double size, Colour colour)
-        : m_w(w), m_h(h), m_x0(x0), m_y0(y0), m_size(size), m_colour(std::move(colour)) {}
-    const std::string& name() const override { return m_name; }
-    std::int64_t width() const override { return m_w; }
-    std::int64_t height() const override { return m_h; }
-    bool wrapsColumns() const override { return false; }
-    void toPixels(std::span<double> xs, std::span<double> ys) override {
-        for (std::size_t i = 0; i < xs.size(); ++i) {
-            xs[i] = (xs[i] + 0.5 - m_x0) / m_size;
-            ys[i] = (ys[i] + 0.5 - m_y0) / m_size;
-        }
-    }
-    std::array<double, 2> toTerrain(double x, double y) override {
-        return {x * m_size + m_x0 - 0.5, y * m_size + m_y0 - 0.5};
-    }
-    Status readBlocks(std::int64_t bx0, std::int64_t by0, int w, int h, int k,
-                      std::span<std::uint8_t> rgba) override {
-        for (int j = 0; j < h; ++j)
-            for (int i = 0; i < w; ++i) {
-                double sum[4] = {0, 0, 0, 0};
-                int n = 0;
-                for (std::int64_t y = (by0 + j) << k; y < std::min(m_h, (by0 + j + 1) << k); ++y)
-                    for (std::int64_t x = (bx0 + i) << k; x < std::min(m_w, (bx0 + i + 1) << k);
-                         ++x, ++n) {
-                        const auto c = m_colour(x, y);
-                        for (int ch = 0; ch < 4; ++ch) sum[ch] += c[static_cast<std::size_t>(ch)];
-                    }
-                for (int ch = 0; ch < 4; ++ch)
-                    rgba[static_cast<std::size_t>((j * w + i) * 4 + ch)] =
-                        static_cast<std::uint8_t>(std::lround(sum[ch] / std::max(n, 1)));
-            }
-        return {};
-    }
-
-private:
-    std::string m_name{"fake.tif"};
-    std::int64_t m_w, m_h;
-    double m_x0, m_y0, m_size;
-    Colour m_colour;
-};
-
-ImageryImageOpener opener(std::int64_t w, std::int64_t h, double x0, double y0, double size,
-                          Colour colour) {
-    return [=]() -> Result<std::unique_ptr<ImageryImage>> {
-        return std::unique_ptr<ImageryImage>(new FakeImage(w, h, x0, y0, size, colour));
-    };
-}
-
 std::array<std::uint8_t, 4> texel(const ImageryTile& t, int column, int row) {
     const std::size_t at =
         (static_cast<std::size_t>(row) * kImageryTileTexels + static_cast<std::size_t>(column)) * 4;
@@ -98,8 +48,9 @@ TEST(ImageryLayerBuilder, FinestLevelFollowsThePixelAndBordersMatch) {
                                            static_cast<std::uint8_t>(y % 241),
                                            static_cast<std::uint8_t>((x + y) % 199), 255};
     };
-    const auto built = buildImageryLayer(
-        pyramid.path(), planar(), opener(1026, 1026, 0.0, 0.0, 0.5, smooth), lossless("photo"));
+    const auto built =
+        buildImageryLayer(pyramid.path(), planar(),
+                          fakeImageryOpener(1026, 1026, 0.0, 0.0, 0.5, smooth), lossless("photo"));
     ASSERT_TRUE(built.ok()) << built.error().message;
     EXPECT_EQ(built.value().layer.coarsestLevel, 0);
     EXPECT_EQ(built.value().layer.finestLevel, 3);  // 128/248/2 = 0.26 ≤ 0.5 < 0.52
@@ -136,8 +87,9 @@ TEST(ImageryLayerBuilder, CoarseLevelsAreLowPassed) {
         const std::uint8_t v = (x + y) % 2 == 0 ? 255 : 0;
         return std::array<std::uint8_t, 4>{v, v, v, 255};
     };
-    const auto built = buildImageryLayer(
-        pyramid.path(), planar(), opener(2052, 2052, 0.0, 0.0, 0.25, checker), lossless("checker"));
+    const auto built = buildImageryLayer(pyramid.path(), planar(),
+                                         fakeImageryOpener(2052, 2052, 0.0, 0.0, 0.25, checker),
+                                         lossless("checker"));
     ASSERT_TRUE(built.ok()) << built.error().message;
     EXPECT_EQ(built.value().layer.finestLevel, 4);  // past the pyramid's finest, 2
     auto reader = ImageryTileReader::open(pyramid.path() / "imagery" / "checker", 0, 4);
@@ -155,8 +107,9 @@ TEST(ImageryLayerBuilder, PartialImageMakesPartialLayer) {
     const Colour grey = [](std::int64_t, std::int64_t) {
         return std::array<std::uint8_t, 4>{90, 90, 90, 255};
     };
-    const auto built = buildImageryLayer(
-        pyramid.path(), planar(), opener(200, 200, 300.0, 300.0, 1.0, grey), lossless("quarter"));
+    const auto built = buildImageryLayer(pyramid.path(), planar(),
+                                         fakeImageryOpener(200, 200, 300.0, 300.0, 1.0, grey),
+                                         lossless("quarter"));
     ASSERT_TRUE(built.ok()) << built.error().message;
     EXPECT_EQ(built.value().layer.finestLevel, 2);
     auto reader = ImageryTileReader::open(pyramid.path() / "imagery" / "quarter", 0, 2);
@@ -183,8 +136,9 @@ TEST(ImageryLayerBuilder, ImageBesideTheTerrainIsRefusedAndNothingWritten) {
     const Colour grey = [](std::int64_t, std::int64_t) {
         return std::array<std::uint8_t, 4>{90, 90, 90, 255};
     };
-    const auto built = buildImageryLayer(
-        pyramid.path(), planar(), opener(100, 100, 5000.0, 0.0, 1.0, grey), lossless("beside"));
+    const auto built =
+        buildImageryLayer(pyramid.path(), planar(),
+                          fakeImageryOpener(100, 100, 5000.0, 0.0, 1.0, grey), lossless("beside"));
     ASSERT_FALSE(built.ok());
     EXPECT_NE(built.error().message.find("does not overlap"), std::string::npos);
     EXPECT_NE(built.error().message.find("fake.tif"), std::string::npos);

@@ -136,6 +136,11 @@ public:
     /// them, a shaded style) its patch ids, and reads them back. Any LOD method (LodStrategy.h).
     LodCapture captureLod(LodStrategy& session, const Camera& camera, const TerrainStyle& style);
 
+    /// One draw of the session's frame in `style`, read back (no second draw without skirts,
+    /// no patch ids): the draped imagery's frame (ImageryReference.h).
+    FrameImages captureImage(LodStrategy& session, const Camera& camera, const TerrainStyle& style,
+                             TerrainDrawStats* stats = nullptr);
+
     /// The measures of `lod` against `reference` (same camera); with the previous frame's
     /// captures (same sequence of cameras) also popping. `thresholdPx` (ε) counts the
     /// pixels over it.
