@@ -44,7 +44,6 @@ ImageryStreamer::ImageryStreamer(io::IoThread& io, cache::ImageryTilePool pool,
     // The busiest frames' loads up front, so steady frames do not allocate.
     const auto capacity = static_cast<std::size_t>(m_pool.capacity());
     m_loads.reserve(2 * capacity);
-    m_spareLoadNodes.reserve(2 * capacity);
     // A layer without a source would fail every tile the draw asks for: one fault instead.
     m_layerUnopened.assign(static_cast<std::size_t>(m_layerCount), 0);
     for (int layer = 0; layer < m_layerCount; ++layer) {
@@ -92,7 +91,7 @@ void ImageryStreamer::takeCompletion(io::Completion& c) {
             // Reported once: a failed tile is never requested again.
             if (m_failed.insert(key).second)
                 m_faults.push_back({c.imageryLayer, c.id, std::move(c.error)});
-            if (load != m_loads.end() && load->second.liveRequests == 0) eraseLoad(load);
+            if (load != m_loads.end() && load->second.liveRequests == 0) m_loads.erase(load);
             break;
         case io::CompletionStatus::Cancelled:
             ++m_ledger.cancelled;
@@ -105,24 +104,13 @@ void ImageryStreamer::takeCompletion(io::Completion& c) {
 }
 
 ImageryStreamer::LoadState& ImageryStreamer::loadStateOf(const io::TileKey& key) {
-    if (const auto found = m_loads.find(key); found != m_loads.end()) return found->second;
-    const LoadState fresh{.firstWanted = Clock::now(),
-                          .firstWantedFrame = m_frame,
-                          .lastWantedFrame = m_frame,
-                          .liveRequests = 0,
-                          .cancelRequested = false};
-    if (!m_spareLoadNodes.empty()) {
-        LoadMap::node_type node = std::move(m_spareLoadNodes.back());
-        m_spareLoadNodes.pop_back();
-        node.key() = key;
-        node.mapped() = fresh;
-        return m_loads.insert(std::move(node)).position->second;
-    }
-    return m_loads.emplace(key, fresh).first->second;
-}
-
-void ImageryStreamer::eraseLoad(LoadMap::iterator it) {
-    m_spareLoadNodes.push_back(m_loads.extract(it));
+    return m_loads.findOrInsert(key, [&] {
+        return LoadState{.firstWanted = Clock::now(),
+                         .firstWantedFrame = m_frame,
+                         .lastWantedFrame = m_frame,
+                         .liveRequests = 0,
+                         .cancelRequested = false};
+    });
 }
 
 bool ImageryStreamer::uploadFromCache(const io::TileKey& key) {
@@ -173,7 +161,7 @@ void ImageryStreamer::want(int layer, const io::PatchId& id, float priority) {
             ++m_frameCounts.imageryLoadsResident;
         }
         // Resident now, or known absent: nothing left to load.
-        if (load.liveRequests == 0) eraseLoad(m_loads.find(key));
+        if (load.liveRequests == 0) m_loads.erase(m_loads.find(key));
         return;
     }
     // A live request is only re-prioritised: it may have finished, its completion waiting
@@ -198,7 +186,7 @@ void ImageryStreamer::endFrame(FrameTelemetry& t) {
         LoadState& load = it->second;
         if (m_frame - load.lastWantedFrame >= patience) {
             if (load.liveRequests == 0) {
-                eraseLoad(it);
+                m_loads.erase(it);
             } else if (!load.cancelRequested) {
                 m_io.cancel(it->first);  // false when it finished already: polled next frame
                 load.cancelRequested = true;
@@ -235,11 +223,8 @@ void ImageryStreamer::cancelAll() {
 }
 
 void ImageryStreamer::forgetIdleLoads() {
-    for (auto it = m_loads.begin(); it != m_loads.end();) {
-        const auto next = std::next(it);
-        if (it->second.liveRequests == 0) eraseLoad(it);
-        it = next;
-    }
+    for (auto it = m_loads.begin(); it != m_loads.end();)
+        it = it->second.liveRequests == 0 ? m_loads.erase(it) : std::next(it);
 }
 
 std::optional<std::string> ImageryStreamer::checkInvariants() const {

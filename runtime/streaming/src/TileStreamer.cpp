@@ -57,7 +57,6 @@ TileStreamer::TileStreamer(io::PyramidManifest manifest, std::unique_ptr<io::IoT
     // storage, so steady frames do not allocate.
     const auto capacity = static_cast<std::size_t>(m_pool.capacity());
     m_loads.reserve(4 * capacity);
-    m_spareLoadNodes.reserve(4 * capacity);
     m_completions.reserve(options.io.maxUnpolled + 64);
 }
 
@@ -95,7 +94,7 @@ void TileStreamer::takeCompletions() {
                 ++m_frameCounts.requestsFailed;
                 // Reported once: a failed patch is never requested again.
                 if (m_failed.insert(c.id).second) m_faults.push_back({c.id, std::move(c.error)});
-                if (load != m_loads.end() && load->second.liveRequests == 0) eraseLoad(load);
+                if (load != m_loads.end() && load->second.liveRequests == 0) m_loads.erase(load);
                 break;
             case io::CompletionStatus::Cancelled:
                 ++m_ledger.cancelled;
@@ -109,24 +108,13 @@ void TileStreamer::takeCompletions() {
 }
 
 TileStreamer::LoadState& TileStreamer::loadStateOf(const io::PatchId& id) {
-    if (const auto found = m_loads.find(id); found != m_loads.end()) return found->second;
-    const LoadState fresh{.firstWanted = Clock::now(),
-                          .firstWantedFrame = m_frame,
-                          .lastWantedFrame = m_frame,
-                          .liveRequests = 0,
-                          .cancelRequested = false};
-    if (!m_spareLoadNodes.empty()) {
-        LoadMap::node_type node = std::move(m_spareLoadNodes.back());
-        m_spareLoadNodes.pop_back();
-        node.key() = id;
-        node.mapped() = fresh;
-        return m_loads.insert(std::move(node)).position->second;
-    }
-    return m_loads.emplace(id, fresh).first->second;
-}
-
-void TileStreamer::eraseLoad(LoadMap::iterator it) {
-    m_spareLoadNodes.push_back(m_loads.extract(it));
+    return m_loads.findOrInsert(id, [&] {
+        return LoadState{.firstWanted = Clock::now(),
+                         .firstWantedFrame = m_frame,
+                         .lastWantedFrame = m_frame,
+                         .liveRequests = 0,
+                         .cancelRequested = false};
+    });
 }
 
 bool TileStreamer::uploadFromCache(const io::PatchId& id) {
@@ -161,7 +149,7 @@ const io::PatchInfo* TileStreamer::acquire(const io::PatchId& id, float priority
         m_loadLatencies.add(ms);
         ++m_frameCounts.loadsResident;
         if (m_loadObserver) m_loadObserver({id, ms, m_frame - load.firstWantedFrame});
-        if (load.liveRequests == 0) eraseLoad(m_loads.find(id));
+        if (load.liveRequests == 0) m_loads.erase(m_loads.find(id));
         return m_pool.info(id);
     }
     // A live request is only re-prioritised: it may have finished already, its completion
@@ -194,7 +182,7 @@ void TileStreamer::endFrame(FrameTelemetry& t) {
         LoadState& load = it->second;
         if (load.lastWantedFrame != m_frame) {
             if (load.liveRequests == 0) {
-                eraseLoad(it);
+                m_loads.erase(it);
             } else if (!load.cancelRequested) {
                 m_io->cancel(it->first);  // false when it finished already: polled next frame
                 load.cancelRequested = true;
@@ -273,11 +261,8 @@ bool TileStreamer::drain(std::chrono::milliseconds timeout) {
         if (now > deadline) return false;
         m_io->waitForCompletion(std::chrono::ceil<std::chrono::milliseconds>(deadline - now));
     }
-    for (auto it = m_loads.begin(); it != m_loads.end();) {
-        const auto next = std::next(it);
-        if (it->second.liveRequests == 0) eraseLoad(it);
-        it = next;
-    }
+    for (auto it = m_loads.begin(); it != m_loads.end();)
+        it = it->second.liveRequests == 0 ? m_loads.erase(it) : std::next(it);
     m_imagery->forgetIdleLoads();
     return m_ledger.ended() == m_ledger.submitted &&
            m_imagery->ledger().ended() == m_imagery->ledger().submitted;

@@ -27,6 +27,7 @@
 #include "terrain/runtime/ImageryResidency.h"
 #include "terrain/runtime/LatencyHistogram.h"
 #include "terrain/runtime/LatencyWindow.h"
+#include "terrain/runtime/RecyclingLoadMap.h"
 
 #include <chrono>
 #include <cstddef>
@@ -34,7 +35,6 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -129,12 +129,11 @@ private:
         int liveRequests = 0;
         bool cancelRequested = false;
     };
-    using LoadMap = std::unordered_map<io::TileKey, LoadState, io::TileKeyHash>;
+    using LoadMap = RecyclingLoadMap<io::TileKey, LoadState, io::TileKeyHash>;
 
     ImageryStreamer(io::IoThread& io, cache::ImageryTilePool pool,
                     const ImageryStreamerOptions& options);
     LoadState& loadStateOf(const io::TileKey& key);
-    void eraseLoad(LoadMap::iterator it);
     bool uploadFromCache(const io::TileKey& key);
 
     io::IoThread& m_io;
@@ -144,8 +143,7 @@ private:
     cache::ImageryTilePool m_pool;
 
     std::uint64_t m_frame = 0;
-    LoadMap m_loads;
-    std::vector<LoadMap::node_type> m_spareLoadNodes;
+    LoadMap m_loads;  // parks erased nodes: no allocation per request
     std::uint64_t m_liveRequests = 0;
     std::vector<std::uint8_t> m_layerUnopened;  // per layer: 1 when the I/O thread has no source
     std::unordered_set<io::TileKey, io::TileKeyHash> m_failed;

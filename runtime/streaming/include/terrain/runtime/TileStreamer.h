@@ -27,6 +27,7 @@
 #include "terrain/runtime/ImageryStreamer.h"
 #include "terrain/runtime/LatencyHistogram.h"
 #include "terrain/runtime/LatencyWindow.h"
+#include "terrain/runtime/RecyclingLoadMap.h"
 #include "terrain/runtime/TileResidency.h"
 
 #include <chrono>
@@ -37,7 +38,6 @@
 #include <memory>
 #include <optional>
 #include <string>
-#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -166,14 +166,13 @@ private:
         int liveRequests = 0;  // submitted and not yet ended
         bool cancelRequested = false;
     };
-    using LoadMap = std::unordered_map<io::PatchId, LoadState, io::PatchIdHash>;
+    using LoadMap = RecyclingLoadMap<io::PatchId, LoadState, io::PatchIdHash>;
 
     TileStreamer(io::PyramidManifest manifest, std::unique_ptr<io::IoThread> io,
                  std::unique_ptr<ImageryStreamer> imagery, cache::GpuTilePool pool,
                  const TileStreamerOptions& options);
     bool uploadFromCache(const io::PatchId& id);
     LoadState& loadStateOf(const io::PatchId& id);
-    void eraseLoad(LoadMap::iterator it);
     void takeCompletions();
 
     io::PyramidManifest m_manifest;
@@ -183,8 +182,7 @@ private:
     cache::GpuTilePool m_pool;
 
     std::uint64_t m_frame = 0;
-    LoadMap m_loads;
-    std::vector<LoadMap::node_type> m_spareLoadNodes;  // reused: no allocation per request
+    LoadMap m_loads;  // parks erased nodes: no allocation per request
     std::vector<io::Completion> m_completions;         // poll() target, capacity kept
     std::unordered_set<io::PatchId, io::PatchIdHash> m_failed;
     std::vector<TileFault> m_faults;
