@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <fstream>
 #include <system_error>
 #include <utility>
 
@@ -102,6 +103,17 @@ Status writeAtomically(const std::filesystem::path& path,
     if (!file) return file.error();
     if (Status written = write(file.value().temporaryPath()); !written) return written;
     return file.value().commit();
+}
+
+Status writeTextAtomically(const std::filesystem::path& path, std::string_view text) {
+    return writeAtomically(path, [&](const std::filesystem::path& temporary) -> Status {
+        std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+        out.write(text.data(), static_cast<std::streamsize>(text.size()));
+        out.close();
+        if (!out)
+            return Error{fmt::format("{}: cannot write: {}", path.string(), std::strerror(errno))};
+        return {};
+    });
 }
 
 }  // namespace terrain

@@ -45,14 +45,7 @@ Status writeImageryIndex(const std::filesystem::path& layerDir, const ImageryLay
     }
     const std::string text = j.dump(1) + "\n";
     const std::filesystem::path path = layerDir / "layer.json";
-    return writeAtomically(path, [&](const std::filesystem::path& temporary) -> Status {
-        std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-        out.write(text.data(), static_cast<std::streamsize>(text.size()));
-        out.close();
-        if (!out)
-            return Error{fmt::format("{}: cannot write: {}", path.string(), std::strerror(errno))};
-        return {};
-    });
+    return writeTextAtomically(path, text);
 }
 
 Result<ImageryLayerIndex> readImageryIndex(const std::filesystem::path& layerDir) {

@@ -743,14 +743,7 @@ Status writeManifest(const std::filesystem::path& pyramidDir, const PyramidManif
     const std::filesystem::path path = pyramidDir / PyramidManifest::kFileName;
     if (Status checked = checkManifest(manifest, path.string()); !checked) return checked;
     const std::string text = toJson(manifest);
-    return writeAtomically(path, [&](const std::filesystem::path& temporary) -> Status {
-        std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-        out.write(text.data(), static_cast<std::streamsize>(text.size()));
-        out.close();
-        if (!out)
-            return Error{fmt::format("{}: cannot write: {}", path.string(), std::strerror(errno))};
-        return {};
-    });
+    return writeTextAtomically(path, text);
 }
 
 Result<PyramidManifest> readManifest(const std::filesystem::path& pyramidDir) {

@@ -103,14 +103,7 @@ Status writeFile(const std::filesystem::path& path, const PathFormat& format,
         text += i + 1 < keyframes.size() ? ",\n" : "\n";
     }
     text += "  ]\n}\n";
-    const std::string name = path.string();
-    return writeAtomically(path, [&](const std::filesystem::path& temporary) -> Status {
-        std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-        out.write(text.data(), static_cast<std::streamsize>(text.size()));
-        out.close();
-        if (!out) return Error{fmt::format("{}: cannot write: {}", name, std::strerror(errno))};
-        return {};
-    });
+    return writeTextAtomically(path, text);
 }
 
 const Json& checkedKeyframes(const Json& root, const PathFormat& format) {

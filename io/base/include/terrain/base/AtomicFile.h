@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <string_view>
 
 namespace terrain {
 
@@ -50,5 +51,10 @@ private:
 /// succeeds; otherwise the temporary file is removed and write's Error returned.
 Status writeAtomically(const std::filesystem::path& path,
                        const std::function<Status(const std::filesystem::path&)>& write);
+
+/// Writes `text` to `path`, byte for byte, through writeAtomically: readers see the old file
+/// or the whole new one. Errors name `path` (a folder missing or not writable, a failed
+/// write, a failed rename); nothing is left behind then. Any thread.
+Status writeTextAtomically(const std::filesystem::path& path, std::string_view text);
 
 }  // namespace terrain
