@@ -84,7 +84,8 @@ void ImageryTileCache::removeEntry(EntryMap::iterator found) {
     const Lru::iterator it = found->second;
     m_bytes -= it->bytes;
     m_spareMapNodes.push_back(m_entries.extract(found));  // within capacity: see insert()
-    if (m_recycled.size() < kMaxRecycledTiles && it->tile.rgba.capacity() > 0)
+    if (m_recycled.size() < kMaxRecycledTiles &&
+        it->tile.rgba.capacity() + it->tile.mips.capacity() > 0)
         m_recycled.push_back(std::move(it->tile));
     it->tile = io::ImageryTile{};  // a parked node keeps no texel storage alive
     m_spareLruNodes.splice(m_spareLruNodes.begin(), m_lru, it);

@@ -1,9 +1,8 @@
 // ImageryTilePool: layer bookkeeping as GpuTilePool's; uploads are client-memory texture
-// copies (the driver stages them), each tile's mips made on the CPU first.
+// copies (the driver stages them) of each level, the mips as the I/O thread made them.
 #include "terrain/cache/ImageryTilePool.h"
 
 #include "terrain/base/Assert.h"
-#include "terrain/cache/ImageryMips.h"
 #include "terrain/gl/DriverWorkarounds.h"
 #include "terrain/gl/GlInfo.h"
 
@@ -78,8 +77,6 @@ Result<ImageryTilePool> ImageryTilePool::create(const ImageryTilePoolDesc& desc)
     pool.m_invariantScratch.assign(capacity, 0);
     pool.m_slots.reserve(capacity);
     pool.m_spareNodes.reserve(capacity);
-    pool.m_mip1.resize(bytesAtMip(1));
-    pool.m_mip2.resize(bytesAtMip(2));
     return pool;
 }
 
@@ -133,17 +130,21 @@ void ImageryTilePool::release(const io::TileKey& key) {
 bool ImageryTilePool::upload(const io::TileKey& key, const io::ImageryTile& tile) {
     const auto found = m_slots.find(key);
     TERRAIN_ASSERT(found != m_slots.end(), "ImageryTilePool::upload of a tile without a layer");
-    TERRAIN_ASSERT(tile.info.present && tile.rgba.size() == io::kImageryTileBytes,
-                   "ImageryTilePool::upload of a tile without its texels");
+    TERRAIN_ASSERT(tile.info.present && tile.rgba.size() == io::kImageryTileBytes &&
+                       tile.mips.size() == io::kImageryMipChainBytes,
+                   "ImageryTilePool::upload of a tile without its texels and mips");
     if (!uploadBudgetLeft()) {
         ++m_stats.uploadsDeferred;
         return false;
     }
-    halveImagery(tile.rgba, texelsAtMip(0), m_mip1);
-    halveImagery(m_mip1, texelsAtMip(1), m_mip2);
     const int layer = found->second.layer;
-    const std::span<const std::uint8_t> levels[] = {tile.rgba, m_mip1, m_mip2};
+    std::span<const std::uint8_t> level = tile.rgba;
+    std::size_t mipOffset = 0;  // of the next mip in tile.mips
     for (int mip = 0; mip < io::kImageryTileMips; ++mip) {
+        if (mip > 0) {
+            level = std::span<const std::uint8_t>(tile.mips).subspan(mipOffset, bytesAtMip(mip));
+            mipOffset += level.size();
+        }
         const gl::TextureRegion region{.level = mip,
                                        .x = 0,
                                        .y = 0,
@@ -151,8 +152,7 @@ bool ImageryTilePool::upload(const io::TileKey& key, const io::ImageryTile& tile
                                        .width = texelsAtMip(mip),
                                        .height = texelsAtMip(mip),
                                        .layers = 1};
-        m_texture.upload(region, GL_RGBA, GL_UNSIGNED_BYTE,
-                         std::as_bytes(levels[static_cast<std::size_t>(mip)]));
+        m_texture.upload(region, GL_RGBA, GL_UNSIGNED_BYTE, std::as_bytes(level));
     }
     found->second.resident = true;
     found->second.info = tile.info;

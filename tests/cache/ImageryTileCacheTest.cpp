@@ -12,7 +12,10 @@ io::ImageryTile tile(const io::PatchId& id, bool present = true) {
     io::ImageryTile t;
     t.id = id;
     t.info.present = present;
-    if (present) t.rgba.assign(io::kImageryTileBytes, 7);
+    if (present) {
+        t.rgba.assign(io::kImageryTileBytes, 7);
+        t.mips.assign(io::kImageryMipChainBytes, 7);
+    }
     return t;
 }
 
@@ -51,6 +54,7 @@ TEST(ImageryTileCacheTest, ATileIsChargedTheStorageItHolds) {
     io::ImageryTile absent = tile({2, 0, 0}, false);
     EXPECT_EQ(ImageryTileCache::tileBytes(absent), ImageryTileCache::kEntryOverheadBytes);
     absent.rgba.reserve(io::kImageryTileBytes);  // read into a recycled buffer
+    absent.mips.reserve(io::kImageryMipChainBytes);
     EXPECT_EQ(ImageryTileCache::tileBytes(absent), ImageryTileCache::kPresentTileBytes);
 }
 

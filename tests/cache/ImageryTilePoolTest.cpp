@@ -3,10 +3,10 @@
 // filter, the per-frame upload budget, eviction that never takes a tile the frame uses, and
 // no layer leaked or mapped twice under a random storm.
 #include "GlTestFixture.h"
-#include "terrain/cache/ImageryMips.h"
 #include "terrain/cache/ImageryTilePool.h"
 #include "terrain/gl/DriverWorkarounds.h"
 #include "terrain/gl/GlInfo.h"
+#include "terrain/pyramid/ImageryMips.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -47,6 +47,7 @@ protected:
                 if (random() % 5 == 0)
                     for (int t : {0, 1, side, side + 1})
                         tile.rgba[static_cast<std::size_t>((y * side + x + t) * 4 + 3)] = 0;
+        io::makeImageryMips(tile);  // as the I/O thread does
         return tile;
     }
 
@@ -115,8 +116,8 @@ TEST_F(ImageryTilePoolTest, UploadedMipsEqualTheAlphaWeightedBoxFilter) {
 
     std::vector<std::uint8_t> mip1(128 * 128 * 4);
     std::vector<std::uint8_t> mip2(64 * 64 * 4);
-    cache::halveImagery(tile.rgba, 256, mip1);
-    cache::halveImagery(mip1, 128, mip2);
+    io::halveImagery(tile.rgba, 256, mip1);
+    io::halveImagery(mip1, 128, mip2);
     // Read back as stored: sRGB-encoded bytes, not converted.
     EXPECT_EQ(readMip(pool, allocation->layer, 0), tile.rgba);
     EXPECT_EQ(readMip(pool, allocation->layer, 1), mip1);

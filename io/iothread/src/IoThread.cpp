@@ -3,6 +3,7 @@
 #include "terrain/iothread/IoThread.h"
 
 #include "terrain/base/Assert.h"
+#include "terrain/pyramid/ImageryMips.h"
 
 #include <fmt/format.h>
 
@@ -234,6 +235,7 @@ Status IoThread::readImagery(const TileKey& key, ImageryTile& out) {
     out.id = key.id;
     if (!out.info.present) {
         out.rgba.clear();  // keeps its capacity for the next tile
+        out.mips.clear();
         return {};
     }
     // The pool uploads exactly one tile's texels: a source that hands out anything else is
@@ -243,6 +245,8 @@ Status IoThread::readImagery(const TileKey& key, ImageryTile& out) {
                                  m_reader.folder().string(),
                                  m_reader.manifest().imagery[layer].name, tileName(key),
                                  out.rgba.size(), kImageryTileBytes)};
+    // The mips here, off the render thread: the pool only uploads them.
+    makeImageryMips(out);
     return {};
 }
 

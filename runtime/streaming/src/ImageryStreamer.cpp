@@ -74,10 +74,11 @@ void ImageryStreamer::takeCompletion(io::Completion& c) {
         case io::CompletionStatus::Completed:
             ++m_ledger.completed;
             ++m_frameCounts.imageryRequestsCompleted;
-            if (!c.imagery.info.present && c.imagery.rgba.capacity() > 0) {
+            if (!c.imagery.info.present &&
+                c.imagery.rgba.capacity() + c.imagery.mips.capacity() > 0) {
                 // An absent tile read into a recycled buffer: the cache keeps its info only,
                 // the buffer goes back to the I/O thread.
-                io::ImageryTile absent{c.imagery.id, c.imagery.info, {}};
+                io::ImageryTile absent{c.imagery.id, c.imagery.info, {}, {}};
                 m_io.recycle(std::move(c.imagery));
                 c.imagery = std::move(absent);
             }

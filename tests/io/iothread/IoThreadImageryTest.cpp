@@ -1,10 +1,12 @@
 // IoThread serving imagery tiles (issue 47) through the same thread and request queue as the
-// heights: tiles equal their source's, absent tiles complete without texels, one priority
+// heights: tiles equal their source's and carry the mips the I/O thread made of them (the
+// render thread only uploads them), absent tiles complete without texels, one priority
 // order across heights and imagery, cancelling an imagery key leaves the heights of the same
 // patch alone, failures name the tile, a layer that cannot be opened fails only its own
 // requests, a source handing out the wrong size fails the tile, and recycled tile storage
 // is read into. Deterministic: waits are on the thread's events, never sleeps.
 #include "terrain/iothread/IoThread.h"
+#include "terrain/pyramid/ImageryMips.h"
 
 #include "FakeImagerySource.h"
 #include "TempFolder.h"
@@ -12,7 +14,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -86,6 +90,7 @@ TEST_F(IoThreadImageryTest, ReadsTilesOfEveryLayerAndAbsentOnes) {
         if (c.imageryLayer == 1 && c.id == b) {
             EXPECT_FALSE(c.imagery.info.present);
             EXPECT_TRUE(c.imagery.rgba.empty());
+            EXPECT_TRUE(c.imagery.mips.empty());
             continue;
         }
         ASSERT_TRUE(c.imagery.info.present);
@@ -93,6 +98,14 @@ TEST_F(IoThreadImageryTest, ReadsTilesOfEveryLayerAndAbsentOnes) {
         test::fillFakeImagery(c.imageryLayer, c.id, kImageryTileBytes, expected);
         EXPECT_EQ(c.imagery.rgba, expected.rgba);
         EXPECT_EQ(c.imagery.info, expected.info);
+        // Mips 1 and 2, one after the other: the box filter's, made off the render thread.
+        std::vector<std::uint8_t> mip1(imageryMipBytes(1));
+        std::vector<std::uint8_t> mip2(imageryMipBytes(2));
+        halveImagery(expected.rgba, kImageryTileTexels, mip1);
+        halveImagery(mip1, kImageryTileTexels / 2, mip2);
+        ASSERT_EQ(c.imagery.mips.size(), kImageryMipChainBytes);
+        EXPECT_TRUE(std::equal(mip1.begin(), mip1.end(), c.imagery.mips.begin()));
+        EXPECT_TRUE(std::equal(mip2.begin(), mip2.end(), c.imagery.mips.begin() + mip1.size()));
     }
     EXPECT_EQ(heights, 1);
     const IoThreadStats s = io->stats();

@@ -30,13 +30,14 @@ public:
     static constexpr std::size_t kEntryOverheadBytes = sizeof(io::ImageryTile) + 64;
     static constexpr std::size_t kMaxRecycledTiles = 4;
 
-    /// Bytes an entry of `tile` is charged: the capacity of its texels (what it holds,
-    /// though an absent tile has no texels) plus kEntryOverheadBytes.
+    /// Bytes an entry of `tile` is charged: the capacity of its texels and mips (what it
+    /// holds, though an absent tile has neither) plus kEntryOverheadBytes.
     static std::size_t tileBytes(const io::ImageryTile& tile) {
-        return tile.rgba.capacity() + kEntryOverheadBytes;
+        return tile.rgba.capacity() + tile.mips.capacity() + kEntryOverheadBytes;
     }
     /// What a present tile is charged: a budget below it holds no imagery.
-    static constexpr std::size_t kPresentTileBytes = io::kImageryTileBytes + kEntryOverheadBytes;
+    static constexpr std::size_t kPresentTileBytes =
+        io::kImageryTileBytes + io::kImageryMipChainBytes + kEntryOverheadBytes;
 
     explicit ImageryTileCache(std::size_t budgetBytes);
 

@@ -1,9 +1,9 @@
 // ImageryTilePool: the imagery tiles resident on the GPU (issue 47), one layer per tile in a
 // GL_SRGB8_ALPHA8 2D texture array of kImageryTileTexels² tiles with kImageryTileMips mip
-// levels (made on upload by ImageryMips' alpha-weighted box filter), layers from a byte
-// budget, handed out by a LayerFreeList and evicted least recently used (LayerLru), never a
-// tile the current frame uses; uploads within a per-frame byte budget. Tiles of every
-// imagery layer share the array: a key is (imagery layer, patch).
+// levels (made by the I/O thread, io::makeImageryMips' alpha-weighted box filter), layers
+// from a byte budget, handed out by a LayerFreeList and evicted least recently used
+// (LayerLru), never a tile the current frame uses; uploads within a per-frame byte budget.
+// Tiles of every imagery layer share the array: a key is (imagery layer, patch).
 // Yusov & Shevtsov 2011, §5: texture arrays and a list of unused subresources, as for the
 // heights (GpuTilePool).
 #pragma once
@@ -79,10 +79,10 @@ public:
     /// Frees key's layer; key must hold one. Render thread only.
     void release(const io::TileKey& key);
 
-    /// Makes the mips of `tile` (present, kImageryTileBytes of texels: TERRAIN_ASSERT) and
-    /// uploads the tile into key's layer (allocated: TERRAIN_ASSERT). Returns false,
-    /// uploading nothing, when this frame's upload budget is used: retry next frame.
-    /// Render thread only.
+    /// Uploads `tile` (present, with kImageryTileBytes of texels and its kImageryMipChainBytes
+    /// of mips, io::makeImageryMips: TERRAIN_ASSERT) into key's layer (allocated:
+    /// TERRAIN_ASSERT), every mip level. Returns false, uploading nothing, when this frame's
+    /// upload budget is used: retry next frame. Render thread only.
     bool upload(const io::TileKey& key, const io::ImageryTile& tile);
 
     /// Starts a frame: resets the upload budget and counters; tiles used by the previous
@@ -140,8 +140,6 @@ private:
     std::uint64_t m_frame = 0;
     gl::Texture m_texture;
     float m_maxAnisotropy = 1.0f;
-    std::vector<std::uint8_t> m_mip1;  // scratch: the mips of the tile being uploaded
-    std::vector<std::uint8_t> m_mip2;
     std::size_t m_uploadBudgetBytes = 0;
     ImageryTilePoolFrameStats m_stats;
 };

@@ -89,7 +89,7 @@ struct Completion {
     int imageryLayer = TileKey::kHeights;  ///< whose tile: the heights' or an imagery layer's
     CompletionStatus status = CompletionStatus::Completed;
     PatchRecord record;   ///< the heights' patch when Completed; recycle() it when done
-    ImageryTile imagery;  ///< an imagery tile when Completed (maybe absent); recycle() it
+    ImageryTile imagery;  ///< an imagery tile and its mips when Completed (maybe absent)
     std::string error;    ///< when Failed: names the file or "injected fault" and the patch
     Clock::time_point requestTime;   ///< the submit that created the request
     Clock::time_point completeTime;  ///< when the outcome was known

@@ -39,6 +39,14 @@ inline constexpr int kImageryTileMips = 3;
 /// Bytes of one decoded tile (RGBA8).
 inline constexpr std::size_t kImageryTileBytes =
     std::size_t{kImageryTileTexels} * kImageryTileTexels * 4;
+/// Bytes of mip `mip` of a tile (RGBA8, (kImageryTileTexels >> mip)² texels).
+constexpr std::size_t imageryMipBytes(int mip) { return kImageryTileBytes >> (2 * mip); }
+/// Bytes of a tile's mips below its texels (1 … kImageryTileMips − 1), one after the other.
+inline constexpr std::size_t kImageryMipChainBytes = [] {
+    std::size_t bytes = 0;
+    for (int mip = 1; mip < kImageryTileMips; ++mip) bytes += imageryMipBytes(mip);
+    return bytes;
+}();
 
 struct ImageryTileInfo {
     /// The tile exists in its layer (the layer's image overlaps the patch). Every root tile
@@ -58,6 +66,10 @@ struct ImageryTile {
     /// kImageryTileTexels² texels, row-major, 4 bytes each (R, G, B, A; straight alpha, not
     /// premultiplied; sRGB-encoded colour as images store it). Empty when not present.
     std::vector<std::uint8_t> rgba;
+    /// kImageryMipChainBytes: mips 1 … kImageryTileMips − 1 of rgba, one after the other,
+    /// made by the I/O thread (makeImageryMips) so the render thread only uploads them.
+    /// Empty when not present, and in a tile as a layer's file or source yields it.
+    std::vector<std::uint8_t> mips;
 };
 
 /// Patch-local coordinate (0 at the patch's first sample, 1 at its last) of a point given in

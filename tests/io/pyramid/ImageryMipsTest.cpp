@@ -1,7 +1,7 @@
-// cache::halveImagery, the imagery mips' reference: sRGB bytes round-trip through linear
+// io::halveImagery, the imagery mips' reference: sRGB bytes round-trip through linear
 // light, a uniform block stays itself, transparent texels lend no colour, a wholly
 // transparent block keeps the plain mean, and the mean is taken in linear light.
-#include "terrain/cache/ImageryMips.h"
+#include "terrain/pyramid/ImageryMips.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace terrain::cache {
+namespace terrain::io {
 namespace {
 
 std::array<std::uint8_t, 4> halveBlock(const std::array<std::array<std::uint8_t, 4>, 4>& block) {
@@ -49,4 +49,4 @@ TEST(ImageryMipsTest, AlphaWeightsTheColoursInLinearLight) {
 }
 
 }  // namespace
-}  // namespace terrain::cache
+}  // namespace terrain::io

@@ -1,6 +1,6 @@
 // ImageryMips: a 256-entry decode table; encoding picks the nearest table entry by binary
 // search, so encode(decode(b)) == b and no pow() runs per texel.
-#include "terrain/cache/ImageryMips.h"
+#include "terrain/pyramid/ImageryMips.h"
 
 #include "terrain/base/Assert.h"
 
@@ -8,8 +8,9 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <span>
 
-namespace terrain::cache {
+namespace terrain::io {
 namespace {
 
 const std::array<float, 256>& decodeTable() {
@@ -72,4 +73,19 @@ void halveImagery(std::span<const std::uint8_t> source, int side, std::span<std:
     }
 }
 
-}  // namespace terrain::cache
+void makeImageryMips(ImageryTile& tile) {
+    TERRAIN_ASSERT(tile.rgba.size() == kImageryTileBytes,
+                   "makeImageryMips: a tile without its kImageryTileBytes of texels");
+    tile.mips.resize(kImageryMipChainBytes);
+    std::span<const std::uint8_t> above(tile.rgba);
+    std::size_t offset = 0;
+    for (int mip = 1; mip < kImageryTileMips; ++mip) {
+        const std::span<std::uint8_t> level =
+            std::span(tile.mips).subspan(offset, imageryMipBytes(mip));
+        halveImagery(above, kImageryTileTexels >> (mip - 1), level);
+        above = level;
+        offset += level.size();
+    }
+}
+
+}  // namespace terrain::io
