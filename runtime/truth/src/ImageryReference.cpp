@@ -1,9 +1,9 @@
 // ImageryReference: the draped imagery's reference colour, pixel by pixel, on the CPU.
 #include "terrain/runtime/ImageryReference.h"
 
-#include "terrain/cache/ImageryMips.h"
 #include "terrain/globe/CubeSphere.h"
 #include "terrain/globe/Wgs84.h"
+#include "terrain/pyramid/ImageryMips.h"
 #include "terrain/runtime/ImagerySelection.h"
 #include "terrain/runtime/ScreenProjection.h"
 
@@ -20,7 +20,7 @@ constexpr double kBorder = io::kImageryBorderTexels;
 
 /// Bilinear sample of an RGBA8 image `side` texels a side at texel coordinate (x, y) (texel
 /// k's centre at k + 0.5), decoded to linear light first, as GL_SRGB8_ALPHA8 filters.
-std::array<float, 4> bilinear(const std::vector<std::uint8_t>& rgba, int side, double x, double y) {
+std::array<float, 4> bilinear(std::span<const std::uint8_t> rgba, int side, double x, double y) {
     const double fx = x - 0.5, fy = y - 0.5;
     const int x0 = std::clamp(static_cast<int>(std::floor(fx)), 0, side - 2);
     const int y0 = std::clamp(static_cast<int>(std::floor(fy)), 0, side - 2);
@@ -31,7 +31,7 @@ std::array<float, 4> bilinear(const std::vector<std::uint8_t>& rgba, int side, d
         for (int i = 0; i < 2; ++i) {
             const float w = (i == 0 ? 1.0f - wx : wx) * (j == 0 ? 1.0f - wy : wy);
             const std::size_t at = 4 * (static_cast<std::size_t>(y0 + j) * side + (x0 + i));
-            for (int c = 0; c < 3; ++c) out[c] += w * cache::linearFromSrgb(rgba[at + c]);
+            for (int c = 0; c < 3; ++c) out[c] += w * io::linearFromSrgb(rgba[at + c]);
             out[3] += w * static_cast<float>(rgba[at + 3]) / 255.0f;
         }
     }
@@ -111,16 +111,9 @@ Result<const ImageryReference::CachedTile*> ImageryReference::tile(int layer,
         return status.error();
     CachedTile& cached = m_tiles[key];
     cached.present = read.info.present;
-    if (!cached.present) return &cached;
-    // Its mips as the pool makes them (ImageryMips): 256², 128², 64².
-    cached.mips[0] = std::move(read.rgba);
-    for (int m = 1; m < io::kImageryTileMips; ++m) {
-        const int side = io::kImageryTileTexels >> (m - 1);
-        cached.mips[static_cast<std::size_t>(m)].resize(static_cast<std::size_t>(side / 2) *
-                                                        static_cast<std::size_t>(side / 2) * 4);
-        cache::halveImagery(cached.mips[static_cast<std::size_t>(m - 1)], side,
-                            cached.mips[static_cast<std::size_t>(m)]);
-    }
+    // Its mips as the draw has them (made as the I/O thread makes them: ImageryMips.h).
+    if (cached.present) io::makeImageryMips(read);
+    cached.tile = std::move(read);
     return &cached;
 }
 
@@ -153,8 +146,8 @@ Result<std::array<float, 4>> ImageryReference::sample(int layer, int level, int 
         // ImageryTile.h: stored texel k's centre is at u = (k + 0.5 − border) / interior; a
         // mip halves the whole grid, border included.
         const double scale = std::ldexp(1.0, -m);
-        return bilinear(t.mips[static_cast<std::size_t>(m)], io::kImageryTileTexels >> m,
-                        (kBorder + u * kInterior) * scale, (kBorder + v * kInterior) * scale);
+        return bilinear(t.mip(m), io::kImageryTileTexels >> m, (kBorder + u * kInterior) * scale,
+                        (kBorder + v * kInterior) * scale);
     }
     return std::array<float, 4>{};
 }

@@ -32,6 +32,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <tuple>
 #include <vector>
 
@@ -85,7 +86,13 @@ private:
     /// them (ImageryMips): what the draw samples.
     struct CachedTile {
         bool present = false;
-        std::array<std::vector<std::uint8_t>, io::kImageryTileMips> mips;
+        io::ImageryTile tile;  ///< its texels and mips (ImageryTile::mips)
+        std::span<const std::uint8_t> mip(int m) const {
+            if (m == 0) return tile.rgba;
+            std::size_t offset = 0;
+            for (int below = 1; below < m; ++below) offset += io::imageryMipBytes(below);
+            return std::span<const std::uint8_t>(tile.mips).subspan(offset, io::imageryMipBytes(m));
+        }
     };
     /// Where a pixel's point lies on the terrain's tiling: on the globe a cube face and its
     /// (s, t); on the plane the finest level's sample (column, row). Fractional.
