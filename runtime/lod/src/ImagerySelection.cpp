@@ -45,6 +45,8 @@ ImagerySelectionStats ImagerySelection::select(const Camera& camera,
     // Pixels per radian on the view axis: a texel of t metres at distance d spans t/d rad.
     m_pixelsPerRadian = camera.errorScale();
     m_stats = {};
+    ++m_frame;
+    m_volumesUsed = 0;
     m_roots.clear();
     m_nodes.clear();
     m_children.clear();
@@ -66,6 +68,10 @@ ImagerySelectionStats ImagerySelection::select(const Camera& camera,
         }
     }
     m_stats.nodes = static_cast<int>(m_nodes.size());
+    // The boxes of the view that moved on go once they outnumber this frame's.
+    if (m_volumes.size() > 2 * m_volumesUsed + 1024)
+        std::erase_if(m_volumes,
+                      [&](const auto& entry) { return entry.second.lastFrame != m_frame; });
     m_imagery = nullptr;
     m_heights = nullptr;
     return m_stats;
@@ -153,7 +159,7 @@ double ImagerySelection::texelMetres(int level) const {
            m_surface.layout().patchQuads() / io::kImageryInteriorTexels;
 }
 
-PatchVolume ImagerySelection::volumeOf(const io::PatchId& id) const {
+PatchVolume ImagerySelection::volumeOf(const io::PatchId& id) {
     // Heights from the finest resident patch at or above the tile (the LOD keeps the drawn
     // patches' ancestors resident); none (the globe's bare ellipsoid): 0.
     const int deepest = m_surface.maxLevel();
@@ -170,7 +176,7 @@ PatchVolume ImagerySelection::volumeOf(const io::PatchId& id) const {
     if (m_surface.kind() == SurfaceKind::Plane && id.level > deepest) {
         // Past the DEM's finest level: the finest patch's box cut to the tile's footprint.
         const TerrainGeometry& geometry = planeGeometry(m_surface);
-        Aabb box = std::get<Aabb>(m_surface.volume(clamped, minHeight, maxHeight));
+        Aabb box = std::get<Aabb>(surfaceVolume(clamped, minHeight, maxHeight));
         const io::PlanarSamplePoint a = io::planarImageryPoint(geometry.layout(), id, 0.0, 0.0);
         const io::PlanarSamplePoint b = io::planarImageryPoint(geometry.layout(), id, 1.0, 1.0);
         const glm::dvec2 wa = geometry.worldOfSample(a.column, a.row);
@@ -183,10 +189,26 @@ PatchVolume ImagerySelection::volumeOf(const io::PatchId& id) const {
     }
     // On the globe a tile past the deepest level the surface splits to takes that level's
     // volume (nearer than its own: it may be listed a level early, never late).
-    return m_surface.volume(clamped, minHeight, maxHeight);
+    return surfaceVolume(clamped, minHeight, maxHeight);
 }
 
-double ImagerySelection::texelPixels(const io::PatchId& id) const {
+const PatchVolume& ImagerySelection::surfaceVolume(const io::PatchId& id, float minHeight,
+                                                   float maxHeight) {
+    const auto [found, isNew] = m_volumes.try_emplace(id);
+    CachedVolume& cached = found->second;
+    if (isNew || cached.minHeight != minHeight || cached.maxHeight != maxHeight) {
+        cached.minHeight = minHeight;
+        cached.maxHeight = maxHeight;
+        cached.volume = m_surface.volume(id, minHeight, maxHeight);
+    }
+    if (cached.lastFrame != m_frame) {
+        cached.lastFrame = m_frame;
+        ++m_volumesUsed;
+    }
+    return cached.volume;
+}
+
+double ImagerySelection::texelPixels(const io::PatchId& id) {
     const PatchVolume volume = volumeOf(id);
     int planes = 0b11111;
     if (m_surface.outsideFrustum(m_view, volume, planes)) return 0.0;

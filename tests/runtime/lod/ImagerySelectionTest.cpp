@@ -1,8 +1,11 @@
 // runtime::ImagerySelection on fakes (no GL, one thread): a pixel finds texels as large as it
 // is, the level follows the distance rather than the patch, a tile not resident yet is drawn
 // from its finest resident ancestor's quadrant and asked for, and imagery finer than the DEM
-// is listed below the DEM's finest level.
+// is listed below the DEM's finest level; a selection kept from frame to frame (its volumes
+// cached) lists what a new one lists, on the globe, as the view and the heights change.
 #include "TestCameras.h"
+#include "terrain/pyramid/GlobeLayout.h"
+#include "terrain/runtime/GlobeCamera.h"
 #include "terrain/runtime/ImagerySelection.h"
 #include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/TerrainGeometry.h"
@@ -12,6 +15,7 @@
 #include <algorithm>
 #include <functional>
 #include <map>
+#include <numbers>
 #include <unordered_map>
 
 namespace terrain::test {
@@ -66,6 +70,51 @@ public:
 private:
     io::PatchInfo m_info{.present = true};
 };
+
+/// Heights resident down to `depth`, each patch's range a function of its id and of `epoch`
+/// (heights that change between frames, as patches arrive and are evicted).
+class ChangingHeights final : public runtime::TileResidency {
+public:
+    int depth = 0;
+    int epoch = 0;
+    const io::PatchInfo* acquire(const io::PatchId& id, float) override { return residentInfo(id); }
+    int layerOf(const io::PatchId&) const override { return 0; }
+    bool hasFailed(const io::PatchId&) const override { return false; }
+    void pin(const io::PatchId&) override {}
+    void unpin(const io::PatchId&) override {}
+    int capacity() const override { return 1 << 20; }
+    const io::PatchInfo* residentInfo(const io::PatchId& id) const override {
+        if (id.level > depth) return nullptr;
+        io::PatchInfo& info = m_infos[id];
+        info.present = true;
+        info.minHeight = static_cast<float>((id.x * 7 + id.y * 3 + id.level + epoch) % 11) * 300.0f;
+        info.maxHeight = info.minHeight + 200.0f + 100.0f * static_cast<float>(epoch % 3);
+        return &info;
+    }
+    bool isPinned(const io::PatchId&) const override { return true; }
+
+private:
+    mutable std::unordered_map<io::PatchId, io::PatchInfo, io::PatchIdHash> m_infos;
+};
+
+io::PyramidManifest globeManifestWithImagery(int faceLevels, int imageryBelowFaces) {
+    auto layout = io::globeLayout(faceLevels);
+    EXPECT_TRUE(layout);
+    io::PyramidManifest m = io::PyramidManifest::forLayout(layout.value());
+    m.formatVersion = io::PyramidManifest::kGlobeFormatVersion;
+    m.globe = io::ManifestGlobe{};
+    m.globe->faceFinestLevel = faceLevels;
+    m.georeference.crsKind = io::CrsKind::Geographic;
+    m.imagery.push_back({.name = "photo",
+                         .kind = std::string(io::ManifestImageryLayer::kStoredKind),
+                         .folder = "imagery/photo",
+                         .input = "photo.tif",
+                         .codec = "webp",
+                         .coarsestLevel = io::ManifestGlobe::kLevelOffset + imageryBelowFaces,
+                         .finestLevel = io::ManifestGlobe::kLevelOffset + faceLevels + 2,
+                         .opacity = 1.0});
+    return m;
+}
 
 class ImagerySelectionTest : public ::testing::Test {
 protected:
@@ -197,6 +246,80 @@ TEST_F(ImagerySelectionTest, RootsLieAboveThePatchOnItsLineOfAncestors) {
     EXPECT_EQ(std::count_if(selection.nodes().begin(), selection.nodes().end(),
                             [](const ImageryNode& n) { return n.level == 0; }),
               1);
+}
+
+TEST(ImagerySelectionGlobeTest, AKeptSelectionListsWhatANewOneLists) {
+    // Its volumes are cached across frames: a box kept for heights that have changed since,
+    // or for another tile, would list other tiles or ask for them at other priorities.
+    const io::PyramidManifest manifest = globeManifestWithImagery(10, 0);
+    const std::unique_ptr<runtime::Surface> surface = runtime::makeSurface(manifest);
+    const int drawnLevel = io::ManifestGlobe::kLevelOffset + 3;
+    std::vector<PatchDraw> draws;
+    for (const io::PatchId& root : surface->roots())
+        for (std::int64_t y = 0; y < 8; ++y)
+            for (std::int64_t x = 0; x < 8; ++x)
+                draws.push_back(PatchDraw::ofTile({drawnLevel, root.x * 8 + x, root.y * 8 + y}, 0,
+                                                  io::PatchInfo{.present = true}));
+    // A few tiles below the roots not resident: drawn from an ancestor, asked for.
+    const auto resident = [](const io::PatchId& id) {
+        return id.level < io::ManifestGlobe::kLevelOffset + 4 ||
+               (id.x + 2 * id.y + id.level) % 7 != 0;
+    };
+    FakeImagery keptImagery(manifest.imagery[0].finestLevel);
+    FakeImagery newImagery(manifest.imagery[0].finestLevel);
+    keptImagery.resident = newImagery.resident = resident;
+    ChangingHeights heights;
+    runtime::ImagerySelection kept(*surface, manifest);
+    struct Frame {
+        double latitude, longitude, heightM;
+        int depth, epoch;
+    };
+    const Frame frames[] = {{46.0, 7.0, 4.0e6, 0, 0}, {46.0, 7.0, 4.0e5, 2, 0},
+                            {46.1, 7.1, 4.0e4, 4, 1}, {46.1, 7.1, 4.0e4, 4, 2},
+                            {46.2, 7.0, 3.0e3, 7, 2}, {-10.0, 120.0, 1.0e6, 3, 3},
+                            {46.2, 7.0, 3.0e3, 7, 2}};
+    int listed = 0;
+    for (const Frame& f : frames) {
+        SCOPED_TRACE(f.heightM);
+        runtime::Camera camera;
+        camera.viewportWidth = 960;
+        camera.viewportHeight = 540;
+        camera.fovY = 60.0 * std::numbers::pi / 180.0;
+        runtime::placeOnGlobe(camera, {{f.latitude, f.longitude, f.heightM}, 30.0, -40.0});
+        heights.depth = io::ManifestGlobe::kLevelOffset + f.depth;
+        heights.epoch = f.epoch;
+        keptImagery.wanted.clear();
+        newImagery.wanted.clear();
+        const runtime::ImagerySelectionStats keptStats =
+            kept.select(camera, draws, keptImagery, heights);
+        runtime::ImagerySelection fresh(*surface, manifest);
+        const runtime::ImagerySelectionStats newStats =
+            fresh.select(camera, draws, newImagery, heights);
+        EXPECT_EQ(keptStats.nodes, newStats.nodes);
+        EXPECT_EQ(keptStats.residentNodes, newStats.residentNodes);
+        EXPECT_EQ(keptStats.wanted, newStats.wanted);
+        EXPECT_EQ(keptStats.waiting, newStats.waiting);
+        ASSERT_EQ(kept.nodes().size(), fresh.nodes().size());
+        for (std::size_t i = 0; i < kept.nodes().size(); ++i) {
+            const ImageryNode& a = kept.nodes()[i];
+            const ImageryNode& b = fresh.nodes()[i];
+            EXPECT_EQ(a.gpuLayer, b.gpuLayer) << i;
+            EXPECT_EQ(a.children, b.children) << i;
+            EXPECT_EQ(a.level, b.level) << i;
+            EXPECT_EQ(a.map, b.map) << i;
+        }
+        ASSERT_EQ(kept.roots().size(), fresh.roots().size());
+        for (std::size_t i = 0; i < kept.roots().size(); ++i) {
+            EXPECT_EQ(kept.roots()[i].node, fresh.roots()[i].node) << i;
+            EXPECT_EQ(kept.roots()[i].offset, fresh.roots()[i].offset) << i;
+            EXPECT_EQ(kept.roots()[i].scale, fresh.roots()[i].scale) << i;
+        }
+        EXPECT_TRUE(std::equal(kept.children().begin(), kept.children().end(),
+                               fresh.children().begin(), fresh.children().end()));
+        EXPECT_EQ(keptImagery.wanted, newImagery.wanted);
+        listed += keptStats.nodes;
+    }
+    EXPECT_GT(listed, 1000) << "too few tiles listed to compare";
 }
 
 }  // namespace

@@ -120,8 +120,12 @@ private:
     void expand(int layer, int index, const io::PatchId& id);
     /// Interior texels' size on screen, pixels, at the nearest point of the tile's volume;
     /// 0 when the volume lies outside the frustum.
-    double texelPixels(const io::PatchId& id) const;
-    PatchVolume volumeOf(const io::PatchId& id) const;
+    double texelPixels(const io::PatchId& id);
+    PatchVolume volumeOf(const io::PatchId& id);
+    /// m_surface.volume(id, minHeight, maxHeight), kept from the frames that computed it: a
+    /// globe patch's box costs thousands of points, and the same boxes serve every frame
+    /// (and every tile past the surface's deepest level) until their heights change.
+    const PatchVolume& surfaceVolume(const io::PatchId& id, float minHeight, float maxHeight);
     double texelMetres(int level) const;
 
     const Surface& m_surface;
@@ -138,6 +142,16 @@ private:
     std::vector<ImageryNode> m_nodes;
     std::vector<std::array<std::int32_t, 4>> m_children;
     std::unordered_map<NodeKey, int, NodeKeyHash> m_nodeOf;
+
+    struct CachedVolume {
+        float minHeight = 0.0f;
+        float maxHeight = 0.0f;
+        PatchVolume volume;
+        std::uint64_t lastFrame = 0;  ///< the select() that last used it
+    };
+    std::unordered_map<io::PatchId, CachedVolume, io::PatchIdHash> m_volumes;
+    std::uint64_t m_frame = 0;      ///< select() calls so far
+    std::size_t m_volumesUsed = 0;  ///< of m_volumes, used by this select()
 };
 
 }  // namespace terrain::runtime
