@@ -125,7 +125,8 @@ TerrainSession::TerrainSession(std::unique_ptr<TileStreamer> streamer,
       m_tree(std::make_unique<LodQuadtree>(*m_streamer, *m_surface, lodOptionsFor(method, lod))),
       m_method(method) {
     m_draws.reserve(static_cast<std::size_t>(m_streamer->pool().capacity()));
-    if (!m_streamer->manifest().imagery.empty())
+    // The methods with their own renderers draw without imagery: nothing to select or ask for.
+    if (!m_streamer->manifest().imagery.empty() && !m_methodRenderer)
         m_imagery = std::make_unique<ImagerySelection>(*m_surface, m_streamer->manifest());
 }
 

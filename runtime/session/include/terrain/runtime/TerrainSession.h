@@ -124,7 +124,9 @@ public:
     /// This frame's draw list (every patch resident, skirt depths assigned).
     std::span<const PatchDraw> draws() const { return m_draws; }
     const LodUpdateStats& lodStats() const { return m_lodStats; }
-    /// This frame's imagery selection (issue 47), or null when the pyramid has no imagery.
+    /// This frame's imagery selection (issue 47), or null when the pyramid has no imagery or
+    /// the method draws without it (Valdetaro2011, Livny2007, Cdlod: nothing selected, no
+    /// imagery tile asked for).
     const ImagerySelection* imagery() const { return m_imagery.get(); }
     const ImagerySelectionStats& imageryStats() const { return m_imageryStats; }
     double lodUpdateUs() const override { return m_lodUpdateUs; }

@@ -1,0 +1,74 @@
+// The imagery a session streams (issue 47), on the real streamer with fake imagery layers:
+// the methods that draw with their own renderers (no imagery) select none and ask for none.
+// Frames wait for reads, never sleep.
+#include "FakeImagerySource.h"
+#include "GlTestFixture.h"
+#include "StreamingTestPyramid.h"
+#include "TempFolder.h"
+#include "TestCameras.h"
+#include "terrain/runtime/PlaneSurface.h"
+#include "terrain/runtime/TerrainGeometry.h"
+#include "terrain/runtime/TerrainSession.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+
+namespace terrain::runtime {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SessionImageryTest : public test::GlTest {
+protected:
+    void SetUp() override {
+        test::GlTest::SetUp();
+        m_pyramid = m_folder.path() / "imagery.pyramid";
+        fs::copy(test::streamingTestPyramid(), m_pyramid, fs::copy_options::recursive);
+        ASSERT_TRUE(test::addImageryLayers(m_pyramid, 2).ok());
+    }
+
+    TerrainSessionOptions optionsFor(LodMethod method) const {
+        TerrainSessionOptions options;
+        options.method = method;
+        options.streaming.io.openImagery = test::fakeImageryOpener({});
+        return options;
+    }
+
+    // High over the middle of the DEM, the whole of it in view.
+    static Camera overTheDem(const TerrainSession& session) {
+        const TerrainGeometry& g = planeGeometry(session.surface());
+        return test::cameraOverDem(g, 0.5, 0.3, 0.4 * g.demSize().x, 0.5, 0.6);
+    }
+
+    test::TempFolder m_folder;
+    fs::path m_pyramid;
+};
+
+TEST_F(SessionImageryTest, MethodsWithTheirOwnRenderersAskForNoImagery) {
+    for (const LodMethod method :
+         {LodMethod::Livny2007, LodMethod::Cdlod, LodMethod::Valdetaro2011}) {
+        SCOPED_TRACE(lodMethodName(method));
+        auto opened = TerrainSession::open(m_pyramid, optionsFor(method));
+        ASSERT_TRUE(opened) << opened.error().message;
+        TerrainSession& session = *opened.value();
+        EXPECT_EQ(session.imagery(), nullptr);
+        const Camera camera = overTheDem(session);
+        // Frames until the heights' root is drawn, then a few more (these methods' splits
+        // need not settle: settle() is not theirs to pass).
+        int drawnFrames = 0;
+        for (int frame = 0; frame < 10000 && drawnFrames < 4; ++frame) {
+            session.beginFrame(camera);  // selects what the draw would wear
+            if (!session.draws().empty()) ++drawnFrames;
+            FrameTelemetry t;
+            session.endFrame(t);
+            session.streamer().waitForReads(std::chrono::seconds(10));
+        }
+        EXPECT_EQ(drawnFrames, 4);
+        EXPECT_EQ(session.streamer().imagery().ledger().submitted, 0u);
+    }
+}
+
+}  // namespace
+}  // namespace terrain::runtime
