@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 namespace terrain::runtime {
 namespace {
@@ -33,6 +34,33 @@ ImagerySelection::ImagerySelection(const Surface& surface, const io::PyramidMani
         if (static_cast<int>(m_layers.size()) == kMaxDrawnImageryLayers) break;
         m_layers.push_back({layer.coarsestLevel, layer.finestLevel, layer.opacity});
     }
+}
+
+std::vector<io::PatchId> ImagerySelection::coarsestTiles(int layer) const {
+    const int level = m_layers[static_cast<std::size_t>(layer)].coarsestLevel;
+    const io::PyramidLayout& layout = m_surface.layout();
+    std::vector<io::PatchId> tiles;
+    for (const io::PatchId& root : m_surface.roots()) {
+        if (level < root.level) {
+            tiles.push_back(ancestorOf(root, root.level - level));
+            continue;
+        }
+        const int below = level - root.level;
+        const std::int64_t side = std::int64_t{1} << below;
+        for (std::int64_t y = 0; y < side; ++y) {
+            for (std::int64_t x = 0; x < side; ++x) {
+                const io::PatchId tile{level, (root.x << below) + x, (root.y << below) + y};
+                // The plane's levels below its root cover the DEM, not the root's square.
+                if (level <= layout.finestLevel() && !layout.contains(tile)) continue;
+                tiles.push_back(tile);
+            }
+        }
+    }
+    std::sort(tiles.begin(), tiles.end(), [](const io::PatchId& a, const io::PatchId& b) {
+        return std::tie(a.level, a.y, a.x) < std::tie(b.level, b.y, b.x);
+    });
+    tiles.erase(std::unique(tiles.begin(), tiles.end()), tiles.end());
+    return tiles;
 }
 
 ImagerySelectionStats ImagerySelection::select(const Camera& camera,

@@ -9,12 +9,17 @@
 #include "terrain/runtime/SkirtDepth.h"
 #include "terrain/runtime/ValdetaroTiles.h"
 
+#include <limits>
 #include <utility>
 
 namespace terrain::runtime {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+/// How long open() waits for the imagery layers' coarsest tiles: a few reads, well within
+/// it unless the I/O thread hangs (the frames then start with the tint).
+constexpr std::chrono::milliseconds kImageryRootsTimeout{60'000};
 
 /// The quadtree rules of `method` over the caller's options.
 LodOptions lodOptionsFor(LodMethod method, LodOptions options) {
@@ -109,9 +114,11 @@ Result<std::unique_ptr<TerrainSession>> TerrainSession::open(const std::filesyst
     if (!renderer) return Error{pyramid.string() + ": " + renderer.error().message};
     auto methodRenderer = createMethodRenderer(pyramid, *streamer.value(), options);
     if (!methodRenderer) return methodRenderer.error();
-    return std::unique_ptr<TerrainSession>(new TerrainSession(
+    std::unique_ptr<TerrainSession> session(new TerrainSession(
         std::move(streamer).value(), std::move(surface), std::move(renderer).value(),
         std::move(methodRenderer).value(), options.method, options.lod));
+    session->loadImageryRoots(kImageryRootsTimeout);
+    return session;
 }
 
 TerrainSession::TerrainSession(std::unique_ptr<TileStreamer> streamer,
@@ -128,6 +135,41 @@ TerrainSession::TerrainSession(std::unique_ptr<TileStreamer> streamer,
     // The methods with their own renderers draw without imagery: nothing to select or ask for.
     if (!m_streamer->manifest().imagery.empty() && !m_methodRenderer)
         m_imagery = std::make_unique<ImagerySelection>(*m_surface, m_streamer->manifest());
+}
+
+void TerrainSession::loadImageryRoots(std::chrono::milliseconds timeout) {
+    if (!m_imagery) return;
+    struct Tile {
+        int layer = 0;
+        io::PatchId id;
+    };
+    std::vector<Tile> roots;
+    for (int layer = 0; layer < m_imagery->layerCount(); ++layer)
+        for (const io::PatchId& id : m_imagery->coarsestTiles(layer)) roots.push_back({layer, id});
+    ImageryStreamer& imagery = m_streamer->imagery();
+    // A GPU budget too small for them all would wait for layers no frame frees.
+    if (static_cast<int>(roots.size()) > imagery.pool().capacity()) return;
+    const auto deadline = Clock::now() + timeout;
+    while (true) {
+        m_streamer->beginFrame();
+        bool loaded = true;
+        for (const Tile& root : roots) {
+            // Asked for first, as the height roots are (LodQuadtree): nothing draws without them.
+            imagery.want(root.layer, root.id, std::numeric_limits<float>::max());
+            const io::ImageryTileInfo* info = imagery.tileInfo(root.layer, root.id);
+            const bool absent = info != nullptr && !info->present;
+            if (!imagery.gpuLayer(root.layer, root.id) && !absent &&
+                !imagery.hasFailed(root.layer, root.id))
+                loaded = false;
+        }
+        FrameTelemetry frame;
+        m_streamer->endFrame(frame);
+        addStreamingCounts(m_unreportedCounts, frame);
+        if (loaded) return;
+        const auto now = Clock::now();
+        if (now > deadline) return;
+        m_streamer->waitForReads(std::chrono::ceil<std::chrono::milliseconds>(deadline - now));
+    }
 }
 
 TerrainSession::~TerrainSession() {

@@ -2,7 +2,8 @@
 // is, the level follows the distance rather than the patch, a tile not resident yet is drawn
 // from its finest resident ancestor's quadrant and asked for, and imagery finer than the DEM
 // is listed below the DEM's finest level; a selection kept from frame to frame (its volumes
-// cached) lists what a new one lists, on the globe, as the view and the heights change.
+// cached) lists what a new one lists, on the globe, as the view and the heights change; each
+// layer's coarsest tiles are the ones under the surface's roots.
 #include "TestCameras.h"
 #include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/runtime/GlobeCamera.h"
@@ -320,6 +321,29 @@ TEST(ImagerySelectionGlobeTest, AKeptSelectionListsWhatANewOneLists) {
         listed += keptStats.nodes;
     }
     EXPECT_GT(listed, 1000) << "too few tiles listed to compare";
+}
+
+TEST(ImagerySelectionGlobeTest, ALayersCoarsestTilesAreThoseUnderTheCubeFaces) {
+    for (const int below : {0, 1}) {
+        const io::PyramidManifest manifest = globeManifestWithImagery(6, below);
+        const std::unique_ptr<runtime::Surface> surface = runtime::makeSurface(manifest);
+        const runtime::ImagerySelection selection(*surface, manifest);
+        const std::vector<io::PatchId> tiles = selection.coarsestTiles(0);
+        ASSERT_EQ(tiles.size(), below == 0 ? 6u : 24u);
+        for (const io::PatchId& tile : tiles) {
+            EXPECT_EQ(tile.level, io::ManifestGlobe::kLevelOffset + below);
+            const io::PatchId face{tile.level - below, tile.x >> below, tile.y >> below};
+            EXPECT_NE(std::find(surface->roots().begin(), surface->roots().end(), face),
+                      surface->roots().end());
+        }
+    }
+}
+
+TEST_F(ImagerySelectionTest, APlanesCoarsestTileIsItsRoot) {
+    const runtime::ImagerySelection selection(*m_surface, m_manifest);
+    const std::vector<io::PatchId> tiles = selection.coarsestTiles(0);
+    ASSERT_EQ(tiles.size(), 1u);
+    EXPECT_EQ(tiles[0], (io::PatchId{0, 0, 0}));
 }
 
 }  // namespace

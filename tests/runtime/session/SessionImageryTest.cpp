@@ -1,6 +1,8 @@
 // The imagery a session streams (issue 47), on the real streamer with fake imagery layers:
-// the methods that draw with their own renderers (no imagery) select none and ask for none.
-// Frames wait for reads, never sleep.
+// the methods that draw with their own renderers (no imagery) select none and ask for none;
+// the methods that drape it have every layer's coarsest tiles resident when open() returns,
+// so the first frame wears imagery rather than the plain tint. Frames wait for reads, never
+// sleep.
 #include "FakeImagerySource.h"
 #include "GlTestFixture.h"
 #include "StreamingTestPyramid.h"
@@ -68,6 +70,39 @@ TEST_F(SessionImageryTest, MethodsWithTheirOwnRenderersAskForNoImagery) {
         EXPECT_EQ(drawnFrames, 4);
         EXPECT_EQ(session.streamer().imagery().ledger().submitted, 0u);
     }
+}
+
+TEST_F(SessionImageryTest, TheFirstFrameFindsEveryLayersCoarsestTilesResident) {
+    auto opened = TerrainSession::open(m_pyramid, optionsFor(LodMethod::Yusov2011));
+    ASSERT_TRUE(opened) << opened.error().message;
+    TerrainSession& session = *opened.value();
+    ASSERT_NE(session.imagery(), nullptr);
+    ASSERT_EQ(session.imagery()->layerCount(), 2);
+    ImageryStreamer& imagery = session.streamer().imagery();
+    // Before any frame: open() waited for them.
+    for (int layer = 0; layer < 2; ++layer) {
+        for (const io::PatchId& tile : session.imagery()->coarsestTiles(layer)) {
+            EXPECT_EQ(tile, (io::PatchId{0, 0, 0}));
+            EXPECT_TRUE(imagery.gpuLayer(layer, tile).has_value()) << "layer " << layer;
+        }
+    }
+    // The first frame that draws the heights: every listed tile drawn from a tile of its own
+    // or an ancestor's, none from nothing (the tint).
+    const Camera camera = overTheDem(session);
+    for (int frame = 0; frame < 10000; ++frame) {
+        session.beginFrame(camera);
+        if (!session.draws().empty()) break;
+        FrameTelemetry t;
+        session.endFrame(t);
+        session.streamer().waitForReads(std::chrono::seconds(10));
+    }
+    ASSERT_FALSE(session.imagery()->nodes().empty());
+    for (const ImageryNode& node : session.imagery()->nodes())
+        EXPECT_GE(node.gpuLayer, 0) << "level " << node.level;
+    for (int layer = 0; layer < 2; ++layer)
+        EXPECT_TRUE(imagery.gpuLayer(layer, {0, 0, 0}).has_value());
+    FrameTelemetry t;
+    session.endFrame(t);
 }
 
 }  // namespace

@@ -91,6 +91,11 @@ public:
     ImagerySelectionStats select(const Camera& camera, std::span<const PatchDraw> draws,
                                  ImageryResidency& imagery, const TileResidency& heights);
 
+    /// Layer `layer`'s coarsest tiles: those of its coarsest level under the surface's roots
+    /// (the plane's root patch, the globe's six cube faces). Every frame's tree starts at or
+    /// below them, so with them resident no drawn pixel lacks imagery.
+    std::vector<io::PatchId> coarsestTiles(int layer) const;
+
     /// layerCount() roots per drawn patch, patch-major.
     std::span<const ImageryRoot> roots() const { return m_roots; }
     std::span<const ImageryNode> nodes() const { return m_nodes; }

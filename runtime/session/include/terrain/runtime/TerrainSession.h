@@ -66,7 +66,9 @@ struct TerrainSessionOptions {
 class TerrainSession final : public LodStrategy {
 public:
     /// Opens the pyramid (errors name it; a method that does not draw its surface is one),
-    /// starts streaming, builds the renderer.
+    /// starts streaming, builds the renderer. Where the method draws the pyramid's imagery
+    /// it returns once every layer's coarsest tiles are resident (or absent, or failed), so
+    /// the first frame wears imagery rather than the plain tint (loadImageryRoots).
     static Result<std::unique_ptr<TerrainSession>> open(const std::filesystem::path& pyramid,
                                                         const TerrainSessionOptions& options);
     ~TerrainSession() override;
@@ -146,6 +148,10 @@ private:
     /// A virtual patch interpolates its ancestor's tile between the tile's samples: its
     /// bound takes the tile's largest λ on top of the tile's Err(P), however it is drawn.
     void addTileErrorsToVirtualDraws();
+    /// Runs streaming frames (no LOD, no draw) until every imagery layer's coarsest tiles
+    /// are resident, known absent or failed, or `timeout` passes (the frames then wear the
+    /// tint until they arrive). Their streaming counts go to the first endFrame.
+    void loadImageryRoots(std::chrono::milliseconds timeout);
 
     // Declared in destruction order's reverse: the tree holds pins in the streamer's pool.
     std::unique_ptr<TileStreamer> m_streamer;
