@@ -98,9 +98,9 @@ TEST_F(ImageryTool, BlueMarbleOverTheGlobeWithBostonAbove) {
     TERRAIN_SHARED_DATA_OR_SKIP(blueMarble, "imagery/bluemarble_world_2048.tif");
     TERRAIN_SHARED_DATA_OR_SKIP(boston, "imagery/boston_inset_wgs84.tif");
     const fs::path globe = pyramidOf(etopo, "globe", "--globe");
-    const ToolRun world =
+    const ToolRun wholeEarth =
         run(TERRAIN_IMAGERY, globe.string() + " " + blueMarble.string() + " --json --replace");
-    ASSERT_EQ(world.status, 0) << world.output;
+    ASSERT_EQ(wholeEarth.status, 0) << wholeEarth.output;
     const ToolRun inset = run(TERRAIN_IMAGERY, globe.string() + " " + boston.string() +
                                                    " --name boston --opacity 0.9 --replace");
     ASSERT_EQ(inset.status, 0) << inset.output;
@@ -115,9 +115,24 @@ TEST_F(ImageryTool, BlueMarbleOverTheGlobeWithBostonAbove) {
     // 2048 pixels around the Earth: 0.18° pixels, face level 2's texels (0.09°).
     EXPECT_EQ(bottom.finestLevel, ManifestGlobe::kLevelOffset + 2);
     EXPECT_EQ(top.finestLevel, ManifestGlobe::kLevelOffset + 9);
+    // Blue Marble covers the Earth: every tile of every level opaque, the polar faces too,
+    // whose texels take every longitude (a tile unwrapped around its centre left a line of
+    // half-transparent texels along the meridian opposite the centre's: a streak of the tint
+    // from the pole to the face's corner).
+    auto world = openImageryTiles(globe, manifest.value(), bottom);
+    ASSERT_TRUE(world.ok()) << world.error().message;
+    ImageryTile tile;
+    for (int level = bottom.coarsestLevel; level <= bottom.finestLevel; ++level) {
+        const std::int64_t perFace = std::int64_t{1} << (level - ManifestGlobe::kLevelOffset);
+        for (std::int64_t y = 0; y < perFace; ++y)
+            for (std::int64_t x = 0; x < 6 * perFace; ++x) {
+                ASSERT_TRUE(world.value()->readTile({level, x, y}, tile).ok());
+                EXPECT_TRUE(tile.info.present && tile.info.opaque)
+                    << "tile " << level << "/" << x << "/" << y;
+            }
+    }
     auto tiles = openImageryTiles(globe, manifest.value(), top);
     ASSERT_TRUE(tiles.ok()) << tiles.error().message;
-    ImageryTile tile;
     for (std::int64_t face = 0; face < 6; ++face) {  // every root, transparent away from Boston
         ASSERT_TRUE(tiles.value()->readTile({ManifestGlobe::kLevelOffset, face, 0}, tile).ok());
         EXPECT_TRUE(tile.info.present);

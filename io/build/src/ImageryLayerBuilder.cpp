@@ -180,12 +180,18 @@ struct BlockWindow {
     std::int64_t blocksX = 0, blocksY = 0;  // of the whole averaged image
     std::int64_t x0 = 0, y0 = 0;            // the window's first block (x0 may be < 0: wrapped)
     int w = 0, h = 0;
+    /// The image wraps around in x and the window holds its whole width: a block past either
+    /// end is the one a turn away (a tile around a pole takes every longitude, and unwrapped
+    /// around its centre its texels still meet across the meridian opposite the centre's).
+    bool wholeTurn = false;
     std::vector<std::uint8_t> rgba;
 
     // Premultiplied colour of block (bx, by) of the averaged image; 0 outside it.
     void blockAt(std::int64_t bx, std::int64_t by, double out[4]) const {
         out[0] = out[1] = out[2] = out[3] = 0.0;
-        const std::int64_t lx = bx - x0, ly = by - y0;
+        std::int64_t lx = bx - x0;
+        const std::int64_t ly = by - y0;
+        if (wholeTurn) lx = (lx % blocksX + blocksX) % blocksX;
         if (ly < 0 || ly >= h || lx < 0 || lx >= w) return;
         if (by < 0 || by >= blocksY) return;
         const std::uint8_t* p = &rgba[static_cast<std::size_t>(ly * w + lx) * 4];
@@ -238,6 +244,7 @@ public:
             }
             if (!(minX <= maxX)) {  // nothing placed
                 win.w = win.h = 0;
+                win.wholeTurn = false;
                 break;
             }
             std::int64_t x0 = static_cast<std::int64_t>(std::floor(minX)) - 1;
@@ -257,6 +264,7 @@ public:
             win.y0 = y0;
             win.w = static_cast<int>(x1 - x0);
             win.h = static_cast<int>(y1 - y0);
+            win.wholeTurn = wraps && x1 - x0 == win.blocksX;
             break;
         }
         tile.id = id;
@@ -275,8 +283,15 @@ public:
                 double c[4] = {0, 0, 0, 0}, q[4];
                 const double weights[4] = {(1 - wx) * (1 - wy), wx * (1 - wy), (1 - wx) * wy,
                                            wx * wy};
+                // An image that wraps around the Earth reaches the poles with its first and
+                // last rows: past their centres its edge row continues (else the texels
+                // within half a block of a pole would be half transparent).
+                const bool polar =
+                    wraps && m_ys[t] >= 0.0 && m_ys[t] <= static_cast<double>(m_image.height());
                 for (int corner = 0; corner < 4; ++corner) {
-                    win.blockAt(ix + (corner & 1), iy + (corner >> 1), q);
+                    std::int64_t cy = iy + (corner >> 1);
+                    if (polar) cy = std::clamp<std::int64_t>(cy, 0, win.blocksY - 1);
+                    win.blockAt(ix + (corner & 1), cy, q);
                     for (int ch = 0; ch < 4; ++ch) c[ch] += weights[corner] * q[ch];
                 }
                 std::uint8_t* out = &tile.rgba[t * 4];
