@@ -796,6 +796,17 @@ int run(const BenchOptions& o, const char* argv0) {
                               "{} frames over; horizon-culled {:.1f} % of visited",
                               s.lodErrorMaxPx, s.lodFramesOverThreshold,
                               100.0 * s.horizonCulledFraction));
+        if (!std::isnan(s.imageryPsnrDbMean)) {
+            fmt::print(stderr,
+                       "terrain-bench: {} ε = {:>5} px: draped imagery against its reference "
+                       "PSNR mean {:.2f} dB, worst {:.2f} dB (frame {:.0f}), {:.0f} pixels over "
+                       "{} levels (worst {:.0f}), texels per pixel median {:.2f} ({:.1f} % in "
+                       "0.5-2)\n",
+                       s.method, s.thresholdPx, s.imageryPsnrDbMean, s.imageryPsnrDbMin,
+                       s.imageryWorstFrame, s.imageryVisiblePixelsTotal,
+                       runtime::ImageryFrameComparison::kVisibleLevels, s.imageryMaxLevels,
+                       s.imageryTexelsPerPixelMedian, 100.0 * s.imageryTexelsInRangeMean);
+        }
     }
     return 0;
 }

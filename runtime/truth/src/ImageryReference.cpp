@@ -204,17 +204,21 @@ Result<ImageryFrameComparison> ImageryReference::compare(const Camera& camera,
         for (int x = 0; x < w; ++x) {
             const std::size_t i = static_cast<std::size_t>(y) * w + x;
             if (!draped.drawn(i)) continue;
-            // As the GPU takes it: the differences across the pixel's 2 × 2 quad, the same
-            // for its four pixels (coarse derivatives, and llvmpipe's level of detail per
-            // quad); where the quad is not wholly on one surface, the nearer neighbours'.
-            std::optional<double> footprint = quadFootprint(x & ~1, y & ~1);
-            if (!footprint) {
-                const auto sx = step(i, x > 0 ? std::optional(i - 1) : std::nullopt,
-                                     x + 1 < w ? std::optional(i + 1) : std::nullopt);
-                const auto sy = step(i, y > 0 ? std::optional(i - w) : std::nullopt,
-                                     y + 1 < h ? std::optional(i + w) : std::nullopt);
-                if (sx || sy) footprint = std::max(sx.value_or(0.0), sy.value_or(0.0));
-            }
+            // The footprint along each axis from the nearer of the two neighbours (a
+            // silhouette's far side does not count), the larger of the two axes'.
+            std::optional<double> footprint;
+            const auto sx = step(i, x > 0 ? std::optional(i - 1) : std::nullopt,
+                                 x + 1 < w ? std::optional(i + 1) : std::nullopt);
+            const auto sy = step(i, y > 0 ? std::optional(i - w) : std::nullopt,
+                                 y + 1 < h ? std::optional(i + w) : std::nullopt);
+            if (sx || sy) footprint = std::max(sx.value_or(0.0), sy.value_or(0.0));
+            // As the GPU takes it where the pixel's 2 × 2 quad lies on one surface: the
+            // differences across the quad, the same for its four pixels (coarse derivatives,
+            // and llvmpipe's level of detail per quad). A quad cut by a silhouette differs
+            // from the neighbours' by far more than the footprint changes across a pixel.
+            if (const auto quad = quadFootprint(x & ~1, y & ~1);
+                quad && footprint && *quad <= 1.5 * *footprint && *quad >= *footprint / 1.5)
+                footprint = quad;
             if (!footprint) {
                 ++out.unmeasuredPixels;
                 continue;
