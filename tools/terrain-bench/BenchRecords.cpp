@@ -157,6 +157,7 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
                                          ? r.imageryMaxLevels
                                          : std::max(s.imageryMaxLevels, r.imageryMaxLevels);
                 addTo(s.imageryVisiblePixelsTotal, r.imageryVisiblePixels);
+                addTo(s.imageryUncoveredPixelsTotal, r.imageryUncoveredPixels);
                 imageryTexels.push_back(r.imageryTexelsPerPixel);
                 imageryInRange.push_back(r.imageryTexelsInRange);
             }
@@ -256,6 +257,7 @@ Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRe
         {"imagery_max_levels", [](const R& r) { return number(r.imageryMaxLevels); }},
         {"imagery_visible_pixels", [](const R& r) { return number(r.imageryVisiblePixels); }},
         {"imagery_compared_pixels", [](const R& r) { return number(r.imageryComparedPixels); }},
+        {"imagery_uncovered_pixels", [](const R& r) { return number(r.imageryUncoveredPixels); }},
         {"imagery_texels_per_pixel", [](const R& r) { return number(r.imageryTexelsPerPixel); }},
         {"imagery_texels_in_range", [](const R& r) { return number(r.imageryTexelsInRange); }},
         {"crack_pixels", [](const R& r) { return number(r.crackPixels); }},
@@ -328,6 +330,8 @@ Status writeSummaryCsv(const std::filesystem::path& path,
         {"imagery_max_levels", [](const S& s) { return number(s.imageryMaxLevels); }},
         {"imagery_visible_pixels_total",
          [](const S& s) { return number(s.imageryVisiblePixelsTotal); }},
+        {"imagery_uncovered_pixels_total",
+         [](const S& s) { return number(s.imageryUncoveredPixelsTotal); }},
         {"imagery_texels_per_pixel_median",
          [](const S& s) { return number(s.imageryTexelsPerPixelMedian); }},
         {"imagery_texels_in_range_mean",

@@ -120,12 +120,14 @@ struct FrameRecord {
     /// The draped imagery (unlit, no fog) against ImageryReference (every layer read from disk
     /// at the level each pixel needs), over the pixels it wholly covers: PSNR (dB), the
     /// largest channel difference (8-bit levels), pixels over ImageryFrameComparison::
-    /// kVisibleLevels, and the finest layer's texels per pixel (median; share in 0.5–2).
+    /// kVisibleLevels, and the bottom layer's texels per pixel (median; share in 0.5–2).
     /// NaN where the pyramid has no imagery or the method drapes none.
     double imageryPsnrDb = kNoValue;
     double imageryMaxLevels = kNoValue;
     double imageryVisiblePixels = kNoValue;
     double imageryComparedPixels = kNoValue;
+    /// Terrain pixels the layers leave partly or wholly uncovered (the tint shows).
+    double imageryUncoveredPixels = kNoValue;
     double imageryTexelsPerPixel = kNoValue;
     double imageryTexelsInRange = kNoValue;
 };
@@ -171,6 +173,7 @@ struct ThresholdSummary {
     double imageryWorstFrame = kNoValue;
     double imageryMaxLevels = kNoValue;
     double imageryVisiblePixelsTotal = kNoValue;
+    double imageryUncoveredPixelsTotal = kNoValue;
     double imageryTexelsPerPixelMedian = kNoValue;
     double imageryTexelsInRangeMean = kNoValue;
     std::uint64_t crackPixelsTotal = 0;

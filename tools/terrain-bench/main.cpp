@@ -116,6 +116,32 @@ Status writePng(const runtime::FrameImages& images, const fs::path& path) {
     return tools::writeGlRgbaPng(path, images.width, images.height, images.rgba);
 }
 
+/// The draped frame, its reference and their difference × 8 side by side (black where the
+/// reference compared nothing).
+runtime::FrameImages imageryComparisonPicture(const runtime::FrameImages& drawn,
+                                              const runtime::ImageryFrameComparison& c) {
+    runtime::FrameImages picture;
+    picture.width = 3 * drawn.width;
+    picture.height = drawn.height;
+    picture.rgba.assign(4 * picture.pixels(), 0);
+    const auto w = static_cast<std::size_t>(drawn.width);
+    for (std::size_t i = 0; i < drawn.pixels(); ++i) {
+        const std::size_t row = 3 * w * (i / w), x = i % w;
+        const bool compared = c.referenceRgba[4 * i + 3] != 0;
+        for (std::size_t k = 0; k < 3; ++k) {
+            const int seen = drawn.rgba[4 * i + k], wanted = c.referenceRgba[4 * i + k];
+            picture.rgba[4 * (row + x) + k] = static_cast<std::uint8_t>(seen);
+            picture.rgba[4 * (row + w + x) + k] = static_cast<std::uint8_t>(wanted);
+            picture.rgba[4 * (row + 2 * w + x) + k] =
+                compared ? static_cast<std::uint8_t>(std::min(255, 8 * std::abs(seen - wanted)))
+                         : std::uint8_t{0};
+        }
+        for (std::size_t part = 0; part < 3; ++part)
+            picture.rgba[4 * (row + part * w + x) + 3] = 255;
+    }
+    return picture;
+}
+
 std::string thresholdName(double px) { return fmt::format("{}", px); }
 
 /// The method's part of a per-run file name: none for the default method and its draw
@@ -154,6 +180,7 @@ nlohmann::json summaryJson(const tools::ThresholdSummary& s) {
             {"imagery_worst_frame", v(s.imageryWorstFrame)},
             {"imagery_max_levels", v(s.imageryMaxLevels)},
             {"imagery_visible_pixels_total", v(s.imageryVisiblePixelsTotal)},
+            {"imagery_uncovered_pixels_total", v(s.imageryUncoveredPixelsTotal)},
             {"imagery_texels_per_pixel_median", v(s.imageryTexelsPerPixelMedian)},
             {"imagery_texels_in_range_mean", v(s.imageryTexelsInRangeMean)},
             {"rmse_mean", v(s.rmseMean)},
@@ -509,43 +536,23 @@ int run(const BenchOptions& o, const char* argv0) {
             if (auto w = writePng(marked, file); !w) return w.error();
         }
         if (draped) {
-            runtime::TerrainStyle drapedStyle = style;
-            auto compared = imageryReference->compare(camera, *draped, drapedStyle);
+            auto compared = imageryReference->compare(camera, *draped, style);
             if (!compared) return compared.error();
             const runtime::ImageryFrameComparison& c = compared.value();
             rec.imageryPsnrDb = c.psnrDb;
             rec.imageryMaxLevels = c.maxLevels;
             rec.imageryVisiblePixels = static_cast<double>(c.visiblePixels);
             rec.imageryComparedPixels = static_cast<double>(c.comparedPixels);
+            rec.imageryUncoveredPixels = static_cast<double>(c.uncoveredPixels);
             rec.imageryTexelsPerPixel = c.texelsPerPixelP50;
             rec.imageryTexelsInRange = c.texelsPerPixelInRange;
             if (flight && c.comparedPixels > 0 && c.psnrDb < r.imageryWorstPsnrDb) {
                 // The worst frame so far: drawn, reference, and their difference × 8.
                 r.imageryWorstPsnrDb = c.psnrDb;
-                runtime::FrameImages picture = *draped;
-                const std::size_t pixels = picture.pixels();
-                picture.width = 3 * draped->width;
-                picture.rgba.assign(4 * 3 * pixels, 0);
-                for (std::size_t i = 0; i < pixels; ++i) {
-                    const std::size_t x = i % static_cast<std::size_t>(draped->width);
-                    const std::size_t y = i / static_cast<std::size_t>(draped->width);
-                    const std::size_t row = 3 * static_cast<std::size_t>(draped->width) * y;
-                    for (std::size_t k = 0; k < 4; ++k) {
-                        const int drawn = draped->rgba[4 * i + k];
-                        const int wanted = c.referenceRgba[4 * i + k];
-                        picture.rgba[4 * (row + x) + k] = static_cast<std::uint8_t>(drawn);
-                        picture.rgba[4 * (row + draped->width + x) + k] =
-                            static_cast<std::uint8_t>(k == 3 ? 255 : wanted);
-                        picture.rgba[4 * (row + 2 * draped->width + x) + k] =
-                            static_cast<std::uint8_t>(
-                                k == 3 ? 255
-                                       : std::min(255, 8 * std::abs(drawn - wanted)) *
-                                             (c.referenceRgba[4 * i + 3] / 255));
-                    }
-                }
                 const auto file = outputDir / fmt::format("imagery-worst-{}eps-{}.png", r.fileTag,
                                                           thresholdName(r.thresholdPx));
-                if (auto w = writePng(picture, file); !w) return w.error();
+                if (auto w = writePng(imageryComparisonPicture(*draped, c), file); !w)
+                    return w.error();
             }
         }
         rec.diagonalUncoveredPixels = a.diagonalUncoveredPixels;
@@ -800,12 +807,13 @@ int run(const BenchOptions& o, const char* argv0) {
             fmt::print(stderr,
                        "terrain-bench: {} ε = {:>5} px: draped imagery against its reference "
                        "PSNR mean {:.2f} dB, worst {:.2f} dB (frame {:.0f}), {:.0f} pixels over "
-                       "{} levels (worst {:.0f}), texels per pixel median {:.2f} ({:.1f} % in "
-                       "0.5-2)\n",
+                       "{} levels (worst {:.0f}), {:.0f} terrain pixels not wholly covered, texels "
+                       "per pixel median {:.2f} ({:.1f} % in 0.5-2)\n",
                        s.method, s.thresholdPx, s.imageryPsnrDbMean, s.imageryPsnrDbMin,
                        s.imageryWorstFrame, s.imageryVisiblePixelsTotal,
                        runtime::ImageryFrameComparison::kVisibleLevels, s.imageryMaxLevels,
-                       s.imageryTexelsPerPixelMedian, 100.0 * s.imageryTexelsInRangeMean);
+                       s.imageryUncoveredPixelsTotal, s.imageryTexelsPerPixelMedian,
+                       100.0 * s.imageryTexelsInRangeMean);
         }
     }
     return 0;

@@ -120,7 +120,12 @@ int ImagerySelection::nodeOf(int layer, const io::PatchId& id) {
         // Not resident: drawn from the finest resident ancestor's texels until it arrives.
         // A root's ancestors are listed as nodes of their own only through this lookup.
         // Asked for unless it lies outside the view (a child of a tile the view cuts).
-        if (const double pixels = texelPixels(id);
+        // A tile read and found absent (a layer that does not reach here: a partial
+        // layer's root under a patch far from its image) is not asked for again, nor
+        // waited for: the ancestor's texels (transparent there) are all there is.
+        const io::ImageryTileInfo* known = m_imagery->tileInfo(layer, id);
+        const bool absent = known != nullptr && !known->present;
+        if (const double pixels = absent ? 0.0 : texelPixels(id);
             pixels > 0.0 && !m_imagery->hasFailed(layer, id)) {
             m_imagery->want(layer, id, static_cast<float>(pixels));
             ++m_stats.wanted;

@@ -4,6 +4,7 @@
 #include "terrain/globe/CubeSphere.h"
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/ImageryMips.h"
+#include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/ImagerySelection.h"
 #include "terrain/runtime/ScreenProjection.h"
 
@@ -285,8 +286,7 @@ Result<ImageryFrameComparison> ImageryReference::compare(const Camera& camera,
     }
     if (out.comparedPixels > 0) {
         out.rmse = std::sqrt(squares / (3.0 * static_cast<double>(out.comparedPixels)));
-        out.psnrDb = out.rmse > 0.0 ? 20.0 * std::log10(255.0 / out.rmse)
-                                    : std::numeric_limits<double>::infinity();
+        out.psnrDb = out.rmse > 0.0 ? 20.0 * std::log10(255.0 / out.rmse) : kIdenticalPsnrDb;
     }
     if (!texelsPerPixel.empty()) {
         const auto middle = texelsPerPixel.begin() + texelsPerPixel.size() / 2;

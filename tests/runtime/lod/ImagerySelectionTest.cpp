@@ -38,10 +38,13 @@ public:
     }
     int imageryLayerCount() const override { return 1; }
     std::optional<int> gpuLayer(int, const io::PatchId& id) override {
-        if (!resident(id)) return std::nullopt;
+        if (absent(id) || !resident(id)) return std::nullopt;
         return layerOf(id);
     }
+    /// Read and found absent (the streamer keeps such a tile's info, never its texels).
+    std::function<bool(const io::PatchId&)> absent = [](const io::PatchId&) { return false; };
     const io::ImageryTileInfo* tileInfo(int, const io::PatchId& id) const override {
+        if (absent(id)) return &m_absent;
         if (!resident(id)) return nullptr;
         return id.level < m_finest ? &m_parent : &m_leaf;
     }
@@ -54,6 +57,7 @@ private:
     int m_finest;
     io::ImageryTileInfo m_parent{true, 0xF, true};
     io::ImageryTileInfo m_leaf{true, 0, true};
+    io::ImageryTileInfo m_absent{false, 0, false};
 };
 
 /// A flat DEM at 0 m: every patch resident with that height.
@@ -228,6 +232,44 @@ TEST_F(ImagerySelectionTest, ATileNotResidentDrawsItsAncestorsQuadrantAndIsAsked
         EXPECT_GT(priority, 1.0f) << "its texels are larger than a pixel: why it is listed";
     }
     EXPECT_FALSE(imagery.wanted.empty());
+}
+
+TEST(ImagerySelectionPartialLayerTest, ARootKnownAbsentIsNeitherAskedForNorWaitedFor) {
+    // 8193² samples (finest level 6): a finest patch's root lies 3 levels up, at level 3,
+    // below the layer's coarsest. The layer reaches no further than its level-0 tile here
+    // (a small image far away): its level-3 tiles were read and found absent. A frame then
+    // draws the level-0 tile's quadrant, asks for nothing and waits for nothing (before, it
+    // asked for the absent roots every frame, and a session never settled).
+    io::PyramidManifest manifest =
+        io::PyramidManifest::forLayout(io::PyramidLayout::create(8193, 8193).value());
+    manifest.georeference.pixelSizeX = manifest.georeference.pixelSizeY = 10.0;
+    manifest.imagery.push_back({.name = "inset",
+                                .kind = std::string(io::ManifestImageryLayer::kStoredKind),
+                                .folder = "imagery/inset",
+                                .input = "inset.tif",
+                                .codec = "webp",
+                                .coarsestLevel = 0,
+                                .finestLevel = 8,
+                                .opacity = 1.0});
+    const std::unique_ptr<runtime::Surface> surface = runtime::makeSurface(manifest);
+    runtime::ImagerySelection selection(*surface, manifest);
+    FakeImagery imagery(8);
+    imagery.absent = [](const io::PatchId& id) { return id.level >= 1; };
+    FlatHeights heights;
+    std::vector<PatchDraw> draws;
+    for (std::int64_t x = 30; x < 34; ++x)
+        draws.push_back(PatchDraw::ofTile({6, x, 32}, 0, io::PatchInfo{.present = true}));
+    const runtime::TerrainGeometry& g = runtime::planeGeometry(*surface);
+    const runtime::ImagerySelectionStats stats =
+        selection.select(cameraOverDem(g, 0.5, 0.5, 300.0, 0.5, 0.5001), draws, imagery, heights);
+    EXPECT_TRUE(imagery.wanted.empty());
+    EXPECT_EQ(stats.waiting, 0);
+    for (const runtime::ImageryRoot& root : selection.roots()) {
+        const ImageryNode& node = selection.nodes()[static_cast<std::size_t>(root.node)];
+        EXPECT_EQ(node.level, 3);
+        EXPECT_EQ(node.gpuLayer, FakeImagery::layerOf({0, 0, 0}));  // the level-0 tile's
+        EXPECT_EQ(node.map[2], 0.125f);
+    }
 }
 
 TEST_F(ImagerySelectionTest, RootsLieAboveThePatchOnItsLineOfAncestors) {

@@ -22,6 +22,7 @@
 #include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/runtime/Camera.h"
 #include "terrain/runtime/FrameImages.h"
+#include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TerrainStyle.h"
 
@@ -42,16 +43,18 @@ struct ImageryFrameComparison {
     /// Pixels compared: drawn, and wholly covered by the reference's imagery (where it is
     /// partly transparent the tint shows through, which is not imagery's to measure).
     std::uint64_t comparedPixels = 0;
-    /// Drawn pixels the reference leaves partly or wholly uncovered (not compared).
+    /// Drawn pixels the reference leaves partly or wholly uncovered (not compared): where the
+    /// layers do not reach, or where their own texels are transparent (a layer meant to cover
+    /// the whole terrain shows a defect of its build here).
     std::uint64_t uncoveredPixels = 0;
     /// Drawn pixels whose footprint could not be told (no drawn neighbour on the same face).
     std::uint64_t unmeasuredPixels = 0;
     double rmse = 0.0;  ///< 8-bit levels, RGB, over the compared pixels
-    double psnrDb = std::numeric_limits<double>::infinity();
+    double psnrDb = kIdenticalPsnrDb;  ///< as ImageComparison.h: identical images 100 dB
     int maxLevels = 0;  ///< largest difference of one channel, 8-bit levels
     /// Compared pixels whose largest channel difference exceeds kVisibleLevels.
     std::uint64_t visiblePixels = 0;
-    /// The finest layer's texels across a compared pixel at the level the ideal filter
+    /// The bottom layer's texels across a compared pixel at the level the ideal filter
     /// reads first (its median and share within 0.5–2; magnified pixels count below 1).
     double texelsPerPixelP50 = 0.0;
     double texelsPerPixelInRange = 0.0;
