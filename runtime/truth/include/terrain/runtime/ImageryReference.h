@@ -5,13 +5,16 @@
 // The frame's own depth gives each pixel's point on the drawn surface, so the comparison
 // measures the imagery alone (where it is placed, which level and mip it is drawn from,
 // seams, streaming's stand-ins), not the geometry, which the screen-space error measures.
-// Each pixel is filtered as the ideal trilinear filter would filter the full-resolution
-// layer over its footprint: the footprint in finest texels is f (from the neighbouring
-// pixels' points), λ = log2 f, and the colour is the bilinear sample of the level whose
-// texels are no larger than f blended with the next coarser level's by frac(λ) (a layer's
-// coarser levels are its finest averaged over 2^k blocks: ImageryLayerBuilder), in linear
-// light, straight alpha, as GL_SRGB8_ALPHA8 filters. An absent tile takes its parent's
-// texels, as the draw does. Layers are composited as terrain_imagery.glsl composites them.
+// Each pixel is filtered as the draw filters it, with every tile there: the footprint f in
+// the layer's finest texels (from the neighbouring pixels' points, or from the pixel's 2 × 2
+// quad where the quad lies on one surface, as the GPU's coarse derivatives are), λ = log2 f,
+// the level whose texels are no larger than f, λ' = λ less the levels from the finest to it,
+// and within that tile's mips (made as the I/O thread makes them: ImageryMips.h) the
+// bilinear samples of mips ⌊λ'⌋ and ⌊λ'⌋ + 1 blended by the rest (trilinear), in linear light, straight alpha, as GL_SRGB8_ALPHA8 filters. An
+// absent tile takes its parent's texels, as the draw does. Layers are composited as
+// terrain_imagery.glsl composites them. (Across a level change the draw, and so this
+// reference, go from a tile's mip 1 to its parent's mip 0, which the builder averages afresh
+// from the image: the two are not the same texels, docs/imagery.md.)
 // Isotropic: the measure is meant for a sampler without anisotropy (llvmpipe's, and
 // gl::textureAnisotropyWorthFiltering there), where the draw's filter is the same shape.
 #pragma once
