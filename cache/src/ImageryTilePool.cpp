@@ -138,13 +138,8 @@ bool ImageryTilePool::upload(const io::TileKey& key, const io::ImageryTile& tile
         return false;
     }
     const int layer = found->second.layer;
-    std::span<const std::uint8_t> level = tile.rgba;
-    std::size_t mipOffset = 0;  // of the next mip in tile.mips
     for (int mip = 0; mip < io::kImageryTileMips; ++mip) {
-        if (mip > 0) {
-            level = std::span<const std::uint8_t>(tile.mips).subspan(mipOffset, bytesAtMip(mip));
-            mipOffset += level.size();
-        }
+        const std::span<const std::uint8_t> level = io::imageryMip(tile, mip);
         const gl::TextureRegion region{.level = mip,
                                        .x = 0,
                                        .y = 0,

@@ -41,15 +41,11 @@ public:
     int rootLevel() const { return globe() ? ManifestGlobe::kLevelOffset : 0; }
     std::int64_t tilesX(int level) const {
         if (globe()) return globe::kCubeFaces * (std::int64_t{1} << (level - rootLevel()));
-        const PyramidLayout& l = m_manifest.layout;
-        if (level <= l.finestLevel()) return l.patchesX(level);
-        return l.patchesX(l.finestLevel()) << (level - l.finestLevel());
+        return planarImageryTilesX(m_manifest.layout, level);
     }
     std::int64_t tilesY(int level) const {
         if (globe()) return std::int64_t{1} << (level - rootLevel());
-        const PyramidLayout& l = m_manifest.layout;
-        if (level <= l.finestLevel()) return l.patchesY(level);
-        return l.patchesY(l.finestLevel()) << (level - l.finestLevel());
+        return planarImageryTilesY(m_manifest.layout, level);
     }
     /// The terrain point of stored-texel position (a, b) (texel centres at k + 0.5).
     void point(const PatchId& id, double a, double b, double& x, double& y) const {

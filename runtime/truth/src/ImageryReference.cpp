@@ -127,12 +127,8 @@ Result<std::array<float, 4>> ImageryReference::sample(int layer, int level, int 
                              static_cast<std::int64_t>(std::floor(at.y))};
         if (m_plane) {
             const io::PyramidLayout& layout = m_manifest.layout;
-            const int finest = layout.finestLevel();
-            const std::int64_t across =
-                l <= finest ? layout.patchesX(l) : layout.patchesX(finest) << (l - finest);
-            const std::int64_t down =
-                l <= finest ? layout.patchesY(l) : layout.patchesY(finest) << (l - finest);
-            if (id.x < 0 || id.y < 0 || id.x >= across || id.y >= down)
+            if (id.x < 0 || id.y < 0 || id.x >= io::planarImageryTilesX(layout, l) ||
+                id.y >= io::planarImageryTilesY(layout, l))
                 return std::array<float, 4>{};
         }
         auto found = tile(layer, id);
@@ -147,8 +143,8 @@ Result<std::array<float, 4>> ImageryReference::sample(int layer, int level, int 
         // ImageryTile.h: stored texel k's centre is at u = (k + 0.5 − border) / interior; a
         // mip halves the whole grid, border included.
         const double scale = std::ldexp(1.0, -m);
-        return bilinear(t.mip(m), io::kImageryTileTexels >> m, (kBorder + u * kInterior) * scale,
-                        (kBorder + v * kInterior) * scale);
+        return bilinear(io::imageryMip(t.tile, m), io::kImageryTileTexels >> m,
+                        (kBorder + u * kInterior) * scale, (kBorder + v * kInterior) * scale);
     }
     return std::array<float, 4>{};
 }

@@ -22,6 +22,7 @@
 #include "terrain/pyramid/PyramidLayout.h"
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace terrain::io {
@@ -71,6 +72,26 @@ struct ImageryTile {
     /// Empty when not present, and in a tile as a layer's file or source yields it.
     std::vector<std::uint8_t> mips;
 };
+
+/// Mip `mip` of `tile`, (kImageryTileTexels >> mip)² RGBA8 texels: its texels at 0, else from
+/// tile.mips (made by makeImageryMips: ImageryMips.h).
+inline std::span<const std::uint8_t> imageryMip(const ImageryTile& tile, int mip) {
+    if (mip == 0) return tile.rgba;
+    std::size_t offset = 0;
+    for (int below = 1; below < mip; ++below) offset += imageryMipBytes(below);
+    return std::span<const std::uint8_t>(tile.mips).subspan(offset, imageryMipBytes(mip));
+}
+
+/// Tiles across (x) and down (y) a planar layer's level `level`: the layout's patches, and
+/// past its finest level (imagery finer than the DEM) the finest's halved again per level.
+inline std::int64_t planarImageryTilesX(const PyramidLayout& layout, int level) {
+    const int finest = layout.finestLevel();
+    return level <= finest ? layout.patchesX(level) : layout.patchesX(finest) << (level - finest);
+}
+inline std::int64_t planarImageryTilesY(const PyramidLayout& layout, int level) {
+    const int finest = layout.finestLevel();
+    return level <= finest ? layout.patchesY(level) : layout.patchesY(finest) << (level - finest);
+}
 
 /// Patch-local coordinate (0 at the patch's first sample, 1 at its last) of a point given in
 /// stored-texel units along one axis (0 at the tile's outer edge, k + 0.5 the centre of

@@ -93,12 +93,6 @@ private:
     struct CachedTile {
         bool present = false;
         io::ImageryTile tile;  ///< its texels and mips (ImageryTile::mips)
-        std::span<const std::uint8_t> mip(int m) const {
-            if (m == 0) return tile.rgba;
-            std::size_t offset = 0;
-            for (int below = 1; below < m; ++below) offset += io::imageryMipBytes(below);
-            return std::span<const std::uint8_t>(tile.mips).subspan(offset, io::imageryMipBytes(m));
-        }
     };
     /// Where a pixel's point lies on the terrain's tiling: on the globe a cube face and its
     /// (s, t); on the plane the finest level's sample (column, row). Fractional.
