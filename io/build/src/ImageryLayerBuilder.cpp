@@ -6,11 +6,14 @@
 #include "terrain/globe/CubeSphere.h"
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
+#include "terrain/pyramid/ImageryMips.h"
 #include "terrain/pyramid/ImageryTile.h"
+#include "terrain/pyramid/PatchIdHash.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -18,6 +21,8 @@
 #include <mutex>
 #include <numbers>
 #include <thread>
+#include <unordered_map>
+#include <unordered_set>
 
 namespace terrain::io {
 
@@ -47,18 +52,37 @@ public:
         if (globe()) return std::int64_t{1} << (level - rootLevel());
         return planarImageryTilesY(m_manifest.layout, level);
     }
-    /// The terrain point of stored-texel position (a, b) (texel centres at k + 0.5).
+    /// The terrain point of stored-texel position (a, b) (texel centres at k + 0.5), where
+    /// planarImageryPoint or globeImageryPoint puts it. Computed from the position counted
+    /// over the frame's interiors (an exact number), so a tile's border texel and the same
+    /// texel in its neighbour's interior land on the same point to the last bit, and sample
+    /// the same colour: the coarser levels made of them (CoarserLevel) match across tiles.
     void point(const PatchId& id, double a, double b, double& x, double& y) const {
-        const double u = imageryPatchLocal(a), v = imageryPatchLocal(b);
+        constexpr double interior = kImageryInteriorTexels;
+        const double border = kImageryBorderTexels;
         if (!globe()) {
-            const PlanarSamplePoint p = planarImageryPoint(m_manifest.layout, id, u, v);
-            x = p.column;
-            y = p.row;
+            const PyramidLayout& l = m_manifest.layout;
+            const double perTexel =
+                std::ldexp(static_cast<double>(l.patchQuads()), l.finestLevel() - id.level) /
+                interior;
+            // Past the DEM's last sample nothing is drawn but the filter's reach at the
+            // terrain's edge: there the edge's colour continues (as GL's clamp to edge), so
+            // the edge is drawn in the imagery's colour, not half in the tint.
+            x = std::clamp((static_cast<double>(id.x) * interior + a - border) * perTexel, 0.0,
+                           static_cast<double>(l.rasterWidth() - 1));
+            y = std::clamp((static_cast<double>(id.y) * interior + b - border) * perTexel, 0.0,
+                           static_cast<double>(l.rasterHeight() - 1));
             return;
         }
-        const globe::FacePoint f = globeImageryPoint(id, u, v);
+        const int faceLevel = id.level - rootLevel();
+        const std::int64_t perFace = std::int64_t{1} << faceLevel;
+        const std::int64_t face = id.x / perFace;
+        const double perTexel = std::ldexp(1.0, -faceLevel) / interior;
+        const double s =
+            (static_cast<double>(id.x - face * perFace) * interior + a - border) * perTexel;
+        const double t = (static_cast<double>(id.y) * interior + b - border) * perTexel;
         const globe::Geodetic g =
-            globe::Wgs84::geodeticOfNormal(globe::directionOf(f.face, f.s, f.t));
+            globe::Wgs84::geodeticOfNormal(globe::directionOf(static_cast<int>(face), s, t));
         x = g.longitudeDeg;
         y = g.latitudeDeg;
     }
@@ -78,6 +102,19 @@ public:
         const glm::dvec3 a = globe::Wgs84::normalAt(y0, x0), b = globe::Wgs84::normalAt(y1, x1);
         return std::acos(std::clamp(a.x * b.x + a.y * b.y + a.z * b.z, -1.0, 1.0));
     }
+    /// The tiles of `level` whose texel grid continues tile `id`'s (same level) without a
+    /// turn: the plane's, or the cube face's of `id`. In that frame a tile's index along
+    /// each axis runs over 0 … count − 1 from `first` (the global index of index 0).
+    struct FrameAxis {
+        std::int64_t first = 0, count = 0;
+    };
+    FrameAxis axisX(int level, const PatchId& id) const {
+        if (!globe()) return {0, tilesX(level)};
+        const std::int64_t perFace = tilesY(level);
+        const std::int64_t idPerFace = tilesY(id.level);
+        return {id.x / idPerFace * perFace, perFace};
+    }
+    FrameAxis axisY(int level) const { return {0, tilesY(level)}; }
     int deepestLevel() const {
         return globe() ? rootLevel() + kMaxGlobeFaceLevel : m_manifest.layout.finestLevel() + 16;
     }
@@ -158,6 +195,7 @@ struct Planner {
 
     // Depth first: whether `id` is present (it is when it overlaps, or is a root).
     bool visit(const PatchId& id, bool root) {
+        if (id.x >= frame.tilesX(id.level) || id.y >= frame.tilesY(id.level)) return false;
         if (!overlaps(frame, image, id, xs, ys) && !root) return false;
         const std::size_t at = tiles.size();
         tiles.push_back({id, 0});
@@ -198,6 +236,17 @@ struct BlockWindow {
         out[3] = p[3];
     }
 };
+
+/// Every interior texel of `tile` has alpha 255.
+bool interiorOpaque(const ImageryTile& tile) {
+    constexpr int n = kImageryTileTexels;
+    for (int r = kImageryBorderTexels; r < n - kImageryBorderTexels; ++r)
+        for (int col = kImageryBorderTexels; col < n - kImageryBorderTexels; ++col)
+            if (tile.rgba[(static_cast<std::size_t>(r) * n + static_cast<std::size_t>(col)) * 4 +
+                          3] != 255)
+                return false;
+    return true;
+}
 
 class TileSampler {
 public:
@@ -279,15 +328,22 @@ public:
                 double c[4] = {0, 0, 0, 0}, q[4];
                 const double weights[4] = {(1 - wx) * (1 - wy), wx * (1 - wy), (1 - wx) * wy,
                                            wx * wy};
-                // An image that wraps around the Earth reaches the poles with its first and
-                // last rows: past their centres its edge row continues (else the texels
-                // within half a block of a pole would be half transparent).
-                const bool polar =
-                    wraps && m_ys[t] >= 0.0 && m_ys[t] <= static_cast<double>(m_image.height());
+                // A pixel covers its whole area, up to the image's edge: a point on the image
+                // takes the edge block past the last block centre (else the texels within
+                // half a block of the edge would be half transparent: a band of the tint at
+                // the edge of an image laid on the DEM's extent, or around the poles, which
+                // an image wrapping around the Earth reaches with its first and last rows).
+                // Past the edge the colour fades out over half a block.
+                const bool onImage = m_ys[t] >= 0.0 &&
+                                     m_ys[t] <= static_cast<double>(m_image.height()) &&
+                                     (wraps || (m_xs[t] >= 0.0 && m_xs[t] <= width));
                 for (int corner = 0; corner < 4; ++corner) {
-                    std::int64_t cy = iy + (corner >> 1);
-                    if (polar) cy = std::clamp<std::int64_t>(cy, 0, win.blocksY - 1);
-                    win.blockAt(ix + (corner & 1), cy, q);
+                    std::int64_t cx = ix + (corner & 1), cy = iy + (corner >> 1);
+                    if (onImage) {
+                        cy = std::clamp<std::int64_t>(cy, 0, win.blocksY - 1);
+                        if (!wraps) cx = std::clamp<std::int64_t>(cx, 0, win.blocksX - 1);
+                    }
+                    win.blockAt(cx, cy, q);
                     for (int ch = 0; ch < 4; ++ch) c[ch] += weights[corner] * q[ch];
                 }
                 std::uint8_t* out = &tile.rgba[t * 4];
@@ -300,15 +356,7 @@ public:
             }
         }
         tile.info.present = true;
-        tile.info.opaque = true;
-        for (int r = kImageryBorderTexels; r < n - kImageryBorderTexels && tile.info.opaque; ++r)
-            for (int col = kImageryBorderTexels; col < n - kImageryBorderTexels; ++col)
-                if (tile.rgba[(static_cast<std::size_t>(r) * n + static_cast<std::size_t>(col)) *
-                                  4 +
-                              3] != 255) {
-                    tile.info.opaque = false;
-                    break;
-                }
+        tile.info.opaque = interiorOpaque(tile);
         return {};
     }
 
@@ -342,6 +390,123 @@ private:
     std::vector<double> m_xs, m_ys;
     BlockWindow m_window;
     std::vector<std::uint8_t> m_piece;
+};
+
+/// Makes a tile of a coarser level from the finer level's stored texels: each texel the
+/// alpha-weighted 2 × 2 mean (meanOfFourImageryTexels) of the four finer texels under it,
+/// exactly as the runtime halves a tile into its mip 1 (makeImageryMips). So where the draw
+/// turns from a tile's mip 1 to its parent's texels, both are the same bytes: no step at a
+/// level change. Sampled afresh from the image (as the finest level is), a coarser level is
+/// a differently filtered picture, and the change showed as a line (43.7 against 53.2 dB in
+/// ImageryReferenceTest's close view; docs/imagery.md).
+///
+/// The four finer texels lie in one finer tile: the parent's own children for its interior,
+/// its neighbours' children for its border (so its border holds what its neighbour's
+/// interior holds: no seam at tile edges). Where that finer tile lies past the frame (the
+/// plane's edge, a cube face's edge, where the grid turns), the texels come from the border
+/// of the nearest finer tile in the frame when it stores them, else the texel is sampled
+/// from the image as the finest level's are.
+class CoarserLevel {
+public:
+    CoarserLevel(const TerrainFrame& frame, const ImageryLayerWriter& writer,
+                 const std::unordered_set<PatchId, PatchIdHash>& present)
+        : m_frame(frame), m_writer(writer), m_present(present) {}
+
+    Status make(const PatchId& id, TileSampler& sampler, ImageryTile& tile) {
+        const int finer = id.level + 1;
+        const TerrainFrame::FrameAxis finerX = m_frame.axisX(finer, id);
+        const AxisSource xs = axisSource(finerX.count, id.x - m_frame.axisX(id.level, id).first);
+        const AxisSource ys = axisSource(m_frame.axisY(finer).count, id.y);
+        if (xs.anyFresh || ys.anyFresh) {
+            if (Status s = sampler.sample(id, tile); !s) return s;
+        } else {
+            tile.id = id;
+            tile.rgba.assign(kImageryTileBytes, 0);
+        }
+        constexpr std::size_t n = kImageryTileTexels;
+        static constexpr std::uint8_t kTransparent[4] = {0, 0, 0, 0};
+        for (std::size_t row = 0; row < n; ++row) {
+            if (ys.fresh[row]) continue;
+            for (std::size_t column = 0; column < n; ++column) {
+                if (xs.fresh[column]) continue;
+                const PatchId child{finer, finerX.first + xs.tile[column], ys.tile[row]};
+                const ImageryTile* source = nullptr;
+                if (Status s = finerTile(child, source); !s) return s;
+                std::array<const std::uint8_t*, 4> four{kTransparent, kTransparent, kTransparent,
+                                                        kTransparent};
+                if (source) {
+                    const auto at = [&](int dx, int dy) {
+                        return &source->rgba[((static_cast<std::size_t>(ys.stored[row] + dy)) * n +
+                                              static_cast<std::size_t>(xs.stored[column] + dx)) *
+                                             4];
+                    };
+                    four = {at(0, 0), at(1, 0), at(0, 1), at(1, 1)};
+                }
+                meanOfFourImageryTexels(four, &tile.rgba[(row * n + column) * 4]);
+            }
+        }
+        tile.info.present = true;
+        tile.info.opaque = interiorOpaque(tile);
+        return {};
+    }
+
+private:
+    /// Along one axis, for each stored texel of the coarser tile: which finer tile (its index
+    /// in the frame) and which of its stored texels (the first of two) lie under it.
+    struct AxisSource {
+        std::array<std::int64_t, kImageryTileTexels> tile{};
+        std::array<int, kImageryTileTexels> stored{};
+        std::array<bool, kImageryTileTexels> fresh{};
+        bool anyFresh = false;
+    };
+
+    /// `finerCount` finer tiles in the frame along the axis; the coarser tile is the frame's
+    /// `index`-th.
+    static AxisSource axisSource(std::int64_t finerCount, std::int64_t index) {
+        constexpr std::int64_t interior = kImageryInteriorTexels;
+        constexpr std::int64_t border = kImageryBorderTexels;
+        AxisSource a;
+        for (int k = 0; k < kImageryTileTexels; ++k) {
+            // The first finer texel under stored texel k, counted over the frame's interiors.
+            const std::int64_t g = 2 * (index * interior + k - border);
+            std::int64_t t = g >= 0 ? g / interior : -((-g + interior - 1) / interior);
+            t = std::clamp<std::int64_t>(t, 0, finerCount - 1);  // past the frame: a border
+            const std::int64_t stored = g - t * interior + border;
+            const auto at = static_cast<std::size_t>(k);
+            a.tile[at] = t;
+            a.stored[at] = static_cast<int>(stored);
+            a.fresh[at] = stored < 0 || stored + 1 >= kImageryTileTexels;
+            a.anyFresh = a.anyFresh || a.fresh[at];
+        }
+        return a;
+    }
+
+    /// The finer tile `id` as stored, or nullptr where the layer has none (the image does
+    /// not reach it: transparent). Keeps the few a coarser tile reads.
+    Status finerTile(const PatchId& id, const ImageryTile*& out) {
+        out = nullptr;
+        if (!m_present.contains(id)) return {};
+        if (const auto kept = m_kept.find(id); kept != m_kept.end()) {
+            out = kept->second.info.present ? &kept->second : nullptr;
+            return {};
+        }
+        if (m_kept.size() >= kKeptTiles) m_kept.clear();
+        ImageryTile& tile = m_kept[id];
+        if (Status s = m_writer.readBack(id, tile); !s) {
+            m_kept.erase(id);
+            return s;
+        }
+        out = tile.info.present ? &tile : nullptr;
+        return {};
+    }
+
+    /// A coarser tile reads at most 4 × 4 finer tiles; its neighbour in the list shares most.
+    static constexpr std::size_t kKeptTiles = 32;
+
+    const TerrainFrame& m_frame;
+    const ImageryLayerWriter& m_writer;
+    const std::unordered_set<PatchId, PatchIdHash>& m_present;
+    std::unordered_map<PatchId, ImageryTile, PatchIdHash> m_kept;
 };
 
 /// The image's pixel at its centre, in the frame's unit: the smaller of its two sides.
@@ -395,52 +560,65 @@ Result<ImageryBuildReport> buildImageryLayer(const fs::path& pyramidDir,
         return Error{fmt::format("{}: does not overlap the pyramid {} (nothing written)",
                                  image.name(), pyramidDir.string())};
 
-    // Pass 2: sample and write, a few threads, each with its own image.
+    // Pass 2: the finest level sampled from the image, then each coarser level made of the
+    // finer level's stored texels (CoarserLevel), on a few threads, each with its own image.
     const fs::path layerDir = pyramidDir / "imagery" / options.name;
     Result<ImageryLayerWriter> writer = ImageryLayerWriter::create(layerDir, options.encoding);
     if (!writer) return writer.error();
     const unsigned threads = options.threads > 0
                                  ? static_cast<unsigned>(options.threads)
                                  : std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
-    std::atomic<std::size_t> next{0};
+    std::vector<std::vector<const PlannedTile*>> byLevel(static_cast<std::size_t>(finest) + 1);
+    for (const PlannedTile& t : planner.tiles)
+        byLevel[static_cast<std::size_t>(t.id.level)].push_back(&t);
+    std::unordered_set<PatchId, PatchIdHash> present;
+    for (const PlannedTile& t : planner.tiles) present.insert(t.id);
+
     std::mutex errorMutex;
     std::optional<Error> failure;
-    auto work = [&](ImageryImage* own) {
-        std::unique_ptr<ImageryImage> opened;
-        if (!own) {
-            Result<std::unique_ptr<ImageryImage>> o = openImage();
-            if (!o) {
-                std::lock_guard lock(errorMutex);
-                if (!failure) failure = o.error();
-                return;
+    for (int level = finest; level >= frame.rootLevel(); --level) {
+        const std::vector<const PlannedTile*>& tiles = byLevel[static_cast<std::size_t>(level)];
+        std::atomic<std::size_t> next{0};
+        auto work = [&](ImageryImage* own) {
+            std::unique_ptr<ImageryImage> opened;
+            if (!own) {
+                Result<std::unique_ptr<ImageryImage>> o = openImage();
+                if (!o) {
+                    std::lock_guard lock(errorMutex);
+                    if (!failure) failure = o.error();
+                    return;
+                }
+                opened = std::move(o).value();
+                own = opened.get();
             }
-            opened = std::move(o).value();
-            own = opened.get();
+            TileSampler sampler(frame, *own, levelK);
+            CoarserLevel coarser(frame, writer.value(), present);
+            ImageryTile tile;
+            for (std::size_t i = next++; i < tiles.size(); i = next++) {
+                {
+                    std::lock_guard lock(errorMutex);
+                    if (failure) return;
+                }
+                const PatchId& id = tiles[i]->id;
+                Status s =
+                    level == finest ? sampler.sample(id, tile) : coarser.make(id, sampler, tile);
+                tile.info.presentChildren = tiles[i]->presentChildren;
+                if (s) s = writer.value().writeTile(tile);
+                if (!s) {
+                    std::lock_guard lock(errorMutex);
+                    if (!failure) failure = s.error();
+                    return;
+                }
+            }
+        };
+        {
+            std::vector<std::jthread> pool;
+            for (unsigned t = 1; t < std::min<std::size_t>(threads, tiles.size()); ++t)
+                pool.emplace_back(work, nullptr);
+            work(&image);
         }
-        TileSampler sampler(frame, *own, levelK);
-        ImageryTile tile;
-        for (std::size_t i = next++; i < planner.tiles.size(); i = next++) {
-            {
-                std::lock_guard lock(errorMutex);
-                if (failure) return;
-            }
-            Status s = sampler.sample(planner.tiles[i].id, tile);
-            tile.info.presentChildren = planner.tiles[i].presentChildren;
-            if (s) s = writer.value().writeTile(tile);
-            if (!s) {
-                std::lock_guard lock(errorMutex);
-                if (!failure) failure = s.error();
-                return;
-            }
-        }
-    };
-    {
-        std::vector<std::jthread> pool;
-        for (unsigned t = 1; t < std::min<std::size_t>(threads, planner.tiles.size()); ++t)
-            pool.emplace_back(work, nullptr);
-        work(&image);
+        if (failure) return *failure;
     }
-    if (failure) return *failure;
     if (Status s = writer.value().finish(options.replaceExisting); !s) return s.error();
 
     ImageryBuildReport report;

@@ -131,6 +131,43 @@ Status ImageryLayerWriter::writeTile(const ImageryTile& tile) {
     return {};
 }
 
+Status ImageryLayerWriter::readBack(const PatchId& id, ImageryTile& out) const {
+    const State& s = *m_state;
+    TERRAIN_ASSERT(!s.finished, "readBack after finish");
+    const imagery::GroupId group = imagery::groupOf(id);
+    imagery::TileEntry entry;
+    {
+        std::lock_guard lock(m_state->mutex);
+        if (const auto t = s.tables.find(group); t != s.tables.end())
+            entry = t->second.entries[static_cast<std::size_t>(imagery::indexInGroup(id))];
+    }
+    out.id = id;
+    out.info = entry.info;
+    out.mips.clear();
+    if (!entry.info.present) {
+        out.rgba.clear();
+        return {};
+    }
+    if (entry.size == 0) {
+        out.rgba.assign(kImageryTileBytes, 0);
+        return {};
+    }
+    const fs::path path = s.temporaryDir / imagery::groupPath(group);
+    std::vector<std::uint8_t> payload(entry.size);
+    std::FILE* file = std::fopen(path.c_str(), "rb");
+    bool ok = file && fseeko(file, static_cast<off_t>(entry.offset), SEEK_SET) == 0 &&
+              std::fread(payload.data(), 1, payload.size(), file) == payload.size();
+    const int error = errno;
+    if (file) std::fclose(file);
+    if (!ok)
+        return Error{fmt::format("{}: tile {} {} {}: cannot read back: {}", path.string(), id.level,
+                                 id.x, id.y, std::strerror(error))};
+    if (Status d = imagery::decodeTexels(payload, out.rgba); !d)
+        return Error{fmt::format("{}: tile {} {} {}: {}", path.string(), id.level, id.x, id.y,
+                                 d.error().message)};
+    return {};
+}
+
 Status ImageryLayerWriter::finish(bool replaceExisting) {
     State& s = *m_state;
     TERRAIN_ASSERT(!s.finished, "finish twice");

@@ -40,36 +40,38 @@ std::uint8_t srgbFromLinear(float linear) {
     return static_cast<std::uint8_t>(linear - t[index - 1] < *above - linear ? index - 1 : index);
 }
 
+void meanOfFourImageryTexels(const std::array<const std::uint8_t*, 4>& texels, std::uint8_t* out) {
+    const std::array<float, 256>& decode = decodeTable();
+    std::array<float, 3> weighted{};  // Σ alpha · linear colour
+    std::array<float, 3> plain{};     // Σ linear colour, for a transparent block
+    unsigned alphaSum = 0;
+    for (const std::uint8_t* texel : texels) {
+        const auto alpha = static_cast<float>(texel[3]);
+        alphaSum += texel[3];
+        for (std::size_t c = 0; c < 3; ++c) {
+            weighted[c] += alpha * decode[texel[c]];
+            plain[c] += decode[texel[c]];
+        }
+    }
+    for (std::size_t c = 0; c < 3; ++c)
+        out[c] = srgbFromLinear(alphaSum > 0 ? weighted[c] / static_cast<float>(alphaSum)
+                                             : plain[c] / 4.0f);
+    out[3] = static_cast<std::uint8_t>((alphaSum + 2) / 4);  // rounded mean
+}
+
 void halveImagery(std::span<const std::uint8_t> source, int side, std::span<std::uint8_t> out) {
     TERRAIN_ASSERT(side >= 2 && side % 2 == 0, "halveImagery: the side must be even");
     const auto s = static_cast<std::size_t>(side);
     const std::size_t half = s / 2;
     TERRAIN_ASSERT(source.size() == s * s * 4 && out.size() == half * half * 4,
                    "halveImagery: buffer sizes do not match the side");
-    const std::array<float, 256>& decode = decodeTable();
     for (std::size_t y = 0; y < half; ++y) {
-        for (std::size_t x = 0; x < half; ++x) {
-            std::array<float, 3> weighted{};  // Σ alpha · linear colour
-            std::array<float, 3> plain{};     // Σ linear colour, for a transparent block
-            unsigned alphaSum = 0;
-            for (std::size_t dy = 0; dy < 2; ++dy) {
-                for (std::size_t dx = 0; dx < 2; ++dx) {
-                    const std::uint8_t* texel = &source[((2 * y + dy) * s + 2 * x + dx) * 4];
-                    const auto alpha = static_cast<float>(texel[3]);
-                    alphaSum += texel[3];
-                    for (std::size_t c = 0; c < 3; ++c) {
-                        weighted[c] += alpha * decode[texel[c]];
-                        plain[c] += decode[texel[c]];
-                    }
-                }
-            }
-            std::uint8_t* target = &out[(y * half + x) * 4];
-            for (std::size_t c = 0; c < 3; ++c) {
-                target[c] = srgbFromLinear(alphaSum > 0 ? weighted[c] / static_cast<float>(alphaSum)
-                                                        : plain[c] / 4.0f);
-            }
-            target[3] = static_cast<std::uint8_t>((alphaSum + 2) / 4);  // rounded mean
-        }
+        const std::uint8_t* upper = &source[2 * y * s * 4];
+        const std::uint8_t* lower = upper + s * 4;
+        for (std::size_t x = 0; x < half; ++x)
+            meanOfFourImageryTexels(
+                {upper + 8 * x, upper + 8 * x + 4, lower + 8 * x, lower + 8 * x + 4},
+                &out[(y * half + x) * 4]);
     }
 }
 

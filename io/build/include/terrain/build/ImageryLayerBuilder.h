@@ -1,11 +1,12 @@
 // buildImageryLayer: an imagery layer of a pyramid built from an image (issue 47,
-// docs/imagery.md, "How a layer is built"). Each texel takes the image's colour where it lies
-// on the terrain (planarImageryPoint or globeImageryPoint, then the image's own CRS), from
-// the image averaged over blocks about a texel wide (no aliasing at the coarse levels); the
-// finest level is the first whose texels are no coarser than the image's pixel at its
-// centre. Only tiles the image overlaps are stored, each root tile always (transparent
-// where the image does not reach). Memory stays bounded: a tile's window of the image at a
-// time.
+// docs/imagery.md, "How a layer is built"). The finest level, the first whose texels are no
+// coarser than the image's pixel at its centre, takes the image's colour where each texel
+// lies on the terrain (planarImageryPoint or globeImageryPoint, then the image's own CRS);
+// each coarser level is made of the finer one's 2 × 2 means, as the runtime makes a tile's
+// mips, so the draw does not step where it turns from a tile to its parent. Only tiles the
+// image overlaps are stored, each root tile always (transparent where the image does not
+// reach). Memory stays bounded: a tile's window of the image, and a few finer tiles read
+// back, at a time.
 #pragma once
 
 #include "terrain/base/Result.h"

@@ -37,6 +37,13 @@ public:
     /// writer's lock). A fully transparent tile stores no payload.
     Status writeTile(const ImageryTile& tile);
 
+    /// A tile written before, decoded as a reader would decode it (lossy WebP's texels, not
+    /// the ones given to writeTile): the imagery builder makes a coarser level from the
+    /// finer one's stored texels. A tile not written comes back not present; a transparent
+    /// one (no payload) as zeros. Any thread, concurrently with other reads; not after
+    /// finish. Fails naming the file and the tile.
+    Status readBack(const PatchId& id, ImageryTile& out) const;
+
     /// Writes every file's table and layer.json, then renames the folder to layerDir;
     /// an existing layerDir is replaced when `replaceExisting`, else an error. Call once.
     Status finish(bool replaceExisting);

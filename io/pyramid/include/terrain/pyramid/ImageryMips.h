@@ -10,10 +10,18 @@
 
 #include "terrain/pyramid/ImageryTile.h"
 
+#include <array>
 #include <cstdint>
 #include <span>
 
 namespace terrain::io {
+
+/// One texel of a halved level: the alpha-weighted mean of `texels` (4 RGBA8 texels, sRGB
+/// colour, straight alpha) in linear light, the plain mean of their colours when all four
+/// are transparent; alpha the rounded mean. What halveImagery computes for each 2×2 block,
+/// and what the imagery builder makes a coarser level's texels of (ImageryLayerBuilder), so
+/// a tile's mip 1 and its parent's texels are the same bytes. Any thread.
+void meanOfFourImageryTexels(const std::array<const std::uint8_t*, 4>& texels, std::uint8_t* out);
 
 /// Halves `source`, `side` × `side` RGBA8 texels (side even, row-major; sRGB colour,
 /// straight alpha), into `out`, (side / 2)² texels. Any thread.
