@@ -12,6 +12,9 @@
 
 // Fragment output locations.
 #define TERRAIN_FRAG_COLOR 0
+// The terrain draw's imagery texels per pixel (TerrainStyle::imageryTexelsPerPixel), and the
+// reference draw's world height: the R32F attachment 1 of gl::Framebuffer.
+#define TERRAIN_FRAG_IMAGERY_TEXELS_PER_PIXEL 1
 
 // Texture units of the terrain draw (the GPU tile pool's texture arrays).
 #define TERRAIN_BINDING_HEIGHTS 0

@@ -14,6 +14,12 @@ layout(location = 4) flat in int i_tessFactor;
 layout(location = 5) in vec2 i_demSample;
 layout(location = 9) flat in int i_patch;
 layout(location = TERRAIN_FRAG_COLOR) out vec4 o_color;
+#ifdef TERRAIN_IMAGERY_TEXELS_PER_PIXEL
+// The program variant TerrainStyle::imageryTexelsPerPixel draws with: the draped imagery's
+// texels per pixel at the level it samples (terrain_imagery.glsl), into an R32F target; 0
+// where no imagery shows.
+layout(location = TERRAIN_FRAG_IMAGERY_TEXELS_PER_PIXEL) out float o_imageryTexelsPerPixel;
+#endif
 
 #ifdef TERRAIN_FRAGMENT_NORMALS
 // The terrain draw shades with the normal of the patch's own full-resolution mesh at the
@@ -110,6 +116,9 @@ vec3 patchIdColor(int instance) {
 }
 
 void main() {
+#ifdef TERRAIN_IMAGERY_TEXELS_PER_PIXEL
+    o_imageryTexelsPerPixel = 0.0;
+#endif
 #ifdef TERRAIN_FRAGMENT_NORMALS
     float footprint = sampleFootprint(i_patchSample);
     // Before the discard, as derivatives need.
@@ -158,6 +167,10 @@ void main() {
             float quads = float(u_frame.tessellation.z);
             vec4 imagery =
                 drapedImagery(i_patch, i_patchSample / quads, sampleDx / quads, sampleDy / quads);
+#ifdef TERRAIN_IMAGERY_TEXELS_PER_PIXEL
+            o_imageryTexelsPerPixel = imageryTexelsPerPixel(
+                i_patch, i_patchSample / quads, sampleDx / quads, sampleDy / quads);
+#endif
             if (imagery.a > 0.0) {
                 float ambient = u_frame.options.w != 0 ? 0.25 : 1.0;
                 vec3 draped = terrainLitColor(shading, imagery.rgb, normal, i_fromCameraM, ambient);

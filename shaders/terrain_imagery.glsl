@@ -40,11 +40,21 @@ const float kImageryBorderTexels = 4.0;
 const float kImageryInteriorTexels = 248.0;
 const int kMaxImageryDepth = 30;
 
-// Layer `layer`'s colour (linear RGB, straight alpha) at the patch's (u, v) `uv`, whose
-// change across the pixel is dx, dy.
-vec4 imageryLayerColor(int instance, int layer, int layerCount, vec2 uv, vec2 dx, vec2 dy) {
+// Where layer `layer`'s texels for the patch's (u, v) `uv` lie, whose change across the pixel
+// is dx, dy: the tile of the level whose interior texels are no larger than the footprint, the
+// texture coordinate within it and the gradients textureGrad is given (found false: the layer
+// draws nothing there).
+struct ImageryLookup {
+    bool found;
+    vec3 coord;  // (s, t, texture-array layer)
+    vec2 gradX;  // the coordinate's change across the pixel, in the tile's (s, t)
+    vec2 gradY;
+};
+
+ImageryLookup imageryLookup(int instance, int layer, int layerCount, vec2 uv, vec2 dx, vec2 dy) {
+    ImageryLookup none = ImageryLookup(false, vec3(0.0), vec2(0.0), vec2(0.0));
     ImageryRoot root = u_imageryRoots[instance * layerCount + layer];
-    if (root.node < 0) return vec4(0.0);
+    if (root.node < 0) return none;
     vec2 p = clamp(root.offset + uv * root.scale, 0.0, 1.0);
     vec2 px = dx * root.scale, py = dy * root.scale;
     float lengthX = length(px), lengthY = length(py);
@@ -66,11 +76,19 @@ vec4 imageryLayerColor(int instance, int layer, int layerCount, vec2 uv, vec2 dx
         scale *= 2.0;
     }
     ImageryNode node = u_imageryNodes[n];
-    if (node.node.x < 0) return vec4(0.0);
+    if (node.node.x < 0) return none;
     vec2 texel = kImageryBorderTexels + (node.map.xy + p * node.map.z) * kImageryInteriorTexels;
     float k = scale * node.map.z * kImageryInteriorTexels / kImageryTileTexels;
-    return textureGrad(u_imageryTiles, vec3(texel / kImageryTileTexels, float(node.node.x)),
-                       px * k, py * k);
+    return ImageryLookup(true, vec3(texel / kImageryTileTexels, float(node.node.x)), px * k,
+                         py * k);
+}
+
+// Layer `layer`'s colour (linear RGB, straight alpha) at the patch's (u, v) `uv`, whose
+// change across the pixel is dx, dy.
+vec4 imageryLayerColor(int instance, int layer, int layerCount, vec2 uv, vec2 dx, vec2 dy) {
+    ImageryLookup at = imageryLookup(instance, layer, layerCount, uv, dx, dy);
+    if (!at.found) return vec4(0.0);
+    return textureGrad(u_imageryTiles, at.coord, at.gradX, at.gradY);
 }
 
 // sRGB's encoding of a linear colour (the tiles are sampled linear, filtered as light adds;
@@ -96,5 +114,25 @@ vec4 drapedImagery(int instance, vec2 uv, vec2 dx, vec2 dy) {
     }
     return alpha > 0.0 ? vec4(imageryEncoded(premultiplied / alpha), alpha) : vec4(0.0);
 }
+
+#ifdef TERRAIN_IMAGERY_TEXELS_PER_PIXEL
+// The debug measure (TerrainStyle::imageryTexelsPerPixel): the texels across the pixel of the
+// tile level the draw samples, in the bottom drawn layer that shows there (the first, bottom
+// first, with opacity and a texel not wholly transparent): the longer of the two gradients
+// textureGrad is given, in that tile's own texels, which is the ρ the hardware takes the log2
+// of for its level of detail (within the tile's mips). 0 where no layer shows.
+float imageryTexelsPerPixel(int instance, vec2 uv, vec2 dx, vec2 dy) {
+    int layerCount = u_frame.options.z;
+    for (int drawn = 0; drawn < layerCount; ++drawn) {
+        int l = u_frame.imageryOrder[drawn];
+        if (u_frame.imageryOpacity[l] <= 0.0) continue;
+        ImageryLookup at = imageryLookup(instance, l, layerCount, uv, dx, dy);
+        if (!at.found || textureGrad(u_imageryTiles, at.coord, at.gradX, at.gradY).a <= 0.0)
+            continue;
+        return kImageryTileTexels * max(length(at.gradX), length(at.gradY));
+    }
+    return 0.0;
+}
+#endif
 
 #endif  // TERRAIN_IMAGERY_GLSL

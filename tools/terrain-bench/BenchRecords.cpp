@@ -101,7 +101,8 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
         s.thresholdPx = threshold;
         std::vector<double> triangles, patches, lodUs, gpuMs, drawMs, frameMs, errorMax, errorMean,
             errorP99, fixedMax, rawMax, exactMax, lodErrorMax, rmse, psnr, popping, lodSwitch,
-            jumps, shadingSeam, imageryPsnr, imageryTexels, imageryInRange;
+            jumps, shadingSeam, imageryPsnr, imageryTexels, imageryInRange, gpuTexelsP5,
+            gpuTexelsP50, gpuTexelsP95, gpuTexelsInRange;
         std::uint64_t horizonCulled = 0, visited = 0;
         for (const FrameRecord& r : records) {
             if (r.method != method || r.thresholdPx != threshold) continue;
@@ -160,6 +161,10 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
                 addTo(s.imageryUncoveredPixelsTotal, r.imageryUncoveredPixels);
                 imageryTexels.push_back(r.imageryTexelsPerPixel);
                 imageryInRange.push_back(r.imageryTexelsInRange);
+                gpuTexelsP5.push_back(r.imageryGpuTexelsPerPixelP5);
+                gpuTexelsP50.push_back(r.imageryGpuTexelsPerPixelP50);
+                gpuTexelsP95.push_back(r.imageryGpuTexelsPerPixelP95);
+                gpuTexelsInRange.push_back(r.imageryGpuTexelsInRange);
             }
             s.framesWaited += r.waitedForStreaming ? 1 : 0;
             s.framesUnsettled += r.settled ? 0 : 1;
@@ -196,6 +201,10 @@ std::vector<ThresholdSummary> summarise(std::span<const FrameRecord> records, do
             s.imageryPsnrDbMean = mean(imageryPsnr);
             s.imageryTexelsPerPixelMedian = percentile(imageryTexels, 50.0);
             s.imageryTexelsInRangeMean = mean(imageryInRange);
+            s.imageryGpuTexelsPerPixelP5Median = percentile(gpuTexelsP5, 50.0);
+            s.imageryGpuTexelsPerPixelMedian = percentile(gpuTexelsP50, 50.0);
+            s.imageryGpuTexelsPerPixelP95Median = percentile(gpuTexelsP95, 50.0);
+            s.imageryGpuTexelsInRangeMean = mean(gpuTexelsInRange);
         }
         s.lodSwitchLevelsMean = mean(lodSwitch);
         s.lodSwitchJumpShareMean = mean(jumps);
@@ -260,6 +269,14 @@ Status writeFramesCsv(const std::filesystem::path& path, std::span<const FrameRe
         {"imagery_uncovered_pixels", [](const R& r) { return number(r.imageryUncoveredPixels); }},
         {"imagery_texels_per_pixel", [](const R& r) { return number(r.imageryTexelsPerPixel); }},
         {"imagery_texels_in_range", [](const R& r) { return number(r.imageryTexelsInRange); }},
+        {"imagery_gpu_texels_per_pixel_p5",
+         [](const R& r) { return number(r.imageryGpuTexelsPerPixelP5); }},
+        {"imagery_gpu_texels_per_pixel_p50",
+         [](const R& r) { return number(r.imageryGpuTexelsPerPixelP50); }},
+        {"imagery_gpu_texels_per_pixel_p95",
+         [](const R& r) { return number(r.imageryGpuTexelsPerPixelP95); }},
+        {"imagery_gpu_texels_in_range",
+         [](const R& r) { return number(r.imageryGpuTexelsInRange); }},
         {"crack_pixels", [](const R& r) { return number(r.crackPixels); }},
         {"uncovered_pixels", [](const R& r) { return number(r.uncoveredPixels); }},
         {"diagonal_uncovered_pixels", [](const R& r) { return number(r.diagonalUncoveredPixels); }},
@@ -336,6 +353,14 @@ Status writeSummaryCsv(const std::filesystem::path& path,
          [](const S& s) { return number(s.imageryTexelsPerPixelMedian); }},
         {"imagery_texels_in_range_mean",
          [](const S& s) { return number(s.imageryTexelsInRangeMean); }},
+        {"imagery_gpu_texels_per_pixel_p5_median",
+         [](const S& s) { return number(s.imageryGpuTexelsPerPixelP5Median); }},
+        {"imagery_gpu_texels_per_pixel_median",
+         [](const S& s) { return number(s.imageryGpuTexelsPerPixelMedian); }},
+        {"imagery_gpu_texels_per_pixel_p95_median",
+         [](const S& s) { return number(s.imageryGpuTexelsPerPixelP95Median); }},
+        {"imagery_gpu_texels_in_range_mean",
+         [](const S& s) { return number(s.imageryGpuTexelsInRangeMean); }},
         {"crack_pixels_total", [](const S& s) { return number(s.crackPixelsTotal); }},
         {"popping_levels_mean", [](const S& s) { return number(s.poppingLevelsMean); }},
         {"lod_switch_levels_mean", [](const S& s) { return number(s.lodSwitchLevelsMean); }},

@@ -130,6 +130,14 @@ struct FrameRecord {
     double imageryUncoveredPixels = kNoValue;
     double imageryTexelsPerPixel = kNoValue;
     double imageryTexelsInRange = kNoValue;
+    /// The texels per pixel the GPU drew (TerrainStyle::imageryTexelsPerPixel, read back from
+    /// the same draped frame): the bottom showing layer's, at the tile level the shader
+    /// sampled, over every pixel with imagery: 5th, 50th and 95th percentiles and the share in
+    /// 0.5–2 (ImageryTexelsPerPixel.h). NaN as above, or where no pixel shows imagery.
+    double imageryGpuTexelsPerPixelP5 = kNoValue;
+    double imageryGpuTexelsPerPixelP50 = kNoValue;
+    double imageryGpuTexelsPerPixelP95 = kNoValue;
+    double imageryGpuTexelsInRange = kNoValue;
 };
 
 struct ThresholdSummary {
@@ -176,6 +184,12 @@ struct ThresholdSummary {
     double imageryUncoveredPixelsTotal = kNoValue;
     double imageryTexelsPerPixelMedian = kNoValue;
     double imageryTexelsInRangeMean = kNoValue;
+    /// FrameRecord::imageryGpu*: the median over the frames of each percentile, and the mean
+    /// share in range.
+    double imageryGpuTexelsPerPixelP5Median = kNoValue;
+    double imageryGpuTexelsPerPixelMedian = kNoValue;
+    double imageryGpuTexelsPerPixelP95Median = kNoValue;
+    double imageryGpuTexelsInRangeMean = kNoValue;
     std::uint64_t crackPixelsTotal = 0;
     std::uint64_t overdrawnPixelsTotal = 0;  ///< FrameRecord::overdrawnPixels over every frame
     /// FrameRecord::boundaryArtefactPixels over every frame; NaN where never measured.

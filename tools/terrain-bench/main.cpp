@@ -34,6 +34,7 @@
 #include "terrain/runtime/FlightPath.h"
 #include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/ImageryReference.h"
+#include "terrain/runtime/ImageryTexelsPerPixel.h"
 #include "terrain/runtime/LodStrategyFactory.h"
 #include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/TelemetryCsvWriter.h"
@@ -183,6 +184,10 @@ nlohmann::json summaryJson(const tools::ThresholdSummary& s) {
             {"imagery_uncovered_pixels_total", v(s.imageryUncoveredPixelsTotal)},
             {"imagery_texels_per_pixel_median", v(s.imageryTexelsPerPixelMedian)},
             {"imagery_texels_in_range_mean", v(s.imageryTexelsInRangeMean)},
+            {"imagery_gpu_texels_per_pixel_p5_median", v(s.imageryGpuTexelsPerPixelP5Median)},
+            {"imagery_gpu_texels_per_pixel_median", v(s.imageryGpuTexelsPerPixelMedian)},
+            {"imagery_gpu_texels_per_pixel_p95_median", v(s.imageryGpuTexelsPerPixelP95Median)},
+            {"imagery_gpu_texels_in_range_mean", v(s.imageryGpuTexelsInRangeMean)},
             {"rmse_mean", v(s.rmseMean)},
             {"crack_pixels_total", s.crackPixelsTotal},
             {"popping_levels_mean", v(s.poppingLevelsMean)},
@@ -324,6 +329,8 @@ int run(const BenchOptions& o, const char* argv0) {
         sessionOptions.lod.horizonCulling = horizonCulling;
         sessionOptions.lod.maxSamplePx = o.maxSamplePx;
         sessionOptions.renderer.fragmentNormals = !o.vertexNormals;
+        // The draped frame also reads back the texels per pixel the GPU drew.
+        sessionOptions.renderer.imageryTexelsPerPixel = imageryReference != nullptr;
         sessionOptions.valdetaro = o.valdetaro;
         sessionOptions.ripolles.coherence = !o.ripollesNoCoherence;
         auto opened = runtime::openLodStrategy(o.pyramid, sessionOptions);
@@ -452,6 +459,7 @@ int run(const BenchOptions& o, const char* argv0) {
         // The same frame draped, unlit and without fog: where its imagery covers a pixel
         // wholly, the pixel is the imagery's colour, which ImageryReference computes.
         std::optional<runtime::FrameImages> draped;
+        std::vector<float> drapedTexelsPerPixel;
         if (imageryReference) {
             runtime::TerrainStyle drapedStyle = style;
             drapedStyle.imagery = true;
@@ -459,7 +467,8 @@ int run(const BenchOptions& o, const char* argv0) {
             drapedStyle.fogDensityPerM = 0.0f;
             drapedStyle.measure = false;
             runtime::TerrainDrawStats drapedStats;
-            draped = probe.captureImage(session, camera, drapedStyle, &drapedStats);
+            draped = probe.captureImage(session, camera, drapedStyle, &drapedStats,
+                                        &drapedTexelsPerPixel);
             if (drapedStats.imageryLayers == 0) draped.reset();  // a method that drapes none
         }
         runtime::FrameTelemetry telemetry;
@@ -546,6 +555,12 @@ int run(const BenchOptions& o, const char* argv0) {
             rec.imageryUncoveredPixels = static_cast<double>(c.uncoveredPixels);
             rec.imageryTexelsPerPixel = c.texelsPerPixelP50;
             rec.imageryTexelsInRange = c.texelsPerPixelInRange;
+            const runtime::ImageryTexelsPerPixel gpu =
+                runtime::summariseTexelsPerPixel(drapedTexelsPerPixel);
+            rec.imageryGpuTexelsPerPixelP5 = gpu.p5;
+            rec.imageryGpuTexelsPerPixelP50 = gpu.p50;
+            rec.imageryGpuTexelsPerPixelP95 = gpu.p95;
+            rec.imageryGpuTexelsInRange = gpu.inRange;
             if (flight && c.comparedPixels > 0 && c.psnrDb < r.imageryWorstPsnrDb) {
                 // The worst frame so far: drawn, reference, and their difference × 8.
                 r.imageryWorstPsnrDb = c.psnrDb;
@@ -808,12 +823,15 @@ int run(const BenchOptions& o, const char* argv0) {
                        "terrain-bench: {} ε = {:>5} px: draped imagery against its reference "
                        "PSNR mean {:.2f} dB, worst {:.2f} dB (frame {:.0f}), {:.0f} pixels over "
                        "{} levels (worst {:.0f}), {:.0f} terrain pixels not wholly covered, texels "
-                       "per pixel median {:.2f} ({:.1f} % in 0.5-2)\n",
+                       "per pixel median {:.2f} ({:.1f} % in 0.5-2); as the GPU drew them median "
+                       "{:.2f}, p5 {:.2f}, p95 {:.2f} ({:.1f} % in 0.5-2)\n",
                        s.method, s.thresholdPx, s.imageryPsnrDbMean, s.imageryPsnrDbMin,
                        s.imageryWorstFrame, s.imageryVisiblePixelsTotal,
                        runtime::ImageryFrameComparison::kVisibleLevels, s.imageryMaxLevels,
                        s.imageryUncoveredPixelsTotal, s.imageryTexelsPerPixelMedian,
-                       100.0 * s.imageryTexelsInRangeMean);
+                       100.0 * s.imageryTexelsInRangeMean, s.imageryGpuTexelsPerPixelMedian,
+                       s.imageryGpuTexelsPerPixelP5Median, s.imageryGpuTexelsPerPixelP95Median,
+                       100.0 * s.imageryGpuTexelsInRangeMean);
         }
     }
     return 0;

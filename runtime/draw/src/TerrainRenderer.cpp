@@ -37,14 +37,28 @@ Result<TerrainRenderer> TerrainRenderer::create(const Surface& surface, int maxI
     TERRAIN_ASSERT(maxInstances >= 1);
     std::unique_ptr<SurfacePlacement> placement = SurfacePlacement::forSurface(surface);
     const std::string name(surfaceName(surface.kind()));
-    ProgramBuilder builder("terrain (" + name + ")");
-    builder.stage("terrain.vert").stage("terrain.tesc").stage("terrain.tese").stage("terrain.frag");
-    placement->defineSurface(builder);
-    // Shading from the full-resolution mesh at each fragment (terrain.frag), on either surface.
-    if (options.fragmentNormals) builder.define("TERRAIN_FRAGMENT_NORMALS");
-    if (options.recordTessFactors) builder.define("TERRAIN_DEBUG_TESS_FACTORS");
-    auto program = builder.build();
+    const auto build = [&](bool texelsPerPixel) {
+        ProgramBuilder builder("terrain (" + name + (texelsPerPixel ? ", texels per pixel)" : ")"));
+        builder.stage("terrain.vert")
+            .stage("terrain.tesc")
+            .stage("terrain.tese")
+            .stage("terrain.frag");
+        placement->defineSurface(builder);
+        // Shading from the full-resolution mesh at each fragment (terrain.frag), on either
+        // surface.
+        if (options.fragmentNormals) builder.define("TERRAIN_FRAGMENT_NORMALS");
+        if (options.recordTessFactors) builder.define("TERRAIN_DEBUG_TESS_FACTORS");
+        if (texelsPerPixel) builder.define("TERRAIN_IMAGERY_TEXELS_PER_PIXEL");
+        return builder.build();
+    };
+    auto program = build(false);
     if (!program) return program.error();
+    gl::Program texelsPerPixelProgram;
+    if (options.imageryTexelsPerPixel) {
+        auto variant = build(true);
+        if (!variant) return variant.error();
+        texelsPerPixelProgram = std::move(variant).value();
+    }
     auto primitives = gl::Query::create(gl::QueryKind::PrimitivesGenerated, name + " triangles");
     if (!primitives) return primitives.error();
     auto time = gl::Query::create(gl::QueryKind::TimeElapsed, name + " GPU time");
@@ -55,6 +69,7 @@ Result<TerrainRenderer> TerrainRenderer::create(const Surface& surface, int maxI
     r.m_surface = &surface;
     r.m_placement = std::move(placement);
     r.m_program = std::move(program).value();
+    r.m_texelsPerPixelProgram = std::move(texelsPerPixelProgram);
     r.m_primitivesQuery = std::move(primitives).value();
     r.m_timeQuery = std::move(time).value();
     r.m_vertexArray = gl::VertexArray::create("terrain patches (attribute-less)");
@@ -100,6 +115,10 @@ void TerrainRenderer::prepare(const Camera& camera, const cache::GpuTilePool& po
     m_skirts = style.skirts;
     m_wireframe = style.wireframe;
     m_measure = style.measure;
+    TERRAIN_ASSERT(
+        !style.imageryTexelsPerPixel || m_texelsPerPixelProgram.valid(),
+        "TerrainRenderer: imageryTexelsPerPixel needs the renderer's option of that name");
+    m_texelsPerPixel = style.imageryTexelsPerPixel;
     if (patches.empty()) return;
 
     const Camera& lodCamera = style.lodCamera ? *style.lodCamera : camera;
@@ -187,7 +206,7 @@ TerrainDrawStats TerrainRenderer::submit(const cache::GpuTilePool& pool) {
                          m_imageryChildren.id());
     }
     TerrainDrawStats stats = issueInstancedPatchDraw(
-        pool, {.program = m_program,
+        pool, {.program = m_texelsPerPixel ? m_texelsPerPixelProgram : m_program,
                .vertexArray = m_vertexArray,
                .frame = m_frameBuffer.buffer(),
                .instances = m_instances,

@@ -60,11 +60,13 @@ ReferenceStyle referenceStyleOf(const TerrainStyle& style) {
 
 AccuracyProbe::AccuracyProbe(std::vector<std::unique_ptr<TruthSurface>> truths,
                              ReferenceRenderer reference, gl::Framebuffer lodTarget,
-                             gl::Framebuffer referenceTarget, const AccuracyProbeOptions& options)
+                             gl::Framebuffer referenceTarget, gl::Framebuffer texelsTarget,
+                             const AccuracyProbeOptions& options)
     : m_truths(std::move(truths)),
       m_reference(std::move(reference)),
       m_lodTarget(std::move(lodTarget)),
       m_referenceTarget(std::move(referenceTarget)),
+      m_texelsTarget(std::move(texelsTarget)),
       m_options(options) {}
 
 Result<std::unique_ptr<AccuracyProbe>> AccuracyProbe::create(
@@ -79,9 +81,12 @@ Result<std::unique_ptr<AccuracyProbe>> AccuracyProbe::create(
     auto referenceTarget = gl::Framebuffer::createWithFloatAttachment(
         options.widthPx, options.heightPx, "accuracy reference");
     if (!referenceTarget) return referenceTarget.error();
+    auto texelsTarget = gl::Framebuffer::createWithFloatAttachment(
+        options.widthPx, options.heightPx, "accuracy LOD, imagery texels per pixel");
+    if (!texelsTarget) return texelsTarget.error();
     return std::unique_ptr<AccuracyProbe>(new AccuracyProbe(
         std::move(truths), std::move(reference).value(), std::move(lodTarget).value(),
-        std::move(referenceTarget).value(), options));
+        std::move(referenceTarget).value(), std::move(texelsTarget).value(), options));
 }
 
 Result<std::unique_ptr<AccuracyProbe>> AccuracyProbe::create(
@@ -187,17 +192,27 @@ LodCapture AccuracyProbe::captureLod(LodStrategy& session, const Camera& camera,
 }
 
 FrameImages AccuracyProbe::captureImage(LodStrategy& session, const Camera& camera,
-                                        const TerrainStyle& style, TerrainDrawStats* stats) {
+                                        const TerrainStyle& style, TerrainDrawStats* stats,
+                                        std::vector<float>* imageryTexelsPerPixel) {
     TERRAIN_ASSERT(
         camera.viewportWidth == m_options.widthPx && camera.viewportHeight == m_options.heightPx,
         "AccuracyProbe: the camera's viewport is not the probe's");
-    m_lodTarget.clear(m_options.clearColor, 0.0f);
+    // The variant writes its figure at output 1: a target with an R32F attachment there.
+    TerrainStyle drawn = style;
+    drawn.imageryTexelsPerPixel = imageryTexelsPerPixel != nullptr;
+    gl::Framebuffer& target = drawn.imageryTexelsPerPixel ? m_texelsTarget : m_lodTarget;
+    target.clear(m_options.clearColor, 0.0f);
+    if (drawn.imageryTexelsPerPixel) target.clearFloatAttachment(0.0f);
     {
-        const TargetScope scope(m_lodTarget);
-        const TerrainDrawStats drawn = session.draw(camera, style);
-        if (stats != nullptr) *stats = drawn;
+        const TargetScope scope(target);
+        const TerrainDrawStats drawnStats = session.draw(camera, drawn);
+        if (stats != nullptr) *stats = drawnStats;
     }
-    return readFrameImages(m_lodTarget);
+    FrameImages images = readFrameImages(target);
+    // readFrameImages takes a float attachment for a reference's heights: here it is not.
+    if (imageryTexelsPerPixel != nullptr) *imageryTexelsPerPixel = std::move(images.heightM);
+    images.heightM.clear();
+    return images;
 }
 
 Result<FrameAccuracy> AccuracyProbe::compare(const Camera& camera, const LodCapture& lod,

@@ -6,6 +6,7 @@
 #include "terrain/pyramid/ImageryMips.h"
 #include "terrain/runtime/ImageComparison.h"
 #include "terrain/runtime/ImagerySelection.h"
+#include "terrain/runtime/ImageryTexelsPerPixel.h"
 #include "terrain/runtime/ScreenProjection.h"
 
 #include <glm/matrix.hpp>
@@ -284,14 +285,10 @@ Result<ImageryFrameComparison> ImageryReference::compare(const Camera& camera,
         out.rmse = std::sqrt(squares / (3.0 * static_cast<double>(out.comparedPixels)));
         out.psnrDb = out.rmse > 0.0 ? 20.0 * std::log10(255.0 / out.rmse) : kIdenticalPsnrDb;
     }
-    if (!texelsPerPixel.empty()) {
-        const auto middle = texelsPerPixel.begin() + texelsPerPixel.size() / 2;
-        std::nth_element(texelsPerPixel.begin(), middle, texelsPerPixel.end());
-        out.texelsPerPixelP50 = *middle;
-        const auto inRange = std::count_if(texelsPerPixel.begin(), texelsPerPixel.end(),
-                                           [](double t) { return t >= 0.5 && t <= 2.0; });
-        out.texelsPerPixelInRange =
-            static_cast<double>(inRange) / static_cast<double>(texelsPerPixel.size());
+    const ImageryTexelsPerPixel texels = summariseTexelsPerPixel(std::move(texelsPerPixel));
+    if (texels.pixels > 0) {
+        out.texelsPerPixelP50 = texels.p50;
+        out.texelsPerPixelInRange = texels.inRange;
     }
     return out;
 }

@@ -9,6 +9,7 @@
 #include "TempFolder.h"
 #include "terrain/runtime/AccuracyProbe.h"
 #include "terrain/runtime/ImageryReference.h"
+#include "terrain/runtime/ImageryTexelsPerPixel.h"
 #include "terrain/runtime/PlaneSurface.h"
 #include "terrain/runtime/TerrainSession.h"
 
@@ -74,13 +75,16 @@ protected:
     struct Compared {
         runtime::ImageryFrameComparison exact;    ///< the drawn layer's reference
         runtime::ImageryFrameComparison shifted;  ///< the other layer's
+        runtime::ImageryTexelsPerPixel gpu;       ///< the texels per pixel the draw read back
     };
 
     /// The settled view of `camera` draped with the "exact" layer alone, unlit, compared with
     /// both layers' references.
     Compared drapeAndCompare(
         const std::function<runtime::Camera(const runtime::TerrainGeometry&)>& pose) {
-        auto opened = runtime::TerrainSession::open(m_pyramid, roomySessionOptions(1.0));
+        runtime::TerrainSessionOptions options = roomySessionOptions(1.0);
+        options.renderer.imageryTexelsPerPixel = true;
+        auto opened = runtime::TerrainSession::open(m_pyramid, options);
         EXPECT_TRUE(opened) << opened.error().message;
         if (!opened) return {};
         runtime::TerrainSession& session = *opened.value();
@@ -99,13 +103,15 @@ protected:
         EXPECT_TRUE(session.settle(camera, std::chrono::seconds(60)));
         session.beginFrame(camera);
         runtime::TerrainDrawStats stats;
+        std::vector<float> texelsPerPixel;
         const runtime::FrameImages frame =
-            probe.value()->captureImage(session, camera, drawn, &stats);
+            probe.value()->captureImage(session, camera, drawn, &stats, &texelsPerPixel);
         runtime::FrameTelemetry telemetry;
         session.endFrame(telemetry);
         EXPECT_EQ(stats.imageryLayers, 2);
 
         Compared out;
+        out.gpu = runtime::summariseTexelsPerPixel(texelsPerPixel);
         auto exact = reference.value()->compare(camera, frame, drawn);
         EXPECT_TRUE(exact) << exact.error().message;
         if (const char* dump = std::getenv("TERRAIN_IMAGERY_DUMP"); dump && exact) {
@@ -150,6 +156,11 @@ void print(const char* what, const runtime::ImageryFrameComparison& c) {
               << " (in 0.5-2: " << c.texelsPerPixelInRange << ")\n";
 }
 
+void print(const char* what, const runtime::ImageryTexelsPerPixel& t) {
+    std::cout << "[          ] " << what << ": " << t.pixels << " pixels, p5 " << t.p5 << ", p50 "
+              << t.p50 << ", p95 " << t.p95 << " (in 0.5-2: " << t.inRange << ")\n";
+}
+
 // Low over the hills looking across them: patches and imagery of every level, near and far.
 runtime::Camera acrossTheHills(const runtime::TerrainGeometry& g) {
     return lookingAt(kWidth, kHeight, {g.worldAtFraction(0.3, 0.9), 440.0},
@@ -171,6 +182,7 @@ TEST_F(ImageryReferenceTest, TheDrapedDrawAgreesWithTheReferenceAndAShiftedLayer
         const Compared c = drapeAndCompare(pose);
         print(name, c.exact);
         print("  against the shifted layer", c.shifted);
+        print("  texels per pixel the GPU drew", c.gpu);
         EXPECT_GT(c.exact.comparedPixels, std::uint64_t{kWidth * kHeight / 8});
         // Measured on llvmpipe: 53 and 55 dB, 38 pixels over 8 levels (at silhouettes, where
         // the GPU's derivatives come from the triangle and the reference's from neighbours).
@@ -182,6 +194,9 @@ TEST_F(ImageryReferenceTest, TheDrapedDrawAgreesWithTheReferenceAndAShiftedLayer
         if (pose == acrossTheHills) {
             EXPECT_GT(c.shifted.visiblePixels, c.shifted.comparedPixels / 4);
         }
+        // The level the streamed draw sampled is the one the reference's ideal filter reads.
+        EXPECT_GT(c.gpu.pixels, c.exact.comparedPixels / 2);
+        EXPECT_NEAR(c.gpu.p50, c.exact.texelsPerPixelP50, 0.1 * c.exact.texelsPerPixelP50);
     }
 }
 

@@ -45,6 +45,10 @@ struct TerrainRendererOptions {
     /// tessellation does; false: normals interpolated between the drawn vertices, as Yusov's
     /// draw has them, for comparisons.
     bool fragmentNormals = true;
+    /// Also builds the program variant a style with imageryTexelsPerPixel draws with
+    /// (TERRAIN_IMAGERY_TEXELS_PER_PIXEL: terrain.frag writes the draped imagery's texels per
+    /// pixel at output 1). The normal draw is unchanged either way. For measures.
+    bool imageryTexelsPerPixel = false;
 };
 
 /// What the control stage chose for one primitive (recordTessFactors only).
@@ -122,6 +126,7 @@ private:
     const Surface* m_surface = nullptr;
     std::unique_ptr<SurfacePlacement> m_placement;
     gl::Program m_program;
+    gl::Program m_texelsPerPixelProgram;  // options.imageryTexelsPerPixel only
     gl::VertexArray m_vertexArray;
     gl::Buffer m_instances;
     gl::Buffer m_shadingTiles;  // kShadingAncestors per instance (ShadingTiles.h)
@@ -145,6 +150,7 @@ private:
     bool m_skirts = true;
     bool m_wireframe = false;
     bool m_measure = false;
+    bool m_texelsPerPixel = false;  // the prepared frame draws with m_texelsPerPixelProgram
 };
 
 }  // namespace terrain::runtime

@@ -55,6 +55,12 @@ struct TerrainStyle {
     /// The order layers are composited in, bottom first, as manifest indices (a permutation
     /// of the layers drawn; the manifest's own order by default).
     std::array<int, 4> imageryOrder{0, 1, 2, 3};
+    /// The debug measure of the draped imagery: the draw also writes, at fragment output 1
+    /// (an R32F target, gl::Framebuffer::createWithFloatAttachment), each pixel's texels
+    /// across it of the tile level the shader samples (the bottom layer showing there; 0
+    /// where none does), with the renderer's variant program built for it
+    /// (TerrainRendererOptions::imageryTexelsPerPixel, which it needs). The colour is the same.
+    bool imageryTexelsPerPixel = false;
     /// submit() measures the draw (GL_PRIMITIVES_GENERATED, GL_TIME_ELAPSED) and waits for
     /// both results; false issues no queries.
     bool measure = false;

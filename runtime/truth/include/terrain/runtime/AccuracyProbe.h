@@ -137,9 +137,14 @@ public:
     LodCapture captureLod(LodStrategy& session, const Camera& camera, const TerrainStyle& style);
 
     /// One draw of the session's frame in `style`, read back (no second draw without skirts,
-    /// no patch ids): the draped imagery's frame (ImageryReference.h).
+    /// no patch ids): the draped imagery's frame (ImageryReference.h). With
+    /// `imageryTexelsPerPixel` the draw is the renderer's texels-per-pixel variant
+    /// (TerrainStyle::imageryTexelsPerPixel; the session's renderer must have been built with
+    /// TerrainRendererOptions::imageryTexelsPerPixel) and it receives each pixel's figure
+    /// (rows bottom-up; 0 where no imagery shows or nothing was drawn).
     FrameImages captureImage(LodStrategy& session, const Camera& camera, const TerrainStyle& style,
-                             TerrainDrawStats* stats = nullptr);
+                             TerrainDrawStats* stats = nullptr,
+                             std::vector<float>* imageryTexelsPerPixel = nullptr);
 
     /// The measures of `lod` against `reference` (same camera); with the previous frame's
     /// captures (same sequence of cameras) also popping. `thresholdPx` (ε) counts the
@@ -162,13 +167,14 @@ public:
 private:
     AccuracyProbe(std::vector<std::unique_ptr<TruthSurface>> truths, ReferenceRenderer reference,
                   gl::Framebuffer lodTarget, gl::Framebuffer referenceTarget,
-                  const AccuracyProbeOptions& options);
+                  gl::Framebuffer texelsTarget, const AccuracyProbeOptions& options);
 
     std::unique_ptr<FullResolutionSurface> m_planeSurface;  // the plane's: its scene and truth
     std::vector<std::unique_ptr<TruthSurface>> m_truths;
     ReferenceRenderer m_reference;
     gl::Framebuffer m_lodTarget;
     gl::Framebuffer m_referenceTarget;
+    gl::Framebuffer m_texelsTarget;  // the LOD's, with the imagery's texels per pixel
     AccuracyProbeOptions m_options;
 };
 
