@@ -3,10 +3,14 @@
 // completion hand-over, record recycling). Shard files are read once first, so the figure
 // is from the page cache: the cost of the format and the thread, not of the disk. On a
 // globe pyramid the patches are its present ones, from the six faces down (the virtual
-// planet's are generated: the figure is then the planet's cost a tile).
+// planet's are generated: the figure is then the planet's cost a tile). With --imagery, an
+// imagery layer's tiles instead: decoded and given their mips as the I/O thread does, on one
+// thread, the two timed apart (ImageryDecodeBench.h).
+#include "ImageryDecodeBench.h"
 #include "terrain/globe/CubeSphere.h"
-#include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/iothread/IoThread.h"
+#include "terrain/pyramid/GlobeLayout.h"
+#include "terrain/pyramid/ImageryTile.h"
 #include "terrain/pyramid/PyramidReader.h"
 
 #include <fmt/core.h>
@@ -86,12 +90,61 @@ Result<std::vector<io::PatchId>> presentGlobePatches(io::PyramidReader& reader, 
     return ids;
 }
 
+/// --imagery: the layer's decode figures, on stdout as JSON with `json`, and a line on stderr.
+int runImageryDecode(const tools::ImageryDecodeOptions& options, bool json) {
+    auto measured = tools::measureImageryDecode(options);
+    if (!measured) return fail(measured.error().message);
+    const tools::ImageryDecodeFigures& f = measured.value();
+    const double tiles = static_cast<double>(f.tiles);
+    const double decodePerS = tiles / f.decodeS;
+    const double withMipsPerS = tiles / f.seconds();
+    constexpr double kMiB = 1024.0 * 1024.0;
+    // File bytes a tile on average (its share of the tables too); 0 for a generated layer.
+    const double fileBytesPerTile =
+        f.indexTiles > 0 ? static_cast<double>(f.fileBytes) / static_cast<double>(f.indexTiles)
+                         : 0.0;
+    const auto texelBytes = static_cast<double>(io::kImageryTileBytes);
+    const auto mipBytes = static_cast<double>(io::kImageryMipChainBytes);
+    if (json) {
+        const nlohmann::json out{
+            {"tool", "terrain-io-bench"},
+            {"pyramid", options.pyramid.string()},
+            {"imagery_layer", options.layer},
+            {"io_threads", 1},
+            {"distinct_tiles", f.distinctTiles},
+            {"tiles", f.tiles},
+            {"file_bytes_per_tile", fileBytesPerTile},
+            {"decode_seconds", f.decodeS},
+            {"mips_seconds", f.mipsS},
+            {"decode_tiles_per_s", decodePerS},
+            {"decode_compressed_mib_per_s", decodePerS * fileBytesPerTile / kMiB},
+            {"decode_texel_mib_per_s", decodePerS * texelBytes / kMiB},
+            {"decode_mips_tiles_per_s", withMipsPerS},
+            {"decode_mips_texel_mib_per_s", withMipsPerS * (texelBytes + mipBytes) / kMiB},
+            {"decode_us_per_tile", 1e6 * f.decodeS / tiles},
+            {"mips_us_per_tile", 1e6 * f.mipsS / tiles},
+        };
+        std::puts(out.dump(2).c_str());
+    }
+    fmt::print(stderr,
+               "terrain-io-bench: imagery layer \"{}\": {} tiles ({} distinct, {:.0f} file bytes "
+               "each) on 1 thread: decode {:.0f} tiles/s ({:.1f} MiB/s of files, {:.1f} MiB/s of "
+               "texels, {:.0f} µs a tile); decode and mips {:.0f} tiles/s ({:.1f} MiB/s of "
+               "texels and mips; mips {:.0f} µs a tile)\n",
+               options.layer, f.tiles, f.distinctTiles, fileBytesPerTile, decodePerS,
+               decodePerS * fileBytesPerTile / kMiB, decodePerS * texelBytes / kMiB,
+               1e6 * f.decodeS / tiles, withMipsPerS, withMipsPerS * (texelBytes + mipBytes) / kMiB,
+               1e6 * f.mipsS / tiles);
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{
         "Tiles per second read and decoded by one streaming I/O thread from the page "
-        "cache, through the runtime's IoThread."};
+        "cache, through the runtime's IoThread; with --imagery, an imagery layer's tiles "
+        "decoded and given their mips as the I/O thread does."};
     std::string pyramid;
     double seconds = 5.0;
     std::size_t maxPatches = 20000;
@@ -116,7 +169,16 @@ int main(int argc, char** argv) {
         ->capture_default_str()
         ->check(CLI::Range(1, 4096));
     app.add_flag("--json", json, "Print a JSON summary on stdout");
+    std::string imagery;
+    app.add_option("--imagery", imagery,
+                   "Measure this imagery layer's tiles instead (every present tile in a shuffled "
+                   "order on this thread: read and decoded, then its mips; the two timed apart; "
+                   "--max-patches caps the tiles)");
     CLI11_PARSE(app, argc, argv);
+    if (!imagery.empty())
+        return runImageryDecode(
+            {.pyramid = pyramid, .layer = imagery, .seconds = seconds, .maxTiles = maxPatches},
+            json);
 
     auto reader = io::PyramidReader::open(pyramid);
     if (!reader) return fail(reader.error().message);
