@@ -24,11 +24,13 @@ struct GlobeFlags {
 
     /// Adds --visit alone, bound to `visit` (a program with no other globe flag).
     void addVisitTo(CLI::App& app) {
+        // No range check here: the flight plan (globeFlightPlan) refuses a place the tour
+        // lacks, 0 and negative ones included, naming the pyramid and its places (CLI11's
+        // check printed its own range, 0 to DBL_MAX in full, and exited 105).
         m_options.push_back(
             app.add_option("--visit", visit,
                            "Globe pyramids: fly to place N of the default flight only (1: the "
-                           "first; the program prints the places, one per local source)")
-                ->check(CLI::PositiveNumber));
+                           "first; the program prints the places, one per local source)"));
     }
 
     /// Adds the flags, bound to these members (the defaults shown).
