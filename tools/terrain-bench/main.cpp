@@ -12,6 +12,7 @@
 #include "BenchRecords.h"
 #include "BenchTruth.h"
 #include "ChartScript.h"
+#include "CommandLine.h"
 #include "DemOpenFlags.h"
 #include "FrameSizeFlags.h"
 #include "FullDetailAfterArrival.h"
@@ -925,7 +926,7 @@ int main(int argc, char** argv) {
                    "(docs/globe.md)");
     o.sourceFlags.addTo(app);
     app.add_flag("--json", o.json, "Print the JSON summary on stdout");
-    CLI11_PARSE(app, argc, argv);
+    if (const auto status = terrain::tools::parseCommandLine(app, argc, argv)) return *status;
     for (int i = 0; i < argc; ++i) o.commandLine += (i == 0 ? "" : " ") + std::string(argv[i]);
     o.sourceOptions = o.sourceFlags.options();
     return run(o, argv[0]);

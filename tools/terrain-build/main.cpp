@@ -1,6 +1,7 @@
 // terrain-build: any DEM (or several as a mosaic, or the procedural source) → a tiled
 // on-disk pyramid with guaranteed error bounds (docs/pyramid-format.md). Streaming: peak
 // memory stays under --memory whatever the input size.
+#include "CommandLine.h"
 #include "DemOpenFlags.h"
 #include "NoDataSourcesJson.h"
 #include "SeamsJson.h"
@@ -170,7 +171,7 @@ int main(int argc, char** argv) {
     mergeFlag->excludes(byShardsFlag);
     app.add_flag("--json", json, "Print a JSON summary on stdout");
     app.add_flag("-q,--quiet", quiet, "No progress bar");
-    CLI11_PARSE(app, argc, argv);
+    if (const auto status = terrain::tools::parseCommandLine(app, argc, argv)) return *status;
 
     auto fail = [](const std::string& message) {
         fmt::print(stderr, "terrain-build: {}\n", message);

@@ -1,6 +1,8 @@
 // terrain-generate: writes any window of the procedural DEM (io/ProceduralTerrain.h) as a
 // GeoTIFF, 16-bit PNG, OpenEXR file or SRTM .hgt tile, streaming band by band so any size
 // fits in memory; or the whole DEM as a folder of SRTM tiles (--srtm-tiles).
+#include "CommandLine.h"
+
 #include "terrain/base/AtomicFile.h"
 #include "terrain/dem/HeightImageWriter.h"
 #include "terrain/source/ProceduralTerrain.h"
@@ -192,7 +194,7 @@ int main(int argc, char** argv) {
     app.add_option("--spike-height", params.spikeHeightM, "Spike height above its neighbours, m")
         ->capture_default_str();
     app.add_flag("--json", json, "Print a JSON summary on stdout");
-    CLI11_PARSE(app, argc, argv);
+    if (const auto status = terrain::tools::parseCommandLine(app, argc, argv)) return *status;
 
     const auto fail = [](const std::string& message) {
         std::fprintf(stderr, "terrain-generate: %s\n", message.c_str());

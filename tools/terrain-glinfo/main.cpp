@@ -1,5 +1,6 @@
 // terrain-glinfo: creates the headless OpenGL 4.5 context every tool uses and says what
 // it got, or exactly why it got nothing. The first thing to run on a new machine.
+#include "CommandLine.h"
 #include "GlInfoJson.h"
 
 #include "terrain/gl/HeadlessGlContext.h"
@@ -18,7 +19,7 @@ int main(int argc, char** argv) {
                    "EGL platform: auto (device, then surfaceless), device or surfaceless")
         ->check(CLI::IsMember({"auto", "device", "surfaceless"}));
     app.add_flag("--json", json, "Print a JSON object instead of text");
-    CLI11_PARSE(app, argc, argv);
+    if (const auto status = terrain::tools::parseCommandLine(app, argc, argv)) return *status;
 
     using namespace terrain;
     gl::HeadlessGlOptions options;

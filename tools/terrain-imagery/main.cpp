@@ -1,6 +1,8 @@
 // terrain-imagery: builds an imagery layer of a pyramid from an image (docs/imagery.md) and
 // records it in the pyramid's manifest: the tiles into PYRAMID/imagery/<name>, then the
 // manifest rewritten atomically with the layer appended (or replaced).
+#include "CommandLine.h"
+
 #include "terrain/build/ImageryLayerBuilder.h"
 #include "terrain/dem/OpenImageryImage.h"
 #include "terrain/pyramid/PyramidManifest.h"
@@ -56,7 +58,7 @@ int main(int argc, char** argv) {
     app.add_flag("--replace", replace, "Replace a layer of the same name");
     app.add_option("--threads", threads, "Threads building tiles (default: up to 8)");
     app.add_flag("--json", json, "Print a JSON summary on stdout");
-    CLI11_PARSE(app, argc, argv);
+    if (const auto status = terrain::tools::parseCommandLine(app, argc, argv)) return *status;
 
     if (name.empty()) name = fs::path(imagePath).stem().string();
     if (name.empty() || name == "." || name == ".." ||

@@ -1,5 +1,6 @@
 // terrain-inspect: what a pyramid on disk holds (docs/pyramid-format.md), and with --verify
 // whether every stored patch is intact and self-consistent.
+#include "CommandLine.h"
 #include "ImageryInspection.h"
 #include "PyramidInspection.h"
 #include "SourceBand.h"
@@ -294,7 +295,7 @@ int main(int argc, char** argv) {
                    "every level, for both diagonals of its cell")
         ->needs("--verify");
     demFlags.addTo(app);
-    CLI11_PARSE(app, argc, argv);
+    if (const auto status = terrain::tools::parseCommandLine(app, argc, argv)) return *status;
 
     auto reader = io::PyramidReader::open(folder);
     if (!reader) {

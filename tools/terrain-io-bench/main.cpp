@@ -6,7 +6,9 @@
 // planet's are generated: the figure is then the planet's cost a tile). With --imagery, an
 // imagery layer's tiles instead: decoded and given their mips as the I/O thread does, on one
 // thread, the two timed apart (ImageryDecodeBench.h).
+#include "CommandLine.h"
 #include "ImageryDecodeBench.h"
+
 #include "terrain/globe/CubeSphere.h"
 #include "terrain/iothread/IoThread.h"
 #include "terrain/pyramid/GlobeLayout.h"
@@ -174,7 +176,7 @@ int main(int argc, char** argv) {
                    "Measure this imagery layer's tiles instead (every present tile in a shuffled "
                    "order on this thread: read and decoded, then its mips; the two timed apart; "
                    "--max-patches caps the tiles)");
-    CLI11_PARSE(app, argc, argv);
+    if (const auto status = terrain::tools::parseCommandLine(app, argc, argv)) return *status;
     if (!imagery.empty())
         return runImageryDecode(
             {.pyramid = pyramid, .layer = imagery, .seconds = seconds, .maxTiles = maxPatches},

@@ -3,6 +3,7 @@
 // on the same frames with the same resident tiles. Each frame first lets streaming catch
 // up (so both see a settled view, and the figure is the LOD's, not the disk's), then times
 // one update of each. Prints medians, p95 and the speed-up; --json for scripts.
+#include "CommandLine.h"
 #include "FrameSizeFlags.h"
 #include "GlInfoJson.h"
 #include "LodFlags.h"
@@ -63,7 +64,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     tools::addStreamingBudgetFlags(app, budgets);
     app.add_flag("--json", json, "Print a JSON summary on stdout");
-    CLI11_PARSE(app, argc, argv);
+    if (const auto status = terrain::tools::parseCommandLine(app, argc, argv)) return *status;
 
     auto context = gl::HeadlessGlContext::create();
     if (!context) return fail(context.error().message);

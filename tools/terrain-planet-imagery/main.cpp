@@ -1,6 +1,8 @@
 // terrain-planet-imagery: how fast the virtual planet's colours (PlanetImagery, issue 47) are
 // generated on one core, the I/O thread's cost a tile, and a picture of them: the six faces
 // unfolded as a cross, the interior texels of every tile of a face level side by side.
+#include "CommandLine.h"
+
 #include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/pyramid/ImageryTileSource.h"
 #include "terrain/pyramid/VirtualPlanetPyramid.h"
@@ -121,7 +123,7 @@ int main(int argc, char** argv) {
                    "whole faces (above --picture-level 4: around the highest summit)")
         ->expected(2);
     app.add_flag("--json", json, "print the figures as JSON");
-    CLI11_PARSE(app, argc, argv);
+    if (const auto status = terrain::tools::parseCommandLine(app, argc, argv)) return *status;
 
     auto planet = io::VirtualPlanetPyramid::open(planetName);
     if (!planet) return fail(planet.error().message);

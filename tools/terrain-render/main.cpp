@@ -3,6 +3,7 @@
 // CSV (streaming and cache columns joined with triangles, patches, draw calls, LOD update
 // time and GPU time) and a --json summary. Without --settle it shows what a real-time user
 // would see: tiles that have not arrived yet are drawn by their coarser ancestors.
+#include "CommandLine.h"
 #include "DrawStyleFlags.h"
 #include "FaultPrinter.h"
 #include "FrameSizeFlags.h"
@@ -340,6 +341,6 @@ int main(int argc, char** argv) {
     o.look.addTo(app);
     o.globe.addTo(app);
     app.add_flag("--json", o.json, "Print a JSON summary on stdout");
-    CLI11_PARSE(app, argc, argv);
+    if (const auto status = terrain::tools::parseCommandLine(app, argc, argv)) return *status;
     return run(o);
 }

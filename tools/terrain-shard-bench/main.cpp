@@ -2,6 +2,8 @@
 // the requested size (every level, every shard) from a pool of real patch tiles cut from a
 // DEM, then reads every patch back; prints patches/s and bytes. No error bounds are
 // computed beyond the block errors of the pool, so the numbers are the format's own cost.
+#include "CommandLine.h"
+
 #include "terrain/dem/OpenDem.h"
 #include "terrain/source/DemReader.h"
 #include "terrain/build/NoDataFill.h"
@@ -115,7 +117,7 @@ int main(int argc, char** argv) {
     app.add_flag("--keep", keep, "Keep the pyramid (default: removed at the end)");
     app.add_flag("--no-read", skipRead, "Skip the read-back");
     app.add_flag("--json", json, "Print a JSON summary");
-    CLI11_PARSE(app, argc, argv);
+    if (const auto status = terrain::tools::parseCommandLine(app, argc, argv)) return *status;
     const auto fail = [](const std::string& message) {
         std::fprintf(stderr, "terrain-shard-bench: %s\n", message.c_str());
         return 1;

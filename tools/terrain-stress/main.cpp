@@ -4,6 +4,7 @@
 // checks the streaming invariants every frame, and prints throughput, latency percentiles
 // and a --json summary. Any violation makes the exit status 1. A globe pyramid is flown over
 // the whole planet and checked with the globe LOD's invariants (StressTarget).
+#include "CommandLine.h"
 #include "FaultPrinter.h"
 #include "FrameSizeFlags.h"
 #include "GlImagePng.h"
@@ -440,6 +441,6 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(std::uint64_t{1}, std::uint64_t{1} << 40));
     app.add_flag("--color-by-level", o.colorByLevel, "Colour patches by level in the PNGs");
     app.add_flag("--json", o.json, "Print a JSON summary on stdout");
-    CLI11_PARSE(app, argc, argv);
+    if (const auto status = terrain::tools::parseCommandLine(app, argc, argv)) return *status;
     return run(o);
 }

@@ -1,6 +1,7 @@
 // terrain-view: flies through a pyramid in a window (GLFW, OpenGL 4.5) with the runtime's
 // streaming, LOD quadtree and tessellated draw — the same frame as terrain-render — under a
 // Dear ImGui overlay of live telemetry and controls. docs/viewer.md is its manual.
+#include "CommandLine.h"
 #include "FrameSizeFlags.h"
 #include "KeyBindings.h"
 #include "LodFlags.h"
@@ -80,7 +81,7 @@ int main(int argc, char** argv) {
         ->delimiter(',')
         ->expected(2, 3);
     app.add_flag("--json", o.json, "Print a JSON summary on stdout at exit");
-    CLI11_PARSE(app, argc, argv);
+    if (const auto status = terrain::tools::parseCommandLine(app, argc, argv)) return *status;
 
     // The viewer streams: the in-core methods (the RTIN yardstick and Lee & Shin, which
     // read the finest level once) are for the benchmark and terrain-render.
