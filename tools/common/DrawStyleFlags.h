@@ -2,6 +2,8 @@
 // (terrain-render, terrain-view).
 #pragma once
 
+#include "NumberChecks.h"
+
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TerrainRenderer.h"
 
@@ -42,8 +44,10 @@ struct DrawStyleFlags {
                        "(0 hides a layer; layers not given keep 1)")
             ->delimiter(',')
             ->check(CLI::Range(0.0, 1.0));
-        return app.add_option("--fog", fogDensity,
-                              "Fog density per metre (default from the DEM's extent)");
+        return app
+            .add_option("--fog", fogDensity,
+                        "Fog density per metre (default from the DEM's extent)")
+            ->check(nonNegativeNumber());
     }
 
     runtime::TerrainDebugView debugViewValue() const {

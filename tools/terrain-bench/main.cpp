@@ -26,6 +26,7 @@
 #include "SurfaceKit.h"
 
 #include "LodFlags.h"
+#include "NumberChecks.h"
 #include "terrain/base/AtomicFile.h"
 #include "terrain/cache/GpuTilePool.h"
 #include "terrain/gl/HeadlessGlContext.h"
@@ -860,7 +861,7 @@ int main(int argc, char** argv) {
                    "Camera path JSON (docs/camera-path.md); default: a path made for the pyramid");
     app.add_option("--duration-s", o.durationS, "Length of the default path, seconds")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(tools::positiveNumber());
     o.globe.addVisitTo(app);
     app.add_option("--frames", o.frames, "Frames, evenly spread over the path")
         ->capture_default_str()
@@ -890,11 +891,11 @@ int main(int argc, char** argv) {
     app.add_option("--valdetaro-gain", o.valdetaro.hamGain,
                    "valdetaro2011: g(HAM) = gain · √HAM_max, its T_max (§5.1)")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(tools::positiveNumber());
     app.add_option("--valdetaro-dmax-px", o.valdetaro.pixelsPerSampleAtDMax,
                    "valdetaro2011: d_max (§5.3) where a DEM sample spans this many pixels")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
+        ->check(tools::positiveNumber());
     app.add_flag("--stability", o.stability,
                  "Also measure every method and threshold at the stress poses found in the "
                  "pyramid (its steepest slope, sharpest peak, a view 1 m above the ground, the "
@@ -918,7 +919,9 @@ int main(int argc, char** argv) {
                    "Rasterisation tolerance added to ε when counting frames over ε")
         ->capture_default_str();
     tools::addStreamingBudgetFlags(app, o.budgets, " (each threshold's session)");
-    app.add_option("--fog", o.fogDensity, "Fog density per metre (0: none)")->capture_default_str();
+    app.add_option("--fog", o.fogDensity, "Fog density per metre (0: none)")
+        ->capture_default_str()
+        ->check(tools::nonNegativeNumber());
     app.add_option("--sample-frame", o.sampleFrame,
                    "Frame written as sample PNGs (default: the middle one)");
     app.add_option("--source", o.sources,

@@ -2,6 +2,7 @@
 // generated on one core, the I/O thread's cost a tile, and a picture of them: the six faces
 // unfolded as a cross, the interior texels of every tile of a face level side by side.
 #include "CommandLine.h"
+#include "NumberChecks.h"
 
 #include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/pyramid/ImageryTileSource.h"
@@ -113,7 +114,7 @@ int main(int argc, char** argv) {
     app.add_option("--face-level", faceLevel,
                    "face level of the tiles timed (random tiles of it), 0 … the layer's finest")
         ->check(CLI::Range(0, io::kMaxGlobeFaceLevel));
-    app.add_option("--seconds", seconds, "time at least this long")->check(CLI::PositiveNumber);
+    app.add_option("--seconds", seconds, "time at least this long")->check(tools::positiveNumber());
     app.add_option("--picture", picture, "write the six faces unfolded as a cross (binary PPM)");
     app.add_option("--picture-level", pictureLevel, "face level of the picture's tiles")
         ->check(CLI::Range(0, io::kMaxGlobeFaceLevel));

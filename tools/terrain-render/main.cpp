@@ -11,6 +11,7 @@
 #include "GlInfoJson.h"
 #include "GlobeFlags.h"
 #include "LodFlags.h"
+#include "NumberChecks.h"
 #include "StreamingBudgetFlags.h"
 #include "SurfaceKit.h"
 
@@ -318,7 +319,8 @@ int main(int argc, char** argv) {
         "default: a path made for the pyramid (on a globe, from orbit to 1 m above "
         "the ground at the data)");
     app.add_option("--save-path", o.savePath, "Write the camera path used to this file");
-    app.add_option("--duration-s", o.durationS, "Length of the default path, seconds (20)");
+    app.add_option("--duration-s", o.durationS, "Length of the default path, seconds (20)")
+        ->check(tools::positiveNumber());
     app.add_option("-o,--output", o.outputDir, "Folder for frames and telemetry.csv")
         ->capture_default_str();
     tools::addFrameSizeFlags(app, o.widthPx, o.heightPx);

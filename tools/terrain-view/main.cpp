@@ -5,6 +5,7 @@
 #include "FrameSizeFlags.h"
 #include "KeyBindings.h"
 #include "LodFlags.h"
+#include "NumberChecks.h"
 #include "Viewer.h"
 #include "ViewerOptions.h"
 #include "terrain/runtime/LodMethod.h"
@@ -51,7 +52,7 @@ int main(int argc, char** argv) {
         "Log the per-frame telemetry CSV (docs/telemetry.md) from the start; T stops it");
     app.add_option("--frames", o.frames, "Exit after this many frames");
     app.add_option("--exit-after", o.exitAfterS, "Exit after this many seconds")
-        ->check(CLI::NonNegativeNumber);
+        ->check(terrain::tools::nonNegativeNumber());
     app.add_option("--fps", o.fixedFps,
                    "Advance flight time by 1/FPS per frame instead of by the clock (reproducible "
                    "playback, recordings and screenshots)")
@@ -72,7 +73,7 @@ int main(int argc, char** argv) {
                    "waits for the GPU)")
         ->capture_default_str()
         ->check(CLI::Range(1, 100000));
-    o.look.addTo(app)->check(CLI::NonNegativeNumber);
+    o.look.addTo(app);
     app.add_flag("--no-fog", o.noFog, "No fog");
     app.add_flag("--orbit", o.orbit, "Start orbiting the point at the centre of the view");
     app.add_option("--goto", o.jumpTo,
