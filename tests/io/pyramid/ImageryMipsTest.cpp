@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -29,6 +30,34 @@ TEST(ImageryMipsTest, SrgbBytesRoundTripThroughLinearLight) {
     EXPECT_EQ(srgbFromLinear(-1.0f), 0);
     EXPECT_EQ(srgbFromLinear(2.0f), 255);
     EXPECT_NEAR(linearFromSrgb(188), 0.5, 0.003);  // sRGB 188 is about half the light
+}
+
+// The encoder's bucket table against the plain definition, the nearer decoded byte (the upper
+// on a tie), at a million values across [0, 1] and at every midpoint and its neighbours.
+TEST(ImageryMipsTest, SrgbEncodingIsTheNearestByte) {
+    std::array<float, 256> decoded{};
+    for (int b = 0; b < 256; ++b)
+        decoded[static_cast<std::size_t>(b)] = linearFromSrgb(static_cast<std::uint8_t>(b));
+    const auto nearest = [&](float linear) {
+        int best = 0;
+        for (int b = 1; b < 256; ++b)
+            if (!(linear - decoded[static_cast<std::size_t>(best)] <
+                  decoded[static_cast<std::size_t>(b)] - linear))
+                best = b;
+        return static_cast<std::uint8_t>(best);
+    };
+    std::vector<float> values;
+    for (int i = 0; i <= 1'000'000; ++i) values.push_back(static_cast<float>(i) / 1e6f);
+    for (int b = 0; b < 255; ++b) {
+        const float mid =
+            (decoded[static_cast<std::size_t>(b)] + decoded[static_cast<std::size_t>(b) + 1]) /
+            2.0f;
+        values.insert(values.end(), {std::nextafter(mid, 0.0f), mid, std::nextafter(mid, 1.0f)});
+    }
+    int wrong = 0;
+    for (const float v : values)
+        if (srgbFromLinear(v) != nearest(v) && ++wrong < 5) ADD_FAILURE() << v;
+    EXPECT_EQ(wrong, 0);
 }
 
 TEST(ImageryMipsTest, AlphaWeightsTheColoursInLinearLight) {
