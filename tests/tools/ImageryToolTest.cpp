@@ -112,9 +112,11 @@ TEST_F(ImageryTool, BlueMarbleOverTheGlobeWithBostonAbove) {
     EXPECT_EQ(bottom.name, "bluemarble_world_2048");
     EXPECT_EQ(top.name, "boston");
     EXPECT_DOUBLE_EQ(top.opacity, 0.9);
-    // 2048 pixels around the Earth: 0.18° pixels, face level 2's texels (0.09°).
-    EXPECT_EQ(bottom.finestLevel, ManifestGlobe::kLevelOffset + 2);
-    EXPECT_EQ(top.finestLevel, ManifestGlobe::kLevelOffset + 9);
+    // 2048 pixels around the Earth: 0.18° pixels, 512 a face where face level 1 has 496
+    // interior texels (0.186°, within --finest-texel-pixels' default 1.1 of the pixel; the
+    // level below would store 4× the texels for 3 % of resolution).
+    EXPECT_EQ(bottom.finestLevel, ManifestGlobe::kLevelOffset + 1);
+    EXPECT_EQ(top.finestLevel, ManifestGlobe::kLevelOffset + 8);
     // Blue Marble covers the Earth: every tile of every level opaque, the polar faces too,
     // whose texels take every longitude (a tile unwrapped around its centre left a line of
     // half-transparent texels along the meridian opposite the centre's: a streak of the tint
@@ -162,8 +164,9 @@ TEST_F(ImageryTool, PugetSoundTextureOnItsDemExtent) {
     const auto manifest = readManifest(puget);
     ASSERT_TRUE(manifest.ok());
     ASSERT_EQ(manifest.value().imagery.size(), 1u);
-    // 1024 pixels over 1023 sample spacings: the DEM's finest level (texels of 0.52 samples).
-    EXPECT_EQ(manifest.value().imagery[0].finestLevel, manifest.value().layout.finestLevel());
+    // 1024 pixels over 1024 sample spacings: texels of 1.03 samples, a level above the DEM's
+    // finest (whose texels of 0.52 samples would store 4× the texels for 3 % of resolution).
+    EXPECT_EQ(manifest.value().imagery[0].finestLevel, manifest.value().layout.finestLevel() - 1);
     const ToolRun verified = run(TERRAIN_INSPECT, puget.string() + " --verify --json");
     EXPECT_EQ(verified.status, 0) << verified.output;
     EXPECT_NE(verified.output.find("\"imagery\""), std::string::npos);

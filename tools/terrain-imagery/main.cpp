@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
     int quality = 85;
     bool lossless = false, demExtent = false, replace = false, json = false;
     int threads = 0;
+    double finestTexelPixels = terrain::io::ImageryBuildOptions{}.finestTexelPixels;
     app.add_option("PYRAMID", pyramid, "Pyramid folder (holding manifest.json)")->required();
     app.add_option("IMAGE", imagePath, "The image (a file or a GDAL dataset name)")->required();
     app.add_option("--name", name, "The layer's name (default: the image's file stem)");
@@ -55,6 +56,13 @@ int main(int argc, char** argv) {
                  "Lay the image over the DEM's extent (its outer edges on the DEM's first and "
                  "last samples) whatever its georeference: for a picture without one (planar "
                  "pyramids)");
+    app.add_option("--finest-texel-pixels", finestTexelPixels,
+                   "The finest level is the first whose texel is at most this many of the "
+                   "image's pixels (1: never coarser than the image; the default keeps an "
+                   "image at a power-of-two multiple of the patch grid, whose texel is 256/248 "
+                   "of its pixel, at its own resolution rather than a level of 4x the texels)")
+        ->check(CLI::Range(0.5, 2.0))
+        ->capture_default_str();
     app.add_flag("--replace", replace, "Replace a layer of the same name");
     app.add_option("--threads", threads, "Threads building tiles (default: up to 8)");
     app.add_flag("--json", json, "Print a JSON summary on stdout");
@@ -122,6 +130,7 @@ int main(int argc, char** argv) {
     options.opacity = opacity;
     options.replaceExisting = replace;
     options.threads = threads;
+    options.finestTexelPixels = finestTexelPixels;
     auto built = io::buildImageryLayer(pyramid, manifest, opener, options);
     if (!built) return fail(built.error().message);
     const io::ImageryBuildReport& report = built.value();

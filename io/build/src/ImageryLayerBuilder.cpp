@@ -250,28 +250,53 @@ bool interiorOpaque(const ImageryTile& tile) {
 
 class TileSampler {
 public:
-    TileSampler(const TerrainFrame& frame, ImageryImage& image, std::vector<int> levelK)
-        : m_frame(frame), m_image(image), m_levelK(std::move(levelK)) {}
+    TileSampler(const TerrainFrame& frame, ImageryImage& image, std::vector<int> levelK,
+                std::vector<bool> superSample)
+        : m_frame(frame),
+          m_image(image),
+          m_levelK(std::move(levelK)),
+          m_superSample(std::move(superSample)) {}
 
     Status sample(const PatchId& id, ImageryTile& tile) {
         constexpr int n = kImageryTileTexels;
-        m_xs.resize(std::size_t{n} * n);
+        constexpr std::size_t texels = std::size_t{n} * n;
+        // A texel wider than the blocks it reads takes the mean of 2 × 2 points spread over
+        // its area (a box filter): one bilinear point would alias the image's finest detail
+        // into a beat a few texels long, which the coarser levels, made of this one's means,
+        // would keep.
+        const int points = m_superSample[static_cast<std::size_t>(id.level)] ? 4 : 1;
+        m_xs.resize(texels * static_cast<std::size_t>(points));
         m_ys.resize(m_xs.size());
-        for (int j = 0; j < n; ++j)
-            for (int i = 0; i < n; ++i)
-                m_frame.point(id, i + 0.5, j + 0.5, m_xs[static_cast<std::size_t>(j * n + i)],
-                              m_ys[static_cast<std::size_t>(j * n + i)]);
+        for (int p = 0; p < points; ++p) {
+            const double dx = points == 1 ? 0.5 : 0.25 + 0.5 * (p & 1);
+            const double dy = points == 1 ? 0.5 : 0.25 + 0.5 * (p >> 1);
+            for (int j = 0; j < n; ++j)
+                for (int i = 0; i < n; ++i) {
+                    const std::size_t at =
+                        static_cast<std::size_t>(p) * texels + static_cast<std::size_t>(j * n + i);
+                    m_frame.point(id, i + dx, j + dy, m_xs[at], m_ys[at]);
+                }
+        }
         m_image.toPixels(m_xs, m_ys);
         const bool wraps = m_image.wrapsColumns();
         const double width = static_cast<double>(m_image.width());
         // Unwrap around the tile's centre, so that a tile across the image's east edge reads
-        // one window that continues past it.
+        // one window that continues past it. The turns added are kept apart: a point's
+        // bilinear weights come from its own x, so a border texel and its neighbour's interior
+        // texel, unwrapped around two centres, weigh the same blocks the same to the last bit.
+        m_turns.assign(m_xs.size(), 0);
         if (wraps) {
             const double centre = m_xs[static_cast<std::size_t>(n / 2 * n + n / 2)];
             if (std::isfinite(centre))
-                for (double& x : m_xs)
-                    if (std::isfinite(x)) x += width * std::round((centre - x) / width);
+                for (std::size_t at = 0; at < m_xs.size(); ++at)
+                    if (std::isfinite(m_xs[at])) {
+                        m_turns[at] =
+                            static_cast<std::int64_t>(std::round((centre - m_xs[at]) / width));
+                    }
         }
+        m_unwrapped.resize(m_xs.size());
+        for (std::size_t at = 0; at < m_xs.size(); ++at)
+            m_unwrapped[at] = m_xs[at] + width * static_cast<double>(m_turns[at]);
         BlockWindow& win = m_window;
         win.k = m_levelK[static_cast<std::size_t>(id.level)];
         for (;; ++win.k) {
@@ -282,8 +307,8 @@ public:
                    maxY = -minX;
             for (std::size_t t = 0; t < m_xs.size(); ++t) {
                 if (!std::isfinite(m_xs[t]) || !std::isfinite(m_ys[t])) continue;
-                minX = std::min(minX, m_xs[t] / scale);
-                maxX = std::max(maxX, m_xs[t] / scale);
+                minX = std::min(minX, m_unwrapped[t] / scale);
+                maxX = std::max(maxX, m_unwrapped[t] / scale);
                 minY = std::min(minY, m_ys[t] / scale);
                 maxY = std::max(maxY, m_ys[t] / scale);
             }
@@ -318,33 +343,12 @@ public:
             win.rgba.resize(static_cast<std::size_t>(win.w) * static_cast<std::size_t>(win.h) * 4);
             if (Status s = readWindow(); !s) return s;
             const double scale = std::ldexp(1.0, win.k);
-            for (std::size_t t = 0; t < m_xs.size(); ++t) {
-                if (!std::isfinite(m_xs[t]) || !std::isfinite(m_ys[t])) continue;
-                // Bilinear between block centres, premultiplied by alpha.
-                const double bx = m_xs[t] / scale - 0.5, by = m_ys[t] / scale - 0.5;
-                const double fx = std::floor(bx), fy = std::floor(by);
-                const double wx = bx - fx, wy = by - fy;
-                const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy);
-                double c[4] = {0, 0, 0, 0}, q[4];
-                const double weights[4] = {(1 - wx) * (1 - wy), wx * (1 - wy), (1 - wx) * wy,
-                                           wx * wy};
-                // A pixel covers its whole area, up to the image's edge: a point on the image
-                // takes the edge block past the last block centre (else the texels within
-                // half a block of the edge would be half transparent: a band of the tint at
-                // the edge of an image laid on the DEM's extent, or around the poles, which
-                // an image wrapping around the Earth reaches with its first and last rows).
-                // Past the edge the colour fades out over half a block.
-                const bool onImage = m_ys[t] >= 0.0 &&
-                                     m_ys[t] <= static_cast<double>(m_image.height()) &&
-                                     (wraps || (m_xs[t] >= 0.0 && m_xs[t] <= width));
-                for (int corner = 0; corner < 4; ++corner) {
-                    std::int64_t cx = ix + (corner & 1), cy = iy + (corner >> 1);
-                    if (onImage) {
-                        cy = std::clamp<std::int64_t>(cy, 0, win.blocksY - 1);
-                        if (!wraps) cx = std::clamp<std::int64_t>(cx, 0, win.blocksX - 1);
-                    }
-                    win.blockAt(cx, cy, q);
-                    for (int ch = 0; ch < 4; ++ch) c[ch] += weights[corner] * q[ch];
+            for (std::size_t t = 0; t < texels; ++t) {
+                double c[4] = {0, 0, 0, 0};  // premultiplied, summed over the points
+                for (int p = 0; p < points; ++p) {
+                    const std::size_t at = static_cast<std::size_t>(p) * texels + t;
+                    if (std::isfinite(m_xs[at]) && std::isfinite(m_ys[at]))
+                        addBilinear(at, scale, wraps, width, c);
                 }
                 std::uint8_t* out = &tile.rgba[t * 4];
                 if (c[3] <= 0.0) continue;
@@ -352,7 +356,8 @@ public:
                 for (int ch = 0; ch < 3; ++ch)
                     out[ch] = static_cast<std::uint8_t>(
                         std::clamp(std::lround(c[ch] * unpremultiply), 0L, 255L));
-                out[3] = static_cast<std::uint8_t>(std::clamp(std::lround(c[3]), 0L, 255L));
+                out[3] =
+                    static_cast<std::uint8_t>(std::clamp(std::lround(c[3] / points), 0L, 255L));
             }
         }
         tile.info.present = true;
@@ -361,6 +366,42 @@ public:
     }
 
 private:
+    // Adds the window's bilinear sample between block centres at point `at`, premultiplied
+    // by alpha, to c.
+    void addBilinear(std::size_t at, double scale, bool wraps, double width, double c[4]) const {
+        const BlockWindow& win = m_window;
+        const double x = m_unwrapped[at], y = m_ys[at];
+        // Where the turns are whole blocks (always at full resolution), the weights come from
+        // the point's own x and the turns are added to the block index.
+        const double turnBlocks = width * static_cast<double>(m_turns[at]) / scale;
+        const bool wholeBlocks = turnBlocks == std::floor(turnBlocks);
+        const double bx = (wholeBlocks ? m_xs[at] : x) / scale - 0.5, by = y / scale - 0.5;
+        const double fx = std::floor(bx), fy = std::floor(by);
+        const double wx = bx - fx, wy = by - fy;
+        const auto ix = static_cast<std::int64_t>(fx) +
+                        (wholeBlocks ? static_cast<std::int64_t>(turnBlocks) : 0),
+                   iy = static_cast<std::int64_t>(fy);
+        const double weights[4] = {(1 - wx) * (1 - wy), wx * (1 - wy), (1 - wx) * wy, wx * wy};
+        // A pixel covers its whole area, up to the image's edge: a point on the image takes
+        // the edge block past the last block centre (else the texels within half a block of
+        // the edge would be half transparent: a band of the tint at the edge of an image laid
+        // on the DEM's extent, or around the poles, which an image wrapping around the Earth
+        // reaches with its first and last rows). Past the edge the colour fades out over half
+        // a block.
+        const bool onImage = y >= 0.0 && y <= static_cast<double>(m_image.height()) &&
+                             (wraps || (x >= 0.0 && x <= width));
+        double q[4];
+        for (int corner = 0; corner < 4; ++corner) {
+            std::int64_t cx = ix + (corner & 1), cy = iy + (corner >> 1);
+            if (onImage) {
+                cy = std::clamp<std::int64_t>(cy, 0, win.blocksY - 1);
+                if (!wraps) cx = std::clamp<std::int64_t>(cx, 0, win.blocksX - 1);
+            }
+            win.blockAt(cx, cy, q);
+            for (int ch = 0; ch < 4; ++ch) c[ch] += weights[corner] * q[ch];
+        }
+    }
+
     // Fills the window, in pieces where it continues past the image's east edge.
     Status readWindow() {
         BlockWindow& win = m_window;
@@ -387,7 +428,10 @@ private:
     const TerrainFrame& m_frame;
     ImageryImage& m_image;
     std::vector<int> m_levelK;
-    std::vector<double> m_xs, m_ys;
+    std::vector<bool> m_superSample;
+    std::vector<double> m_xs, m_ys;     // the points in the image's pixels, as it places them
+    std::vector<std::int64_t> m_turns;  // whole turns added to unwrap x around the tile
+    std::vector<double> m_unwrapped;    // x + turns · width
     BlockWindow m_window;
     std::vector<std::uint8_t> m_piece;
 };
@@ -532,7 +576,8 @@ Result<ImageryBuildReport> buildImageryLayer(const fs::path& pyramidDir,
     ImageryImage& image = *first.value();
     const TerrainFrame frame(manifest);
 
-    // The finest level: the first whose texel is no coarser than the image's pixel.
+    // The finest level: the first whose texel is no coarser than the image's pixel (times
+    // options.finestTexelPixels).
     const double pixel = pixelSizeAtCentre(frame, image);
     if (!(pixel > 0.0) || !std::isfinite(pixel))
         return Error{
@@ -540,12 +585,19 @@ Result<ImageryBuildReport> buildImageryLayer(const fs::path& pyramidDir,
                         "(its CRS does not transform there)",
                         image.name())};
     int finest = frame.rootLevel();
-    while (finest < frame.deepestLevel() && frame.texelSize(finest) > pixel) ++finest;
-    // Each level averages the image over blocks of 2^k pixels, k from its texel's size.
+    while (finest < frame.deepestLevel() &&
+           frame.texelSize(finest) > pixel * options.finestTexelPixels)
+        ++finest;
+    // Each level averages the image over blocks of 2^k pixels, k from its texel's size; a
+    // texel wider than its blocks takes 2 × 2 points.
     std::vector<int> levelK(static_cast<std::size_t>(finest) + 1, 0);
-    for (int l = frame.rootLevel(); l <= finest; ++l)
-        levelK[static_cast<std::size_t>(l)] =
+    std::vector<bool> superSample(levelK.size(), false);
+    for (int l = frame.rootLevel(); l <= finest; ++l) {
+        const auto at = static_cast<std::size_t>(l);
+        levelK[at] =
             std::max(0, static_cast<int>(std::floor(std::log2(frame.texelSize(l) / pixel))));
+        superSample[at] = frame.texelSize(l) > pixel * std::ldexp(1.0, levelK[at]);
+    }
 
     // Pass 1: which tiles.
     Planner planner{frame, image, finest, {}, {}, {}};
@@ -591,7 +643,7 @@ Result<ImageryBuildReport> buildImageryLayer(const fs::path& pyramidDir,
                 opened = std::move(o).value();
                 own = opened.get();
             }
-            TileSampler sampler(frame, *own, levelK);
+            TileSampler sampler(frame, *own, levelK, superSample);
             CoarserLevel coarser(frame, writer.value(), present);
             ImageryTile tile;
             for (std::size_t i = next++; i < tiles.size(); i = next++) {

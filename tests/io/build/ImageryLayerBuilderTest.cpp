@@ -56,18 +56,29 @@ TEST(ImageryLayerBuilder, FinestLevelFollowsThePixelAndBordersMatch) {
                           fakeImageryOpener(1026, 1026, 0.0, 0.0, 0.5, smooth), lossless("photo"));
     ASSERT_TRUE(built.ok()) << built.error().message;
     EXPECT_EQ(built.value().layer.coarsestLevel, 0);
-    EXPECT_EQ(built.value().layer.finestLevel, 3);  // 128/248/2 = 0.26 ≤ 0.5 < 0.52
+    // Level 2's texels, 128/248 = 0.516 samples, are 1.03 pixels: within the default 1.1.
+    EXPECT_EQ(built.value().layer.finestLevel, 2);
     EXPECT_EQ(built.value().layer.folder, "imagery/photo");
-    auto reader = ImageryTileReader::open(pyramid.path() / "imagery" / "photo", 0, 3);
+    {
+        // Never coarser than the pixel: level 3 (0.26 ≤ 0.5 < 0.52).
+        test::TempFolder other;
+        ImageryBuildOptions exact = lossless("photo");
+        exact.finestTexelPixels = 1.0;
+        const auto finer = buildImageryLayer(
+            other.path(), planar(), fakeImageryOpener(1026, 1026, 0.0, 0.0, 0.5, smooth), exact);
+        ASSERT_TRUE(finer.ok()) << finer.error().message;
+        EXPECT_EQ(finer.value().layer.finestLevel, 3);
+    }
+    auto reader = ImageryTileReader::open(pyramid.path() / "imagery" / "photo", 0, 2);
     ASSERT_TRUE(reader.ok()) << reader.error().message;
-    EXPECT_EQ(reader.value()->index().presentTiles(), 1 + 4 + 16 + 64);
+    EXPECT_EQ(reader.value()->index().presentTiles(), 1 + 4 + 16);
     ImageryTile left, right, below;
-    for (int level = 1; level <= 3; ++level) {
+    for (int level = 1; level <= 2; ++level) {
         ASSERT_TRUE(reader.value()->readTile({level, 0, 0}, left).ok());
         ASSERT_TRUE(reader.value()->readTile({level, 1, 0}, right).ok());
         ASSERT_TRUE(reader.value()->readTile({level, 0, 1}, below).ok());
         EXPECT_TRUE(left.info.opaque);
-        EXPECT_EQ(left.info.presentChildren, level < 3 ? 0b1111 : 0);
+        EXPECT_EQ(left.info.presentChildren, level < 2 ? 0b1111 : 0);
         // Stored texel 252 + k of a tile lies where texel 4 + k of its east neighbour does.
         int worst = 0;
         for (int k = -4; k < 4; ++k)
@@ -85,7 +96,10 @@ TEST(ImageryLayerBuilder, FinestLevelFollowsThePixelAndBordersMatch) {
 TEST(ImageryLayerBuilder, CoarseLevelsAreLowPassed) {
     test::TempFolder pyramid;
     // A checkerboard of single pixels, a quarter sample each: at the root a texel spans
-    // about 8 pixels, and must be one grey, not a moiré of black and white.
+    // about 8 pixels, and must be one grey, not a moiré of black and white. The finest
+    // level's texels are 1.03 pixels: one point a texel aliased the checkerboard into a beat
+    // 31 texels long, which the means kept up to the root (38 levels of spread); 2 × 2
+    // points a texel do not.
     const Colour checker = [](std::int64_t x, std::int64_t y) {
         const std::uint8_t v = (x + y) % 2 == 0 ? 255 : 0;
         return std::array<std::uint8_t, 4>{v, v, v, 255};
@@ -94,8 +108,8 @@ TEST(ImageryLayerBuilder, CoarseLevelsAreLowPassed) {
                                          fakeImageryOpener(2052, 2052, 0.0, 0.0, 0.25, checker),
                                          lossless("checker"));
     ASSERT_TRUE(built.ok()) << built.error().message;
-    EXPECT_EQ(built.value().layer.finestLevel, 4);  // past the pyramid's finest, 2
-    auto reader = ImageryTileReader::open(pyramid.path() / "imagery" / "checker", 0, 4);
+    EXPECT_EQ(built.value().layer.finestLevel, 3);  // past the pyramid's finest, 2
+    auto reader = ImageryTileReader::open(pyramid.path() / "imagery" / "checker", 0, 3);
     ASSERT_TRUE(reader.ok());
     ImageryTile root;
     ASSERT_TRUE(reader.value()->readTile({0, 0, 0}, root).ok());
@@ -120,9 +134,10 @@ TEST(ImageryLayerBuilder, PartialImageMakesPartialLayer) {
     const Colour grey = [](std::int64_t, std::int64_t) {
         return std::array<std::uint8_t, 4>{90, 90, 90, 255};
     };
-    const auto built = buildImageryLayer(pyramid.path(), planar(),
-                                         fakeImageryOpener(200, 200, 300.0, 300.0, 1.0, grey),
-                                         lossless("quarter"));
+    ImageryBuildOptions exact = lossless("quarter");
+    exact.finestTexelPixels = 1.0;  // level 2, texels of 0.52 samples
+    const auto built = buildImageryLayer(
+        pyramid.path(), planar(), fakeImageryOpener(200, 200, 300.0, 300.0, 1.0, grey), exact);
     ASSERT_TRUE(built.ok()) << built.error().message;
     EXPECT_EQ(built.value().layer.finestLevel, 2);
     auto reader = ImageryTileReader::open(pyramid.path() / "imagery" / "quarter", 0, 2);
@@ -239,7 +254,7 @@ TEST(ImageryLayerBuilder, AParentHoldsItsChildrensMip1OnThePlane) {
     ASSERT_TRUE(reader.ok()) << reader.error().message;
     std::int64_t compared = 0;
     EXPECT_EQ(texelsUnlikeTheChildrensMip1(*reader.value(), 0, finest, compared), 0);
-    EXPECT_GT(compared, 50 * 128 * 128);
+    EXPECT_GE(compared, 16 * 128 * 128);
 }
 
 // A whole-Earth image in longitude and latitude, wrapping around in x.
@@ -274,7 +289,6 @@ private:
 };
 
 TEST(ImageryLayerBuilder, AParentHoldsItsChildrensMip1OnTheGlobe) {
-    test::TempFolder pyramid;
     auto layout = globeLayout(2);
     ASSERT_TRUE(layout.ok());
     PyramidManifest m = PyramidManifest::forLayout(layout.value());
@@ -282,8 +296,8 @@ TEST(ImageryLayerBuilder, AParentHoldsItsChildrensMip1OnTheGlobe) {
     m.globe = ManifestGlobe{};
     m.globe->faceFinestLevel = 2;
     m.georeference.crsKind = CrsKind::Geographic;
-    // 2048 × 1024: 0.18° pixels, faces to level 2 (texels 0.09°); parents at face edges
-    // take the texels past the edge from their children's borders.
+    // 2048 × 1024: 0.18° pixels, faces to level 2 (texels 0.09°, 1 pixel at most); parents
+    // at face edges take the texels past the edge from their children's borders.
     const Colour bands = [](std::int64_t x, std::int64_t y) {
         return std::array<std::uint8_t, 4>{static_cast<std::uint8_t>((x * 37) % 256),
                                            static_cast<std::uint8_t>((y * 11) % 256),
@@ -292,15 +306,23 @@ TEST(ImageryLayerBuilder, AParentHoldsItsChildrensMip1OnTheGlobe) {
     ImageryImageOpener earth = [&]() -> Result<std::unique_ptr<ImageryImage>> {
         return std::unique_ptr<ImageryImage>(new FakeEarthImage(2048, bands));
     };
-    const auto built = buildImageryLayer(pyramid.path(), m, earth, lossless("earth"));
-    ASSERT_TRUE(built.ok()) << built.error().message;
-    const int root = ManifestGlobe::kLevelOffset, finest = built.value().layer.finestLevel;
-    EXPECT_EQ(finest, root + 2);
-    auto reader = ImageryTileReader::open(pyramid.path() / "imagery" / "earth", root, finest);
-    ASSERT_TRUE(reader.ok()) << reader.error().message;
-    std::int64_t compared = 0;
-    EXPECT_EQ(texelsUnlikeTheChildrensMip1(*reader.value(), root, finest, compared), 0);
-    EXPECT_EQ(compared, 6 * (4 + 16) * 128 * 128);
+    // Texels at most the pixel (two levels made of means), and the default's 1.03 pixels
+    // (one level, its texels of 2 × 2 points).
+    for (const double finestTexelPixels : {1.0, ImageryBuildOptions{}.finestTexelPixels}) {
+        test::TempFolder pyramid;
+        ImageryBuildOptions options = lossless("earth");
+        options.finestTexelPixels = finestTexelPixels;
+        const auto built = buildImageryLayer(pyramid.path(), m, earth, options);
+        ASSERT_TRUE(built.ok()) << built.error().message;
+        const int root = ManifestGlobe::kLevelOffset, finest = built.value().layer.finestLevel;
+        EXPECT_EQ(finest, root + (finestTexelPixels == 1.0 ? 2 : 1));
+        auto reader = ImageryTileReader::open(pyramid.path() / "imagery" / "earth", root, finest);
+        ASSERT_TRUE(reader.ok()) << reader.error().message;
+        std::int64_t compared = 0;
+        EXPECT_EQ(texelsUnlikeTheChildrensMip1(*reader.value(), root, finest, compared), 0)
+            << finestTexelPixels;
+        EXPECT_EQ(compared, (finestTexelPixels == 1.0 ? 6 * (4 + 16) : 6 * 4) * 128 * 128);
+    }
 }
 
 TEST(ImageryLayerBuilder, ImageBesideTheTerrainIsRefusedAndNothingWritten) {

@@ -27,6 +27,13 @@ struct ImageryBuildOptions {
     ImageryEncoding encoding;
     double opacity = 1.0;
     bool replaceExisting = false;  ///< replace a layer folder of the same name
+    /// The finest level is the first whose texel is at most this many image pixels (at the
+    /// image's centre). 1 would keep every pixel's detail, but an image at a power-of-two
+    /// multiple of the patch grid (a DEM's 2^n × finer picture, Blue Marble's 2048 columns
+    /// on the cube's faces) has 256 pixels where a tile has 248 interior texels: texels
+    /// 256/248 = 1.03 of its pixel, so a rule of 1 took the level below, of 4× the texels
+    /// (the layer 2.6× Blue Marble's size for 3 % of resolution).
+    double finestTexelPixels = 1.1;
     /// Threads encoding tiles (each opens its own image); 0: the hardware's.
     int threads = 0;
 };
