@@ -17,7 +17,11 @@ Result<nlohmann::json> fullDetailAfterArrival(const std::string& pyramid,
     if (!fresh) return fresh.error();
     runtime::LodStrategy& session = *fresh.value();
     const auto arrived = Clock::now();
+    const auto secondsSince = [&] {
+        return std::chrono::duration<double>(Clock::now() - arrived).count();
+    };
     std::uint64_t frames = 0;
+    nlohmann::json heights, imagery;  // when each came to full detail
     bool settled = false;
     while (!settled && Clock::now() - arrived < limit) {
         const std::uint64_t waitingSplits = session.beginFrame(camera).waitingSplits;
@@ -29,12 +33,23 @@ Result<nlohmann::json> fullDetailAfterArrival(const std::string& pyramid,
         runtime::FrameTelemetry ignored;
         session.endFrame(ignored);
         ++frames;
-        settled = waitingSplits == 0 && session.loadsOutstanding() == 0;
+        // Each from the frame it came to full detail and stayed there (a finer patch may want
+        // finer imagery again).
+        if (waitingSplits > 0 || session.loadsOutstanding() > 0)
+            heights = nullptr;
+        else if (heights.is_null())
+            heights = {{"frames", frames}, {"seconds", secondsSince()}};
+        if (session.imageryWaiting() > 0)
+            imagery = nullptr;
+        else if (imagery.is_null())
+            imagery = {{"frames", frames}, {"seconds", secondsSince()}};
+        settled = !heights.is_null() && !imagery.is_null();
     }
-    const double seconds = std::chrono::duration<double>(Clock::now() - arrived).count();
+    const double seconds = secondsSince();
     session.drain(std::chrono::seconds(10));
     if (!settled) return nlohmann::json();
-    return nlohmann::json{{"frames", frames}, {"seconds", seconds}};
+    return nlohmann::json{
+        {"frames", frames}, {"seconds", seconds}, {"heights", heights}, {"imagery", imagery}};
 }
 
 }  // namespace terrain::tools

@@ -1,6 +1,7 @@
 // FullDetailAfterArrival: how long a view takes to reach full detail when the camera arrives
 // there with nothing loaded (docs/globe.md, "Figures"): a fresh LOD at the pose, frames drawn
-// as a user would see them, not settled, until no split waits for a tile and nothing loads.
+// as a user would see them, not settled, until no split waits for a tile, no imagery tile the
+// view wants is missing, and nothing loads.
 #pragma once
 
 #include "terrain/base/Result.h"
@@ -15,9 +16,11 @@
 
 namespace terrain::tools {
 
-/// {"frames": N, "seconds": S} for `pyramid` opened afresh with `options` and drawn from
-/// `camera` into `target`; null when full detail is not reached within `limit`. Errors: the
-/// pyramid cannot be opened.
+/// {"frames": N, "seconds": S, "heights": {"frames", "seconds"}, "imagery": {…}} for
+/// `pyramid` opened afresh with `options` and drawn from `camera` into `target` (the heights
+/// and the imagery each at the first frame they were at full detail; the imagery's at once
+/// without layers); null when full detail is not reached within `limit`. Errors: the pyramid
+/// cannot be opened.
 Result<nlohmann::json> fullDetailAfterArrival(const std::string& pyramid,
                                               const runtime::TerrainSessionOptions& options,
                                               const runtime::Camera& camera,

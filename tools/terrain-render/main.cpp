@@ -225,23 +225,37 @@ int run(const RenderOptions& o) {
     if (auto closed = csv.value().close(); !closed) return fail(closed.error().message);
     facts.lastCamera = camera;
     // Time to full detail after arriving (the globe's flight ends at the ground): the last pose
-    // held, frames drawn as a user would see them, until no split waits for a tile and nothing
-    // is loading (not with --settle, whose frames are all settled).
+    // held, frames drawn as a user would see them, until no split waits for a tile, no
+    // imagery tile the view wants is missing, and nothing is loading (not with --settle,
+    // whose frames are all settled). The heights and the imagery are also timed apart.
     if (kit->measuresArrival() && !o.settle && streaming != nullptr) {
         const auto arrived = Clock::now();
+        const auto secondsSince = [&] {
+            return std::chrono::duration<double>(Clock::now() - arrived).count();
+        };
         std::uint64_t arrivalFrames = 0;
-        bool settled = false;
-        while (!settled && std::chrono::duration<double>(Clock::now() - arrived).count() < 60.0) {
+        nlohmann::json heights, imagery;
+        while ((heights.is_null() || imagery.is_null()) && secondsSince() < 60.0) {
             runtime::FrameTelemetry t;
             const std::uint64_t waitingSplits = drawFrame(t).waitingSplits;
             if (auto broken = fatal()) return fail(*broken);
             ++arrivalFrames;
-            settled = waitingSplits == 0 && streaming->streamer().loadsOutstanding() == 0;
+            // Each from the frame it came to full detail and stayed there (a finer patch
+            // may want finer imagery again).
+            if (waitingSplits > 0 || streaming->streamer().loadsOutstanding() > 0)
+                heights = nullptr;
+            else if (heights.is_null())
+                heights = {{"frames", arrivalFrames}, {"seconds", secondsSince()}};
+            if (session.imageryWaiting() > 0)
+                imagery = nullptr;
+            else if (imagery.is_null())
+                imagery = {{"frames", arrivalFrames}, {"seconds", secondsSince()}};
         }
-        if (settled)
-            facts.arrival = {
-                {"frames", arrivalFrames},
-                {"seconds", std::chrono::duration<double>(Clock::now() - arrived).count()}};
+        if (!heights.is_null() && !imagery.is_null())
+            facts.arrival = {{"frames", arrivalFrames},
+                             {"seconds", secondsSince()},
+                             {"heights", heights},
+                             {"imagery", imagery}};
     }
     // A last frame with nothing drawn: wait for what streaming still owes it, so a root that
     // cannot be read is this error rather than an empty picture and exit status 0.

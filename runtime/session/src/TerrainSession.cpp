@@ -188,6 +188,10 @@ void TerrainSession::setErrorPx(double errorPx) {
 
 std::uint64_t TerrainSession::loadsOutstanding() const { return m_streamer->loadsOutstanding(); }
 
+std::uint64_t TerrainSession::imageryWaiting() const {
+    return m_imageryStats.waiting + m_streamer->imagery().loadsOutstanding();
+}
+
 void TerrainSession::drain(std::chrono::milliseconds timeout) { m_streamer->drain(timeout); }
 
 void TerrainSession::restartLod() {
@@ -279,8 +283,7 @@ bool TerrainSession::settle(const Camera& camera, std::chrono::milliseconds time
         // The imagery too: every listed tile resident (or failed), none on its way.
         const bool settled = !m_draws.empty() && lod.waitingSplits == 0 && lod.splits == 0 &&
                              lod.merges == 0 && m_streamer->loadsOutstanding() == 0 &&
-                             m_imageryStats.waiting == 0 &&
-                             m_streamer->imagery().loadsOutstanding() == 0;
+                             imageryWaiting() == 0;
         // Its streaming is reported with the next frame the caller ends: without it a
         // settled flight's telemetry would show none of the loads that settled it.
         FrameTelemetry frame;

@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 
@@ -103,6 +104,44 @@ TEST_F(SessionImageryTest, TheFirstFrameFindsEveryLayersCoarsestTilesResident) {
         EXPECT_TRUE(imagery.gpuLayer(layer, {0, 0, 0}).has_value());
     FrameTelemetry t;
     session.endFrame(t);
+}
+
+// imageryWaiting() is what terrain-render and terrain-bench time the imagery's full detail
+// by: not 0 while the view's tiles are missing (drawn from the coarsest), 0 once settled;
+// and 0 for a method that drapes no imagery.
+TEST_F(SessionImageryTest, ImageryWaitingCountsTheTilesTheViewStillWants) {
+    auto opened = TerrainSession::open(m_pyramid, optionsFor(LodMethod::Yusov2011));
+    ASSERT_TRUE(opened) << opened.error().message;
+    TerrainSession& session = *opened.value();
+    const Camera camera = overTheDem(session);
+    std::uint64_t mostWaiting = 0;
+    for (int frame = 0; frame < 10000; ++frame) {
+        session.beginFrame(camera);
+        mostWaiting = std::max(mostWaiting, session.imageryWaiting());
+        const bool drawn = !session.draws().empty();
+        FrameTelemetry t;
+        session.endFrame(t);
+        if (drawn && mostWaiting > 0) break;
+        session.streamer().waitForReads(std::chrono::seconds(10));
+    }
+    EXPECT_GT(mostWaiting, 0u);
+    // Frames as a user would see them until every wanted tile is resident.
+    bool arrived = false;
+    for (int frame = 0; frame < 10000 && !arrived; ++frame) {
+        session.beginFrame(camera);
+        arrived = session.imageryWaiting() == 0;
+        FrameTelemetry t;
+        session.endFrame(t);
+        if (!arrived) session.streamer().waitForReads(std::chrono::seconds(10));
+    }
+    EXPECT_TRUE(arrived);
+    EXPECT_GT(session.imageryStats().residentNodes, 0);
+    FrameTelemetry t;
+    auto livny = TerrainSession::open(m_pyramid, optionsFor(LodMethod::Livny2007));
+    ASSERT_TRUE(livny) << livny.error().message;
+    livny.value()->beginFrame(camera);
+    EXPECT_EQ(livny.value()->imageryWaiting(), 0u);
+    livny.value()->endFrame(t);
 }
 
 }  // namespace

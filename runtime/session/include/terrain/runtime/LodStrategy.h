@@ -51,6 +51,10 @@ public:
     virtual bool settle(const Camera& camera, std::chrono::milliseconds timeout) = 0;
     /// Reads requested and not yet finished (0 for methods that stream nothing).
     virtual std::uint64_t loadsOutstanding() const = 0;
+    /// Imagery tiles this frame's draw wants and does not have (drawn from an ancestor
+    /// meanwhile), plus imagery reads in flight: 0 once the imagery is at full detail (0 for
+    /// methods that drape none).
+    virtual std::uint64_t imageryWaiting() const { return 0; }
     /// The fault no frame can draw around (TerrainSession::fatalFault), or nullptr.
     virtual const TileFault* fatalFault() const = 0;
     /// Waits up to `timeout` for reads in flight, before the strategy is destroyed.

@@ -107,6 +107,7 @@ public:
     void setErrorPx(double errorPx) override;
     double errorPx() const override { return m_tree->options().errorPx; }
     std::uint64_t loadsOutstanding() const override;
+    std::uint64_t imageryWaiting() const override;
     void drain(std::chrono::milliseconds timeout) override;
     /// GPU layers in use and the CPU cache's bytes, as of the last endFrame.
     std::uint64_t memoryBytes() const override { return m_memoryBytes; }
