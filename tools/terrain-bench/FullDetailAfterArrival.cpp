@@ -1,5 +1,7 @@
 #include "FullDetailAfterArrival.h"
 
+#include "FullDetailClock.h"
+
 #include "terrain/runtime/LodStrategyFactory.h"
 
 #include <epoxy/gl.h>
@@ -12,18 +14,11 @@ Result<nlohmann::json> fullDetailAfterArrival(const std::string& pyramid,
                                               const runtime::TerrainSessionOptions& options,
                                               const runtime::Camera& camera,
                                               gl::Framebuffer& target, std::chrono::seconds limit) {
-    using Clock = std::chrono::steady_clock;
     auto fresh = runtime::openLodStrategy(pyramid, options);
     if (!fresh) return fresh.error();
     runtime::LodStrategy& session = *fresh.value();
-    const auto arrived = Clock::now();
-    const auto secondsSince = [&] {
-        return std::chrono::duration<double>(Clock::now() - arrived).count();
-    };
-    std::uint64_t frames = 0;
-    nlohmann::json heights, imagery;  // when each came to full detail
-    bool settled = false;
-    while (!settled && Clock::now() - arrived < limit) {
+    FullDetailClock clock;
+    while (!clock.reached() && clock.seconds() < static_cast<double>(limit.count())) {
         const std::uint64_t waitingSplits = session.beginFrame(camera).waitingSplits;
         target.clear({0.0f, 0.0f, 0.0f, 1.0f}, 0.0f);
         glBindFramebuffer(GL_FRAMEBUFFER, target.id());
@@ -32,24 +27,11 @@ Result<nlohmann::json> fullDetailAfterArrival(const std::string& pyramid,
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         runtime::FrameTelemetry ignored;
         session.endFrame(ignored);
-        ++frames;
-        // Each from the frame it came to full detail and stayed there (a finer patch may want
-        // finer imagery again).
-        if (waitingSplits > 0 || session.loadsOutstanding() > 0)
-            heights = nullptr;
-        else if (heights.is_null())
-            heights = {{"frames", frames}, {"seconds", secondsSince()}};
-        if (session.imageryWaiting() > 0)
-            imagery = nullptr;
-        else if (imagery.is_null())
-            imagery = {{"frames", frames}, {"seconds", secondsSince()}};
-        settled = !heights.is_null() && !imagery.is_null();
+        clock.frameEnded(session, waitingSplits);
     }
-    const double seconds = secondsSince();
+    nlohmann::json result = clock.result();
     session.drain(std::chrono::seconds(10));
-    if (!settled) return nlohmann::json();
-    return nlohmann::json{
-        {"frames", frames}, {"seconds", seconds}, {"heights", heights}, {"imagery", imagery}};
+    return result;
 }
 
 }  // namespace terrain::tools

@@ -7,6 +7,7 @@
 #include "DrawStyleFlags.h"
 #include "FaultPrinter.h"
 #include "FrameSizeFlags.h"
+#include "FullDetailClock.h"
 #include "GlImagePng.h"
 #include "GlInfoJson.h"
 #include "GlobeFlags.h"
@@ -229,33 +230,14 @@ int run(const RenderOptions& o) {
     // imagery tile the view wants is missing, and nothing is loading (not with --settle,
     // whose frames are all settled). The heights and the imagery are also timed apart.
     if (kit->measuresArrival() && !o.settle && streaming != nullptr) {
-        const auto arrived = Clock::now();
-        const auto secondsSince = [&] {
-            return std::chrono::duration<double>(Clock::now() - arrived).count();
-        };
-        std::uint64_t arrivalFrames = 0;
-        nlohmann::json heights, imagery;
-        while ((heights.is_null() || imagery.is_null()) && secondsSince() < 60.0) {
+        tools::FullDetailClock clock;
+        while (!clock.reached() && clock.seconds() < 60.0) {
             runtime::FrameTelemetry t;
             const std::uint64_t waitingSplits = drawFrame(t).waitingSplits;
             if (auto broken = fatal()) return fail(*broken);
-            ++arrivalFrames;
-            // Each from the frame it came to full detail and stayed there (a finer patch
-            // may want finer imagery again).
-            if (waitingSplits > 0 || streaming->streamer().loadsOutstanding() > 0)
-                heights = nullptr;
-            else if (heights.is_null())
-                heights = {{"frames", arrivalFrames}, {"seconds", secondsSince()}};
-            if (session.imageryWaiting() > 0)
-                imagery = nullptr;
-            else if (imagery.is_null())
-                imagery = {{"frames", arrivalFrames}, {"seconds", secondsSince()}};
+            clock.frameEnded(session, waitingSplits);
         }
-        if (!heights.is_null() && !imagery.is_null())
-            facts.arrival = {{"frames", arrivalFrames},
-                             {"seconds", secondsSince()},
-                             {"heights", heights},
-                             {"imagery", imagery}};
+        facts.arrival = clock.result();
     }
     // A last frame with nothing drawn: wait for what streaming still owes it, so a root that
     // cannot be read is this error rather than an empty picture and exit status 0.
