@@ -136,6 +136,15 @@ int main(int argc, char** argv) {
                        "lies at or below it is drawn as water. For sources whose zero is not the "
                        "sea, such as heights above the ellipsoid. Region builds take it at the "
                        "merge");
+    auto* oversampleOption =
+        app.add_option(
+               "--oversample-levels", options.globeOversampleLevels,
+               "Globe pyramids: face levels built below each source's own spacing. The finest "
+               "level resamples the sources, and its distance from their own triangles is the "
+               "floor of the error seen near the ground; each level about halves it, for 4x the "
+               "finest level's samples (docs/globe.md, \"Oversampled finest levels\")")
+            ->check(CLI::Range(0, io::kMaxGlobeOversampleLevels))
+            ->capture_default_str();
     app.add_option("--measured-levels", options.globeMeasuredLevels,
                    "Globe region builds: the levels above the finest whose error bounds are "
                    "measured at the source's samples (each a pass over the source) before the "
@@ -182,6 +191,10 @@ int main(int argc, char** argv) {
     options.memoryBudgetBytes = *budget;
     if (seaLevelOption->count() > 0 && !globe)
         return fail("--sea-level is for globe pyramids (--globe): a planar pyramid draws no sea");
+    if (oversampleOption->count() > 0 && !globe)
+        return fail(
+            "--oversample-levels is for globe pyramids (--globe): a planar pyramid's finest "
+            "level is the source's own grid");
     if (!std::isfinite(options.globeSeaLevelM))
         return fail("--sea-level: expected a finite number of metres");
     options.parentPrediction = !independentPatches;

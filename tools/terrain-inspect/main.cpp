@@ -128,6 +128,11 @@ void printText(const io::PyramidReader& reader, const inspect::Inspection& inspe
             "sea: at {} m in the sources' vertical datum ({}); at or below it is water\n",
             m.globe->seaLevelM,
             m.globe->seaLevelM == 0.0 ? "mean sea level" : "stated, terrain-build --sea-level");
+    if (m.globe && m.globe->oversampleLevels > 0)
+        fmt::print(
+            "oversampled: {} face level{} below each source's spacing "
+            "(terrain-build --oversample-levels)\n",
+            m.globe->oversampleLevels, m.globe->oversampleLevels == 1 ? "" : "s");
     fmt::print("statistics: heights {} to {} m over {} valid samples; root Err(P) {} m\n",
                m.statistics.minHeight, m.statistics.maxHeight, m.statistics.validSamples,
                m.statistics.rootError);
@@ -202,7 +207,10 @@ Json summaryJson(const io::PyramidReader& reader, const inspect::Inspection& ins
     j["levels"] = std::move(levels);
     j["noDataSources"] = tools::noDataSourcesJson<Json>(reader.manifest().noData);
     j["seams"] = tools::seamsJson<Json>(reader.manifest());
-    if (reader.manifest().globe) j["seaLevelM"] = reader.manifest().globe->seaLevelM;
+    if (reader.manifest().globe) {
+        j["seaLevelM"] = reader.manifest().globe->seaLevelM;
+        j["oversampleLevels"] = reader.manifest().globe->oversampleLevels;
+    }
     if (verify) {
         j["verify"] = {{"patchesChecked", inspection.patchesVerified},
                        {"seconds", inspection.verifySeconds},

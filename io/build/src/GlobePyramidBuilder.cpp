@@ -471,7 +471,8 @@ Result<PyramidBuildSummary> buildWholeGlobePyramid(std::span<DemReader* const> r
                                                    const PyramidBuildOptions& options) {
     const auto start = BuildClock::now();
     Result<GlobeSources> read =
-        GlobeSources::read(readers, options.memoryBudgetBytes, options.patchSamples - 1, 2);
+        GlobeSources::read(readers, options.memoryBudgetBytes, options.patchSamples - 1,
+                           options.globeOversampleLevels, 2);
     if (!read) return read.error();
     const GlobeSources& composite = read.value();
     BuildTotals totals;
@@ -512,6 +513,7 @@ Result<PyramidBuildSummary> buildWholeGlobePyramid(std::span<DemReader* const> r
         extents.push_back(globeSourceOf(source.grid, source.path));
     PyramidManifest m = globeManifest(l, faceLevel, std::move(extents), readers);
     m.globe->seaLevelM = options.globeSeaLevelM;
+    m.globe->oversampleLevels = options.globeOversampleLevels;
     double minHeight = 0.0, maxHeight = 0.0;
     bool any = false;
     for (std::size_t k = 0; k < composite.sources().size(); ++k) {

@@ -62,7 +62,8 @@ std::string globeFingerprint(const DemInfo& dem, const PyramidLayout& layout,
                                      {{"tiling", "globe"},
                                       {"formatVersion", PyramidManifest::kGlobeFormatVersion},
                                       {"grid", {g.originX, g.originY, g.pixelSizeX, g.pixelSizeY}},
-                                      {"measuredLevels", options.globeMeasuredLevels}});
+                                      {"measuredLevels", options.globeMeasuredLevels},
+                                      {"oversampleLevels", options.globeOversampleLevels}});
 }
 
 // ---------------------------------------------------------------------------------------
@@ -234,11 +235,11 @@ struct Source {
 };
 
 // The source's grid (shardable has refused a projected or rotated one) and finest face level.
-Result<Source> describeSource(DemReader& reader, int quads) {
+Result<Source> describeSource(DemReader& reader, int quads, int oversampleLevels) {
     Result<GeographicGrid> grid = GeographicGrid::describe(reader.info());
     if (!grid) return grid.error();
     // As GlobeSources::read decides it, so the whole build and the region build agree.
-    const int level = finestFaceLevelOf(grid.value(), quads);
+    const int level = finestFaceLevelOf(grid.value(), quads, oversampleLevels);
     return Source{std::move(grid).value(), level};
 }
 
@@ -1000,7 +1001,8 @@ public:
                                                              const PyramidBuildOptions& options,
                                                              bool listShards) {
         const DemInfo& dem = reader.info();
-        Result<Source> described = describeSource(reader, options.patchSamples - 1);
+        Result<Source> described =
+            describeSource(reader, options.patchSamples - 1, options.globeOversampleLevels);
         if (!described) return described.error();
         auto tiling =
             std::make_unique<GlobeShardTiling>(reader, std::move(described).value(), options);

@@ -100,8 +100,8 @@ Result<SourceCheckReport> checkGlobeErrorBoundsAgainstSources(
                 fmt::format("{}: not a geographic source; the globe pyramid {} was built "
                             "from geographic ones, or projected ones with a known CRS",
                             source->info().path, reader.folder().string())};
-    Result<GlobeSources> read =
-        GlobeSources::read(sources, std::uint64_t{8} << 30, layout.patchQuads());
+    Result<GlobeSources> read = GlobeSources::read(
+        sources, std::uint64_t{8} << 30, layout.patchQuads(), manifest.globe->oversampleLevels);
     if (!read) return read.error();
     const GlobeSources& composite = read.value();
     const int faceLevels = manifest.globe->faceFinestLevel + 1;

@@ -13,7 +13,7 @@ GlobeSourceSurface::~GlobeSourceSurface() = default;
 Result<GlobeSourceSurface> GlobeSourceSurface::read(std::span<DemReader* const> sources,
                                                     std::uint64_t memoryBudgetBytes,
                                                     int patchQuads) {
-    Result<GlobeSources> read = GlobeSources::read(sources, memoryBudgetBytes, patchQuads);
+    Result<GlobeSources> read = GlobeSources::read(sources, memoryBudgetBytes, patchQuads, 0);
     if (!read) return read.error();
     return GlobeSourceSurface(std::make_unique<GlobeSources>(std::move(read).value()));
 }

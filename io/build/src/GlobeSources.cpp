@@ -3,6 +3,7 @@
 #include "BuildBudget.h"
 
 #include "terrain/build/GlobePyramidBuilder.h"
+#include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/pyramid/PatchErrors.h"
 
 #include <fmt/format.h>
@@ -19,22 +20,24 @@ GlobeSources::GlobeSources(std::vector<Source> sources) : m_sources(std::move(so
     });
 }
 
-int finestFaceLevelOf(const GeographicGrid& grid, int quads) {
+int finestFaceLevelOf(const GeographicGrid& grid, int quads, int oversampleLevels) {
     const double centreLat = 0.5 * (grid.northDeg() + grid.southDeg());
     const double centreLon = grid.wrapsLongitude() ? 0.0 : 0.5 * (grid.westDeg() + grid.eastDeg());
-    return globeFinestLevelFor(grid.finestSpacingMetres(), centreLat, centreLon, quads);
+    return std::min(kMaxGlobeFaceLevel,
+                    globeFinestLevelFor(grid.finestSpacingMetres(), centreLat, centreLon, quads) +
+                        oversampleLevels);
 }
 
 Result<GlobeSources> GlobeSources::read(std::span<DemReader* const> readers,
                                         std::uint64_t memoryBudgetBytes, int quads,
-                                        unsigned shares) {
+                                        int oversampleLevels, unsigned shares) {
     std::vector<Source> sources;
     // Each source holds its share of the sources' part of the budget.
     shares *= static_cast<unsigned>(std::max<std::size_t>(1, readers.size()));
     for (DemReader* reader : readers) {
         Result<GeographicGrid> grid = GeographicGrid::read(*reader, memoryBudgetBytes, shares);
         if (!grid) return grid.error();
-        const int level = finestFaceLevelOf(grid.value(), quads);
+        const int level = finestFaceLevelOf(grid.value(), quads, oversampleLevels);
         Source source{std::move(grid).value(), level, reader->info().path, std::nullopt};
         source.noDataValue = reader->info().noDataValue;
         if (reader->info().resampledFrom) {

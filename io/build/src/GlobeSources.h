@@ -58,13 +58,13 @@ public:
 
     /// Reads every reader whole (each within memoryBudgetBytes / count), a resampled one's
     /// own samples too (placed by DemReader::placeOriginalSamples), and gives each its
-    /// finest face level for patches of `quads` quads (globeFinestLevelFor at its centre):
-    /// what the builder does, and what the source check must do the same way.
-    /// `shares`: the sources may hold 1/shares of the budget together (a builder's patches
-    /// need the rest).
+    /// finest face level for patches of `quads` quads (finestFaceLevelOf, `oversampleLevels`
+    /// below its spacing): what the builder does, and what the source check must do the
+    /// same way. `shares`: the sources may hold 1/shares of the budget together (a builder's
+    /// patches need the rest).
     static Result<GlobeSources> read(std::span<DemReader* const> readers,
                                      std::uint64_t memoryBudgetBytes, int quads,
-                                     unsigned shares = 1);
+                                     int oversampleLevels, unsigned shares = 1);
 
     const std::vector<Source>& sources() const { return m_sources; }
     int finestFaceLevel() const;  ///< over every source
@@ -152,8 +152,9 @@ private:
 };
 
 /// The finest face level of a source on `grid` for patches of `quads` quads: as fine as its
-/// samples at its centre (globeFinestLevelFor). The whole build and the region build decide
-/// it here, so they agree.
-int finestFaceLevelOf(const GeographicGrid& grid, int quads);
+/// samples at its centre (globeFinestLevelFor), and `oversampleLevels` finer
+/// (PyramidBuildOptions::globeOversampleLevels), within kMaxGlobeFaceLevel. The whole build,
+/// the region build and the source check decide it here, so they agree.
+int finestFaceLevelOf(const GeographicGrid& grid, int quads, int oversampleLevels);
 
 }  // namespace terrain::io

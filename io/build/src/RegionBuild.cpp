@@ -164,7 +164,10 @@ Result<PyramidBuildSummary> mergePyramidShards(PyramidSurface surface, DemReader
     }
     auto manifest = tiling.manifest(totals, totals.build.warnings);
     if (!manifest) return manifest.error();
-    if (manifest.value().globe) manifest.value().globe->seaLevelM = options.globeSeaLevelM;
+    if (manifest.value().globe) {
+        manifest.value().globe->seaLevelM = options.globeSeaLevelM;
+        manifest.value().globe->oversampleLevels = options.globeOversampleLevels;
+    }
 
     auto adopted = PartialBuildFolder::adopt(output, plan.staging, options.overwrite);
     if (!adopted) return adopted.error();

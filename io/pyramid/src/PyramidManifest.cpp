@@ -300,6 +300,13 @@ PyramidManifest parseFields(const Json& root, LayoutFields& f) {
             .seaLevelM = optionalNumberField(globe, "globe", "seaLevelM").value_or(0.0)};
         if (!std::isfinite(m.globe->seaLevelM))
             throw FieldError{"globe.seaLevelM", "a finite number of metres"};
+        if (globe.contains("oversampleLevels")) {  // since terrain-build --oversample-levels
+            m.globe->oversampleLevels = intField(globe, "globe", "oversampleLevels");
+            if (m.globe->oversampleLevels < 0 ||
+                m.globe->oversampleLevels > m.globe->faceFinestLevel)
+                throw FieldError{"globe.oversampleLevels",
+                                 "0 to the finest face level (face levels below the sources)"};
+        }
         if (globe.contains("sources")) {  // since each source's extent was recorded
             for (const Json& entry : arrayField(globe, "globe", "sources")) {
                 ManifestGlobeSource s;
@@ -681,6 +688,8 @@ std::string toJson(const PyramidManifest& m) {
             j["globe"]["sources"] = std::move(sources);
         }
         if (m.globe->seaLevelM != 0.0) j["globe"]["seaLevelM"] = m.globe->seaLevelM;
+        if (m.globe->oversampleLevels != 0)
+            j["globe"]["oversampleLevels"] = m.globe->oversampleLevels;
     }
     return j.dump(2) + "\n";
 }

@@ -24,11 +24,13 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <numbers>
 #include <string>
 #include <tuple>
+#include <vector>
 
 namespace terrain::io {
 namespace {
@@ -317,6 +319,52 @@ TEST(GlobePyramid, AStatedSeaLevelIsRecorded) {
     auto refused = fromJson(plain.dump(), "m.json");
     ASSERT_FALSE(refused);
     EXPECT_NE(refused.error().message.find("globe.seaLevelM"), std::string::npos)
+        << refused.error().message;
+}
+
+// A source rough at its own samples (a hill plus a per-sample jitter, as SRTM's relief is):
+// its finest face level resamples it, and the triangles between the face grid's samples cut
+// across its own. Oversampled by one and two face levels, the finest level lies closer to the
+// source's triangles (its Err(P), measured at every source sample, falls), every level still
+// bounds every source sample, and the manifest says how far the build went below the source.
+TEST(GlobePyramid, OversampledFinestLevelsLieCloserToTheSource) {
+    TempFolder temp;
+    GeographicFunctionDem source(10.0, 60.25, 60, 40, 0.005, 0.005, [](double lat, double lon) {
+        const auto i = static_cast<std::uint32_t>(std::lround(lon / 0.005));
+        const auto j = static_cast<std::uint32_t>(std::lround(lat / 0.005));
+        const std::uint32_t hash = (i * 73856093u) ^ (j * 19349663u);
+        return hills(lat, lon) + static_cast<float>(hash % 1000u) * 0.08f;
+    });
+    std::vector<double> finestError;
+    int baseLevel = 0;
+    for (int oversample = 0; oversample <= 2; ++oversample) {
+        PyramidBuildOptions options = smallPatches();
+        options.globeOversampleLevels = oversample;
+        const std::string name = fmt::format("over{}", oversample);
+        auto built = buildGlobePyramid(source, temp.path() / (name + ".pyramid"), options);
+        ASSERT_TRUE(built) << built.error().message;
+        const PyramidManifest& m = built.value().manifest;
+        if (oversample == 0) baseLevel = m.globe->faceFinestLevel;
+        EXPECT_EQ(m.globe->faceFinestLevel, baseLevel + oversample);
+        EXPECT_EQ(m.globe->oversampleLevels, oversample);
+        finestError.push_back(m.levels.back().maxError);
+        expectBoundsHold({temp.path() / (name + ".pyramid"), built.value()}, source);
+        auto reread = readManifest(temp.path() / (name + ".pyramid"));
+        ASSERT_TRUE(reread) << reread.error().message;
+        EXPECT_EQ(reread.value().globe->oversampleLevels, oversample);
+    }
+    RecordProperty("finestErrorM", fmt::format("{:.2f} {:.2f} {:.2f}", finestError[0],
+                                               finestError[1], finestError[2]));
+    EXPECT_LT(finestError[1], 0.75 * finestError[0]);
+    EXPECT_LT(finestError[2], 0.75 * finestError[1]);
+
+    // A manifest stating more levels below the sources than it has is refused by name.
+    nlohmann::json j =
+        nlohmann::json::parse(toJson(readManifest(temp.path() / "over1.pyramid").value()));
+    j["globe"]["oversampleLevels"] = j["globe"]["faceFinestLevel"].get<int>() + 1;
+    auto refused = fromJson(j.dump(), "m.json");
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("globe.oversampleLevels"), std::string::npos)
         << refused.error().message;
 }
 

@@ -272,6 +272,19 @@ TEST(GlobeShards, MeasuredLevelsAreTheWholeBuildsBytes) {
     EXPECT_EQ(pyramidFiles(whole), pyramidFiles(region));
 }
 
+// Oversampled (PyramidBuildOptions::globeOversampleLevels): the region build goes as far below
+// the source as the whole build, with the same patches and tiles, and says so in its manifest.
+TEST(GlobeShards, OversampledRegionBuildMatchesWholeBuild) {
+    GeographicFunctionDem source(8.0, 61.0, 60, 40, 0.01, 0.005, hills);
+    PyramidBuildOptions options = smallPatches();
+    options.globeOversampleLevels = 1;
+    expectRegionBuildMatchesWholeBuild(source, options);
+    TempFolder temp;
+    auto r = buildPyramidByShards(kGlobe, source, temp.path() / "r.pyramid", options);
+    ASSERT_TRUE(r) << r.error().message;
+    EXPECT_EQ(r.value().manifest.globe->oversampleLevels, 1);
+}
+
 TEST(GlobeShards, ShardsOfAnotherPlanAndForeignShardsAreRefused) {
     TempFolder temp;
     GeographicFunctionDem source(179.8, -29.8, 80, 40, 0.005, 0.005, hills);
@@ -284,6 +297,13 @@ TEST(GlobeShards, ShardsOfAnotherPlanAndForeignShardsAreRefused) {
     EXPECT_NE(refused.error().message.find("another source or with other options"),
               std::string::npos)
         << refused.error().message;
+    PyramidBuildOptions oversampled = smallPatches();
+    oversampled.globeOversampleLevels = 1;
+    auto deeper = buildPyramidShard(kGlobe, source, out, ShardId{3, 0, 0}, oversampled);
+    ASSERT_FALSE(deeper);
+    EXPECT_NE(deeper.error().message.find("another source or with other options"),
+              std::string::npos)
+        << deeper.error().message;
     auto nowhere = buildPyramidShard(kGlobe, source, out, ShardId{0, 0, 0}, smallPatches());
     ASSERT_FALSE(nowhere);
     EXPECT_NE(nowhere.error().message.find("is not one of this globe pyramid's"), std::string::npos)

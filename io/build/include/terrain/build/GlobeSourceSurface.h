@@ -23,8 +23,8 @@ class GlobeSources;
 class GlobeSourceSurface {
 public:
     /// Reads the sources whole (each within memoryBudgetBytes / count); `patchQuads` as the
-    /// pyramid's (it sets each source's finest face level, which decides nothing here but must
-    /// match the build).
+    /// pyramid's (it and the build's oversampling set each source's finest face level, which
+    /// decides nothing about the full-resolution surface).
     static Result<GlobeSourceSurface> read(std::span<DemReader* const> sources,
                                            std::uint64_t memoryBudgetBytes, int patchQuads);
     GlobeSourceSurface(GlobeSourceSurface&&) noexcept;

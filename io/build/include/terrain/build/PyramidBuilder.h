@@ -23,6 +23,10 @@ struct PyramidBuildProgress {
     double fraction = 0.0;  ///< of the whole build, by samples
 };
 
+/// The most face levels a globe build adds below a source's spacing: each multiplies the
+/// finest level's samples by 4.
+inline constexpr int kMaxGlobeOversampleLevels = 3;
+
 struct PyramidBuildOptions {
     int patchSamples = PyramidLayout::kDefaultPatchSamples;
     int blockQuads = PyramidLayout::kDefaultBlockQuads;
@@ -50,6 +54,12 @@ struct PyramidBuildOptions {
     /// A globe pyramid's sea level in its sources' vertical datum, metres
     /// (ManifestGlobe::seaLevelM).
     double globeSeaLevelM = 0.0;
+    /// Globe pyramids: face levels built below each source's own spacing
+    /// (ManifestGlobe::oversampleLevels). A face grid resamples a source, and the finest
+    /// level's distance from the source's own triangles (its Err(P)) is the floor of the error
+    /// a user sees near the ground; each level roughly halves it for 4 × the finest level's
+    /// samples (docs/globe.md, "Oversampled finest levels"). 0 … kMaxGlobeOversampleLevels.
+    int globeOversampleLevels = 0;
     bool overwrite = false;  ///< replace an existing pyramid at the output path
     /// Called on the building thread after every band.
     std::function<void(const PyramidBuildProgress&)> progress;

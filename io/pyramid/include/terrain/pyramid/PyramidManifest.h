@@ -131,6 +131,10 @@ struct ManifestGlobe {
     /// water. A source whose zero is not the sea (heights above the ellipsoid, a lake's
     /// surface) states its own (terrain-build --sea-level).
     double seaLevelM = 0.0;
+    /// Face levels built below each source's own spacing (terrain-build --oversample-levels;
+    /// optional in the file, 0): each source's finest face level is that many finer than its
+    /// samples, so the finest level's resampling error against them is smaller.
+    int oversampleLevels = 0;
     bool operator==(const ManifestGlobe&) const = default;
 };
 
