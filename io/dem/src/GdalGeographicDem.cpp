@@ -83,13 +83,19 @@ struct GeographicTarget {
     std::int64_t width = 0, height = 0;
 };
 
+// The pole a grid goes round (every longitude, from the pole to the footprint), if any.
+enum class Pole { None, North, South };
+
 // The longitude/latitude grid whose first and last sample centres are the extremes of the
 // source's sample centres, so every source sample lies inside it (the bounds then cover
-// each one), with the source's finest ground spacing along both axes wherever it lies.
+// each one), with the source's finest ground spacing along both axes wherever it lies. A
+// footprint around a pole (a polar stereographic grid) holds every longitude: its grid wraps
+// all 360° and reaches the pole, as a global grid's does.
 Result<GeographicTarget> targetFor(const std::string& path, const SamplePlacer& placer,
                                    std::int64_t width, std::int64_t height) {
-    // The edges sample by sample (up to 8,192 a side), and a 33 × 33 lattice inside: where
-    // a conformal projection's footprint reaches furthest, and where its scale is finest.
+    // The edges sample by sample (up to 8,192 a side), in order around the grid, and a
+    // 33 × 33 lattice inside: where a conformal projection's footprint reaches furthest,
+    // whether it goes round a pole, and where its scale is finest.
     std::vector<double> cols, rows;
     const auto along = [](std::int64_t n, std::int64_t most) {
         std::vector<double> at;
@@ -98,16 +104,24 @@ Result<GeographicTarget> targetFor(const std::string& path, const SamplePlacer& 
         if (at.back() != double(n - 1)) at.push_back(double(n - 1));
         return at;
     };
-    for (const double c : along(width, 8192))
-        for (const double r : {0.0, double(height - 1)}) {
-            cols.push_back(c);
-            rows.push_back(r);
-        }
-    for (const double r : along(height, 8192))
-        for (const double c : {0.0, double(width - 1)}) {
-            cols.push_back(c);
-            rows.push_back(r);
-        }
+    const std::vector<double> edgeColumns = along(width, 8192), edgeRows = along(height, 8192);
+    const double lastColumn = double(width - 1), lastRow = double(height - 1);
+    for (const double c : edgeColumns) {  // north edge, west to east
+        cols.push_back(c);
+        rows.push_back(0.0);
+    }
+    for (const double r : edgeRows) {  // east edge, north to south
+        cols.push_back(lastColumn);
+        rows.push_back(r);
+    }
+    for (auto c = edgeColumns.rbegin(); c != edgeColumns.rend(); ++c) {  // south, east to west
+        cols.push_back(*c);
+        rows.push_back(lastRow);
+    }
+    for (auto r = edgeRows.rbegin(); r != edgeRows.rend(); ++r) {  // west, south to north
+        cols.push_back(0.0);
+        rows.push_back(*r);
+    }
     const std::size_t edgePoints = cols.size();
     for (int j = 0; j <= 32; ++j)
         for (int i = 0; i <= 32; ++i) {
@@ -125,22 +139,17 @@ Result<GeographicTarget> targetFor(const std::string& path, const SamplePlacer& 
             "{}: some of its samples cannot be transformed to longitude and latitude on WGS84 "
             "(outside the projection's domain)",
             path)};
+    // The footprint goes round a pole when its outline winds once round the axis: its
+    // longitudes, step by step along the outline, add up to ±360°, not 0.
+    double winding = 0.0;
+    for (std::size_t k = 0; k < edgePoints; ++k)
+        winding += std::remainder(lon[(k + 1) % edgePoints] - lon[k], 360.0);
+    const bool aroundAPole = std::abs(winding) > 180.0;
     // Longitudes unwrapped around the first sample's, so a footprint across ±180° is one
     // interval.
     for (double& l : lon) l = lon.front() + std::remainder(l - lon.front(), 360.0);
     const auto [minLon, maxLon] = std::minmax_element(lon.begin(), lon.end());
     const auto [minLat, maxLat] = std::minmax_element(lat.begin(), lat.end());
-    if (*maxLon - *minLon > 180.0)
-        return Error{fmt::format(
-            "{}: its samples span {:.1f}° of longitude, more than a hemisphere: a polar or "
-            "continental projection cannot go onto one longitude/latitude grid yet; cut it "
-            "into parts first (gdalwarp -te)",
-            path, *maxLon - *minLon)};
-    if (*minLon < -180.0 || *maxLon > 180.0)
-        return Error{fmt::format(
-            "{}: its samples cross the antimeridian (longitudes {:.4f}° to {:.4f}°): not yet; "
-            "cut it at 180° first (gdalwarp -te)",
-            path, *minLon, *maxLon)};
 
     // The finest ground distance between neighbouring samples, from the local metric.
     double spacing = INFINITY;
@@ -150,7 +159,8 @@ Result<GeographicTarget> targetFor(const std::string& path, const SamplePlacer& 
         const double cosLat = std::cos(lat[k] * kRadians);
         for (const std::size_t n : {k + 1, k + 2}) {
             const double north = (lat[n] - lat[k]) * kRadians * radii.meridian;
-            const double east = (lon[n] - lon[k]) * kRadians * radii.primeVertical * cosLat;
+            const double east = std::remainder(lon[n] - lon[k], 360.0) * kRadians *
+                                radii.primeVertical * cosLat;
             const double d = std::hypot(north, east);
             if (d > 0.0) spacing = std::min(spacing, d);
         }
@@ -160,33 +170,63 @@ Result<GeographicTarget> targetFor(const std::string& path, const SamplePlacer& 
             fmt::format("{}: its samples do not move on the ground from one to the next", path)};
     // Degrees of latitude shrink in metres towards the equator and degrees of longitude
     // towards the poles: the finest of each over the footprint.
-    const double farthestLat = std::max(std::abs(*minLat), std::abs(*maxLat));
     const double nearestLat =
         *minLat <= 0.0 && *maxLat >= 0.0 ? 0.0 : std::min(std::abs(*minLat), std::abs(*maxLat));
-    GeographicTarget t;
-    t.pixelLat = spacing / radiiAt(farthestLat).meridian / kRadians;
-    t.pixelLon =
+    const double pixelLon =
         spacing / (radiiAt(nearestLat).primeVertical * std::cos(nearestLat * kRadians)) / kRadians;
-    const double columns = std::ceil((*maxLon - *minLon) / t.pixelLon - 1e-9) + 1.0;
-    const double rowCount = std::ceil((*maxLat - *minLat) / t.pixelLat - 1e-9) + 1.0;
+    const auto latitudeSpacing = [&](double farthestLat) {
+        return spacing / radiiAt(farthestLat).meridian / kRadians;
+    };
+
+    // The grid round the footprint's own extremes; the one round a pole instead where that
+    // one would reach past the pole, or span more than a hemisphere of longitude.
+    GeographicTarget t;
+    t.pixelLat = latitudeSpacing(std::max(std::abs(*minLat), std::abs(*maxLat)));
+    t.pixelLon = pixelLon;
+    double columns = std::ceil((*maxLon - *minLon) / t.pixelLon - 1e-9) + 1.0;
+    double rowCount = std::ceil((*maxLat - *minLat) / t.pixelLat - 1e-9) + 1.0;
+    t.west = *minLon - t.pixelLon / 2.0;
+    t.north = *maxLat + t.pixelLat / 2.0;
+    const bool reachesAPole = t.north > 90.0 || t.north - rowCount * t.pixelLat < -90.0;
+    const bool wide = *maxLon - *minLon > 180.0;
+    Pole pole = Pole::None;
+    if (aroundAPole)
+        pole = *maxLat > -*minLat ? Pole::North : Pole::South;
+    else if (reachesAPole || wide)
+        pole = *minLat > 0.0 ? Pole::North : *maxLat < 0.0 ? Pole::South : Pole::None;
+    if (pole != Pole::None) {
+        // Every longitude, the columns a whole number over 360°; the rows from the pole (the
+        // grid's edge there) to the sample centre farthest from it, a whole number too.
+        const double pixelLat = latitudeSpacing(90.0);
+        columns = std::ceil(360.0 / pixelLon - 1e-9);
+        t.pixelLon = 360.0 / columns;
+        t.west = -180.0;
+        const double fromPole = pole == Pole::North ? 90.0 - *minLat : *maxLat + 90.0;
+        rowCount = std::ceil(fromPole / pixelLat + 0.5 - 1e-9);
+        t.pixelLat = fromPole / (rowCount - 0.5);
+        t.north = pole == Pole::North ? 90.0 : *maxLat + t.pixelLat / 2.0;
+    } else if (wide || reachesAPole) {
+        return Error{fmt::format(
+            "{}: its samples span {:.1f}° of longitude and latitudes {:.4f}° to {:.4f}°, on "
+            "both sides of the equator, without going round a pole: they cannot go onto one "
+            "longitude/latitude grid; cut it into parts first (gdalwarp -te)",
+            path, *maxLon - *minLon, *minLat, *maxLat)};
+    } else if (t.west < -180.0) {
+        // Across the antimeridian: the grid starts west of it and runs on past 180°.
+        t.west += 360.0;
+    }
     // A UTM zone's grid turns by up to a few degrees against the meridians; a footprint
     // that needs far more samples than the source has is not one a DEM's grid makes.
     constexpr double kMostSamplesPerSource = 64.0;
     if (!(columns <= INT_MAX && rowCount <= INT_MAX &&
           columns * rowCount <= kMostSamplesPerSource * double(width) * double(height)))
         return Error{fmt::format(
-            "{}: on a longitude/latitude grid its {} × {} samples would need {} × {}, over {} "
+            "{}: on a longitude/latitude grid{} its {} × {} samples would need {} × {}, over {} "
             "times as many",
-            path, width, height, columns, rowCount, kMostSamplesPerSource)};
+            path, pole == Pole::None ? "" : " round the pole", width, height, columns, rowCount,
+            kMostSamplesPerSource)};
     t.width = static_cast<std::int64_t>(columns);
     t.height = static_cast<std::int64_t>(rowCount);
-    t.west = *minLon - t.pixelLon / 2.0;
-    t.north = *maxLat + t.pixelLat / 2.0;
-    if (t.north > 90.0 || t.north - double(t.height) * t.pixelLat < -90.0)
-        return Error{
-            fmt::format("{}: its samples reach within half a sample of a pole: not yet on a "
-                        "longitude/latitude grid",
-                        path)};
     return t;
 }
 

@@ -13,6 +13,7 @@
 #include "terrain/pyramid/PyramidReader.h"
 #include "terrain/build/PyramidSourceCheck.h"
 
+#include "FloatGeoTiff.h"
 #include "GeographicFunctionDem.h"
 #include "GlobeTestSources.h"
 #include "SharedData.h"
@@ -22,14 +23,18 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <glm/geometric.hpp>
+#include <ogr_spatialref.h>
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <numbers>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 namespace terrain::io {
@@ -702,6 +707,116 @@ TEST(GlobePyramid, ProjectedSourceIsBoundedAtItsOwnSamples) {
     auto off = checkErrorBoundsAgainstSources(out, higherSources);
     ASSERT_TRUE(off) << off.error().message;
     EXPECT_GT(off.value().violationCount, 0);
+}
+
+// Hundreds of metres of smooth relief over tens of kilometres, in a projection's metres.
+double projectedRelief(double x, double y) {
+    return 1200.0 + 500.0 * std::sin(x / 70e3 + 0.7) * std::cos(y / 90e3 - 0.4) +
+           200.0 * std::sin((x + 2.0 * y) / 150e3 + 1.1);
+}
+
+// A `width` × `height` GeoTIFF of projectedRelief in EPSG `epsg`, opened onto the globe's
+// longitude/latitude grid and built: every own sample within Err(P) at every level, and at
+// each of `places` (latitude, longitude) the finest level's surface within its bound of the
+// relief there. Returns the grid it went onto.
+DemInfo expectProjectedSourceBuilds(const std::string& name, int epsg,
+                                    const std::array<double, 6>& geoTransform, int width,
+                                    int height,
+                                    const std::vector<std::pair<double, double>>& places) {
+    TempFolder temp;
+    std::vector<float> samples;
+    for (int r = 0; r < height; ++r)
+        for (int c = 0; c < width; ++c)
+            samples.push_back(static_cast<float>(
+                projectedRelief(geoTransform[0] + (c + 0.5) * geoTransform[1],
+                                geoTransform[3] + (r + 0.5) * geoTransform[5])));
+    const std::string tiff = test::writeFloatGeoTiff(temp.file(name + ".tif"), geoTransform, width,
+                                                     height, samples, std::nullopt, epsg);
+    DemOpenOptions onTheGlobe;
+    onTheGlobe.geographicGrid = true;
+    auto opened = openDem({tiff}, onTheGlobe);
+    EXPECT_TRUE(opened) << opened.error().message;
+    if (!opened) return {};
+    DemReader& source = *opened.value();
+    EXPECT_TRUE(source.info().resampledFrom);
+
+    const Built built = build(source, temp, name);
+    const PyramidManifest& manifest = built.summary.manifest;
+    EXPECT_TRUE(manifest.globe);
+    if (!manifest.globe) return source.info();
+    EXPECT_EQ(manifest.statistics.validSamples, std::int64_t{width} * height);
+    expectBoundsHold(built, source);
+    auto report = checkErrorBoundsAgainstSource(built.folder, source);
+    EXPECT_TRUE(report) << report.error().message;
+    if (report) {
+        EXPECT_GT(report.value().tightestRatio.back(), 0.999);  // set by own samples
+    }
+
+    OGRSpatialReference wgs84, projected;
+    wgs84.importFromEPSG(4326);
+    projected.importFromEPSG(epsg);
+    wgs84.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    projected.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    const std::unique_ptr<OGRCoordinateTransformation> toProjected(
+        OGRCreateCoordinateTransformation(&wgs84, &projected));
+    EXPECT_TRUE(toProjected);
+    auto query = GlobeGroundQuery::open(built.folder);
+    EXPECT_TRUE(query) << query.error().message;
+    if (!toProjected || !query) return source.info();
+    const double finestBound = manifest.levels.back().maxError;
+    for (const auto& [latitude, longitude] : places) {
+        double x = longitude, y = latitude;
+        EXPECT_TRUE(toProjected->Transform(1, &x, &y));
+        auto ground = query.value().at(latitude, longitude);
+        EXPECT_TRUE(ground) << ground.error().message;
+        if (!ground) continue;
+        EXPECT_EQ(ground.value().faceLevel, manifest.globe->faceFinestLevel)
+            << latitude << "°, " << longitude << "°";
+        EXPECT_NEAR(ground.value().heightM, projectedRelief(x, y), finestBound + 1.0)
+            << latitude << "°, " << longitude << "°";
+    }
+    return source.info();
+}
+
+// A polar stereographic DEM (Antarctica's EPSG:3031, the Arctic's EPSG:3413: issue 52) spans
+// every longitude around its pole. It goes onto a longitude/latitude grid wrapping all 360°
+// with an edge on the pole, its own samples (one of them on the pole) are within Err(P) at
+// every level, and at and around the pole the surface is the source's, not a hole down to the
+// ellipsoid.
+void expectPolarGridBuilds(int epsg, double poleLatitude) {
+    // 201 × 201 samples of 5 km around the pole, the middle one on it.
+    constexpr int kSide = 201;
+    constexpr double kPixelM = 5000.0, kHalfM = 0.5 * kSide * kPixelM;
+    std::vector<std::pair<double, double>> places;
+    const double towardsEquator = poleLatitude > 0.0 ? -1.0 : 1.0;
+    for (const double fromPole : {0.0, 0.01, 0.2, 2.0})
+        for (const double longitude : {-180.0, -135.0, -45.0, 0.0, 30.0, 90.0, 179.9})
+            places.emplace_back(poleLatitude + towardsEquator * fromPole, longitude);
+    const DemInfo grid = expectProjectedSourceBuilds(
+        fmt::format("polar-{}", epsg), epsg, {-kHalfM, kPixelM, 0.0, kHalfM, 0.0, -kPixelM},
+        kSide, kSide, places);
+    const Georeference& geo = grid.georeference;
+    EXPECT_NEAR(double(grid.width) * geo.pixelSizeX, 360.0, 1e-9);
+    EXPECT_NEAR(poleLatitude > 0.0 ? geo.originY
+                                   : geo.originY - double(grid.height) * geo.pixelSizeY,
+                poleLatitude, 1e-9);
+}
+
+TEST(GlobePyramid, ProjectedSourceOverTheSouthPole) { expectPolarGridBuilds(3031, -90.0); }
+
+TEST(GlobePyramid, ProjectedSourceOverTheNorthPole) { expectPolarGridBuilds(3413, 90.0); }
+
+// A UTM zone 60 grid (central meridian 177° E) 320 to 440 km east of it, near the equator: its
+// samples lie on both sides of 180°, and its grid runs on past 180° as one interval.
+TEST(GlobePyramid, ProjectedSourceAcrossTheAntimeridian) {
+    std::vector<std::pair<double, double>> places;
+    for (const double longitude : {179.95, 180.0, -179.95, -179.5})
+        places.emplace_back(0.5, longitude);
+    const DemInfo grid = expectProjectedSourceBuilds(
+        "antimeridian", 32660, {820000.0, 2000.0, 0.0, 80000.0, 0.0, -2000.0}, 60, 30, places);
+    const Georeference& geo = grid.georeference;
+    EXPECT_LT(geo.originX, 180.0);
+    EXPECT_GT(geo.originX + double(grid.width) * geo.pixelSizeX, 180.0);
 }
 
 TEST(GlobePyramid, RefusesSourcesThatAreNotGeographic) {

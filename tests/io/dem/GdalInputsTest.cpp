@@ -499,17 +499,35 @@ TEST_F(GdalInputsTest, ProjectedGridForTheGlobeRefusesWhatItCannotPlace) {
             << reader.error().message;
     }
     {
-        // UTM zone 60 (central meridian 177° E) 300 to 340 km east of it, at 0.9° N: the
-        // samples lie on both sides of 180°.
-        GDALDataset* ds = memoryDataset(1, {830000.0, 2000.0, 0.0, 100000.0, 0.0, -2000.0});
-        OGRSpatialReference zone60;
-        zone60.importFromEPSG(32660);
-        ds->SetSpatialRef(&zone60);
-        const std::string path = copyTo(ds, "GTiff", "antimeridian.tif");
+        // Antarctic polar stereographic samples 5 km apart across and 500 km along: a strip
+        // over the south pole, whose grid round the pole needs a thousand times its samples.
+        GDALDataset* ds = memoryDataset(1, {-12500.0, 5000.0, 0.0, 1000000.0, 0.0, -500000.0});
+        OGRSpatialReference antarctic;
+        antarctic.importFromEPSG(3031);
+        ds->SetSpatialRef(&antarctic);
+        const std::string path = copyTo(ds, "GTiff", "strip.tif");
         const auto reader = test::openOne(path, options);
         ASSERT_FALSE(reader);
         EXPECT_EQ(reader.error().message.rfind(path, 0), 0U);
-        EXPECT_NE(reader.error().message.find("antimeridian"), std::string::npos)
+        EXPECT_NE(reader.error().message.find("round the pole"), std::string::npos)
+            << reader.error().message;
+        EXPECT_NE(reader.error().message.find("over 64 times as many"), std::string::npos)
+            << reader.error().message;
+    }
+    {
+        // World Mercator samples 5,500 km apart: 198° of longitude, 48° S to 48° N. Neither
+        // one interval of longitude nor a cap round a pole holds them. (Across the
+        // antimeridian or round a pole a footprint is placed: GlobePyramidTest.)
+        GDALDataset* ds =
+            memoryDataset(1, {-13750000.0, 5500000.0, 0.0, 8000000.0, 0.0, -4000000.0});
+        OGRSpatialReference mercator;
+        mercator.importFromEPSG(3395);
+        ds->SetSpatialRef(&mercator);
+        const std::string path = copyTo(ds, "GTiff", "wide.tif");
+        const auto reader = test::openOne(path, options);
+        ASSERT_FALSE(reader);
+        EXPECT_EQ(reader.error().message.rfind(path, 0), 0U);
+        EXPECT_NE(reader.error().message.find("cut it into parts first"), std::string::npos)
             << reader.error().message;
     }
 }
