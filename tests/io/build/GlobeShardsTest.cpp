@@ -290,20 +290,18 @@ TEST(GlobeShards, ShardsOfAnotherPlanAndForeignShardsAreRefused) {
     GeographicFunctionDem source(179.8, -29.8, 80, 40, 0.005, 0.005, hills);
     const fs::path out = temp.path() / "globe.pyramid";
     ASSERT_TRUE(planPyramidShards(kGlobe, source, out, smallPatches()));
-    PyramidBuildOptions other = smallPatches();
-    other.compressionLevel = 3;
-    auto refused = buildPyramidShard(kGlobe, source, out, ShardId{3, 0, 0}, other);
-    ASSERT_FALSE(refused);
-    EXPECT_NE(refused.error().message.find("another source or with other options"),
-              std::string::npos)
-        << refused.error().message;
-    PyramidBuildOptions oversampled = smallPatches();
-    oversampled.globeOversampleLevels = 1;
-    auto deeper = buildPyramidShard(kGlobe, source, out, ShardId{3, 0, 0}, oversampled);
-    ASSERT_FALSE(deeper);
-    EXPECT_NE(deeper.error().message.find("another source or with other options"),
-              std::string::npos)
-        << deeper.error().message;
+    // Another compression, another oversampling: not the plan's shards.
+    PyramidBuildOptions otherCompression = smallPatches();
+    otherCompression.compressionLevel = 3;
+    PyramidBuildOptions otherOversampling = smallPatches();
+    otherOversampling.globeOversampleLevels = 1;
+    for (const PyramidBuildOptions& other : {otherCompression, otherOversampling}) {
+        auto refused = buildPyramidShard(kGlobe, source, out, ShardId{3, 0, 0}, other);
+        ASSERT_FALSE(refused);
+        EXPECT_NE(refused.error().message.find("another source or with other options"),
+                  std::string::npos)
+            << refused.error().message;
+    }
     auto nowhere = buildPyramidShard(kGlobe, source, out, ShardId{0, 0, 0}, smallPatches());
     ASSERT_FALSE(nowhere);
     EXPECT_NE(nowhere.error().message.find("is not one of this globe pyramid's"), std::string::npos)

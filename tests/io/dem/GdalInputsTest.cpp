@@ -479,6 +479,20 @@ TEST_F(GdalInputsTest, ProjectedGridIsResampledOntoLongitudeLatitudeForTheGlobe)
 TEST_F(GdalInputsTest, ProjectedGridForTheGlobeRefusesWhatItCannotPlace) {
     DemOpenOptions options;
     options.geographicGrid = true;
+    // The refusal of a one-sample grid with `geoTransform` in EPSG:`epsg`, written as `name`:
+    // it must name the file first.
+    const auto refusalOf = [&](const std::array<double, 6>& geoTransform, int epsg,
+                               const std::string& name) {
+        GDALDataset* ds = memoryDataset(1, geoTransform);
+        OGRSpatialReference crs;
+        crs.importFromEPSG(epsg);
+        ds->SetSpatialRef(&crs);
+        const std::string path = copyTo(ds, "GTiff", name);
+        const auto reader = test::openOne(path, options);
+        if (reader) return std::string("opened");
+        EXPECT_EQ(reader.error().message.rfind(path, 0), 0U) << reader.error().message;
+        return reader.error().message;
+    };
     const std::string west = copyTo(memoryDataset(1, kNorthUp), "GTiff", "west.tif");
     {
         DemOpenOptions placed = options;
@@ -501,34 +515,18 @@ TEST_F(GdalInputsTest, ProjectedGridForTheGlobeRefusesWhatItCannotPlace) {
     {
         // Antarctic polar stereographic samples 5 km apart across and 500 km along: a strip
         // over the south pole, whose grid round the pole needs a thousand times its samples.
-        GDALDataset* ds = memoryDataset(1, {-12500.0, 5000.0, 0.0, 1000000.0, 0.0, -500000.0});
-        OGRSpatialReference antarctic;
-        antarctic.importFromEPSG(3031);
-        ds->SetSpatialRef(&antarctic);
-        const std::string path = copyTo(ds, "GTiff", "strip.tif");
-        const auto reader = test::openOne(path, options);
-        ASSERT_FALSE(reader);
-        EXPECT_EQ(reader.error().message.rfind(path, 0), 0U);
-        EXPECT_NE(reader.error().message.find("round the pole"), std::string::npos)
-            << reader.error().message;
-        EXPECT_NE(reader.error().message.find("over 64 times as many"), std::string::npos)
-            << reader.error().message;
+        const std::string message =
+            refusalOf({-12500.0, 5000.0, 0.0, 1000000.0, 0.0, -500000.0}, 3031, "strip.tif");
+        EXPECT_NE(message.find("round the pole"), std::string::npos) << message;
+        EXPECT_NE(message.find("over 64 times as many"), std::string::npos) << message;
     }
     {
         // World Mercator samples 5,500 km apart: 198° of longitude, 48° S to 48° N. Neither
         // one interval of longitude nor a cap round a pole holds them. (Across the
         // antimeridian or round a pole a footprint is placed: GlobePyramidTest.)
-        GDALDataset* ds =
-            memoryDataset(1, {-13750000.0, 5500000.0, 0.0, 8000000.0, 0.0, -4000000.0});
-        OGRSpatialReference mercator;
-        mercator.importFromEPSG(3395);
-        ds->SetSpatialRef(&mercator);
-        const std::string path = copyTo(ds, "GTiff", "wide.tif");
-        const auto reader = test::openOne(path, options);
-        ASSERT_FALSE(reader);
-        EXPECT_EQ(reader.error().message.rfind(path, 0), 0U);
-        EXPECT_NE(reader.error().message.find("cut it into parts first"), std::string::npos)
-            << reader.error().message;
+        const std::string message = refusalOf(
+            {-13750000.0, 5500000.0, 0.0, 8000000.0, 0.0, -4000000.0}, 3395, "wide.tif");
+        EXPECT_NE(message.find("cut it into parts first"), std::string::npos) << message;
     }
 }
 
