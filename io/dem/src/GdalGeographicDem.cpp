@@ -60,7 +60,13 @@ public:
         if (!m_toWgs84->Transform(static_cast<int>(columns.size()), longitude.data(),
                                   latitude.data(), nullptr, m_success.data()))
             return false;
-        return std::all_of(m_success.begin(), m_success.end(), [](int ok) { return ok != 0; });
+        // PROJ can report success for a point it maps off the planet (a damaged or
+        // degenerate CRS: a latitude of 1e228 was seen); such a point is not placed either.
+        for (std::size_t i = 0; i < columns.size(); ++i)
+            if (m_success[i] == 0 || !std::isfinite(longitude[i]) ||
+                !(std::abs(latitude[i]) <= 90.0))
+                return false;
+        return true;
     }
 
 private:
@@ -218,7 +224,7 @@ Result<GeographicTarget> targetFor(const std::string& path, const SamplePlacer& 
     // A UTM zone's grid turns by up to a few degrees against the meridians; a footprint
     // that needs far more samples than the source has is not one a DEM's grid makes.
     constexpr double kMostSamplesPerSource = 64.0;
-    if (!(columns <= INT_MAX && rowCount <= INT_MAX &&
+    if (!(columns >= 1.0 && rowCount >= 1.0 && columns <= INT_MAX && rowCount <= INT_MAX &&
           columns * rowCount <= kMostSamplesPerSource * double(width) * double(height)))
         return Error{fmt::format(
             "{}: on a longitude/latitude grid{} its {} × {} samples would need {} × {}, over {} "
