@@ -14,6 +14,7 @@ find_package(PkgConfig REQUIRED)
 pkg_check_modules(epoxy REQUIRED IMPORTED_TARGET epoxy)
 pkg_check_modules(zstd REQUIRED IMPORTED_TARGET libzstd)  # the shards' patch payloads
 pkg_check_modules(webp REQUIRED IMPORTED_TARGET libwebp)  # imagery tiles' payloads
+pkg_check_modules(curl REQUIRED IMPORTED_TARGET libcurl)  # pyramids at an http(s):// URL
 find_package(nlohmann_json CONFIG REQUIRED)
 find_package(fmt CONFIG REQUIRED)
 if(TERRAIN_BUILD_TOOLS OR TERRAIN_BUILD_TESTS)

@@ -36,6 +36,7 @@ packages=(
   libegl-mesa0 libgl1-mesa-dri libglx-mesa0
   libopenimageio-dev openimageio-tools libopenexr-dev libtiff-dev zlib1g-dev libzstd-dev
   libwebp-dev
+  libcurl4-openssl-dev nginx-light
   libgeographiclib-dev libgdal-dev gdal-bin
   libcli11-dev nlohmann-json3-dev libfmt-dev libimgui-dev
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -56,15 +56,14 @@ Inspection inspectPyramid(io::PyramidReader& reader, const InspectOptions& optio
                 }
                 const io::PatchId first{l, layout.shardFirstX(s), layout.shardFirstY(s)};
                 const std::string file = reader.shardFile(first).string();
-                std::error_code ec;
-                const auto size = std::filesystem::file_size(file, ec);
-                if (!ec) summary.bytes += size;
                 donePatches += std::int64_t{layout.shardCountX(s)} * layout.shardCountY(s);
                 if (auto info = reader.patchInfo(first); !info) {
                     ++summary.missingShards;
                     result.problems.push_back({file, std::nullopt, info.error().message});
                     continue;
                 }
+                // The shard is open now (fetched, for a pyramid at a URL).
+                if (auto bytes = reader.shardBytes(first)) summary.bytes += bytes.value();
                 for (int ty = 0; ty < layout.shardCountY(s); ++ty) {
                     for (int tx = 0; tx < layout.shardCountX(s); ++tx) {
                         const io::PatchId id{l, first.x + tx, first.y + ty};

@@ -1,5 +1,6 @@
 // layer.json of an imagery layer (ImageryLayerIndex.h), through nlohmann::json.
 #include "terrain/pyramid/ImageryLayerIndex.h"
+#include "terrain/remote/RemoteFiles.h"
 
 #include "terrain/base/AtomicFile.h"
 
@@ -50,7 +51,15 @@ Status writeImageryIndex(const std::filesystem::path& layerDir, const ImageryLay
 
 Result<ImageryLayerIndex> readImageryIndex(const std::filesystem::path& layerDir) {
     const std::filesystem::path path = layerDir / "layer.json";
-    std::ifstream in(path, std::ios::binary);
+    std::filesystem::path local = path;
+    if (remote::isRemoteLocation(path.string())) {  // a pyramid at a URL (issue 49)
+        Result<std::unique_ptr<remote::RemoteFiles>> files = remote::RemoteFiles::fromEnvironment();
+        if (!files) return files.error();
+        Result<std::filesystem::path> copy = files.value()->localCopy(path.string());
+        if (!copy) return copy.error();
+        local = std::move(copy).value();
+    }
+    std::ifstream in(local, std::ios::binary);
     if (!in.is_open())
         return Error{fmt::format("{}: cannot open: {}", path.string(), std::strerror(errno))};
     std::ostringstream text;

@@ -1,6 +1,7 @@
 // ImageryTileReader (ImageryTileReader.h): the index says which files exist; a few files stay
 // open with their parsed tables (least recently used closed first).
 #include "terrain/pyramid/ImageryTileReader.h"
+#include "terrain/remote/RemoteFiles.h"
 
 #include "ImageryTileFormat.h"
 
@@ -49,6 +50,14 @@ struct ImageryTileReader::State {
     std::set<imagery::GroupId> listed;
     std::list<OpenGroup> open;  // most recently used first
     std::vector<std::uint8_t> payload;
+    // A pyramid at a URL: its tile files' local copies (issue 49); null for a folder.
+    std::unique_ptr<remote::RemoteFiles> remote;
+
+    // Where to open `path` from: itself, or its local copy when it is a URL.
+    Result<fs::path> localFileOf(const fs::path& path) {
+        if (!remote) return path;
+        return remote->localCopy(path.string());
+    }
 
     std::string tileText(const PatchId& id) const {
         return fmt::format("tile (level {}, x {}, y {})", id.level, id.x, id.y);
@@ -63,7 +72,9 @@ struct ImageryTileReader::State {
         OpenGroup g;
         g.group = group;
         g.path = layerDir / imagery::groupPath(group);
-        g.file.reset(std::fopen(g.path.c_str(), "rb"));
+        Result<fs::path> local = localFileOf(g.path);
+        if (!local) return local.error();
+        g.file.reset(std::fopen(local.value().c_str(), "rb"));
         if (!g.file)
             return Error{
                 fmt::format("{}: missing tile file: {}", g.path.string(), std::strerror(errno))};
@@ -100,6 +111,11 @@ Result<std::unique_ptr<ImageryTileReader>> ImageryTileReader::open(const fs::pat
     state->coarsestLevel = coarsestLevel;
     state->finestLevel = finestLevel;
     state->index = std::move(index).value();
+    if (remote::isRemoteLocation(layerDir.string())) {
+        Result<std::unique_ptr<remote::RemoteFiles>> files = remote::RemoteFiles::fromEnvironment();
+        if (!files) return files.error();
+        state->remote = std::move(files).value();
+    }
     for (const ImageryIndexLevel& l : state->index.levels) {
         if (l.level < coarsestLevel || l.level > finestLevel)
             return Error{
@@ -156,7 +172,10 @@ Status ImageryTileReader::verifyAll(std::int64_t& tilesChecked) {
     tilesChecked = 0;
     for (const ImageryIndexLevel& l : s.index.levels)
         for (const ImageryIndexFile& f : l.files) {
-            const fs::path path = s.layerDir / imagery::groupPath({l.level, f.x, f.y});
+            const fs::path url = s.layerDir / imagery::groupPath({l.level, f.x, f.y});
+            Result<fs::path> local = s.localFileOf(url);
+            if (!local) return local.error();
+            const fs::path& path = local.value();
             std::error_code ec;
             const auto size = fs::file_size(path, ec);
             if (ec)

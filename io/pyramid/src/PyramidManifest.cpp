@@ -2,6 +2,7 @@
 // checked on the way in so a damaged or foreign manifest is an Error that names the field.
 #include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/pyramid/VirtualPlanetPyramid.h"
+#include "terrain/remote/RemoteFiles.h"
 
 #include "terrain/base/AtomicFile.h"
 #include "terrain/pyramid/GlobeLayout.h"
@@ -755,11 +756,38 @@ Status writeManifest(const std::filesystem::path& pyramidDir, const PyramidManif
     return writeTextAtomically(path, text);
 }
 
+namespace {
+
+// The manifest in the local file `path`, named `name` in messages (a URL for a remote one).
+Result<PyramidManifest> readManifestFile(const std::filesystem::path& path,
+                                         const std::string& name) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in.is_open()) return Error{fmt::format("{}: cannot open: {}", name, std::strerror(errno))};
+    std::ostringstream text;
+    text << in.rdbuf();  // an empty file leaves text empty: a JSON parse error below
+    if (in.bad()) return Error{fmt::format("{}: cannot read the file", name)};
+    return fromJson(text.str(), name);
+}
+
+}  // namespace
+
 Result<PyramidManifest> readManifest(const std::filesystem::path& pyramidDir) {
     if (isVirtualPlanetName(pyramidDir)) {
         Result<VirtualPlanetPyramid> planet = VirtualPlanetPyramid::open(pyramidDir);
         if (!planet) return planet.error();
         return planet.value().manifest();
+    }
+    if (remote::isRemoteLocation(pyramidDir.string())) {
+        // A pyramid on a web server: its manifest through the disk cache, checked with the
+        // server (issue 49); errors name the URL.
+        const std::string url = remote::joinUrl(pyramidDir.string(), PyramidManifest::kFileName);
+        Result<std::unique_ptr<remote::RemoteFiles>> files = remote::RemoteFiles::fromEnvironment();
+        if (!files) return files.error();
+        Result<std::filesystem::path> local = files.value()->localCopy(url);
+        if (!local)
+            return Error{fmt::format("{}: not a pyramid, or not reachable: {}", pyramidDir.string(),
+                                     local.error().message)};
+        return readManifestFile(local.value(), url);
     }
     const std::filesystem::path path = pyramidDir / PyramidManifest::kFileName;
     std::error_code ec;
@@ -768,13 +796,7 @@ Result<PyramidManifest> readManifest(const std::filesystem::path& pyramidDir) {
     if (!std::filesystem::is_regular_file(path, ec))
         return Error{fmt::format("{}: not a pyramid: no {}", pyramidDir.string(),
                                  PyramidManifest::kFileName)};
-    std::ifstream in(path, std::ios::binary);
-    if (!in.is_open())
-        return Error{fmt::format("{}: cannot open: {}", path.string(), std::strerror(errno))};
-    std::ostringstream text;
-    text << in.rdbuf();  // an empty file leaves text empty: a JSON parse error below
-    if (in.bad()) return Error{fmt::format("{}: cannot read the file", path.string())};
-    return fromJson(text.str(), path.string());
+    return readManifestFile(path, path.string());
 }
 
 }  // namespace terrain::io

@@ -5,6 +5,7 @@
 #include "terrain/pyramid/PyramidReader.h"
 #include "terrain/pyramid/HeightCodes.h"
 #include "terrain/pyramid/VirtualPlanetPyramid.h"
+#include "terrain/remote/RemoteFiles.h"
 
 #include "terrain/base/Assert.h"
 #include "terrain/pyramid/ExrHeaderCheck.h"
@@ -40,7 +41,8 @@ std::string patchName(const PatchId& id) {
 
 struct OpenShard {
     ShardId id;
-    std::filesystem::path path;
+    std::filesystem::path path;   // named in messages (a URL for a remote pyramid)
+    std::filesystem::path local;  // opened: path itself, or its cached copy
     int countX = 0, countY = 0;
     std::unique_ptr<Imf::MultiPartInputFile> file;
     std::unique_ptr<Imf::DeepTiledInputPart> patches;
@@ -68,6 +70,8 @@ struct PyramidReader::Impl {
     std::vector<std::unique_ptr<OpenShard>> shards;  // ≤ maxOpen, any order
     std::uint64_t clock = 0;
     std::uint64_t openings = 0;
+    // A pyramid at a URL: its shard files' local copies (issue 49); null for a folder.
+    std::unique_ptr<remote::RemoteFiles> remote;
     std::vector<std::uint32_t> payloadScratch;  // one patch's payload samples
     std::vector<std::uint32_t> codeScratch;     // its height codes
     std::vector<float> parentScratch;           // its parent samples (HeightCodes.h)
@@ -151,19 +155,26 @@ struct PyramidReader::Impl {
     // Error messages here are the "what" only; shard() adds the file and the patch.
     Result<std::unique_ptr<OpenShard>> openShard(const ShardId& s,
                                                  const std::filesystem::path& path) {
+        std::filesystem::path local = path;
+        if (remote) {  // fetched or checked with the server on each opening
+            Result<std::filesystem::path> copy = remote->localCopy(path.string());
+            if (!copy) return Error{"cannot fetch the shard file: " + copy.error().message};
+            local = std::move(copy).value();
+        }
         std::error_code ec;
-        if (!std::filesystem::exists(path, ec)) return Error{"the shard file is missing"};
+        if (!std::filesystem::exists(local, ec)) return Error{"the shard file is missing"};
         ++openings;
         auto shard = std::make_unique<OpenShard>();
         shard->id = s;
         shard->path = path;
+        shard->local = local;
         shard->countX = layout.shardCountX(s);
         shard->countY = layout.shardCountY(s);
         // OpenEXR allocates what a damaged header declares before it reads it.
-        if (Status header = checkExrHeaderSizes(path); !header) return header.error();
+        if (Status header = checkExrHeaderSizes(local); !header) return header.error();
         try {
             // 0 threads: a reader decodes on its own thread (one reader per thread).
-            shard->file = std::make_unique<Imf::MultiPartInputFile>(path.c_str(), 0);
+            shard->file = std::make_unique<Imf::MultiPartInputFile>(local.c_str(), 0);
             const std::vector<Imf::Header> expected = shard::shardHeaders(layout, s, hasMask, 1);
             int index[shard::kPartCount] = {-1, -1};
             for (int p = 0; p < shard->file->parts(); ++p) {
@@ -348,6 +359,11 @@ Result<PyramidReader> PyramidReader::open(const std::filesystem::path& pyramidDi
     Result<PyramidManifest> manifest = readManifest(pyramidDir);
     if (!manifest) return manifest.error();
     auto impl = std::make_unique<Impl>();
+    if (remote::isRemoteLocation(pyramidDir.string())) {
+        Result<std::unique_ptr<remote::RemoteFiles>> files = remote::RemoteFiles::fromEnvironment();
+        if (!files) return files.error();
+        impl->remote = std::move(files).value();
+    }
     impl->folder = pyramidDir;
     impl->manifest = std::move(manifest).value();
     impl->layout = impl->manifest.layout;
@@ -389,6 +405,18 @@ Result<PatchInfo> PyramidReader::patchInfo(const PatchId& id) {
 
 std::filesystem::path PyramidReader::shardFile(const PatchId& id) const {
     return m_impl->shardFile(m_impl->layout.shardOf(id));
+}
+
+Result<std::uint64_t> PyramidReader::shardBytes(const PatchId& id) {
+    Impl& r = *m_impl;
+    if (Status inside = r.checkContains(id); !inside) return inside.error();
+    if (r.planet) return std::uint64_t{0};  // generated, not stored
+    Result<OpenShard*> opened = r.shard(r.layout.shardOf(id), id);
+    if (!opened) return opened.error();
+    std::error_code ec;
+    const std::uintmax_t bytes = std::filesystem::file_size(opened.value()->local, ec);
+    if (ec) return Error{fmt::format("{}: {}", opened.value()->path.string(), ec.message())};
+    return std::uint64_t{bytes};
 }
 
 int PyramidReader::openShards() const { return static_cast<int>(m_impl->shards.size()); }

@@ -66,6 +66,9 @@ public:
 
     /// Path of the shard file holding `id` (which must be contained).
     std::filesystem::path shardFile(const PatchId& id) const;
+    /// The bytes of the shard file holding `id` (opened, and for a pyramid at a URL fetched,
+    /// as a read would): what the shard costs on disk or on the wire.
+    Result<std::uint64_t> shardBytes(const PatchId& id);
 
     int openShards() const;               ///< shards open now, ≤ maxOpenShards
     std::uint64_t shardOpenings() const;  ///< shard files opened so far (LRU misses)

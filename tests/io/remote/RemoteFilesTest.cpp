@@ -1,0 +1,232 @@
+// RemoteFiles against a real static server: a file is fetched once, confirmed with a 304 by a
+// later reader, fetched again when the server's copy changes, never used truncated, served
+// from the cache when the server is gone, and the cache stays within its bound and cleans
+// up what a killed process leaves.
+#include "NginxServer.h"
+#include "SharedData.h"
+#include "TempFolder.h"
+#include "terrain/remote/RemoteFiles.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace terrain::remote {
+namespace {
+
+namespace fs = std::filesystem;
+using test::NginxServer;
+using test::TempFolder;
+
+std::string contentsOf(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+void writeFile(const fs::path& path, const std::string& text) {
+    fs::create_directories(path.parent_path());
+    std::ofstream(path, std::ios::binary) << text;
+}
+
+// Retries without waiting, so a test of a failure takes no time.
+HttpOptions quickHttp() {
+    HttpOptions options;
+    options.retries = 2;
+    options.firstBackoff = std::chrono::milliseconds(1);
+    options.connectTimeout = std::chrono::milliseconds(2000);
+    options.requestTimeout = std::chrono::milliseconds(5000);
+    return options;
+}
+
+class RemoteFilesTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        if (!server.ready()) {
+            if (test::sharedDataRequired()) FAIL() << server.problem();
+            GTEST_SKIP() << server.problem();
+        }
+    }
+    std::unique_ptr<RemoteFiles> files(std::uint64_t maxBytes = std::uint64_t{1} << 30) {
+        Result<std::unique_ptr<RemoteFiles>> opened =
+            RemoteFiles::open({cache.path(), maxBytes}, quickHttp());
+        EXPECT_TRUE(opened) << opened.error().message;
+        return std::move(opened).value();
+    }
+
+    TempFolder root;
+    TempFolder cache;
+    NginxServer server{root.path()};
+};
+
+TEST_F(RemoteFilesTest, FetchesOnceThenConfirmsWithTheServer) {
+    writeFile(root.path() / "p" / "a.bin", std::string(5000, 'a'));
+    const std::string url = server.url("p/a.bin");
+    auto first = files();
+    Result<fs::path> copy = first->localCopy(url);
+    ASSERT_TRUE(copy) << copy.error().message;
+    EXPECT_EQ(contentsOf(copy.value()), std::string(5000, 'a'));
+    EXPECT_EQ(first->stats().fetched, 1u);
+    EXPECT_EQ(first->stats().fetchedBytes, 5000u);
+    // The same reader again: no request at all.
+    ASSERT_TRUE(first->localCopy(url));
+    EXPECT_EQ(first->stats().requests, 1u);
+    EXPECT_EQ(first->stats().cacheHits, 1u);
+
+    // A later reader (a later run): one conditional request, answered 304, no body.
+    auto second = files();
+    Result<fs::path> again = second->localCopy(url);
+    ASSERT_TRUE(again) << again.error().message;
+    EXPECT_EQ(contentsOf(again.value()), std::string(5000, 'a'));
+    EXPECT_EQ(second->stats().notModified, 1u);
+    EXPECT_EQ(second->stats().fetchedBytes, 0u);
+    const std::vector<std::string> log = server.accessLog();
+    ASSERT_EQ(log.size(), 2u);
+    EXPECT_NE(log[1].find("\" 304 "), std::string::npos) << log[1];
+}
+
+TEST_F(RemoteFilesTest, AChangedFileOnTheServerIsFetchedAgain) {
+    writeFile(root.path() / "m.json", "old");
+    const std::string url = server.url("m.json");
+    ASSERT_TRUE(files()->localCopy(url));
+    // Rebuilt: another size, so nginx's ETag (mtime and size) differs even within a second.
+    writeFile(root.path() / "m.json", "rebuilt");
+    auto later = files();
+    Result<fs::path> copy = later->localCopy(url);
+    ASSERT_TRUE(copy) << copy.error().message;
+    EXPECT_EQ(contentsOf(copy.value()), "rebuilt");
+    EXPECT_EQ(later->stats().fetched, 1u);
+}
+
+TEST_F(RemoteFilesTest, ATruncatedCacheEntryIsNeverUsed) {
+    writeFile(root.path() / "t.bin", std::string(4096, 't'));
+    const std::string url = server.url("t.bin");
+    Result<fs::path> copy = files()->localCopy(url);
+    ASSERT_TRUE(copy);
+    fs::resize_file(copy.value(), 100);  // a crash or a full disk mid-way, say
+    auto later = files();
+    Result<fs::path> again = later->localCopy(url);
+    ASSERT_TRUE(again) << again.error().message;
+    EXPECT_EQ(contentsOf(again.value()), std::string(4096, 't'));
+    EXPECT_EQ(later->stats().fetched, 1u);  // a miss: fetched whole, not confirmed
+}
+
+TEST_F(RemoteFilesTest, AMissingFileIsAnErrorNamingTheUrlAndTheStatus) {
+    const std::string url = server.url("nowhere/manifest.json");
+    Result<fs::path> copy = files()->localCopy(url);
+    ASSERT_FALSE(copy);
+    EXPECT_NE(copy.error().message.find(url), std::string::npos) << copy.error().message;
+    EXPECT_NE(copy.error().message.find("HTTP 404"), std::string::npos) << copy.error().message;
+}
+
+TEST_F(RemoteFilesTest, WithTheServerGoneACachedCopyServesAndAnUncachedFileFails) {
+    writeFile(root.path() / "kept.bin", "kept");
+    writeFile(root.path() / "never.bin", "never");
+    ASSERT_TRUE(files()->localCopy(server.url("kept.bin")));
+    const std::string kept = server.url("kept.bin"), never = server.url("never.bin");
+    server.stop();
+    auto offline = files();
+    Result<fs::path> copy = offline->localCopy(kept);
+    ASSERT_TRUE(copy) << copy.error().message;
+    EXPECT_EQ(contentsOf(copy.value()), "kept");
+    EXPECT_EQ(offline->stats().staleServed, 1u);
+    EXPECT_EQ(offline->stats().retries, 2u);  // the retries were made before giving up
+    Result<fs::path> missing = offline->localCopy(never);
+    ASSERT_FALSE(missing);
+    EXPECT_NE(missing.error().message.find(never), std::string::npos);
+    EXPECT_NE(missing.error().message.find("3 attempts"), std::string::npos)
+        << missing.error().message;
+}
+
+TEST_F(RemoteFilesTest, TheCacheStaysWithinItsBoundLeastRecentlyUsedFirst) {
+    for (int i = 0; i < 6; ++i)
+        writeFile(root.path() / ("f" + std::to_string(i)), std::string(1000, char('0' + i)));
+    auto reader = files(3500);  // three files fit
+    for (int i = 0; i < 6; ++i) {
+        Result<fs::path> copy = reader->localCopy(server.url("f" + std::to_string(i)));
+        ASSERT_TRUE(copy) << copy.error().message;
+        // Each file's copy is whole when returned, even as the cache trims others.
+        EXPECT_EQ(contentsOf(copy.value()), std::string(1000, char('0' + i)));
+    }
+    std::uintmax_t dataBytes = 0;
+    int entries = 0;
+    for (const auto& entry : fs::recursive_directory_iterator(cache.path())) {
+        if (!entry.is_regular_file() || entry.path().filename() == "lock") continue;
+        if (entry.path().extension() == ".meta")
+            ++entries;
+        else
+            dataBytes += entry.file_size();
+    }
+    EXPECT_EQ(entries, 3);
+    EXPECT_LE(dataBytes, 3500u);
+    // The three most recent are the ones kept: asked again, they need no body.
+    auto later = files(3500);
+    for (int i = 3; i < 6; ++i) ASSERT_TRUE(later->localCopy(server.url("f" + std::to_string(i))));
+    EXPECT_EQ(later->stats().fetched, 0u);
+    EXPECT_EQ(later->stats().notModified, 3u);
+}
+
+TEST_F(RemoteFilesTest, WhatAKilledWriterLeavesIsIgnoredThenRemoved) {
+    writeFile(root.path() / "w.bin", "whole");
+    const std::string url = server.url("w.bin");
+    ASSERT_TRUE(files()->localCopy(url));
+    // A process killed mid-write leaves a temporary file, or a data file no meta names.
+    fs::path folder;
+    for (const auto& entry : fs::recursive_directory_iterator(cache.path()))
+        if (entry.path().extension() == ".meta") folder = entry.path().parent_path();
+    ASSERT_FALSE(folder.empty());
+    const fs::path temporary = folder / ".w.bin.tmp-999999-0.0123456789abcdef";
+    const fs::path orphan = folder / "w.bin.fedcba9876543210";
+    writeFile(temporary, "half");
+    writeFile(orphan, "half");
+    const auto longAgo = fs::file_time_type::clock::now() - std::chrono::hours(1);
+    fs::last_write_time(temporary, longAgo);
+    fs::last_write_time(orphan, longAgo);
+
+    auto later = files();
+    Result<fs::path> copy = later->localCopy(url);
+    ASSERT_TRUE(copy) << copy.error().message;
+    EXPECT_EQ(contentsOf(copy.value()), "whole");
+    // The next store trims: the leftovers go, the entry stays.
+    writeFile(root.path() / "x.bin", "x");
+    ASSERT_TRUE(later->localCopy(server.url("x.bin")));
+    EXPECT_FALSE(fs::exists(temporary));
+    EXPECT_FALSE(fs::exists(orphan));
+    EXPECT_TRUE(fs::exists(copy.value()));
+}
+
+TEST(RemoteLocation, OnlyHttpAndHttpsAreRemote) {
+    EXPECT_TRUE(isRemoteLocation("http://example.org/p.pyramid"));
+    EXPECT_TRUE(isRemoteLocation("HTTPS://example.org/p.pyramid"));
+    EXPECT_FALSE(isRemoteLocation("/data/p.pyramid"));
+    EXPECT_FALSE(isRemoteLocation("planet:seed=4"));
+    EXPECT_FALSE(isRemoteLocation("http://"));
+    EXPECT_EQ(joinUrl("http://h/p.pyramid", "manifest.json"), "http://h/p.pyramid/manifest.json");
+    EXPECT_EQ(joinUrl("http://h/p.pyramid/", "manifest.json"), "http://h/p.pyramid/manifest.json");
+}
+
+TEST(RemoteOptions, BadEnvironmentValuesAreNamed) {
+    ::setenv("TERRAIN_CACHE_BYTES", "lots", 1);
+    Result<CacheOptions> cache = CacheOptions::fromEnvironment();
+    ::unsetenv("TERRAIN_CACHE_BYTES");
+    ASSERT_FALSE(cache);
+    EXPECT_NE(cache.error().message.find("TERRAIN_CACHE_BYTES=\"lots\""), std::string::npos);
+    ::setenv("TERRAIN_CACHE_BYTES", "2G", 1);
+    Result<CacheOptions> twoGiB = CacheOptions::fromEnvironment();
+    ::unsetenv("TERRAIN_CACHE_BYTES");
+    ASSERT_TRUE(twoGiB);
+    EXPECT_EQ(twoGiB.value().maxBytes, std::uint64_t{2} << 30);
+    ::setenv("TERRAIN_HTTP_RETRIES", "-1", 1);
+    Result<HttpOptions> http = HttpOptions::fromEnvironment();
+    ::unsetenv("TERRAIN_HTTP_RETRIES");
+    ASSERT_FALSE(http);
+    EXPECT_NE(http.error().message.find("TERRAIN_HTTP_RETRIES"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace terrain::remote

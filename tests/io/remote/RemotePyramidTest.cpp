@@ -1,0 +1,103 @@
+// A pyramid at an http:// URL served by nginx reads exactly as the same folder on disk: the
+// manifest, every patch of every level; a later reader confirms instead of fetching; a shard
+// missing on the server and a URL with no pyramid give errors naming the URL.
+#include "NginxServer.h"
+#include "SharedData.h"
+#include "StreamingTestPyramid.h"
+#include "TempFolder.h"
+#include "terrain/pyramid/PyramidManifest.h"
+#include "terrain/pyramid/PyramidReader.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+namespace terrain::io {
+namespace {
+
+namespace fs = std::filesystem;
+using test::NginxServer;
+using test::TempFolder;
+
+class RemotePyramidTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        if (!server.ready()) {
+            if (test::sharedDataRequired()) FAIL() << server.problem();
+            GTEST_SKIP() << server.problem();
+        }
+        // Readers take the cache from the environment, as a tool's do.
+        ::setenv("TERRAIN_CACHE_DIR", cache.path().c_str(), 1);
+    }
+    void TearDown() override { ::unsetenv("TERRAIN_CACHE_DIR"); }
+
+    TempFolder cache;
+    const fs::path& local = test::streamingTestPyramid();
+    NginxServer server{local.parent_path()};
+    const std::string url = server.url(local.filename().string());
+};
+
+TEST_F(RemotePyramidTest, EveryPatchReadsAsFromTheFolder) {
+    Result<PyramidReader> there = PyramidReader::open(url);
+    ASSERT_TRUE(there) << there.error().message;
+    Result<PyramidReader> here = PyramidReader::open(local);
+    ASSERT_TRUE(here) << here.error().message;
+    EXPECT_EQ(toJson(there.value().manifest()), toJson(here.value().manifest()));
+    const PyramidLayout& layout = here.value().layout();
+    int patches = 0;
+    for (int level = 0; level < layout.levelCount(); ++level)
+        for (std::int64_t y = 0; y < layout.patchesY(level); ++y)
+            for (std::int64_t x = 0; x < layout.patchesX(level); ++x) {
+                const PatchId id{level, static_cast<int>(x), static_cast<int>(y)};
+                Result<PatchRecord> a = there.value().readPatch(id);
+                Result<PatchRecord> b = here.value().readPatch(id);
+                ASSERT_TRUE(a) << a.error().message;
+                ASSERT_TRUE(b) << b.error().message;
+                ASSERT_EQ(a.value().heights, b.value().heights) << "L" << level;
+                ASSERT_EQ(a.value().valid, b.value().valid);
+                ASSERT_EQ(a.value().blockErrors.size(), b.value().blockErrors.size());
+                EXPECT_EQ(a.value().info.error, b.value().info.error);
+                ++patches;
+            }
+    EXPECT_EQ(patches, 341);
+    // Every file came once: the manifest (read by open) and each shard file.
+    const std::size_t files = server.accessLog().size();
+    EXPECT_GT(files, 1u);
+
+    // A second reader (a later run) confirms each file with the server; no body comes.
+    Result<PyramidReader> again = PyramidReader::open(url);
+    ASSERT_TRUE(again) << again.error().message;
+    for (int level = 0; level < layout.levelCount(); ++level)
+        ASSERT_TRUE(again.value().readPatch({level, 0, 0}));
+    const std::vector<std::string> log = server.accessLog();
+    for (std::size_t i = files; i < log.size(); ++i)
+        EXPECT_NE(log[i].find("\" 304 "), std::string::npos) << log[i];
+}
+
+TEST_F(RemotePyramidTest, AMissingShardIsAFaultNamingItsUrl) {
+    Result<PyramidReader> there = PyramidReader::open(url);
+    ASSERT_TRUE(there) << there.error().message;
+    const PatchId finest{there.value().layout().levelCount() - 1, 0, 0};
+    const fs::path shard = PyramidReader::open(local).value().shardFile(finest);
+    const fs::path moved = shard.string() + ".away";
+    fs::rename(shard, moved);
+    Result<PatchRecord> read = there.value().readPatch(finest);
+    fs::rename(moved, shard);
+    ASSERT_FALSE(read);
+    EXPECT_NE(read.error().message.find(url), std::string::npos) << read.error().message;
+    EXPECT_NE(read.error().message.find("HTTP 404"), std::string::npos) << read.error().message;
+}
+
+TEST_F(RemotePyramidTest, AUrlWithoutAPyramidSaysSo) {
+    const std::string nowhere = server.url("no.pyramid");
+    Result<PyramidManifest> manifest = readManifest(nowhere);
+    ASSERT_FALSE(manifest);
+    EXPECT_NE(manifest.error().message.find(nowhere + ": not a pyramid, or not reachable"),
+              std::string::npos)
+        << manifest.error().message;
+    EXPECT_NE(manifest.error().message.find("HTTP 404"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace terrain::io
