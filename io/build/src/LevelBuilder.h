@@ -530,6 +530,15 @@ private:
                 if (auto written = writeCoarserRows(band, *coarser); !written) return written;
             m_phases.boundsSeconds += secondsSince(phaseStart);
             phaseStart = BuildClock::now();
+            // The band's patches coded and compressed on every thread (the records are final:
+            // coverOriginalSamples may have raised their bounds), then written in order.
+            const ShardWriterOptions levelOptions = shardOptionsOf(level);
+            m_encoded.resize(records.size());
+            parallelFor(count, m_threads, [&](std::int64_t i) {
+                const auto k = static_cast<std::size_t>(i);
+                encodePatch(records[k], m_parentSamples[k], m_layout, m_withMask, levelOptions,
+                            m_encoded[k]);
+            });
             if (auto written = writeRecords(level, records, count, writers); !written)
                 return written;
             // A shard is complete once the band has passed its last patch row.
@@ -712,6 +721,15 @@ private:
         return {};
     }
 
+    // The writer's options for the shards of `level`: a lossy pyramid's codes count in the
+    // level's quantizer step.
+    ShardWriterOptions shardOptionsOf(int level) const {
+        ShardWriterOptions options = m_shardOptions;
+        if (m_quantization)
+            options.units.quantizerStep = m_quantization->step(level, m_layout.finestLevel());
+        return options;
+    }
+
     Status writeRecords(int level, std::vector<PatchRecord>& records, std::int64_t count,
                         std::map<std::pair<std::int64_t, std::int64_t>, ShardWriter>& writers) {
         for (std::int64_t i = 0; i < count; ++i) {
@@ -725,16 +743,12 @@ private:
                 if (ec)
                     return Error{path.parent_path().string() +
                                  ": cannot create folder: " + ec.message()};
-                ShardWriterOptions options = m_shardOptions;
-                if (m_quantization)
-                    options.units.quantizerStep =
-                        m_quantization->step(level, m_layout.finestLevel());
-                auto writer = ShardWriter::create(path, m_layout, shard, m_withMask, options);
+                auto writer =
+                    ShardWriter::create(path, m_layout, shard, m_withMask, shardOptionsOf(level));
                 if (!writer) return writer.error();
                 it = writers.emplace(std::pair{shard.y, shard.x}, std::move(writer).value()).first;
             }
-            if (auto written =
-                    it->second.writePatch(record, m_parentSamples[static_cast<std::size_t>(i)]);
+            if (auto written = it->second.writeEncoded(m_encoded[static_cast<std::size_t>(i)]);
                 !written)
                 return written;
             float& levelMax = m_levelMaxError[static_cast<std::size_t>(level)];
@@ -763,6 +777,7 @@ private:
     std::optional<ManifestQuantization> m_quantization;  // a lossy build's
     std::vector<double> m_quantized;                     // per patch of the band
     std::vector<std::vector<float>> m_parentSamples;     // per patch of the band
+    std::vector<EncodedPatch> m_encoded;                 // per patch of the band, to write
     std::vector<float> m_rowScratch;
     std::vector<std::uint8_t> m_validScratch;
     std::vector<float> m_levelMaxError;

@@ -41,10 +41,7 @@ struct ShardWriter::Impl {
 
     std::vector<std::uint8_t> patchWritten;  // per patch of the shard
     std::vector<shard::StoredInfo> infos;    // the patchInfo tile
-    std::vector<std::uint32_t> codes;        // one patch's height codes
-    std::vector<BlockErrors> lambdas;        // its block errors, rounded up to halves
-    std::vector<std::uint16_t> halfLambdas;  // the same as HALF bits
-    std::vector<std::uint32_t> payload;      // its payload's samples
+    EncodedPatch encoded;                    // the patch writePatch is writing
     HeightUnits units;
 
     std::optional<Error> failure;
@@ -65,10 +62,12 @@ struct ShardWriter::Impl {
     }
 
     // Writes `payload` (possibly empty: an absent patch) as the pixel of patch (tx, ty).
-    Status writePayload(int tx, int ty) {
+    Status writePayload(int tx, int ty, std::span<const std::uint32_t> payload) {
         try {
             auto count = static_cast<unsigned int>(payload.size());
-            char* samples = reinterpret_cast<char*>(payload.data());
+            // OpenEXR's slices are not const; writing only reads them.
+            char* samples =
+                reinterpret_cast<char*>(const_cast<std::uint32_t*>(payload.data()));
             patchesPart->setFrameBuffer(shard::payloadFrame(count, samples));
             patchesPart->writeTile(tx, ty);
         } catch (const std::exception& e) {
@@ -184,47 +183,68 @@ Result<ShardWriter> ShardWriter::create(const std::filesystem::path& finalPath,
     return ShardWriter(std::move(impl));
 }
 
+void encodePatch(const PatchRecord& record, std::span<const float> parentSamples,
+                 const PyramidLayout& layout, bool withMask, const ShardWriterOptions& options,
+                 EncodedPatch& out) {
+    const int tile = layout.tileSamples();
+    const auto tile2 = static_cast<std::size_t>(tile) * static_cast<std::size_t>(tile);
+    const auto blocks = static_cast<std::size_t>(layout.blocksPerSide());
+    TERRAIN_ASSERT(record.heights.size() == tile2, "heights must hold tileSamples² values");
+    TERRAIN_ASSERT(record.valid.size() == (withMask ? tile2 : 0),
+                   "valid must hold tileSamples² values with a mask, none without");
+    TERRAIN_ASSERT(record.blockErrors.size() == blocks * blocks,
+                   "blockErrors must hold blocksPerSide² entries");
+    TERRAIN_ASSERT(record.info.present, "only present patches are written");
+    TERRAIN_ASSERT(parentSamples.empty() || record.id.level > 0, "the root has no parent");
+    // Scratch of one patch, kept per thread so that encoding allocates nothing per patch.
+    thread_local std::vector<BlockErrors> lambdas;        // rounded up to halves
+    thread_local std::vector<std::uint16_t> halfLambdas;  // the same as HALF bits
+    thread_local std::vector<std::uint32_t> codes;        // the height codes
+    out.id = record.id;
+    out.info = record.info;
+    // The block errors as stored: rounded up to halves, and checksummed so.
+    lambdas.resize(record.blockErrors.size());
+    for (std::size_t b = 0; b < record.blockErrors.size(); ++b)
+        for (std::size_t d = 0; d < kMaxSimplification; ++d)
+            lambdas[b][d] = roundUpToHalf(record.blockErrors[b][d]);
+    out.info.crc32 = patchChecksum(record.heights, record.valid, lambdas, out.info);
+    codes.resize(tile2);
+    const HeightEncoding encoding =
+        encodeHeights(record.heights, tile, codes, options.units, parentSamples);
+    out.heightDivisor = encoding.divisor;
+    halfLambdas.clear();
+    for (const BlockErrors& block : lambdas)
+        for (const float lambda : block)
+            halfLambdas.push_back(Imath::half(lambda).bits());  // exact: already a half
+    shard::packPatchPayload(codes, encoding.prediction, record.valid, halfLambdas,
+                            options.compressionLevel, out.payload);
+}
+
 Status ShardWriter::writePatch(const PatchRecord& record, std::span<const float> parentSamples) {
     Impl& w = *m_impl;
     if (w.failure) return *w.failure;
-    TERRAIN_ASSERT(!w.finished, "ShardWriter::writePatch after finish()");
+    ShardWriterOptions options;
+    options.compressionLevel = w.compressionLevel;
+    options.units = w.units;
+    encodePatch(record, parentSamples, w.layout, w.withMask, options, w.encoded);
+    return writeEncoded(w.encoded);
+}
+
+Status ShardWriter::writeEncoded(const EncodedPatch& patch) {
+    Impl& w = *m_impl;
+    if (w.failure) return *w.failure;
+    TERRAIN_ASSERT(!w.finished, "ShardWriter::writeEncoded after finish()");
     const PyramidLayout& layout = w.layout;
-    TERRAIN_ASSERT(layout.contains(record.id) && layout.shardOf(record.id) == w.shard,
+    TERRAIN_ASSERT(layout.contains(patch.id) && layout.shardOf(patch.id) == w.shard,
                    "patch outside this shard");
-    const auto tile2 = static_cast<std::size_t>(w.tile) * static_cast<std::size_t>(w.tile);
-    TERRAIN_ASSERT(record.heights.size() == tile2, "heights must hold tileSamples² values");
-    TERRAIN_ASSERT(record.valid.size() == (w.withMask ? tile2 : 0),
-                   "valid must hold tileSamples² values with a mask, none without");
-    TERRAIN_ASSERT(record.blockErrors.size() ==
-                       static_cast<std::size_t>(w.blocks) * static_cast<std::size_t>(w.blocks),
-                   "blockErrors must hold blocksPerSide² entries");
-    TERRAIN_ASSERT(record.info.present, "only present patches are written");
-    const auto tx = static_cast<int>(record.id.x - layout.shardFirstX(w.shard));
-    const auto ty = static_cast<int>(record.id.y - layout.shardFirstY(w.shard));
+    const auto tx = static_cast<int>(patch.id.x - layout.shardFirstX(w.shard));
+    const auto ty = static_cast<int>(patch.id.y - layout.shardFirstY(w.shard));
     const std::size_t index = static_cast<std::size_t>(ty) * static_cast<std::size_t>(w.cx) +
                               static_cast<std::size_t>(tx);
     TERRAIN_ASSERT(w.patchWritten[index] == 0, "patch written twice");
-
-    PatchInfo info = record.info;
-    // The block errors as stored: rounded up to halves, and checksummed so.
-    w.lambdas.resize(record.blockErrors.size());
-    for (std::size_t b = 0; b < record.blockErrors.size(); ++b)
-        for (std::size_t d = 0; d < kMaxSimplification; ++d)
-            w.lambdas[b][d] = roundUpToHalf(record.blockErrors[b][d]);
-    info.crc32 = patchChecksum(record.heights, record.valid, w.lambdas, info);
-    w.codes.resize(tile2);
-    TERRAIN_ASSERT(parentSamples.empty() || record.id.level > 0, "the root has no parent");
-    const HeightEncoding encoding =
-        encodeHeights(record.heights, w.tile, w.codes, w.units, parentSamples);
-    w.halfLambdas.clear();
-    for (const BlockErrors& block : w.lambdas)
-        for (const float lambda : block)
-            w.halfLambdas.push_back(Imath::half(lambda).bits());  // exact: already a half
-    shard::packPatchPayload(w.codes, encoding.prediction, record.valid, w.halfLambdas,
-                            w.compressionLevel, w.payload);
-    w.infos[index] = shard::toStored(info, encoding.divisor);
+    w.infos[index] = shard::toStored(patch.info, patch.heightDivisor);
     w.patchWritten[index] = 1;
-    return w.writePayload(tx, ty);
+    return w.writePayload(tx, ty, patch.payload);
 }
 
 Status ShardWriter::finish() {
@@ -233,11 +253,10 @@ Status ShardWriter::finish() {
     TERRAIN_ASSERT(!w.finished, "ShardWriter::finish() called twice");
     w.finished = true;
     // Every tile of a part must be written: an absent patch's payload has no samples.
-    w.payload.clear();
     for (int ty = 0; ty < w.cy; ++ty)
         for (int tx = 0; tx < w.cx; ++tx)
             if (w.patchWritten[static_cast<std::size_t>(ty * w.cx + tx)] == 0)
-                if (Status written = w.writePayload(tx, ty); !written) return written;
+                if (Status written = w.writePayload(tx, ty, {}); !written) return written;
     if (Status written = w.writeInfo(); !written) return written;
     if (Status closed = w.closeFile(); !closed) return closed;
     if (Status committed = w.file->commit(); !committed) return w.fail(committed.error().message);

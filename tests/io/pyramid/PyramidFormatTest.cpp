@@ -25,6 +25,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <sys/resource.h>
@@ -399,6 +400,58 @@ TEST_P(ShardRoundTrip, EveryCompressionLevelAndUncompressed) {
     ASSERT_FALSE(rejected.ok());
     EXPECT_TRUE(contains(rejected.error().message, "compression level 20: must be from 0"))
         << rejected.error().message;
+}
+
+// A builder encodes patches on its threads (encodePatch) and writes them in order
+// (writeEncoded): the shard file is byte for byte the one writePatch writes, with a mask or
+// without, compressed or not, with parent samples to predict from.
+TEST_P(ShardRoundTrip, EncodedOnThreadsWritesTheSameBytes) {
+    const bool withMask = GetParam();
+    const PyramidLayout layout = PyramidLayout::create(60, 45, 9, 4, 3).value();
+    const ShardId s{layout.finestLevel(), 1, 1};
+    std::mt19937 rng(17);
+    std::vector<PatchRecord> records;
+    std::vector<std::vector<float>> parents;
+    const int parentSide = (layout.tileSamples() - 1) / 2;
+    std::uniform_real_distribution<float> height(-500.0f, 9000.0f);
+    for (int ty = 0; ty < layout.shardCountY(s); ++ty)
+        for (int tx = 0; tx < layout.shardCountX(s); ++tx) {
+            const PatchId id{s.level, layout.shardFirstX(s) + tx, layout.shardFirstY(s) + ty};
+            records.push_back(randomRecord(layout, id, withMask, rng));
+            std::vector<float>& parent = parents.emplace_back();
+            if (ty == 0) continue;  // some patches without parent samples
+            for (int j = 0; j < parentSide * parentSide; ++j) parent.push_back(height(rng));
+        }
+    for (int level : {0, 3}) {
+        ShardWriterOptions options;
+        options.compressionLevel = level;
+        const fs::path direct = m_dir / fmt::format("direct{}.exr", level);
+        const fs::path encoded = m_dir / fmt::format("encoded{}.exr", level);
+        {
+            auto writer = ShardWriter::create(direct, layout, s, withMask, options);
+            ASSERT_TRUE(writer.ok()) << writer.error().message;
+            for (std::size_t i = 0; i < records.size(); ++i)
+                ASSERT_TRUE(writer.value().writePatch(records[i], parents[i]).ok());
+            ASSERT_TRUE(writer.value().finish().ok());
+        }
+        {
+            std::vector<EncodedPatch> patches(records.size());
+            std::vector<std::thread> threads;
+            for (std::size_t i = 0; i < records.size(); ++i)
+                threads.emplace_back([&, i] {
+                    encodePatch(records[i], parents[i], layout, withMask, options, patches[i]);
+                });
+            for (std::thread& t : threads) t.join();
+            auto writer = ShardWriter::create(encoded, layout, s, withMask, options);
+            ASSERT_TRUE(writer.ok()) << writer.error().message;
+            for (const EncodedPatch& patch : patches)
+                ASSERT_TRUE(writer.value().writeEncoded(patch).ok());
+            ASSERT_TRUE(writer.value().finish().ok());
+        }
+        const std::vector<char> expected = readBytes(direct), actual = readBytes(encoded);
+        ASSERT_FALSE(expected.empty());
+        EXPECT_TRUE(expected == actual) << "compression level " << level;
+    }
 }
 
 // The payload codec does its job: smooth whole-metre terrain, with a hole in its mask,

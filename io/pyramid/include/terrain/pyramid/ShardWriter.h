@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <memory>
 #include <span>
+#include <vector>
 
 namespace terrain::io {
 
@@ -26,8 +27,28 @@ struct ShardWriterOptions {
     HeightUnits units;
 };
 
+/// One patch coded, packed and compressed as a shard stores it: what ShardWriter::writePatch
+/// makes before it writes. Making it is most of a write's cost (the height codes' search for
+/// their prediction and divisor, zstd), so a builder makes a band's patches on all its
+/// threads (encodePatch) and its writer only copies them into the file (writeEncoded).
+struct EncodedPatch {
+    PatchId id;
+    PatchInfo info;  ///< with its crc32 set
+    std::uint32_t heightDivisor = 0;
+    std::vector<std::uint32_t> payload;  ///< the deep pixel's 32-bit samples
+};
+
+/// Codes, packs and compresses `record` exactly as ShardWriter::writePatch does for a shard
+/// of `layout` opened with `withMask` and `options` (same preconditions, asserted, but for
+/// the shard's own ones), into `out`, whose storage is reused. Any thread: its scratch is
+/// per thread.
+void encodePatch(const PatchRecord& record, std::span<const float> parentSamples,
+                 const PyramidLayout& layout, bool withMask, const ShardWriterOptions& options,
+                 EncodedPatch& out);
+
 /// Writes one shard. Move-only; used by one thread at a time (its owner), which also
-/// compresses each patch as it is written (writePatch). Destroying a writer before finish()
+/// compresses each patch as it is written (writePatch), unless it was encoded before
+/// (encodePatch, writeEncoded). Destroying a writer before finish()
 /// succeeded removes its temporary file; nothing appears at the final path.
 class ShardWriter {
 public:
@@ -55,6 +76,11 @@ public:
     /// error (e.g. a full disk) is an Error naming the file; after one, every later call
     /// returns it again.
     Status writePatch(const PatchRecord& record, std::span<const float> parentSamples = {});
+
+    /// Stores a patch encodePatch made with this shard's layout, mask and options: the same
+    /// bytes writePatch(record, parentSamples) writes. Same preconditions on the patch's
+    /// place (in this shard, once) and the same errors.
+    Status writeEncoded(const EncodedPatch& patch);
 
     /// Writes empty payloads (present = 0) for the patches never written, the patchInfo
     /// tile, closes the file and renames it into place. Call once.
