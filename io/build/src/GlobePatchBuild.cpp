@@ -1,6 +1,7 @@
 #include "GlobePatchBuild.h"
 
 #include "BuildFinish.h"
+#include "ParallelFor.h"
 
 #include "terrain/pyramid/GlobePatchErrors.h"
 #include "terrain/pyramid/HeightCodes.h"
@@ -61,7 +62,7 @@ void finishGlobePatch(const PyramidLayout& layout, int faceLevel, double error,
 Status writeGlobeShard(const std::filesystem::path& folder, const PyramidLayout& layout,
                        const ShardId& shard, const std::vector<const PatchRecord*>& records,
                        const ShardWriterOptions& options,
-                       const std::optional<ManifestQuantization>& quantization) {
+                       const std::optional<ManifestQuantization>& quantization, unsigned threads) {
     const std::filesystem::path path = folder / layout.shardPath(shard);
     std::error_code ec;
     std::filesystem::create_directories(path.parent_path(), ec);
@@ -71,8 +72,14 @@ Status writeGlobeShard(const std::filesystem::path& folder, const PyramidLayout&
         shardOptions.units.quantizerStep = quantization->step(shard.level, layout.finestLevel());
     auto writer = ShardWriter::create(path, layout, shard, true, shardOptions);
     if (!writer) return writer.error();
-    for (const PatchRecord* record : records)
-        if (Status written = writer.value().writePatch(*record); !written) return written;
+    // Coded and compressed on every thread, written in order.
+    std::vector<EncodedPatch> encoded(records.size());
+    parallelFor(std::ssize(records), threads, [&](std::int64_t i) {
+        const auto k = static_cast<std::size_t>(i);
+        encodePatch(*records[k], {}, layout, true, shardOptions, encoded[k]);
+    });
+    for (const EncodedPatch& patch : encoded)
+        if (Status written = writer.value().writeEncoded(patch); !written) return written;
     return writer.value().finish();
 }
 

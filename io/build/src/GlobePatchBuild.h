@@ -65,11 +65,12 @@ void finishGlobePatch(const PyramidLayout& layout, int faceLevel, double error,
 double globeHalfStep(const ManifestQuantization& quantization, const PyramidLayout& layout,
                      int faceLevel);
 
-/// Writes one shard of a face level's patches (all of them in `shard`) into `folder`.
+/// Writes one shard of a face level's patches (all of them in `shard`) into `folder`, coding
+/// and compressing them on up to `threads` threads.
 Status writeGlobeShard(const std::filesystem::path& folder, const PyramidLayout& layout,
                        const ShardId& shard, const std::vector<const PatchRecord*>& records,
                        const ShardWriterOptions& options,
-                       const std::optional<ManifestQuantization>& quantization);
+                       const std::optional<ManifestQuantization>& quantization, unsigned threads);
 
 /// The manifest's record of a source on `grid`: its extent, clamped to the poles (a grid whose
 /// first or last row is centred on a pole reaches half a pixel beyond it), −180 … 180 when it

@@ -138,9 +138,17 @@ public:
             m_phases.readSeconds += secondsSince(start);
             start = BuildClock::now();
             measureErrors(level, patches);
+            // Each patch's bounds (λ(d) is most of a level's bounds time) on every thread,
+            // then what the level gathers from them, in key order.
+            std::vector<std::pair<const PatchKey, LevelPatch>*> ordered;
+            ordered.reserve(patches.size());
+            for (auto& entry : patches) ordered.push_back(&entry);
+            parallelFor(std::ssize(ordered), m_threads, [&](std::int64_t i) {
+                auto& [key, patch] = *ordered[static_cast<std::size_t>(i)];
+                finishPatch(key, level, patch, finerKeys, finerErrors);
+            });
             std::unordered_map<PatchKey, float> errors;
-            for (auto& [key, patch] : patches)
-                finishPatch(key, level, patch, finerKeys, finerErrors, errors);
+            for (auto& [key, patch] : patches) gatherPatch(key, level, patch, errors);
             m_phases.boundsSeconds += secondsSince(start);
             start = BuildClock::now();
             if (Status written = write(level, patches); !written) return written;
@@ -357,10 +365,10 @@ private:
         });
     }
 
+    // Any thread: writes only `patch`.
     void finishPatch(PatchKey key, int level, LevelPatch& patch,
                      const std::unordered_set<PatchKey>& finerKeys,
-                     const std::unordered_map<PatchKey, float>& finerErrors,
-                     std::unordered_map<PatchKey, float>& errors) {
+                     const std::unordered_map<PatchKey, float>& finerErrors) const {
         const GlobePatchId id = idOf(key, level);
         double error = patch.measuredError;
         std::uint8_t presentChildren = 0;
@@ -375,6 +383,11 @@ private:
         }
         detail::finishGlobePatch(m_layout, level, error, presentChildren, m_quantization,
                                  patch.quantized, patch.record);
+    }
+
+    // After finishPatch, on the build's thread.
+    void gatherPatch(PatchKey key, int level, const LevelPatch& patch,
+                     std::unordered_map<PatchKey, float>& errors) {
         if (m_quantization && level == m_finestFaceLevel)
             m_quantization->finestLargestErrorM =
                 std::max(m_quantization->finestLargestErrorM, patch.quantized);
@@ -393,7 +406,7 @@ private:
         for (const auto& [yx, records] : byShard) {
             const ShardId shard{level, yx.second, yx.first};
             if (Status written = detail::writeGlobeShard(m_folder, m_layout, shard, records,
-                                                         m_shardOptions, m_quantization);
+                                                         m_shardOptions, m_quantization, m_threads);
                 !written)
                 return written;
             for (const PatchRecord* record : records)
