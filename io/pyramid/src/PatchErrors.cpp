@@ -411,10 +411,17 @@ float interpolationError(const GridView& children) {
 BlockErrors blockErrors(const GridView& patch, int x0, int y0, int blockQuads) {
     const BlockErrors transitions = transitionErrors(patch, x0, y0, blockQuads);
     BlockErrors errors{};
+    // Once 2^d reaches the block's side the step stops growing (the whole block is one
+    // cell): the same simplification error, measured once.
+    int measuredStep = 0;
+    float simplification = 0.0f;
     for (int d = 1; d <= kMaxSimplification; ++d) {
         const int step = std::min(1 << d, blockQuads);
-        errors[d - 1] = std::max(simplificationError(patch, x0, y0, blockQuads, step),
-                                 transitions[static_cast<std::size_t>(d - 1)]);
+        if (step != measuredStep) {
+            simplification = simplificationError(patch, x0, y0, blockQuads, step);
+            measuredStep = step;
+        }
+        errors[d - 1] = std::max(simplification, transitions[static_cast<std::size_t>(d - 1)]);
     }
     return errors;
 }
