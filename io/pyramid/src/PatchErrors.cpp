@@ -2,6 +2,8 @@
 // ROAM's wedgies) and §5 (tessellation-block errors λ(d)).
 #include "terrain/pyramid/PatchErrors.h"
 
+#include "RowSpan.h"
+
 #include <half.h>
 
 #include "terrain/base/Assert.h"
@@ -222,24 +224,21 @@ double interiorDeviation(const GridView& g, SamplePoint a, SamplePoint b, Sample
     const int yLo = std::min({a.y, b.y, c.y}), yHi = std::max({a.y, b.y, c.y});
     double worst = 0.0;
     for (int y = yLo; y <= yHi; ++y) {
-        // The triangle's extent along row y: where its edges meet the row.
-        double xLo = std::numeric_limits<double>::infinity(), xHi = -xLo;
+        // The samples of row y inside the triangle: from the first at or right of its edges'
+        // leftmost crossing of the row to the last at or left of the rightmost, in integers
+        // (RowSpan.h: the same samples as the crossings in floating point, without their
+        // divisions on the loop's path).
+        RowSpan span;
         for (auto [p, q] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
             if ((y < p.y && y < q.y) || (y > p.y && y > q.y)) continue;
-            if (p.y == q.y) {
-                xLo = std::min({xLo, double(p.x), double(q.x)});
-                xHi = std::max({xHi, double(p.x), double(q.x)});
-            } else {
-                const double x = p.x + double(y - p.y) * (q.x - p.x) / (q.y - p.y);
-                xLo = std::min(xLo, x);
-                xHi = std::max(xHi, x);
-            }
+            if (p.y == q.y)
+                span.addSegment(p.x, q.x);
+            else
+                span.addCrossing(p.x, y - p.y, q.x - p.x, q.y - p.y);
         }
         const double rowPlane = ha + gy * (y - a.y);
         const float* row = g.data + static_cast<std::ptrdiff_t>(y) * g.stride;
-        const int xFirst = static_cast<int>(std::ceil(xLo - 1e-9));
-        const int xLast = static_cast<int>(std::floor(xHi + 1e-9));
-        for (int x = xFirst; x <= xLast; ++x)
+        for (int x = span.first; x <= span.last; ++x)
             worst = std::max(worst, std::abs(row[x] - (rowPlane + gx * (x - a.x))));
     }
     return worst;
