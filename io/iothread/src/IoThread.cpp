@@ -1,5 +1,6 @@
-// IoThread: one loop that pops the highest-priority request under the mutex, reads it (a
-// heights patch or an imagery tile) with the mutex released, and files the outcome for poll().
+// IoThread: reader threads, each a loop that pops the highest-priority request under the
+// mutex, reads it (a heights patch or an imagery tile) with the mutex released, and files
+// the outcome for poll().
 #include "terrain/iothread/IoThread.h"
 
 #include "terrain/base/Assert.h"
@@ -9,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <thread>
 #include <utility>
 
 namespace terrain::io {
@@ -16,7 +18,9 @@ namespace terrain::io {
 namespace {
 
 /// The most records m_pool holds: recycle() and run() add one only below this.
-std::size_t poolBound(const IoThreadOptions& options) { return options.maxUnpolled + 1; }
+std::size_t poolBound(const IoThreadOptions& options) {
+    return options.maxUnpolled + static_cast<std::size_t>(options.readerThreads);
+}
 
 std::uint64_t recordBytes(const PatchRecord& r) {
     return static_cast<std::uint64_t>(r.heights.size() * sizeof(float) + r.valid.size() +
@@ -30,16 +34,25 @@ std::string tileName(const TileKey& key) {
 
 }  // namespace
 
+int defaultReaderThreads() {
+    return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1U, 4U));
+}
+
 Result<std::unique_ptr<IoThread>> IoThread::start(const std::filesystem::path& pyramidDir,
                                                   const IoThreadOptions& options) {
     TERRAIN_ASSERT(options.maxUnpolled >= 1, "IoThread: maxUnpolled must be at least 1");
+    TERRAIN_ASSERT(options.readerThreads >= 1, "IoThread: readerThreads must be at least 1");
     TERRAIN_ASSERT(options.faults.errorRate >= 0.0 && options.faults.errorRate <= 1.0,
                    "IoThread: errorRate outside [0, 1]");
     TERRAIN_ASSERT(options.faults.addedLatencyMs >= 0.0, "IoThread: negative addedLatencyMs");
-    auto reader = PyramidReader::open(pyramidDir, options.maxOpenShards);
-    if (!reader) return reader.error();
+    std::vector<PyramidReader> readers;
+    for (int i = 0; i < options.readerThreads; ++i) {
+        auto reader = PyramidReader::open(pyramidDir, options.maxOpenShards);
+        if (!reader) return reader.error();
+        readers.push_back(std::move(reader).value());
+    }
     // Each imagery layer on its own: one that cannot be opened fails its own requests only.
-    const PyramidManifest& manifest = reader.value().manifest();
+    const PyramidManifest& manifest = readers.front().manifest();
     ImagerySources imagery;
     std::vector<std::string> openErrors;
     for (std::size_t k = 0; k < manifest.imagery.size(); ++k) {
@@ -57,15 +70,15 @@ Result<std::unique_ptr<IoThread>> IoThread::start(const std::filesystem::path& p
             openErrors.push_back(source.error().message);
         }
     }
-    return std::unique_ptr<IoThread>(new IoThread(std::move(reader).value(), std::move(imagery),
-                                                  std::move(openErrors), options));
+    return std::unique_ptr<IoThread>(
+        new IoThread(std::move(readers), std::move(imagery), std::move(openErrors), options));
 }
 
-IoThread::IoThread(PyramidReader reader, ImagerySources imagery,
+IoThread::IoThread(std::vector<PyramidReader> readers, ImagerySources imagery,
                    std::vector<std::string> openErrors, const IoThreadOptions& options)
     : m_options(options),
-      m_layout(reader.layout()),
-      m_reader(std::move(reader)),
+      m_layout(readers.front().layout()),
+      m_readers(std::move(readers)),
       m_imagery(std::move(imagery)),
       m_imageryOpenErrors(std::move(openErrors)) {
     // Up front, so recycling never allocates, and neither do the completions of reads
@@ -73,14 +86,23 @@ IoThread::IoThread(PyramidReader reader, ImagerySources imagery,
     m_pool.reserve(poolBound(m_options));
     m_imageryPool.reserve(poolBound(m_options));
     m_ready.reserve(m_options.maxUnpolled);
-    // Started last: the thread sees every member constructed (thread start synchronises).
-    m_thread = std::jthread([this](const std::stop_token& stop) { run(stop); });
+    m_inFlight.resize(m_readers.size());
+    // Started last: the threads see every member constructed (thread start synchronises).
+    m_threads.reserve(m_readers.size());
+    for (std::size_t i = 0; i < m_readers.size(); ++i)
+        m_threads.emplace_back([this, i](const std::stop_token& stop) { run(stop, i); });
 }
 
 IoThread::~IoThread() {
-    // request_stop wakes m_wake through the stop token; the thread exits at its next wait.
-    m_thread.request_stop();
-    m_thread.join();
+    // request_stop wakes m_wake through each stop token; a thread exits at its next wait.
+    for (std::jthread& thread : m_threads) thread.request_stop();
+    for (std::jthread& thread : m_threads) thread.join();
+}
+
+std::optional<IoThread::InFlight>* IoThread::liveInFlightLocked(const TileKey& key) {
+    for (std::optional<InFlight>& slot : m_inFlight)
+        if (slot && slot->key == key && !slot->cancelled) return &slot;
+    return nullptr;
 }
 
 std::string_view IoThread::imageryOpenError(int layer) const {
@@ -94,7 +116,7 @@ bool IoThread::submit(const TileKey& key, float priority) {
                    "IoThread::submit: no such imagery layer");
     {
         const std::lock_guard lock(m_mutex);
-        if (m_inFlight && m_inFlight->key == key && !m_inFlight->cancelled) return false;
+        if (liveInFlightLocked(key) != nullptr) return false;
         if (!m_pending.request(key, priority)) return false;  // re-prioritised
         addRequestTimeLocked(key, Clock::now());
         ++m_stats.requested;
@@ -128,8 +150,9 @@ bool IoThread::cancel(const TileKey& key) {
             m_ready.push_back(std::move(c));
             return true;
         }
-        if (!m_inFlight || m_inFlight->key != key || m_inFlight->cancelled) return false;
-        m_inFlight->cancelled = true;  // the I/O thread reports it when the read ends
+        std::optional<InFlight>* reading = liveInFlightLocked(key);
+        if (reading == nullptr) return false;
+        (*reading)->cancelled = true;  // its reader thread reports it when the read ends
     }
     m_wake.notify_all();  // cuts an injected latency short
     return true;
@@ -160,8 +183,9 @@ void IoThread::recycle(ImageryTile&& tile) {
 
 bool IoThread::waitForCompletion(std::chrono::milliseconds timeout) {
     std::unique_lock lock(m_mutex);
-    m_stateChanged.wait_for(lock, timeout,
-                        [&] { return !m_ready.empty() || (m_pending.empty() && !m_inFlight); });
+    m_stateChanged.wait_for(lock, timeout, [&] {
+        return !m_ready.empty() || (m_pending.empty() && m_inFlightCount == 0);
+    });
     return !m_ready.empty();
 }
 
@@ -179,7 +203,7 @@ IoThreadStats IoThread::stats() const {
 IoThreadStats IoThread::statsLocked() const {
     IoThreadStats s = m_stats;
     s.queueDepth = m_pending.size();
-    s.inFlight = m_inFlight ? 1 : 0;
+    s.inFlight = m_inFlightCount;
     s.unpolled = m_ready.size();
     return s;
 }
@@ -227,11 +251,15 @@ IoThread::Clock::time_point IoThread::takeRequestTimeLocked(const TileKey& key) 
     return time;
 }
 
-Status IoThread::readImagery(const TileKey& key, ImageryTile& out) {
+Status IoThread::readImagery(const TileKey& key, ImageryTile& out, const PyramidReader& reader) {
     const auto layer = static_cast<std::size_t>(key.imageryLayer);
     ImageryTileSource* source = m_imagery[layer].get();
     if (source == nullptr) return Error{m_imageryOpenErrors[layer]};
-    if (Status read = source->readTile(key.id, out); !read) return read;
+    {
+        // Sources are not thread-safe (ImageryTileSource.h): one read at a time.
+        const std::lock_guard sourceLock(m_imageryMutex);
+        if (Status read = source->readTile(key.id, out); !read) return read;
+    }
     out.id = key.id;
     if (!out.info.present) {
         out.rgba.clear();  // keeps its capacity for the next tile
@@ -242,27 +270,29 @@ Status IoThread::readImagery(const TileKey& key, ImageryTile& out) {
     // a broken source, reported as this tile's failure rather than a crash on the GPU side.
     if (out.rgba.size() != kImageryTileBytes)
         return Error{fmt::format("{}: imagery layer \"{}\": {} has {} bytes of texels, not {}",
-                                 m_reader.folder().string(),
-                                 m_reader.manifest().imagery[layer].name, tileName(key),
-                                 out.rgba.size(), kImageryTileBytes)};
+                                 reader.folder().string(), reader.manifest().imagery[layer].name,
+                                 tileName(key), out.rgba.size(), kImageryTileBytes)};
     // The mips here, off the render thread: the pool only uploads them.
     makeImageryMips(out);
     return {};
 }
 
-void IoThread::run(const std::stop_token& stop) {
+void IoThread::run(const std::stop_token& stop, std::size_t readerIndex) {
+    PyramidReader& reader = m_readers[readerIndex];
+    std::optional<InFlight>& inFlight = m_inFlight[readerIndex];
     const auto latency = std::chrono::duration_cast<Clock::duration>(
         std::chrono::duration<double, std::milli>(m_options.faults.addedLatencyMs));
     std::unique_lock lock(m_mutex);
     while (true) {
         const bool ready = m_wake.wait(lock, stop, [&] {
-            return !m_pending.empty() && m_ready.size() < m_options.maxUnpolled;
+            return !m_pending.empty() && m_ready.size() + m_inFlightCount < m_options.maxUnpolled;
         });
         if (!ready) return;  // stop requested
 
         const auto request = m_pending.popHighest();
         const TileKey key = request->key();
-        m_inFlight = InFlight{key, takeRequestTimeLocked(key), false};
+        inFlight = InFlight{key, takeRequestTimeLocked(key), false};
+        ++m_inFlightCount;
         m_stateChanged.notify_all();
         const bool imagery = key.isImagery();
         PatchRecord record;
@@ -278,23 +308,24 @@ void IoThread::run(const std::stop_token& stop) {
 
         if (latency.count() > 0) {
             // Waits with the mutex released; a cancel or stop ends the wait early.
-            m_wake.wait_for(lock, stop, latency, [&] { return m_inFlight->cancelled; });
+            m_wake.wait_for(lock, stop, latency, [&] { return inFlight->cancelled; });
             if (stop.stop_requested()) return;
         }
 
         const PatchId id = key.id;
         std::optional<Status> outcome;
         bool injected = false;
-        if (!m_inFlight->cancelled) {
+        if (!inFlight->cancelled) {
             injected = !imagery && m_options.faults.failsRead(id);
             lock.unlock();
             if (imagery) {
-                outcome = readImagery(key, tile);
+                outcome = readImagery(key, tile, reader);
             } else {
-                outcome = injected ? Status(Error{fmt::format(
-                                         "{}: injected fault reading patch L{} ({}, {})",
-                                         m_reader.folder().string(), id.level, id.x, id.y)})
-                                   : m_reader.readPatch(id, record);
+                outcome =
+                    injected
+                        ? Status(Error{fmt::format("{}: injected fault reading patch L{} ({}, {})",
+                                                   reader.folder().string(), id.level, id.x, id.y)})
+                        : reader.readPatch(id, record);
             }
             lock.lock();
         }
@@ -302,9 +333,9 @@ void IoThread::run(const std::stop_token& stop) {
         Completion c;
         c.id = id;
         c.imageryLayer = key.imageryLayer;
-        c.requestTime = m_inFlight->requestTime;
+        c.requestTime = inFlight->requestTime;
         c.completeTime = Clock::now();
-        if (m_inFlight->cancelled) {
+        if (inFlight->cancelled) {
             c.status = CompletionStatus::Cancelled;
         } else if (outcome->ok()) {
             c.status = CompletionStatus::Completed;
@@ -324,7 +355,8 @@ void IoThread::run(const std::stop_token& stop) {
             if (!imagery && m_pool.size() < poolBound(m_options))
                 m_pool.push_back(std::move(record));
         }
-        m_inFlight.reset();
+        inFlight.reset();
+        --m_inFlightCount;
         finishLocked(std::move(c));
     }
 }

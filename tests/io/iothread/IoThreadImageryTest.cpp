@@ -52,6 +52,9 @@ protected:
     std::unique_ptr<IoThread> start(const FakeImageryRules& rules, IoThreadOptions options = {},
                                     std::uint32_t failToOpen = 0) {
         options.openImagery = test::fakeImageryOpener(rules, failToOpen);
+        // One reader thread: these tests look at the order of completions (reads end in
+        // the order they start); IoThreadTest covers several.
+        options.readerThreads = 1;
         auto io = IoThread::start(m_dir.path(), options);
         EXPECT_TRUE(io.ok()) << (io.ok() ? "" : io.error().message);
         return io.ok() ? std::move(io).value() : nullptr;

@@ -1,8 +1,11 @@
 // IoThread: patches read in the background equal PyramidReader's; priority order, the cap
 // on unpolled results, cancelling, every request ending exactly once under a random storm,
 // injected faults, a missing shard, buffer reuse, no allocation on the owner thread once
-// warm, and shutdown cutting a read short. Deterministic: the tests wait on the thread's
-// events (waitForState, waitForCompletion), never sleep, and assert no durations.
+// warm, and shutdown cutting a read short; with several reader threads, reads at once, the
+// same records, and every request (cancelled or not) ending once. Tests that look at the
+// order of completions or at one read in flight use one reader thread. Deterministic: the tests
+// wait on the thread's events (waitForState, waitForCompletion), never sleep, and assert no
+// durations.
 #include "terrain/iothread/IoThread.h"
 #include "terrain/pyramid/PyramidReader.h"
 
@@ -12,7 +15,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <random>
@@ -82,21 +87,24 @@ protected:
     std::vector<PatchId> m_patches;  // every patch of every level, coarse to fine
 };
 
-TEST_F(IoThreadTest, ReadsPatchesEqualToPyramidReader) {
-    auto io = start();
-    ASSERT_TRUE(io);
-    ASSERT_GE(m_patches.size(), 10U);
-    for (std::size_t i = 0; i < m_patches.size(); ++i)
-        EXPECT_TRUE(io->submit(m_patches[i], static_cast<float>(i % 5)));
+/// Every patch submitted to `io`, polled, equal to a PyramidReader's byte for byte.
+void expectReadsEqualToPyramidReader(IoThread& io, const std::filesystem::path& pyramid,
+                                     const std::vector<PatchId>& patches) {
+    ASSERT_GE(patches.size(), 10U);
+    for (std::size_t i = 0; i < patches.size(); ++i)
+        EXPECT_TRUE(io.submit(patches[i], static_cast<float>(i % 5)));
     std::vector<Completion> done;
-    ASSERT_TRUE(pollUntil(*io, done, m_patches.size()));
-    ASSERT_EQ(done.size(), m_patches.size());
+    ASSERT_TRUE(pollUntil(io, done, patches.size()));
+    ASSERT_EQ(done.size(), patches.size());
 
-    auto reader = PyramidReader::open(m_dir.path());
+    auto reader = PyramidReader::open(pyramid);
     ASSERT_TRUE(reader.ok());
     std::uint64_t bytes = 0;
+    std::map<std::tuple<int, std::int64_t, std::int64_t>, int> ended;
     for (const Completion& c : done) {
         ASSERT_EQ(c.status, CompletionStatus::Completed) << c.error;
+        const int times = ++ended[{c.id.level, c.id.x, c.id.y}];
+        EXPECT_EQ(times, 1) << "ended twice: " << patchName(c.id);
         EXPECT_LE(c.requestTime, c.completeTime);
         auto expected = reader.value().readPatch(c.id);
         ASSERT_TRUE(expected.ok()) << expected.error().message;
@@ -110,15 +118,72 @@ TEST_F(IoThreadTest, ReadsPatchesEqualToPyramidReader) {
             EXPECT_EQ(c.record.blockErrors[b], expected.value().blockErrors[b]);
         bytes += c.record.heights.size() * sizeof(float);
     }
-    const IoThreadStats s = io->stats();
-    EXPECT_EQ(s.requested, m_patches.size());
-    EXPECT_EQ(s.completed, m_patches.size());
+    const IoThreadStats s = io.stats();
+    EXPECT_EQ(s.requested, patches.size());
+    EXPECT_EQ(s.completed, patches.size());
     EXPECT_EQ(s.failed + s.cancelled + s.queueDepth + s.inFlight + s.unpolled, 0U);
     EXPECT_GE(s.bytesRead, bytes);
 }
 
+TEST_F(IoThreadTest, SeveralReaderThreadsReadEveryPatchOnceEqualToPyramidReader) {
+    IoThreadOptions options;
+    options.readerThreads = 3;
+    auto io = start(options);
+    ASSERT_TRUE(io);
+    EXPECT_EQ(io->readerThreads(), 3);
+    // Shuffled: a child's heights may be predicted from a parent another thread (with its
+    // own parent cache) read, or that none has read yet.
+    std::vector<PatchId> patches = m_patches;
+    std::shuffle(patches.begin(), patches.end(), std::mt19937(3));
+    expectReadsEqualToPyramidReader(*io, m_dir.path(), patches);
+}
+
+TEST_F(IoThreadTest, SeveralReaderThreadsReadAtOnceAndCancelEach) {
+    IoThreadOptions options;
+    options.readerThreads = 3;
+    options.faults.addedLatencyMs = 24.0 * 3600.0 * 1000.0;  // each read waits until cancelled
+    auto io = start(options);
+    ASSERT_TRUE(io);
+    for (std::size_t i = 0; i < 5; ++i) EXPECT_TRUE(io->submit(m_patches[i], 0.0f));
+    // Three reads at once: only reached when three threads read (one would stay at 1).
+    ASSERT_TRUE(waitForState(
+        *io, [](const IoThreadStats& s) { return s.inFlight == 3 && s.queueDepth == 2; }));
+    for (std::size_t i = 0; i < 5; ++i) {
+        EXPECT_FALSE(io->submit(m_patches[i], 1.0f)) << "live: not a new request";
+        EXPECT_TRUE(io->cancel(m_patches[i]));
+        EXPECT_FALSE(io->cancel(m_patches[i])) << "cancelled once";
+    }
+    std::vector<Completion> done;
+    ASSERT_TRUE(pollUntil(*io, done, 5));
+    ASSERT_EQ(done.size(), 5U);
+    std::map<std::tuple<int, std::int64_t, std::int64_t>, int> ended;
+    for (const Completion& c : done) {
+        EXPECT_EQ(c.status, CompletionStatus::Cancelled);
+        ++ended[{c.id.level, c.id.x, c.id.y}];
+    }
+    for (std::size_t i = 0; i < 5; ++i)
+        EXPECT_EQ((ended[{m_patches[i].level, m_patches[i].x, m_patches[i].y}]), 1);
+    const IoThreadStats s = io->stats();
+    EXPECT_EQ(s.requested, 5U);
+    EXPECT_EQ(s.cancelled, 5U);
+    EXPECT_EQ(s.completed + s.failed + s.queueDepth + s.inFlight + s.unpolled, 0U);
+    // The reads still pending when it goes are cut short: the destructor returns.
+    for (std::size_t i = 5; i < 9; ++i) EXPECT_TRUE(io->submit(m_patches[i], 0.0f));
+    ASSERT_TRUE(waitForState(*io, [](const IoThreadStats& t) { return t.inFlight == 3; }));
+    io.reset();
+}
+
+TEST_F(IoThreadTest, ReadsPatchesEqualToPyramidReader) {
+    IoThreadOptions options;
+    options.readerThreads = 1;
+    auto io = start(options);
+    ASSERT_TRUE(io);
+    expectReadsEqualToPyramidReader(*io, m_dir.path(), m_patches);
+}
+
 TEST_F(IoThreadTest, ServesHighestPriorityFirstAndCapsUnpolledResults) {
     IoThreadOptions options;
+    options.readerThreads = 1;  // one thread ends reads in the order it starts them
     options.maxUnpolled = 2;
     auto io = start(options);
     ASSERT_TRUE(io);
@@ -198,8 +263,11 @@ TEST_F(IoThreadTest, CancelDuringReadIsReportedAsCancelled) {
     EXPECT_EQ(s.completed + s.failed, 0U);
 }
 
-TEST_F(IoThreadTest, EveryRequestEndsExactlyOnceUnderRandomStorm) {
+class IoThreadStormTest : public IoThreadTest, public ::testing::WithParamInterface<int> {};
+
+TEST_P(IoThreadStormTest, EveryRequestEndsExactlyOnceUnderRandomStorm) {
     IoThreadOptions options;
+    options.readerThreads = GetParam();
     options.maxUnpolled = 3;
     options.faults = {0.3, 0.0, 7};
     auto io = start(options);
@@ -252,6 +320,8 @@ TEST_F(IoThreadTest, EveryRequestEndsExactlyOnceUnderRandomStorm) {
     EXPECT_EQ(s.failed, s.injectedFaults);
 }
 
+INSTANTIATE_TEST_SUITE_P(ReaderThreads, IoThreadStormTest, ::testing::Values(1, 3));
+
 TEST_F(IoThreadTest, InjectedFaultsAreCountedAndNameThePatch) {
     IoThreadOptions options;
     options.faults = {0.3, 0.0, 42};
@@ -296,7 +366,9 @@ TEST_F(IoThreadTest, MissingShardFileGivesFailureNamingTheFile) {
     const std::filesystem::path shard =
         m_dir.path() / layout.value().shardPath(layout.value().shardOf(victim));
     ASSERT_TRUE(std::filesystem::remove(shard)) << shard;
-    auto io = start();
+    IoThreadOptions options;
+    options.readerThreads = 1;  // completions in priority order
+    auto io = start(options);
     ASSERT_TRUE(io);
     EXPECT_TRUE(io->submit(victim, 1.0f));
     EXPECT_TRUE(io->submit(m_patches.front(), 0.0f));
@@ -359,9 +431,8 @@ TEST_F(IoThreadTest, OwnerThreadAllocatesNothingOnceWarm) {
             if (rng() % 4 != 0) io->cancel(m_patches[first + i]);
         created += requests;
         // The cap is never reached in a frame, so the thread ends every request on its own.
-        if (!io->waitForState(
-                [requests](const IoThreadStats& s) { return s.unpolled >= requests; },
-                kHangTimeout))
+        if (!io->waitForState([requests](const IoThreadStats& s) { return s.unpolled >= requests; },
+                              kHangTimeout))
             return false;
         if (io->poll(out) != requests) return false;
         for (Completion& c : out)
@@ -411,6 +482,7 @@ TEST_F(IoThreadTest, OwnerThreadAllocatesNothingOnceWarm) {
 
 TEST_F(IoThreadTest, DestructorCutsAReadShortAndDropsPendingWork) {
     IoThreadOptions options;
+    options.readerThreads = 1;  // one read in flight, the rest pending
     // Every read would take a day: the destructor returns only because it cuts the read
     // short (when it does not, the test hangs until ctest's timeout names it).
     options.faults.addedLatencyMs = 24.0 * 3600.0 * 1000.0;

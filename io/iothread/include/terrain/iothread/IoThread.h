@@ -1,9 +1,12 @@
-// IoThread: the background I/O thread of streaming. It reads patches from a pyramid in
-// priority order with its own PyramidReader and hands plain CPU records to the render
-// thread, which never waits on disk (docs: DESIGN.md, "Streaming and caches"). The same
-// thread and the same request queue read the tiles of the pyramid's imagery layers (issue
-// 47), one ImageryTileSource per layer: a request is keyed by TileKey (a PatchId alone is the
-// heights'), and heights and imagery are served in one priority order.
+// IoThread: the background I/O of streaming. Its reader threads (readerThreads; by default
+// min(hardware threads, 4)) take requests in priority order, each reads and decodes with its
+// own PyramidReader, and all hand plain CPU records to the render thread, which never waits
+// on disk (docs: DESIGN.md, "Streaming and caches"). One thread decoded only 650-1,900
+// shuffled patches a second (issue 49): the decode, not the disk, limits it, so several
+// decode at once. The same threads and the same request queue read the tiles of the
+// pyramid's imagery layers (issue 47), one ImageryTileSource per layer: a request is keyed
+// by TileKey (a PatchId alone is the heights'), and heights and imagery are served in one
+// priority order.
 //
 // Imagery layers that cannot be opened: start() still succeeds, so the terrain draws without
 // the layer; every request for that layer ends Failed with the error of opening it
@@ -12,19 +15,24 @@
 // Threading contract
 // - The owner thread (the render thread) calls every public function; calls are serialised
 //   by one mutex that is held only for queue and list operations, never during a read.
-// - The I/O thread owns the PyramidReader and the imagery sources (opened by start() before
-//   the thread begins, then touched only by the I/O thread) and the record or imagery tile
-//   it is reading into.
+// - Each reader thread owns its PyramidReader (opened by start() before the threads begin)
+//   and the record or imagery tile it is reading into. The imagery sources are shared by
+//   the reader threads, one read at a time (m_imageryMutex, never held with m_mutex); the
+//   mips are made outside it.
 // - Every request (a submit that returned true) ends exactly once, as one Completion handed
-//   out by poll(): Completed, Failed or Cancelled. A request cancelled while it is being
-//   read ends as Cancelled (its record is recycled); a request already finished but not yet
-//   polled is not cancellable and ends as it finished. Requests still pending when the
-//   IoThread is destroyed end with it, without a Completion.
-// - Backpressure: the thread starts a read only while the records being read plus the
-//   completions waiting for poll() are fewer than maxUnpolled; otherwise it waits for
-//   poll(). Cancelled completions are created on the owner thread and may exceed the cap.
-// - Buffers: recycle() returns a record's (an imagery tile's) storage to a pool the thread
-//   reads into (PyramidReader::readPatch(id, out), ImageryTileSource::readTile(id, out)), so
+//   out by poll(): Completed, Failed or Cancelled, whichever reader thread read it. A
+//   request cancelled while it is being read ends as Cancelled (its record is recycled); a
+//   request already finished but not yet polled is not cancellable and ends as it finished.
+//   Requests still pending when the IoThread is destroyed end with it, without a Completion.
+// - Backpressure: a reader thread starts a read only while the records being read (by all
+//   of them) plus the completions waiting for poll() are fewer than maxUnpolled; otherwise
+//   it waits for poll(). Cancelled completions are created on the owner thread and may
+//   exceed the cap.
+// - Order: reads start in priority order; with several reader threads they may end in
+//   another (a tile read faster than one started before it), so only readerThreads = 1
+//   hands completions out in priority order.
+// - Buffers: recycle() returns a record's (an imagery tile's) storage to a pool the threads
+//   read into (PyramidReader::readPatch(id, out), ImageryTileSource::readTile(id, out)), so
 //   steady streaming does not allocate.
 //
 // Allocation on the owner thread: once the request count, the completions waiting for
@@ -32,7 +40,7 @@
 // cancel(), poll(out) and recycle() allocate nothing. Request bookkeeping reuses its nodes
 // (TileRequestQueue, and here the request times), the completion list and the buffer pool
 // keep their capacity, and a Cancelled Completion carries no record and no error text. The
-// I/O thread may allocate while it reads (file access, failure messages).
+// reader threads may allocate while they read (file access, failure messages).
 #pragma once
 
 #include "terrain/base/Result.h"
@@ -68,8 +76,16 @@ namespace terrain::io {
 using ImagerySourceOpener = std::function<Result<std::unique_ptr<ImageryTileSource>>(
     const PyramidManifest& manifest, int index)>;
 
+/// The reader threads an IoThread starts by default: min(hardware threads, 4), at least 1.
+/// Four: the decode scales to about the cores (issue 49's target, 2,500 shuffled patches a
+/// second, needs two of today's), while each thread holds a PyramidReader (open shards and
+/// a 4 MiB parent cache) and the render thread needs a core of its own.
+int defaultReaderThreads();
+
 struct IoThreadOptions {
     std::size_t maxUnpolled = 8;  ///< cap on records being read + completions not yet polled
+    /// Threads reading and decoding at once, each with its own PyramidReader (≥ 1).
+    int readerThreads = defaultReaderThreads();
     int maxOpenShards = PyramidReader::kDefaultOpenShards;
     /// Injected errors are the heights' only (imagery has its own failures); an added
     /// latency delays every read.
@@ -107,7 +123,7 @@ struct IoThreadStats {
     std::uint64_t injectedFaults = 0;  ///< failures caused by FaultInjection (also in failed)
     std::uint64_t bytesRead = 0;       ///< approximate: byte size of the completed records
     std::size_t queueDepth = 0;        ///< pending requests
-    std::size_t inFlight = 0;          ///< requests being read (0 or 1)
+    std::size_t inFlight = 0;          ///< requests being read (0 to readerThreads)
     std::size_t unpolled = 0;          ///< completions waiting for poll()
 };
 
@@ -119,7 +135,7 @@ public:
     static Result<std::unique_ptr<IoThread>> start(const std::filesystem::path& pyramidDir,
                                                    const IoThreadOptions& options = {});
 
-    /// Stops the thread: a read in progress finishes (an injected latency is cut short),
+    /// Stops the threads: a read in progress finishes (an injected latency is cut short),
     /// pending requests are dropped. Owner thread.
     ~IoThread();
     IoThread(const IoThread&) = delete;
@@ -152,14 +168,14 @@ public:
     /// Owner thread.
     void recycle(ImageryTile&& tile);
 
-    /// Waits until a Completion is ready for poll(), or until the thread has nothing to
+    /// Waits until a Completion is ready for poll(), or until the threads have nothing to
     /// read (no pending request, none in flight), or `timeout`; true when one is ready.
     /// For callers that must wait for streaming (settling a view, draining at shutdown,
     /// tests): they wake on the outcome instead of sleeping. Owner thread.
     bool waitForCompletion(std::chrono::milliseconds timeout);
 
     /// Waits until `reached(stats())` holds, or `timeout`; true when it holds. The state is
-    /// looked at on entry and whenever the thread starts or ends a read, so a caller waits
+    /// looked at on entry and whenever a thread starts or ends a read, so a caller waits
     /// for a state of the thread (a read under way, the results cap reached) on the event
     /// that makes it, never by sleeping. `reached` runs with the lock held: it must only look
     /// at its argument. Owner thread.
@@ -167,7 +183,8 @@ public:
                       std::chrono::milliseconds timeout);
 
     IoThreadStats stats() const;  ///< Owner thread (any thread is safe).
-    const PyramidLayout& layout() const { return m_layout; }  ///< Any thread.
+    const PyramidLayout& layout() const { return m_layout; }                  ///< Any thread.
+    int readerThreads() const { return static_cast<int>(m_readers.size()); }  ///< Any thread.
     /// The manifest's imagery layers (opened or not). Any thread.
     int imageryLayerCount() const { return static_cast<int>(m_imageryOpenErrors.size()); }
     /// Why imagery layer `layer` could not be opened (its requests end Failed with this), or
@@ -177,47 +194,54 @@ public:
 private:
     using Clock = Completion::Clock;
 
+    // A reader thread's read: its key, and whether it was cancelled meanwhile.
     struct InFlight {
         TileKey key;
         Clock::time_point requestTime;
         bool cancelled = false;
     };
+    using InFlightSlots = std::vector<std::optional<InFlight>>;  // one per reader thread
 
     using RequestTimes = std::unordered_map<TileKey, Clock::time_point, TileKeyHash>;
     using ImagerySources = std::vector<std::unique_ptr<ImageryTileSource>>;
 
-    IoThread(PyramidReader reader, ImagerySources imagery, std::vector<std::string> openErrors,
-             const IoThreadOptions& options);
-    Status readImagery(const TileKey& key, ImageryTile& out);  // I/O thread, mutex released
+    IoThread(std::vector<PyramidReader> readers, ImagerySources imagery,
+             std::vector<std::string> openErrors, const IoThreadOptions& options);
+    // Reader thread `reader`, m_mutex released.
+    Status readImagery(const TileKey& key, ImageryTile& out, const PyramidReader& reader);
     IoThreadStats statsLocked() const;
-    void run(const std::stop_token& stop);
+    std::optional<InFlight>* liveInFlightLocked(const TileKey& key);  // not cancelled, or null
+    void run(const std::stop_token& stop, std::size_t reader);
     void finishLocked(Completion&& completion);
     void addRequestTimeLocked(const TileKey& key, Clock::time_point time);
     Clock::time_point takeRequestTimeLocked(const TileKey& key);  // parks its node
 
     const IoThreadOptions m_options;
     const PyramidLayout m_layout;
-    PyramidReader m_reader;  // I/O thread only, after start()
-    // Per imagery layer: its source (I/O thread only, after start()), null where it could
-    // not be opened, and then why (immutable after start()).
+    // One per reader thread: m_readers[i] is thread i's only, after start().
+    std::vector<PyramidReader> m_readers;
+    // Per imagery layer: its source (read under m_imageryMutex, after start()), null where
+    // it could not be opened, and then why (immutable after start()).
     const ImagerySources m_imagery;
+    std::mutex m_imageryMutex;  // one imagery read at a time; never taken with m_mutex held
     const std::vector<std::string> m_imageryOpenErrors;
 
     mutable std::mutex m_mutex;
-    std::condition_variable_any m_wake;  // work, room for results, cancel, or stop
+    std::condition_variable_any m_wake;      // work, room for results, cancel, or stop
     std::condition_variable m_stateChanged;  // a read started, or a completion was filed
     TileRequestQueue m_pending;
     RequestTimes m_requestTimes;  // pending
     // Nodes of request times that ended, for the next submits; the capacity covers every
     // node ever allocated, so parking one (on either thread) never allocates.
     std::vector<RequestTimes::node_type> m_spareTimeNodes;
-    std::optional<InFlight> m_inFlight;
-    std::vector<Completion> m_ready;  // finished, not yet polled
-    std::vector<PatchRecord> m_pool;  // recycled record storage; reserved to its bound
+    InFlightSlots m_inFlight;  // slot i: reader thread i's read, if any
+    std::size_t m_inFlightCount = 0;
+    std::vector<Completion> m_ready;         // finished, not yet polled
+    std::vector<PatchRecord> m_pool;         // recycled record storage; reserved to its bound
     std::vector<ImageryTile> m_imageryPool;  // recycled imagery storage; the same bound
-    IoThreadStats m_stats;            // queueDepth / inFlight / unpolled filled by stats()
+    IoThreadStats m_stats;                   // queueDepth / inFlight / unpolled filled by stats()
 
-    std::jthread m_thread;  // last: stops and joins before the members above go
+    std::vector<std::jthread> m_threads;  // last: stop and join before the members above go
 };
 
 }  // namespace terrain::io
