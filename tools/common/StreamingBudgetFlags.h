@@ -1,6 +1,6 @@
 // StreamingBudgetFlags: --cpu-cache-mib, --gpu-layers, --upload-mib-per-frame,
-// --imagery-gpu-mib and --imagery-cache-mib, the streaming budgets of every program that
-// flies through a pyramid, with one meaning and one range each.
+// --upload-ms-per-frame, --imagery-gpu-mib, --imagery-cache-mib and --reader-threads, the streaming
+// budgets of every program that flies through a pyramid, with one meaning and one range each.
 #pragma once
 
 #include "terrain/runtime/TileStreamer.h"
@@ -16,25 +16,29 @@ struct StreamingBudgets {
     double cpuCacheMiB = 256.0;
     int gpuLayers = 1024;
     double uploadMiBPerFrame = 16.0;
-    double imageryGpuMiB = 256.0;    ///< the imagery texture array, mips included
-    double imageryCacheMiB = 128.0;  ///< the CPU imagery cache
+    double uploadMsPerFrame = 0.0;                   ///< 0: no time budget, the byte budget alone
+    double imageryGpuMiB = 256.0;                    ///< the imagery texture array, mips included
+    double imageryCacheMiB = 128.0;                  ///< the CPU imagery cache
+    int readerThreads = io::defaultReaderThreads();  ///< the I/O's threads reading and decoding
 
     static std::size_t bytesOfMiB(double mib) {
         return static_cast<std::size_t>(mib * 1024.0 * 1024.0);
     }
-    /// The budgets as the streamer's options (its I/O options untouched). Imagery uploads
-    /// get a budget of their own of the same size as the heights'.
+    /// The budgets as the streamer's options (of its I/O options, the reader threads only).
+    /// Imagery uploads get a budget of their own of the same size as the heights'.
     void applyTo(runtime::TileStreamerOptions& options) const {
         options.cpuCacheBytes = bytesOfMiB(cpuCacheMiB);
         options.gpuLayers = gpuLayers;
         options.uploadBytesPerFrame = bytesOfMiB(uploadMiBPerFrame);
+        options.uploadMsPerFrame = uploadMsPerFrame;
         options.imagery.gpuBytes = bytesOfMiB(imageryGpuMiB);
         options.imagery.cpuCacheBytes = bytesOfMiB(imageryCacheMiB);
         options.imagery.uploadBytesPerFrame = bytesOfMiB(uploadMiBPerFrame);
+        options.io.readerThreads = readerThreads;
     }
 };
 
-/// Adds the five flags, bound to `budgets`, whose values are the defaults shown; `scope`
+/// Adds the seven flags, bound to `budgets`, whose values are the defaults shown; `scope`
 /// ends each description (" per threshold", say). A CPU cache too small for one tile is
 /// refused when the pyramid is opened (TileStreamer::open), which knows the tile size; so
 /// are imagery budgets below one imagery tile, when the pyramid has imagery.
@@ -51,6 +55,12 @@ inline void addStreamingBudgetFlags(CLI::App& app, StreamingBudgets& budgets,
                    "GPU upload budget per frame, MiB (at least one tile a frame)" + scope)
         ->capture_default_str()
         ->check(CLI::Range(0.0, 4096.0));
+    app.add_option("--upload-ms-per-frame", budgets.uploadMsPerFrame,
+                   "GPU upload time budget per frame of the heights, ms (0: none; at least one "
+                   "tile a frame)" +
+                       scope)
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1000.0));
     app.add_option(
            "--imagery-gpu-mib", budgets.imageryGpuMiB,
            "GPU imagery texture array budget, MiB (mips included; a tile is 0.33 MiB)" + scope)
@@ -60,6 +70,11 @@ inline void addStreamingBudgetFlags(CLI::App& app, StreamingBudgets& budgets,
                    "CPU imagery tile cache budget, MiB (a tile is 0.25 MiB)" + scope)
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1024.0 * 1024.0));
+    app.add_option(
+           "--reader-threads", budgets.readerThreads,
+           "I/O threads reading and decoding tiles (default: min(hardware threads, 4))" + scope)
+        ->capture_default_str()
+        ->check(CLI::Range(1, 64));
 }
 
 }  // namespace terrain::tools

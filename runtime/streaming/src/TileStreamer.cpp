@@ -36,7 +36,7 @@ Result<std::unique_ptr<TileStreamer>> TileStreamer::open(const std::filesystem::
                  .uploadBudgetBytesPerFrame = options.uploadBytesPerFrame,
                  .ringBytes = 0});
     if (!pool) return Error{pyramid.string() + ": " + pool.error().message};
-    auto io = io::IoThread::start(pyramid, options.io);
+    auto io = io::IoThread::start(pyramid, ioOptionsFor(options, pool.value()));
     if (!io) return io.error();
     auto imagery = ImageryStreamer::create(*io.value(), options.imagery);
     if (!imagery) return Error{pyramid.string() + ": " + imagery.error().message};
@@ -52,12 +52,27 @@ TileStreamer::TileStreamer(io::PyramidManifest manifest, std::unique_ptr<io::IoT
       m_io(std::move(io)),
       m_imagery(std::move(imagery)),
       m_cache(options.cpuCacheBytes),
-      m_pool(std::move(pool)) {
+      m_pool(std::move(pool)),
+      m_uploadMsPerFrame(options.uploadMsPerFrame) {
     // Sized for the busiest frames up front; the map and vectors keep their high-water
     // storage, so steady frames do not allocate.
     const auto capacity = static_cast<std::size_t>(m_pool.capacity());
     m_loads.reserve(4 * capacity);
-    m_completions.reserve(options.io.maxUnpolled + 64);
+    m_completions.reserve(ioOptionsFor(options, m_pool).maxUnpolled + 64);
+}
+
+io::IoThreadOptions TileStreamer::ioOptionsFor(const TileStreamerOptions& options,
+                                               const cache::GpuTilePool& pool) {
+    // A frame uploads what finished since the last one. The I/O side stops when maxUnpolled
+    // results wait for poll(); at its default of 8 tiles a slow frame (one taking longer
+    // than 8 reads) made at most 8 tiles resident, whatever the disk and the upload budget
+    // allowed (issue 49). Room for a frame's upload budget of tiles instead: the budget per
+    // frame is in bytes, and what waits is bounded by it (plus one tile per reader thread).
+    io::IoThreadOptions io = options.io;
+    const std::size_t tileBytes = std::max<std::size_t>(1, pool.uploadBytesPerTile());
+    const std::size_t tilesPerFrame = (options.uploadBytesPerFrame + tileBytes - 1) / tileBytes;
+    io.maxUnpolled = std::max(io.maxUnpolled, tilesPerFrame);
+    return io;
 }
 
 TileStreamer::~TileStreamer() = default;
@@ -65,6 +80,8 @@ TileStreamer::~TileStreamer() = default;
 void TileStreamer::beginFrame() {
     ++m_frame;
     m_frameCounts = {};
+    m_uploadMsThisFrame = 0.0;
+    m_uploadedThisFrame = false;
     m_cache.resetCounters();
     m_pool.beginFrame();
     m_imagery->beginFrame();
@@ -118,7 +135,9 @@ TileStreamer::LoadState& TileStreamer::loadStateOf(const io::PatchId& id) {
 }
 
 bool TileStreamer::uploadFromCache(const io::PatchId& id) {
-    if (!m_pool.uploadBudgetLeft()) {
+    const bool outOfTime = m_uploadMsPerFrame > 0.0 && m_uploadedThisFrame &&
+                           m_uploadMsThisFrame >= m_uploadMsPerFrame;
+    if (!m_pool.uploadBudgetLeft() || outOfTime) {
         ++m_frameCounts.gpuUploadsDeferred;
         return false;
     }
@@ -126,10 +145,15 @@ bool TileStreamer::uploadFromCache(const io::PatchId& id) {
     // Looked up only now, so a CPU cache hit is a tile that goes to the GPU.
     const io::PatchRecord* record = m_cache.find(id);
     TERRAIN_ASSERT(record != nullptr, "TileStreamer: upload of a patch not in the CPU cache");
-    if (!m_pool.upload(*record)) {
+    const Clock::time_point uploadStart = Clock::now();
+    const bool uploaded = m_pool.upload(*record);
+    m_uploadMsThisFrame +=
+        std::chrono::duration<double, std::milli>(Clock::now() - uploadStart).count();
+    if (!uploaded) {
         m_pool.release(id);  // the ring is full of this frame's uploads: next frame
         return false;
     }
+    m_uploadedThisFrame = true;
     return true;
 }
 

@@ -322,5 +322,80 @@ TEST_F(TileStreamerTest, TelemetryCountsTheFrame) {
     EXPECT_GE(sum.diskReadBytes, sum.requestsCompleted * 33u * 33u * sizeof(float));
 }
 
+/// Half of level 3 (8 × 8 patches): more tiles than the I/O options' default cap of 8.
+std::vector<io::PatchId> halfOfLevel3() {
+    std::vector<io::PatchId> wanted;
+    for (std::int64_t y = 0; y < 4; ++y)
+        for (std::int64_t x = 0; x < 8; ++x) wanted.push_back({3, x, y});
+    return wanted;
+}
+
+/// One frame that requests `wanted`, then waits between frames until the I/O side has read
+/// everything (or, when it waits for poll() with reads left, until the bound, which only
+/// ends a wait that cannot end otherwise).
+void requestAndWaitForReads(TileStreamer& s, const std::vector<io::PatchId>& wanted) {
+    runtime::FrameTelemetry t;
+    s.beginFrame();
+    for (const io::PatchId& id : wanted) EXPECT_EQ(s.acquire(id, 1.0f), nullptr);
+    s.endFrame(t);
+    EXPECT_EQ(t.requestsMade, wanted.size());
+    const auto giveUp = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (std::chrono::steady_clock::now() < giveUp) {
+        const io::IoThreadStats io = s.ioStats();
+        if (io.queueDepth + io.inFlight == 0) break;
+        s.waitForReads(std::chrono::milliseconds(100));
+    }
+}
+
+TEST_F(TileStreamerTest, AFrameTakesAsManyFinishedReadsAsItsUploadBudgetHolds) {
+    // Issue 49: with the I/O side's results capped at a tile count (8), a frame that came
+    // after many finished reads made at most 8 resident. One reader thread and the default
+    // cap of the I/O options: the streamer raises it to its upload budget in tiles.
+    runtime::TileStreamerOptions o;
+    o.io.readerThreads = 1;
+    ASSERT_EQ(o.io.maxUnpolled, 8U);
+    auto s = open(o);
+    ASSERT_TRUE(s);
+    const std::vector<io::PatchId> wanted = halfOfLevel3();
+    ASSERT_GT(wanted.size(), 2 * o.io.maxUnpolled);
+    ASSERT_LE(wanted.size() * s->pool().uploadBytesPerTile(), o.uploadBytesPerFrame);
+
+    requestAndWaitForReads(*s, wanted);
+    runtime::FrameTelemetry t;
+    s->beginFrame();
+    for (const io::PatchId& id : wanted) EXPECT_NE(s->acquire(id, 1.0f), nullptr) << id.x;
+    s->endFrame(t);
+    EXPECT_EQ(t.requestsCompleted, wanted.size());
+    EXPECT_EQ(t.loadsResident, wanted.size());
+    EXPECT_EQ(s->checkInvariants(), std::nullopt);
+    EXPECT_TRUE(s->drain(std::chrono::seconds(10)));
+}
+
+TEST_F(TileStreamerTest, AnUploadTimeBudgetStillUploadsOneTileAFrame) {
+    // A budget no upload fits in (a picosecond): every frame uploads one tile, the first,
+    // and defers the rest; the byte budget alone would take them all at once.
+    runtime::TileStreamerOptions o;
+    o.uploadMsPerFrame = 1e-9;
+    auto s = open(o);
+    ASSERT_TRUE(s);
+    const std::vector<io::PatchId> wanted = halfOfLevel3();
+    requestAndWaitForReads(*s, wanted);
+    std::size_t frames = 0, resident = 0;
+    while (resident < wanted.size() && frames < 2 * wanted.size()) {
+        runtime::FrameTelemetry t;
+        s->beginFrame();
+        for (const io::PatchId& id : wanted) s->acquire(id, 1.0f);
+        s->endFrame(t);
+        ++frames;
+        EXPECT_EQ(t.loadsResident, 1U) << "frame " << frames;
+        EXPECT_EQ(t.gpuUploadsDeferred, wanted.size() - resident - 1) << "frame " << frames;
+        resident += t.loadsResident;
+    }
+    EXPECT_EQ(resident, wanted.size());
+    EXPECT_EQ(frames, wanted.size());
+    EXPECT_EQ(s->checkInvariants(), std::nullopt);
+    EXPECT_TRUE(s->drain(std::chrono::seconds(10)));
+}
+
 }  // namespace
 }  // namespace terrain::test

@@ -48,6 +48,12 @@ struct TileStreamerOptions {
     /// GPU layers of the tile pool; the pool's memory is gpuLayers × bytesPerLayer.
     int gpuLayers = 256;
     std::size_t uploadBytesPerFrame = std::size_t{4} << 20;
+    /// Time a frame may spend uploading tiles, beside the byte budget (issue 49: a budget in
+    /// milliseconds for slow drivers and slow frames); 0: none. A frame always uploads at
+    /// least one tile, so streaming never stalls.
+    double uploadMsPerFrame = 0.0;
+    /// The I/O thread's options; its maxUnpolled is raised to the tiles uploadBytesPerFrame
+    /// holds (ioOptionsFor), so the I/O side never caps a frame below its upload budget.
     io::IoThreadOptions io;
     /// The imagery layers' budgets (used only when the pyramid has imagery).
     ImageryStreamerOptions imagery;
@@ -171,6 +177,9 @@ private:
     TileStreamer(io::PyramidManifest manifest, std::unique_ptr<io::IoThread> io,
                  std::unique_ptr<ImageryStreamer> imagery, cache::GpuTilePool pool,
                  const TileStreamerOptions& options);
+    /// `options.io` with maxUnpolled raised to a frame's upload budget in tiles of `pool`.
+    static io::IoThreadOptions ioOptionsFor(const TileStreamerOptions& options,
+                                            const cache::GpuTilePool& pool);
     bool uploadFromCache(const io::PatchId& id);
     LoadState& loadStateOf(const io::PatchId& id);
     void takeCompletions();
@@ -182,8 +191,8 @@ private:
     cache::GpuTilePool m_pool;
 
     std::uint64_t m_frame = 0;
-    LoadMap m_loads;  // parks erased nodes: no allocation per request
-    std::vector<io::Completion> m_completions;         // poll() target, capacity kept
+    LoadMap m_loads;                            // parks erased nodes: no allocation per request
+    std::vector<io::Completion> m_completions;  // poll() target, capacity kept
     std::unordered_set<io::PatchId, io::PatchIdHash> m_failed;
     std::vector<TileFault> m_faults;
     TileRequestLedger m_ledger;
@@ -192,6 +201,9 @@ private:
     LatencyHistogram m_loadLatencies;
     std::function<void(const TileLoad&)> m_loadObserver;
     FrameTelemetry m_frameCounts;  // this frame's counts so far
+    const double m_uploadMsPerFrame;
+    double m_uploadMsThisFrame = 0.0;  // time in GpuTilePool::upload this frame
+    bool m_uploadedThisFrame = false;
     std::uint64_t m_bytesReadBefore = 0;
 };
 
