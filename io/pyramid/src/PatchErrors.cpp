@@ -228,14 +228,7 @@ double interiorDeviation(const GridView& g, SamplePoint a, SamplePoint b, Sample
         // leftmost crossing of the row to the last at or left of the rightmost, in integers
         // (RowSpan.h: the same samples as the crossings in floating point, without their
         // divisions on the loop's path).
-        RowSpan span;
-        for (auto [p, q] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
-            if ((y < p.y && y < q.y) || (y > p.y && y > q.y)) continue;
-            if (p.y == q.y)
-                span.addSegment(p.x, q.x);
-            else
-                span.addCrossing(p.x, y - p.y, q.x - p.x, q.y - p.y);
-        }
+        const RowSpan span = triangleRowSpan({a.x, a.y}, {b.x, b.y}, {c.x, c.y}, y);
         const double rowPlane = ha + gy * (y - a.y);
         const float* row = g.data + static_cast<std::ptrdiff_t>(y) * g.stride;
         for (int x = span.first; x <= span.last; ++x)

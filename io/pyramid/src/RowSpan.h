@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <utility>
 
 namespace terrain::io {
 
@@ -39,5 +40,24 @@ struct RowSpan {
         last = std::max(last, x0 + floorDiv(num, dy));
     }
 };
+
+/// A sample position of the grid (x right, y down).
+struct RowSpanPoint {
+    int x, y;
+};
+
+/// The samples of row y inside the triangle abc, its boundary included: the span between
+/// its edges' crossings of the row (first > last when the row misses the triangle).
+inline RowSpan triangleRowSpan(RowSpanPoint a, RowSpanPoint b, RowSpanPoint c, int y) {
+    RowSpan span;
+    for (auto [p, q] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
+        if ((y < p.y && y < q.y) || (y > p.y && y > q.y)) continue;
+        if (p.y == q.y)
+            span.addSegment(p.x, q.x);
+        else
+            span.addCrossing(p.x, y - p.y, q.x - p.x, q.y - p.y);
+    }
+    return span;
+}
 
 }  // namespace terrain::io

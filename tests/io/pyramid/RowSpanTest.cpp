@@ -36,14 +36,7 @@ std::pair<int, int> floatingSpan(Point a, Point b, Point c, int y) {
 }
 
 std::pair<int, int> integerSpan(Point a, Point b, Point c, int y) {
-    RowSpan span;
-    for (auto [p, q] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
-        if ((y < p.y && y < q.y) || (y > p.y && y > q.y)) continue;
-        if (p.y == q.y)
-            span.addSegment(p.x, q.x);
-        else
-            span.addCrossing(p.x, y - p.y, q.x - p.x, q.y - p.y);
-    }
+    const RowSpan span = triangleRowSpan({a.x, a.y}, {b.x, b.y}, {c.x, c.y}, y);
     return {span.first, span.last};
 }
 
