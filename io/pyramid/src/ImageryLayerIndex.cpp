@@ -52,9 +52,9 @@ Status writeImageryIndex(const std::filesystem::path& layerDir, const ImageryLay
 Result<ImageryLayerIndex> readImageryIndex(const std::filesystem::path& layerDir) {
     const std::filesystem::path path = layerDir / "layer.json";
     std::filesystem::path local = path;
-    if (remote::isRemoteLocation(path.string())) {  // a pyramid at a URL (issue 49)
-        Result<std::unique_ptr<remote::RemoteFiles>> files = remote::RemoteFiles::fromEnvironment();
-        if (!files) return files.error();
+    Result<std::unique_ptr<remote::RemoteFiles>> files = remote::filesFor(path.string());
+    if (!files) return files.error();
+    if (files.value()) {  // a pyramid at a URL (issue 49)
         Result<std::filesystem::path> copy = files.value()->localCopy(path.string());
         if (!copy) return copy.error();
         local = std::move(copy).value();

@@ -111,11 +111,9 @@ Result<std::unique_ptr<ImageryTileReader>> ImageryTileReader::open(const fs::pat
     state->coarsestLevel = coarsestLevel;
     state->finestLevel = finestLevel;
     state->index = std::move(index).value();
-    if (remote::isRemoteLocation(layerDir.string())) {
-        Result<std::unique_ptr<remote::RemoteFiles>> files = remote::RemoteFiles::fromEnvironment();
-        if (!files) return files.error();
-        state->remote = std::move(files).value();
-    }
+    Result<std::unique_ptr<remote::RemoteFiles>> files = remote::filesFor(layerDir.string());
+    if (!files) return files.error();
+    state->remote = std::move(files).value();
     for (const ImageryIndexLevel& l : state->index.levels) {
         if (l.level < coarsestLevel || l.level > finestLevel)
             return Error{

@@ -772,6 +772,13 @@ Result<PyramidManifest> readManifestFile(const std::filesystem::path& path,
 }  // namespace
 
 Result<PyramidManifest> readManifest(const std::filesystem::path& pyramidDir) {
+    Result<std::unique_ptr<remote::RemoteFiles>> files = remote::filesFor(pyramidDir.string());
+    if (!files) return files.error();
+    return readManifest(pyramidDir, files.value().get());
+}
+
+Result<PyramidManifest> readManifest(const std::filesystem::path& pyramidDir,
+                                     remote::RemoteFiles* files) {
     if (isVirtualPlanetName(pyramidDir)) {
         Result<VirtualPlanetPyramid> planet = VirtualPlanetPyramid::open(pyramidDir);
         if (!planet) return planet.error();
@@ -780,10 +787,11 @@ Result<PyramidManifest> readManifest(const std::filesystem::path& pyramidDir) {
     if (remote::isRemoteLocation(pyramidDir.string())) {
         // A pyramid on a web server: its manifest through the disk cache, checked with the
         // server (issue 49); errors name the URL.
+        if (files == nullptr)
+            return Error{fmt::format("{}: a pyramid at a URL read without a RemoteFiles",
+                                     pyramidDir.string())};
         const std::string url = remote::joinUrl(pyramidDir.string(), PyramidManifest::kFileName);
-        Result<std::unique_ptr<remote::RemoteFiles>> files = remote::RemoteFiles::fromEnvironment();
-        if (!files) return files.error();
-        Result<std::filesystem::path> local = files.value()->localCopy(url);
+        Result<std::filesystem::path> local = files->localCopy(url);
         if (!local)
             return Error{fmt::format("{}: not a pyramid, or not reachable: {}", pyramidDir.string(),
                                      local.error().message)};

@@ -356,14 +356,12 @@ Result<PyramidReader> PyramidReader::open(const std::filesystem::path& pyramidDi
         impl->planet = std::move(planet).value();
         return PyramidReader(std::move(impl));
     }
-    Result<PyramidManifest> manifest = readManifest(pyramidDir);
+    Result<std::unique_ptr<remote::RemoteFiles>> files = remote::filesFor(pyramidDir.string());
+    if (!files) return files.error();
+    Result<PyramidManifest> manifest = readManifest(pyramidDir, files.value().get());
     if (!manifest) return manifest.error();
     auto impl = std::make_unique<Impl>();
-    if (remote::isRemoteLocation(pyramidDir.string())) {
-        Result<std::unique_ptr<remote::RemoteFiles>> files = remote::RemoteFiles::fromEnvironment();
-        if (!files) return files.error();
-        impl->remote = std::move(files).value();
-    }
+    impl->remote = std::move(files).value();
     impl->folder = pyramidDir;
     impl->manifest = std::move(manifest).value();
     impl->layout = impl->manifest.layout;

@@ -60,6 +60,11 @@ bool isRemoteLocation(std::string_view location) {
     return startsWithNoCase("http://") || startsWithNoCase("https://");
 }
 
+Result<std::unique_ptr<RemoteFiles>> filesFor(std::string_view location) {
+    if (!isRemoteLocation(location)) return std::unique_ptr<RemoteFiles>{};
+    return RemoteFiles::fromEnvironment();
+}
+
 std::string joinUrl(std::string_view folder, std::string_view name) {
     std::string url(folder);
     if (!url.ends_with('/')) url += '/';

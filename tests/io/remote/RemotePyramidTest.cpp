@@ -12,6 +12,9 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
 
 namespace terrain::io {
 namespace {
@@ -46,6 +49,7 @@ TEST_F(RemotePyramidTest, EveryPatchReadsAsFromTheFolder) {
     EXPECT_EQ(toJson(there.value().manifest()), toJson(here.value().manifest()));
     const PyramidLayout& layout = here.value().layout();
     int patches = 0;
+    std::set<fs::path> shards;
     for (int level = 0; level < layout.levelCount(); ++level)
         for (std::int64_t y = 0; y < layout.patchesY(level); ++y)
             for (std::int64_t x = 0; x < layout.patchesX(level); ++x) {
@@ -58,19 +62,26 @@ TEST_F(RemotePyramidTest, EveryPatchReadsAsFromTheFolder) {
                 ASSERT_EQ(a.value().valid, b.value().valid);
                 ASSERT_EQ(a.value().blockErrors.size(), b.value().blockErrors.size());
                 EXPECT_EQ(a.value().info.error, b.value().info.error);
+                shards.insert(here.value().shardFile(id));
                 ++patches;
             }
     EXPECT_EQ(patches, 341);
-    // Every file came once: the manifest (read by open) and each shard file.
+    // Every file came once: the manifest (read once by open) and each shard file.
     const std::size_t files = server.accessLog().size();
-    EXPECT_GT(files, 1u);
+    EXPECT_GT(shards.size(), 1u);
+    EXPECT_EQ(files, 1 + shards.size());
 
     // A second reader (a later run) confirms each file with the server; no body comes.
     Result<PyramidReader> again = PyramidReader::open(url);
     ASSERT_TRUE(again) << again.error().message;
-    for (int level = 0; level < layout.levelCount(); ++level)
+    std::set<fs::path> shardsAgain;
+    for (int level = 0; level < layout.levelCount(); ++level) {
         ASSERT_TRUE(again.value().readPatch({level, 0, 0}));
+        shardsAgain.insert(here.value().shardFile({level, 0, 0}));
+    }
     const std::vector<std::string> log = server.accessLog();
+    ASSERT_EQ(log.size(), files + 1 + shardsAgain.size())
+        << "the manifest and each shard read, each confirmed once";
     for (std::size_t i = files; i < log.size(); ++i)
         EXPECT_NE(log[i].find("\" 304 "), std::string::npos) << log[i];
 }

@@ -17,6 +17,10 @@
 #include <string_view>
 #include <vector>
 
+namespace terrain::remote {
+class RemoteFiles;
+}
+
 namespace terrain::io {
 
 /// One source's no-data: the value it declared and its filled samples (docs/pyramid-format.md,
@@ -267,5 +271,9 @@ Status writeManifest(const std::filesystem::path& pyramidDir, const PyramidManif
 /// Reads `<pyramidDir>/manifest.json`. A folder without one is "not a pyramid". The virtual
 /// planet's name ("planet:…", VirtualPlanetPyramid.h) gives its manifest instead.
 Result<PyramidManifest> readManifest(const std::filesystem::path& pyramidDir);
+/// readManifest for a pyramid at a URL through a reader's own `files` (non-null for a URL,
+/// ignored for a folder), so that opening a pyramid checks its manifest with the server once.
+Result<PyramidManifest> readManifest(const std::filesystem::path& pyramidDir,
+                                     remote::RemoteFiles* files);
 
 }  // namespace terrain::io

@@ -91,6 +91,10 @@ private:
     RemoteStats m_stats;
 };
 
+/// The RemoteFiles a reader of `location` fetches through: one from the environment
+/// (RemoteFiles::fromEnvironment) for a URL, null for a local path.
+Result<std::unique_ptr<RemoteFiles>> filesFor(std::string_view location);
+
 /// `folder` + "/" + `name` for a URL folder (no path normalisation: "//" after the scheme
 /// stays).
 std::string joinUrl(std::string_view folder, std::string_view name);
