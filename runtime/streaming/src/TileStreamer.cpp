@@ -81,7 +81,6 @@ void TileStreamer::beginFrame() {
     ++m_frame;
     m_frameCounts = {};
     m_uploadMsThisFrame = 0.0;
-    m_uploadedThisFrame = false;
     m_cache.resetCounters();
     m_pool.beginFrame();
     m_imagery->beginFrame();
@@ -135,7 +134,9 @@ TileStreamer::LoadState& TileStreamer::loadStateOf(const io::PatchId& id) {
 }
 
 bool TileStreamer::uploadFromCache(const io::PatchId& id) {
-    const bool outOfTime = m_uploadMsPerFrame > 0.0 && m_uploadedThisFrame &&
+    // The first upload of a frame always goes (each successful one counts a resident load),
+    // so a frame slower than the budget still makes progress.
+    const bool outOfTime = m_uploadMsPerFrame > 0.0 && m_frameCounts.loadsResident > 0 &&
                            m_uploadMsThisFrame >= m_uploadMsPerFrame;
     if (!m_pool.uploadBudgetLeft() || outOfTime) {
         ++m_frameCounts.gpuUploadsDeferred;
@@ -153,7 +154,6 @@ bool TileStreamer::uploadFromCache(const io::PatchId& id) {
         m_pool.release(id);  // the ring is full of this frame's uploads: next frame
         return false;
     }
-    m_uploadedThisFrame = true;
     return true;
 }
 

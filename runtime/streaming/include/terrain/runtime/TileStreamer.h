@@ -203,7 +203,6 @@ private:
     FrameTelemetry m_frameCounts;  // this frame's counts so far
     const double m_uploadMsPerFrame;
     double m_uploadMsThisFrame = 0.0;  // time in GpuTilePool::upload this frame
-    bool m_uploadedThisFrame = false;
     std::uint64_t m_bytesReadBefore = 0;
 };
 
