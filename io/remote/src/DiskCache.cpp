@@ -22,6 +22,7 @@ namespace {
 
 constexpr std::string_view kLayoutVersion = "v1";
 constexpr std::string_view kMetaExtension = ".meta";
+constexpr std::string_view kLockExtension = ".lock";
 constexpr auto kStaleAfter = std::chrono::minutes(10);
 
 // One segment of a URL as a file name: [A-Za-z0-9._~-] kept, every other byte %XX, and the
@@ -142,7 +143,31 @@ std::optional<CachedFile> DiskCache::find(const std::string& url) const {
     std::error_code ec;
     const std::uintmax_t size = fs::file_size(data, ec);
     if (ec || size != meta->bytes) return std::nullopt;  // removed or truncated: a miss
-    return CachedFile{data, meta->etag, meta->lastModified, meta->bytes};
+    const fs::file_time_type used = fs::last_write_time(metaPath, ec);
+    return CachedFile{data, meta->etag, meta->lastModified, meta->bytes, used};
+}
+
+EntryLock::~EntryLock() {
+    if (m_fd >= 0) ::close(m_fd);  // closing releases the lock
+}
+
+Result<EntryLock> DiskCache::lockEntry(const std::string& url) const {
+    fs::path lockPath = metaPathOf(url);
+    lockPath.replace_extension(std::string(kLockExtension));
+    std::error_code ec;
+    fs::create_directories(lockPath.parent_path(), ec);
+    const int fd = ::open(lockPath.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0)
+        return Error{fmt::format("{}: cannot lock its cache entry {}: {}", url, lockPath.string(),
+                                 std::strerror(errno))};
+    while (::flock(fd, LOCK_EX) != 0) {
+        if (errno == EINTR) continue;
+        const int error = errno;
+        ::close(fd);
+        return Error{fmt::format("{}: cannot lock its cache entry {}: {}", url, lockPath.string(),
+                                 std::strerror(error))};
+    }
+    return EntryLock(fd);
 }
 
 Result<AtomicFile> DiskCache::reserve(const std::string& url) const {
@@ -185,7 +210,7 @@ Result<CachedFile> DiskCache::store(const std::string& url, AtomicFile body,
         fs::remove(metaPath.parent_path() / previous->data, ec);
     }
     if (Result<std::uint64_t> trimmed = trim(url); !trimmed) return trimmed.error();
-    return CachedFile{data, etag, lastModified, bytes};
+    return CachedFile{data, etag, lastModified, bytes, fs::file_time_type::clock::now()};
 }
 
 void DiskCache::touch(const std::string& url) const {
@@ -237,8 +262,18 @@ Result<std::uint64_t> DiskCache::trim(const std::string& keep) const {
                                  m_options.folder.string(), ec.message())};
     // What a killed process left: temporary files and data no meta file names.
     const auto staleBefore = fs::file_time_type::clock::now() - kStaleAfter;
-    for (const auto& [path, time] : others)
-        if (!referenced.contains(path.string()) && time < staleBefore) fs::remove(path, ec);
+    for (const auto& [path, time] : others) {
+        if (referenced.contains(path.string()) || time >= staleBefore) continue;
+        if (path.extension() == kLockExtension) {
+            // An entry's lock: kept while some thread or process holds it.
+            const int fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
+            const bool idle = fd >= 0 && ::flock(fd, LOCK_EX | LOCK_NB) == 0;
+            if (idle) fs::remove(path, ec);
+            if (fd >= 0) ::close(fd);
+            continue;
+        }
+        fs::remove(path, ec);
+    }
     if (held <= m_options.maxBytes) return held;
     std::sort(entries.begin(), entries.end(),
               [](const Entry& a, const Entry& b) { return a.used < b.used; });

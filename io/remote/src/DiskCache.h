@@ -23,6 +23,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 namespace terrain::remote {
 
@@ -31,6 +32,23 @@ struct CachedFile {
     std::string etag;
     std::string lastModified;
     std::uint64_t bytes = 0;
+    /// When the entry was last stored, confirmed or used (its meta file's time).
+    std::filesystem::file_time_type used{};
+};
+
+/// An exclusive flock on one entry's "<name>.lock" for as long as it lives (DiskCache::
+/// lockEntry): held while the entry is fetched or confirmed, so that of the threads and
+/// processes that want one URL at once, one asks the server and the others use its answer.
+class EntryLock {
+public:
+    explicit EntryLock(int fd) : m_fd(fd) {}
+    EntryLock(EntryLock&& other) noexcept : m_fd(std::exchange(other.m_fd, -1)) {}
+    EntryLock& operator=(EntryLock&&) = delete;
+    EntryLock(const EntryLock&) = delete;
+    ~EntryLock();
+
+private:
+    int m_fd = -1;
 };
 
 class DiskCache {
@@ -48,6 +66,9 @@ public:
     /// replacing an older entry, then trims the cache (keeping this entry).
     Result<CachedFile> store(const std::string& url, AtomicFile body, const std::string& etag,
                              const std::string& lastModified, std::uint64_t bytes);
+
+    /// Waits for, then takes, the lock of `url`'s entry.
+    Result<EntryLock> lockEntry(const std::string& url) const;
 
     /// Marks the entry used now (least recently used goes first).
     void touch(const std::string& url) const;

@@ -139,10 +139,22 @@ Result<std::unique_ptr<RemoteFiles>> RemoteFiles::fromEnvironment() {
 }
 
 Result<std::filesystem::path> RemoteFiles::localCopy(const std::string& url) {
-    const std::optional<CachedFile> cached = m_cache->find(url);
+    std::optional<CachedFile> cached = m_cache->find(url);
     if (cached && m_checked.contains(url)) {
         ++m_stats.cacheHits;
         m_cache->touch(url);
+        return cached->data;
+    }
+    // One fetch or confirmation of a URL at a time among the cache's users, threads and
+    // processes alike (request coalescing): who waited for the entry's lock finds the copy
+    // the holder fetched, confirmed or used meanwhile, and takes it as confirmed.
+    const std::filesystem::file_time_type waitStart = std::filesystem::file_time_type::clock::now();
+    Result<EntryLock> lock = m_cache->lockEntry(url);
+    if (!lock) return lock.error();
+    cached = m_cache->find(url);
+    if (cached && cached->used >= waitStart) {
+        ++m_stats.cacheHits;
+        m_checked.insert(url);
         return cached->data;
     }
     Result<AtomicFile> body = m_cache->reserve(url);

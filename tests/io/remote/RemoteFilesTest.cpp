@@ -1,7 +1,10 @@
 // RemoteFiles against a real static server: a file is fetched once, confirmed with a 304 by a
 // later reader, fetched again when the server's copy changes, never used truncated, served
 // from the cache when the server is gone, and the cache stays within its bound and cleans
-// up what a killed process leaves.
+// up what a killed process leaves. Through a fault proxy (FaultProxy.h): every network
+// fault is survived with the files whole, and a process killed (SIGKILL) while it writes a
+// body into the cache leaves the cache usable.
+#include "FaultProxy.h"
 #include "NginxServer.h"
 #include "SharedData.h"
 #include "TempFolder.h"
@@ -9,17 +12,25 @@
 
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 
 namespace terrain::remote {
 namespace {
 
 namespace fs = std::filesystem;
+using test::FaultPlan;
+using test::FaultProxy;
 using test::NginxServer;
+using test::ProxyFault;
 using test::TempFolder;
 
 std::string contentsOf(const fs::path& path) {
@@ -198,6 +209,104 @@ TEST_F(RemoteFilesTest, WhatAKilledWriterLeavesIsIgnoredThenRemoved) {
     EXPECT_FALSE(fs::exists(temporary));
     EXPECT_FALSE(fs::exists(orphan));
     EXPECT_TRUE(fs::exists(copy.value()));
+}
+
+TEST_F(RemoteFilesTest, EveryNetworkFaultIsSurvivedAndNoFileIsKeptHalf) {
+    // Every other request faulted, the five kinds in turn: a reset, a closed connection, a
+    // 503, a body cut short, a body trickled out.
+    FaultProxy proxy(server.port(), FaultPlan{.faultEvery = 2});
+    ASSERT_TRUE(proxy.ready());
+    constexpr int kFiles = 12;
+    auto body = [](int i) { return std::string(20000 + 1000 * i, char('a' + i)); };
+    for (int i = 0; i < kFiles; ++i) writeFile(root.path() / ("n" + std::to_string(i)), body(i));
+    auto reader = files();
+    for (int i = 0; i < kFiles; ++i) {
+        Result<fs::path> copy = reader->localCopy(proxy.url("n" + std::to_string(i)));
+        ASSERT_TRUE(copy) << copy.error().message;
+        EXPECT_EQ(contentsOf(copy.value()), body(i)) << "file " << i;
+    }
+    for (ProxyFault kind : FaultPlan{}.kinds)
+        EXPECT_GE(proxy.faulted(kind), 1) << "fault " << static_cast<int>(kind) << " never met";
+    EXPECT_EQ(reader->stats().fetched, static_cast<std::uint64_t>(kFiles));
+    // Retried by us: at least the 503s and the cut bodies (a reused connection that dies
+    // before any answer, libcurl itself may retry on a new one).
+    EXPECT_GE(reader->stats().retries, 2u);
+    // What the faults left in the cache is whole: a later run confirms every file, no body.
+    auto later = files();
+    for (int i = 0; i < kFiles; ++i) {
+        Result<fs::path> copy = later->localCopy(server.url("n" + std::to_string(i)));
+        ASSERT_TRUE(copy) << copy.error().message;
+        EXPECT_EQ(contentsOf(copy.value()), body(i));
+    }
+}
+
+TEST_F(RemoteFilesTest, ReadersWantingOneFileAtOnceFetchItOnce) {
+    // Two readers (the I/O thread's reader threads, or two programs) on one cache want the
+    // same new file at once; the answer takes 300 ms. One fetches it, the other waits and
+    // uses that copy (or, had it come only after, confirms it with a 304): one body.
+    FaultProxy proxy(server.port(), FaultPlan{.latency = std::chrono::milliseconds(300)});
+    ASSERT_TRUE(proxy.ready());
+    const std::string body(100000, 's');
+    writeFile(root.path() / "shared.bin", body);
+    const std::string url = proxy.url("shared.bin");
+    std::unique_ptr<RemoteFiles> a = files(), b = files();
+    Result<fs::path> copyA = Error{"not run"}, copyB = Error{"not run"};
+    std::thread first([&] { copyA = a->localCopy(url); });
+    std::thread second([&] { copyB = b->localCopy(url); });
+    first.join();
+    second.join();
+    ASSERT_TRUE(copyA) << copyA.error().message;
+    ASSERT_TRUE(copyB) << copyB.error().message;
+    EXPECT_EQ(contentsOf(copyA.value()), body);
+    EXPECT_EQ(contentsOf(copyB.value()), body);
+    EXPECT_EQ(a->stats().fetched + b->stats().fetched, 1u);
+    EXPECT_EQ(a->stats().fetchedBytes + b->stats().fetchedBytes, body.size());
+    EXPECT_LE(proxy.requests(), 2);
+}
+
+TEST_F(RemoteFilesTest, AProcessKilledWhileWritingABodyLeavesTheCacheUsable) {
+    FaultProxy proxy(server.port());
+    ASSERT_TRUE(proxy.ready());
+    const std::string url = proxy.url("k.bin");
+    const std::string before(200000, 'v'), after(300000, 'w');
+    writeFile(root.path() / "k.bin", before);
+    ASSERT_TRUE(files()->localCopy(url));
+    // The pyramid is rebuilt; a viewer starts fetching the new file and is killed half-way
+    // through the body (the proxy holds the rest back until the kill is done).
+    writeFile(root.path() / "k.bin", after);
+    proxy.setPlan(FaultPlan{.faultEvery = 1, .kinds = {ProxyFault::HoldBody}});
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        Result<std::unique_ptr<RemoteFiles>> viewer =
+            RemoteFiles::open({cache.path(), std::uint64_t{1} << 30}, quickHttp());
+        if (viewer) (void)viewer.value()->localCopy(url);
+        ::_exit(0);
+    }
+    const bool midWrite =
+        proxy.waitForFaults(ProxyFault::HoldBody, 1, std::chrono::milliseconds(20000));
+    ::kill(child, SIGKILL);
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    proxy.release();
+    ASSERT_TRUE(midWrite) << "the killed process never reached the body";
+    ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+
+    // With the server failing, the copy from before the kill serves, whole.
+    proxy.setPlan(
+        FaultPlan{.faultEvery = 1, .oncePerPath = false, .kinds = {ProxyFault::ServerError}});
+    auto offline = files();
+    Result<fs::path> old = offline->localCopy(url);
+    ASSERT_TRUE(old) << old.error().message;
+    EXPECT_EQ(contentsOf(old.value()), before);
+    EXPECT_EQ(offline->stats().staleServed, 1u);
+    // With the server back, the new file comes whole.
+    proxy.setPlan(FaultPlan{});
+    auto online = files();
+    Result<fs::path> fresh = online->localCopy(url);
+    ASSERT_TRUE(fresh) << fresh.error().message;
+    EXPECT_EQ(contentsOf(fresh.value()), after);
+    EXPECT_EQ(online->stats().fetched, 1u);
 }
 
 TEST(RemoteLocation, OnlyHttpAndHttpsAreRemote) {
