@@ -87,6 +87,11 @@ IoThread::IoThread(std::vector<PyramidReader> readers, ImagerySources imagery,
     m_imageryPool.reserve(poolBound(m_options));
     m_ready.reserve(m_options.maxUnpolled);
     m_inFlight.resize(m_readers.size());
+    // Opening fetched (or confirmed) each reader's manifest: counted from the start.
+    for (const PyramidReader& reader : m_readers) {
+        m_httpCounted.push_back(reader.remoteStats());
+        m_stats.http += m_httpCounted.back();
+    }
     // Started last: the threads see every member constructed (thread start synchronises).
     m_threads.reserve(m_readers.size());
     for (std::size_t i = 0; i < m_readers.size(); ++i)
@@ -327,7 +332,10 @@ void IoThread::run(const std::stop_token& stop, std::size_t readerIndex) {
                                                    reader.folder().string(), id.level, id.x, id.y)})
                         : reader.readPatch(id, record);
             }
+            const remote::RemoteStats http = reader.remoteStats();  // this thread's reader
             lock.lock();
+            m_stats.http += http.since(m_httpCounted[readerIndex]);
+            m_httpCounted[readerIndex] = http;
         }
 
         Completion c;

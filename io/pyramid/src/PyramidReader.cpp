@@ -417,6 +417,9 @@ Result<std::uint64_t> PyramidReader::shardBytes(const PatchId& id) {
     return std::uint64_t{bytes};
 }
 
+remote::RemoteStats PyramidReader::remoteStats() const {
+    return m_impl->remote ? m_impl->remote->stats() : remote::RemoteStats{};
+}
 int PyramidReader::openShards() const { return static_cast<int>(m_impl->shards.size()); }
 std::uint64_t PyramidReader::shardOpenings() const { return m_impl->openings; }
 std::uint64_t PyramidReader::parentReads() const { return m_impl->parentReads; }

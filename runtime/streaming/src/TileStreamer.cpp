@@ -246,6 +246,15 @@ void TileStreamer::endFrame(FrameTelemetry& t) {
     t.loadLatencyP99Ms = m_recentLoads.percentile(99.0);
     t.diskReadBytes = io.bytesRead - m_bytesReadBefore;
     m_bytesReadBefore = io.bytesRead;
+    const remote::RemoteStats http = io.http.since(m_httpBefore);
+    m_httpBefore = io.http;
+    t.httpRequests = http.requests;
+    t.httpRetries = http.retries;
+    t.httpFetched = http.fetched;
+    t.httpFetchedBytes = http.fetchedBytes;
+    t.httpNotModified = http.notModified;
+    t.httpCacheHits = http.cacheHits;
+    t.httpStaleServed = http.staleServed;
     t.faultsTotal = m_faults.size();
 }
 

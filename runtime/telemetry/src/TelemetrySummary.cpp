@@ -41,6 +41,13 @@ void TelemetrySummary::add(const FrameTelemetry& frame) {
     m_gpuUploadsDeferred += frame.gpuUploadsDeferred;
     m_diskReadBytes += frame.diskReadBytes;
     m_faults = std::max(m_faults, frame.faultsTotal);
+    m_http.httpRequests += frame.httpRequests;
+    m_http.httpRetries += frame.httpRetries;
+    m_http.httpFetched += frame.httpFetched;
+    m_http.httpFetchedBytes += frame.httpFetchedBytes;
+    m_http.httpNotModified += frame.httpNotModified;
+    m_http.httpCacheHits += frame.httpCacheHits;
+    m_http.httpStaleServed += frame.httpStaleServed;
 
     m_peakQueueDepth = std::max(m_peakQueueDepth, frame.queueDepth);
     m_peakCpuCacheBytes = std::max(m_peakCpuCacheBytes, frame.cpuCacheBytes);
@@ -88,6 +95,22 @@ nlohmann::json TelemetrySummary::toJson() const {
         {"gpu_uploads_deferred", m_gpuUploadsDeferred},
         {"disk_read_bytes", m_diskReadBytes},
         {"faults", m_faults},
+    };
+    // Over HTTP: files the readers used, and how many of them the disk cache gave (without a
+    // request, after a 304 and no body, or stale with the server out of reach).
+    const std::uint64_t fromCache =
+                            m_http.httpCacheHits + m_http.httpNotModified + m_http.httpStaleServed,
+                        used = fromCache + m_http.httpFetched;
+    summary["http"] = {
+        {"requests", m_http.httpRequests},
+        {"retries", m_http.httpRetries},
+        {"files_fetched", m_http.httpFetched},
+        {"fetched_bytes", m_http.httpFetchedBytes},
+        {"not_modified", m_http.httpNotModified},
+        {"cache_hits", m_http.httpCacheHits},
+        {"stale_served", m_http.httpStaleServed},
+        {"cache_hit_rate",
+         numberOrNull(ratioOrNaN(static_cast<double>(fromCache), static_cast<double>(used)))},
     };
     summary["peaks"] = {
         {"queue_depth", m_peakQueueDepth},

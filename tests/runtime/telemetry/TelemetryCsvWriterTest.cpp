@@ -41,7 +41,9 @@ constexpr const char* kExpectedHeader =
     "imagery_requests_failed,imagery_requests_pending,imagery_tiles_resident,imagery_gpu_bytes,"
     "imagery_gpu_uploads,imagery_gpu_upload_bytes,imagery_gpu_evictions,"
     "imagery_cpu_cache_entries,imagery_cpu_cache_bytes,imagery_loads_resident,"
-    "imagery_load_latency_p50_ms,imagery_load_latency_p95_ms,imagery_faults_total";
+    "imagery_load_latency_p50_ms,imagery_load_latency_p95_ms,imagery_faults_total,"
+    "http_requests,http_retries,http_files_fetched,http_fetched_bytes,http_not_modified,"
+    "http_cache_hits,http_stale_served";
 
 std::string readFile(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
@@ -190,16 +192,17 @@ TEST(TelemetryCsvWriter, NaNIsAnEmptyField) {
     const std::vector<std::string> lines = split(readFile(path), '\n');
     ASSERT_GE(lines.size(), 2u);
     EXPECT_EQ(lines[1],
-              "7,0.5,,"         // frame, time_s, frame_ms
-              "0,0,0,0,0,0,"    // requests, queue, in flight
-              "0,0,0,0,0,0,"    // CPU cache
-              "0,0,0,0,0,0,0,"  // GPU pool
-              "3,,,,"           // loads_resident, three empty percentiles
-              "4096,0,0,0,"     // disk, faults, patches
-              "0,0,,,0,0,0,"    // triangles, draw calls, two empty times, splits, merges, horizon
-              "0,0,0,0,0,"      // imagery requests, pending
-              "0,0,0,0,0,0,0,"  // imagery GPU and CPU
-              "0,,,0");         // imagery loads, two empty percentiles, faults
+              "7,0.5,,"          // frame, time_s, frame_ms
+              "0,0,0,0,0,0,"     // requests, queue, in flight
+              "0,0,0,0,0,0,"     // CPU cache
+              "0,0,0,0,0,0,0,"   // GPU pool
+              "3,,,,"            // loads_resident, three empty percentiles
+              "4096,0,0,0,"      // disk, faults, patches
+              "0,0,,,0,0,0,"     // triangles, draw calls, two empty times, splits, merges, horizon
+              "0,0,0,0,0,"       // imagery requests, pending
+              "0,0,0,0,0,0,0,"   // imagery GPU and CPU
+              "0,,,0,"           // imagery loads, two empty percentiles, faults
+              "0,0,0,0,0,0,0");  // HTTP
 }
 
 TEST(TelemetryCsvWriter, FileAppearsOnlyOnClose) {

@@ -60,6 +60,15 @@ const std::set<std::string> kExpectedKeys = {
     "load_latency_ms.p99",
     "load_latency_ms.max",
     "load_latency_ms.mean",
+    "http",
+    "http.requests",
+    "http.retries",
+    "http.files_fetched",
+    "http.fetched_bytes",
+    "http.not_modified",
+    "http.cache_hits",
+    "http.stale_served",
+    "http.cache_hit_rate",
     "imagery",
     "imagery.totals",
     "imagery.totals.requests_made",
@@ -119,6 +128,7 @@ TEST(TelemetrySummary, EmptySummaryHasZerosAndNulls) {
     EXPECT_EQ(j["totals"]["requests_made"], 0);
     EXPECT_EQ(j["totals"]["faults"], 0);
     EXPECT_TRUE(j["totals"]["cpu_cache_hit_rate"].is_null());
+    EXPECT_TRUE(j["http"]["cache_hit_rate"].is_null());  // a folder: no file over HTTP
     EXPECT_EQ(j["peaks"]["queue_depth"], 0);
     for (const char* key : {"p50", "p95", "p99", "max"}) {
         EXPECT_TRUE(j["frame_ms"][key].is_null()) << key;
@@ -129,6 +139,39 @@ TEST(TelemetrySummary, EmptySummaryHasZerosAndNulls) {
     }
     // The whole object serialises (no NaN or infinity left for the dump to choke on).
     EXPECT_NO_THROW((void)j.dump());
+}
+
+TEST(TelemetrySummary, HttpCountsAreSummedAndTheCacheHitRateIsFilesFromTheCache) {
+    TelemetrySummary summary;
+    FrameTelemetry first;
+    first.frameMs = 16.0;
+    first.timeS = 1.0;
+    first.httpRequests = 5;
+    first.httpRetries = 1;
+    first.httpFetched = 3;
+    first.httpFetchedBytes = 3000;
+    first.httpNotModified = 1;
+    FrameTelemetry second = first;
+    second.timeS = 2.0;
+    second.httpFetched = 0;
+    second.httpFetchedBytes = 0;
+    second.httpRetries = 0;
+    second.httpRequests = 2;
+    second.httpNotModified = 2;
+    second.httpCacheHits = 3;
+    second.httpStaleServed = 1;
+    summary.add(first);
+    summary.add(second);
+    const json j = summary.toJson();
+    EXPECT_EQ(j["http"]["requests"], 7);
+    EXPECT_EQ(j["http"]["retries"], 1);
+    EXPECT_EQ(j["http"]["files_fetched"], 3);
+    EXPECT_EQ(j["http"]["fetched_bytes"], 3000);
+    EXPECT_EQ(j["http"]["not_modified"], 3);
+    EXPECT_EQ(j["http"]["cache_hits"], 3);
+    EXPECT_EQ(j["http"]["stale_served"], 1);
+    // 3 confirmed + 3 hits + 1 stale from the cache, of 10 files used.
+    EXPECT_DOUBLE_EQ(j["http"]["cache_hit_rate"].get<double>(), 0.7);
 }
 
 TEST(TelemetrySummary, SumsCountsKeepsPeaksAndTheLastCumulativeFaults) {

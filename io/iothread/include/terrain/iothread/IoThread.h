@@ -122,6 +122,9 @@ struct IoThreadStats {
     std::uint64_t cancelled = 0;
     std::uint64_t injectedFaults = 0;  ///< failures caused by FaultInjection (also in failed)
     std::uint64_t bytesRead = 0;       ///< approximate: byte size of the completed records
+    /// For a pyramid at a URL, what its readers' fetches cost (RemoteFiles.h), all readers
+    /// together; zero for a folder.
+    remote::RemoteStats http;
     std::size_t queueDepth = 0;        ///< pending requests
     std::size_t inFlight = 0;          ///< requests being read (0 to readerThreads)
     std::size_t unpolled = 0;          ///< completions waiting for poll()
@@ -235,6 +238,8 @@ private:
     // node ever allocated, so parking one (on either thread) never allocates.
     std::vector<RequestTimes::node_type> m_spareTimeNodes;
     InFlightSlots m_inFlight;  // slot i: reader thread i's read, if any
+    // Slot i: reader i's HTTP counters when last added to m_stats.http (guarded by m_mutex).
+    std::vector<remote::RemoteStats> m_httpCounted;
     std::size_t m_inFlightCount = 0;
     std::vector<Completion> m_ready;         // finished, not yet polled
     std::vector<PatchRecord> m_pool;         // recycled record storage; reserved to its bound

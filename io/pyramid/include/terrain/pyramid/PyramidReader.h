@@ -8,6 +8,7 @@
 #include "terrain/pyramid/PatchRecord.h"
 #include "terrain/pyramid/PyramidLayout.h"
 #include "terrain/pyramid/PyramidManifest.h"
+#include "terrain/remote/RemoteFiles.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -69,6 +70,10 @@ public:
     /// The bytes of the shard file holding `id` (opened, and for a pyramid at a URL fetched,
     /// as a read would): what the shard costs on disk or on the wire.
     Result<std::uint64_t> shardBytes(const PatchId& id);
+
+    /// What reading a pyramid at a URL has cost so far: requests, bytes fetched, disk cache
+    /// hits (all zero for a folder).
+    remote::RemoteStats remoteStats() const;
 
     int openShards() const;               ///< shards open now, ≤ maxOpenShards
     std::uint64_t shardOpenings() const;  ///< shard files opened so far (LRU misses)

@@ -59,6 +59,24 @@ struct RemoteStats {
     std::uint64_t notModified = 0;   ///< cached files the server confirmed (304)
     std::uint64_t cacheHits = 0;     ///< local copies used without a request
     std::uint64_t staleServed = 0;   ///< cached copies used because the server could not be had
+
+    RemoteStats& operator+=(const RemoteStats& more) {
+        requests += more.requests;
+        retries += more.retries;
+        fetched += more.fetched;
+        fetchedBytes += more.fetchedBytes;
+        notModified += more.notModified;
+        cacheHits += more.cacheHits;
+        staleServed += more.staleServed;
+        return *this;
+    }
+    /// What happened between an earlier snapshot `before` of the same counters and this one.
+    RemoteStats since(const RemoteStats& before) const {
+        return {requests - before.requests,       retries - before.retries,
+                fetched - before.fetched,         fetchedBytes - before.fetchedBytes,
+                notModified - before.notModified, cacheHits - before.cacheHits,
+                staleServed - before.staleServed};
+    }
 };
 
 class DiskCache;

@@ -204,6 +204,7 @@ private:
     const double m_uploadMsPerFrame;
     double m_uploadMsThisFrame = 0.0;  // time in GpuTilePool::upload this frame
     std::uint64_t m_bytesReadBefore = 0;
+    remote::RemoteStats m_httpBefore;  // the I/O thread's HTTP counters at the last endFrame
 };
 
 }  // namespace terrain::runtime

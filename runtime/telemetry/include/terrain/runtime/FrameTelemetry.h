@@ -87,6 +87,17 @@ struct FrameTelemetry {
     double imageryLoadLatencyP50Ms = kNoValue;
     double imageryLoadLatencyP95Ms = kNoValue;
     std::uint64_t imageryFaultsTotal = 0;  ///< cumulative: imagery tiles that failed so far
+
+    // A pyramid at a URL (issue 49): what the I/O thread's readers fetched through the disk
+    // cache (RemoteFiles.h) this frame; all 0 for a folder. Shard files are fetched whole and
+    // once, so these count files, not tiles.
+    std::uint64_t httpRequests = 0;      ///< HTTP requests sent for the heights, retries included
+    std::uint64_t httpRetries = 0;       ///< of them, repeats after a failed attempt
+    std::uint64_t httpFetched = 0;       ///< files whose body came (200)
+    std::uint64_t httpFetchedBytes = 0;  ///< their bytes: what crossed the network
+    std::uint64_t httpNotModified = 0;   ///< cached files the server confirmed (304, no body)
+    std::uint64_t httpCacheHits = 0;     ///< cached files used without a request
+    std::uint64_t httpStaleServed = 0;   ///< cached files used because the server could not be had
 };
 
 /// Adds the streaming and cache counts of frame scope in `frame` (requests, cache lookups
@@ -117,6 +128,13 @@ constexpr void addStreamingCounts(FrameTelemetry& into, const FrameTelemetry& fr
     into.imageryGpuUploadBytes += frame.imageryGpuUploadBytes;
     into.imageryGpuEvictions += frame.imageryGpuEvictions;
     into.imageryLoadsResident += frame.imageryLoadsResident;
+    into.httpRequests += frame.httpRequests;
+    into.httpRetries += frame.httpRetries;
+    into.httpFetched += frame.httpFetched;
+    into.httpFetchedBytes += frame.httpFetchedBytes;
+    into.httpNotModified += frame.httpNotModified;
+    into.httpCacheHits += frame.httpCacheHits;
+    into.httpStaleServed += frame.httpStaleServed;
 }
 
 /// How a column's value is stored and written.
@@ -201,6 +219,13 @@ inline constexpr std::array kTelemetryColumns = {
     detail::realColumn("imagery_load_latency_p50_ms", &FrameTelemetry::imageryLoadLatencyP50Ms),
     detail::realColumn("imagery_load_latency_p95_ms", &FrameTelemetry::imageryLoadLatencyP95Ms),
     detail::countColumn("imagery_faults_total", &FrameTelemetry::imageryFaultsTotal),
+    detail::countColumn("http_requests", &FrameTelemetry::httpRequests),
+    detail::countColumn("http_retries", &FrameTelemetry::httpRetries),
+    detail::countColumn("http_files_fetched", &FrameTelemetry::httpFetched),
+    detail::countColumn("http_fetched_bytes", &FrameTelemetry::httpFetchedBytes),
+    detail::countColumn("http_not_modified", &FrameTelemetry::httpNotModified),
+    detail::countColumn("http_cache_hits", &FrameTelemetry::httpCacheHits),
+    detail::countColumn("http_stale_served", &FrameTelemetry::httpStaleServed),
 };
 
 namespace detail {

@@ -70,6 +70,7 @@ private:
     std::uint64_t m_peakImageryGpuBytes = 0;
     std::uint64_t m_peakImageryCpuCacheBytes = 0;
 
+    FrameTelemetry m_http;  // the http_* counts summed (addStreamingCounts)
     std::uint64_t m_peakQueueDepth = 0;
     std::uint64_t m_peakCpuCacheBytes = 0;
     std::uint64_t m_peakGpuLayersUsed = 0;
