@@ -174,8 +174,6 @@ TEST(SurfaceKit, SkyFogAndTheLook) {
     EXPECT_LT(globeStyle.skyColor[2], 0.1f);  // space
     EXPECT_EQ(globeStyle.fogDensityPerM, 0.0f);
     EXPECT_NE(plane->rootFaultMessage(), globe->rootFaultMessage());
-    EXPECT_FALSE(plane->measuresArrival());
-    EXPECT_TRUE(globe->measuresArrival());
 }
 
 TEST(SurfaceKit, ReportFieldsOfOneSurface) {
@@ -189,7 +187,9 @@ TEST(SurfaceKit, ReportFieldsOfOneSurface) {
     nlohmann::json plane, globe;
     planeKit->addJsonFields(plane, facts);
     globeKit->addJsonFields(globe, facts);
-    EXPECT_EQ(plane, (nlohmann::json{{"path", "flight.json"}, {"fps", 12.0}}));
+    EXPECT_EQ(plane,
+              (nlohmann::json{
+                  {"path", "flight.json"}, {"fps", 12.0}, {"full_detail_after_arrival", nullptr}}));
     EXPECT_EQ(globe["path"], "flight.json");
     EXPECT_FALSE(globe.contains("fps"));
     EXPECT_EQ(globe["horizon_culled_fraction_of_visited"], 0.25);

@@ -11,8 +11,12 @@
 
 #include <chrono>
 #include <cstdint>
+#include <thread>
 
 namespace terrain::tools {
+
+/// The shortest time between two frames of an arrival: a 60 Hz display's.
+inline constexpr double kArrivalFrameS = 1.0 / 60.0;
 
 class FullDetailClock {
 public:
@@ -22,6 +26,15 @@ public:
     /// (`waitingSplits`, from beginFrame) and nothing loads; the imagery when
     /// `strategy.imageryWaiting()` is 0.
     void frameEnded(const runtime::LodStrategy& strategy, std::uint64_t waitingSplits);
+
+    /// Before each frame: waits until kArrivalFrameS has passed since the previous one began.
+    /// Frames are paced as a display shows them: drawn faster (llvmpipe's small frames take
+    /// half a millisecond), waits for the I/O would count as frames a user never sees.
+    void waitForNextFrame() {
+        std::this_thread::sleep_until(m_nextFrame);
+        m_nextFrame = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                         std::chrono::duration<double>(kArrivalFrameS));
+    }
 
     /// Both at full detail in the last frame.
     bool reached() const { return !m_heights.is_null() && !m_imagery.is_null(); }
@@ -33,6 +46,7 @@ public:
 private:
     using Clock = std::chrono::steady_clock;
     Clock::time_point m_arrived;
+    Clock::time_point m_nextFrame = m_arrived;
     std::uint64_t m_frames = 0;
     nlohmann::json m_heights, m_imagery;  // null while not at full detail
 };

@@ -194,8 +194,6 @@ public:
         return "a cube face's data cannot be drawn, its root patch failed: ";
     }
 
-    bool measuresArrival() const override { return true; }
-
     void addJsonFields(nlohmann::json& out, const FlightFacts& facts) const override;
 };
 

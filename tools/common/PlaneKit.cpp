@@ -48,12 +48,11 @@ public:
         return "nothing to draw, the root patch failed: ";
     }
 
-    bool measuresArrival() const override { return false; }
-
     void addJsonFields(nlohmann::json& out, const FlightFacts& facts) const override {
         out["path"] =
             facts.pathFile.empty() ? nlohmann::json("default") : nlohmann::json(facts.pathFile);
         out["fps"] = facts.fps;
+        out["full_detail_after_arrival"] = facts.arrival;
     }
 };
 

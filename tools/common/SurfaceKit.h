@@ -111,10 +111,6 @@ public:
     /// Why a failed root ends the run, before the fault's message.
     virtual std::string_view rootFaultMessage() const = 0;
 
-    /// Whether the run measures the time to full detail after the last pose (the globe's
-    /// flight arrives at the ground).
-    virtual bool measuresArrival() const = 0;
-
     /// Adds the report's fields of this surface only ("fps" on the plane; the end pose, the
     /// last frame's patches by level, horizon culling and arrival on the globe) and "path".
     virtual void addJsonFields(nlohmann::json& out, const FlightFacts& facts) const = 0;

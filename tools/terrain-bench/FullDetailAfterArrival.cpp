@@ -19,6 +19,7 @@ Result<nlohmann::json> fullDetailAfterArrival(const std::string& pyramid,
     runtime::LodStrategy& session = *fresh.value();
     FullDetailClock clock;
     while (!clock.reached() && clock.seconds() < static_cast<double>(limit.count())) {
+        clock.waitForNextFrame();
         const std::uint64_t waitingSplits = session.beginFrame(camera).waitingSplits;
         target.clear({0.0f, 0.0f, 0.0f, 1.0f}, 0.0f);
         glBindFramebuffer(GL_FRAMEBUFFER, target.id());

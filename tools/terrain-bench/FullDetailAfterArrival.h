@@ -17,7 +17,8 @@
 namespace terrain::tools {
 
 /// {"frames": N, "seconds": S, "heights": {"frames", "seconds"}, "imagery": {…}} for
-/// `pyramid` opened afresh with `options` and drawn from `camera` into `target` (the heights
+/// `pyramid` opened afresh with `options` and drawn from `camera` into `target`, a frame
+/// every kArrivalFrameS at the most (FullDetailClock.h) (the heights
 /// and the imagery each at the first frame they were at full detail; the imagery's at once
 /// without layers); null when full detail is not reached within `limit`. Errors: the pyramid
 /// cannot be opened.

@@ -678,10 +678,10 @@ int run(const BenchOptions& o, const char* argv0) {
         r.session->drain(std::chrono::seconds(10));
     }
 
-    // Where the flight arrives at the ground (the globe's), how long each run's view takes to
-    // full detail from nothing loaded, drawn as a user would see it.
+    // Where the flight ends (at the ground on the globe), how long each run's view takes to
+    // full detail from nothing loaded, drawn as a user would see it: a teleport there.
     std::vector<nlohmann::json> arrivals(runs.size());
-    if (kit->measuresArrival()) {
+    {
         auto target = gl::Framebuffer::create(o.widthPx, o.heightPx, "terrain-bench arrival");
         if (!target) return fail(target.error().message);
         for (std::size_t i = 0; i < runs.size(); ++i) {
@@ -714,11 +714,9 @@ int run(const BenchOptions& o, const char* argv0) {
     nlohmann::json thresholds = nlohmann::json::array();
     for (const tools::ThresholdSummary& s : summaries) {
         nlohmann::json summary = summaryJson(s);
-        if (kit->measuresArrival()) {
-            for (std::size_t i = 0; i < runs.size(); ++i) {
-                if (runs[i].methodName == s.method && runs[i].thresholdPx == s.thresholdPx)
-                    summary["full_detail_after_arrival"] = arrivals[i];
-            }
+        for (std::size_t i = 0; i < runs.size(); ++i) {
+            if (runs[i].methodName == s.method && runs[i].thresholdPx == s.thresholdPx)
+                summary["full_detail_after_arrival"] = arrivals[i];
         }
         thresholds.push_back(std::move(summary));
     }

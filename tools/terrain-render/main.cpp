@@ -225,13 +225,14 @@ int run(const RenderOptions& o) {
     }
     if (auto closed = csv.value().close(); !closed) return fail(closed.error().message);
     facts.lastCamera = camera;
-    // Time to full detail after arriving (the globe's flight ends at the ground): the last pose
-    // held, frames drawn as a user would see them, until no split waits for a tile, no
-    // imagery tile the view wants is missing, and nothing is loading (not with --settle,
-    // whose frames are all settled). The heights and the imagery are also timed apart.
-    if (kit->measuresArrival() && !o.settle && streaming != nullptr) {
+    // Time to full detail after arriving at the path's end: the last pose held, frames drawn as a
+    // user would see them, until no split waits for a tile, no imagery tile the view wants is
+    // missing, and nothing is loading (not with --settle, whose frames are all settled). The
+    // heights and the imagery are also timed apart.
+    if (!o.settle && streaming != nullptr) {
         tools::FullDetailClock clock;
         while (!clock.reached() && clock.seconds() < 60.0) {
+            clock.waitForNextFrame();
             runtime::FrameTelemetry t;
             const std::uint64_t waitingSplits = drawFrame(t).waitingSplits;
             if (auto broken = fatal()) return fail(*broken);
