@@ -38,6 +38,10 @@ struct FakeTileResidencyOptions {
     int arrivalsPerFrame = std::numeric_limits<int>::max();
     /// Ids whose load fails: they are reported failed when they would have arrived.
     std::function<bool(const io::PatchId&)> fails = {};
+    /// Whether prefetch() starts a load (as TileStreamer's reads one into its CPU cache): it
+    /// then counts from the prefetch, and is dropped at a frame's end unless prefetched or
+    /// acquired again in that frame (as the streamer cancels what no one wants).
+    bool honourPrefetch = false;
 };
 
 class FakeTileResidency final : public runtime::TileResidency {
@@ -80,8 +84,11 @@ public:
         ++m_frame;
         m_arrivalsThisFrame = 0;
     }
-    /// Ends the frame (nothing to cancel: requests live until they arrive).
-    void endFrame() {}
+    /// Ends the frame: acquired requests live until they arrive; prefetches not asked for
+    /// again this frame are dropped.
+    void endFrame() {
+        std::erase_if(m_prefetched, [&](const auto& p) { return p.second.lastAsked != m_frame; });
+    }
 
     // TileResidency -------------------------------------------------------------------------
     const io::PatchInfo* acquire(const io::PatchId& id, float priority) override {
@@ -94,11 +101,14 @@ public:
         if (m_failed.contains(id)) return nullptr;
         auto pending = m_pending.find(id);
         if (pending == m_pending.end()) {
-            ++m_requests;
-            pending =
-                m_pending
-                    .emplace(id, m_frame + static_cast<std::uint64_t>(m_options.framesToArrive))
-                    .first;
+            std::uint64_t arrival = m_frame + static_cast<std::uint64_t>(m_options.framesToArrive);
+            if (const auto ahead = m_prefetched.find(id); ahead != m_prefetched.end()) {
+                arrival = ahead->second.arrival;  // on its way since its prefetch
+                m_prefetched.erase(ahead);
+            } else {
+                ++m_requests;
+            }
+            pending = m_pending.emplace(id, arrival).first;
         }
         if (pending->second > m_frame || m_arrivalsThisFrame >= m_options.arrivalsPerFrame) {
             return nullptr;
@@ -120,6 +130,18 @@ public:
              .lastUsedFrame = m_frame};
         m_resident[id] = *layer;
         return &l.info;
+    }
+    void prefetch(const io::PatchId& id, float priority) override {
+        EXPECT_TRUE(m_layout.contains(id));
+        EXPECT_GE(priority, 0.0f);
+        ++m_prefetchCalls;
+        if (!m_options.honourPrefetch || m_resident.contains(id) || m_failed.contains(id) ||
+            m_pending.contains(id))
+            return;
+        auto [ahead, started] = m_prefetched.try_emplace(
+            id, Prefetch{m_frame + static_cast<std::uint64_t>(m_options.framesToArrive), 0});
+        if (started) ++m_requests;
+        ahead->second.lastAsked = m_frame;
     }
     int layerOf(const io::PatchId& id) const override {
         const auto resident = m_resident.find(id);
@@ -154,7 +176,8 @@ public:
 
     // For tests -----------------------------------------------------------------------------
     std::uint64_t requests() const { return m_requests; }  ///< distinct loads asked for
-    std::size_t pending() const { return m_pending.size(); }
+    std::size_t pending() const { return m_pending.size(); }  ///< acquired, not yet arrived
+    std::uint64_t prefetchCalls() const { return m_prefetchCalls; }
     std::size_t pinnedCount() const {
         std::size_t n = 0;
         for (const Layer& l : m_layers) n += l.used && l.pinned ? 1 : 0;
@@ -204,6 +227,12 @@ private:
     std::unordered_map<io::PatchId, int, io::PatchIdHash> m_resident;
     std::unordered_map<io::PatchId, std::uint64_t, io::PatchIdHash> m_pending;  // → arrival frame
     std::unordered_set<io::PatchId, io::PatchIdHash> m_failed;
+    struct Prefetch {
+        std::uint64_t arrival = 0;
+        std::uint64_t lastAsked = 0;
+    };
+    std::unordered_map<io::PatchId, Prefetch, io::PatchIdHash> m_prefetched;
+    std::uint64_t m_prefetchCalls = 0;
     std::uint64_t m_frame = 0;
     std::uint64_t m_requests = 0;
     std::uint64_t m_evictions = 0;

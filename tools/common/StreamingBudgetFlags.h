@@ -1,5 +1,6 @@
 // StreamingBudgetFlags: --cpu-cache-mib, --gpu-layers, --upload-mib-per-frame,
-// --upload-ms-per-frame, --imagery-gpu-mib, --imagery-cache-mib and --reader-threads, the streaming
+// --upload-ms-per-frame, --imagery-gpu-mib, --imagery-cache-mib, --reader-threads and
+// --no-prefetch, the streaming
 // budgets of every program that flies through a pyramid, with one meaning and one range each.
 #pragma once
 
@@ -20,6 +21,7 @@ struct StreamingBudgets {
     double imageryGpuMiB = 256.0;                    ///< the imagery texture array, mips included
     double imageryCacheMiB = 128.0;                  ///< the CPU imagery cache
     int readerThreads = io::defaultReaderThreads();  ///< the I/O's threads reading and decoding
+    bool noPrefetch = false;                         ///< read only the tiles the LOD wants now
 
     static std::size_t bytesOfMiB(double mib) {
         return static_cast<std::size_t>(mib * 1024.0 * 1024.0);
@@ -35,10 +37,11 @@ struct StreamingBudgets {
         options.imagery.cpuCacheBytes = bytesOfMiB(imageryCacheMiB);
         options.imagery.uploadBytesPerFrame = bytesOfMiB(uploadMiBPerFrame);
         options.io.readerThreads = readerThreads;
+        options.prefetch = !noPrefetch;
     }
 };
 
-/// Adds the seven flags, bound to `budgets`, whose values are the defaults shown; `scope`
+/// Adds the eight flags, bound to `budgets`, whose values are the defaults shown; `scope`
 /// ends each description (" per threshold", say). A CPU cache too small for one tile is
 /// refused when the pyramid is opened (TileStreamer::open), which knows the tile size; so
 /// are imagery budgets below one imagery tile, when the pyramid has imagery.
@@ -75,6 +78,10 @@ inline void addStreamingBudgetFlags(CLI::App& app, StreamingBudgets& budgets,
            "I/O threads reading and decoding tiles (default: min(hardware threads, 4))" + scope)
         ->capture_default_str()
         ->check(CLI::Range(1, 64));
+    app.add_flag("--no-prefetch", budgets.noPrefetch,
+                 "Read only the tiles the LOD wants now, none of those it expects to want "
+                 "(refining then takes a frame a level)" +
+                     scope);
 }
 
 }  // namespace terrain::tools

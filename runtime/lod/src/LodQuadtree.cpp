@@ -14,6 +14,8 @@ namespace {
 
 constexpr int kBlock = 4;
 constexpr double kMinTravelM = 1e-3;
+// Levels below a waiting leaf's children that prefetchBelow may ask for ahead.
+constexpr int kPrefetchLevels = 3;
 // Parent links: −1 a root, −2 a freed node, −3 a spare slot of the root blocks.
 constexpr int kFreed = -2;
 constexpr int kSpare = -3;
@@ -215,7 +217,14 @@ bool LodQuadtree::trySplit(int index, double screenError) {
         if (infos[i] == nullptr && m_residency.hasFailed(child.id)) node.splitBlocked = true;
         allResident = allResident && infos[i] != nullptr;
     }
-    if (!allResident) return false;
+    if (!allResident) {
+        // Where every child is stored (the plane), the levels under the children that will
+        // likely split too are read meanwhile, so they split in the frame the children
+        // arrive instead of a frame a level (issue 49: full detail soon after a teleport).
+        if (node.kind == NodeKind::Data && m_surface.storesEveryChild())
+            prefetchBelow(node.id, node.info, double(node.info.error), kPrefetchLevels);
+        return false;
+    }
 
     const int first = allocateBlock();
     {
@@ -244,6 +253,56 @@ bool LodQuadtree::trySplit(int index, double screenError) {
     for (int i = 0; i < count; ++i) evaluateLeaf(first + i);
     scheduleMergeIfCandidate(index);
     return true;
+}
+
+// A prediction, not a bound (a wrong one costs a read, never the picture): a patch's Err(P)
+// is taken as half its parent's (the errors of smooth terrain halve with the spacing), its
+// box as the footprint over the ancestor's height range, and it will split if that error
+// projected from its box exceeds ε_c. The children of each child predicted to split are
+// prefetched, at the predicted screen error halved (real wants go first), `levels` deep.
+void LodQuadtree::prefetchBelow(const io::PatchId& id, const io::PatchInfo& heights, double errorM,
+                                int levels) {
+    if (levels <= 0 || m_options.splitRule != SplitRule::ProjectedError) return;
+    std::array<SurfaceChild, 4> children;
+    const int count = m_surface.children(id, children);
+    const double childErrorM = 0.5 * errorM;
+    for (int i = 0; i < count; ++i) {
+        const io::PatchId child = children[static_cast<std::size_t>(i)].id;
+        if (child.level >= m_surface.maxLevel()) continue;  // the finest never splits
+        const PatchVolume volume = m_surface.volume(child, heights.minHeight, heights.maxHeight);
+        int planes = 0b11111;
+        if (m_surface.outsideFrustum(m_view, volume, planes)) continue;
+        const double rho = m_surface.distance(m_camera.position, volume);
+        const double predicted =
+            rho <= 0.0 ? std::numeric_limits<double>::max() : m_gamma * childErrorM / rho;
+        if (predicted <= coarseErrorPx()) continue;
+        std::array<SurfaceChild, 4> grandchildren;
+        const int below = m_surface.children(child, grandchildren);
+        for (int k = 0; k < below; ++k) {
+            m_residency.prefetch(grandchildren[static_cast<std::size_t>(k)].id,
+                                 priorityOf(0.5 * predicted));
+            ++m_stats.prefetched;
+        }
+        prefetchBelow(child, heights, childErrorM, levels - 1);
+    }
+}
+
+// The plane's root on its way (a cold start, a teleport into a new pyramid): nothing is known
+// of its errors yet, so the two levels under it in view are read meanwhile, whatever their
+// error (20 tiles at most), and split at once if needed when the root arrives.
+void LodQuadtree::prefetchUnderRoot(const io::PatchId& root) {
+    if (!m_surface.storesEveryChild()) return;
+    std::array<SurfaceChild, 4> children;
+    const int count = m_surface.children(root, children);
+    for (int i = 0; i < count; ++i) {
+        m_residency.prefetch(children[static_cast<std::size_t>(i)].id,
+                             std::numeric_limits<float>::max());
+        ++m_stats.prefetched;
+    }
+    io::PatchInfo wholeDem;
+    wholeDem.minHeight = static_cast<float>(m_surface.manifest().statistics.minHeight);
+    wholeDem.maxHeight = static_cast<float>(m_surface.manifest().statistics.maxHeight);
+    prefetchBelow(root, wholeDem, std::numeric_limits<double>::infinity(), 1);
 }
 
 void LodQuadtree::evaluateLeaf(int index) {
@@ -379,7 +438,10 @@ bool LodQuadtree::start() {
     std::vector<const io::PatchInfo*> infos(roots.size());
     for (std::size_t r = 0; r < roots.size(); ++r) {
         infos[r] = m_residency.acquire(roots[r], std::numeric_limits<float>::max());
-        if (infos[r] == nullptr && !m_surface.drawsBareSurface()) return false;
+        if (infos[r] == nullptr && !m_surface.drawsBareSurface()) {
+            prefetchUnderRoot(roots[r]);
+            return false;
+        }
     }
     m_nodes.resize(static_cast<std::size_t>(m_rootSlots));
     for (int slot = 0; slot < m_rootSlots; ++slot) {

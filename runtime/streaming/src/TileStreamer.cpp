@@ -53,7 +53,8 @@ TileStreamer::TileStreamer(io::PyramidManifest manifest, std::unique_ptr<io::IoT
       m_imagery(std::move(imagery)),
       m_cache(options.cpuCacheBytes),
       m_pool(std::move(pool)),
-      m_uploadMsPerFrame(options.uploadMsPerFrame) {
+      m_uploadMsPerFrame(options.uploadMsPerFrame),
+      m_prefetch(options.prefetch) {
     // Sized for the busiest frames up front; the map and vectors keep their high-water
     // storage, so steady frames do not allocate.
     const auto capacity = static_cast<std::size_t>(m_pool.capacity());
@@ -176,11 +177,16 @@ const io::PatchInfo* TileStreamer::acquire(const io::PatchId& id, float priority
         if (load.liveRequests == 0) m_loads.erase(m_loads.find(id));
         return m_pool.info(id);
     }
+    request(id, load, priority);
+    return nullptr;
+}
+
+void TileStreamer::request(const io::PatchId& id, LoadState& load, float priority) {
     // A live request is only re-prioritised: it may have finished already, its completion
     // waiting for the next poll, and a second request would read the tile twice.
     if (load.liveRequests > 0 && !load.cancelRequested) {
         m_io->reprioritise(id, priority);
-        return nullptr;
+        return;
     }
     // A new request (after a cancel, the cancelled one still ends once, as Cancelled or
     // as it finished).
@@ -191,7 +197,17 @@ const io::PatchInfo* TileStreamer::acquire(const io::PatchId& id, float priority
         ++m_frameCounts.cpuCacheMisses;
     }
     load.cancelRequested = false;
-    return nullptr;
+}
+
+void TileStreamer::prefetch(const io::PatchId& id, float priority) {
+    if (!m_prefetch || m_pool.info(id) != nullptr || m_failed.contains(id) || m_cache.contains(id))
+        return;
+    const bool known = m_loads.find(id) != m_loads.end();
+    LoadState& load = loadStateOf(id);
+    // Asked for already this frame (by acquire, at its own priority): left as it is.
+    if (known && load.lastWantedFrame == m_frame) return;
+    load.lastWantedFrame = m_frame;  // wanted this frame: endFrame leaves its request be
+    request(id, load, priority);
 }
 
 int TileStreamer::layerOf(const io::PatchId& id) const {

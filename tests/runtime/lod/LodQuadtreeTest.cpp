@@ -130,6 +130,40 @@ TEST_F(LodQuadtreeTest, SettlesOnTheCutOfASelectionFromTheRoot) {
     EXPECT_EQ(ids(m_draws), ids(fromRoot));
 }
 
+TEST_F(LodQuadtreeTest, PrefetchReachesTheSameCutInFewerFrames) {
+    // A teleport: nothing resident, the camera low over the terrain. Tiles arrive a frame
+    // after they are asked for, so without prefetching the tree refines a level a frame;
+    // reading ahead the levels it predicts below the children it waits for, it reaches the
+    // same cut sooner (issue 49). A prediction never changes a decision: the same patches.
+    const runtime::LodOptions options{.errorPx = 1.0};
+    const Camera c = camera(0.2, 0.3, 60.0, 0.6, 0.5);
+    auto framesToSettle = [&](bool prefetch, std::vector<io::PatchId>& cut,
+                              std::uint64_t& prefetchCalls) {
+        open({.framesToArrive = 1, .honourPrefetch = prefetch});
+        m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_surface, options);
+        for (int frames = 1; frames <= 100; ++frames) {
+            const LodUpdateStats stats = frame(c);
+            if (stats.drawn > 0 && stats.waitingSplits == 0 && m_residency->pending() == 0 &&
+                stats.splits == 0 && stats.merges == 0) {
+                cut = ids(m_draws);
+                prefetchCalls = m_residency->prefetchCalls();
+                EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
+                return frames;
+            }
+        }
+        ADD_FAILURE() << "did not settle";
+        return 0;
+    };
+    std::vector<io::PatchId> levelByLevel, ahead;
+    std::uint64_t callsWithout = 0, callsWith = 0;
+    const int without = framesToSettle(false, levelByLevel, callsWithout);
+    const int with = framesToSettle(true, ahead, callsWith);
+    EXPECT_GT(callsWith, 0u);
+    EXPECT_LT(with, without);
+    EXPECT_EQ(ahead, levelByLevel);
+    EXPECT_GE(levelByLevel.back().level, 3) << "deep enough to need prefetching";
+}
+
 TEST_F(LodQuadtreeTest, SplitToFinestDrawsTheUniformGridOfWhatIsInView) {
     // The uniform grid (LodMethod::Uniform): every leaf in view at the finest level, from
     // high above (where the error rule would draw the root alone) and after moving away.

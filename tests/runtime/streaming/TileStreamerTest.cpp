@@ -274,6 +274,42 @@ TEST_F(TileStreamerTest, ShardsDeletedOrReplacedWhileStreamingAreFaults) {
 
 // A CPU cache too small for one tile would never let a tile reach the GPU, and the terrain
 // would never draw: opening the pyramid says so instead.
+TEST_F(TileStreamerTest, APrefetchedTileWaitsInTheCpuCacheAndIsUploadedWhenWanted) {
+    const io::PatchId id{2, 1, 1};
+    auto s = open({});
+    ASSERT_TRUE(s);
+    runtime::FrameTelemetry t;
+    // Asked for ahead every frame (as the LOD does while it waits), until it is read.
+    for (int i = 0; i < 400 && !s->cpuCache().contains(id); ++i) {
+        s->beginFrame();
+        s->prefetch(id, 1.0f);
+        s->endFrame(t);
+        if (!s->cpuCache().contains(id)) s->waitForReads(std::chrono::milliseconds(100));
+    }
+    s->beginFrame();  // takes the last read
+    ASSERT_TRUE(s->cpuCache().contains(id)) << "the prefetch was never read";
+    EXPECT_FALSE(s->pool().isResident(id)) << "a prefetch reads into the CPU cache only";
+    EXPECT_EQ(s->ledger().submitted, 1u);
+    // Wanted now: uploaded at once from the CPU cache, with no second read.
+    const io::PatchInfo* info = s->acquire(id, 1.0f);
+    s->endFrame(t);
+    EXPECT_NE(info, nullptr);
+    EXPECT_TRUE(s->pool().isResident(id));
+    EXPECT_EQ(s->ledger().submitted, 1u);
+    EXPECT_TRUE(s->drain(std::chrono::seconds(10)));
+
+    // Turned off (--no-prefetch): nothing is read ahead.
+    runtime::TileStreamerOptions noPrefetch;
+    noPrefetch.prefetch = false;
+    auto off = open(noPrefetch);
+    ASSERT_TRUE(off);
+    off->beginFrame();
+    off->prefetch(id, 1.0f);
+    off->endFrame(t);
+    EXPECT_EQ(off->ledger().submitted, 0u);
+    EXPECT_EQ(t.requestsMade, 0u);
+}
+
 TEST_F(TileStreamerTest, ACpuCacheThatHoldsNoTileIsRefused) {
     const io::PyramidManifest& manifest = streamingTestManifest();
     const std::size_t tileBytes =

@@ -119,6 +119,8 @@ struct LodUpdateStats {
     std::uint64_t splits = 0;
     std::uint64_t merges = 0;         ///< including subtrees collapsed as they left the view
     std::uint64_t waitingSplits = 0;  ///< leaves too coarse whose children are not resident
+    /// Tiles below waiting leaves asked for ahead (TileResidency::prefetch) this frame.
+    std::uint64_t prefetched = 0;
     /// Visible nodes held split although within the coarse threshold (the hysteresis).
     std::uint64_t heldSplits = 0;
     std::uint64_t nodes = 0;  ///< nodes in the tree after the update (RTIN: bintree nodes visited)
@@ -205,6 +207,9 @@ private:
     void scheduleLeaf(int node);
     void scheduleMergeIfCandidate(int node);
     bool trySplit(int node, double screenError);
+    void prefetchBelow(const io::PatchId& id, const io::PatchInfo& heights, double errorM,
+                       int levels);
+    void prefetchUnderRoot(const io::PatchId& root);
     void evaluateLeaf(int node);
     void evaluateMerge(int node);
     void collapse(int node);

@@ -32,6 +32,15 @@ public:
     /// tree pins the patches it holds. `id` must be resident and not pinned.
     virtual void pin(const io::PatchId& id) = 0;
     virtual void unpin(const io::PatchId& id) = 0;
+    /// The LOD expects to want `id` soon (it predicts that a patch whose children are on
+    /// their way will split again once they come): read it into the CPU cache, not the GPU,
+    /// at `priority`, unless it is resident, cached, on its way or failed. Only worth asking
+    /// for patches the pyramid stores. Kept wanted only while asked for every frame, as
+    /// acquire()'s requests are. Default: nothing (tests' residencies).
+    virtual void prefetch(const io::PatchId& id, float priority) {
+        (void)id;
+        (void)priority;
+    }
     /// How many patches can be resident at once (the GPU pool's layers).
     virtual int capacity() const = 0;
 

@@ -52,6 +52,9 @@ struct TileStreamerOptions {
     /// milliseconds for slow drivers and slow frames); 0: none. A frame always uploads at
     /// least one tile, so streaming never stalls.
     double uploadMsPerFrame = 0.0;
+    /// Read the tiles the LOD expects to want soon (TileResidency::prefetch) into the CPU
+    /// cache; false: only what it wants now, so refining takes a frame a level.
+    bool prefetch = true;
     /// The I/O thread's options; its maxUnpolled is raised to the tiles uploadBytesPerFrame
     /// holds (ioOptionsFor), so the I/O side never caps a frame below its upload budget.
     io::IoThreadOptions io;
@@ -106,6 +109,7 @@ public:
     // requested from disk with `priority` unless it is in the CPU cache waiting for
     // upload budget, or it failed before. pin(): GpuTilePool::pin.
     const io::PatchInfo* acquire(const io::PatchId& id, float priority) override;
+    void prefetch(const io::PatchId& id, float priority) override;
     int layerOf(const io::PatchId& id) const override;
     bool hasFailed(const io::PatchId& id) const override { return m_failed.contains(id); }
     void pin(const io::PatchId& id) override { m_pool.pin(id); }
@@ -182,6 +186,8 @@ private:
                                             const cache::GpuTilePool& pool);
     bool uploadFromCache(const io::PatchId& id);
     LoadState& loadStateOf(const io::PatchId& id);
+    // Makes sure `id` is on its way at `priority` (acquire's and prefetch's requests).
+    void request(const io::PatchId& id, LoadState& load, float priority);
     void takeCompletions();
 
     io::PyramidManifest m_manifest;
@@ -202,6 +208,7 @@ private:
     std::function<void(const TileLoad&)> m_loadObserver;
     FrameTelemetry m_frameCounts;  // this frame's counts so far
     const double m_uploadMsPerFrame;
+    const bool m_prefetch;
     double m_uploadMsThisFrame = 0.0;  // time in GpuTilePool::upload this frame
     std::uint64_t m_bytesReadBefore = 0;
     remote::RemoteStats m_httpBefore;  // the I/O thread's HTTP counters at the last endFrame
