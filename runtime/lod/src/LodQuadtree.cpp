@@ -259,7 +259,7 @@ bool LodQuadtree::trySplit(int index, double screenError) {
 // is taken as half its parent's (the errors of smooth terrain halve with the spacing), its
 // box as the footprint over the ancestor's height range, and it will split if that error
 // projected from its box exceeds ε_c. The children of each child predicted to split are
-// prefetched, at the predicted screen error halved (real wants go first), `levels` deep.
+// prefetched, `levels` deep, ranked by that prediction below every want (prefetchPriority).
 void LodQuadtree::prefetchBelow(const io::PatchId& id, const io::PatchInfo& heights, double errorM,
                                 int levels) {
     if (levels <= 0 || m_options.splitRule != SplitRule::ProjectedError) return;
@@ -280,7 +280,7 @@ void LodQuadtree::prefetchBelow(const io::PatchId& id, const io::PatchInfo& heig
         const int below = m_surface.children(child, grandchildren);
         for (int k = 0; k < below; ++k) {
             m_residency.prefetch(grandchildren[static_cast<std::size_t>(k)].id,
-                                 priorityOf(0.5 * predicted));
+                                 prefetchPriority(predicted));
             ++m_stats.prefetched;
         }
         prefetchBelow(child, heights, childErrorM, levels - 1);
@@ -296,13 +296,21 @@ void LodQuadtree::prefetchUnderRoot(const io::PatchId& root) {
     const int count = m_surface.children(root, children);
     for (int i = 0; i < count; ++i) {
         m_residency.prefetch(children[static_cast<std::size_t>(i)].id,
-                             std::numeric_limits<float>::max());
+                             prefetchPriority(std::numeric_limits<double>::infinity()));
         ++m_stats.prefetched;
     }
     io::PatchInfo wholeDem;
     wholeDem.minHeight = static_cast<float>(m_surface.manifest().statistics.minHeight);
     wholeDem.maxHeight = static_cast<float>(m_surface.manifest().statistics.maxHeight);
     prefetchBelow(root, wholeDem, std::numeric_limits<double>::infinity(), 1);
+}
+
+// A leaf wants its children at its screen error, above ε_c; a read ahead, predicted at
+// `predicted` px, goes below every want and above none of the others' reads ahead with a
+// larger prediction: ε_c · predicted / (predicted + ε_c), in (0, ε_c].
+float LodQuadtree::prefetchPriority(double predicted) const {
+    const double c = coarseErrorPx();
+    return priorityOf(std::isinf(predicted) ? c : c * (predicted / (predicted + c)));
 }
 
 void LodQuadtree::evaluateLeaf(int index) {

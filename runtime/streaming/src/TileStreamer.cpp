@@ -166,6 +166,12 @@ const io::PatchInfo* TileStreamer::acquire(const io::PatchId& id, float priority
     if (m_failed.contains(id)) return nullptr;
     LoadState& load = loadStateOf(id);
     load.lastWantedFrame = m_frame;
+    if (load.aheadOnly) {
+        // Read ahead, wanted now: its latency is what the LOD waits from here.
+        load.aheadOnly = false;
+        load.firstWanted = Clock::now();
+        load.firstWantedFrame = m_frame;
+    }
     if (m_cache.contains(id)) {
         if (!uploadFromCache(id)) return nullptr;
         const double ms =
@@ -206,6 +212,7 @@ void TileStreamer::prefetch(const io::PatchId& id, float priority) {
     LoadState& load = loadStateOf(id);
     // Asked for already this frame (by acquire, at its own priority): left as it is.
     if (known && load.lastWantedFrame == m_frame) return;
+    if (!known) load.aheadOnly = true;
     load.lastWantedFrame = m_frame;  // wanted this frame: endFrame leaves its request be
     request(id, load, priority);
 }

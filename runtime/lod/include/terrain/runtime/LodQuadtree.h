@@ -210,6 +210,7 @@ private:
     void prefetchBelow(const io::PatchId& id, const io::PatchInfo& heights, double errorM,
                        int levels);
     void prefetchUnderRoot(const io::PatchId& root);
+    float prefetchPriority(double predicted) const;
     void evaluateLeaf(int node);
     void evaluateMerge(int node);
     void collapse(int node);

@@ -175,6 +175,7 @@ private:
         std::uint64_t lastWantedFrame = 0;
         int liveRequests = 0;  // submitted and not yet ended
         bool cancelRequested = false;
+        bool aheadOnly = false;  // asked for by prefetch() only, not yet by acquire()
     };
     using LoadMap = RecyclingLoadMap<io::PatchId, LoadState, io::PatchIdHash>;
 
