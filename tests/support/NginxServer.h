@@ -6,6 +6,7 @@
 // TERRAIN_REQUIRE_SHARED_DATA (set by CI) turns that skip into a failure.
 #pragma once
 
+#include "SharedData.h"
 #include "TempFolder.h"
 
 #include <arpa/inet.h>
@@ -144,3 +145,11 @@ private:
 };
 
 }  // namespace terrain::test
+
+/// In a fixture's SetUp: skips the test, with the reason, when `server` (an NginxServer) does
+/// not answer, or fails it under TERRAIN_REQUIRE_SHARED_DATA=1, where CI must run it.
+#define TERRAIN_NGINX_OR_SKIP(server)                                            \
+    if (!(server).ready()) {                                                     \
+        if (::terrain::test::sharedDataRequired()) FAIL() << (server).problem(); \
+        GTEST_SKIP() << (server).problem();                                      \
+    }

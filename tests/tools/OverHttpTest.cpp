@@ -10,7 +10,6 @@
 //    triangles and patches, frame by frame.
 #include "FaultProxy.h"
 #include "NginxServer.h"
-#include "SharedData.h"
 #include "TempFolder.h"
 
 #include <gtest/gtest.h>
@@ -94,10 +93,7 @@ std::vector<std::string> column(const std::vector<std::vector<std::string>>& row
 class OverHttp : public ::testing::Test {
 protected:
     void SetUp() override {
-        if (!server.ready()) {
-            if (test::sharedDataRequired()) FAIL() << server.problem();
-            GTEST_SKIP() << server.problem();
-        }
+        TERRAIN_NGINX_OR_SKIP(server);
         ASSERT_TRUE(proxy.ready());
         ASSERT_TRUE(fs::exists(fs::path(TERRAIN_TOOLS_OUT) / "stress.pyramid" / "manifest.json"))
             << "the stress_pyramid fixture did not run";

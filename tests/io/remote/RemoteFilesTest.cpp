@@ -6,7 +6,6 @@
 // body into the cache leaves the cache usable.
 #include "FaultProxy.h"
 #include "NginxServer.h"
-#include "SharedData.h"
 #include "TempFolder.h"
 #include "terrain/remote/RemoteFiles.h"
 
@@ -57,12 +56,7 @@ HttpOptions quickHttp() {
 
 class RemoteFilesTest : public ::testing::Test {
 protected:
-    void SetUp() override {
-        if (!server.ready()) {
-            if (test::sharedDataRequired()) FAIL() << server.problem();
-            GTEST_SKIP() << server.problem();
-        }
-    }
+    void SetUp() override { TERRAIN_NGINX_OR_SKIP(server); }
     std::unique_ptr<RemoteFiles> files(std::uint64_t maxBytes = std::uint64_t{1} << 30) {
         Result<std::unique_ptr<RemoteFiles>> opened =
             RemoteFiles::open({cache.path(), maxBytes}, quickHttp());

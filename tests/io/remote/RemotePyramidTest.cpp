@@ -2,7 +2,6 @@
 // manifest, every patch of every level; a later reader confirms instead of fetching; a shard
 // missing on the server and a URL with no pyramid give errors naming the URL.
 #include "NginxServer.h"
-#include "SharedData.h"
 #include "StreamingTestPyramid.h"
 #include "TempFolder.h"
 #include "terrain/pyramid/PyramidManifest.h"
@@ -26,10 +25,7 @@ using test::TempFolder;
 class RemotePyramidTest : public ::testing::Test {
 protected:
     void SetUp() override {
-        if (!server.ready()) {
-            if (test::sharedDataRequired()) FAIL() << server.problem();
-            GTEST_SKIP() << server.problem();
-        }
+        TERRAIN_NGINX_OR_SKIP(server);
         // Readers take the cache from the environment, as a tool's do.
         ::setenv("TERRAIN_CACHE_DIR", cache.path().c_str(), 1);
     }
