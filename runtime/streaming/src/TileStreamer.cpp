@@ -124,8 +124,9 @@ void TileStreamer::takeCompletions() {
     while (auto evicted = m_cache.takeEvicted()) m_io->recycle(std::move(*evicted));
 }
 
-TileStreamer::LoadState& TileStreamer::loadStateOf(const io::PatchId& id) {
+TileStreamer::LoadState& TileStreamer::loadStateOf(const io::PatchId& id, bool* inserted) {
     return m_loads.findOrInsert(id, [&] {
+        if (inserted != nullptr) *inserted = true;
         return LoadState{.firstWanted = Clock::now(),
                          .firstWantedFrame = m_frame,
                          .lastWantedFrame = m_frame,
@@ -208,11 +209,11 @@ void TileStreamer::request(const io::PatchId& id, LoadState& load, float priorit
 void TileStreamer::prefetch(const io::PatchId& id, float priority) {
     if (!m_prefetch || m_pool.info(id) != nullptr || m_failed.contains(id) || m_cache.contains(id))
         return;
-    const bool known = m_loads.find(id) != m_loads.end();
-    LoadState& load = loadStateOf(id);
+    bool fresh = false;
+    LoadState& load = loadStateOf(id, &fresh);
     // Asked for already this frame (by acquire, at its own priority): left as it is.
-    if (known && load.lastWantedFrame == m_frame) return;
-    if (!known) load.aheadOnly = true;
+    if (!fresh && load.lastWantedFrame == m_frame) return;
+    if (fresh) load.aheadOnly = true;
     load.lastWantedFrame = m_frame;  // wanted this frame: endFrame leaves its request be
     request(id, load, priority);
 }

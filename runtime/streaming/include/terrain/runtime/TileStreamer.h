@@ -23,6 +23,7 @@
 #include "terrain/iothread/IoThread.h"
 #include "terrain/pyramid/PatchIdHash.h"
 #include "terrain/pyramid/PyramidManifest.h"
+#include "terrain/remote/RemoteStats.h"
 #include "terrain/runtime/FrameTelemetry.h"
 #include "terrain/runtime/ImageryStreamer.h"
 #include "terrain/runtime/LatencyHistogram.h"
@@ -186,7 +187,8 @@ private:
     static io::IoThreadOptions ioOptionsFor(const TileStreamerOptions& options,
                                             const cache::GpuTilePool& pool);
     bool uploadFromCache(const io::PatchId& id);
-    LoadState& loadStateOf(const io::PatchId& id);
+    // The load of `id`, made fresh (wanted from now) if there was none; `inserted` then says so.
+    LoadState& loadStateOf(const io::PatchId& id, bool* inserted = nullptr);
     // Makes sure `id` is on its way at `priority` (acquire's and prefetch's requests).
     void request(const io::PatchId& id, LoadState& load, float priority);
     void takeCompletions();
