@@ -52,6 +52,7 @@
 #include "terrain/pyramid/PatchRecord.h"
 #include "terrain/pyramid/PyramidLayout.h"
 #include "terrain/pyramid/PyramidReader.h"
+#include "terrain/remote/RemoteStats.h"
 
 #include <chrono>
 #include <condition_variable>

@@ -8,7 +8,7 @@
 #include "terrain/pyramid/PatchRecord.h"
 #include "terrain/pyramid/PyramidLayout.h"
 #include "terrain/pyramid/PyramidManifest.h"
-#include "terrain/remote/RemoteFiles.h"
+#include "terrain/remote/RemoteStats.h"
 
 #include <cstddef>
 #include <cstdint>

@@ -18,6 +18,7 @@
 #pragma once
 
 #include "terrain/base/Result.h"
+#include "terrain/remote/RemoteStats.h"
 
 #include <chrono>
 #include <cstdint>
@@ -48,35 +49,6 @@ struct HttpOptions {
     std::chrono::milliseconds firstBackoff{200};  ///< doubled each retry, times 0.5–1.5
     /// TERRAIN_HTTP_TIMEOUT and TERRAIN_HTTP_RETRIES, with the defaults above.
     static Result<HttpOptions> fromEnvironment();
-};
-
-/// What a RemoteFiles did, for telemetry and tests.
-struct RemoteStats {
-    std::uint64_t requests = 0;      ///< HTTP requests sent, retries included
-    std::uint64_t retries = 0;       ///< of them, repeats after a failure
-    std::uint64_t fetched = 0;       ///< files whose body came (200)
-    std::uint64_t fetchedBytes = 0;  ///< their bytes
-    std::uint64_t notModified = 0;   ///< cached files the server confirmed (304)
-    std::uint64_t cacheHits = 0;     ///< local copies used without a request
-    std::uint64_t staleServed = 0;   ///< cached copies used because the server could not be had
-
-    RemoteStats& operator+=(const RemoteStats& more) {
-        requests += more.requests;
-        retries += more.retries;
-        fetched += more.fetched;
-        fetchedBytes += more.fetchedBytes;
-        notModified += more.notModified;
-        cacheHits += more.cacheHits;
-        staleServed += more.staleServed;
-        return *this;
-    }
-    /// What happened between an earlier snapshot `before` of the same counters and this one.
-    RemoteStats since(const RemoteStats& before) const {
-        return {requests - before.requests,       retries - before.retries,
-                fetched - before.fetched,         fetchedBytes - before.fetchedBytes,
-                notModified - before.notModified, cacheHits - before.cacheHits,
-                staleServed - before.staleServed};
-    }
 };
 
 class DiskCache;
