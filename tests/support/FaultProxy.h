@@ -105,6 +105,10 @@ public:
 
     /// Requests that reached the proxy so far.
     int requests() const { return m_requests.load(); }
+    /// The most requests it was answering at once so far: a request counts from its head's
+    /// arrival until just before the client sees anything of the answer, so a client that
+    /// waits for its answer before sending the next request never counts twice.
+    int maxInFlight() const { return m_maxInFlight.load(); }
     /// How many requests met each fault so far (a HoldBody counts once its half body is sent).
     int faulted(ProxyFault kind) const {
         std::lock_guard lock(m_mutex);
@@ -250,14 +254,38 @@ private:
         }
     }
 
+    // A request being answered (maxInFlight), until leave().
+    class InFlight {
+    public:
+        explicit InFlight(FaultProxy& proxy) : m_proxy(proxy) {
+            const int now = ++m_proxy.m_inFlight;
+            int seen = m_proxy.m_maxInFlight.load();
+            while (now > seen && !m_proxy.m_maxInFlight.compare_exchange_weak(seen, now)) {
+            }
+        }
+        void leave() {
+            if (!m_left) --m_proxy.m_inFlight;
+            m_left = true;
+        }
+        ~InFlight() { leave(); }
+        InFlight(const InFlight&) = delete;
+        InFlight& operator=(const InFlight&) = delete;
+
+    private:
+        FaultProxy& m_proxy;
+        bool m_left = false;
+    };
+
     // Answers the requests of one client connection until it closes or a fault closes it.
     void serve(int client) {
         std::string buffer;
         for (;;) {
             const std::string head = readHead(client, buffer);
             if (head.empty()) return;
+            InFlight answering(*this);
             const auto [fault, latency] = faultFor(++m_requests, head);
             if (latency.count() > 0) std::this_thread::sleep_for(latency);
+            answering.leave();
             if (fault == ProxyFault::Reset) {
                 const linger reset{1, 0};  // close() sends RST
                 ::setsockopt(client, SOL_SOCKET, SO_LINGER, &reset, sizeof(reset));
@@ -275,7 +303,7 @@ private:
                     return;
                 continue;
             }
-            const std::string answer = fetchUpstream(head);
+            const std::string answer = fetchUpstream(head);  // after leave(): quick, local
             const std::size_t split = answer.find("\r\n\r\n");
             if (split == std::string::npos) {
                 sendAll(client, "HTTP/1.1 502 Bad Gateway\r\nContent-Length: 0\r\n\r\n");
@@ -319,6 +347,8 @@ private:
     int m_port = 0;
     std::atomic<bool> m_stopping{false};
     std::atomic<int> m_requests{0};
+    std::atomic<int> m_inFlight{0};
+    std::atomic<int> m_maxInFlight{0};
     mutable std::mutex m_mutex;
     std::condition_variable m_changed;
     std::map<ProxyFault, int> m_faulted;

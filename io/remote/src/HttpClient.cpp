@@ -1,5 +1,7 @@
 #include "HttpClient.h"
 
+#include "HostSlots.h"
+
 #include <curl/curl.h>
 #include <fmt/format.h>
 
@@ -177,7 +179,10 @@ Result<HttpResponse> HttpClient::get(const std::string& url, const Validators& v
         curl_easy_setopt(curl, CURLOPT_WRITEDATA, &sink);
         ++stats.requests;
         if (tries > 0) ++stats.retries;
-        attempt.code = curl_easy_perform(curl);
+        {
+            const HostSlots::Slot slot = HostSlots::acquire(url, m_options.maxPerHost);
+            attempt.code = curl_easy_perform(curl);
+        }
         curl_easy_getinfo(curl, CURLINFO_RESPONSE_CODE, &attempt.status);
         if (attempt.code == CURLE_OK && attempt.status == 200) {
             // A body shorter than its Content-Length is CURLE_PARTIAL_FILE above; a write

@@ -112,6 +112,14 @@ Result<HttpOptions> HttpOptions::fromEnvironment() {
                 "TERRAIN_HTTP_RETRIES=\"{}\" is not a count of retries from 0 to 20", *retries)};
         options.retries = *count;
     }
+    if (auto perHost = environment("TERRAIN_HTTP_MAX_PER_HOST")) {
+        const std::optional<int> count = parseCount(*perHost, 64);
+        if (!count || *count == 0)
+            return Error{fmt::format(
+                "TERRAIN_HTTP_MAX_PER_HOST=\"{}\" is not a count of requests from 1 to 64",
+                *perHost)};
+        options.maxPerHost = *count;
+    }
     return options;
 }
 

@@ -57,9 +57,10 @@ HttpOptions quickHttp() {
 class RemoteFilesTest : public ::testing::Test {
 protected:
     void SetUp() override { TERRAIN_NGINX_OR_SKIP(server); }
-    std::unique_ptr<RemoteFiles> files(std::uint64_t maxBytes = std::uint64_t{1} << 30) {
+    std::unique_ptr<RemoteFiles> files(std::uint64_t maxBytes = std::uint64_t{1} << 30,
+                                       HttpOptions http = quickHttp()) {
         Result<std::unique_ptr<RemoteFiles>> opened =
-            RemoteFiles::open({cache.path(), maxBytes}, quickHttp());
+            RemoteFiles::open({cache.path(), maxBytes}, http);
         EXPECT_TRUE(opened) << opened.error().message;
         return std::move(opened).value();
     }
@@ -256,6 +257,54 @@ TEST_F(RemoteFilesTest, ReadersWantingOneFileAtOnceFetchItOnce) {
     EXPECT_EQ(a->stats().fetched + b->stats().fetched, 1u);
     EXPECT_EQ(a->stats().fetchedBytes + b->stats().fetchedBytes, body.size());
     EXPECT_LE(proxy.requests(), 2);
+}
+
+TEST_F(RemoteFilesTest, AtMostMaxPerHostRequestsGoToOneHostAtOnce) {
+    // Four readers (four RemoteFiles, as four reader threads have) each want a different new
+    // file from one host, every answer 60 ms away; the process lets one request at a time go
+    // to the host (HttpOptions::maxPerHost = 1), so the server never answers two at once,
+    // and every file still arrives. The readers of a process share the limit.
+    FaultProxy proxy(server.port(), FaultPlan{.latency = std::chrono::milliseconds(60)});
+    ASSERT_TRUE(proxy.ready());
+    HttpOptions oneAtATime = quickHttp();
+    oneAtATime.maxPerHost = 1;
+    constexpr int kReaders = 4;
+    std::vector<std::unique_ptr<RemoteFiles>> readers;
+    std::vector<Result<fs::path>> copies(kReaders, Error{"not run"});
+    for (int r = 0; r < kReaders; ++r) {
+        writeFile(root.path() / ("file" + std::to_string(r)), std::string(5000, char('a' + r)));
+        readers.push_back(files(std::uint64_t{1} << 30, oneAtATime));
+    }
+    std::vector<std::thread> threads;
+    for (int r = 0; r < kReaders; ++r)
+        threads.emplace_back([&, r] {
+            copies[static_cast<std::size_t>(r)] = readers[static_cast<std::size_t>(r)]->localCopy(
+                proxy.url("file" + std::to_string(r)));
+        });
+    for (std::thread& t : threads) t.join();
+    for (int r = 0; r < kReaders; ++r) {
+        const Result<fs::path>& copy = copies[static_cast<std::size_t>(r)];
+        ASSERT_TRUE(copy) << copy.error().message;
+        EXPECT_EQ(contentsOf(copy.value()), std::string(5000, char('a' + r)));
+    }
+    EXPECT_EQ(proxy.requests(), kReaders);
+    EXPECT_EQ(proxy.maxInFlight(), 1);
+}
+
+TEST(HttpOptionsTest, TheLimitPerHostIsReadFromTheEnvironmentAndCheckedThere) {
+    ::setenv("TERRAIN_HTTP_MAX_PER_HOST", "3", 1);
+    Result<HttpOptions> three = HttpOptions::fromEnvironment();
+    ASSERT_TRUE(three) << three.error().message;
+    EXPECT_EQ(three.value().maxPerHost, 3);
+    ::setenv("TERRAIN_HTTP_MAX_PER_HOST", "0", 1);
+    Result<HttpOptions> none = HttpOptions::fromEnvironment();
+    ASSERT_FALSE(none);
+    EXPECT_NE(none.error().message.find("TERRAIN_HTTP_MAX_PER_HOST=\"0\""), std::string::npos)
+        << none.error().message;
+    ::unsetenv("TERRAIN_HTTP_MAX_PER_HOST");
+    Result<HttpOptions> defaults = HttpOptions::fromEnvironment();
+    ASSERT_TRUE(defaults);
+    EXPECT_EQ(defaults.value().maxPerHost, HttpOptions{}.maxPerHost);
 }
 
 TEST_F(RemoteFilesTest, AProcessKilledWhileWritingABodyLeavesTheCacheUsable) {

@@ -13,6 +13,7 @@
 //   TERRAIN_CACHE_BYTES   its bound in bytes (default 4 GiB; suffixes K, M, G)
 //   TERRAIN_HTTP_TIMEOUT  seconds a request may take before it is retried (default 30)
 //   TERRAIN_HTTP_RETRIES  attempts after the first (default 4)
+//   TERRAIN_HTTP_MAX_PER_HOST  requests under way to one host at once, process-wide (default 6)
 // One thread at a time (the I/O thread owns the reader's); readers on other threads make
 // their own.
 #pragma once
@@ -47,7 +48,11 @@ struct HttpOptions {
     std::chrono::milliseconds requestTimeout{30'000};
     int retries = 4;  ///< attempts after the first, for failures worth retrying
     std::chrono::milliseconds firstBackoff{200};  ///< doubled each retry, times 0.5–1.5
-    /// TERRAIN_HTTP_TIMEOUT and TERRAIN_HTTP_RETRIES, with the defaults above.
+    /// The most requests this process has under way to one host (scheme, host and port) at
+    /// once, whatever its readers: the others wait their turn (HostSlots).
+    int maxPerHost = 6;
+    /// TERRAIN_HTTP_TIMEOUT, TERRAIN_HTTP_RETRIES and TERRAIN_HTTP_MAX_PER_HOST, with the
+    /// defaults above.
     static Result<HttpOptions> fromEnvironment();
 };
 
