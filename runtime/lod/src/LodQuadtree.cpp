@@ -16,6 +16,10 @@ constexpr int kBlock = 4;
 constexpr double kMinTravelM = 1e-3;
 // Levels below a waiting leaf's children that prefetchBelow may ask for ahead.
 constexpr int kPrefetchLevels = 3;
+// How far ahead prefetchAlongMotion looks: frames at the camera's present velocity, about
+// the frames a tile takes from request to residency from a local disk (docs/architecture.md,
+// "Reading ahead"); further ahead costs reads the camera may never need.
+constexpr double kAheadFrames = 8.0;
 // Parent links: −1 a root, −2 a freed node, −3 a spare slot of the root blocks.
 constexpr int kFreed = -2;
 constexpr int kSpare = -3;
@@ -287,6 +291,31 @@ void LodQuadtree::prefetchBelow(const io::PatchId& id, const io::PatchInfo& heig
     }
 }
 
+// A drawn leaf the camera is heading for: if its projected error from where the camera will
+// be kAheadFrames frames on, at its present velocity, exceeds ε_c, it will likely split by
+// then, so its children are read ahead now and are there when it does (issue 49, prefetch
+// along the camera's motion). A prediction, not a decision: a wrong one costs a read. One box
+// distance per drawn leaf, and only while the camera moves.
+void LodQuadtree::prefetchAlongMotion(const Node& leaf) {
+    if (m_motion == glm::dvec3(0.0) || leaf.kind != NodeKind::Data || !leaf.finerData ||
+        leaf.waiting || leaf.splitBlocked || leaf.id.level >= m_surface.maxLevel() ||
+        m_options.splitRule != SplitRule::ProjectedError || m_options.splitToFinest)
+        return;
+    const glm::dvec3 ahead = m_camera.position + kAheadFrames * m_motion;
+    const double rho = m_surface.distance(ahead, leaf.volume);
+    const double predicted =
+        rho <= 0.0 ? std::numeric_limits<double>::max() : m_gamma * metricM(leaf) / rho;
+    if (predicted <= coarseErrorPx()) return;
+    std::array<SurfaceChild, 4> children;
+    const int count = m_surface.children(leaf.id, children);
+    for (int i = 0; i < count; ++i) {
+        const SurfaceChild& child = children[static_cast<std::size_t>(i)];
+        if (!m_surface.storesChild(leaf.info, child.quadrant)) continue;
+        m_residency.prefetch(child.id, prefetchPriority(predicted));
+        ++m_stats.prefetched;
+    }
+}
+
 // The plane's root on its way (a cold start, a teleport into a new pyramid): nothing is known
 // of its errors yet, so the two levels under it in view are read meanwhile, whatever their
 // error (20 tiles at most), and split at once if needed when the root arrives.
@@ -425,6 +454,7 @@ void LodQuadtree::cull(int index, int planeMask, std::vector<PatchDraw>& out) {
             cull(index, planeMask, out);
             return;
         }
+        prefetchAlongMotion(now);
         out.push_back(drawOf(now));
         ++m_stats.drawn;
         m_stats.drawnBare += now.kind == NodeKind::Bare ? 1 : 0;
@@ -496,6 +526,7 @@ void LodQuadtree::takeArrivedRoots() {
 LodUpdateStats LodQuadtree::update(const Camera& camera, std::vector<PatchDraw>& out) {
     out.clear();
     m_stats = {};
+    m_motion = m_started ? camera.position - m_camera.position : glm::dvec3(0.0);
     m_odometer += glm::length(camera.position - m_camera.position);
     const double gamma = camera.errorScale();
     if (gamma != m_gamma) m_recheckAll = true;

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <random>
@@ -162,6 +163,43 @@ TEST_F(LodQuadtreeTest, PrefetchReachesTheSameCutInFewerFrames) {
     EXPECT_LT(with, without);
     EXPECT_EQ(ahead, levelByLevel);
     EXPECT_GE(levelByLevel.back().level, 3) << "deep enough to need prefetching";
+}
+
+TEST_F(LodQuadtreeTest, ReadingAheadAlongTheCameraMotionSavesWaitsOnTheWay) {
+    // A descent from high above to low over the terrain, 48 frames, tiles arriving 3 frames
+    // after they are asked for. Reading ahead, the children of the leaves the camera heads
+    // for are asked for before their parents want to split (prefetchAlongMotion), so far
+    // fewer splits wait on the way; the cut reached once the camera rests is the same.
+    const runtime::LodOptions options{.errorPx = 1.0};
+    constexpr int kFrames = 48;
+    auto fly = [&](bool prefetch, std::uint64_t& waits, std::uint64_t& aheadWithoutWait,
+                   std::vector<io::PatchId>& cut) {
+        open({.capacity = 2048, .framesToArrive = 3, .honourPrefetch = prefetch});
+        m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_surface, options);
+        settle(camera(0.1, 0.1, 3000.0, 0.5, 0.5));
+        waits = aheadWithoutWait = 0;
+        for (int f = 1; f <= kFrames; ++f) {
+            const double t = double(f) / kFrames;
+            const LodUpdateStats stats =
+                frame(camera(0.1 + 0.3 * t, 0.1 + 0.2 * t, 3000.0 * std::pow(60.0 / 3000.0, t),
+                             0.5 + 0.1 * t, 0.5));
+            waits += stats.waitingSplits;
+            if (stats.waitingSplits == 0 && stats.prefetched > 0) ++aheadWithoutWait;
+        }
+        settle(camera(0.4, 0.3, 60.0, 0.6, 0.5));
+        EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
+        cut = ids(m_draws);
+    };
+    std::uint64_t waitsWithout = 0, waitsWith = 0, aheadWithout = 0, ahead = 0;
+    std::vector<io::PatchId> cutWithout, cutWith;
+    fly(false, waitsWithout, aheadWithout, cutWithout);
+    fly(true, waitsWith, ahead, cutWith);
+    EXPECT_GT(ahead, 0u) << "reads ahead on frames where no split waits: the motion's";
+    EXPECT_LT(2 * waitsWith, waitsWithout)
+        << waitsWith << " waits reading ahead, " << waitsWithout << " without";
+    EXPECT_EQ(cutWith, cutWithout);
+    RecordProperty("waits", std::to_string(waitsWith) + " reading ahead, " +
+                                std::to_string(waitsWithout) + " without");
 }
 
 TEST_F(LodQuadtreeTest, SplitToFinestDrawsTheUniformGridOfWhatIsInView) {

@@ -119,7 +119,8 @@ struct LodUpdateStats {
     std::uint64_t splits = 0;
     std::uint64_t merges = 0;         ///< including subtrees collapsed as they left the view
     std::uint64_t waitingSplits = 0;  ///< leaves too coarse whose children are not resident
-    /// Tiles below waiting leaves asked for ahead (TileResidency::prefetch) this frame.
+    /// Tiles asked for ahead (TileResidency::prefetch) this frame: below waiting leaves, and
+    /// the children of drawn leaves the camera's motion will likely split.
     std::uint64_t prefetched = 0;
     /// Visible nodes held split although within the coarse threshold (the hysteresis).
     std::uint64_t heldSplits = 0;
@@ -210,6 +211,7 @@ private:
     void prefetchBelow(const io::PatchId& id, const io::PatchInfo& heights, double errorM,
                        int levels);
     void prefetchUnderRoot(const io::PatchId& root);
+    void prefetchAlongMotion(const Node& leaf);
     float prefetchPriority(double predicted) const;
     void evaluateLeaf(int node);
     void evaluateMerge(int node);
@@ -232,6 +234,7 @@ private:
     std::vector<int> m_waitingNext;
 
     Camera m_camera;
+    glm::dvec3 m_motion{0.0};  // the camera's move since the last update
     SurfaceView m_view;
     double m_gamma = 0.0;
     double m_odometer = 0.0;
