@@ -28,7 +28,12 @@ struct FakeImageryRules {
     std::size_t texelBytes = io::kImageryTileBytes;
     /// readTile calls so far, all layers (the test reads it between frames).
     std::shared_ptr<std::atomic<int>> reads = std::make_shared<std::atomic<int>>(0);
+    /// A layer at a URL, as far as its counts go: opening it made one request (its index)
+    /// and each readTile one more, fetching kFakeImageryFileBytes.
+    bool overHttp = false;
 };
+
+inline constexpr std::uint64_t kFakeImageryFileBytes = 1000;
 
 /// Texel (x, y) of the fake tile `id` of `layer`: a pattern unique to the tile.
 inline std::uint32_t fakeImageryTexel(int layer, const io::PatchId& id, int x, int y) {
@@ -59,6 +64,7 @@ public:
 
     Status readTile(const io::PatchId& id, io::ImageryTile& out) override {
         ++*m_rules.reads;
+        ++m_ownReads;
         if (m_rules.fails && m_rules.fails(m_layer, id))
             return Error{"fake imagery layer " + std::to_string(m_layer) + ": cannot read tile L" +
                          std::to_string(id.level) + " (" + std::to_string(id.x) + ", " +
@@ -73,9 +79,19 @@ public:
         return {};
     }
 
+    remote::RemoteStats remoteStats() const override {
+        if (!m_rules.overHttp) return {};
+        remote::RemoteStats stats;
+        stats.requests = 1 + m_ownReads;
+        stats.fetched = 1 + m_ownReads;
+        stats.fetchedBytes = (1 + m_ownReads) * kFakeImageryFileBytes;
+        return stats;
+    }
+
 private:
     int m_layer;
     FakeImageryRules m_rules;
+    std::uint64_t m_ownReads = 0;
 };
 
 /// Opens a FakeImagerySource per layer; the layers in `failToOpen` (a bit per layer) fail.

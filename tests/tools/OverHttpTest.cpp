@@ -169,8 +169,15 @@ TEST_F(OverHttp, RenderDrawsTheSameFramesAsFromTheFolder) {
         ASSERT_EQ(a.size(), 8u) << name;
         EXPECT_EQ(a, b) << name;
     }
-    EXPECT_GT(jsonOf(there)["telemetry"]["http"]["files_fetched"].get<int>(), 0);
-    EXPECT_EQ(jsonOf(here)["telemetry"]["http"]["requests"], 0);
+    const nlohmann::json remote = jsonOf(there)["telemetry"], folder = jsonOf(here)["telemetry"];
+    EXPECT_GT(remote["http"]["files_fetched"].get<int>(), 0);
+    EXPECT_EQ(folder["http"]["requests"], 0);
+    // The payloads the view needed, read from the files either way; over HTTP whole files
+    // came for them, so at least as many bytes crossed the network.
+    EXPECT_GT(remote["totals"]["stored_bytes_read"].get<std::uint64_t>(), 0u);
+    EXPECT_GT(folder["totals"]["stored_bytes_read"].get<std::uint64_t>(), 0u);
+    EXPECT_GE(remote["http"]["fetched_per_needed_byte"].get<double>(), 1.0) << remote.dump();
+    EXPECT_TRUE(folder["http"]["fetched_per_needed_byte"].is_null());
 }
 
 }  // namespace

@@ -89,8 +89,13 @@ IoThread::IoThread(std::vector<PyramidReader> readers, ImagerySources imagery,
     m_inFlight.resize(m_readers.size());
     // Opening fetched (or confirmed) each reader's manifest: counted from the start.
     for (const PyramidReader& reader : m_readers) {
-        m_httpCounted.push_back(reader.remoteStats());
-        m_stats.http += m_httpCounted.back();
+        m_readerCounted.push_back({reader.remoteStats(), 0});
+        m_stats.http += m_readerCounted.back().http;
+    }
+    // Opening a layer at a URL fetched (or confirmed) its index: counted too.
+    for (const std::unique_ptr<ImageryTileSource>& source : m_imagery) {
+        m_imageryCounted.push_back(source ? ReadCost{source->remoteStats(), 0} : ReadCost{});
+        m_stats.http += m_imageryCounted.back().http;
     }
     // Started last: the threads see every member constructed (thread start synchronises).
     m_threads.reserve(m_readers.size());
@@ -256,14 +261,19 @@ IoThread::Clock::time_point IoThread::takeRequestTimeLocked(const TileKey& key) 
     return time;
 }
 
-Status IoThread::readImagery(const TileKey& key, ImageryTile& out, const PyramidReader& reader) {
+Status IoThread::readImagery(const TileKey& key, ImageryTile& out, const PyramidReader& reader,
+                             ReadCost& cost) {
     const auto layer = static_cast<std::size_t>(key.imageryLayer);
     ImageryTileSource* source = m_imagery[layer].get();
     if (source == nullptr) return Error{m_imageryOpenErrors[layer]};
     {
         // Sources are not thread-safe (ImageryTileSource.h): one read at a time.
         const std::lock_guard sourceLock(m_imageryMutex);
-        if (Status read = source->readTile(key.id, out); !read) return read;
+        Status read = source->readTile(key.id, out);
+        const ReadCost now{source->remoteStats(), source->storedBytesRead()};
+        cost = now.since(m_imageryCounted[layer]);
+        m_imageryCounted[layer] = now;
+        if (!read) return read;
     }
     out.id = key.id;
     if (!out.info.present) {
@@ -323,8 +333,9 @@ void IoThread::run(const std::stop_token& stop, std::size_t readerIndex) {
         if (!inFlight->cancelled) {
             injected = !imagery && m_options.faults.failsRead(id);
             lock.unlock();
+            ReadCost imageryCost;
             if (imagery) {
-                outcome = readImagery(key, tile, reader);
+                outcome = readImagery(key, tile, reader, imageryCost);
             } else {
                 outcome =
                     injected
@@ -332,10 +343,14 @@ void IoThread::run(const std::stop_token& stop, std::size_t readerIndex) {
                                                    reader.folder().string(), id.level, id.x, id.y)})
                         : reader.readPatch(id, record);
             }
-            const remote::RemoteStats http = reader.remoteStats();  // this thread's reader
+            // This thread's reader: its counters are read on its own thread.
+            const ReadCost readerNow{reader.remoteStats(), reader.storedBytesRead()};
             lock.lock();
-            m_stats.http += http.since(m_httpCounted[readerIndex]);
-            m_httpCounted[readerIndex] = http;
+            const ReadCost cost = readerNow.since(m_readerCounted[readerIndex]);
+            m_readerCounted[readerIndex] = readerNow;
+            m_stats.http += cost.http;
+            m_stats.http += imageryCost.http;
+            m_stats.storedBytesRead += cost.storedBytes + imageryCost.storedBytes;
         }
 
         Completion c;

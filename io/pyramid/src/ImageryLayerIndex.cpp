@@ -50,12 +50,17 @@ Status writeImageryIndex(const std::filesystem::path& layerDir, const ImageryLay
 }
 
 Result<ImageryLayerIndex> readImageryIndex(const std::filesystem::path& layerDir) {
+    Result<std::unique_ptr<remote::RemoteFiles>> files = remote::filesFor(layerDir.string());
+    if (!files) return files.error();
+    return readImageryIndex(layerDir, files.value().get());
+}
+
+Result<ImageryLayerIndex> readImageryIndex(const std::filesystem::path& layerDir,
+                                           remote::RemoteFiles* files) {
     const std::filesystem::path path = layerDir / "layer.json";
     std::filesystem::path local = path;
-    Result<std::unique_ptr<remote::RemoteFiles>> files = remote::filesFor(path.string());
-    if (!files) return files.error();
-    if (files.value()) {  // a pyramid at a URL (issue 49)
-        Result<std::filesystem::path> copy = files.value()->localCopy(path.string());
+    if (files != nullptr) {  // a pyramid at a URL (issue 49)
+        Result<std::filesystem::path> copy = files->localCopy(path.string());
         if (!copy) return copy.error();
         local = std::move(copy).value();
     }

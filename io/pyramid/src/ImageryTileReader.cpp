@@ -52,6 +52,7 @@ struct ImageryTileReader::State {
     std::vector<std::uint8_t> payload;
     // A pyramid at a URL: its tile files' local copies (issue 49); null for a folder.
     std::unique_ptr<remote::RemoteFiles> remote;
+    std::uint64_t storedBytesRead = 0;  // the tile payloads read
 
     // Where to open `path` from: itself, or its local copy when it is a URL.
     Result<fs::path> localFileOf(const fs::path& path) {
@@ -104,16 +105,17 @@ ImageryTileReader::~ImageryTileReader() = default;
 Result<std::unique_ptr<ImageryTileReader>> ImageryTileReader::open(const fs::path& layerDir,
                                                                    int coarsestLevel,
                                                                    int finestLevel) {
-    Result<ImageryLayerIndex> index = readImageryIndex(layerDir);
-    if (!index) return index.error();
+    Result<std::unique_ptr<remote::RemoteFiles>> files = remote::filesFor(layerDir.string());
+    if (!files) return files.error();
     auto state = std::make_unique<State>();
+    state->remote = std::move(files).value();
+    // Through the reader's own RemoteFiles, so its counts include the index.
+    Result<ImageryLayerIndex> index = readImageryIndex(layerDir, state->remote.get());
+    if (!index) return index.error();
     state->layerDir = layerDir;
     state->coarsestLevel = coarsestLevel;
     state->finestLevel = finestLevel;
     state->index = std::move(index).value();
-    Result<std::unique_ptr<remote::RemoteFiles>> files = remote::filesFor(layerDir.string());
-    if (!files) return files.error();
-    state->remote = std::move(files).value();
     for (const ImageryIndexLevel& l : state->index.levels) {
         if (l.level < coarsestLevel || l.level > finestLevel)
             return Error{
@@ -126,6 +128,12 @@ Result<std::unique_ptr<ImageryTileReader>> ImageryTileReader::open(const fs::pat
 }
 
 const ImageryLayerIndex& ImageryTileReader::index() const { return m_state->index; }
+
+remote::RemoteStats ImageryTileReader::remoteStats() const {
+    return m_state->remote ? m_state->remote->stats() : remote::RemoteStats{};
+}
+
+std::uint64_t ImageryTileReader::storedBytesRead() const { return m_state->storedBytesRead; }
 
 Status ImageryTileReader::readTile(const PatchId& id, ImageryTile& out) {
     State& s = *m_state;
@@ -154,6 +162,7 @@ Status ImageryTileReader::readTile(const PatchId& id, ImageryTile& out) {
     s.payload.resize(e.size);
     if (Status r = readAt(g.file.get(), e.offset, s.payload); !r)
         return Error{fmt::format("{}: {}: {}", g.path.string(), s.tileText(id), r.error().message)};
+    s.storedBytesRead += e.size;
     if (imagery::crc32Of(s.payload) != e.crc32)
         return Error{fmt::format("{}: {}: CRC-32 mismatch (corrupt payload)", g.path.string(),
                                  s.tileText(id))};

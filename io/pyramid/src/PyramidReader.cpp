@@ -77,6 +77,7 @@ struct PyramidReader::Impl {
     std::vector<float> parentScratch;           // its parent samples (HeightCodes.h)
     std::unique_ptr<ParentTileCache> parents;
     std::uint64_t parentReads = 0;
+    std::uint64_t storedBytesRead = 0;  // the payloads of the patches read
     // The virtual planet (VirtualPlanetPyramid.h): patches generated instead of read.
     std::optional<VirtualPlanetPyramid> planet;
 
@@ -290,6 +291,7 @@ struct PyramidReader::Impl {
             payloadScratch.resize(s.payloadCount);
             s.payloadSamples = reinterpret_cast<char*>(payloadScratch.data());
             s.patches->readTile(tx, ty);
+            storedBytesRead += std::uint64_t{s.payloadCount} * sizeof(std::uint32_t);
         } catch (const std::exception& e) {
             const std::filesystem::path path = s.path;
             close(&s);  // a shard that failed once is reopened (and rechecked) next time
@@ -423,5 +425,6 @@ remote::RemoteStats PyramidReader::remoteStats() const {
 int PyramidReader::openShards() const { return static_cast<int>(m_impl->shards.size()); }
 std::uint64_t PyramidReader::shardOpenings() const { return m_impl->openings; }
 std::uint64_t PyramidReader::parentReads() const { return m_impl->parentReads; }
+std::uint64_t PyramidReader::storedBytesRead() const { return m_impl->storedBytesRead; }
 
 }  // namespace terrain::io

@@ -270,6 +270,8 @@ void TileStreamer::endFrame(FrameTelemetry& t) {
     t.loadLatencyP99Ms = m_recentLoads.percentile(99.0);
     t.diskReadBytes = io.bytesRead - m_bytesReadBefore;
     m_bytesReadBefore = io.bytesRead;
+    t.storedBytesRead = io.storedBytesRead - m_storedBytesReadBefore;
+    m_storedBytesReadBefore = io.storedBytesRead;
     const remote::RemoteStats http = io.http.since(m_httpBefore);
     m_httpBefore = io.http;
     t.httpRequests = http.requests;

@@ -40,6 +40,7 @@ void TelemetrySummary::add(const FrameTelemetry& frame) {
     m_gpuUploadBytes += frame.gpuUploadBytes;
     m_gpuUploadsDeferred += frame.gpuUploadsDeferred;
     m_diskReadBytes += frame.diskReadBytes;
+    m_storedBytesRead += frame.storedBytesRead;
     m_faults = std::max(m_faults, frame.faultsTotal);
     m_http.httpRequests += frame.httpRequests;
     m_http.httpRetries += frame.httpRetries;
@@ -94,6 +95,7 @@ nlohmann::json TelemetrySummary::toJson() const {
         {"gpu_upload_bytes", m_gpuUploadBytes},
         {"gpu_uploads_deferred", m_gpuUploadsDeferred},
         {"disk_read_bytes", m_diskReadBytes},
+        {"stored_bytes_read", m_storedBytesRead},
         {"faults", m_faults},
     };
     // Over HTTP: files the readers used, and how many of them the disk cache gave (without a
@@ -111,6 +113,12 @@ nlohmann::json TelemetrySummary::toJson() const {
         {"stale_served", m_http.httpStaleServed},
         {"cache_hit_rate",
          numberOrNull(ratioOrNaN(static_cast<double>(fromCache), static_cast<double>(used)))},
+        // Whole files come, so a view that needs a few patches of a shard pays for all of it.
+        {"fetched_per_needed_byte",
+         numberOrNull(m_http.httpRequests == 0
+                          ? FrameTelemetry::kNoValue
+                          : ratioOrNaN(static_cast<double>(m_http.httpFetchedBytes),
+                                       static_cast<double>(m_storedBytesRead)))},
     };
     summary["peaks"] = {
         {"queue_depth", m_peakQueueDepth},

@@ -4,7 +4,8 @@
 // order across heights and imagery, cancelling an imagery key leaves the heights of the same
 // patch alone, failures name the tile, a layer that cannot be opened fails only its own
 // requests, a source handing out the wrong size fails the tile, and recycled tile storage
-// is read into. Deterministic: waits are on the thread's events, never sleeps.
+// is read into; what a layer at a URL fetches is counted with the heights' fetches.
+// Deterministic: waits are on the thread's events, never sleeps.
 #include "terrain/iothread/IoThread.h"
 #include "terrain/pyramid/ImageryMips.h"
 
@@ -114,6 +115,27 @@ TEST_F(IoThreadImageryTest, ReadsTilesOfEveryLayerAndAbsentOnes) {
     const IoThreadStats s = io->stats();
     EXPECT_EQ(s.requested, 4U);
     EXPECT_EQ(s.completed, 4U);
+}
+
+TEST_F(IoThreadImageryTest, WhatImageryCostsOverHttpIsCountedWithTheHeights) {
+    FakeImageryRules rules;
+    rules.overHttp = true;
+    rules.fails = [](int layer, const PatchId& id) { return layer == 1 && id.level == 2; };
+    auto io = start(rules);
+    ASSERT_TRUE(io);
+    // Opening each of the two layers fetched its index; the heights are in a folder.
+    EXPECT_EQ(io->stats().http.requests, 2U);
+    EXPECT_TRUE(io->submit(TileKey{{1, 1, 0}, 0}, 1.0f));
+    EXPECT_TRUE(io->submit(TileKey{{1, 1, 0}, 1}, 1.0f));
+    EXPECT_TRUE(io->submit(TileKey{{2, 3, 1}, 1}, 1.0f));  // fails, after its request
+    EXPECT_TRUE(io->submit(PatchId{1, 1, 0}, 1.0f));
+    std::vector<Completion> done;
+    ASSERT_TRUE(pollUntil(*io, done, 4));
+    const IoThreadStats s = io->stats();
+    EXPECT_EQ(s.failed, 1U);
+    EXPECT_EQ(s.http.requests, 5U) << "two indexes, three tile files";
+    EXPECT_EQ(s.http.fetched, 5U);
+    EXPECT_EQ(s.http.fetchedBytes, 5U * test::kFakeImageryFileBytes);
 }
 
 TEST_F(IoThreadImageryTest, HeightsAndImageryShareOnePriorityOrder) {

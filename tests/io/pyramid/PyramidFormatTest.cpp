@@ -1,7 +1,7 @@
 // The pyramid format on disk (docs/pyramid-format.md): manifest round trip and errors,
 // shards written and read back bit for bit, absent and missing patches, damaged files
 // (every flipped byte and every truncation of a small shard), failed writes, the reader's
-// LRU of open shards.
+// LRU of open shards, the payload bytes it counts.
 #include "terrain/pyramid/PatchErrors.h"
 #include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/pyramid/PyramidReader.h"
@@ -11,6 +11,10 @@
 
 #include "TempFolder.h"
 
+#include <ImfDeepFrameBuffer.h>
+#include <ImfDeepTiledInputPart.h>
+#include <ImfHeader.h>
+#include <ImfMultiPartInputFile.h>
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -772,6 +776,53 @@ TEST_F(PyramidFormat, ReaderLruAcrossMoreShardsThanItsCapacity) {
     EXPECT_EQ(reader.shardOpenings(), 41U);
     ASSERT_TRUE(reader.readPatch({L, 3, 3}).ok());
     EXPECT_EQ(reader.shardOpenings(), 42U);
+}
+
+// The bytes of the payload a shard file holds for its patch tile (tx, ty), read with OpenEXR
+// itself: the deep tile's sample count (one 32-bit word a sample, no OpenEXR compression).
+std::uint64_t payloadBytesInShard(const fs::path& shard, int tx, int ty) {
+    Imf::MultiPartInputFile file(shard.c_str());
+    Imf::DeepTiledInputPart part(file, 0);
+    EXPECT_EQ(part.header().name(), "patches");
+    unsigned int count = 0;
+    Imf::DeepFrameBuffer frame;
+    // Strides of 0: every pixel of the window lands on `count` (a tile is one pixel).
+    frame.insertSampleCountSlice(Imf::Slice(Imf::UINT, reinterpret_cast<char*>(&count), 0, 0));
+    part.setFrameBuffer(frame);
+    part.readPixelSampleCounts(tx, tx, ty, ty);
+    return std::uint64_t{count} * sizeof(std::uint32_t);
+}
+
+TEST_F(PyramidFormat, TheStoredBytesReadAreThePayloadsInTheShardFiles) {
+    test::TinyPyramidOptions options;
+    options.shardPatches = 1;  // one patch per shard: its tile is (0, 0)
+    options.withNoData = true;
+    ASSERT_TRUE(test::writeTinyPyramid(m_dir, options).ok());
+    auto opened = PyramidReader::open(m_dir);
+    ASSERT_TRUE(opened.ok()) << opened.error().message;
+    PyramidReader& reader = opened.value();
+    const PyramidLayout& layout = reader.layout();
+    EXPECT_EQ(reader.storedBytesRead(), 0U);
+    std::uint64_t expected = 0, shardBytes = 0;
+    for (int l = 0; l <= layout.finestLevel(); ++l)
+        for (std::int64_t y = 0; y < layout.patchesY(l); ++y)
+            for (std::int64_t x = 0; x < layout.patchesX(l); ++x) {
+                const PatchId id{l, x, y};
+                const std::uint64_t before = reader.storedBytesRead();
+                ASSERT_TRUE(reader.readPatch(id).ok());
+                const std::uint64_t payload = payloadBytesInShard(reader.shardFile(id), 0, 0);
+                EXPECT_GT(payload, 0U);
+                EXPECT_EQ(reader.storedBytesRead() - before, payload) << "L" << l;
+                expected += payload;
+                shardBytes += fs::file_size(reader.shardFile(id));
+            }
+    EXPECT_EQ(reader.storedBytesRead(), expected);
+    // The rest of each file is its headers and tables: most of a tiny patch's shard.
+    EXPECT_LT(expected, shardBytes);
+    // A patch read again is read again.
+    ASSERT_TRUE(reader.readPatch({0, 0, 0}).ok());
+    EXPECT_EQ(reader.storedBytesRead(),
+              expected + payloadBytesInShard(reader.shardFile({0, 0, 0}), 0, 0));
 }
 
 }  // namespace

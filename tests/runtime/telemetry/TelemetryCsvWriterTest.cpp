@@ -34,7 +34,7 @@ constexpr const char* kExpectedHeader =
     "gpu_layers_used,gpu_layers_free,gpu_evictions,gpu_uploads,gpu_upload_bytes,"
     "gpu_uploads_deferred,gpu_ring_stalls,"
     "loads_resident,load_latency_p50_ms,load_latency_p95_ms,load_latency_p99_ms,"
-    "disk_read_bytes,faults_total,"
+    "disk_read_bytes,stored_bytes_read,faults_total,"
     "patches_drawn,patches_culled,triangles,draw_calls,lod_update_us,gpu_ms,lod_splits,"
     "lod_merges,patches_horizon_culled,"
     "imagery_requests_made,imagery_requests_cancelled,imagery_requests_completed,"
@@ -197,7 +197,7 @@ TEST(TelemetryCsvWriter, NaNIsAnEmptyField) {
               "0,0,0,0,0,0,"     // CPU cache
               "0,0,0,0,0,0,0,"   // GPU pool
               "3,,,,"            // loads_resident, three empty percentiles
-              "4096,0,0,0,"      // disk, faults, patches
+              "4096,0,0,0,0,"    // disk, stored bytes, faults, patches
               "0,0,,,0,0,0,"     // triangles, draw calls, two empty times, splits, merges, horizon
               "0,0,0,0,0,"       // imagery requests, pending
               "0,0,0,0,0,0,0,"   // imagery GPU and CPU

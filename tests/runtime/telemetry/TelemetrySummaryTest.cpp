@@ -43,6 +43,7 @@ const std::set<std::string> kExpectedKeys = {
     "totals.gpu_upload_bytes",
     "totals.gpu_uploads_deferred",
     "totals.disk_read_bytes",
+    "totals.stored_bytes_read",
     "totals.faults",
     "peaks",
     "peaks.queue_depth",
@@ -69,6 +70,7 @@ const std::set<std::string> kExpectedKeys = {
     "http.cache_hits",
     "http.stale_served",
     "http.cache_hit_rate",
+    "http.fetched_per_needed_byte",
     "imagery",
     "imagery.totals",
     "imagery.totals.requests_made",
@@ -129,6 +131,7 @@ TEST(TelemetrySummary, EmptySummaryHasZerosAndNulls) {
     EXPECT_EQ(j["totals"]["faults"], 0);
     EXPECT_TRUE(j["totals"]["cpu_cache_hit_rate"].is_null());
     EXPECT_TRUE(j["http"]["cache_hit_rate"].is_null());  // a folder: no file over HTTP
+    EXPECT_TRUE(j["http"]["fetched_per_needed_byte"].is_null());
     EXPECT_EQ(j["peaks"]["queue_depth"], 0);
     for (const char* key : {"p50", "p95", "p99", "max"}) {
         EXPECT_TRUE(j["frame_ms"][key].is_null()) << key;
@@ -151,6 +154,7 @@ TEST(TelemetrySummary, HttpCountsAreSummedAndTheCacheHitRateIsFilesFromTheCache)
     first.httpFetched = 3;
     first.httpFetchedBytes = 3000;
     first.httpNotModified = 1;
+    first.storedBytesRead = 1200;
     FrameTelemetry second = first;
     second.timeS = 2.0;
     second.httpFetched = 0;
@@ -160,6 +164,7 @@ TEST(TelemetrySummary, HttpCountsAreSummedAndTheCacheHitRateIsFilesFromTheCache)
     second.httpNotModified = 2;
     second.httpCacheHits = 3;
     second.httpStaleServed = 1;
+    second.storedBytesRead = 300;
     summary.add(first);
     summary.add(second);
     const json j = summary.toJson();
@@ -172,6 +177,21 @@ TEST(TelemetrySummary, HttpCountsAreSummedAndTheCacheHitRateIsFilesFromTheCache)
     EXPECT_EQ(j["http"]["stale_served"], 1);
     // 3 confirmed + 3 hits + 1 stale from the cache, of 10 files used.
     EXPECT_DOUBLE_EQ(j["http"]["cache_hit_rate"].get<double>(), 0.7);
+    // 3000 bytes fetched for the 1500 the reads needed of the files.
+    EXPECT_EQ(j["totals"]["stored_bytes_read"], 1500);
+    EXPECT_DOUBLE_EQ(j["http"]["fetched_per_needed_byte"].get<double>(), 2.0);
+}
+
+TEST(TelemetrySummary, FromAFolderNothingIsFetchedPerByteNeeded) {
+    TelemetrySummary summary;
+    FrameTelemetry frame;
+    frame.frameMs = 16.0;
+    frame.timeS = 1.0;
+    frame.storedBytesRead = 4096;
+    summary.add(frame);
+    const json j = summary.toJson();
+    EXPECT_EQ(j["totals"]["stored_bytes_read"], 4096);
+    EXPECT_TRUE(j["http"]["fetched_per_needed_byte"].is_null());
 }
 
 TEST(TelemetrySummary, SumsCountsKeepsPeaksAndTheLastCumulativeFaults) {

@@ -123,8 +123,12 @@ struct IoThreadStats {
     std::uint64_t cancelled = 0;
     std::uint64_t injectedFaults = 0;  ///< failures caused by FaultInjection (also in failed)
     std::uint64_t bytesRead = 0;       ///< approximate: byte size of the completed records
+    /// The payloads read (patches and imagery tiles), as stored in their files (compressed;
+    /// PyramidReader::storedBytesRead, ImageryTileSource::storedBytesRead): what the view
+    /// needed of the files, against which http.fetchedBytes is measured.
+    std::uint64_t storedBytesRead = 0;
     /// For a pyramid at a URL, what its readers' fetches cost (RemoteFiles.h), all readers
-    /// together; zero for a folder.
+    /// and imagery layers together; zero for a folder.
     remote::RemoteStats http;
     std::size_t queueDepth = 0;        ///< pending requests
     std::size_t inFlight = 0;          ///< requests being read (0 to readerThreads)
@@ -212,7 +216,17 @@ private:
     IoThread(std::vector<PyramidReader> readers, ImagerySources imagery,
              std::vector<std::string> openErrors, const IoThreadOptions& options);
     // Reader thread `reader`, m_mutex released.
-    Status readImagery(const TileKey& key, ImageryTile& out, const PyramidReader& reader);
+    // What a read cost: over HTTP, and of the files (stored payload bytes).
+    struct ReadCost {
+        remote::RemoteStats http;
+        std::uint64_t storedBytes = 0;
+        ReadCost since(const ReadCost& before) const {
+            return {http.since(before.http), storedBytes - before.storedBytes};
+        }
+    };
+    // `cost` gets what the read cost (the layer's counters since its last read).
+    Status readImagery(const TileKey& key, ImageryTile& out, const PyramidReader& reader,
+                       ReadCost& cost);
     IoThreadStats statsLocked() const;
     std::optional<InFlight>* liveInFlightLocked(const TileKey& key);  // not cancelled, or null
     void run(const std::stop_token& stop, std::size_t reader);
@@ -228,6 +242,9 @@ private:
     // it could not be opened, and then why (immutable after start()).
     const ImagerySources m_imagery;
     std::mutex m_imageryMutex;  // one imagery read at a time; never taken with m_mutex held
+    // Per layer: its source's counters when last added to m_stats (guarded by
+    // m_imageryMutex).
+    std::vector<ReadCost> m_imageryCounted;
     const std::vector<std::string> m_imageryOpenErrors;
 
     mutable std::mutex m_mutex;
@@ -239,8 +256,8 @@ private:
     // node ever allocated, so parking one (on either thread) never allocates.
     std::vector<RequestTimes::node_type> m_spareTimeNodes;
     InFlightSlots m_inFlight;  // slot i: reader thread i's read, if any
-    // Slot i: reader i's HTTP counters when last added to m_stats.http (guarded by m_mutex).
-    std::vector<remote::RemoteStats> m_httpCounted;
+    // Slot i: reader i's counters when last added to m_stats (guarded by m_mutex).
+    std::vector<ReadCost> m_readerCounted;
     std::size_t m_inFlightCount = 0;
     std::vector<Completion> m_ready;         // finished, not yet polled
     std::vector<PatchRecord> m_pool;         // recycled record storage; reserved to its bound

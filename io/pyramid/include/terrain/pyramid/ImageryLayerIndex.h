@@ -11,6 +11,10 @@
 #include <string>
 #include <vector>
 
+namespace terrain::remote {
+class RemoteFiles;
+}
+
 namespace terrain::io {
 
 struct ImageryIndexFile {
@@ -44,5 +48,9 @@ struct ImageryLayerIndex {
 Status writeImageryIndex(const std::filesystem::path& layerDir, const ImageryLayerIndex& index);
 /// Reads and checks `<layerDir>/layer.json`; errors name the file.
 Result<ImageryLayerIndex> readImageryIndex(const std::filesystem::path& layerDir);
+/// The same, a layer at a URL fetched through `files` (so its counts include the index), or
+/// from the folder where `files` is null.
+Result<ImageryLayerIndex> readImageryIndex(const std::filesystem::path& layerDir,
+                                           remote::RemoteFiles* files);
 
 }  // namespace terrain::io

@@ -22,6 +22,8 @@ public:
     ~ImageryTileReader() override;
 
     Status readTile(const PatchId& id, ImageryTile& out) override;
+    remote::RemoteStats remoteStats() const override;
+    std::uint64_t storedBytesRead() const override;
 
     const ImageryLayerIndex& index() const;
     /// Reads every file the index lists and checks each tile (table, CRC, decode): what

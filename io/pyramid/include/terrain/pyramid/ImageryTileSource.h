@@ -7,7 +7,9 @@
 #include "terrain/base/Result.h"
 #include "terrain/pyramid/ImageryTile.h"
 #include "terrain/pyramid/PyramidManifest.h"
+#include "terrain/remote/RemoteStats.h"
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 
@@ -21,6 +23,12 @@ public:
     /// not an error. Errors name the file (or the layer) and the tile: outside the layer's
     /// levels, a missing, truncated or corrupt file, a checksum mismatch.
     virtual Status readTile(const PatchId& id, ImageryTile& out) = 0;
+    /// What the source has done over HTTP since it was opened (opening included): zero for
+    /// a layer in a folder or a generated one. Read on the thread that reads the tiles.
+    virtual remote::RemoteStats remoteStats() const { return {}; }
+    /// The bytes of the tiles' payloads read so far, as stored (compressed) in the layer's
+    /// files: zero for a generated layer.
+    virtual std::uint64_t storedBytesRead() const { return 0; }
 };
 
 /// Opens `layer` of the pyramid at `pyramidDir` (a folder, or the virtual planet's name) for

@@ -80,6 +80,10 @@ public:
     /// Parents read only to decode a child predicted from them (not among the patches
     /// kept for that), so far.
     std::uint64_t parentReads() const;
+    /// The bytes of the patch payloads read so far, as stored (compressed) in their shard
+    /// files, parents read for a prediction included: what the reads needed of the files,
+    /// against which the bytes fetched (remoteStats) or the shard files' sizes are measured.
+    std::uint64_t storedBytesRead() const;
 
 private:
     struct Impl;

@@ -214,6 +214,7 @@ private:
     const bool m_prefetch;
     double m_uploadMsThisFrame = 0.0;  // time in GpuTilePool::upload this frame
     std::uint64_t m_bytesReadBefore = 0;
+    std::uint64_t m_storedBytesReadBefore = 0;
     remote::RemoteStats m_httpBefore;  // the I/O thread's HTTP counters at the last endFrame
 };
 

@@ -52,6 +52,9 @@ struct FrameTelemetry {
     double loadLatencyP99Ms = kNoValue;
 
     std::uint64_t diskReadBytes = 0;  ///< bytes the I/O thread read this frame
+    /// The payloads the I/O thread read (patches and imagery tiles) as stored in their files
+    /// (compressed): what the view needed of the files (IoThreadStats::storedBytesRead).
+    std::uint64_t storedBytesRead = 0;
     std::uint64_t faultsTotal = 0;    ///< cumulative: tiles that failed to load so far
 
     std::uint64_t patchesDrawn = 0;
@@ -91,7 +94,7 @@ struct FrameTelemetry {
     // A pyramid at a URL (issue 49): what the I/O thread's readers fetched through the disk
     // cache (RemoteFiles.h) this frame; all 0 for a folder. Shard files are fetched whole and
     // once, so these count files, not tiles.
-    std::uint64_t httpRequests = 0;      ///< HTTP requests sent for the heights, retries included
+    std::uint64_t httpRequests = 0;      ///< HTTP requests (heights, imagery), retries included
     std::uint64_t httpRetries = 0;       ///< of them, repeats after a failed attempt
     std::uint64_t httpFetched = 0;       ///< files whose body came (200)
     std::uint64_t httpFetchedBytes = 0;  ///< their bytes: what crossed the network
@@ -120,6 +123,7 @@ constexpr void addStreamingCounts(FrameTelemetry& into, const FrameTelemetry& fr
     into.gpuRingStalls += frame.gpuRingStalls;
     into.loadsResident += frame.loadsResident;
     into.diskReadBytes += frame.diskReadBytes;
+    into.storedBytesRead += frame.storedBytesRead;
     into.imageryRequestsMade += frame.imageryRequestsMade;
     into.imageryRequestsCancelled += frame.imageryRequestsCancelled;
     into.imageryRequestsCompleted += frame.imageryRequestsCompleted;
@@ -193,6 +197,7 @@ inline constexpr std::array kTelemetryColumns = {
     detail::realColumn("load_latency_p95_ms", &FrameTelemetry::loadLatencyP95Ms),
     detail::realColumn("load_latency_p99_ms", &FrameTelemetry::loadLatencyP99Ms),
     detail::countColumn("disk_read_bytes", &FrameTelemetry::diskReadBytes),
+    detail::countColumn("stored_bytes_read", &FrameTelemetry::storedBytesRead),
     detail::countColumn("faults_total", &FrameTelemetry::faultsTotal),
     detail::countColumn("patches_drawn", &FrameTelemetry::patchesDrawn),
     detail::countColumn("patches_culled", &FrameTelemetry::patchesCulled),

@@ -57,6 +57,7 @@ private:
     std::uint64_t m_gpuUploadBytes = 0;
     std::uint64_t m_gpuUploadsDeferred = 0;
     std::uint64_t m_diskReadBytes = 0;
+    std::uint64_t m_storedBytesRead = 0;
     std::uint64_t m_faults = 0;  // faults_total is cumulative: the latest, not a sum
     std::uint64_t m_imageryRequestsMade = 0;
     std::uint64_t m_imageryRequestsCancelled = 0;
