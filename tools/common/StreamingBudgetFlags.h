@@ -1,9 +1,10 @@
 // StreamingBudgetFlags: --cpu-cache-mib, --gpu-layers, --upload-mib-per-frame,
-// --upload-ms-per-frame, --imagery-gpu-mib, --imagery-cache-mib, --reader-threads and
-// --no-prefetch, the streaming
-// budgets of every program that flies through a pyramid, with one meaning and one range each.
+// --upload-ms-per-frame, --imagery-gpu-mib, --imagery-cache-mib, --reader-threads,
+// --no-prefetch and --read-ahead-frames, the streaming budgets of every program that flies
+// through a pyramid, with one meaning and one range each.
 #pragma once
 
+#include "terrain/runtime/LodQuadtree.h"
 #include "terrain/runtime/TileStreamer.h"
 
 #include <CLI/CLI.hpp>
@@ -22,6 +23,8 @@ struct StreamingBudgets {
     double imageryCacheMiB = 128.0;                  ///< the CPU imagery cache
     int readerThreads = io::defaultReaderThreads();  ///< the I/O's threads reading and decoding
     bool noPrefetch = false;                         ///< read only the tiles the LOD wants now
+    /// Along the camera's motion (LodOptions::readAheadFrames); 0, or --no-prefetch: off.
+    double readAheadFrames = runtime::LodOptions{}.readAheadFrames;
 
     static std::size_t bytesOfMiB(double mib) {
         return static_cast<std::size_t>(mib * 1024.0 * 1024.0);
@@ -39,9 +42,13 @@ struct StreamingBudgets {
         options.io.readerThreads = readerThreads;
         options.prefetch = !noPrefetch;
     }
+    /// The reading ahead the LOD asks for (what it asks, the streamer reads: see above).
+    void applyTo(runtime::LodOptions& lod) const {
+        lod.readAheadFrames = noPrefetch ? 0.0 : readAheadFrames;
+    }
 };
 
-/// Adds the eight flags, bound to `budgets`, whose values are the defaults shown; `scope`
+/// Adds the nine flags, bound to `budgets`, whose values are the defaults shown; `scope`
 /// ends each description (" per threshold", say). A CPU cache too small for one tile is
 /// refused when the pyramid is opened (TileStreamer::open), which knows the tile size; so
 /// are imagery budgets below one imagery tile, when the pyramid has imagery.
@@ -82,6 +89,12 @@ inline void addStreamingBudgetFlags(CLI::App& app, StreamingBudgets& budgets,
                  "Read only the tiles the LOD wants now, none of those it expects to want "
                  "(refining then takes a frame a level)" +
                      scope);
+    app.add_option("--read-ahead-frames", budgets.readAheadFrames,
+                   "Read ahead the children of drawn patches the camera, at its present "
+                   "velocity, will want split within this many frames (0: off)" +
+                       scope)
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 600.0));
 }
 
 }  // namespace terrain::tools

@@ -326,6 +326,7 @@ int run(const BenchOptions& o, const char* argv0) {
                              bool horizonCulling) -> Status {
         runtime::TerrainSessionOptions sessionOptions;
         o.budgets.applyTo(sessionOptions.streaming);
+        o.budgets.applyTo(sessionOptions.lod);
         sessionOptions.method = method;
         sessionOptions.lod.errorPx = threshold;
         sessionOptions.lod.horizonCulling = horizonCulling;

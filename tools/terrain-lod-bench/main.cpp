@@ -77,7 +77,8 @@ int main(int argc, char** argv) {
         return fail(pyramid + ": a globe pyramid; the flight along the DEM's diagonal is planar");
     const runtime::PlaneSurface surface(streamer.manifest());
     const runtime::TerrainGeometry& geometry = surface.geometry();
-    const runtime::LodOptions lodOptions{.errorPx = errorPx};
+    runtime::LodOptions lodOptions{.errorPx = errorPx};
+    budgets.applyTo(lodOptions);
     runtime::LodQuadtree tree(streamer, surface, lodOptions);
 
     // A straight, level flight along the DEM's diagonal, looking ahead and 15° down.

@@ -99,6 +99,7 @@ int run(const RenderOptions& o) {
 
     runtime::TerrainSessionOptions sessionOptions;
     o.budgets.applyTo(sessionOptions.streaming);
+    o.budgets.applyTo(sessionOptions.lod);
     sessionOptions.lod.errorPx = o.errorPx;
     sessionOptions.lod.maxSamplePx = o.maxSamplePx;
     sessionOptions.lod.horizonCulling = !o.globe.noHorizonCulling;

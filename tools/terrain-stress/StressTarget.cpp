@@ -56,6 +56,7 @@ Result<std::unique_ptr<StressTarget>> StressTarget::open(const StressTargetOptio
     options.method = o.method;
     options.streaming = o.streaming;
     options.lod.errorPx = o.errorPx;
+    options.lod.readAheadFrames = o.readAheadFrames;
     auto session = runtime::TerrainSession::open(o.pyramid, options);
     if (!session) return session.error();
     std::optional<io::GlobeGroundQuery> ground;

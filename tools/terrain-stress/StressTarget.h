@@ -31,6 +31,8 @@ struct StressTargetOptions {
     /// A LOD method that streams (LodMethod.h); the RTIN, which streams nothing, is refused.
     runtime::LodMethod method = runtime::LodMethod::Yusov2011;
     std::uint64_t seed = 1;
+    /// The LOD's reading ahead along the camera's motion (LodOptions::readAheadFrames).
+    double readAheadFrames = runtime::LodOptions{}.readAheadFrames;
     /// A steady cruise at this speed and height above the ground instead of the random
     /// flight; nullopt: the random flight.
     std::optional<std::pair<double, double>> cruiseSpeedAndAltitude;

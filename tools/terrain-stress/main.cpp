@@ -135,6 +135,9 @@ int run(const StressOptions& o) {
     tools::StressTargetOptions targetOptions;
     targetOptions.pyramid = o.pyramid;
     o.budgets.applyTo(targetOptions.streaming);
+    runtime::LodOptions lod;
+    o.budgets.applyTo(lod);
+    targetOptions.readAheadFrames = lod.readAheadFrames;
     targetOptions.streaming.io.faults = {
         .errorRate = o.faultRate, .addedLatencyMs = o.latencyMs, .seed = o.seed};
     targetOptions.errorPx = o.errorPx;

@@ -124,6 +124,7 @@ Status Viewer::openSession(double cpuCacheMiB, int gpuLayers) {
     budgets.cpuCacheMiB = cpuCacheMiB;
     budgets.gpuLayers = gpuLayers;
     budgets.applyTo(options.streaming);
+    budgets.applyTo(options.lod);
     options.lod.errorPx = m_settings.errorPx;
     if (auto method = runtime::parseLodMethod(m_options.method)) options.method = method.value();
     auto opened = runtime::TerrainSession::open(m_options.pyramid, options);

@@ -16,10 +16,6 @@ constexpr int kBlock = 4;
 constexpr double kMinTravelM = 1e-3;
 // Levels below a waiting leaf's children that prefetchBelow may ask for ahead.
 constexpr int kPrefetchLevels = 3;
-// How far ahead prefetchAlongMotion looks: frames at the camera's present velocity, about
-// the frames a tile takes from request to residency from a local disk (docs/architecture.md,
-// "Reading ahead"); further ahead costs reads the camera may never need.
-constexpr double kAheadFrames = 8.0;
 // Parent links: −1 a root, −2 a freed node, −3 a spare slot of the root blocks.
 constexpr int kFreed = -2;
 constexpr int kSpare = -3;
@@ -32,9 +28,9 @@ float priorityOf(double screenError) {
 
 void checkOptions(const LodOptions& options) {
     const double share = options.coarseShare.value_or(0.5);
-    TERRAIN_ASSERT(
-        options.errorPx > 0.0 && share > 0.0 && share <= 1.0 && options.hysteresis >= 1.0,
-        "LodQuadtree: bad options");
+    TERRAIN_ASSERT(options.errorPx > 0.0 && share > 0.0 && share <= 1.0 &&
+                       options.hysteresis >= 1.0 && options.readAheadFrames >= 0.0,
+                   "LodQuadtree: bad options");
 }
 
 }  // namespace
@@ -292,16 +288,17 @@ void LodQuadtree::prefetchBelow(const io::PatchId& id, const io::PatchInfo& heig
 }
 
 // A drawn leaf the camera is heading for: if its projected error from where the camera will
-// be kAheadFrames frames on, at its present velocity, exceeds ε_c, it will likely split by
-// then, so its children are read ahead now and are there when it does (issue 49, prefetch
-// along the camera's motion). A prediction, not a decision: a wrong one costs a read. One box
-// distance per drawn leaf, and only while the camera moves.
+// be LodOptions::readAheadFrames frames on, at its present velocity, exceeds ε_c, it will
+// likely split by then, so its children are read ahead now and are there when it does (issue
+// 49, prefetch along the camera's motion). A prediction, not a decision: a wrong one costs a
+// read. One box distance per drawn leaf, and only while the camera moves.
 void LodQuadtree::prefetchAlongMotion(const Node& leaf) {
-    if (m_motion == glm::dvec3(0.0) || leaf.kind != NodeKind::Data || !leaf.finerData ||
-        leaf.waiting || leaf.splitBlocked || leaf.id.level >= m_surface.maxLevel() ||
-        m_options.splitRule != SplitRule::ProjectedError || m_options.splitToFinest)
+    if (m_options.readAheadFrames <= 0.0 || m_motion == glm::dvec3(0.0) ||
+        leaf.kind != NodeKind::Data || !leaf.finerData || leaf.waiting || leaf.splitBlocked ||
+        leaf.id.level >= m_surface.maxLevel() || m_options.splitRule != SplitRule::ProjectedError ||
+        m_options.splitToFinest)
         return;
-    const glm::dvec3 ahead = m_camera.position + kAheadFrames * m_motion;
+    const glm::dvec3 ahead = m_camera.position + m_options.readAheadFrames * m_motion;
     const double rho = m_surface.distance(ahead, leaf.volume);
     const double predicted =
         rho <= 0.0 ? std::numeric_limits<double>::max() : m_gamma * metricM(leaf) / rho;

@@ -260,6 +260,7 @@ void TerrainSession::endFrame(FrameTelemetry& t) {
     t.lodUpdateUs = m_lodUpdateUs;
     t.lodSplits = m_lodStats.splits;
     t.lodMerges = m_lodStats.merges;
+    t.lodWaitingSplits = m_lodStats.waitingSplits;
     t.drawCalls = static_cast<std::uint64_t>(m_lastDraw.drawCalls);
     t.triangles = m_lastDraw.triangles;
     t.gpuMs = m_lastDraw.drawCalls > 0 && m_lastDraw.gpuMs > 0.0 ? m_lastDraw.gpuMs

@@ -169,12 +169,13 @@ TEST_F(LodQuadtreeTest, ReadingAheadAlongTheCameraMotionSavesWaitsOnTheWay) {
     // A descent from high above to low over the terrain, 48 frames, tiles arriving 3 frames
     // after they are asked for. Reading ahead, the children of the leaves the camera heads
     // for are asked for before their parents want to split (prefetchAlongMotion), so far
-    // fewer splits wait on the way; the cut reached once the camera rests is the same.
-    const runtime::LodOptions options{.errorPx = 1.0};
+    // fewer splits wait on the way than with no reading ahead, or with the reading ahead
+    // below waiting leaves alone (readAheadFrames 0); the cut once the camera rests is the same.
     constexpr int kFrames = 48;
-    auto fly = [&](bool prefetch, std::uint64_t& waits, std::uint64_t& aheadWithoutWait,
-                   std::vector<io::PatchId>& cut) {
+    auto fly = [&](bool prefetch, double readAheadFrames, std::uint64_t& waits,
+                   std::uint64_t& aheadWithoutWait, std::vector<io::PatchId>& cut) {
         open({.capacity = 2048, .framesToArrive = 3, .honourPrefetch = prefetch});
+        const runtime::LodOptions options{.errorPx = 1.0, .readAheadFrames = readAheadFrames};
         m_tree = std::make_unique<LodQuadtree>(*m_residency, *m_surface, options);
         settle(camera(0.1, 0.1, 3000.0, 0.5, 0.5));
         waits = aheadWithoutWait = 0;
@@ -190,15 +191,23 @@ TEST_F(LodQuadtreeTest, ReadingAheadAlongTheCameraMotionSavesWaitsOnTheWay) {
         EXPECT_EQ(m_tree->checkInvariants(), std::nullopt);
         cut = ids(m_draws);
     };
-    std::uint64_t waitsWithout = 0, waitsWith = 0, aheadWithout = 0, ahead = 0;
-    std::vector<io::PatchId> cutWithout, cutWith;
-    fly(false, waitsWithout, aheadWithout, cutWithout);
-    fly(true, waitsWith, ahead, cutWith);
+    const double aheadFrames = runtime::LodOptions{}.readAheadFrames;
+    std::uint64_t waitsWithout = 0, waitsBelow = 0, waitsWith = 0;
+    std::uint64_t aheadWithout = 0, aheadBelow = 0, ahead = 0;
+    std::vector<io::PatchId> cutWithout, cutBelow, cutWith;
+    fly(false, aheadFrames, waitsWithout, aheadWithout, cutWithout);
+    fly(true, 0.0, waitsBelow, aheadBelow, cutBelow);
+    fly(true, aheadFrames, waitsWith, ahead, cutWith);
     EXPECT_GT(ahead, 0u) << "reads ahead on frames where no split waits: the motion's";
+    EXPECT_EQ(aheadBelow, 0u) << "below waiting leaves only: nothing ahead without a wait";
     EXPECT_LT(2 * waitsWith, waitsWithout)
         << waitsWith << " waits reading ahead, " << waitsWithout << " without";
+    EXPECT_LT(2 * waitsWith, waitsBelow)
+        << waitsWith << " waits reading ahead, " << waitsBelow << " below waiting leaves only";
     EXPECT_EQ(cutWith, cutWithout);
+    EXPECT_EQ(cutBelow, cutWithout);
     RecordProperty("waits", std::to_string(waitsWith) + " reading ahead, " +
+                                std::to_string(waitsBelow) + " below waiting leaves only, " +
                                 std::to_string(waitsWithout) + " without");
 }
 

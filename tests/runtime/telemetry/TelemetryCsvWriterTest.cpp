@@ -36,7 +36,7 @@ constexpr const char* kExpectedHeader =
     "loads_resident,load_latency_p50_ms,load_latency_p95_ms,load_latency_p99_ms,"
     "disk_read_bytes,stored_bytes_read,faults_total,"
     "patches_drawn,patches_culled,triangles,draw_calls,lod_update_us,gpu_ms,lod_splits,"
-    "lod_merges,patches_horizon_culled,"
+    "lod_merges,lod_waiting_splits,patches_horizon_culled,"
     "imagery_requests_made,imagery_requests_cancelled,imagery_requests_completed,"
     "imagery_requests_failed,imagery_requests_pending,imagery_tiles_resident,imagery_gpu_bytes,"
     "imagery_gpu_uploads,imagery_gpu_upload_bytes,imagery_gpu_evictions,"
@@ -198,7 +198,8 @@ TEST(TelemetryCsvWriter, NaNIsAnEmptyField) {
               "0,0,0,0,0,0,0,"   // GPU pool
               "3,,,,"            // loads_resident, three empty percentiles
               "4096,0,0,0,0,"    // disk, stored bytes, faults, patches
-              "0,0,,,0,0,0,"     // triangles, draw calls, two empty times, splits, merges, horizon
+              "0,0,,,0,0,0,0,"   // triangles, draw calls, two empty times, splits, merges,
+                                 // waiting splits, horizon
               "0,0,0,0,0,"       // imagery requests, pending
               "0,0,0,0,0,0,0,"   // imagery GPU and CPU
               "0,,,0,"           // imagery loads, two empty percentiles, faults

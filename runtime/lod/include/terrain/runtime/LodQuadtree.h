@@ -95,6 +95,12 @@ struct LodOptions {
     /// fine as the pixel, whichever level draws it; finer than a pixel it is filtered to the
     /// pixel's footprint (shaders/terrain_footprint.glsl).
     double maxSamplePx = 0.0;
+    /// Reading ahead along the camera's motion: a drawn leaf whose projected error from where
+    /// the camera will be this many frames on, at its present velocity, exceeds the coarse
+    /// threshold has its children read ahead (TileResidency::prefetch). About the frames a
+    /// tile takes from request to residency from a local disk; further ahead costs reads the
+    /// camera may never need. 0: off (the reading ahead below waiting leaves stays).
+    double readAheadFrames = 8.0;
     /// A patch within Err(P) of the finer data tilts no normal by more than about
     /// 2 · Err(P) / s_l radians: below 1/255 (a Lambertian brightness change under one 8-bit
     /// level) splitting it changes nothing a viewer sees, and a flat patch is never split.

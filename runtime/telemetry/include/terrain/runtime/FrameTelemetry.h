@@ -66,6 +66,9 @@ struct FrameTelemetry {
     double gpuMs =
         kNoValue;  ///< GL_TIME_ELAPSED of the terrain draw (not a frame time on llvmpipe)
     std::uint64_t lodSplits = 0;
+    /// Drawn leaves too coarse for ε whose children are not resident yet: the view is at
+    /// full detail when 0 (and nothing is loading).
+    std::uint64_t lodWaitingSplits = 0;
     std::uint64_t lodMerges = 0;
     /// Globe only: patches the horizon hid (EllipsoidalOccluder), also in patchesCulled.
     std::uint64_t patchesHorizonCulled = 0;
@@ -207,6 +210,7 @@ inline constexpr std::array kTelemetryColumns = {
     detail::realColumn("gpu_ms", &FrameTelemetry::gpuMs),
     detail::countColumn("lod_splits", &FrameTelemetry::lodSplits),
     detail::countColumn("lod_merges", &FrameTelemetry::lodMerges),
+    detail::countColumn("lod_waiting_splits", &FrameTelemetry::lodWaitingSplits),
     detail::countColumn("patches_horizon_culled", &FrameTelemetry::patchesHorizonCulled),
     detail::countColumn("imagery_requests_made", &FrameTelemetry::imageryRequestsMade),
     detail::countColumn("imagery_requests_cancelled", &FrameTelemetry::imageryRequestsCancelled),
