@@ -5,13 +5,13 @@
 // imagery again).
 #pragma once
 
+#include "FramePacer.h"
 #include "terrain/runtime/LodStrategy.h"
 
 #include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cstdint>
-#include <thread>
 
 namespace terrain::tools {
 
@@ -27,14 +27,9 @@ public:
     /// `strategy.imageryWaiting()` is 0.
     void frameEnded(const runtime::LodStrategy& strategy, std::uint64_t waitingSplits);
 
-    /// Before each frame: waits until kArrivalFrameS has passed since the previous one began.
-    /// Frames are paced as a display shows them: drawn faster (llvmpipe's small frames take
-    /// half a millisecond), waits for the I/O would count as frames a user never sees.
-    void waitForNextFrame() {
-        std::this_thread::sleep_until(m_nextFrame);
-        m_nextFrame = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                         std::chrono::duration<double>(kArrivalFrameS));
-    }
+    /// Before each frame: waits until kArrivalFrameS has passed since the previous one began
+    /// (FramePacer.h).
+    void waitForNextFrame() { m_pacer.waitForNextFrame(); }
 
     /// Both at full detail in the last frame.
     bool reached() const { return !m_heights.is_null() && !m_imagery.is_null(); }
@@ -46,7 +41,7 @@ public:
 private:
     using Clock = std::chrono::steady_clock;
     Clock::time_point m_arrived;
-    Clock::time_point m_nextFrame = m_arrived;
+    FramePacer m_pacer{kArrivalFrameS};
     std::uint64_t m_frames = 0;
     nlohmann::json m_heights, m_imagery;  // null while not at full detail
 };

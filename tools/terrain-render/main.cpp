@@ -6,6 +6,7 @@
 #include "CommandLine.h"
 #include "DrawStyleFlags.h"
 #include "FaultPrinter.h"
+#include "FramePacer.h"
 #include "FrameSizeFlags.h"
 #include "FullDetailClock.h"
 #include "GlImagePng.h"
@@ -187,9 +188,14 @@ int run(const RenderOptions& o) {
         f.waitingSplits = lod.waitingSplits;
         return f;
     };
+    // Without --settle, frames at most fps a second, as a display shows them (FramePacer.h):
+    // where frames are drawn fast the camera moves at the path's own speed, and a cold start
+    // does not race through the path before its first tile is in.
+    tools::FramePacer pacer(1.0 / o.fps);
     const auto loopStart = Clock::now();
     auto previous = loopStart;
     for (std::uint64_t frame = 0; frame < frames; ++frame) {
+        if (!o.settle) pacer.waitForNextFrame();
         path.apply(kit->frameTimeS(path, frame, frames, o.fps), camera);
         if (o.settle && !session.settle(camera, std::chrono::seconds(60))) {
             if (auto broken = fatal()) return fail(*broken);
