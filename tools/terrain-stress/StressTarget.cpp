@@ -55,8 +55,7 @@ Result<std::unique_ptr<StressTarget>> StressTarget::open(const StressTargetOptio
     runtime::TerrainSessionOptions options;
     options.method = o.method;
     options.streaming = o.streaming;
-    options.lod.errorPx = o.errorPx;
-    options.lod.readAheadFrames = o.readAheadFrames;
+    options.lod = o.lod;
     auto session = runtime::TerrainSession::open(o.pyramid, options);
     if (!session) return session.error();
     std::optional<io::GlobeGroundQuery> ground;

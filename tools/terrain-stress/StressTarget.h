@@ -27,12 +27,11 @@ namespace terrain::tools {
 struct StressTargetOptions {
     std::string pyramid;
     runtime::TileStreamerOptions streaming;
-    double errorPx = 1.0;
+    /// The LOD's options (ε, the reading ahead), the session's defaults where not set.
+    runtime::LodOptions lod = runtime::TerrainSessionOptions{}.lod;
     /// A LOD method that streams (LodMethod.h); the RTIN, which streams nothing, is refused.
     runtime::LodMethod method = runtime::LodMethod::Yusov2011;
     std::uint64_t seed = 1;
-    /// The LOD's reading ahead along the camera's motion (LodOptions::readAheadFrames).
-    double readAheadFrames = runtime::LodOptions{}.readAheadFrames;
     /// A steady cruise at this speed and height above the ground instead of the random
     /// flight; nullopt: the random flight.
     std::optional<std::pair<double, double>> cruiseSpeedAndAltitude;

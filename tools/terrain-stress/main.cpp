@@ -135,12 +135,10 @@ int run(const StressOptions& o) {
     tools::StressTargetOptions targetOptions;
     targetOptions.pyramid = o.pyramid;
     o.budgets.applyTo(targetOptions.streaming);
-    runtime::LodOptions lod;
-    o.budgets.applyTo(lod);
-    targetOptions.readAheadFrames = lod.readAheadFrames;
+    o.budgets.applyTo(targetOptions.lod);
     targetOptions.streaming.io.faults = {
         .errorRate = o.faultRate, .addedLatencyMs = o.latencyMs, .seed = o.seed};
-    targetOptions.errorPx = o.errorPx;
+    targetOptions.lod.errorPx = o.errorPx;
     auto method = runtime::parseLodMethod(o.method);
     if (!method) return fail("--method: " + method.error().message);
     targetOptions.method = method.value();
