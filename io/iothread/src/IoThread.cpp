@@ -2,6 +2,7 @@
 // mutex, reads it (a heights patch or an imagery tile) with the mutex released, and files
 // the outcome for poll().
 #include "terrain/iothread/IoThread.h"
+#include "terrain/pyramid/ParentTileCache.h"
 
 #include "terrain/base/Assert.h"
 #include "terrain/pyramid/ImageryMips.h"
@@ -45,9 +46,14 @@ Result<std::unique_ptr<IoThread>> IoThread::start(const std::filesystem::path& p
     TERRAIN_ASSERT(options.faults.errorRate >= 0.0 && options.faults.errorRate <= 1.0,
                    "IoThread: errorRate outside [0, 1]");
     TERRAIN_ASSERT(options.faults.addedLatencyMs >= 0.0, "IoThread: negative addedLatencyMs");
+    const std::size_t parentBytes =
+        options.parentCacheBytes != 0
+            ? options.parentCacheBytes
+            : PyramidReader::kParentCacheBytes * static_cast<std::size_t>(options.readerThreads);
+    const auto parents = std::make_shared<ParentTileCache>(parentBytes);
     std::vector<PyramidReader> readers;
     for (int i = 0; i < options.readerThreads; ++i) {
-        auto reader = PyramidReader::open(pyramidDir, options.maxOpenShards);
+        auto reader = PyramidReader::open(pyramidDir, options.maxOpenShards, parents);
         if (!reader) return reader.error();
         readers.push_back(std::move(reader).value());
     }
@@ -344,13 +350,15 @@ void IoThread::run(const std::stop_token& stop, std::size_t readerIndex) {
                         : reader.readPatch(id, record);
             }
             // This thread's reader: its counters are read on its own thread.
-            const ReadCost readerNow{reader.remoteStats(), reader.storedBytesRead()};
+            const ReadCost readerNow{reader.remoteStats(), reader.storedBytesRead(),
+                                     reader.parentReads()};
             lock.lock();
             const ReadCost cost = readerNow.since(m_readerCounted[readerIndex]);
             m_readerCounted[readerIndex] = readerNow;
             m_stats.http += cost.http;
             m_stats.http += imageryCost.http;
             m_stats.storedBytesRead += cost.storedBytes + imageryCost.storedBytes;
+            m_stats.parentReads += cost.parentReads;
         }
 
         Completion c;

@@ -4,13 +4,13 @@
 // shard file and the patch, and the shard is closed so a damaged file is not reused.
 #include "terrain/pyramid/PyramidReader.h"
 #include "terrain/pyramid/HeightCodes.h"
+#include "terrain/pyramid/ParentTileCache.h"
 #include "terrain/pyramid/VirtualPlanetPyramid.h"
 #include "terrain/remote/RemoteFiles.h"
 
 #include "terrain/base/Assert.h"
 #include "terrain/pyramid/ExrHeaderCheck.h"
 
-#include "ParentTileCache.h"
 #include "PatchChecksum.h"
 #include "PatchPayload.h"
 #include "ShardFormat.h"
@@ -75,7 +75,7 @@ struct PyramidReader::Impl {
     std::vector<std::uint32_t> payloadScratch;  // one patch's payload samples
     std::vector<std::uint32_t> codeScratch;     // its height codes
     std::vector<float> parentScratch;           // its parent samples (HeightCodes.h)
-    std::unique_ptr<ParentTileCache> parents;
+    std::shared_ptr<ParentTileCache> parents;   // maybe shared with other readers' threads
     std::uint64_t parentReads = 0;
     std::uint64_t storedBytesRead = 0;  // the payloads of the patches read
     // The virtual planet (VirtualPlanetPyramid.h): patches generated instead of read.
@@ -83,8 +83,8 @@ struct PyramidReader::Impl {
 
     // The heights of a patch's parent: from the cache, else read (and verified) now. The
     // parent's read reuses the scratch buffers, so the child's codes are kept apart meanwhile.
-    Result<const std::vector<float>*> parentHeights(const PatchId& parent) {
-        if (const std::vector<float>* cached = parents->find(parent)) return cached;
+    Result<ParentTileCache::Heights> parentHeights(const PatchId& parent) {
+        if (ParentTileCache::Heights cached = parents->find(parent)) return cached;
         std::vector<std::uint32_t> childCodes;
         childCodes.swap(codeScratch);
         PatchRecord record;
@@ -92,9 +92,9 @@ struct PyramidReader::Impl {
         childCodes.swap(codeScratch);
         if (!read) return read.error();
         ++parentReads;
-        const std::vector<float>* kept = parents->find(parent);  // read() kept it
-        TERRAIN_ASSERT(kept != nullptr, "a parent read is kept for its children");
-        return kept;
+        // read() kept it, unless a reader sharing the cache has already evicted it.
+        if (ParentTileCache::Heights kept = parents->find(parent)) return kept;
+        return std::make_shared<const std::vector<float>>(std::move(record.heights));
     }
 
     std::filesystem::path shardFile(const ShardId& s) const { return folder / layout.shardPath(s); }
@@ -312,7 +312,7 @@ struct PyramidReader::Impl {
                 return patchError(path, id,
                                   "its heights are predicted from a parent patch it does not "
                                   "have: the shard is corrupt");
-            Result<const std::vector<float>*> parent =
+            Result<ParentTileCache::Heights> parent =
                 parentHeights(PatchId{id.level - 1, id.x / 2, id.y / 2});
             if (!parent)
                 return patchError(path, id,
@@ -346,7 +346,8 @@ PyramidReader& PyramidReader::operator=(PyramidReader&& other) noexcept = defaul
 PyramidReader::~PyramidReader() = default;
 
 Result<PyramidReader> PyramidReader::open(const std::filesystem::path& pyramidDir,
-                                          int maxOpenShards) {
+                                          int maxOpenShards,
+                                          std::shared_ptr<ParentTileCache> parents) {
     TERRAIN_ASSERT(maxOpenShards >= 1, "a reader keeps at least one shard open");
     if (isVirtualPlanetName(pyramidDir)) {
         Result<VirtualPlanetPyramid> planet = VirtualPlanetPyramid::open(pyramidDir);
@@ -370,7 +371,7 @@ Result<PyramidReader> PyramidReader::open(const std::filesystem::path& pyramidDi
     impl->hasMask = impl->manifest.noData.present;
     impl->maxOpen = maxOpenShards;
     impl->parents =
-        std::make_unique<ParentTileCache>(kParentCacheBytes, impl->layout.tileSamples());
+        parents ? std::move(parents) : std::make_shared<ParentTileCache>(kParentCacheBytes);
     return PyramidReader(std::move(impl));
 }
 

@@ -3,12 +3,13 @@
 // a brute-force model of the renderer's triangulation), stored block errors are the
 // block errors of the stored heights, bounds nest, and a failed or interrupted build
 // leaves nothing that looks like a pyramid.
-#include "terrain/dem/OpenDem.h"
-#include "terrain/source/DemReader.h"
 #include "terrain/build/NoDataFill.h"
-#include "terrain/pyramid/PatchErrors.h"
 #include "terrain/build/PyramidBuilder.h"
+#include "terrain/dem/OpenDem.h"
+#include "terrain/pyramid/ParentTileCache.h"
+#include "terrain/pyramid/PatchErrors.h"
 #include "terrain/pyramid/PyramidReader.h"
+#include "terrain/source/DemReader.h"
 
 #include "SharedData.h"
 #include "TempFolder.h"
@@ -23,6 +24,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <random>
 #include <span>
 #include <string>
@@ -194,6 +196,33 @@ TEST(PyramidBuilder, FinerLevelsArePredictedFromTheirParents) {
         for (const PatchId sibling : {PatchId{3, 4, 2}, PatchId{3, 4, 3}, PatchId{3, 5, 3}})
             ASSERT_TRUE(reader.value().readPatch(sibling).ok());
         EXPECT_EQ(reader.value().parentReads(), 3U);  // their parent was kept
+    }
+    {
+        // Readers sharing one cache (an IoThread's reader threads) keep each other's parents;
+        // a reader with a cache of its own reads them again.
+        const auto shared = std::make_shared<ParentTileCache>(PyramidReader::kParentCacheBytes);
+        auto first = PyramidReader::open(out, PyramidReader::kDefaultOpenShards, shared);
+        auto second = PyramidReader::open(out, PyramidReader::kDefaultOpenShards, shared);
+        auto alone = PyramidReader::open(out);
+        ASSERT_TRUE(first.ok() && second.ok() && alone.ok());
+        ASSERT_TRUE(first.value().readPatch({3, 5, 2}).ok());
+        EXPECT_EQ(first.value().parentReads(), 3U);
+        ASSERT_TRUE(second.value().readPatch({3, 4, 2}).ok());
+        EXPECT_EQ(second.value().parentReads(), 0U);  // the first reader's parents
+        ASSERT_TRUE(alone.value().readPatch({3, 4, 2}).ok());
+        EXPECT_EQ(alone.value().parentReads(), 3U);
+    }
+    {
+        // A cache smaller than a tile keeps the last parent decoded only: the level-2 parent
+        // serves its other children, and a patch elsewhere reads its three ancestors again.
+        auto reader = PyramidReader::open(out, PyramidReader::kDefaultOpenShards,
+                                          std::make_shared<ParentTileCache>(1));
+        ASSERT_TRUE(reader.ok());
+        ASSERT_TRUE(reader.value().readPatch({3, 5, 2}).ok());
+        ASSERT_TRUE(reader.value().readPatch({3, 4, 3}).ok());
+        EXPECT_EQ(reader.value().parentReads(), 3U);
+        ASSERT_TRUE(reader.value().readPatch({3, 0, 0}).ok());
+        EXPECT_EQ(reader.value().parentReads(), 6U);
     }
     // The parent's shard gone: the child cannot be decoded, and the error says why.
     const PyramidLayout layout = b.summary.manifest.layout;

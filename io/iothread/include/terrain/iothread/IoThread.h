@@ -88,6 +88,10 @@ struct IoThreadOptions {
     /// Threads reading and decoding at once, each with its own PyramidReader (≥ 1).
     int readerThreads = defaultReaderThreads();
     int maxOpenShards = PyramidReader::kDefaultOpenShards;
+    /// Decoded parents kept for their children (ParentTileCache.h), in one cache the reader
+    /// threads share; 0: PyramidReader::kParentCacheBytes for each reader thread. A patch
+    /// read in a shuffled order needs its parents, and each parent missed here is read again.
+    std::size_t parentCacheBytes = 0;
     /// Injected errors are the heights' only (imagery has its own failures); an added
     /// latency delays every read.
     FaultInjection faults;
@@ -127,6 +131,9 @@ struct IoThreadStats {
     /// PyramidReader::storedBytesRead, ImageryTileSource::storedBytesRead): what the view
     /// needed of the files, against which http.fetchedBytes is measured.
     std::uint64_t storedBytesRead = 0;
+    /// Parents read again only to decode a child predicted from them, since they were no
+    /// longer in the readers' shared ParentTileCache (PyramidReader::parentReads).
+    std::uint64_t parentReads = 0;
     /// For a pyramid at a URL, what its readers' fetches cost (RemoteFiles.h), all readers
     /// and imagery layers together; zero for a folder.
     remote::RemoteStats http;
@@ -216,12 +223,15 @@ private:
     IoThread(std::vector<PyramidReader> readers, ImagerySources imagery,
              std::vector<std::string> openErrors, const IoThreadOptions& options);
     // Reader thread `reader`, m_mutex released.
-    // What a read cost: over HTTP, and of the files (stored payload bytes).
+    // What a read cost: over HTTP, of the files (stored payload bytes), and the parents it
+    // read again.
     struct ReadCost {
         remote::RemoteStats http;
         std::uint64_t storedBytes = 0;
+        std::uint64_t parentReads = 0;
         ReadCost since(const ReadCost& before) const {
-            return {http.since(before.http), storedBytes - before.storedBytes};
+            return {http.since(before.http), storedBytes - before.storedBytes,
+                    parentReads - before.parentReads};
         }
     };
     // `cost` gets what the read cost (the layer's counters since its last read).

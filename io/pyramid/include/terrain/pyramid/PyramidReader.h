@@ -17,6 +17,8 @@
 
 namespace terrain::io {
 
+class ParentTileCache;
+
 /// One reader per thread: a reader and everything it returns belong to the thread that
 /// uses it (it holds open files and scratch buffers). Several readers, one per thread,
 /// may read the same pyramid at once. Move-only.
@@ -31,15 +33,18 @@ public:
     static constexpr int kDefaultOpenShards = 32;
 
     /// Decoded heights of patches with children kept for their children (a patch's heights
-    /// may be predicted from its parent's, docs/pyramid-format.md, "Height codes"): 4 MiB,
-    /// 61 tiles of 129-sample patches.
+    /// may be predicted from its parent's, docs/pyramid-format.md, "Height codes"), per
+    /// reader thread: 4 MiB, 61 tiles of 129-sample patches (ParentTileCache.h).
     static constexpr std::size_t kParentCacheBytes = std::size_t{4} << 20;
 
     /// Reads and checks the manifest (readManifest); shard files are opened on demand. The
     /// virtual planet's name ("planet:…", VirtualPlanetPyramid.h) opens a reader that
-    /// generates each patch instead of reading it (it has no shard files).
+    /// generates each patch instead of reading it (it has no shard files). `parents`: a
+    /// cache of decoded parents shared with other readers of the same pyramid (each on its
+    /// own thread); null: a cache of kParentCacheBytes of its own.
     static Result<PyramidReader> open(const std::filesystem::path& pyramidDir,
-                                      int maxOpenShards = kDefaultOpenShards);
+                                      int maxOpenShards = kDefaultOpenShards,
+                                      std::shared_ptr<ParentTileCache> parents = nullptr);
 
     PyramidReader(PyramidReader&& other) noexcept;
     PyramidReader& operator=(PyramidReader&& other) noexcept;
