@@ -226,10 +226,7 @@ int main(int argc, char** argv) {
     options.readerThreads = readerThreads;
     options.parentCacheBytes = static_cast<std::size_t>(parentCacheMiB * 1024.0 * 1024.0);
     const double cacheMiB =
-        static_cast<double>(options.parentCacheBytes != 0 ? options.parentCacheBytes
-                                                          : io::PyramidReader::kParentCacheBytes *
-                                                                std::size_t(readerThreads)) /
-        (1024.0 * 1024.0);
+        static_cast<double>(options.sharedParentCacheBytes()) / (1024.0 * 1024.0);
     auto started = io::IoThread::start(pyramid, options);
     if (!started) return fail(started.error().message);
     io::IoThread& thread = *started.value();

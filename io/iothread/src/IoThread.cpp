@@ -46,11 +46,7 @@ Result<std::unique_ptr<IoThread>> IoThread::start(const std::filesystem::path& p
     TERRAIN_ASSERT(options.faults.errorRate >= 0.0 && options.faults.errorRate <= 1.0,
                    "IoThread: errorRate outside [0, 1]");
     TERRAIN_ASSERT(options.faults.addedLatencyMs >= 0.0, "IoThread: negative addedLatencyMs");
-    const std::size_t parentBytes =
-        options.parentCacheBytes != 0
-            ? options.parentCacheBytes
-            : PyramidReader::kParentCacheBytes * static_cast<std::size_t>(options.readerThreads);
-    const auto parents = std::make_shared<ParentTileCache>(parentBytes);
+    const auto parents = std::make_shared<ParentTileCache>(options.sharedParentCacheBytes());
     std::vector<PyramidReader> readers;
     for (int i = 0; i < options.readerThreads; ++i) {
         auto reader = PyramidReader::open(pyramidDir, options.maxOpenShards, parents);

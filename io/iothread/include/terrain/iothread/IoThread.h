@@ -92,6 +92,12 @@ struct IoThreadOptions {
     /// threads share; 0: PyramidReader::kParentCacheBytes for each reader thread. A patch
     /// read in a shuffled order needs its parents, and each parent missed here is read again.
     std::size_t parentCacheBytes = 0;
+    /// The shared cache's bytes: parentCacheBytes, or its default for readerThreads.
+    std::size_t sharedParentCacheBytes() const {
+        return parentCacheBytes != 0
+                   ? parentCacheBytes
+                   : PyramidReader::kParentCacheBytes * static_cast<std::size_t>(readerThreads);
+    }
     /// Injected errors are the heights' only (imagery has its own failures); an added
     /// latency delays every read.
     FaultInjection faults;

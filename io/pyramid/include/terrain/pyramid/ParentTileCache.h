@@ -30,8 +30,6 @@ public:
     /// Keeps at most `maxBytes` of heights, and always the last tile inserted.
     explicit ParentTileCache(std::size_t maxBytes) : m_maxBytes(maxBytes) {}
 
-    std::size_t maxBytes() const { return m_maxBytes; }
-
     /// The patch's heights, or null. They stay valid while held, whatever is evicted.
     Heights find(const PatchId& id) {
         std::lock_guard lock(m_mutex);
