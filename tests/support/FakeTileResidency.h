@@ -2,7 +2,8 @@
 // without GL (cesium-native's SimpleAssetAccessor in spirit): a patch asked for becomes
 // resident a chosen number of frames later, at most so many arrive per frame, chosen ids
 // fail instead, and a fixed number of layers is handed out with the GPU pool's eviction
-// rule (the least recently used layer that is neither pinned nor used this frame).
+// rule (the least recently used layer that is neither pinned nor used this frame); a patch
+// read ahead that the summaries say is absent becomes known absent, as the streamer's does.
 //
 // Frames are the fake's clock: beginFrame() ... acquire()s ... endFrame(). The summaries
 // come from a function, or from a real pyramid's patch infos read once up front
@@ -83,6 +84,13 @@ public:
     void beginFrame() {
         ++m_frame;
         m_arrivalsThisFrame = 0;
+        // A read ahead of a patch the pyramid does not store ends known absent (as
+        // TileStreamer's does), when it would have arrived.
+        std::erase_if(m_prefetched, [&](const auto& p) {
+            if (p.second.arrival > m_frame || m_infoOf(p.first).present) return false;
+            m_absent.insert(p.first);
+            return true;
+        });
     }
     /// Ends the frame: acquired requests live until they arrive; prefetches not asked for
     /// again this frame are dropped.
@@ -99,6 +107,7 @@ public:
             return &m_layers[static_cast<std::size_t>(resident->second)].info;
         }
         if (m_failed.contains(id)) return nullptr;
+        if (!m_infoOf(id).present) ++m_absentAcquires;
         auto pending = m_pending.find(id);
         if (pending == m_pending.end()) {
             std::uint64_t arrival = m_frame + static_cast<std::uint64_t>(m_options.framesToArrive);
@@ -136,7 +145,7 @@ public:
         EXPECT_GE(priority, 0.0f);
         ++m_prefetchCalls;
         if (!m_options.honourPrefetch || m_resident.contains(id) || m_failed.contains(id) ||
-            m_pending.contains(id))
+            m_pending.contains(id) || m_absent.contains(id))
             return;
         auto [ahead, started] = m_prefetched.try_emplace(
             id, Prefetch{m_frame + static_cast<std::uint64_t>(m_options.framesToArrive), 0});
@@ -149,6 +158,7 @@ public:
         return resident == m_resident.end() ? -1 : resident->second;
     }
     bool hasFailed(const io::PatchId& id) const override { return m_failed.contains(id); }
+    bool knownAbsent(const io::PatchId& id) const override { return m_absent.contains(id); }
     void pin(const io::PatchId& id) override {
         Layer* l = layerOfResident(id);
         EXPECT_TRUE(l != nullptr && !l->pinned) << "pin of a patch not resident, or pinned";
@@ -178,6 +188,10 @@ public:
     std::uint64_t requests() const { return m_requests; }  ///< distinct loads asked for
     std::size_t pending() const { return m_pending.size(); }  ///< acquired, not yet arrived
     std::uint64_t prefetchCalls() const { return m_prefetchCalls; }
+    /// Patches read ahead and found absent (knownAbsent).
+    std::size_t knownAbsentCount() const { return m_absent.size(); }
+    /// Acquires of patches the pyramid does not store (the LOD must ask only for stored ones).
+    std::uint64_t absentAcquires() const { return m_absentAcquires; }
     std::size_t pinnedCount() const {
         std::size_t n = 0;
         for (const Layer& l : m_layers) n += l.used && l.pinned ? 1 : 0;
@@ -227,6 +241,8 @@ private:
     std::unordered_map<io::PatchId, int, io::PatchIdHash> m_resident;
     std::unordered_map<io::PatchId, std::uint64_t, io::PatchIdHash> m_pending;  // → arrival frame
     std::unordered_set<io::PatchId, io::PatchIdHash> m_failed;
+    std::unordered_set<io::PatchId, io::PatchIdHash> m_absent;
+    std::uint64_t m_absentAcquires = 0;
     struct Prefetch {
         std::uint64_t arrival = 0;
         std::uint64_t lastAsked = 0;

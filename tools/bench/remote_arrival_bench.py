@@ -18,6 +18,9 @@ teleport in a running viewer and is left out (its reads have begun by then). Wri
 with the median and worst of the repeats. Rerun with:
 
   tools/bench/remote_arrival_bench.py --build build --out out/bench PYRAMID...
+
+Globe pyramids: --pose LAT,LON,ALTITUDE,PITCH teleports to that pose (terrain-render --lat
+--lon --altitude --pitch) instead of the default path's start, an orbit far above the data.
 """
 import argparse
 import json
@@ -87,7 +90,7 @@ class Proxy:
         self.process.wait()
 
 
-def teleport(render, location, error_px, prefetch, size):
+def teleport(render, location, error_px, prefetch, size, pose):
     """One run: (frames, seconds) to full detail of the heights, or None if not reached."""
     with tempfile.TemporaryDirectory(prefix="arrival-") as work:
         env = dict(os.environ, TERRAIN_CACHE_DIR=str(Path(work) / "cache"))
@@ -96,6 +99,9 @@ def teleport(render, location, error_px, prefetch, size):
                    "--json"]
         if not prefetch:
             command.append("--no-prefetch")
+        if pose:
+            for flag, value in zip(("--lat", "--lon", "--altitude", "--pitch"), pose):
+                command += [flag, value]
         done = subprocess.run(command, env=env, capture_output=True, text=True)
         if done.returncode != 0:
             raise RuntimeError(f"{' '.join(command)} failed:\n{done.stderr}")
@@ -116,7 +122,12 @@ def main():
     parser.add_argument("--error-px", type=float, default=2.0)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--size", default="960x540")
+    parser.add_argument("--pose", default="",
+                        help="LAT,LON,ALTITUDE,PITCH: where a globe pyramid's teleport goes")
     args = parser.parse_args()
+    pose = args.pose.split(",") if args.pose else []
+    if pose and len(pose) != 4:
+        parser.error("--pose takes LAT,LON,ALTITUDE,PITCH")
     render = str(args.build / "tools/terrain-render/terrain-render")
     proxy_program = str(args.build / "tests/tools/terrain-test-proxy")
     size = tuple(int(v) for v in args.size.split("x"))
@@ -136,7 +147,8 @@ def main():
                 runs = {True: [], False: []}
                 for _ in range(args.repeats):
                     for prefetch in (False, True):
-                        runs[prefetch].append(teleport(render, location, args.error_px, prefetch, size))
+                        runs[prefetch].append(teleport(render, location, args.error_px, prefetch, size,
+                                                        pose))
                 if proxy:
                     proxy.stop()
                 for prefetch in (False, True):
@@ -154,7 +166,8 @@ def main():
             server.stop()
     args.out.mkdir(parents=True, exist_ok=True)
     report = {"machine": {"cpus": os.cpu_count(), "platform": platform.platform()},
-              "error_px": args.error_px, "size": args.size, "repeats": args.repeats, "rows": rows}
+              "error_px": args.error_px, "size": args.size, "repeats": args.repeats,
+              "pose": args.pose or None, "rows": rows}
     (args.out / "remote-arrival-bench.json").write_text(json.dumps(report, indent=1) + "\n")
     lines = ["| pyramid | network | read ahead | frames (median, worst) | seconds (median, worst) |",
              "|---|---|---|---|---|"]

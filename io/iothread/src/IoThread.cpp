@@ -294,6 +294,27 @@ Status IoThread::readImagery(const TileKey& key, ImageryTile& out, const Pyramid
     return {};
 }
 
+// A patch the sparse globe does not store (asked for ahead of its parent) ends as an absent
+// record rather than a failure, the reader's words in `absentWhy`: the streaming asks ahead
+// for patches whose presence only their parent knows (issue 49). Telling an absent patch
+// from a failed read costs nothing more (the shard is unlisted, or open with the patch's
+// info) except after a failed read, whose shard is opened once more. A planar pyramid
+// stores every patch of its layout: a read there fails or succeeds.
+Status IoThread::readHeights(const PatchId& id, PatchRecord& out, PyramidReader& reader,
+                             std::string& absentWhy) {
+    Status read = reader.readPatch(id, out);
+    if (read || !reader.manifest().globe) return read;
+    const Result<PatchInfo> info = reader.patchInfo(id);
+    if (!info || info.value().present) return read;  // a failure, not an absent patch
+    out.id = id;
+    out.info = PatchInfo{};
+    out.heights.clear();  // keeps its capacity for the next patch
+    out.valid.clear();
+    out.blockErrors.clear();
+    absentWhy = read.error().message;
+    return {};
+}
+
 void IoThread::run(const std::stop_token& stop, std::size_t readerIndex) {
     PyramidReader& reader = m_readers[readerIndex];
     std::optional<InFlight>& inFlight = m_inFlight[readerIndex];
@@ -331,6 +352,7 @@ void IoThread::run(const std::stop_token& stop, std::size_t readerIndex) {
 
         const PatchId id = key.id;
         std::optional<Status> outcome;
+        std::string absentWhy;
         bool injected = false;
         if (!inFlight->cancelled) {
             injected = !imagery && m_options.faults.failsRead(id);
@@ -338,12 +360,12 @@ void IoThread::run(const std::stop_token& stop, std::size_t readerIndex) {
             ReadCost imageryCost;
             if (imagery) {
                 outcome = readImagery(key, tile, reader, imageryCost);
-            } else {
+            } else if (injected) {
                 outcome =
-                    injected
-                        ? Status(Error{fmt::format("{}: injected fault reading patch L{} ({}, {})",
-                                                   reader.folder().string(), id.level, id.x, id.y)})
-                        : reader.readPatch(id, record);
+                    Status(Error{fmt::format("{}: injected fault reading patch L{} ({}, {})",
+                                             reader.folder().string(), id.level, id.x, id.y)});
+            } else {
+                outcome = readHeights(id, record, reader, absentWhy);
             }
             // This thread's reader: its counters are read on its own thread.
             const ReadCost readerNow{reader.remoteStats(), reader.storedBytesRead(),
@@ -370,6 +392,7 @@ void IoThread::run(const std::stop_token& stop, std::size_t readerIndex) {
                 c.imagery = std::move(tile);
             } else {
                 c.record = std::move(record);
+                c.error = std::move(absentWhy);
             }
         } else {
             c.status = CompletionStatus::Failed;

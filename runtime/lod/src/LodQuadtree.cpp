@@ -218,11 +218,12 @@ bool LodQuadtree::trySplit(int index, double screenError) {
         allResident = allResident && infos[i] != nullptr;
     }
     if (!allResident) {
-        // Where every child is stored (the plane), the levels under the children that will
-        // likely split too are read meanwhile, so they split in the frame the children
-        // arrive instead of a frame a level (issue 49: full detail soon after a teleport).
-        if (node.kind == NodeKind::Data && m_surface.storesEveryChild())
-            prefetchBelow(node.id, node.info, double(node.info.error), kPrefetchLevels);
+        // The levels under the children that will likely split too are read meanwhile, so
+        // they split in the frame the children arrive instead of a frame a level (issue 49:
+        // full detail soon after a teleport). On the sparse globe only a patch's parent
+        // knows whether it is stored: those below the children may turn out absent.
+        if (node.kind == NodeKind::Data)
+            prefetchBelow(node.id, node.info, double(node.info.error), kPrefetchLevels, &node.info);
         return false;
     }
 
@@ -260,15 +261,24 @@ bool LodQuadtree::trySplit(int index, double screenError) {
 // box as the footprint over the ancestor's height range, and it will split if that error
 // projected from its box exceeds ε_c. The children of each child predicted to split are
 // prefetched, `levels` deep, ranked by that prediction below every want (prefetchPriority).
+// `stored`: the info of `id` if known (resident), which says which children the pyramid
+// stores (all on the plane; on the globe, those below an unknown patch may be absent, which
+// the residency learns from the read and remembers: knownAbsent).
 void LodQuadtree::prefetchBelow(const io::PatchId& id, const io::PatchInfo& heights, double errorM,
-                                int levels) {
+                                int levels, const io::PatchInfo* stored) {
     if (levels <= 0 || m_options.splitRule != SplitRule::ProjectedError) return;
     std::array<SurfaceChild, 4> children;
     const int count = m_surface.children(id, children);
     const double childErrorM = 0.5 * errorM;
+    // Patches at the pyramid's finest level have no stored children (on the globe deeper
+    // levels are bare or drawn from an ancestor's tile: nothing to read).
+    const int finestStored = m_surface.layout().finestLevel();
     for (int i = 0; i < count; ++i) {
-        const io::PatchId child = children[static_cast<std::size_t>(i)].id;
-        if (child.level >= m_surface.maxLevel()) continue;  // the finest never splits
+        const SurfaceChild& at = children[static_cast<std::size_t>(i)];
+        const io::PatchId child = at.id;
+        if (child.level >= std::min(m_surface.maxLevel(), finestStored)) continue;
+        if (stored != nullptr && !m_surface.storesChild(*stored, at.quadrant)) continue;
+        if (m_residency.knownAbsent(child)) continue;
         const PatchVolume volume = m_surface.volume(child, heights.minHeight, heights.maxHeight);
         int planes = 0b11111;
         if (m_surface.outsideFrustum(m_view, volume, planes)) continue;
@@ -276,14 +286,17 @@ void LodQuadtree::prefetchBelow(const io::PatchId& id, const io::PatchInfo& heig
         const double predicted =
             rho <= 0.0 ? std::numeric_limits<double>::max() : m_gamma * childErrorM / rho;
         if (predicted <= coarseErrorPx()) continue;
+        const io::PatchInfo* childInfo = m_residency.residentInfo(child);
         std::array<SurfaceChild, 4> grandchildren;
         const int below = m_surface.children(child, grandchildren);
         for (int k = 0; k < below; ++k) {
-            m_residency.prefetch(grandchildren[static_cast<std::size_t>(k)].id,
-                                 prefetchPriority(predicted));
+            const SurfaceChild& grandchild = grandchildren[static_cast<std::size_t>(k)];
+            if (childInfo != nullptr && !m_surface.storesChild(*childInfo, grandchild.quadrant))
+                continue;
+            m_residency.prefetch(grandchild.id, prefetchPriority(predicted));
             ++m_stats.prefetched;
         }
-        prefetchBelow(child, heights, childErrorM, levels - 1);
+        prefetchBelow(child, heights, childErrorM, levels - 1, childInfo);
     }
 }
 
@@ -313,11 +326,19 @@ void LodQuadtree::prefetchAlongMotion(const Node& leaf) {
     }
 }
 
-// The plane's root on its way (a cold start, a teleport into a new pyramid): nothing is known
-// of its errors yet, so the two levels under it in view are read meanwhile, whatever their
-// error (20 tiles at most), and split at once if needed when the root arrives.
+// A root on its way (a cold start, a teleport into a new pyramid): nothing is known of its
+// errors yet, so the two levels under it in view are read meanwhile, whatever their error
+// (20 tiles at most), and split at once if needed when the root arrives. On the globe,
+// where every root is asked for at once, a root out of view waits for the view.
 void LodQuadtree::prefetchUnderRoot(const io::PatchId& root) {
-    if (!m_surface.storesEveryChild()) return;
+    if (m_residency.hasFailed(root) || m_surface.layout().finestLevel() <= root.level) return;
+    io::PatchInfo wholeDem;
+    wholeDem.minHeight = static_cast<float>(m_surface.manifest().statistics.minHeight);
+    wholeDem.maxHeight = static_cast<float>(m_surface.manifest().statistics.maxHeight);
+    int planes = 0b11111;
+    if (m_surface.outsideFrustum(
+            m_view, m_surface.volume(root, wholeDem.minHeight, wholeDem.maxHeight), planes))
+        return;
     std::array<SurfaceChild, 4> children;
     const int count = m_surface.children(root, children);
     for (int i = 0; i < count; ++i) {
@@ -325,10 +346,7 @@ void LodQuadtree::prefetchUnderRoot(const io::PatchId& root) {
                              prefetchPriority(std::numeric_limits<double>::infinity()));
         ++m_stats.prefetched;
     }
-    io::PatchInfo wholeDem;
-    wholeDem.minHeight = static_cast<float>(m_surface.manifest().statistics.minHeight);
-    wholeDem.maxHeight = static_cast<float>(m_surface.manifest().statistics.maxHeight);
-    prefetchBelow(root, wholeDem, std::numeric_limits<double>::infinity(), 1);
+    prefetchBelow(root, wholeDem, std::numeric_limits<double>::infinity(), 1, nullptr);
 }
 
 // A leaf wants its children at its screen error, above ε_c; a read ahead, predicted at
@@ -509,7 +527,10 @@ void LodQuadtree::takeArrivedRoots() {
         Node& node = m_nodes[static_cast<std::size_t>(root)];
         if (!node.awaitingTile) continue;
         const io::PatchInfo* info = m_residency.acquire(node.id, std::numeric_limits<float>::max());
-        if (info == nullptr) continue;
+        if (info == nullptr) {
+            prefetchUnderRoot(node.id);
+            continue;
+        }
         collapse(root);
         Node& arrived = m_nodes[static_cast<std::size_t>(root)];
         arrived.awaitingTile = false;

@@ -100,6 +100,10 @@ void TileStreamer::takeCompletions() {
         if (load != m_loads.end()) --load->second.liveRequests;
         switch (c.status) {
             case io::CompletionStatus::Completed:
+                if (!c.record.info.present) {
+                    takeAbsent(c, load);
+                    break;
+                }
                 ++m_ledger.completed;
                 ++m_frameCounts.requestsCompleted;
                 if (m_cache.insert(std::move(c.record)) == cache::TileCacheInsertResult::TooLarge) {
@@ -122,6 +126,27 @@ void TileStreamer::takeCompletions() {
     }
     // Records the cache dropped give their storage back to the reader.
     while (auto evicted = m_cache.takeEvicted()) m_io->recycle(std::move(*evicted));
+}
+
+// A patch the pyramid does not store. Read ahead (the sparse globe's grandchildren, whose
+// presence only their parent knows), it is remembered and never read again; wanted by the
+// LOD (which asks only for the patches their parent lists), the pyramid contradicts itself:
+// a fault, counted as a failed read.
+void TileStreamer::takeAbsent(io::Completion& c, LoadMap::iterator load) {
+    const bool wanted = load != m_loads.end() && !load->second.aheadOnly;
+    if (wanted) {
+        ++m_ledger.failed;
+        ++m_frameCounts.requestsFailed;
+        if (m_failed.insert(c.id).second) m_faults.push_back({c.id, std::move(c.error)});
+    } else {
+        ++m_ledger.completed;
+        ++m_frameCounts.requestsCompleted;
+        // Bounded: a forgotten absent patch is only read again, should it be asked for.
+        if (m_absent.size() >= kMaxKnownAbsent) m_absent.clear();
+        m_absent.insert(c.id);
+    }
+    if (load != m_loads.end() && load->second.liveRequests == 0) m_loads.erase(load);
+    m_io->recycle(std::move(c.record));
 }
 
 TileStreamer::LoadState& TileStreamer::loadStateOf(const io::PatchId& id, bool* inserted) {
@@ -165,6 +190,9 @@ const io::PatchInfo* TileStreamer::acquire(const io::PatchId& id, float priority
         return info;
     }
     if (m_failed.contains(id)) return nullptr;
+    // Read ahead and found absent, yet wanted as stored: read again, and the read's words
+    // (naming the shard file) become its fault (takeAbsent).
+    m_absent.erase(id);
     LoadState& load = loadStateOf(id);
     load.lastWantedFrame = m_frame;
     if (load.aheadOnly) {
@@ -207,7 +235,8 @@ void TileStreamer::request(const io::PatchId& id, LoadState& load, float priorit
 }
 
 void TileStreamer::prefetch(const io::PatchId& id, float priority) {
-    if (!m_prefetch || m_pool.info(id) != nullptr || m_failed.contains(id) || m_cache.contains(id))
+    if (!m_prefetch || m_pool.info(id) != nullptr || m_failed.contains(id) ||
+        m_absent.contains(id) || m_cache.contains(id))
         return;
     bool fresh = false;
     LoadState& load = loadStateOf(id, &fresh);

@@ -7,12 +7,14 @@
 // sleep, and no assertion counts on how fast the thread reads. The selection's own rules
 // are tested without threads or GL in tests/runtime/lod/PatchSelectionTest.cpp.
 #include "GlTestFixture.h"
+#include "GlobeTestSources.h"
 #include "StreamingTestPyramid.h"
 #include "TempFolder.h"
 #include "TestCameras.h"
 #include "terrain/cache/TileCache.h"
 #include "terrain/pyramid/PatchIdHash.h"
 #include "terrain/pyramid/PyramidManifest.h"
+#include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/PatchSelection.h"
 #include "terrain/runtime/TerrainGeometry.h"
 #include "terrain/runtime/TileStreamer.h"
@@ -308,6 +310,89 @@ TEST_F(TileStreamerTest, APrefetchedTileWaitsInTheCpuCacheAndIsUploadedWhenWante
     off->endFrame(t);
     EXPECT_EQ(off->ledger().submitted, 0u);
     EXPECT_EQ(t.requestsMade, 0u);
+}
+
+TEST_F(TileStreamerTest, AnAbsentPatchReadAheadIsKnownAbsentNotAFault) {
+    // The sparse globe: the LOD reads ahead patches whose presence only their parent knows
+    // (issue 49). One the pyramid does not store ends known absent, is never read again, and
+    // is no fault; asked for as stored (acquire), it is one, as a failed read was before.
+    TempFolder folder;
+    const std::filesystem::path pyramid = folder.path() / "regional.pyramid";
+    GeographicFunctionDem source(10.0, 60.25, 100, 50, 0.005, 0.005, hills);
+    auto built = io::buildGlobePyramid(source, pyramid, smallGlobePatches());
+    ASSERT_TRUE(built) << built.error().message;
+    auto reader = io::PyramidReader::open(pyramid);
+    ASSERT_TRUE(reader) << reader.error().message;
+    // Absent patches one level below the face roots: in a shard that stores a patch, and in
+    // one the pyramid has no file for.
+    const io::PyramidLayout& layout = reader.value().layout();
+    const int level = io::ManifestGlobe::kLevelOffset + 1;
+    std::vector<io::PatchId> present, absent;
+    for (std::int64_t y = 0; y < layout.patchesY(level); ++y)
+        for (std::int64_t x = 0; x < layout.patchesX(level); ++x) {
+            const io::PatchId id{level, x, y};
+            auto info = reader.value().patchInfo(id);
+            ASSERT_TRUE(info) << info.error().message;
+            (info.value().present ? present : absent).push_back(id);
+        }
+    ASSERT_FALSE(present.empty());
+    std::vector<io::PatchId> chosen;
+    const auto inStoredShard = [&](const io::PatchId& id) {
+        return std::any_of(present.begin(), present.end(), [&](const io::PatchId& p) {
+            return layout.shardOf(p) == layout.shardOf(id);
+        });
+    };
+    for (const bool stored : {true, false}) {
+        const auto it = std::find_if(absent.begin(), absent.end(), [&](const io::PatchId& id) {
+            return inStoredShard(id) == stored;
+        });
+        if (it != absent.end()) chosen.push_back(*it);
+    }
+    ASSERT_FALSE(chosen.empty());
+
+    auto opened = TileStreamer::open(pyramid, {});
+    ASSERT_TRUE(opened) << opened.error().message;
+    TileStreamer& s = *opened.value();
+    runtime::FrameTelemetry t;
+    const auto allKnown = [&] {
+        return std::all_of(chosen.begin(), chosen.end(),
+                           [&](const io::PatchId& id) { return s.knownAbsent(id); });
+    };
+    for (int i = 0; i < 400 && !allKnown(); ++i) {
+        s.beginFrame();
+        for (const io::PatchId& id : chosen) s.prefetch(id, 1.0f);
+        s.endFrame(t);
+        if (!allKnown()) s.waitForReads(std::chrono::milliseconds(100));
+    }
+    ASSERT_TRUE(allKnown()) << "the reads ahead never ended";
+    EXPECT_TRUE(s.faults().empty()) << s.faults().front().message;
+    const std::uint64_t submitted = s.ledger().submitted;
+    EXPECT_EQ(submitted, chosen.size());
+    // Known absent: not read again.
+    s.beginFrame();
+    for (const io::PatchId& id : chosen) s.prefetch(id, 1.0f);
+    s.endFrame(t);
+    EXPECT_EQ(s.ledger().submitted, submitted);
+    // Asked for as stored: read once more, and a fault naming the shard file and the patch.
+    const io::PatchId wanted = chosen.front();
+    for (int i = 0; i < 400 && !s.hasFailed(wanted); ++i) {
+        s.beginFrame();
+        EXPECT_EQ(s.acquire(wanted, 1.0f), nullptr);
+        s.endFrame(t);
+        if (!s.hasFailed(wanted)) s.waitForReads(std::chrono::milliseconds(100));
+    }
+    ASSERT_TRUE(s.hasFailed(wanted));
+    ASSERT_EQ(s.faults().size(), 1u);
+    const std::string& fault = s.faults().front().message;
+    EXPECT_NE(fault.find("absent"), std::string::npos) << fault;
+    EXPECT_NE(fault.find(reader.value().shardFile(wanted).filename().string()), std::string::npos)
+        << fault;
+    EXPECT_EQ(s.ledger().submitted, submitted + 1);
+    EXPECT_EQ(s.ledger().failed, 1u) << "the contradiction counts as a failed read";
+    EXPECT_EQ(s.ledger().completed, submitted);
+    EXPECT_TRUE(s.drain(std::chrono::seconds(10)));
+    EXPECT_EQ(s.ledger().ended(), s.ledger().submitted);
+    EXPECT_EQ(s.checkInvariants(), std::nullopt);
 }
 
 TEST_F(TileStreamerTest, ACpuCacheThatHoldsNoTileIsRefused) {

@@ -20,7 +20,10 @@
 //   the reader threads, one read at a time (m_imageryMutex, never held with m_mutex); the
 //   mips are made outside it.
 // - Every request (a submit that returned true) ends exactly once, as one Completion handed
-//   out by poll(): Completed, Failed or Cancelled, whichever reader thread read it. A
+//   out by poll(): Completed, Failed or Cancelled, whichever reader thread read it. A patch
+//   a globe pyramid does not store, or an imagery tile a layer lacks, completes absent
+//   (info.present false): the streaming asks ahead for patches whose presence only their
+//   parent knows. A
 //   request cancelled while it is being read ends as Cancelled (its record is recycled); a
 //   request already finished but not yet polled is not cancellable and ends as it finished.
 //   Requests still pending when the IoThread is destroyed end with it, without a Completion.
@@ -115,9 +118,13 @@ struct Completion {
     PatchId id;
     int imageryLayer = TileKey::kHeights;  ///< whose tile: the heights' or an imagery layer's
     CompletionStatus status = CompletionStatus::Completed;
-    PatchRecord record;   ///< the heights' patch when Completed; recycle() it when done
+    /// The heights' patch when Completed; recycle() it when done. Absent (info.present
+    /// false, no heights) when a globe pyramid does not store the patch.
+    PatchRecord record;
     ImageryTile imagery;  ///< an imagery tile and its mips when Completed (maybe absent)
-    std::string error;    ///< when Failed: names the file or "injected fault" and the patch
+    /// When Failed: names the file or "injected fault" and the patch. When Completed with
+    /// an absent patch: the reader's words for that (naming the file and the patch).
+    std::string error;
     Clock::time_point requestTime;   ///< the submit that created the request
     Clock::time_point completeTime;  ///< when the outcome was known
 
@@ -243,6 +250,8 @@ private:
     // `cost` gets what the read cost (the layer's counters since its last read).
     Status readImagery(const TileKey& key, ImageryTile& out, const PyramidReader& reader,
                        ReadCost& cost);
+    static Status readHeights(const PatchId& id, PatchRecord& out, PyramidReader& reader,
+                              std::string& absentWhy);
     IoThreadStats statsLocked() const;
     std::optional<InFlight>* liveInFlightLocked(const TileKey& key);  // not cancelled, or null
     void run(const std::stop_token& stop, std::size_t reader);

@@ -215,7 +215,7 @@ private:
     void scheduleMergeIfCandidate(int node);
     bool trySplit(int node, double screenError);
     void prefetchBelow(const io::PatchId& id, const io::PatchInfo& heights, double errorM,
-                       int levels);
+                       int levels, const io::PatchInfo* stored);
     void prefetchUnderRoot(const io::PatchId& root);
     void prefetchAlongMotion(const Node& leaf);
     float prefetchPriority(double predicted) const;

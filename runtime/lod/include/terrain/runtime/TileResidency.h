@@ -34,12 +34,19 @@ public:
     virtual void unpin(const io::PatchId& id) = 0;
     /// The LOD expects to want `id` soon (it predicts that a patch whose children are on
     /// their way will split again once they come): read it into the CPU cache, not the GPU,
-    /// at `priority`, unless it is resident, cached, on its way or failed. Only worth asking
-    /// for patches the pyramid stores. Kept wanted only while asked for every frame, as
-    /// acquire()'s requests are. Default: nothing (tests' residencies).
+    /// at `priority`, unless it is resident, cached, on its way, failed or known absent. A
+    /// patch the pyramid turns out not to store (the sparse globe's, below a patch whose
+    /// children are on their way) is no failure: it is known absent from then on. Kept
+    /// wanted only while asked for every frame, as acquire()'s requests are. Default:
+    /// nothing (tests' residencies).
     virtual void prefetch(const io::PatchId& id, float priority) {
         (void)id;
         (void)priority;
+    }
+    /// Whether `id` was read ahead and found absent (prefetch): its descendants are absent too.
+    virtual bool knownAbsent(const io::PatchId& id) const {
+        (void)id;
+        return false;
     }
     /// How many patches can be resident at once (the GPU pool's layers).
     virtual int capacity() const = 0;

@@ -113,6 +113,7 @@ public:
     void prefetch(const io::PatchId& id, float priority) override;
     int layerOf(const io::PatchId& id) const override;
     bool hasFailed(const io::PatchId& id) const override { return m_failed.contains(id); }
+    bool knownAbsent(const io::PatchId& id) const override { return m_absent.contains(id); }
     void pin(const io::PatchId& id) override { m_pool.pin(id); }
     void unpin(const io::PatchId& id) override { m_pool.unpin(id); }
     int capacity() const override { return m_pool.capacity(); }
@@ -192,6 +193,7 @@ private:
     // Makes sure `id` is on its way at `priority` (acquire's and prefetch's requests).
     void request(const io::PatchId& id, LoadState& load, float priority);
     void takeCompletions();
+    void takeAbsent(io::Completion& c, LoadMap::iterator load);
 
     io::PyramidManifest m_manifest;
     std::unique_ptr<io::IoThread> m_io;
@@ -203,6 +205,9 @@ private:
     LoadMap m_loads;                            // parks erased nodes: no allocation per request
     std::vector<io::Completion> m_completions;  // poll() target, capacity kept
     std::unordered_set<io::PatchId, io::PatchIdHash> m_failed;
+    /// Patches read ahead and found absent (takeAbsent), at most kMaxKnownAbsent.
+    static constexpr std::size_t kMaxKnownAbsent = 1U << 16;
+    std::unordered_set<io::PatchId, io::PatchIdHash> m_absent;
     std::vector<TileFault> m_faults;
     TileRequestLedger m_ledger;
 

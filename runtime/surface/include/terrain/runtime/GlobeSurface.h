@@ -29,7 +29,6 @@ public:
     bool storesChild(const io::PatchInfo& parent, int quadrant) const override {
         return ((parent.presentChildren >> quadrant) & 1) != 0;
     }
-    bool storesEveryChild() const override { return false; }
     bool hasFinerData(const io::PatchId&, const io::PatchInfo& info) const override {
         return info.presentChildren != 0;
     }

@@ -19,7 +19,6 @@ public:
     int maxLevel() const override { return layout().finestLevel(); }
     int children(const io::PatchId& id, std::array<SurfaceChild, 4>& out) const override;
     bool storesChild(const io::PatchInfo&, int) const override { return true; }
-    bool storesEveryChild() const override { return true; }
     bool hasFinerData(const io::PatchId& id, const io::PatchInfo&) const override {
         return id.level < layout().finestLevel();
     }

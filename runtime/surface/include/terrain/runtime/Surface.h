@@ -78,9 +78,6 @@ public:
     /// Whether the pyramid stores the child in `quadrant` of a stored patch whose summary is
     /// `parent`: always on the plane; the parent's presentChildren on the globe (sparse).
     virtual bool storesChild(const io::PatchInfo& parent, int quadrant) const = 0;
-    /// Whether every child of every stored patch is stored (storesChild always true): the
-    /// plane; a patch's descendants can then be asked for before its children arrive.
-    virtual bool storesEveryChild() const = 0;
     /// Whether the pyramid holds finer data under a stored patch: below the finest level on
     /// the plane; some present child on the globe.
     virtual bool hasFinerData(const io::PatchId& id, const io::PatchInfo& info) const = 0;
