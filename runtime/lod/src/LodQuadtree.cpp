@@ -270,13 +270,13 @@ void LodQuadtree::prefetchBelow(const io::PatchId& id, const io::PatchInfo& heig
     std::array<SurfaceChild, 4> children;
     const int count = m_surface.children(id, children);
     const double childErrorM = 0.5 * errorM;
-    // Patches at the pyramid's finest level have no stored children (on the globe deeper
-    // levels are bare or drawn from an ancestor's tile: nothing to read).
+    // Patches at the pyramid's finest level have no stored children (on the globe, whose
+    // maxLevel lies deeper, the levels below are bare or an ancestor's tile: nothing to read).
     const int finestStored = m_surface.layout().finestLevel();
     for (int i = 0; i < count; ++i) {
         const SurfaceChild& at = children[static_cast<std::size_t>(i)];
         const io::PatchId child = at.id;
-        if (child.level >= std::min(m_surface.maxLevel(), finestStored)) continue;
+        if (child.level >= finestStored) continue;
         if (stored != nullptr && !m_surface.storesChild(*stored, at.quadrant)) continue;
         if (m_residency.knownAbsent(child)) continue;
         const PatchVolume volume = m_surface.volume(child, heights.minHeight, heights.maxHeight);
