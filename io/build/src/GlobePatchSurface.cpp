@@ -1,5 +1,6 @@
 #include "terrain/build/GlobePatchSurface.h"
 
+#include "terrain/base/Assert.h"
 #include "terrain/globe/Wgs84.h"
 
 #include <glm/geometric.hpp>
@@ -43,23 +44,35 @@ GlobePatchSurface::GlobePatchSurface(const globe::GlobePatchId& id, int quads,
     : m_id(id), m_quads(quads) {
     const int tile = quads + 3;
     m_positions.reserve(static_cast<std::size_t>((quads + 1) * (quads + 1)));
+    const globe::PatchSampleDirections directions(id, quads, 0, quads);
     for (int j = 0; j <= quads; ++j) {
         for (int i = 0; i <= quads; ++i) {
             const double h = heights[static_cast<std::size_t>((j + 1) * tile + i + 1)];
-            m_positions.push_back(
-                globe::Wgs84::pointAlongNormal(globe::patchSampleDirection(id, quads, i, j), h));
+            m_positions.push_back(globe::Wgs84::pointAlongNormal(directions(i, j), h));
         }
     }
 }
 
 std::pair<double, double> GlobePatchSurface::drawnHeights(const glm::dvec3& unitNormal) const {
-    // Continuous sample coordinates in the patch, from the direction's projection on this
-    // patch's face (a normal on a cube edge belongs to both faces; clamping puts a rounding
-    // step outside back on the border, where both faces hold the same samples).
+    // The direction's projection on this patch's face (a normal on a cube edge belongs to
+    // both faces; clamping below puts a rounding step outside back on the border, where
+    // both faces hold the same samples).
     const globe::FaceFrame& frame = globe::faceFrame(m_id.face);
     const double along = glm::dot(unitNormal, glm::dvec3(frame.normal));
     const double s = globe::faceCoordinate(glm::dot(unitNormal, glm::dvec3(frame.right)) / along);
     const double t = globe::faceCoordinate(glm::dot(unitNormal, glm::dvec3(frame.down)) / along);
+    return drawnHeights(unitNormal, s, t);
+}
+
+std::pair<double, double> GlobePatchSurface::drawnHeights(const glm::dvec3& unitNormal,
+                                                          const globe::FacePoint& at) const {
+    TERRAIN_ASSERT(at.face == m_id.face);
+    return drawnHeights(unitNormal, at.s, at.t);
+}
+
+std::pair<double, double> GlobePatchSurface::drawnHeights(const glm::dvec3& unitNormal, double s,
+                                                          double t) const {
+    // Continuous sample coordinates in the patch, clamped onto it.
     const double n = static_cast<double>(globe::patchesPerFaceSide(m_id.level));
     double gx = (s * n - static_cast<double>(m_id.x)) * m_quads;
     double gy = (t * n - static_cast<double>(m_id.y)) * m_quads;

@@ -246,10 +246,10 @@ private:
         record.heights.assign(static_cast<std::size_t>(tile * tile), 0.0f);
         record.valid.assign(record.heights.size(), 0);
         bool insideAny = false;
+        const globe::PatchSampleDirections directions(id, quads, -1, quads + 1);
         for (int j = -1; j <= quads + 1; ++j) {
             for (int i = -1; i <= quads + 1; ++i) {
-                const globe::Geodetic where =
-                    globe::Wgs84::geodeticOfNormal(globe::patchSampleDirection(id, quads, i, j));
+                const globe::Geodetic where = globe::Wgs84::geodeticOfNormal(directions(i, j));
                 const GeographicGrid::Resampled value =
                     m_sources.at(where.latitudeDeg, where.longitudeDeg, level);
                 const auto at = static_cast<std::size_t>((j + 1) * tile + i + 1);
@@ -313,7 +313,8 @@ private:
             if (!surface)
                 surface = std::make_unique<GlobePatchSurface>(
                     idOf(key, level), m_layout.patchQuads(), patch->second.record.heights);
-            const auto [alongAD, alongBC] = surface->drawnHeights(sample.normal);
+            const auto [alongAD, alongBC] =
+                surface->drawnHeights(sample.normal, {sample.face, sample.s, sample.t});
             patch->second.measuredError =
                 std::max({patch->second.measuredError, std::abs(sample.height - alongAD),
                           std::abs(sample.height - alongBC)});
@@ -351,7 +352,8 @@ private:
                     }
                     const glm::dvec3 normal =
                         globe::Wgs84::normalAt(sample->latitudeDeg, sample->longitudeDeg);
-                    const auto [alongAD, alongBC] = surface->drawnHeights(normal);
+                    const auto [alongAD, alongBC] = surface->drawnHeights(
+                        normal, globe::FacePoint{places.face[i], places.s[i], places.t[i]});
                     double& patchWorst = worst[key];
                     patchWorst = std::max({patchWorst, std::abs(sample->height - alongAD),
                                            std::abs(sample->height - alongBC)});

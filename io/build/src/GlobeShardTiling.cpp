@@ -561,14 +561,14 @@ private:
         std::vector<std::uint8_t> wanted(places.size(), 0);
         parallelFor(std::ssize(keys), m_threads, [&](std::int64_t k) {
             const GlobePatchId id = idOf(keys[static_cast<std::size_t>(k)], m_level);
+            const globe::PatchSampleDirections directions(id, m_quads, -1, m_quads + 1);
             for (int j = -1; j <= m_quads + 1; ++j)
                 for (int i = -1; i <= m_quads + 1; ++i) {
                     const std::size_t at = static_cast<std::size_t>(k) * perPatch +
                                            static_cast<std::size_t>((j + 1) * m_tile + i + 1);
                     if (!fromSource(static_cast<std::size_t>(k), i, j)) continue;
                     wanted[at] = 1;
-                    places[at] = globe::Wgs84::geodeticOfNormal(
-                        globe::patchSampleDirection(id, m_quads, i, j));
+                    places[at] = globe::Wgs84::geodeticOfNormal(directions(i, j));
                 }
         });
         std::vector<std::uint8_t> insideAny(keys.size(), 0);
@@ -714,7 +714,8 @@ private:
                 const auto surface = surfaces.find(r.keys[c]);
                 if (surface == surfaces.end()) continue;
                 const int quad = quadOf(r.keys[c], r.points[c].s, r.points[c].t);
-                const auto [alongAD, alongBC] = surface->second->drawnHeights(r.normals[c]);
+                const auto [alongAD, alongBC] =
+                    surface->second->drawnHeights(r.normals[c], r.points[c]);
                 const double height = double(r.heights[c]);
                 const double lowest = std::min(alongAD, alongBC) - height;
                 const double highest = std::max(alongAD, alongBC) - height;
@@ -769,7 +770,7 @@ private:
             Result<GeographicGrid::Resampled> value = m_blocks->at(latitude, longitude);
             if (!value) return value.error();
             const int quad = quadOf(key, p.s, p.t);
-            const auto [alongAD, alongBC] = surface->drawnHeights(normal);
+            const auto [alongAD, alongBC] = surface->drawnHeights(normal, p);
             const double height = double(value.value().height);
             patch->second.quads.widen(static_cast<std::size_t>(quad),
                                       std::min(alongAD, alongBC) - height,

@@ -73,7 +73,7 @@ Status checkFilledSamples(const GlobeSources& composite, int faceLevels, const P
                     finest = found.value();
                 }
                 if (finest == nullptr) continue;
-                const auto [alongAD, alongBC] = finest->surface->drawnHeights(normal);
+                const auto [alongAD, alongBC] = finest->surface->drawnHeights(normal, p);
                 const double deviation = std::max(std::abs(alongAD - *sample->beneath),
                                                   std::abs(alongBC - *sample->beneath));
                 ++report.filledSamplesChecked;
@@ -159,7 +159,7 @@ Result<SourceCheckReport> checkGlobeErrorBoundsAgainstSources(
                                                      reader.folder().string(), id.face)};
                         break;  // no finer patch holds it either: the ancestor draws it
                     }
-                    const auto [alongAD, alongBC] = it.second->surface->drawnHeights(normal);
+                    const auto [alongAD, alongBC] = it.second->surface->drawnHeights(normal, p);
                     const double distance = std::max(std::abs(alongAD - h), std::abs(alongBC - h));
                     const float bound = it.second->record.info.error;
                     const int layoutLevel = level + ManifestGlobe::kLevelOffset;

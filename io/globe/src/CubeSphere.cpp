@@ -46,16 +46,21 @@ double faceCoordinate(double cubeCoordinate) {
 }
 
 glm::dvec3 cubePoint(int face, double s, double t) {
+    return cubePointOfCubeCoordinates(face, cubeCoordinate(s), cubeCoordinate(t));
+}
+
+glm::dvec3 cubePointOfCubeCoordinates(int face, double cs, double ct) {
     const FaceFrame& frame = faceFrame(face);
-    const double cs = cubeCoordinate(s);
-    const double ct = cubeCoordinate(t);
     // Integer unit axes: every component is exactly ±1, ±cs, ±ct or 0.
     return glm::dvec3(frame.normal) + cs * glm::dvec3(frame.right) + ct * glm::dvec3(frame.down);
 }
 
-glm::dvec3 directionOf(int face, double s, double t) {
-    const glm::dvec3 p = cubePoint(face, s, t);
+glm::dvec3 directionOfCubePoint(const glm::dvec3& p) {
     return p / std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z);
+}
+
+glm::dvec3 directionOf(int face, double s, double t) {
+    return directionOfCubePoint(cubePoint(face, s, t));
 }
 
 FacePoint facePointOf(const glm::dvec3& direction) {

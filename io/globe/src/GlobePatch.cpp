@@ -139,6 +139,23 @@ glm::dvec3 patchSampleDirection(const GlobePatchId& id, int quads, int i, int j)
     return directionOf(p.face, p.s, p.t);
 }
 
+PatchSampleDirections::PatchSampleDirections(const GlobePatchId& id, int quads, int first, int last)
+    : m_face(id.face), m_first(first) {
+    TERRAIN_ASSERT(first <= last);
+    for (int k = first; k <= last; ++k) {
+        // patchSamplePoint's s depends on i alone, its t on j alone.
+        const FacePoint p = patchSamplePoint(id, quads, k, k);
+        m_columns.push_back(cubeCoordinate(p.s));
+        m_rows.push_back(cubeCoordinate(p.t));
+    }
+}
+
+glm::dvec3 PatchSampleDirections::operator()(int i, int j) const {
+    return directionOfCubePoint(
+        cubePointOfCubeCoordinates(m_face, m_columns[static_cast<std::size_t>(i - m_first)],
+                                   m_rows[static_cast<std::size_t>(j - m_first)]));
+}
+
 double maxSampleAngle(int level, int quads) {
     return (std::numbers::pi / 2.0) / (static_cast<double>(patchesPerFaceSide(level)) * quads);
 }

@@ -873,5 +873,35 @@ TEST(GlobePatchSurface, PiercesTheDrawnTrianglesAlongTheNormal) {
     }
 }
 
+// The builders pass the face point they already have (globe::facePointOf, clamped to the
+// face) to drawnHeights: the same heights to the bit as projecting the normal again, inside
+// the patch, on its border and on the cube's edges, where facePointOf clamps.
+TEST(GlobePatchSurface, DrawnHeightsFromAFacePointAreTheSameToTheBit) {
+    const int quads = 8;
+    const int tile = quads + 3;
+    std::vector<float> rough(static_cast<std::size_t>(tile * tile));
+    for (std::size_t k = 0; k < rough.size(); ++k)
+        rough[k] = 100.0f + 37.0f * float((k * 7919) % 23) - 0.125f * float(k % 5);
+    int onEdges = 0;
+    for (const GlobePatchId id : {GlobePatchId{0, 0, 0, 0}, GlobePatchId{3, 1, 1, 0},
+                                  GlobePatchId{5, 7, 0, 127}, GlobePatchId{1, 12, 4095, 4095}}) {
+        const GlobePatchSurface surface(id, quads, rough);
+        for (int k = 0; k <= 400; ++k) {
+            // A grid over the patch, its border included.
+            const double u = (k % 21) / 20.0, v = (k / 21 % 21) / 20.0;
+            const globe::FacePoint place = globe::patchPoint(id, u, v);
+            const glm::dvec3 normal = globe::directionOf(place.face, place.s, place.t);
+            const globe::FacePoint p = globe::facePointOf(normal);
+            if (p.face != id.face) continue;  // a cube edge owned by the other face
+            onEdges += p.s == 0.0 || p.s == 1.0 || p.t == 0.0 || p.t == 1.0;
+            const auto projected = surface.drawnHeights(normal);
+            const auto given = surface.drawnHeights(normal, p);
+            ASSERT_TRUE(projected == given)
+                << "face " << id.face << " level " << id.level << " at " << u << "," << v;
+        }
+    }
+    EXPECT_GT(onEdges, 0);  // clamped face points were among them
+}
+
 }  // namespace
 }  // namespace terrain::io

@@ -104,6 +104,23 @@ TEST(GlobePatch, SharedEdgeSamplesAreBitIdenticalFromBothPatches) {
     EXPECT_EQ(crossFaceEdges, 24 * (1 + 2 + 4 + 8));  // 6 faces · 4 sides · 2^level patches
 }
 
+// The builders' table of a patch's sample directions (one tangent a column and a row) gives
+// patchSampleDirection's directions to the bit, apron included, on every face and at the
+// face's corners, where cubeCoordinate sets the edge exactly.
+TEST(GlobePatch, SampleDirectionTableIsPatchSampleDirectionBitForBit) {
+    constexpr int kQuads = 16;
+    for (int face = 0; face < kCubeFaces; ++face) {
+        for (const GlobePatchId id : {GlobePatchId{face, 0, 0, 0}, GlobePatchId{face, 5, 17, 30},
+                                      GlobePatchId{face, 12, 4095, 0}}) {
+            const PatchSampleDirections table(id, kQuads, -1, kQuads + 1);
+            for (int j = -1; j <= kQuads + 1; ++j)
+                for (int i = -1; i <= kQuads + 1; ++i)
+                    ASSERT_TRUE(table(i, j) == patchSampleDirection(id, kQuads, i, j))
+                        << "face " << face << " level " << id.level << " sample " << i << "," << j;
+        }
+    }
+}
+
 // Measure the geodetic height of points inside the flat triangles of patch sample grids: the
 // bound must hold, and be within 3× of the worst case seen (so Err(P) is not padded blindly).
 TEST(GlobePatch, FlatTriangleBoundHoldsOnTheEllipsoid) {

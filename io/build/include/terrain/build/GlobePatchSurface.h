@@ -27,10 +27,18 @@ public:
     /// point where the normal line through the surface point of `unitNormal` meets the
     /// triangle of the cell it passes through.
     std::pair<double, double> drawnHeights(const glm::dvec3& unitNormal) const;
+    /// The same where the caller has the normal's face point (globe::facePointOf, on this
+    /// patch's face): the same heights to the bit, without projecting it again (two
+    /// arctangents a source sample on the build's hot path). facePointOf's clamp to the face
+    /// changes nothing: the point is clamped onto the patch here.
+    std::pair<double, double> drawnHeights(const glm::dvec3& unitNormal,
+                                           const globe::FacePoint& at) const;
 
     const globe::GlobePatchId& id() const { return m_id; }
 
 private:
+    std::pair<double, double> drawnHeights(const glm::dvec3& unitNormal, double s, double t) const;
+
     const glm::dvec3& position(int i, int j) const {
         return m_positions[static_cast<std::size_t>(j * (m_quads + 1) + i)];
     }

@@ -49,6 +49,10 @@ double faceCoordinate(double cubeCoordinate);
 
 /// The point of the cube surface (one component ±1) of a face point.
 glm::dvec3 cubePoint(int face, double s, double t);
+/// The same from the point's cube coordinates, cubeCoordinate(s) and cubeCoordinate(t).
+glm::dvec3 cubePointOfCubeCoordinates(int face, double cs, double ct);
+/// A cube point's unit direction (the ellipsoid normal): what directionOf returns.
+glm::dvec3 directionOfCubePoint(const glm::dvec3& cube);
 /// The unit direction (the ellipsoid normal) of a face point.
 glm::dvec3 directionOf(int face, double s, double t);
 /// The face point of a direction (any length > 0): the face of its largest component (ties go

@@ -12,6 +12,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstdint>
+#include <vector>
 
 namespace terrain::globe {
 
@@ -45,6 +46,20 @@ FacePoint patchSamplePoint(const GlobePatchId& id, int quads, int i, int j);
 FacePoint patchPoint(const GlobePatchId& id, double u, double v);
 /// The unit direction (ellipsoid normal) of the patch's sample (i, j).
 glm::dvec3 patchSampleDirection(const GlobePatchId& id, int quads, int i, int j);
+
+/// patchSampleDirection for every sample (i, j) of a patch with first ≤ i, j ≤ last, bit
+/// for bit, with each column's and each row's cube coordinate (a tangent) computed once
+/// rather than at every sample: what the builders' loops over a patch's samples use.
+class PatchSampleDirections {
+public:
+    PatchSampleDirections(const GlobePatchId& id, int quads, int first, int last);
+
+    glm::dvec3 operator()(int i, int j) const;
+
+private:
+    int m_face = 0, m_first = 0;
+    std::vector<double> m_columns, m_rows;  // cubeCoordinate of s, of t
+};
 
 /// The largest angle, in radians, between two neighbouring samples of a level (along s or t):
 /// π/2 / (2^l · quads), since the tangent adjustment's dd/ds never exceeds π/2 over a face.
