@@ -2,7 +2,7 @@
 // ROAM's wedgies) and §5 (tessellation-block errors λ(d)).
 #include "terrain/pyramid/PatchErrors.h"
 
-#include "RowSpan.h"
+#include "StripChecks.h"
 
 #include <half.h>
 
@@ -123,6 +123,8 @@ double coarseCellDeviation(const GridView& g, int cx, int cy, int step, const Ce
     return worst;
 }
 
+}  // namespace
+
 // ---- Transition strips -------------------------------------------------------------------
 //
 // Where a block edge's factor m exceeds the block's inner factor n, GL's tessellator fills
@@ -138,214 +140,13 @@ double coarseCellDeviation(const GridView& g, int cx, int cy, int step, const Ce
 // picks. They are not the regular triangulation that λ(d) measures, so their error is
 // added to it.
 
-struct SamplePoint {
-    int x, y;
-};
-
-double heightAt(const GridView& g, SamplePoint p) { return g.at(p.x, p.y); }
-
-// The full-resolution surface at a point of the vertical line x = X (y not a sample row in
-// general): grid lines are edges of every fine triangulation, so one value.
-double surfaceOnColumn(const GridView& g, int X, double y) {
-    const int cy = std::min(static_cast<int>(std::floor(y)), g.side - 2);
-    const double h0 = g.at(X, cy);
-    return h0 + (y - cy) * (g.at(X, cy + 1) - h0);
-}
-
-double surfaceOnRow(const GridView& g, double x, int Y) {
-    const int cx = std::min(static_cast<int>(std::floor(x)), g.side - 2);
-    const double h0 = g.at(cx, Y);
-    return h0 + (x - cx) * (g.at(cx + 1, Y) - h0);
-}
-
-// Largest |f − L| along the segment p → q, where L interpolates the heights at p and q
-// linearly and f is the full-resolution surface under either diagonal of every cell. Both
-// are linear between the points where the segment crosses a grid line or a cell diagonal,
-// so those points (for both diagonals) are the only ones to check.
-double segmentDeviation(const GridView& g, SamplePoint p, SamplePoint q) {
-    const double hp = heightAt(g, p), hq = heightAt(g, q);
-    const int dx = q.x - p.x, dy = q.y - p.y;
-    double worst = 0.0;
-    if (dx == 0 || dy == 0) {
-        // Along a grid line, an edge of every fine triangulation: f is linear between the
-        // samples, and every diagonal crosses it at one. The samples are the only points.
-        const int steps = std::abs(dx) + std::abs(dy);
-        const int sx = (dx > 0) - (dx < 0), sy = (dy > 0) - (dy < 0);
-        for (int k = 1; k < steps; ++k) {
-            const double s = double(k) / steps;
-            worst =
-                std::max(worst, std::abs(g.at(p.x + k * sx, p.y + k * sy) - (hp + s * (hq - hp))));
-        }
-        return worst;
-    }
-    auto check = [&](double s, double surface) {
-        worst = std::max(worst, std::abs(surface - (hp + s * (hq - hp))));
-    };
-    // Crossings of the lines where a coordinate function c(point) = c(p) + s·dc is an
-    // integer, for dc ≠ 0.
-    auto crossings = [&](int c0, int dc, auto&& surfaceAt) {
-        if (dc == 0) return;
-        const int step = dc > 0 ? 1 : -1;
-        for (int k = c0; k != c0 + dc + step; k += step) {
-            const double s = double(k - c0) / dc;
-            surfaceAt(k, s, p.x + s * dx, p.y + s * dy);
-        }
-    };
-    crossings(p.x, dx,
-              [&](int X, double s, double, double y) { check(s, surfaceOnColumn(g, X, y)); });
-    crossings(p.y, dy, [&](int Y, double s, double x, double) { check(s, surfaceOnRow(g, x, Y)); });
-    // Diagonal a–d of cell (cx, cy) runs from (cx, cy) to (cx + 1, cy + 1): x − y = cx − cy.
-    crossings(p.x - p.y, dx - dy, [&](int k, double s, double x, double) {
-        const int cx = std::min(static_cast<int>(std::floor(x)), g.side - 2), cy = cx - k;
-        if (cy < 0 || cy > g.side - 2) return;  // a grid corner: checked as a sample
-        const double t = x - cx, h0 = g.at(cx, cy);
-        check(s, h0 + t * (g.at(cx + 1, cy + 1) - h0));
-    });
-    // Diagonal b–c of cell (cx, cy) runs from (cx, cy + 1) to (cx + 1, cy): x + y = cx + cy + 1.
-    crossings(p.x + p.y, dx + dy, [&](int k, double s, double x, double) {
-        const int cx = std::min(static_cast<int>(std::floor(x)), g.side - 2), cy = k - cx - 1;
-        if (cy < 0 || cy > g.side - 2) return;
-        const double t = x - cx, h0 = g.at(cx, cy + 1);
-        check(s, h0 + t * (g.at(cx + 1, cy) - h0));
-    });
-    return worst;
-}
-
-// Largest |f − L| at the samples inside the triangle abc (its boundary included), where L
-// is the plane through the heights at its corners.
-double interiorDeviation(const GridView& g, SamplePoint a, SamplePoint b, SamplePoint c) {
-    const double area2 = double(b.x - a.x) * (c.y - a.y) - double(c.x - a.x) * (b.y - a.y);
-    if (area2 == 0.0) return 0.0;
-    const double ha = heightAt(g, a), hb = heightAt(g, b), hc = heightAt(g, c);
-    // L = ha + gx·(x − a.x) + gy·(y − a.y): one multiply-add a sample (the build's hottest
-    // loop with segmentDeviation).
-    const double gx = ((hb - ha) * (c.y - a.y) - (hc - ha) * (b.y - a.y)) / area2;
-    const double gy = ((hc - ha) * (b.x - a.x) - (hb - ha) * (c.x - a.x)) / area2;
-    const int yLo = std::min({a.y, b.y, c.y}), yHi = std::max({a.y, b.y, c.y});
-    double worst = 0.0;
-    for (int y = yLo; y <= yHi; ++y) {
-        // The samples of row y inside the triangle: from the first at or right of its edges'
-        // leftmost crossing of the row to the last at or left of the rightmost, in integers
-        // (RowSpan.h: the same samples as the crossings in floating point, without their
-        // divisions on the loop's path).
-        const RowSpan span = triangleRowSpan({a.x, a.y}, {b.x, b.y}, {c.x, c.y}, y);
-        const double rowPlane = ha + gy * (y - a.y);
-        const float* row = g.data + static_cast<std::ptrdiff_t>(y) * g.stride;
-        for (int x = span.first; x <= span.last; ++x)
-            worst = std::max(worst, std::abs(row[x] - (rowPlane + gx * (x - a.x))));
-    }
-    return worst;
-}
-
-// The largest deviation of the strip triangles of a block with inner factor `inner`
-// (≥ 2, a power of two) against edges of every power-of-two factor m from 1 (inner 2) or
-// 2·inner up to blockQuads, over the block's four edges: out[log2 m].
-template <std::size_t kFactors>
-void stripDeviations(const GridView& patch, int x0, int y0, int blockQuads, int inner,
-                     std::array<double, kFactors>& out) {
-    const int innerSpacing = blockQuads / inner;
-    const int innerCount = inner - 1;  // vertices of the inner mesh's side, j = 1..inner−1
-    // Whether a strip may join a lone vertex at `along` to a pair spanning [from, to].
-    auto withinReach = [&](int along, int from, int to) {
-        return along >= from - innerSpacing && along <= to + innerSpacing;
-    };
-    thread_local std::vector<double> toEdge, innerSide;
-    for (int edge = 0; edge < 4; ++edge) {
-        // Edge `edge`'s frame: `along` runs along the edge, `inward` into the block.
-        auto at = [&](int along, int inward) -> SamplePoint {
-            switch (edge) {
-                case 0:
-                    return {x0 + along, y0 + inward};
-                case 1:
-                    return {x0 + along, y0 + blockQuads - inward};
-                case 2:
-                    return {x0 + inward, y0 + along};
-                default:
-                    return {x0 + blockQuads - inward, y0 + along};
-            }
-        };
-        auto innerVertex = [&](int j) { return at(j * innerSpacing, innerSpacing); };
-        // Segments from edge samples to inner vertices, computed once each.
-        toEdge.assign(static_cast<std::size_t>((blockQuads + 1) * innerCount), -1.0);
-        auto toEdgeDeviation = [&](int along, int j) {
-            double& cached = toEdge[static_cast<std::size_t>(along * innerCount + j - 1)];
-            if (cached < 0.0) cached = segmentDeviation(patch, at(along, 0), innerVertex(j));
-            return cached;
-        };
-        innerSide.assign(static_cast<std::size_t>(std::max(0, innerCount - 1)), 0.0);
-        for (int j = 1; j < innerCount; ++j)
-            innerSide[static_cast<std::size_t>(j - 1)] =
-                segmentDeviation(patch, innerVertex(j), innerVertex(j + 1));
-
-        const int firstEdgeFactor = inner == 2 ? 1 : 2 * inner;
-        for (int edgeFactor = firstEdgeFactor; edgeFactor <= blockQuads; edgeFactor *= 2) {
-            const int edgeSpacing = blockQuads / edgeFactor;
-            double worst = 0.0;
-            // Two consecutive edge vertices and an inner vertex.
-            for (int k = 0; k < edgeFactor; ++k) {
-                const int from = k * edgeSpacing, to = from + edgeSpacing;
-                const double alongEdge = segmentDeviation(patch, at(from, 0), at(to, 0));
-                for (int j = 1; j <= innerCount; ++j) {
-                    if (!withinReach(j * innerSpacing, from, to)) continue;
-                    worst = std::max(
-                        {worst, alongEdge, toEdgeDeviation(from, j), toEdgeDeviation(to, j),
-                         interiorDeviation(patch, at(from, 0), at(to, 0), innerVertex(j))});
-                }
-            }
-            // Two consecutive inner vertices and an edge vertex.
-            for (int j = 1; j < innerCount; ++j) {
-                for (int k = 0; k <= edgeFactor; ++k) {
-                    const int along = k * edgeSpacing;
-                    if (!withinReach(along, j * innerSpacing, (j + 1) * innerSpacing)) continue;
-                    worst = std::max({worst, innerSide[static_cast<std::size_t>(j - 1)],
-                                      toEdgeDeviation(along, j), toEdgeDeviation(along, j + 1),
-                                      interiorDeviation(patch, innerVertex(j), innerVertex(j + 1),
-                                                        at(along, 0))});
-                }
-            }
-            double& slot =
-                out[static_cast<std::size_t>(std::countr_zero(static_cast<unsigned>(edgeFactor)))];
-            slot = std::max(slot, worst);
-        }
-    }
-}
-
-}  // namespace
-
 BlockErrors transitionErrors(const GridView& patch, int x0, int y0, int blockQuads) {
     TERRAIN_ASSERT(blockQuads >= 1);
     TERRAIN_ASSERT(x0 >= 0 && y0 >= 0 && x0 + blockQuads <= patch.side - 1 &&
                    y0 + blockQuads <= patch.side - 1);
-    // strips[log2 inner][log2 m]: the largest deviation of the strips between edges of
-    // factor m and an inner mesh of factor `inner` (≥ 2), filled where some d needs it.
-    constexpr int kFactors = 17;  // log2 of factors up to 2^16, far beyond GL's 64
-    std::array<std::array<double, kFactors>, kFactors> strips{};
-    std::array<bool, kFactors> stripsDone{};
-    BlockErrors errors{};
-    for (int d = 1; d <= kMaxSimplification; ++d) {
-        const int innerFactor = std::max(1, blockQuads >> d);
-        // An inner factor of 1 becomes 2 once an edge is finer (GL 4.5 §11.2.2.2); then an
-        // edge of factor 1 joins the centre too.
-        const int inner = std::max(2, innerFactor);
-        const int firstEdgeFactor = innerFactor == 1 ? 1 : 2 * innerFactor;
-        if (blockQuads < 2 || firstEdgeFactor > blockQuads) continue;
-        const int innerLog2 = std::countr_zero(static_cast<unsigned>(inner));
-        TERRAIN_ASSERT(innerLog2 < kFactors);
-        if (!stripsDone[static_cast<std::size_t>(innerLog2)]) {
-            // For inner 2 these start at edge factor 1: inner factors 1 and 2 both make the
-            // centre fan, so they share them.
-            stripDeviations(patch, x0, y0, blockQuads, inner,
-                            strips[static_cast<std::size_t>(innerLog2)]);
-            stripsDone[static_cast<std::size_t>(innerLog2)] = true;
-        }
-        double worst = 0.0;
-        for (int m = firstEdgeFactor; m <= blockQuads; m *= 2)
-            worst = std::max(worst,
-                             strips[static_cast<std::size_t>(innerLog2)][static_cast<std::size_t>(
-                                 std::countr_zero(static_cast<unsigned>(m)))]);
-        errors[static_cast<std::size_t>(d - 1)] = roundUpToFloat(worst);
-    }
-    return errors;
+    // Which triangles a strip may hold and where each is checked depend on the block size
+    // alone: worked out once (StripChecks.h).
+    return detail::StripChecks::forBlock(blockQuads).errors(patch, x0, y0);
 }
 
 std::pair<double, double> cellSurfaceHeights(double a, double b, double c, double d, double u,

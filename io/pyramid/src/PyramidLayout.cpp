@@ -35,10 +35,16 @@ Result<PyramidLayout> PyramidLayout::create(std::int64_t rasterWidth, std::int64
         return Error{fmt::format(
             "patch size {} samples: must be 2^n + 1 with n from 2 to 14 (5, 9, 17, ..., 16385)",
             patchSamples)};
-    if (!isPowerOfTwo(blockQuads) || blockQuads > patchSamples - 1)
+    // A block is drawn with tessellation factors up to its quads, and GL clamps a factor to
+    // MAX_TESS_GEN_LEVEL, which GL guarantees only up to 64 (GL 4.5 §11.2.2): a
+    // larger block would draw every other sample where its bounds say it draws them all.
+    const int largestBlock = std::min(patchSamples - 1, kMaxBlockQuads);
+    if (!isPowerOfTwo(blockQuads) || blockQuads > largestBlock)
         return Error{fmt::format(
-            "tessellation block of {} quads: must be a power of two from 1 to {} (patch size − 1)",
-            blockQuads, patchSamples - 1)};
+            "tessellation block of {} quads: must be a power of two from 1 to {} "
+            "({})",
+            blockQuads, largestBlock,
+            largestBlock < kMaxBlockQuads ? "patch size − 1" : "GL's largest tessellation factor")};
     // The shard's heights part is shardPatches·(N + 2) pixels wide: keep it well inside
     // OpenEXR's int32 coordinates.
     const std::int64_t maxShardPatches =

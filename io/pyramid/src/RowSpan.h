@@ -1,5 +1,5 @@
 // RowSpan: the samples of one grid row inside a triangle with integer corners, found with
-// integer arithmetic (the strip errors' interiorDeviation, the build's hottest loop).
+// integer arithmetic (the transition strips' triangles: StripChecks).
 #pragma once
 
 #include <algorithm>

@@ -108,14 +108,32 @@ std::vector<std::array<std::array<int, 2>, 3>> stripTriangles(int x0, int y0, in
     return triangles;
 }
 
+// The strips' checks are worked out once per block size (StripChecks), with a form for
+// blocks on the grid's last row or column (cells clamped there) and one for the rest
+// (crossings on a sample merged): every form, at every kind of place, and a block
+// of 64 quads (the largest a layout allows), against the oracle.
 TEST(PatchErrors, TransitionErrorsEqualBruteForce) {
-    const int n = 33;
-    for (int blockQuads : {16, 8}) {
-        for (unsigned seed = 1; seed <= 3; ++seed) {
+    struct Case {
+        int n, blockQuads, x0, y0;
+        unsigned seeds;
+    };
+    std::vector<Case> cases;
+    for (int blockQuads : {16, 8, 4, 2}) {
+        const int last = 32 - blockQuads;
+        cases.push_back({33, blockQuads, 16 - blockQuads / 2, 8, 3});  // inside
+        cases.push_back({33, blockQuads, 0, 0, 3});                    // at the origin
+        cases.push_back({33, blockQuads, last, last, 3});              // on the last row and column
+        cases.push_back({33, blockQuads, last, 8, 2});                 // on the last column
+        cases.push_back({33, blockQuads, 8, last, 2});                 // on the last row
+    }
+    cases.push_back({65, 64, 0, 0, 1});  // the largest block, one set of checks of its own
+    for (const auto [n, blockQuads, x0, y0, seeds] : cases) {
+        for (unsigned seed = 1; seed <= seeds; ++seed) {
             const auto h = randomGrid(n, seed, seed % 2 ? 8.0f : 0.5f);
             const GridView g{h.data(), n, n};
             auto height = [&](int x, int y) { return double(h[y * n + x]); };
-            const int x0 = 16 - blockQuads / 2, y0 = 8;  // not at the origin
+            SCOPED_TRACE(testing::Message() << "block " << blockQuads << " at " << x0 << "," << y0
+                                            << " seed " << seed);
             const BlockErrors got = transitionErrors(g, x0, y0, blockQuads);
             for (int d = 1; d <= kMaxSimplification; ++d) {
                 double want = 0.0;

@@ -207,6 +207,10 @@ TEST(PyramidLayout, RejectsBadParameters) {
     expectError(1201, 1201, 129, 0, 16, "tessellation block");
     expectError(1201, 1201, 129, 3, 16, "tessellation block");
     expectError(1201, 1201, 129, 256, 16, "tessellation block");
+    // GL clamps a tessellation factor to 64: a block of 128 quads would skip samples.
+    expectError(1201, 1201, 129, 128, 16, "GL's largest tessellation factor");
+    expectError(1201, 1201, 16385, 128, 16, "tessellation block");
+    EXPECT_TRUE(PyramidLayout::create(1201, 1201, 129, 64, 16).ok());
     expectError(1201, 1201, 129, 16, 0, "shard of 0");
     expectError(1201, 1201, 129, 16, -3, "shard of -3");
     expectError(1201, 1201, 129, 16, PyramidLayout::kMaxShardPatches + 1, "shard of");

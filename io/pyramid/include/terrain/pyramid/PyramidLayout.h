@@ -36,14 +36,17 @@ public:
     static constexpr int kMinPatchSamples = 5;      // 2^2 + 1
     static constexpr int kMaxPatchSamples = 16385;  // 2^14 + 1
     static constexpr int kMaxShardPatches = 4096;
+    /// Largest block: a block's finest tessellation factor is its quads, and GL guarantees
+    /// factors up to 64 (MAX_TESS_GEN_LEVEL).
+    static constexpr int kMaxBlockQuads = 64;
     /// Largest raster side: 2^40 + 1 samples (a 1 cm grid around the equator).
     static constexpr std::int64_t kMaxRasterSamples = (std::int64_t{1} << 40) + 1;
 
     /// Checks the parameters: patchSamples = 2^n + 1 (2 ≤ n ≤ 14), blockQuads a power of
-    /// two dividing patchSamples − 1, 1 ≤ shardPatches ≤ kMaxShardPatches (and the shard's
-    /// heights part under 2^30 pixels a side), raster from 2 × 2 to kMaxRasterSamples a
-    /// side, shard indices that fit an int32 (OpenEXR's v2i attribute). The Error says
-    /// which parameter is wrong and what it may be.
+    /// two dividing patchSamples − 1 and at most kMaxBlockQuads, 1 ≤ shardPatches ≤
+    /// kMaxShardPatches (and the shard's heights part under 2^30 pixels a side), raster from 2 × 2
+    /// to kMaxRasterSamples a side, shard indices that fit an int32 (OpenEXR's v2i attribute). The
+    /// Error says which parameter is wrong and what it may be.
     static Result<PyramidLayout> create(std::int64_t rasterWidth, std::int64_t rasterHeight,
                                         int patchSamples = kDefaultPatchSamples,
                                         int blockQuads = kDefaultBlockQuads,

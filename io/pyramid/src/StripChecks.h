@@ -1,0 +1,94 @@
+// StripChecks: where the transition strips' error of a block is measured, worked out once
+// per block size (the build's hottest loop: issue 50).
+#pragma once
+
+#include "terrain/pyramid/PatchErrors.h"
+
+#include <array>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace terrain::io::detail {
+
+/// The transition strips of a block of `blockQuads` × `blockQuads` quads, as
+/// transitionErrors bounds them (PatchErrors.h): every segment and triangle a strip may
+/// hold for every inner factor and finer edge factor, and every point where the
+/// full-resolution surface is compared with them, relative to the block's top-left sample.
+/// None of this depends on where the block lies or on its heights, so it is worked out once
+/// per block size; a block's errors are then its heights read at those points, without a
+/// crossing search or a division a point. Each point is evaluated with the arithmetic the
+/// crossings were always checked with (the same doubles, in the same order, from the
+/// block's absolute coordinates), so the bounds are the same to the bit.
+class StripChecks {
+public:
+    /// The checks of a block size, a power of two up to PyramidLayout::kMaxBlockQuads, built
+    /// on first use and shared (0.1 MiB and 0.2 ms at 8 quads, the default; 9 MiB and 21 ms
+    /// at 64).
+    static const StripChecks& forBlock(int blockQuads);
+
+    explicit StripChecks(int blockQuads);
+
+    /// transitionErrors of the block whose top-left sample is (x0, y0) in `patch`.
+    BlockErrors errors(const GridView& patch, int x0, int y0) const;
+
+private:
+    struct Point {
+        int x, y;
+    };
+
+    // One point of a segment p → q where the surfaces are compared. `s` is its position
+    // along the segment (0 at p, 1 at q); `offset` is s·dx or s·dy, the distance from p's
+    // coordinate of the one the fine surface is interpolated along; `line` names the grid
+    // line or diagonal crossed (its x, y, x − y or x + y relative to the block), or is a
+    // sample's x (`other` its y).
+    struct Check {
+        double s;
+        double offset;
+        std::uint32_t segment;
+        int line;
+        int other;
+    };
+    // The kinds of point, each in a list of its own: a block's checks run as a few long
+    // loops, not many short ones (a segment has a dozen checks over five kinds).
+    enum Kind { kSample, kColumn, kRow, kDiagonalAD, kDiagonalBC, kKinds };
+    // Form 0 has every crossing as computed (blocks on the grid's last row or column),
+    // form 1 those on a sample merged into one check of it (the other blocks).
+    using ChecksByKind = std::array<std::vector<Check>, kKinds>;
+
+    struct Segment {
+        Point p, q;
+    };
+    struct Triangle {
+        Point a, b, c;
+        double area2;  // twice its signed area; 0: flat, no samples
+    };
+    // A sample inside a triangle (its boundary included), and its offset from corner a.
+    struct TriangleSample {
+        std::uint32_t triangle;
+        int x, y, dx, dy;
+    };
+    // The segments and triangles whose largest deviation is strips[inner][edge factor].
+    struct Slot {
+        int innerLog2, edgeLog2;
+        std::vector<std::uint32_t> segments, triangles;
+    };
+
+    std::uint32_t segmentIndex(Point p, Point q);
+    std::uint32_t triangleIndex(Point a, Point b, Point c);
+    void addStrips(int inner);
+
+    void segmentDeviations(const GridView& g, int x0, int y0, std::vector<double>& out) const;
+    void interiorDeviations(const GridView& g, int x0, int y0, std::vector<double>& out) const;
+
+    int m_blockQuads;
+    std::vector<Segment> m_segments;
+    std::array<ChecksByKind, 2> m_checks;  // [form][kind]
+    std::vector<Triangle> m_triangles;
+    std::vector<TriangleSample> m_triangleSamples;
+    std::vector<Slot> m_slots;
+    // While building: each segment's and triangle's index by its corners.
+    std::unordered_map<std::uint64_t, std::uint32_t> m_segmentIndex, m_triangleIndex;
+};
+
+}  // namespace terrain::io::detail
