@@ -12,6 +12,7 @@ OUT=${4:-/tmp/compare-builds}
 [ -d "$D" ] || { echo "compare_builds.sh: $D: no shared data folder" >&2; exit 1; }
 rm -rf "$OUT" && mkdir -p "$OUT"
 different=0
+compared=0
 run() {  # NAME TERRAIN-BUILD-ARGUMENTS...
     local name=$1 b exe
     shift
@@ -21,6 +22,7 @@ run() {  # NAME TERRAIN-BUILD-ARGUMENTS...
             "$exe" "$@" -o "$OUT/$name-$b" -q --threads 2 > "$OUT/$name-$b.log" 2>&1 ||
             echo "$name: the $b build failed (see $OUT/$name-$b.log)"
     done
+    compared=$((compared + 1))
     local result=identical
     if ! diff -rq -x manifest.json "$OUT/$name-old" "$OUT/$name-new" > /dev/null ||
         ! diff -q <(grep -v '"seconds"' "$OUT/$name-old/manifest.json") \
@@ -55,5 +57,5 @@ run globe-kilauea "$D/kilauea_utm5n_30m.nc" --globe
 run globe-n57 "$D/srtm/N57E011.hgt" --globe
 run globe-luxembourg "$D/luxembourg_elev_30s.tif" --globe
 run globe-etopo-by-shards "$E" --globe --by-shards
-echo "$different of 22 pyramids differ"
+echo "$different of $compared pyramids differ"
 [ $different -eq 0 ]

@@ -38,13 +38,16 @@ const StripChecks& StripChecks::forBlock(int blockQuads) {
 }
 
 StripChecks::StripChecks(int blockQuads) : m_blockQuads(blockQuads) {
-    // The inner factors transitionErrors asks for, one d at a time.
+    // The strips each λ(d) bounds, and every inner factor's strips once.
     std::array<bool, kFactors> added{};
     for (int d = 1; d <= kMaxSimplification; ++d) {
         const int innerFactor = std::max(1, blockQuads >> d);
+        // An inner factor of 1 becomes 2 once an edge is finer (GL 4.5 §11.2.2.2); then an
+        // edge of factor 1 joins the centre too.
         const int inner = std::max(2, innerFactor);
         const int firstEdgeFactor = innerFactor == 1 ? 1 : 2 * innerFactor;
-        if (blockQuads < 2 || firstEdgeFactor > blockQuads) continue;
+        if (blockQuads < 2 || firstEdgeFactor > blockQuads) continue;  // no finer edge
+        m_levels[static_cast<std::size_t>(d - 1)] = {log2Of(inner), log2Of(firstEdgeFactor)};
         if (added[static_cast<std::size_t>(log2Of(inner))]) continue;
         addStrips(inner);
         added[static_cast<std::size_t>(log2Of(inner))] = true;
@@ -244,20 +247,22 @@ void StripChecks::segmentDeviations(const GridView& g, int x0, int y0,
     // Blocks on the grid's last row or column take every crossing as it was computed
     // (segmentIndex says why).
     const int form = x0 + m_blockQuads < g.side - 1 && y0 + m_blockQuads < g.side - 1 ? 1 : 0;
-    thread_local std::vector<double> start, rise;
-    thread_local std::vector<int> startX, startY;
+    // Each segment's start p (absolute) and the heights L interpolates.
+    struct Ends {
+        int x, y;
+        double start, rise;
+    };
+    thread_local std::vector<Ends> ends;
     const std::size_t count = m_segments.size();
-    start.resize(count);
-    rise.resize(count);
-    startX.resize(count);
-    startY.resize(count);
+    ends.resize(count);
     worst.assign(count, 0.0);
     for (std::size_t i = 0; i < count; ++i) {
         const Segment& segment = m_segments[i];
-        startX[i] = x0 + segment.p.x;
-        startY[i] = y0 + segment.p.y;
-        start[i] = g.at(startX[i], startY[i]);
-        rise[i] = g.at(x0 + segment.q.x, y0 + segment.q.y) - start[i];
+        Ends& e = ends[i];
+        e.x = x0 + segment.p.x;
+        e.y = y0 + segment.p.y;
+        e.start = g.at(e.x, e.y);
+        e.rise = g.at(x0 + segment.q.x, y0 + segment.q.y) - e.start;
     }
     const int lastCell = g.side - 2;
     // A kind's checks come segment by segment: each segment's largest is kept in a register
@@ -270,27 +275,28 @@ void StripChecks::segmentDeviations(const GridView& g, int x0, int y0,
             current = c.segment;
             largest = 0.0;
         }
-        largest = std::max(largest, std::abs(surface - (start[current] + c.s * rise[current])));
+        const Ends& e = ends[current];
+        largest = std::max(largest, std::abs(surface - (e.start + c.s * e.rise)));
     };
     const ChecksByKind& checks = m_checks[static_cast<std::size_t>(form)];
     for (const Check& c : checks[kSample]) check(c, g.at(x0 + c.line, y0 + c.other));
     for (const Check& c : checks[kColumn]) {
         const int X = x0 + c.line;
-        const double y = startY[c.segment] + c.offset;
+        const double y = ends[c.segment].y + c.offset;
         const int cy = std::min(static_cast<int>(y), lastCell);
         const double h0 = g.at(X, cy);
         check(c, h0 + (y - cy) * (g.at(X, cy + 1) - h0));
     }
     for (const Check& c : checks[kRow]) {
         const int Y = y0 + c.line;
-        const double x = startX[c.segment] + c.offset;
+        const double x = ends[c.segment].x + c.offset;
         const int cx = std::min(static_cast<int>(x), lastCell);
         const double h0 = g.at(cx, Y);
         check(c, h0 + (x - cx) * (g.at(cx + 1, Y) - h0));
     }
     // Diagonal a–d of cell (cx, cy) runs from (cx, cy) to (cx + 1, cy + 1): x − y = cx − cy.
     for (const Check& c : checks[kDiagonalAD]) {
-        const double x = startX[c.segment] + c.offset;
+        const double x = ends[c.segment].x + c.offset;
         const int cx = std::min(static_cast<int>(x), lastCell);
         const int cy = cx - (c.line + x0 - y0);
         if (cy < 0 || cy > lastCell) continue;
@@ -299,7 +305,7 @@ void StripChecks::segmentDeviations(const GridView& g, int x0, int y0,
     }
     // Diagonal b–c of cell (cx, cy) runs from (cx, cy + 1) to (cx + 1, cy): x + y = cx + cy + 1.
     for (const Check& c : checks[kDiagonalBC]) {
-        const double x = startX[c.segment] + c.offset;
+        const double x = ends[c.segment].x + c.offset;
         const int cx = std::min(static_cast<int>(x), lastCell);
         const int cy = c.line + x0 + y0 - cx - 1;
         if (cy < 0 || cy > lastCell) continue;
@@ -313,11 +319,12 @@ void StripChecks::segmentDeviations(const GridView& g, int x0, int y0,
 // heights: L = ha + gy·(y − a.y) + gx·(x − a.x), evaluated in that order.
 void StripChecks::interiorDeviations(const GridView& g, int x0, int y0,
                                      std::vector<double>& worst) const {
-    thread_local std::vector<double> base, slopeX, slopeY;
+    struct Plane {
+        double base, slopeX, slopeY;
+    };
+    thread_local std::vector<Plane> planes;
     const std::size_t count = m_triangles.size();
-    base.resize(count);
-    slopeX.resize(count);
-    slopeY.resize(count);
+    planes.resize(count);
     worst.assign(count, 0.0);
     for (std::size_t i = 0; i < count; ++i) {
         const Triangle& t = m_triangles[i];
@@ -325,9 +332,8 @@ void StripChecks::interiorDeviations(const GridView& g, int x0, int y0,
         const Point a = t.a, b = t.b, c = t.c;
         const double ha = g.at(x0 + a.x, y0 + a.y), hb = g.at(x0 + b.x, y0 + b.y),
                      hc = g.at(x0 + c.x, y0 + c.y);
-        base[i] = ha;
-        slopeX[i] = ((hb - ha) * (c.y - a.y) - (hc - ha) * (b.y - a.y)) / t.area2;
-        slopeY[i] = ((hc - ha) * (b.x - a.x) - (hb - ha) * (c.x - a.x)) / t.area2;
+        planes[i] = {ha, ((hb - ha) * (c.y - a.y) - (hc - ha) * (b.y - a.y)) / t.area2,
+                     ((hc - ha) * (b.x - a.x) - (hb - ha) * (c.x - a.x)) / t.area2};
     }
     // The samples come triangle by triangle: each triangle's largest is kept in a register
     // until the next begins (a store and load of worst[t] a sample made a chain).
@@ -340,7 +346,8 @@ void StripChecks::interiorDeviations(const GridView& g, int x0, int y0,
             current = t;
             largest = 0.0;
         }
-        const double plane = base[t] + slopeY[t] * sample.dy + slopeX[t] * sample.dx;
+        const Plane& p = planes[t];
+        const double plane = p.base + p.slopeY * sample.dy + p.slopeX * sample.dx;
         largest = std::max(largest, std::abs(g.at(x0 + sample.x, y0 + sample.y) - plane));
     }
     if (!m_triangleSamples.empty()) worst[current] = largest;
@@ -362,18 +369,14 @@ BlockErrors StripChecks::errors(const GridView& patch, int x0, int y0) const {
             worst;
     }
     BlockErrors errors{};
-    for (int d = 1; d <= kMaxSimplification; ++d) {
-        const int innerFactor = std::max(1, m_blockQuads >> d);
-        // An inner factor of 1 becomes 2 once an edge is finer (GL 4.5 §11.2.2.2); then an
-        // edge of factor 1 joins the centre too.
-        const int inner = std::max(2, innerFactor);
-        const int firstEdgeFactor = innerFactor == 1 ? 1 : 2 * innerFactor;
-        if (m_blockQuads < 2 || firstEdgeFactor > m_blockQuads) continue;
+    for (std::size_t d = 0; d < m_levels.size(); ++d) {
+        const Level& level = m_levels[d];
+        if (level.innerLog2 < 0) continue;  // no edge finer than the inner factor: 0
         double worst = 0.0;
-        for (int m = firstEdgeFactor; m <= m_blockQuads; m *= 2)
-            worst = std::max(worst, strips[static_cast<std::size_t>(log2Of(inner))]
-                                          [static_cast<std::size_t>(log2Of(m))]);
-        errors[static_cast<std::size_t>(d - 1)] = roundUpToFloat(worst);
+        for (int m = level.firstEdgeLog2; (1 << m) <= m_blockQuads; ++m)
+            worst = std::max(worst, strips[static_cast<std::size_t>(level.innerLog2)]
+                                          [static_cast<std::size_t>(m)]);
+        errors[d] = roundUpToFloat(worst);
     }
     return errors;
 }

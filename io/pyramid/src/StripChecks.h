@@ -74,6 +74,12 @@ private:
         std::vector<std::uint32_t> segments, triangles;
     };
 
+    // The strips λ(d + 1) bounds: of inner factor 2^innerLog2 against edges from factor
+    // 2^firstEdgeLog2 up to the block's quads; innerLog2 < 0 where no edge can be finer.
+    struct Level {
+        int innerLog2 = -1, firstEdgeLog2 = 0;
+    };
+
     std::uint32_t segmentIndex(Point p, Point q);
     std::uint32_t triangleIndex(Point a, Point b, Point c);
     void addStrips(int inner);
@@ -87,6 +93,7 @@ private:
     std::vector<Triangle> m_triangles;
     std::vector<TriangleSample> m_triangleSamples;
     std::vector<Slot> m_slots;
+    std::array<Level, kMaxSimplification> m_levels;
     // While building: each segment's and triangle's index by its corners.
     std::unordered_map<std::uint64_t, std::uint32_t> m_segmentIndex, m_triangleIndex;
 };
