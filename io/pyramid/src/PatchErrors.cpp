@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <optional>
 #include <vector>
@@ -42,6 +43,25 @@ Cell cellAt(const GridView& g, int x, int y, int side) {
     return {g.at(x, y), g.at(x + side, y), g.at(x, y + side), g.at(x + side, y + side)};
 }
 
+// Four doubles, operated on lane by lane with IEEE arithmetic: each lane computes what the
+// scalar code would, to the bit (GCC's and Clang's vector extensions: SSE2 pairs on the
+// x86-64 baseline, AVX2 where the clone below runs). The helpers are always inlined, so
+// the ABI GCC warns of for 32-byte vectors passed by value never applies.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+constexpr std::size_t kLanes = 4;
+using Lanes = double __attribute__((vector_size(kLanes * sizeof(double))));
+[[gnu::always_inline]] inline Lanes lanesAt(const double* p) {
+    Lanes v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+[[gnu::always_inline]] inline Lanes splat(double x) { return Lanes{x, x, x, x}; }
+// std::max and std::min, lane by lane (the same comparisons, so the same NaN and zero rules).
+[[gnu::always_inline]] inline Lanes largerOf(Lanes a, Lanes b) { return a < b ? b : a; }
+[[gnu::always_inline]] inline Lanes smallerOf(Lanes a, Lanes b) { return b < a ? b : a; }
+
 // Barycentric weights of the corners (a, b, c, d) at the points of a coarse cell of side
 // `step` on both diagonals: at its (step + 1)² samples, then at its step² fine cell
 // centres. Stored as separate arrays so the loops below run branch-free and vectorise;
@@ -57,6 +77,12 @@ struct CellWeights {
             for (int i = 0; i <= step; ++i) add(double(i) / step, double(j) / step);
         for (int j = 0; j < step; ++j)
             for (int i = 0; i < step; ++i) add((i + 0.5) / step, (j + 0.5) / step);
+        // Whole vectors of lanes: the points beyond weigh nothing (and their fine surface
+        // is set to 0), so they deviate by 0 and leave the largest as it was.
+        while (adA.size() % kLanes != 0) {
+            push(adA, adB, adC, adD, 0.0, 0.0, 0.0, 0.0);
+            push(bcA, bcB, bcC, bcD, 0.0, 0.0, 0.0, 0.0);
+        }
     }
 
     // The same triangles as cellHeights().
@@ -97,8 +123,10 @@ const CellWeights& weightsFor(int step, std::optional<CellWeights>& uncached) {
 // Deviation of one coarse cell (side `step`, top-left (cx, cy)) from the full-resolution
 // surface under it: at every sample, and at every fine cell centre (where the fine surface
 // is the mean of one of its cell's diagonals).
-double coarseCellDeviation(const GridView& g, int cx, int cy, int step, const CellWeights& w,
-                           std::vector<double>& fineLow, std::vector<double>& fineHigh) {
+[[gnu::always_inline]] inline double coarseCellDeviation(const GridView& g, int cx, int cy,
+                                                         int step, const CellWeights& w,
+                                                         std::vector<double>& fineLow,
+                                                         std::vector<double>& fineHigh) {
     const Cell k = cellAt(g, cx, cy, step);
     // The fine surface at each point, as an interval [low, high] (one value at samples).
     std::size_t p = 0;
@@ -112,15 +140,20 @@ double coarseCellDeviation(const GridView& g, int cx, int cy, int step, const Ce
             fineHigh[p] = std::max(alongAD, alongBC);
         }
     }
-    double worst = 0.0;
-    const std::size_t points = p;
-    for (std::size_t i = 0; i < points; ++i) {
-        const double ad = w.adA[i] * k.a + w.adB[i] * k.b + w.adC[i] * k.c + w.adD[i] * k.d;
-        const double bc = w.bcA[i] * k.a + w.bcB[i] * k.b + w.bcC[i] * k.c + w.bcD[i] * k.d;
-        const double hi = std::max(ad, bc), lo = std::min(ad, bc);
-        worst = std::max(worst, std::max(hi - fineLow[i], fineHigh[i] - lo));
+    for (; p < w.adA.size(); ++p) fineLow[p] = fineHigh[p] = 0.0;  // the padding
+    // A running maximum from +0 that passes over NaN (std::max(worst, NaN) is worst) ends
+    // the same in any order, so four of them give the scalar loop's result to the bit.
+    const Lanes a = splat(k.a), b = splat(k.b), c = splat(k.c), d = splat(k.d);
+    Lanes worst = splat(0.0);
+    for (std::size_t i = 0; i < p; i += kLanes) {
+        const Lanes ad = lanesAt(&w.adA[i]) * a + lanesAt(&w.adB[i]) * b + lanesAt(&w.adC[i]) * c +
+                         lanesAt(&w.adD[i]) * d;
+        const Lanes bc = lanesAt(&w.bcA[i]) * a + lanesAt(&w.bcB[i]) * b + lanesAt(&w.bcC[i]) * c +
+                         lanesAt(&w.bcD[i]) * d;
+        const Lanes hi = largerOf(ad, bc), lo = smallerOf(ad, bc);
+        worst = largerOf(worst, largerOf(hi - lanesAt(&fineLow[i]), lanesAt(&fineHigh[i]) - lo));
     }
-    return worst;
+    return std::max(std::max(worst[0], worst[1]), std::max(worst[2], worst[3]));
 }
 
 }  // namespace
@@ -170,6 +203,26 @@ float roundUpToFloat(double value) {
     return f;
 }
 
+namespace {
+// Compiled twice, for AVX2 and for the x86-64 baseline, the CPU's choosing which runs when
+// the program loads (GCC's function multiversioning). Either computes the same IEEE
+// operations (AVX2 brings no FMA to contract them into), so both give the same bits.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+double
+worstCellDeviation(const GridView& grid, int x0, int y0, int quadsX, int quadsY, int step,
+                   const CellWeights& weights, std::vector<double>& fineLow,
+                   std::vector<double>& fineHigh) {
+    double worst = 0.0;
+    for (int cy = y0; cy < y0 + quadsY; cy += step)
+        for (int cx = x0; cx < x0 + quadsX; cx += step)
+            worst = std::max(worst,
+                             coarseCellDeviation(grid, cx, cy, step, weights, fineLow, fineHigh));
+    return worst;
+}
+}  // namespace
+
 float simplificationError(const GridView& grid, int x0, int y0, int quadsX, int quadsY, int step) {
     TERRAIN_ASSERT(step >= 1 && quadsX % step == 0 && quadsY % step == 0,
                    "region must be whole coarse cells");
@@ -179,17 +232,13 @@ float simplificationError(const GridView& grid, int x0, int y0, int quadsX, int 
     std::optional<CellWeights> uncached;
     const CellWeights& weights = weightsFor(step, uncached);
     thread_local std::vector<double> fineLow, fineHigh;
-    const auto points = static_cast<std::size_t>((step + 1) * (step + 1) + step * step);
+    const std::size_t points = weights.adA.size();
     if (fineLow.size() < points) {
         fineLow.resize(points);
         fineHigh.resize(points);
     }
-    double worst = 0.0;
-    for (int cy = y0; cy < y0 + quadsY; cy += step)
-        for (int cx = x0; cx < x0 + quadsX; cx += step)
-            worst = std::max(worst,
-                             coarseCellDeviation(grid, cx, cy, step, weights, fineLow, fineHigh));
-    return roundUpToFloat(worst);
+    return roundUpToFloat(
+        worstCellDeviation(grid, x0, y0, quadsX, quadsY, step, weights, fineLow, fineHigh));
 }
 
 float simplificationError(const GridView& grid, int x0, int y0, int quads, int step) {

@@ -23,6 +23,29 @@ constexpr int kFactors = 17;  // log2 of factors up to 2^16, far beyond GL's 64
 
 constexpr int log2Of(int powerOfTwo) { return std::countr_zero(static_cast<unsigned>(powerOfTwo)); }
 
+// `list` ordered by each item's rank among those of its owner (a segment or a triangle),
+// then by owner: the first point of every owner, then the second, and so on.
+template <typename Item, typename Owner>
+void interleave(std::vector<Item>& list, Owner owner) {
+    std::vector<std::uint32_t> rank(list.size()), seen;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+        const std::uint32_t o = owner(list[i]);
+        if (seen.size() <= o) seen.resize(o + 1, 0);
+        rank[i] = seen[o]++;
+    }
+    std::vector<std::size_t> order(list.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        if (rank[a] != rank[b]) return rank[a] < rank[b];
+        if (owner(list[a]) != owner(list[b])) return owner(list[a]) < owner(list[b]);
+        return a < b;
+    });
+    std::vector<Item> ordered;
+    ordered.reserve(list.size());
+    for (std::size_t i : order) ordered.push_back(list[i]);
+    list = std::move(ordered);
+}
+
 }  // namespace
 
 const StripChecks& StripChecks::forBlock(int blockQuads) {
@@ -60,6 +83,14 @@ StripChecks::StripChecks(int blockQuads) : m_blockQuads(blockQuads) {
     }
     m_segmentIndex.clear();
     m_triangleIndex.clear();
+    buildInteriorChecks();
+    // Each list ordered by a point's rank within its segment or triangle first: consecutive
+    // points then belong to different ones, so a block's loops raise one segment's or
+    // triangle's largest after another without waiting on the last (segmentDeviations).
+    for (std::vector<Check>& checks : m_checks[0])
+        interleave(checks, [](const Check& c) { return c.segment; });
+    interleave(m_interiorChecks, [](const InteriorCheck& c) { return c.segment; });
+    interleave(m_triangleSamples, [](const TriangleSample& t) { return t.triangle; });
 }
 
 // The strips of inner factor `inner` (≥ 2, a power of two) against edges of every
@@ -227,27 +258,116 @@ std::uint32_t StripChecks::triangleIndex(Point a, Point b, Point c) {
     const auto index = static_cast<std::uint32_t>(m_triangles.size());
     m_triangleIndex.emplace(key, index);
     const double area2 = double(b.x - a.x) * (c.y - a.y) - double(c.x - a.x) * (b.y - a.y);
-    m_triangles.push_back({a, b, c, area2});
+    m_triangles.push_back(
+        {a, b, c, area2, heightIndex(a.x, a.y), heightIndex(b.x, b.y), heightIndex(c.x, c.y)});
     if (area2 == 0.0) return index;  // a flat triangle covers no area: deviation 0
     const int yLo = std::min({a.y, b.y, c.y}), yHi = std::max({a.y, b.y, c.y});
     for (int y = yLo; y <= yHi; ++y) {
         const RowSpan span = triangleRowSpan({a.x, a.y}, {b.x, b.y}, {c.x, c.y}, y);
         for (int x = span.first; x <= span.last; ++x)
-            m_triangleSamples.push_back({index, x, y, x - a.x, y - a.y});
+            m_triangleSamples.push_back(
+                {index, heightIndex(x, y), double(x - a.x), double(y - a.y)});
     }
     return index;
 }
 
-// Largest |f − L| at each segment's checks. Each point is evaluated as the strips always
-// were: its coordinate p + s·d from the block's absolute sample position, the cell it lies
-// in from that coordinate (truncation is floor here: coordinates are ≥ 0), clamped to the
-// grid's last cell, a diagonal outside the grid skipped (a grid corner, checked as a sample).
-void StripChecks::segmentDeviations(const GridView& g, int x0, int y0,
+// Form 1's checks, every kind in one list (InteriorCheck), each with the cell it lies in
+// worked out here instead of from its coordinate: a block away from the grid's last row and
+// column never clamps a cell or skips a diagonal, and (int)(c + offset) = c + ⌊offset⌋ for
+// every int c, as the offset's fraction is further from 0 and 1 than c + offset's rounding
+// (at most 2^-22 below 2^31).
+void StripChecks::buildInteriorChecks() {
+    constexpr double kMargin = 1e-6;
+    for (int kind = 0; kind < kKinds; ++kind) {
+        for (const Check& c : m_checks[1][static_cast<std::size_t>(kind)]) {
+            const Point p = m_segments[c.segment].p;
+            if (kind == kSample) {
+                const std::uint32_t at = heightIndex(c.line, c.other);
+                m_interiorChecks.push_back({c.s, 0.0, 0.0, c.segment, 0, at, at});
+                continue;
+            }
+            const double whole = std::floor(c.offset);
+            const double fraction = c.offset - whole;
+            TERRAIN_ASSERT(fraction > kMargin && fraction < 1.0 - kMargin,
+                           "a crossing on a sample is checked as the sample (form 1)");
+            // The cell's coordinate along the axis the surface is interpolated along, and the
+            // two samples the form 0 code reads (it reads them from the block's absolute
+            // position: neither clamped nor skipped away from the grid's last row and column,
+            // as both lie in the block).
+            const int cell = (kind == kColumn ? p.y : p.x) + static_cast<int>(whole);
+            Point low{}, high{};
+            switch (kind) {
+                case kColumn:
+                    low = {c.line, cell}, high = {c.line, cell + 1};
+                    break;
+                case kRow:
+                    low = {cell, c.line}, high = {cell + 1, c.line};
+                    break;
+                case kDiagonalAD:  // cell (cell, cell − line), from its top-left
+                    low = {cell, cell - c.line}, high = {cell + 1, cell - c.line + 1};
+                    break;
+                default:  // kDiagonalBC: cell (cell, line − cell − 1), from its bottom-left
+                    low = {cell, c.line - cell}, high = {cell + 1, c.line - cell - 1};
+                    break;
+            }
+            for (Point corner : {low, high})
+                TERRAIN_ASSERT(corner.x >= 0 && corner.x <= m_blockQuads && corner.y >= 0 &&
+                                   corner.y <= m_blockQuads,
+                               "a strip's crossing lies in a cell of its block");
+            m_interiorChecks.push_back({c.s, c.offset, whole, c.segment, kind == kColumn ? 1U : 0U,
+                                        heightIndex(low.x, low.y), heightIndex(high.x, high.y)});
+        }
+    }
+    m_checks[1] = {};
+}
+
+// Largest |f − L| at each segment's checks, L interpolating the heights at the segment's
+// ends. Consecutive checks belong to different segments (the constructor orders them so):
+// each raises its segment's largest without waiting on the last, and the largest of values
+// ≥ 0 is the same in any order.
+void StripChecks::segmentDeviations(const GridView& g, int x0, int y0, const double* heights,
                                     std::vector<double>& worst) const {
-    // Blocks on the grid's last row or column take every crossing as it was computed
-    // (segmentIndex says why).
-    const int form = x0 + m_blockQuads < g.side - 1 && y0 + m_blockQuads < g.side - 1 ? 1 : 0;
-    // Each segment's start p (absolute) and the heights L interpolates.
+    if (x0 + m_blockQuads >= g.side - 1 || y0 + m_blockQuads >= g.side - 1) {
+        edgeBlockSegmentDeviations(g, x0, y0, heights, worst);
+        return;
+    }
+    // Each segment's start p (absolute, as the doubles the crossings were computed from)
+    // and the heights L interpolates.
+    struct Ends {
+        std::array<double, 2> at;
+        double start, rise;
+    };
+    thread_local std::vector<Ends> ends;
+    const std::size_t count = m_segments.size();
+    ends.resize(count);
+    worst.assign(count, 0.0);
+    for (std::size_t i = 0; i < count; ++i) {
+        const Segment& segment = m_segments[i];
+        const double start = heights[heightIndex(segment.p.x, segment.p.y)];
+        ends[i] = {{double(x0 + segment.p.x), double(y0 + segment.p.y)},
+                   start,
+                   heights[heightIndex(segment.q.x, segment.q.y)] - start};
+    }
+    // Plain pointers: the stores to worst[] do not move them.
+    const Ends* const segmentEnds = ends.data();
+    double* const largest = worst.data();
+    for (const InteriorCheck& c : m_interiorChecks) {
+        const Ends& e = segmentEnds[c.segment];
+        const double at = e.at[c.axis];
+        const double t = (at + c.offset) - (at + c.whole), h0 = heights[c.low];
+        const double surface = h0 + t * (heights[c.high] - h0);
+        double& w = largest[c.segment];
+        w = std::max(w, std::abs(surface - (e.start + c.s * e.rise)));
+    }
+}
+
+// Form 0: each point evaluated as the strips always were, its coordinate p + s·d from the
+// block's absolute sample position, the cell it lies in from that coordinate (truncation is
+// floor here: coordinates are ≥ 0), clamped to the grid's last cell, a diagonal outside the
+// grid skipped (a grid corner, checked as a sample).
+void StripChecks::edgeBlockSegmentDeviations(const GridView& g, int x0, int y0,
+                                             const double* heights,
+                                             std::vector<double>& worst) const {
     struct Ends {
         int x, y;
         double start, rise;
@@ -258,28 +378,17 @@ void StripChecks::segmentDeviations(const GridView& g, int x0, int y0,
     worst.assign(count, 0.0);
     for (std::size_t i = 0; i < count; ++i) {
         const Segment& segment = m_segments[i];
-        Ends& e = ends[i];
-        e.x = x0 + segment.p.x;
-        e.y = y0 + segment.p.y;
-        e.start = g.at(e.x, e.y);
-        e.rise = g.at(x0 + segment.q.x, y0 + segment.q.y) - e.start;
+        const double start = heights[heightIndex(segment.p.x, segment.p.y)];
+        ends[i] = {x0 + segment.p.x, y0 + segment.p.y, start,
+                   heights[heightIndex(segment.q.x, segment.q.y)] - start};
     }
     const int lastCell = g.side - 2;
-    // A kind's checks come segment by segment: each segment's largest is kept in a register
-    // until the next begins (a store and load of worst[segment] a check made a chain).
-    std::uint32_t current = 0;
-    double largest = 0.0;
     auto check = [&](const Check& c, double surface) {
-        if (c.segment != current) {
-            worst[current] = std::max(worst[current], largest);
-            current = c.segment;
-            largest = 0.0;
-        }
-        const Ends& e = ends[current];
-        largest = std::max(largest, std::abs(surface - (e.start + c.s * e.rise)));
+        const Ends& e = ends[c.segment];
+        worst[c.segment] = std::max(worst[c.segment], std::abs(surface - (e.start + c.s * e.rise)));
     };
-    const ChecksByKind& checks = m_checks[static_cast<std::size_t>(form)];
-    for (const Check& c : checks[kSample]) check(c, g.at(x0 + c.line, y0 + c.other));
+    const ChecksByKind& checks = m_checks[0];
+    for (const Check& c : checks[kSample]) check(c, heights[heightIndex(c.line, c.other)]);
     for (const Check& c : checks[kColumn]) {
         const int X = x0 + c.line;
         const double y = ends[c.segment].y + c.offset;
@@ -312,13 +421,11 @@ void StripChecks::segmentDeviations(const GridView& g, int x0, int y0,
         const double t = x - cx, h0 = g.at(cx, cy + 1);
         check(c, h0 + t * (g.at(cx + 1, cy) - h0));
     }
-    if (count > 0) worst[current] = std::max(worst[current], largest);
 }
 
 // Largest |f − L| at the samples inside each triangle, L the plane through its corners'
 // heights: L = ha + gy·(y − a.y) + gx·(x − a.x), evaluated in that order.
-void StripChecks::interiorDeviations(const GridView& g, int x0, int y0,
-                                     std::vector<double>& worst) const {
+void StripChecks::interiorDeviations(const double* heights, std::vector<double>& worst) const {
     struct Plane {
         double base, slopeX, slopeY;
     };
@@ -330,33 +437,30 @@ void StripChecks::interiorDeviations(const GridView& g, int x0, int y0,
         const Triangle& t = m_triangles[i];
         if (t.area2 == 0.0) continue;
         const Point a = t.a, b = t.b, c = t.c;
-        const double ha = g.at(x0 + a.x, y0 + a.y), hb = g.at(x0 + b.x, y0 + b.y),
-                     hc = g.at(x0 + c.x, y0 + c.y);
+        const double ha = heights[t.ha], hb = heights[t.hb], hc = heights[t.hc];
         planes[i] = {ha, ((hb - ha) * (c.y - a.y) - (hc - ha) * (b.y - a.y)) / t.area2,
                      ((hc - ha) * (b.x - a.x) - (hb - ha) * (c.x - a.x)) / t.area2};
     }
-    // The samples come triangle by triangle: each triangle's largest is kept in a register
-    // until the next begins (a store and load of worst[t] a sample made a chain).
-    std::uint32_t current = 0;
-    double largest = 0.0;
+    // Consecutive samples belong to different triangles (the constructor orders them so).
+    const Plane* const trianglePlanes = planes.data();
+    double* const largest = worst.data();
     for (const TriangleSample& sample : m_triangleSamples) {
-        const std::uint32_t t = sample.triangle;
-        if (t != current) {
-            worst[current] = largest;
-            current = t;
-            largest = 0.0;
-        }
-        const Plane& p = planes[t];
+        const Plane& p = trianglePlanes[sample.triangle];
         const double plane = p.base + p.slopeY * sample.dy + p.slopeX * sample.dx;
-        largest = std::max(largest, std::abs(g.at(x0 + sample.x, y0 + sample.y) - plane));
+        double& w = largest[sample.triangle];
+        w = std::max(w, std::abs(heights[sample.height] - plane));
     }
-    if (!m_triangleSamples.empty()) worst[current] = largest;
 }
 
 BlockErrors StripChecks::errors(const GridView& patch, int x0, int y0) const {
-    thread_local std::vector<double> segmentWorst, triangleWorst;
-    segmentDeviations(patch, x0, y0, segmentWorst);
-    interiorDeviations(patch, x0, y0, triangleWorst);
+    // The block's heights, as the doubles every check computes with, row by row.
+    thread_local std::vector<double> heights, segmentWorst, triangleWorst;
+    const int side = m_blockQuads + 1;
+    heights.resize(static_cast<std::size_t>(side) * static_cast<std::size_t>(side));
+    for (int y = 0; y < side; ++y)
+        for (int x = 0; x < side; ++x) heights[heightIndex(x, y)] = patch.at(x0 + x, y0 + y);
+    segmentDeviations(patch, x0, y0, heights.data(), segmentWorst);
+    interiorDeviations(heights.data(), triangleWorst);
 
     // strips[log2 inner][log2 m]: the largest deviation of the strips between edges of
     // factor m and an inner mesh of factor `inner` (≥ 2).

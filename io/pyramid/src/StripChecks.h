@@ -56,17 +56,35 @@ private:
     // form 1 those on a sample merged into one check of it (the other blocks).
     using ChecksByKind = std::array<std::vector<Check>, kKinds>;
 
+    // A check of form 1, every kind evaluated alike from the block's heights h (as doubles,
+    // row by row, (blockQuads + 1)² of them): the fine surface is h[low] + t·(h[high] −
+    // h[low]), where t = (c + offset) − (c + whole), c being the segment start's absolute
+    // coordinate along `axis` (0: x, 1: y) and `whole` the cell's distance from it. That is
+    // the x − cx of the form 0 code to the bit: (int)(c + offset) = c + whole for every
+    // coordinate an int holds (the constructor checks the margin). A sample has offset and
+    // whole 0, so t = 0 and the surface is h[low].
+    struct InteriorCheck {
+        double s, offset, whole;
+        std::uint32_t segment;
+        std::uint32_t axis;
+        std::uint32_t low, high;
+    };
+
     struct Segment {
         Point p, q;
     };
     struct Triangle {
         Point a, b, c;
         double area2;  // twice its signed area; 0: flat, no samples
+        std::uint32_t ha, hb, hc;  // the corners' places among the block's heights
     };
-    // A sample inside a triangle (its boundary included), and its offset from corner a.
+    // A sample inside a triangle (its boundary included): its place among the block's
+    // heights, and its offset from corner a (whole numbers, as the doubles the plane is
+    // evaluated with).
     struct TriangleSample {
         std::uint32_t triangle;
-        int x, y, dx, dy;
+        std::uint32_t height;
+        double dx, dy;
     };
     // The segments and triangles whose largest deviation is strips[inner][edge factor].
     struct Slot {
@@ -84,12 +102,22 @@ private:
     std::uint32_t triangleIndex(Point a, Point b, Point c);
     void addStrips(int inner);
 
-    void segmentDeviations(const GridView& g, int x0, int y0, std::vector<double>& out) const;
-    void interiorDeviations(const GridView& g, int x0, int y0, std::vector<double>& out) const;
+    // Where (x, y) of the block lies among its heights.
+    std::uint32_t heightIndex(int x, int y) const {
+        return static_cast<std::uint32_t>(y * (m_blockQuads + 1) + x);
+    }
+    void buildInteriorChecks();
+
+    void segmentDeviations(const GridView& g, int x0, int y0, const double* heights,
+                           std::vector<double>& out) const;
+    void edgeBlockSegmentDeviations(const GridView& g, int x0, int y0, const double* heights,
+                                    std::vector<double>& out) const;
+    void interiorDeviations(const double* heights, std::vector<double>& out) const;
 
     int m_blockQuads;
     std::vector<Segment> m_segments;
-    std::array<ChecksByKind, 2> m_checks;  // [form][kind]
+    std::array<ChecksByKind, 2> m_checks;         // [form][kind]; form 1 only while building
+    std::vector<InteriorCheck> m_interiorChecks;  // form 1, every kind
     std::vector<Triangle> m_triangles;
     std::vector<TriangleSample> m_triangleSamples;
     std::vector<Slot> m_slots;
