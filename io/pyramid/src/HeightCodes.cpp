@@ -187,10 +187,51 @@ std::int32_t addResidual(std::int64_t prediction, std::uint32_t code) {
                                      static_cast<std::uint32_t>(unzigzag(code)));
 }
 
-// What zstd will roughly pay for a tile's codes: the bits of each.
-std::uint64_t codeBits(std::span<const std::uint32_t> codes) {
+// The codes of every sample of a tile under `prediction` (predictWith's cases, each as
+// loops of its own: the encoder's hot loop, three times a tile), and what zstd will
+// roughly pay for them: the bits of each.
+std::uint64_t codeTile(HeightPrediction prediction, const std::int32_t* v, int side,
+                       const std::int64_t* grid, std::uint32_t* codes) {
     std::uint64_t bits = 0;
-    for (const std::uint32_t c : codes) bits += static_cast<std::uint64_t>(std::bit_width(c));
+    auto put = [&](std::size_t k, std::int64_t predicted) {
+        const std::uint32_t code = residualCode(v[k], predicted);
+        codes[k] = code;
+        bits += static_cast<std::uint64_t>(std::bit_width(code));
+    };
+    const int gridSide = parentSamplesSide(side);
+    const auto sideSize = static_cast<std::size_t>(side);
+    if (prediction == HeightPrediction::kFromParent) {
+        thread_local std::vector<ParentSpan> spans;
+        spans.resize(sideSize);
+        for (int i = 0; i < side; ++i) spans[static_cast<std::size_t>(i)] = parentSpan(i, gridSide);
+        for (int j = 0; j < side; ++j)
+            for (int i = 0; i < side; ++i)
+                put(static_cast<std::size_t>(j) * sideSize + static_cast<std::size_t>(i),
+                    fromNeighbours(i, j, side)
+                        ? neighbourMean(v, side, i, j)
+                        : parentMean(grid, gridSide, spans[static_cast<std::size_t>(i)],
+                                     spans[static_cast<std::size_t>(j)]));
+        return bits;
+    }
+    // predict(), row by row; kParentThenEdges takes the parent's sample at odd (x, y).
+    const bool parentSamples = prediction == HeightPrediction::kParentThenEdges;
+    put(0, 0);
+    for (std::size_t x = 1; x < sideSize; ++x) put(x, v[x - 1]);
+    for (int y = 1; y < side; ++y) {
+        const std::size_t k = static_cast<std::size_t>(y) * sideSize;
+        const std::int32_t* row = v + k;
+        const std::int32_t* north = row - side;
+        put(k, north[0]);
+        if (parentSamples && y % 2 == 1) {
+            const std::int64_t* parents = grid + static_cast<std::ptrdiff_t>(y / 2) * gridSide;
+            for (std::size_t x = 1; x < sideSize; ++x)
+                put(k + x,
+                    x % 2 == 1 ? parents[x / 2] : medianEdge(row[x - 1], north[x], north[x - 1]));
+        } else {
+            for (std::size_t x = 1; x < sideSize; ++x)
+                put(k + x, medianEdge(row[x - 1], north[x], north[x - 1]));
+        }
+    }
     return bits;
 }
 
@@ -284,13 +325,7 @@ HeightEncoding encodeTrying(std::span<const float> heights, int side,
     if (parentSamples.empty()) last = 0;
     for (int p = first; p <= last; ++p) {
         const auto prediction = static_cast<HeightPrediction>(p);
-        for (int j = 0; j < side; ++j)
-            for (int i = 0; i < side; ++i) {
-                const std::size_t k = static_cast<std::size_t>(j) * side + i;
-                candidate[k] =
-                    residualCode(values[k], predictWith(prediction, values, side, grid, i, j));
-            }
-        const std::uint64_t bits = codeBits(candidate);
+        const std::uint64_t bits = codeTile(prediction, values, side, grid, candidate.data());
         if (bits < fewest) {
             fewest = bits;
             encoding.prediction = prediction;
