@@ -24,25 +24,21 @@ constexpr int kFactors = 17;  // log2 of factors up to 2^16, far beyond GL's 64
 constexpr int log2Of(int powerOfTwo) { return std::countr_zero(static_cast<unsigned>(powerOfTwo)); }
 
 // `list` ordered by each item's rank among those of its owner (a segment or a triangle),
-// then by owner: the first point of every owner, then the second, and so on.
+// keeping the order within a rank: the first point of every owner, then the second, and so
+// on, so that consecutive points have different owners.
 template <typename Item, typename Owner>
 void interleave(std::vector<Item>& list, Owner owner) {
-    std::vector<std::uint32_t> rank(list.size()), seen;
+    std::vector<std::uint32_t> rank(list.size()), seen, firstOfRank;
     for (std::size_t i = 0; i < list.size(); ++i) {
         const std::uint32_t o = owner(list[i]);
         if (seen.size() <= o) seen.resize(o + 1, 0);
         rank[i] = seen[o]++;
+        if (firstOfRank.size() <= rank[i] + 1) firstOfRank.resize(rank[i] + 2, 0);
+        ++firstOfRank[rank[i] + 1];
     }
-    std::vector<std::size_t> order(list.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        if (rank[a] != rank[b]) return rank[a] < rank[b];
-        if (owner(list[a]) != owner(list[b])) return owner(list[a]) < owner(list[b]);
-        return a < b;
-    });
-    std::vector<Item> ordered;
-    ordered.reserve(list.size());
-    for (std::size_t i : order) ordered.push_back(list[i]);
+    for (std::size_t r = 1; r < firstOfRank.size(); ++r) firstOfRank[r] += firstOfRank[r - 1];
+    std::vector<Item> ordered(list.size());
+    for (std::size_t i = 0; i < list.size(); ++i) ordered[firstOfRank[rank[i]]++] = list[i];
     list = std::move(ordered);
 }
 
@@ -83,13 +79,18 @@ StripChecks::StripChecks(int blockQuads) : m_blockQuads(blockQuads) {
     }
     m_segmentIndex.clear();
     m_triangleIndex.clear();
-    buildInteriorChecks();
+    // Where every check reads, for a block inside the grid and for each way a block can
+    // touch the grid's last row or column.
+    m_pointChecks[kInside] = placeChecks(m_checks[1], kInside);
+    for (int place : {+kLastColumn, +kLastRow, kLastColumn | kLastRow, kLastColumn | kFirstRow,
+                      kLastColumn | kLastRow | kFirstRow})
+        m_pointChecks[static_cast<std::size_t>(place)] = placeChecks(m_checks[0], place);
+    m_checks = {};
     // Each list ordered by a point's rank within its segment or triangle first: consecutive
     // points then belong to different ones, so a block's loops raise one segment's or
     // triangle's largest after another without waiting on the last (segmentDeviations).
-    for (std::vector<Check>& checks : m_checks[0])
-        interleave(checks, [](const Check& c) { return c.segment; });
-    interleave(m_interiorChecks, [](const InteriorCheck& c) { return c.segment; });
+    for (std::vector<PointCheck>& checks : m_pointChecks)
+        interleave(checks, [](const PointCheck& c) { return c.segment; });
     interleave(m_triangleSamples, [](const TriangleSample& t) { return t.triangle; });
 }
 
@@ -271,66 +272,97 @@ std::uint32_t StripChecks::triangleIndex(Point a, Point b, Point c) {
     return index;
 }
 
-// Form 1's checks, every kind in one list (InteriorCheck), each with the cell it lies in
-// worked out here instead of from its coordinate: a block away from the grid's last row and
-// column never clamps a cell or skips a diagonal, and (int)(c + offset) = c + ⌊offset⌋ for
-// every int c, as the offset's fraction is further from 0 and 1 than c + offset's rounding
-// (at most 2^-22 below 2^31).
-void StripChecks::buildInteriorChecks() {
+// The grid a block of `place` is drawn in for placeChecks: three blocks a side (one where
+// the block is both the first and the last row), the block where `place` says.
+StripChecks::Placement StripChecks::placementOf(int place) const {
+    const bool lastColumn = place & kLastColumn, lastRow = place & kLastRow,
+               firstRow = place & kFirstRow;
+    const int blocks = firstRow && lastRow ? 1 : 3, q = m_blockQuads;
+    return {blocks * q + 1, lastColumn ? (blocks - 1) * q : q,
+            lastRow    ? (blocks - 1) * q
+            : firstRow ? 0
+                       : q};
+}
+
+// `checks` as PointChecks for blocks of `place`: for each, the two samples the crossing
+// code has always read and the cell it interpolates in, found as that code finds them (the
+// cell from the point's coordinate, truncated, clamped to the grid's last cell; a diagonal
+// outside the grid skipped) for a block of `place`. What the code does depends on the block's
+// position only through `place`: whether the block is on the grid's last column, last row,
+// first row (a diagonal's cell can lie one row above the block, and skipped there only on
+// the first row), as every sample it reads lies within one of the block (checked below).
+//
+// The cell is worked out from the offset instead of the coordinate: (int)(c + offset) is
+// c + ⌊offset⌋ for every int c ≥ 0 with c + offset ≥ 0, as an offset off the integers is
+// further from them than c + offset's rounding (at most 2^-22 below 2^31), and one on them
+// is exact. So t = (c + offset) − (c + whole), whole the cell's distance from c, is the
+// x − cx the crossing code computes, to the bit, wherever the block lies.
+std::vector<StripChecks::PointCheck> StripChecks::placeChecks(const ChecksByKind& checks,
+                                                              int place) const {
     constexpr double kMargin = 1e-6;
+    const Placement at = placementOf(place);
+    const int x0 = at.x0, y0 = at.y0, lastCell = at.side - 2;
+    std::vector<PointCheck> placed;
     for (int kind = 0; kind < kKinds; ++kind) {
-        for (const Check& c : m_checks[1][static_cast<std::size_t>(kind)]) {
+        for (const Check& c : checks[static_cast<std::size_t>(kind)]) {
             const Point p = m_segments[c.segment].p;
             if (kind == kSample) {
-                const std::uint32_t at = heightIndex(c.line, c.other);
-                m_interiorChecks.push_back({c.s, 0.0, 0.0, c.segment, 0, at, at});
+                const std::uint32_t sample = heightIndex(c.line, c.other);
+                placed.push_back({c.s, 0.0, 0.0, c.segment, 0, sample, sample});
                 continue;
             }
             const double whole = std::floor(c.offset);
             const double fraction = c.offset - whole;
-            TERRAIN_ASSERT(fraction > kMargin && fraction < 1.0 - kMargin,
-                           "a crossing on a sample is checked as the sample (form 1)");
-            // The cell's coordinate along the axis the surface is interpolated along, and the
-            // two samples the form 0 code reads (it reads them from the block's absolute
-            // position: neither clamped nor skipped away from the grid's last row and column,
-            // as both lie in the block).
-            const int cell = (kind == kColumn ? p.y : p.x) + static_cast<int>(whole);
-            Point low{}, high{};
+            TERRAIN_ASSERT(fraction == 0.0 || (fraction > kMargin && fraction < 1.0 - kMargin),
+                           "a crossing's offset is on an integer or clear of one");
+            // As segmentDeviations always computed it, in absolute coordinates.
+            const int along = (kind == kColumn ? y0 + p.y : x0 + p.x) + static_cast<int>(whole);
+            const int cell = std::min(along, lastCell);
+            Point low{}, high{};  // absolute
             switch (kind) {
                 case kColumn:
-                    low = {c.line, cell}, high = {c.line, cell + 1};
+                    low = {x0 + c.line, cell}, high = {x0 + c.line, cell + 1};
                     break;
                 case kRow:
-                    low = {cell, c.line}, high = {cell + 1, c.line};
+                    low = {cell, y0 + c.line}, high = {cell + 1, y0 + c.line};
                     break;
-                case kDiagonalAD:  // cell (cell, cell − line), from its top-left
-                    low = {cell, cell - c.line}, high = {cell + 1, cell - c.line + 1};
+                case kDiagonalAD: {  // cell (cx, cy): x − y = cx − cy
+                    const int cy = cell - (c.line + x0 - y0);
+                    if (cy < 0 || cy > lastCell) continue;
+                    low = {cell, cy}, high = {cell + 1, cy + 1};
                     break;
-                default:  // kDiagonalBC: cell (cell, line − cell − 1), from its bottom-left
-                    low = {cell, c.line - cell}, high = {cell + 1, c.line - cell - 1};
+                }
+                default: {  // kDiagonalBC, cell (cx, cy): x + y = cx + cy + 1
+                    const int cy = c.line + x0 + y0 - cell - 1;
+                    if (cy < 0 || cy > lastCell) continue;
+                    low = {cell, cy + 1}, high = {cell + 1, cy};
                     break;
+                }
             }
             for (Point corner : {low, high})
-                TERRAIN_ASSERT(corner.x >= 0 && corner.x <= m_blockQuads && corner.y >= 0 &&
-                                   corner.y <= m_blockQuads,
-                               "a strip's crossing lies in a cell of its block");
-            m_interiorChecks.push_back({c.s, c.offset, whole, c.segment, kind == kColumn ? 1U : 0U,
-                                        heightIndex(low.x, low.y), heightIndex(high.x, high.y)});
+                TERRAIN_ASSERT(corner.x - x0 >= -1 && corner.x - x0 <= m_blockQuads + 1 &&
+                                   corner.y - y0 >= -1 && corner.y - y0 <= m_blockQuads + 1,
+                               "a strip's crossing reads within one sample of its block");
+            const int start = kind == kColumn ? y0 + p.y : x0 + p.x;
+            placed.push_back({c.s, c.offset, double(cell - start), c.segment,
+                              kind == kColumn ? 1U : 0U, heightIndex(low.x - x0, low.y - y0),
+                              heightIndex(high.x - x0, high.y - y0)});
         }
     }
-    m_checks[1] = {};
+    return placed;
 }
 
 // Largest |f − L| at each segment's checks, L interpolating the heights at the segment's
 // ends. Consecutive checks belong to different segments (the constructor orders them so):
 // each raises its segment's largest without waiting on the last, and the largest of values
-// ≥ 0 is the same in any order.
+// ≥ 0 (NaN passed over) is the same in any order.
 void StripChecks::segmentDeviations(const GridView& g, int x0, int y0, const double* heights,
                                     std::vector<double>& worst) const {
-    if (x0 + m_blockQuads >= g.side - 1 || y0 + m_blockQuads >= g.side - 1) {
-        edgeBlockSegmentDeviations(g, x0, y0, heights, worst);
-        return;
-    }
+    const int lastStart = g.side - 1 - m_blockQuads;
+    int place = kInside;
+    if (x0 == lastStart || y0 == lastStart)
+        place = (x0 == lastStart ? kLastColumn : 0) | (y0 == lastStart ? kLastRow : 0) |
+                (y0 == 0 ? kFirstRow : 0);
     // Each segment's start p (absolute, as the doubles the crossings were computed from)
     // and the heights L interpolates.
     struct Ends {
@@ -351,75 +383,13 @@ void StripChecks::segmentDeviations(const GridView& g, int x0, int y0, const dou
     // Plain pointers: the stores to worst[] do not move them.
     const Ends* const segmentEnds = ends.data();
     double* const largest = worst.data();
-    for (const InteriorCheck& c : m_interiorChecks) {
+    for (const PointCheck& c : m_pointChecks[static_cast<std::size_t>(place)]) {
         const Ends& e = segmentEnds[c.segment];
         const double at = e.at[c.axis];
         const double t = (at + c.offset) - (at + c.whole), h0 = heights[c.low];
         const double surface = h0 + t * (heights[c.high] - h0);
         double& w = largest[c.segment];
         w = std::max(w, std::abs(surface - (e.start + c.s * e.rise)));
-    }
-}
-
-// Form 0: each point evaluated as the strips always were, its coordinate p + s·d from the
-// block's absolute sample position, the cell it lies in from that coordinate (truncation is
-// floor here: coordinates are ≥ 0), clamped to the grid's last cell, a diagonal outside the
-// grid skipped (a grid corner, checked as a sample).
-void StripChecks::edgeBlockSegmentDeviations(const GridView& g, int x0, int y0,
-                                             const double* heights,
-                                             std::vector<double>& worst) const {
-    struct Ends {
-        int x, y;
-        double start, rise;
-    };
-    thread_local std::vector<Ends> ends;
-    const std::size_t count = m_segments.size();
-    ends.resize(count);
-    worst.assign(count, 0.0);
-    for (std::size_t i = 0; i < count; ++i) {
-        const Segment& segment = m_segments[i];
-        const double start = heights[heightIndex(segment.p.x, segment.p.y)];
-        ends[i] = {x0 + segment.p.x, y0 + segment.p.y, start,
-                   heights[heightIndex(segment.q.x, segment.q.y)] - start};
-    }
-    const int lastCell = g.side - 2;
-    auto check = [&](const Check& c, double surface) {
-        const Ends& e = ends[c.segment];
-        worst[c.segment] = std::max(worst[c.segment], std::abs(surface - (e.start + c.s * e.rise)));
-    };
-    const ChecksByKind& checks = m_checks[0];
-    for (const Check& c : checks[kSample]) check(c, heights[heightIndex(c.line, c.other)]);
-    for (const Check& c : checks[kColumn]) {
-        const int X = x0 + c.line;
-        const double y = ends[c.segment].y + c.offset;
-        const int cy = std::min(static_cast<int>(y), lastCell);
-        const double h0 = g.at(X, cy);
-        check(c, h0 + (y - cy) * (g.at(X, cy + 1) - h0));
-    }
-    for (const Check& c : checks[kRow]) {
-        const int Y = y0 + c.line;
-        const double x = ends[c.segment].x + c.offset;
-        const int cx = std::min(static_cast<int>(x), lastCell);
-        const double h0 = g.at(cx, Y);
-        check(c, h0 + (x - cx) * (g.at(cx + 1, Y) - h0));
-    }
-    // Diagonal a–d of cell (cx, cy) runs from (cx, cy) to (cx + 1, cy + 1): x − y = cx − cy.
-    for (const Check& c : checks[kDiagonalAD]) {
-        const double x = ends[c.segment].x + c.offset;
-        const int cx = std::min(static_cast<int>(x), lastCell);
-        const int cy = cx - (c.line + x0 - y0);
-        if (cy < 0 || cy > lastCell) continue;
-        const double t = x - cx, h0 = g.at(cx, cy);
-        check(c, h0 + t * (g.at(cx + 1, cy + 1) - h0));
-    }
-    // Diagonal b–c of cell (cx, cy) runs from (cx, cy + 1) to (cx + 1, cy): x + y = cx + cy + 1.
-    for (const Check& c : checks[kDiagonalBC]) {
-        const double x = ends[c.segment].x + c.offset;
-        const int cx = std::min(static_cast<int>(x), lastCell);
-        const int cy = c.line + x0 + y0 - cx - 1;
-        if (cy < 0 || cy > lastCell) continue;
-        const double t = x - cx, h0 = g.at(cx, cy + 1);
-        check(c, h0 + t * (g.at(cx + 1, cy) - h0));
     }
 }
 
@@ -453,12 +423,14 @@ void StripChecks::interiorDeviations(const double* heights, std::vector<double>&
 }
 
 BlockErrors StripChecks::errors(const GridView& patch, int x0, int y0) const {
-    // The block's heights, as the doubles every check computes with, row by row.
+    // The block's heights and the samples around it, as the doubles every check computes
+    // with, row by row (heightIndex); those beyond the grid are never read.
     thread_local std::vector<double> heights, segmentWorst, triangleWorst;
-    const int side = m_blockQuads + 1;
-    heights.resize(static_cast<std::size_t>(side) * static_cast<std::size_t>(side));
-    for (int y = 0; y < side; ++y)
-        for (int x = 0; x < side; ++x) heights[heightIndex(x, y)] = patch.at(x0 + x, y0 + y);
+    const int side = m_blockQuads + 3;
+    heights.assign(static_cast<std::size_t>(side) * static_cast<std::size_t>(side), 0.0);
+    for (int y = std::max(-1, -y0); y <= std::min(m_blockQuads + 1, patch.side - 1 - y0); ++y)
+        for (int x = std::max(-1, -x0); x <= std::min(m_blockQuads + 1, patch.side - 1 - x0); ++x)
+            heights[heightIndex(x, y)] = patch.at(x0 + x, y0 + y);
     segmentDeviations(patch, x0, y0, heights.data(), segmentWorst);
     interiorDeviations(heights.data(), triangleWorst);
 

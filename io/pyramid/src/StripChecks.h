@@ -14,16 +14,19 @@ namespace terrain::io::detail {
 /// The transition strips of a block of `blockQuads` × `blockQuads` quads, as
 /// transitionErrors bounds them (PatchErrors.h): every segment and triangle a strip may
 /// hold for every inner factor and finer edge factor, and every point where the
-/// full-resolution surface is compared with them, relative to the block's top-left sample.
-/// None of this depends on where the block lies or on its heights, so it is worked out once
-/// per block size; a block's errors are then its heights read at those points, without a
-/// crossing search or a division a point. Each point is evaluated with the arithmetic the
-/// crossings were always checked with (the same doubles, in the same order, from the
-/// block's absolute coordinates), so the bounds are the same to the bit.
+/// full-resolution surface is compared with them, with the two samples it is interpolated
+/// between, relative to the block's top-left sample. None of this depends on the block's
+/// heights, nor on where it lies beyond whether it touches the grid's last row or column
+/// (and then whether it is on the first row), so it is worked out once per block size for
+/// each such placement; a block's errors are then its heights read at those points, without
+/// a crossing search, a division or a rounding of a coordinate a point. Each point is
+/// evaluated with the arithmetic the crossings were always checked with (the same doubles,
+/// in the same order, from the block's absolute coordinates), so the bounds are the same to
+/// the bit.
 class StripChecks {
 public:
     /// The checks of a block size, a power of two up to PyramidLayout::kMaxBlockQuads, built
-    /// on first use and shared (0.1 MiB and 0.2 ms at 8 quads, the default; 9 MiB and 21 ms
+    /// on first use and shared (0.8 MiB and 1 ms at 8 quads, the default; 31 MiB and 93 ms
     /// at 64).
     static const StripChecks& forBlock(int blockQuads);
 
@@ -56,18 +59,23 @@ private:
     // form 1 those on a sample merged into one check of it (the other blocks).
     using ChecksByKind = std::array<std::vector<Check>, kKinds>;
 
-    // A check of form 1, every kind evaluated alike from the block's heights h (as doubles,
-    // row by row, (blockQuads + 1)² of them): the fine surface is h[low] + t·(h[high] −
-    // h[low]), where t = (c + offset) − (c + whole), c being the segment start's absolute
-    // coordinate along `axis` (0: x, 1: y) and `whole` the cell's distance from it. That is
-    // the x − cx of the form 0 code to the bit: (int)(c + offset) = c + whole for every
-    // coordinate an int holds (the constructor checks the margin). A sample has offset and
-    // whole 0, so t = 0 and the surface is h[low].
-    struct InteriorCheck {
+    // A check as a block of one placement evaluates it, every kind alike, from the block's
+    // heights h (heightIndex): the fine surface is h[low] + t·(h[high] − h[low]), where
+    // t = (c + offset) − (c + whole), c being the segment start's absolute coordinate along
+    // `axis` (0: x, 1: y) and `whole` the distance from it of the cell's first sample
+    // (placeChecks says why that is the crossing code's x − cx to the bit). A sample has
+    // offset and whole 0, so t = 0 and the surface is h[low].
+    struct PointCheck {
         double s, offset, whole;
         std::uint32_t segment;
         std::uint32_t axis;
         std::uint32_t low, high;
+    };
+    // Where a block lies, as far as its checks care: inside the grid (form 1), or touching
+    // its last column or row (form 0), and then whether on its first row.
+    enum Place { kInside = 0, kLastColumn = 1, kLastRow = 2, kFirstRow = 4, kPlaces = 8 };
+    struct Placement {
+        int side, x0, y0;
     };
 
     struct Segment {
@@ -102,22 +110,22 @@ private:
     std::uint32_t triangleIndex(Point a, Point b, Point c);
     void addStrips(int inner);
 
-    // Where (x, y) of the block lies among its heights.
+    // Where (x, y) of the block (−1 to blockQuads + 1: a sample around it included) lies
+    // among the heights a block's checks read.
     std::uint32_t heightIndex(int x, int y) const {
-        return static_cast<std::uint32_t>(y * (m_blockQuads + 1) + x);
+        return static_cast<std::uint32_t>((y + 1) * (m_blockQuads + 3) + x + 1);
     }
-    void buildInteriorChecks();
+    Placement placementOf(int place) const;
+    std::vector<PointCheck> placeChecks(const ChecksByKind& checks, int place) const;
 
     void segmentDeviations(const GridView& g, int x0, int y0, const double* heights,
                            std::vector<double>& out) const;
-    void edgeBlockSegmentDeviations(const GridView& g, int x0, int y0, const double* heights,
-                                    std::vector<double>& out) const;
     void interiorDeviations(const double* heights, std::vector<double>& out) const;
 
     int m_blockQuads;
     std::vector<Segment> m_segments;
-    std::array<ChecksByKind, 2> m_checks;         // [form][kind]; form 1 only while building
-    std::vector<InteriorCheck> m_interiorChecks;  // form 1, every kind
+    std::array<ChecksByKind, 2> m_checks;                        // [form][kind], while building
+    std::array<std::vector<PointCheck>, kPlaces> m_pointChecks;  // [Place]
     std::vector<Triangle> m_triangles;
     std::vector<TriangleSample> m_triangleSamples;
     std::vector<Slot> m_slots;

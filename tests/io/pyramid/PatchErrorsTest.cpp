@@ -125,6 +125,8 @@ TEST(PatchErrors, TransitionErrorsEqualBruteForce) {
         cases.push_back({33, blockQuads, last, last, 3});              // on the last row and column
         cases.push_back({33, blockQuads, last, 8, 2});                 // on the last column
         cases.push_back({33, blockQuads, 8, last, 2});                 // on the last row
+        cases.push_back({33, blockQuads, last, 0, 2});  // on the last column and the first row
+        cases.push_back({blockQuads + 1, blockQuads, 0, 0, 2});  // the grid's only block
     }
     cases.push_back({65, 64, 0, 0, 1});  // the largest block, one set of checks of its own
     for (const auto [n, blockQuads, x0, y0, seeds] : cases) {
