@@ -86,15 +86,6 @@ inline std::int64_t medianEdge(std::int64_t a, std::int64_t b, std::int64_t c) {
     return c >= high ? low : c <= low ? high : a + b - c;
 }
 
-// The prediction of sample (x, y): the median edge detector inside, the west neighbour on
-// the first row (0 for the first sample), the north one on the first column.
-inline std::int64_t predict(const std::int32_t* v, int side, int x, int y) {
-    if (y == 0) return x == 0 ? 0 : v[x - 1];
-    const std::int32_t* north = v + static_cast<std::ptrdiff_t>(y - 1) * side;
-    if (x == 0) return north[0];
-    return medianEdge(north[side + x - 1], north[x], north[x - 1]);
-}
-
 std::uint32_t zigzag(std::int32_t r) {
     return (static_cast<std::uint32_t>(r) << 1U) ^ static_cast<std::uint32_t>(r >> 31);
 }
@@ -145,8 +136,6 @@ inline std::int64_t parentMean(const std::int64_t* grid, int gridSide, ParentSpa
     return n == 1 ? sum : n == 2 ? (sum + 1) >> 1 : (sum + 2) >> 2;
 }
 
-inline bool isParentSample(int i, int j) { return i % 2 == 1 && j % 2 == 1; }
-
 // kFromParent's last pass: an interior sample with both indices even, from the mean of its
 // four neighbours, all of which the parent predicted.
 inline bool fromNeighbours(int i, int j, int side) {
@@ -158,23 +147,53 @@ inline std::int64_t neighbourMean(const std::int32_t* v, int side, int i, int j)
     return (std::int64_t{at[-1]} + at[1] + at[-side] + at[side] + 2) >> 2;
 }
 
-// The prediction of sample (i, j) under `prediction`: what the decoder can compute once the
-// samples it depends on are decoded (raster order for the first two; for kFromParent, every
-// sample but fromNeighbours ones first).
-inline std::int64_t predictWith(HeightPrediction prediction, const std::int32_t* v, int side,
-                                const std::int64_t* grid, int i, int j) {
+// Every sample's prediction under `prediction`, in an order the decoder can follow:
+// visit(k, predicted) for sample k = j·side + i once every sample its prediction reads has
+// been visited (raster order; for kFromParent, every sample but the fromNeighbours ones, then
+// those), `v` holding the samples visited so far. The encoder's and the decoder's hot loop,
+// a loop of its own per prediction (no switch and no parent-span division a sample).
+template <typename Visit>
+void forEachPrediction(HeightPrediction prediction, const std::int32_t* v, int side,
+                       const std::int64_t* grid, Visit&& visit) {
     const int gridSide = parentSamplesSide(side);
-    switch (prediction) {
-        case HeightPrediction::kWithinTile:
-            return predict(v, side, i, j);
-        case HeightPrediction::kParentThenEdges:
-            return isParentSample(i, j) ? grid[(j / 2) * gridSide + i / 2] : predict(v, side, i, j);
-        case HeightPrediction::kFromParent:
-            return fromNeighbours(i, j, side) ? neighbourMean(v, side, i, j)
-                                              : parentMean(grid, gridSide, parentSpan(i, gridSide),
-                                                           parentSpan(j, gridSide));
+    const auto n = static_cast<std::size_t>(side);
+    if (prediction == HeightPrediction::kFromParent) {
+        thread_local std::vector<ParentSpan> spans;
+        spans.resize(n);
+        for (int i = 0; i < side; ++i) spans[static_cast<std::size_t>(i)] = parentSpan(i, gridSide);
+        for (int j = 0; j < side; ++j)
+            for (int i = 0; i < side; ++i)
+                if (!fromNeighbours(i, j, side))
+                    visit(static_cast<std::size_t>(j) * n + static_cast<std::size_t>(i),
+                          parentMean(grid, gridSide, spans[static_cast<std::size_t>(i)],
+                                     spans[static_cast<std::size_t>(j)]));
+        for (int j = 2; j < side - 1; j += 2)
+            for (int i = 2; i < side - 1; i += 2)
+                visit(static_cast<std::size_t>(j) * n + static_cast<std::size_t>(i),
+                      neighbourMean(v, side, i, j));
+        return;
     }
-    return 0;
+    // Row by row: the west neighbour on the first row (0 for the first sample), the north one
+    // on the first column, the median edge detector inside; kParentThenEdges takes the
+    // parent's sample at odd (i, j) instead.
+    const bool parentSamples = prediction == HeightPrediction::kParentThenEdges;
+    visit(std::size_t{0}, std::int64_t{0});
+    for (std::size_t x = 1; x < n; ++x) visit(x, std::int64_t{v[x - 1]});
+    for (int y = 1; y < side; ++y) {
+        const std::size_t k = static_cast<std::size_t>(y) * n;
+        const std::int32_t* row = v + k;
+        const std::int32_t* north = row - side;
+        visit(k, std::int64_t{north[0]});
+        if (parentSamples && y % 2 == 1) {
+            const std::int64_t* parents = grid + static_cast<std::ptrdiff_t>(y / 2) * gridSide;
+            for (std::size_t x = 1; x < n; ++x)
+                visit(k + x,
+                      x % 2 == 1 ? parents[x / 2] : medianEdge(row[x - 1], north[x], north[x - 1]));
+        } else {
+            for (std::size_t x = 1; x < n; ++x)
+                visit(k + x, medianEdge(row[x - 1], north[x], north[x - 1]));
+        }
+    }
 }
 
 std::uint32_t residualCode(std::int32_t value, std::int64_t prediction) {
@@ -187,51 +206,16 @@ std::int32_t addResidual(std::int64_t prediction, std::uint32_t code) {
                                      static_cast<std::uint32_t>(unzigzag(code)));
 }
 
-// The codes of every sample of a tile under `prediction` (predictWith's cases, each as
-// loops of its own: the encoder's hot loop, three times a tile), and what zstd will
-// roughly pay for them: the bits of each.
+// The codes of every sample of a tile under `prediction`, and what zstd will roughly pay
+// for them: the bits of each.
 std::uint64_t codeTile(HeightPrediction prediction, const std::int32_t* v, int side,
                        const std::int64_t* grid, std::uint32_t* codes) {
     std::uint64_t bits = 0;
-    auto put = [&](std::size_t k, std::int64_t predicted) {
+    forEachPrediction(prediction, v, side, grid, [&](std::size_t k, std::int64_t predicted) {
         const std::uint32_t code = residualCode(v[k], predicted);
         codes[k] = code;
         bits += static_cast<std::uint64_t>(std::bit_width(code));
-    };
-    const int gridSide = parentSamplesSide(side);
-    const auto sideSize = static_cast<std::size_t>(side);
-    if (prediction == HeightPrediction::kFromParent) {
-        thread_local std::vector<ParentSpan> spans;
-        spans.resize(sideSize);
-        for (int i = 0; i < side; ++i) spans[static_cast<std::size_t>(i)] = parentSpan(i, gridSide);
-        for (int j = 0; j < side; ++j)
-            for (int i = 0; i < side; ++i)
-                put(static_cast<std::size_t>(j) * sideSize + static_cast<std::size_t>(i),
-                    fromNeighbours(i, j, side)
-                        ? neighbourMean(v, side, i, j)
-                        : parentMean(grid, gridSide, spans[static_cast<std::size_t>(i)],
-                                     spans[static_cast<std::size_t>(j)]));
-        return bits;
-    }
-    // predict(), row by row; kParentThenEdges takes the parent's sample at odd (x, y).
-    const bool parentSamples = prediction == HeightPrediction::kParentThenEdges;
-    put(0, 0);
-    for (std::size_t x = 1; x < sideSize; ++x) put(x, v[x - 1]);
-    for (int y = 1; y < side; ++y) {
-        const std::size_t k = static_cast<std::size_t>(y) * sideSize;
-        const std::int32_t* row = v + k;
-        const std::int32_t* north = row - side;
-        put(k, north[0]);
-        if (parentSamples && y % 2 == 1) {
-            const std::int64_t* parents = grid + static_cast<std::ptrdiff_t>(y / 2) * gridSide;
-            for (std::size_t x = 1; x < sideSize; ++x)
-                put(k + x,
-                    x % 2 == 1 ? parents[x / 2] : medianEdge(row[x - 1], north[x], north[x - 1]));
-        } else {
-            for (std::size_t x = 1; x < sideSize; ++x)
-                put(k + x, medianEdge(row[x - 1], north[x], north[x - 1]));
-        }
-    }
+    });
     return bits;
 }
 
@@ -368,34 +352,12 @@ void decodeHeights(std::span<const std::uint32_t> codes, int side, const HeightE
     thread_local std::vector<std::int32_t> scratch;
     scratch.resize(count);
     std::int32_t* values = scratch.data();
-    if (prediction == HeightPrediction::kWithinTile) {
-        // predict() unrolled by row, the decoder's hot loop.
-        values[0] = addResidual(0, codes[0]);
-        for (int x = 1; x < side; ++x) values[x] = addResidual(values[x - 1], codes[x]);
-        for (int y = 1; y < side; ++y) {
-            std::int32_t* row = values + static_cast<std::ptrdiff_t>(y) * side;
-            const std::int32_t* north = row - side;
-            const std::uint32_t* in = codes.data() + static_cast<std::ptrdiff_t>(y) * side;
-            row[0] = addResidual(north[0], in[0]);
-            for (int x = 1; x < side; ++x)
-                row[x] = addResidual(medianEdge(row[x - 1], north[x], north[x - 1]), in[x]);
-        }
-    } else {
-        const std::int64_t* grid = parentIntegers(parentSamples, divisor, units);
-        const bool lastPass = prediction == HeightPrediction::kFromParent;
-        for (int j = 0; j < side; ++j)
-            for (int i = 0; i < side; ++i) {
-                if (lastPass && fromNeighbours(i, j, side)) continue;
-                const std::size_t k = static_cast<std::size_t>(j) * side + i;
-                values[k] =
-                    addResidual(predictWith(prediction, values, side, grid, i, j), codes[k]);
-            }
-        for (int j = 2; lastPass && j < side - 1; j += 2)
-            for (int i = 2; i < side - 1; i += 2) {
-                const std::size_t k = static_cast<std::size_t>(j) * side + i;
-                values[k] = addResidual(neighbourMean(values, side, i, j), codes[k]);
-            }
-    }
+    const std::int64_t* grid = prediction == HeightPrediction::kWithinTile
+                                   ? nullptr
+                                   : parentIntegers(parentSamples, divisor, units);
+    forEachPrediction(prediction, values, side, grid, [&](std::size_t k, std::int64_t predicted) {
+        values[k] = addResidual(predicted, codes[k]);
+    });
     if (divisor == 0) {
         for (std::size_t i = 0; i < count; ++i) heights[i] = fromOrderedBits(values[i]);
     } else if (divisor == kSourceUnits) {
