@@ -19,7 +19,8 @@
 namespace terrain::io::detail {
 namespace {
 
-constexpr int kFactors = 17;  // log2 of factors up to 2^16, far beyond GL's 64
+// log2 of the factors up to a block's largest, GL's 64 (PyramidLayout::kMaxBlockQuads).
+constexpr int kFactors = std::countr_zero(static_cast<unsigned>(PyramidLayout::kMaxBlockQuads)) + 1;
 
 constexpr int log2Of(int powerOfTwo) { return std::countr_zero(static_cast<unsigned>(powerOfTwo)); }
 
@@ -424,10 +425,10 @@ void StripChecks::interiorDeviations(const double* heights, std::vector<double>&
 
 BlockErrors StripChecks::errors(const GridView& patch, int x0, int y0) const {
     // The block's heights and the samples around it, as the doubles every check computes
-    // with, row by row (heightIndex); those beyond the grid are never read.
+    // with, row by row (heightIndex); those beyond the grid are never read (nor set).
     thread_local std::vector<double> heights, segmentWorst, triangleWorst;
     const int side = m_blockQuads + 3;
-    heights.assign(static_cast<std::size_t>(side) * static_cast<std::size_t>(side), 0.0);
+    heights.resize(static_cast<std::size_t>(side) * static_cast<std::size_t>(side));
     for (int y = std::max(-1, -y0); y <= std::min(m_blockQuads + 1, patch.side - 1 - y0); ++y)
         for (int x = std::max(-1, -x0); x <= std::min(m_blockQuads + 1, patch.side - 1 - x0); ++x)
             heights[heightIndex(x, y)] = patch.at(x0 + x, y0 + y);
