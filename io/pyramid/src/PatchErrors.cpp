@@ -46,8 +46,8 @@ Cell cellAt(const GridView& g, int x, int y, int side) {
 // Four doubles, operated on lane by lane with IEEE arithmetic: each lane computes what the
 // scalar code would, to the bit (GCC's and Clang's vector extensions: SSE2 pairs on the
 // x86-64 baseline, AVX2 where the clone below runs). The helpers are always inlined, so
-// the ABI GCC warns of for 32-byte vectors passed by value never applies.
-#if defined(__GNUC__) && !defined(__clang__)
+// the ABI GCC and Clang warn of for 32-byte vectors passed by value never applies.
+#if defined(__GNUC__)  // GCC and Clang
 #pragma GCC diagnostic ignored "-Wpsabi"
 #endif
 constexpr std::size_t kLanes = 4;
