@@ -207,7 +207,9 @@ namespace {
 // Compiled twice, for AVX2 and for the x86-64 baseline, the CPU's choosing which runs when
 // the program loads (GCC's function multiversioning). Either computes the same IEEE
 // operations (AVX2 brings no FMA to contract them into), so both give the same bits.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+// Not under ThreadSanitizer: the load-time resolver that picks the clone would run
+// instrumented before TSan's runtime is up, and every program would crash at its start.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__)
 __attribute__((target_clones("avx2", "default")))
 #endif
 double
