@@ -19,10 +19,10 @@
 namespace terrain::io::detail {
 namespace {
 
-// log2 of the factors up to a block's largest, GL's 64 (PyramidLayout::kMaxBlockQuads).
-constexpr int kFactors = std::countr_zero(static_cast<unsigned>(PyramidLayout::kMaxBlockQuads)) + 1;
-
 constexpr int log2Of(int powerOfTwo) { return std::countr_zero(static_cast<unsigned>(powerOfTwo)); }
+
+// The power-of-two factors (and block sizes) up to GL's 64 (PyramidLayout::kMaxBlockQuads).
+constexpr int kFactors = log2Of(PyramidLayout::kMaxBlockQuads) + 1;
 
 // `list` ordered by each item's rank among those of its owner (a segment or a triangle),
 // keeping the order within a rank: the first point of every owner, then the second, and so
@@ -49,9 +49,8 @@ const StripChecks& StripChecks::forBlock(int blockQuads) {
     TERRAIN_ASSERT(blockQuads >= 1 && blockQuads <= PyramidLayout::kMaxBlockQuads &&
                        std::has_single_bit(static_cast<unsigned>(blockQuads)),
                    "a block of 1 to 64 quads, a power of two (PyramidLayout)");
-    constexpr auto kSizes = static_cast<std::size_t>(log2Of(PyramidLayout::kMaxBlockQuads) + 1);
-    static std::array<std::unique_ptr<StripChecks>, kSizes> shared;
-    static std::array<std::once_flag, kSizes> built;
+    static std::array<std::unique_ptr<StripChecks>, kFactors> shared;
+    static std::array<std::once_flag, kFactors> built;
     const auto slot = static_cast<std::size_t>(log2Of(blockQuads));
     std::call_once(built[slot], [&] { shared[slot] = std::make_unique<StripChecks>(blockQuads); });
     return *shared[slot];
@@ -357,13 +356,8 @@ std::vector<StripChecks::PointCheck> StripChecks::placeChecks(const ChecksByKind
 // ends. Consecutive checks belong to different segments (the constructor orders them so):
 // each raises its segment's largest without waiting on the last, and the largest of values
 // ≥ 0 (NaN passed over) is the same in any order.
-void StripChecks::segmentDeviations(const GridView& g, int x0, int y0, const double* heights,
+void StripChecks::segmentDeviations(int place, int x0, int y0, const double* heights,
                                     std::vector<double>& worst) const {
-    const int lastStart = g.side - 1 - m_blockQuads;
-    int place = kInside;
-    if (x0 == lastStart || y0 == lastStart)
-        place = (x0 == lastStart ? kLastColumn : 0) | (y0 == lastStart ? kLastRow : 0) |
-                (y0 == 0 ? kFirstRow : 0);
     // Each segment's start p (absolute, as the doubles the crossings were computed from)
     // and the heights L interpolates.
     struct Ends {
@@ -432,7 +426,12 @@ BlockErrors StripChecks::errors(const GridView& patch, int x0, int y0) const {
     for (int y = std::max(-1, -y0); y <= std::min(m_blockQuads + 1, patch.side - 1 - y0); ++y)
         for (int x = std::max(-1, -x0); x <= std::min(m_blockQuads + 1, patch.side - 1 - x0); ++x)
             heights[heightIndex(x, y)] = patch.at(x0 + x, y0 + y);
-    segmentDeviations(patch, x0, y0, heights.data(), segmentWorst);
+    const int lastStart = patch.side - 1 - m_blockQuads;
+    int place = kInside;
+    if (x0 == lastStart || y0 == lastStart)
+        place = (x0 == lastStart ? kLastColumn : 0) | (y0 == lastStart ? kLastRow : 0) |
+                (y0 == 0 ? kFirstRow : 0);
+    segmentDeviations(place, x0, y0, heights.data(), segmentWorst);
     interiorDeviations(heights.data(), triangleWorst);
 
     // strips[log2 inner][log2 m]: the largest deviation of the strips between edges of

@@ -118,7 +118,8 @@ private:
     Placement placementOf(int place) const;
     std::vector<PointCheck> placeChecks(const ChecksByKind& checks, int place) const;
 
-    void segmentDeviations(const GridView& g, int x0, int y0, const double* heights,
+    // `place`: the Place of the block whose top-left sample is (x0, y0).
+    void segmentDeviations(int place, int x0, int y0, const double* heights,
                            std::vector<double>& out) const;
     void interiorDeviations(const double* heights, std::vector<double>& out) const;
 
