@@ -16,6 +16,8 @@ constexpr int kBlock = 4;
 constexpr double kMinTravelM = 1e-3;
 // Levels below a waiting leaf's children that prefetchBelow may ask for ahead.
 constexpr int kPrefetchLevels = 3;
+// The smallest decay of Err(P) a level that prefetchBelow predicts: smooth terrain's.
+constexpr double kHalving = 0.5;
 // Parent links: −1 a root, −2 a freed node, −3 a spare slot of the root blocks.
 constexpr int kFreed = -2;
 constexpr int kSpare = -3;
@@ -223,7 +225,8 @@ bool LodQuadtree::trySplit(int index, double screenError) {
         // full detail soon after a teleport). On the sparse globe only a patch's parent
         // knows whether it is stored: those below the children may turn out absent.
         if (node.kind == NodeKind::Data)
-            prefetchBelow(node.id, node.info, double(node.info.error), kPrefetchLevels, &node.info);
+            prefetchBelow(node.id, node.info, double(node.info.error), errorDecay(node),
+                          kPrefetchLevels, &node.info);
         return false;
     }
 
@@ -256,8 +259,19 @@ bool LodQuadtree::trySplit(int index, double screenError) {
     return true;
 }
 
+// How a patch's Err(P) shrinks level by level below `node`, as far as its own ancestry
+// shows: its error over its parent's, between a half (smooth terrain: errors halve with the
+// spacing) and 1 (where a finer source or a cliff keeps the error from shrinking: a globe's
+// coarse levels over a regional source keep theirs for several levels).
+double LodQuadtree::errorDecay(const Node& node) const {
+    if (node.parent < 0) return kHalving;
+    const Node& parent = m_nodes[static_cast<std::size_t>(node.parent)];
+    if (parent.kind != NodeKind::Data || !(parent.info.error > 0.0f)) return kHalving;
+    return std::clamp(double(node.info.error) / double(parent.info.error), kHalving, 1.0);
+}
+
 // A prediction, not a bound (a wrong one costs a read, never the picture): a patch's Err(P)
-// is taken as half its parent's (the errors of smooth terrain halve with the spacing), its
+// is its own where it is resident, else its parent's times `decay` (errorDecay), its
 // box as the footprint over the ancestor's height range, and it will split if that error
 // projected from its box exceeds ε_c. The children of each child predicted to split are
 // prefetched, `levels` deep, ranked by that prediction below every want (prefetchPriority).
@@ -265,11 +279,10 @@ bool LodQuadtree::trySplit(int index, double screenError) {
 // stores (all on the plane; on the globe, those below an unknown patch may be absent, which
 // the residency learns from the read and remembers: knownAbsent).
 void LodQuadtree::prefetchBelow(const io::PatchId& id, const io::PatchInfo& heights, double errorM,
-                                int levels, const io::PatchInfo* stored) {
+                                double decay, int levels, const io::PatchInfo* stored) {
     if (levels <= 0 || m_options.splitRule != SplitRule::ProjectedError) return;
     std::array<SurfaceChild, 4> children;
     const int count = m_surface.children(id, children);
-    const double childErrorM = 0.5 * errorM;
     // Patches at the pyramid's finest level have no stored children (on the globe, whose
     // maxLevel lies deeper, the levels below are bare or an ancestor's tile: nothing to read).
     const int finestStored = m_surface.layout().finestLevel();
@@ -282,11 +295,12 @@ void LodQuadtree::prefetchBelow(const io::PatchId& id, const io::PatchInfo& heig
         const PatchVolume volume = m_surface.volume(child, heights.minHeight, heights.maxHeight);
         int planes = 0b11111;
         if (m_surface.outsideFrustum(m_view, volume, planes)) continue;
+        const io::PatchInfo* childInfo = m_residency.residentInfo(child);
+        const double childErrorM = childInfo != nullptr ? double(childInfo->error) : decay * errorM;
         const double rho = m_surface.distance(m_camera.position, volume);
         const double predicted =
             rho <= 0.0 ? std::numeric_limits<double>::max() : m_gamma * childErrorM / rho;
         if (predicted <= coarseErrorPx()) continue;
-        const io::PatchInfo* childInfo = m_residency.residentInfo(child);
         std::array<SurfaceChild, 4> grandchildren;
         const int below = m_surface.children(child, grandchildren);
         for (int k = 0; k < below; ++k) {
@@ -296,7 +310,7 @@ void LodQuadtree::prefetchBelow(const io::PatchId& id, const io::PatchInfo& heig
             m_residency.prefetch(grandchild.id, prefetchPriority(predicted));
             ++m_stats.prefetched;
         }
-        prefetchBelow(child, heights, childErrorM, levels - 1, childInfo);
+        prefetchBelow(child, heights, childErrorM, decay, levels - 1, childInfo);
     }
 }
 
@@ -346,7 +360,7 @@ void LodQuadtree::prefetchUnderRoot(const io::PatchId& root) {
                              prefetchPriority(std::numeric_limits<double>::infinity()));
         ++m_stats.prefetched;
     }
-    prefetchBelow(root, wholeDem, std::numeric_limits<double>::infinity(), 1, nullptr);
+    prefetchBelow(root, wholeDem, std::numeric_limits<double>::infinity(), kHalving, 1, nullptr);
 }
 
 // A leaf wants its children at its screen error, above ε_c; a read ahead, predicted at

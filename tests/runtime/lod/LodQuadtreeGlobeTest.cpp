@@ -4,7 +4,8 @@
 // point of the cube-sphere); bare patches refine with distance; a data patch splits only
 // into resident children, absent ones drawn bare; horizon culling removes most of the globe
 // from an oblique view in low orbit and never what the frustum sees; reading ahead on a
-// sparse globe reaches the same cut in fewer frames; hysteresis holds a split
+// sparse globe reaches the same cut in fewer frames, as few where errors shrink slower than
+// by half; hysteresis holds a split
 // while the camera moves back and forth across its threshold.
 #include "terrain/runtime/LodQuadtree.h"
 
@@ -16,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 #include <limits>
 #include <numbers>
@@ -208,20 +210,26 @@ TEST(LodQuadtreeGlobe, DataPatchesSplitIntoResidentChildrenAndAbsentOnesAreVirtu
     EXPECT_EQ(stats.drawnBare, 0u);
 }
 
-TEST(LodQuadtreeGlobe, ReadingAheadOnTheSparseGlobeReachesTheSameCutInFewerFrames) {
-    // A teleport low over a sparse globe: each face stores its x = 0 column only, so a
-    // patch's parent alone says whether it is stored. Tiles arrive a frame after they are
-    // asked for: level by level the tree needs a frame a level; reading ahead below the
-    // children it waits for (patches of unknown presence, some absent), it reaches the same
-    // cut sooner, never asks for an absent patch as stored, and learns which were absent
-    // (issue 49: full detail soon after a teleport, on the globe too).
+// A teleport low over a sparse globe: each face stores its x = 0 column only, so a patch's
+// parent alone says whether it is stored; Err(P) of a face level-l patch is
+// rootErrorM · decay^l. Tiles arrive a frame after they are asked for. Settled: the frames
+// until nothing waits, splits, merges or is pending, and the cut then.
+struct SparseGlobeSettled {
+    int frames = 0;
+    std::vector<io::PatchId> cut;
+    std::size_t knownAbsent = 0;
+    std::uint64_t absentAcquires = 0;
+    int deepest = 0;
+};
+
+SparseGlobeSettled settleSparseGlobe(double decay, bool readAhead) {
     const io::PyramidManifest m = globeManifest();
-    const auto infoOf = [](const io::PatchId& layoutId) {
+    const auto infoOf = [decay](const io::PatchId& layoutId) {
         io::PatchInfo info;
         const globe::GlobePatchId id = io::globePatchOf(layoutId);
         if (id.x != 0) return info;  // absent
         info.present = true;
-        info.error = static_cast<float>(4e3 / double(globe::patchesPerFaceSide(id.level)));
+        info.error = static_cast<float>(4e3 * std::pow(decay, id.level));
         info.approxError = info.error;
         info.maxHeight = 500.0f;
         info.presentChildren = id.level < kFaceLevels ? 0b0101 : 0;
@@ -229,45 +237,43 @@ TEST(LodQuadtreeGlobe, ReadingAheadOnTheSparseGlobeReachesTheSameCutInFewerFrame
     };
     const GlobeSurface surface(m);
     const Camera camera = cameraAt(0.0, -44.9, 1500.0, -20.0);  // over face 0's x = 0 column
-    struct Settled {
-        int frames = 0;
-        std::vector<io::PatchId> cut;
-        std::size_t knownAbsent = 0;
-        std::uint64_t absentAcquires = 0;
-        int deepest = 0;
-    };
-    const auto settle = [&](bool readAhead) {
-        FakeTileResidencyOptions options;
-        options.framesToArrive = 1;
-        options.capacity = 1 << 14;
-        options.honourPrefetch = readAhead;
-        FakeTileResidency residency(m.layout, infoOf, options);
-        LodQuadtree lod(residency, surface);
-        std::vector<PatchDraw> draws;
-        Settled out;
-        for (int frame = 1; frame <= 100; ++frame) {
-            residency.beginFrame();
-            const LodUpdateStats stats = lod.update(camera, draws);
-            residency.endFrame();
-            if (stats.waitingSplits == 0 && residency.pending() == 0 && stats.splits == 0 &&
-                stats.merges == 0) {
-                out.frames = frame;
-                out.deepest = stats.deepestLevel;
-                break;
-            }
+    FakeTileResidencyOptions options;
+    options.framesToArrive = 1;
+    options.capacity = 1 << 14;
+    options.honourPrefetch = readAhead;
+    FakeTileResidency residency(m.layout, infoOf, options);
+    LodQuadtree lod(residency, surface);
+    std::vector<PatchDraw> draws;
+    SparseGlobeSettled out;
+    for (int frame = 1; frame <= 100; ++frame) {
+        residency.beginFrame();
+        const LodUpdateStats stats = lod.update(camera, draws);
+        residency.endFrame();
+        if (stats.waitingSplits == 0 && residency.pending() == 0 && stats.splits == 0 &&
+            stats.merges == 0) {
+            out.frames = frame;
+            out.deepest = stats.deepestLevel;
+            break;
         }
-        EXPECT_GT(out.frames, 0) << "did not settle in 100 frames";
-        EXPECT_EQ(lod.checkInvariants(), std::nullopt);
-        for (const PatchDraw& d : draws) out.cut.push_back(d.id);
-        std::sort(out.cut.begin(), out.cut.end(), [](const io::PatchId& a, const io::PatchId& b) {
-            return std::tie(a.level, a.y, a.x) < std::tie(b.level, b.y, b.x);
-        });
-        out.knownAbsent = residency.knownAbsentCount();
-        out.absentAcquires = residency.absentAcquires();
-        return out;
-    };
-    const Settled levelByLevel = settle(false);
-    const Settled ahead = settle(true);
+    }
+    EXPECT_GT(out.frames, 0) << "did not settle in 100 frames";
+    EXPECT_EQ(lod.checkInvariants(), std::nullopt);
+    for (const PatchDraw& d : draws) out.cut.push_back(d.id);
+    std::sort(out.cut.begin(), out.cut.end(), [](const io::PatchId& a, const io::PatchId& b) {
+        return std::tie(a.level, a.y, a.x) < std::tie(b.level, b.y, b.x);
+    });
+    out.knownAbsent = residency.knownAbsentCount();
+    out.absentAcquires = residency.absentAcquires();
+    return out;
+}
+
+TEST(LodQuadtreeGlobe, ReadingAheadOnTheSparseGlobeReachesTheSameCutInFewerFrames) {
+    // Level by level the tree needs a frame a level; reading ahead below the children it
+    // waits for (patches of unknown presence, some absent), it reaches the same cut sooner,
+    // never asks for an absent patch as stored, and learns which were absent (issue 49: full
+    // detail soon after a teleport, on the globe too). Err(P) halves level by level.
+    const SparseGlobeSettled levelByLevel = settleSparseGlobe(0.5, false);
+    const SparseGlobeSettled ahead = settleSparseGlobe(0.5, true);
     std::cout << "settled in " << levelByLevel.frames << " frames level by level, " << ahead.frames
               << " reading ahead (" << ahead.knownAbsent
               << " patches read ahead were absent); deepest face level " << faceLevel(ahead.deepest)
@@ -278,6 +284,25 @@ TEST(LodQuadtreeGlobe, ReadingAheadOnTheSparseGlobeReachesTheSameCutInFewerFrame
     EXPECT_GT(ahead.knownAbsent, 0u) << "the read ahead met absent patches (the case tested)";
     EXPECT_EQ(ahead.absentAcquires, 0u);
     EXPECT_EQ(levelByLevel.absentAcquires, 0u);
+}
+
+TEST(LodQuadtreeGlobe, ReadingAheadFollowsErrorsThatShrinkSlowerThanByHalf) {
+    // A regional source over a coarse global one, or steep ground, keeps Err(P) from halving
+    // level by level (ETOPO 20′ + Rainier: by about 0.68 a level; the Rainier tile alone keeps
+    // about 1,750 m from face level 4 to 6). The read ahead
+    // predicts a level's errors from how the waiting leaf's own shrank since its parent, so
+    // it reads as far ahead as where errors halve: here, where they shrink by 0.8 a level,
+    // as few frames as there (predicting halves, it read too little: 9 frames against 6).
+    const SparseGlobeSettled levelByLevel = settleSparseGlobe(0.8, false);
+    const SparseGlobeSettled ahead = settleSparseGlobe(0.8, true);
+    const SparseGlobeSettled halving = settleSparseGlobe(0.5, true);
+    std::cout << "errors shrinking by 0.8 a level: settled in " << levelByLevel.frames
+              << " frames level by level, " << ahead.frames << " reading ahead (" << halving.frames
+              << " where errors halve); deepest face level " << faceLevel(ahead.deepest) << "\n";
+    EXPECT_GE(faceLevel(levelByLevel.deepest), 10) << "deep enough to need reading ahead";
+    EXPECT_EQ(ahead.cut, levelByLevel.cut) << "a prediction never changes a decision";
+    EXPECT_LE(ahead.frames, halving.frames);
+    EXPECT_EQ(ahead.absentAcquires, 0u);
 }
 
 TEST(LodQuadtreeGlobe, HorizonCullingRemovesMostOfTheGlobeFromAnObliqueLowOrbitView) {

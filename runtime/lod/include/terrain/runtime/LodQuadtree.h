@@ -215,7 +215,8 @@ private:
     void scheduleMergeIfCandidate(int node);
     bool trySplit(int node, double screenError);
     void prefetchBelow(const io::PatchId& id, const io::PatchInfo& heights, double errorM,
-                       int levels, const io::PatchInfo* stored);
+                       double decay, int levels, const io::PatchInfo* stored);
+    double errorDecay(const Node& node) const;
     void prefetchUnderRoot(const io::PatchId& root);
     void prefetchAlongMotion(const Node& leaf);
     float prefetchPriority(double predicted) const;
