@@ -707,28 +707,45 @@ private:
             patch.quads.reset(static_cast<std::size_t>(m_quads * m_quads));
         std::mutex merge;
         Status measured = forEachRow(window, [&](const SampleRow& r) {
-            // This row's (patch, quad) → lowest and highest surface − sample.
-            std::map<std::pair<PatchKey, int>, std::pair<double, double>> found;
+            // This row's lowest and highest surface − sample, a run of samples in one quad at
+            // a time (a row's samples stay in a patch, and in a quad, for stretches): each
+            // run's extremes are widened into the quad once, under the lock, at the row's end.
+            // min and max in any order give the same intervals.
+            struct Run {
+                Patch* patch = nullptr;
+                int quad = -1;
+                double lowest = 0.0, highest = 0.0;
+            };
+            std::vector<Run> runs;
+            PatchKey lastKey = 0;
+            const GlobePatchSurface* surface = nullptr;
+            Patch* patch = nullptr;
+            bool looked = false;
             for (std::int64_t c = 0; c < r.count; ++c) {
                 if (!r.valid[c]) continue;
-                const auto surface = surfaces.find(r.keys[c]);
-                if (surface == surfaces.end()) continue;
-                const int quad = quadOf(r.keys[c], r.points[c].s, r.points[c].t);
-                const auto [alongAD, alongBC] =
-                    surface->second->drawnHeights(r.normals[c], r.points[c]);
+                if (!looked || r.keys[c] != lastKey) {
+                    lastKey = r.keys[c];
+                    looked = true;
+                    const auto found = surfaces.find(lastKey);
+                    surface = found == surfaces.end() ? nullptr : found->second.get();
+                    patch = surface == nullptr ? nullptr : &m_patches.at(lastKey);
+                }
+                if (surface == nullptr) continue;
+                const int quad = quadOf(lastKey, r.points[c].s, r.points[c].t);
+                const auto [alongAD, alongBC] = surface->drawnHeights(r.normals[c], r.points[c]);
                 const double height = double(r.heights[c]);
                 const double lowest = std::min(alongAD, alongBC) - height;
                 const double highest = std::max(alongAD, alongBC) - height;
-                auto [at, added] = found.try_emplace({r.keys[c], quad}, lowest, highest);
-                if (!added) {
-                    at->second.first = std::min(at->second.first, lowest);
-                    at->second.second = std::max(at->second.second, highest);
+                if (!runs.empty() && runs.back().patch == patch && runs.back().quad == quad) {
+                    runs.back().lowest = std::min(runs.back().lowest, lowest);
+                    runs.back().highest = std::max(runs.back().highest, highest);
+                } else {
+                    runs.push_back({patch, quad, lowest, highest});
                 }
             }
             const std::scoped_lock lock(merge);
-            for (const auto& [where, range] : found)
-                m_patches.at(where.first)
-                    .quads.widen(static_cast<std::size_t>(where.second), range.first, range.second);
+            for (const Run& run : runs)
+                run.patch->quads.widen(static_cast<std::size_t>(run.quad), run.lowest, run.highest);
         });
         if (!measured) return measured;
         // Err(P) at every valid sample, both diagonals, never below a child's: as the whole
