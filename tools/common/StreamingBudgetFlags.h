@@ -21,7 +21,8 @@ struct StreamingBudgets {
     double uploadMsPerFrame = 0.0;                   ///< 0: no time budget, the byte budget alone
     double imageryGpuMiB = 256.0;                    ///< the imagery texture array, mips included
     double imageryCacheMiB = 128.0;                  ///< the CPU imagery cache
-    int readerThreads = io::defaultReaderThreads();  ///< the I/O's threads reading and decoding
+    /// The I/O's threads reading and decoding; 0: io::defaultReaderThreads(the pyramid).
+    int readerThreads = 0;
     bool noPrefetch = false;                         ///< read only the tiles the LOD wants now
     /// Along the camera's motion (LodOptions::readAheadFrames); 0, or --no-prefetch: off.
     double readAheadFrames = runtime::LodOptions{}.readAheadFrames;
@@ -80,11 +81,12 @@ inline void addStreamingBudgetFlags(CLI::App& app, StreamingBudgets& budgets,
                    "CPU imagery tile cache budget, MiB (a tile is 0.25 MiB)" + scope)
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1024.0 * 1024.0));
-    app.add_option(
-           "--reader-threads", budgets.readerThreads,
-           "I/O threads reading and decoding tiles (default: min(hardware threads, 4))" + scope)
+    app.add_option("--reader-threads", budgets.readerThreads,
+                   "I/O threads reading and decoding tiles (default 0: min(hardware threads, 4); a "
+                   "pyramid at a URL at least as many as TERRAIN_HTTP_MAX_PER_HOST, 6)" +
+                       scope)
         ->capture_default_str()
-        ->check(CLI::Range(1, 64));
+        ->check(CLI::Range(0, 64));
     app.add_flag("--no-prefetch", budgets.noPrefetch,
                  "Read only the tiles the LOD wants now, none of those it expects to want "
                  "(refining then takes a frame a level)" +

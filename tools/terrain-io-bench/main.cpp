@@ -152,7 +152,7 @@ int main(int argc, char** argv) {
     std::size_t maxPatches = 20000;
     std::size_t inFlight = 64;
     int openShards = io::IoThreadOptions{}.maxOpenShards;
-    int readerThreads = io::defaultReaderThreads();
+    int readerThreads = 0;
     double parentCacheMiB = 0.0;
     bool json = false;
     std::string order = "shuffled";
@@ -173,10 +173,11 @@ int main(int argc, char** argv) {
         ->capture_default_str()
         ->check(CLI::Range(1, 4096));
     app.add_option("--reader-threads", readerThreads,
-                   "IoThread reader threads, each reading and decoding (the runtime's default: "
-                   "min(hardware threads, 4))")
+                   "IoThread reader threads, each reading and decoding (0, the runtime's "
+                   "default: min(hardware threads, 4); a pyramid at a URL at least as many as "
+                   "TERRAIN_HTTP_MAX_PER_HOST, 6)")
         ->capture_default_str()
-        ->check(CLI::Range(1, 64));
+        ->check(CLI::Range(0, 64));
     app.add_option("--parent-cache-mib", parentCacheMiB,
                    "Decoded parents the reader threads keep for their children, in one cache "
                    "they share (0: the runtime's default, 4 MiB a reader thread)")
@@ -225,6 +226,8 @@ int main(int argc, char** argv) {
     options.maxOpenShards = openShards;
     options.readerThreads = readerThreads;
     options.parentCacheBytes = static_cast<std::size_t>(parentCacheMiB * 1024.0 * 1024.0);
+    options = options.resolvedFor(pyramid);
+    readerThreads = options.readerThreads;
     const double cacheMiB =
         static_cast<double>(options.sharedParentCacheBytes()) / (1024.0 * 1024.0);
     auto started = io::IoThread::start(pyramid, options);

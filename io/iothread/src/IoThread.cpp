@@ -2,10 +2,12 @@
 // mutex, reads it (a heights patch or an imagery tile) with the mutex released, and files
 // the outcome for poll().
 #include "terrain/iothread/IoThread.h"
+
 #include "terrain/pyramid/ParentTileCache.h"
 
 #include "terrain/base/Assert.h"
 #include "terrain/pyramid/ImageryMips.h"
+#include "terrain/remote/RemoteFiles.h"
 
 #include <fmt/format.h>
 
@@ -39,8 +41,17 @@ int defaultReaderThreads() {
     return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1U, 4U));
 }
 
+int defaultReaderThreads(std::string_view pyramidLocation) {
+    if (!remote::isRemoteLocation(pyramidLocation)) return defaultReaderThreads();
+    // An unreadable TERRAIN_HTTP_MAX_PER_HOST is reported when the pyramid is opened.
+    const Result<remote::HttpOptions> http = remote::HttpOptions::fromEnvironment();
+    const int perHost = http ? http.value().maxPerHost : remote::HttpOptions{}.maxPerHost;
+    return std::max(defaultReaderThreads(), perHost);
+}
+
 Result<std::unique_ptr<IoThread>> IoThread::start(const std::filesystem::path& pyramidDir,
-                                                  const IoThreadOptions& options) {
+                                                  const IoThreadOptions& requested) {
+    const IoThreadOptions options = requested.resolvedFor(pyramidDir.string());
     TERRAIN_ASSERT(options.maxUnpolled >= 1, "IoThread: maxUnpolled must be at least 1");
     TERRAIN_ASSERT(options.readerThreads >= 1, "IoThread: readerThreads must be at least 1");
     TERRAIN_ASSERT(options.faults.errorRate >= 0.0 && options.faults.errorRate <= 1.0,

@@ -1,5 +1,6 @@
 // IoThread: the background I/O of streaming. Its reader threads (readerThreads; by default
-// min(hardware threads, 4)) take requests in priority order, each reads and decodes with its
+// min(hardware threads, 4), for a pyramid at a URL at least the requests one host may have
+// under way) take requests in priority order, each reads and decodes with its
 // own PyramidReader, and all hand plain CPU records to the render thread, which never waits
 // on disk (docs: DESIGN.md, "Streaming and caches"). One thread decoded only 650-1,900
 // shuffled patches a second (issue 49): the decode, not the disk, limits it, so several
@@ -85,17 +86,32 @@ using ImagerySourceOpener = std::function<Result<std::unique_ptr<ImageryTileSour
 /// second, needs two of today's), while each thread holds a PyramidReader (open shards and
 /// a 4 MiB parent cache) and the render thread needs a core of its own.
 int defaultReaderThreads();
+/// The reader threads for the pyramid at `pyramidLocation`: defaultReaderThreads() for a
+/// folder; for a URL, where a read waits on the network rather than on a core, at least as
+/// many as the requests one host may have under way (remote::HttpOptions::maxPerHost,
+/// TERRAIN_HTTP_MAX_PER_HOST, 6 by default), so that the reads ahead of a teleport travel
+/// together instead of two round trips at a time on a 2-core machine.
+int defaultReaderThreads(std::string_view pyramidLocation);
 
 struct IoThreadOptions {
     std::size_t maxUnpolled = 8;  ///< cap on records being read + completions not yet polled
-    /// Threads reading and decoding at once, each with its own PyramidReader (≥ 1).
-    int readerThreads = defaultReaderThreads();
+    /// Threads reading and decoding at once, each with its own PyramidReader; 0:
+    /// defaultReaderThreads(the pyramid's location), as IoThread::start resolves it.
+    int readerThreads = 0;
     int maxOpenShards = PyramidReader::kDefaultOpenShards;
     /// Decoded parents kept for their children (ParentTileCache.h), in one cache the reader
     /// threads share; 0: PyramidReader::kParentCacheBytes for each reader thread. A patch
     /// read in a shuffled order needs its parents, and each parent missed here is read again.
     std::size_t parentCacheBytes = 0;
-    /// The shared cache's bytes: parentCacheBytes, or its default for readerThreads.
+    /// These options with readerThreads 0 replaced by defaultReaderThreads(pyramidLocation).
+    IoThreadOptions resolvedFor(std::string_view pyramidLocation) const {
+        IoThreadOptions resolved = *this;
+        if (resolved.readerThreads == 0)
+            resolved.readerThreads = defaultReaderThreads(pyramidLocation);
+        return resolved;
+    }
+    /// The shared cache's bytes: parentCacheBytes, or its default for readerThreads (of
+    /// resolved options).
     std::size_t sharedParentCacheBytes() const {
         return parentCacheBytes != 0
                    ? parentCacheBytes
