@@ -2,7 +2,9 @@
 // server (NginxServer.h) to make the network misbehave on purpose (issue 49): a latency before
 // every response, and on a fixed schedule of requests a reset connection, a connection closed
 // without an answer, a 503, a body cut short, a body trickled out slowly, or a body held half
-// sent until the test releases it (to kill a client mid-write).
+// sent until the test releases it (to kill a client mid-write); and packet loss, TCP's way:
+// each segment of an answer (and each request) lost with a given probability stalls the
+// stream behind it for a retransmission timeout, nothing else lost.
 //
 // Deterministic by request count, not by chance: request n (1-based, in the order they reach
 // the proxy) is faulted when n is a multiple of `faultEvery` (and, by default, its path was
@@ -60,6 +62,17 @@ struct FaultPlan {
     /// The faults, in turn.
     std::vector<ProxyFault> kinds = {ProxyFault::Reset, ProxyFault::Drop, ProxyFault::ServerError,
                                      ProxyFault::Truncated, ProxyFault::SlowBody};
+    /// Packet loss: the probability that a request, or a segment of an answer (kSegmentBytes,
+    /// an Ethernet frame's TCP payload), is lost. TCP delivers nothing beyond a lost segment
+    /// until it is sent again, so each loss stalls the stream: for a round trip (`latency`)
+    /// where three or more segments follow it (their duplicate acknowledgements make the
+    /// sender retransmit at once, RFC 5681's fast retransmit), else for retransmitDelay,
+    /// Linux's least retransmission timeout (a request's loss, or one near a transfer's end).
+    /// Drawn from a hash of the request's number and the segment's, so a run's losses depend
+    /// on the order requests arrive in only.
+    double segmentLoss = 0.0;
+    std::chrono::milliseconds retransmitDelay{200};
+    static constexpr std::size_t kSegmentBytes = 1448;
 };
 
 class FaultProxy {
@@ -105,6 +118,8 @@ public:
 
     /// Requests that reached the proxy so far.
     int requests() const { return m_requests.load(); }
+    /// Packets (requests and answers' segments) lost so far (FaultPlan::segmentLoss).
+    int lostPackets() const { return m_lostPackets.load(); }
     /// The most requests it was answering at once so far: a request counts from its head's
     /// arrival until just before the client sees anything of the answer, so a client that
     /// waits for its answer before sending the next request never counts twice.
@@ -213,6 +228,38 @@ private:
         return answer;
     }
 
+    // Whether segment `segment` of request `request`'s exchange is lost (segment 0: the
+    // request itself), by a hash of the two (SplitMix64's finaliser) against segmentLoss.
+    bool lost(int request, std::size_t segment, double probability) const {
+        if (probability <= 0.0) return false;
+        std::uint64_t z = (std::uint64_t(request) << 32) ^ std::uint64_t(segment);
+        z += 0x9e3779b97f4a7c15ULL;
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+        z ^= z >> 31;
+        const bool lostIt = double(z >> 11) * 0x1.0p-53 < probability;
+        if (lostIt) ++m_lostPackets;
+        return lostIt;
+    }
+
+    // `data` in segments, each lost one sent after a round trip (`roundTrip`), or after the
+    // retransmission timeout (`timeout`) when fewer than three segments follow it.
+    bool sendLossy(int fd, const char* data, std::size_t size, int request, std::size_t& segment,
+                   double probability, std::chrono::milliseconds roundTrip,
+                   std::chrono::milliseconds timeout) const {
+        constexpr std::size_t kDuplicateAcks = 3;
+        for (std::size_t at = 0; at < size; at += FaultPlan::kSegmentBytes) {
+            const std::size_t following = (size - std::min(size, at + FaultPlan::kSegmentBytes) +
+                                           FaultPlan::kSegmentBytes - 1) /
+                                          FaultPlan::kSegmentBytes;
+            if (lost(request, ++segment, probability))
+                std::this_thread::sleep_for(following >= kDuplicateAcks ? roundTrip : timeout);
+            if (!sendAll(fd, data + at, std::min(FaultPlan::kSegmentBytes, size - at)))
+                return false;
+        }
+        return true;
+    }
+
     // The fault of request `request` for `head`, and the latency before its answer.
     std::pair<ProxyFault, std::chrono::milliseconds> faultFor(int request,
                                                               const std::string& head) {
@@ -283,7 +330,17 @@ private:
             const std::string head = readHead(client, buffer);
             if (head.empty()) return;
             InFlight answering(*this);
-            const auto [fault, latency] = faultFor(++m_requests, head);
+            const int request = ++m_requests;
+            const auto [fault, latency] = faultFor(request, head);
+            double loss = 0.0;
+            std::chrono::milliseconds retransmit{0};
+            {
+                std::lock_guard lock(m_mutex);
+                loss = m_plan.segmentLoss;
+                retransmit = m_plan.retransmitDelay;
+            }
+            std::size_t segment = 0;
+            if (lost(request, segment, loss)) std::this_thread::sleep_for(retransmit);
             if (latency.count() > 0) std::this_thread::sleep_for(latency);
             answering.leave();
             if (fault == ProxyFault::Reset) {
@@ -311,6 +368,13 @@ private:
             }
             const std::string headers = rewriteHead(answer.substr(0, split + 4), "");
             const std::string body = answer.substr(split + 4);
+            if (fault == ProxyFault::None && loss > 0.0) {
+                const std::string whole = headers + body;
+                if (!sendLossy(client, whole.data(), whole.size(), request, segment, loss, latency,
+                               retransmit))
+                    return;
+                continue;
+            }
             if (!sendAll(client, headers)) return;
             if (fault == ProxyFault::Truncated) {
                 sendAll(client, body.data(), body.size() / 2);
@@ -347,6 +411,7 @@ private:
     int m_port = 0;
     std::atomic<bool> m_stopping{false};
     std::atomic<int> m_requests{0};
+    mutable std::atomic<int> m_lostPackets{0};
     std::atomic<int> m_inFlight{0};
     std::atomic<int> m_maxInFlight{0};
     mutable std::mutex m_mutex;

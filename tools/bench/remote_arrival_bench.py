@@ -2,8 +2,10 @@
 """Time to full detail after a teleport, from a folder and over HTTP (issue 49).
 
 For each pyramid, serves its folder with Debian's nginx on 127.0.0.1 behind
-terrain-test-proxy (tests/tools/TestProxy.cpp: a latency before every answer, and with
---drop-every every N-th request's connection closed unanswered), then, alternating with and
+terrain-test-proxy (tests/tools/TestProxy.cpp: a latency before every answer, with
+--drop-every every N-th request's connection closed unanswered, and with --loss-percent P that
+share of the packets lost, each loss stalling its stream a round trip, or 200 ms near a
+transfer's end, as TCP's retransmissions do), then, alternating with and
 without reading ahead (--no-prefetch), runs
 
   terrain-render PYRAMID_OR_URL --frames 1 --every 0 --error-px E --json
@@ -76,9 +78,9 @@ class Nginx:
 
 
 class Proxy:
-    def __init__(self, program, upstream, latency_ms, drop_every):
+    def __init__(self, program, upstream, latency_ms, drop_every, loss_percent):
         self.process = subprocess.Popen(
-            [program, str(upstream), str(latency_ms), str(drop_every)],
+            [program, str(upstream), str(latency_ms), str(drop_every), str(loss_percent)],
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
         line = self.process.stdout.readline().split()
         if len(line) != 2 or line[0] != "port":
@@ -119,6 +121,9 @@ def main():
     parser.add_argument("--latencies-ms", default="0,50,200")
     parser.add_argument("--drop-every", type=int, default=10,
                         help="also a run at 50 ms with every N-th request dropped (0: none)")
+    parser.add_argument("--loss-percent", type=float, default=1.0,
+                        help="also a run at 50 ms losing this share of packets, each loss "
+                             "stalling its stream as TCP's retransmissions do (0: none)")
     parser.add_argument("--error-px", type=float, default=2.0)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--size", default="960x540")
@@ -131,17 +136,22 @@ def main():
     render = str(args.build / "tools/terrain-render/terrain-render")
     proxy_program = str(args.build / "tests/tools/terrain-test-proxy")
     size = tuple(int(v) for v in args.size.split("x"))
-    settings = [("folder", None, 0)]
-    settings += [(f"HTTP {ms} ms", int(ms), 0) for ms in args.latencies_ms.split(",")]
+    settings = [("folder", None, 0, 0.0)]
+    settings += [(f"HTTP {ms} ms", int(ms), 0, 0.0) for ms in args.latencies_ms.split(",") if ms]
     if args.drop_every > 0:
-        settings.append((f"HTTP 50 ms, 1 request in {args.drop_every} dropped", 50, args.drop_every))
+        settings.append((f"HTTP 50 ms, 1 request in {args.drop_every} dropped", 50, args.drop_every,
+                         0.0))
+    if args.loss_percent > 0:
+        settings.append((f"HTTP 50 ms, {args.loss_percent:g} % of packets lost", 50, 0,
+                         args.loss_percent))
     rows = []
     for pyramid in args.pyramids:
         pyramid = pyramid.resolve()
         server = Nginx(pyramid.parent)
         try:
-            for name, latency, drop in settings:
-                proxy = None if latency is None else Proxy(proxy_program, server.port, latency, drop)
+            for name, latency, drop, loss in settings:
+                proxy = (None if latency is None
+                         else Proxy(proxy_program, server.port, latency, drop, loss))
                 location = (str(pyramid) if proxy is None
                             else f"http://127.0.0.1:{proxy.port}/{pyramid.name}")
                 runs = {True: [], False: []}

@@ -2,8 +2,8 @@
 // later reader, fetched again when the server's copy changes, never used truncated, served
 // from the cache when the server is gone, and the cache stays within its bound and cleans
 // up what a killed process leaves. Through a fault proxy (FaultProxy.h): every network
-// fault is survived with the files whole, and a process killed (SIGKILL) while it writes a
-// body into the cache leaves the cache usable.
+// fault is survived with the files whole, lost packets only delay them, and a process killed
+// (SIGKILL) while it writes a body into the cache leaves the cache usable.
 #include "FaultProxy.h"
 #include "NginxServer.h"
 #include "TempFolder.h"
@@ -233,6 +233,26 @@ TEST_F(RemoteFilesTest, EveryNetworkFaultIsSurvivedAndNoFileIsKeptHalf) {
         ASSERT_TRUE(copy) << copy.error().message;
         EXPECT_EQ(contentsOf(copy.value()), body(i));
     }
+}
+
+TEST_F(RemoteFilesTest, LostPacketsDelayFilesAndCorruptNone) {
+    // 5 % of the packets lost, each stalling its stream as TCP's retransmission does (1 ms
+    // here): a stall is no failure, so every file arrives whole, fetched once, not retried.
+    FaultProxy proxy(server.port(), FaultPlan{.segmentLoss = 0.05,
+                                              .retransmitDelay = std::chrono::milliseconds(1)});
+    ASSERT_TRUE(proxy.ready());
+    constexpr int kFiles = 8;
+    auto body = [](int i) { return std::string(40000 + 997 * i, char('k' + i)); };
+    for (int i = 0; i < kFiles; ++i) writeFile(root.path() / ("l" + std::to_string(i)), body(i));
+    auto reader = files();
+    for (int i = 0; i < kFiles; ++i) {
+        Result<fs::path> copy = reader->localCopy(proxy.url("l" + std::to_string(i)));
+        ASSERT_TRUE(copy) << copy.error().message;
+        EXPECT_EQ(contentsOf(copy.value()), body(i)) << "file " << i;
+    }
+    EXPECT_GT(proxy.lostPackets(), 0) << "the case tested: some of ~230 packets lost";
+    EXPECT_EQ(reader->stats().fetched, static_cast<std::uint64_t>(kFiles));
+    EXPECT_EQ(reader->stats().retries, 0u);
 }
 
 TEST_F(RemoteFilesTest, ReadersWantingOneFileAtOnceFetchItOnce) {
