@@ -4,7 +4,7 @@
 // without an answer, a 503, a body cut short, a body trickled out slowly, or a body held half
 // sent until the test releases it (to kill a client mid-write); and packet loss, TCP's way:
 // each segment of an answer (and each request) lost with a given probability stalls the
-// stream behind it for a retransmission timeout, nothing else lost.
+// stream behind it until it is sent again (FaultPlan::segmentLoss), nothing else lost.
 //
 // Deterministic by request count, not by chance: request n (1-based, in the order they reach
 // the proxy) is faulted when n is a multiple of `faultEvery` (and, by default, its path was
