@@ -248,14 +248,13 @@ private:
                    double probability, std::chrono::milliseconds roundTrip,
                    std::chrono::milliseconds timeout) const {
         constexpr std::size_t kDuplicateAcks = 3;
-        for (std::size_t at = 0; at < size; at += FaultPlan::kSegmentBytes) {
-            const std::size_t following = (size - std::min(size, at + FaultPlan::kSegmentBytes) +
-                                           FaultPlan::kSegmentBytes - 1) /
-                                          FaultPlan::kSegmentBytes;
+        constexpr std::size_t kBytes = FaultPlan::kSegmentBytes;
+        const std::size_t segments = (size + kBytes - 1) / kBytes;
+        for (std::size_t k = 0; k < segments; ++k) {
+            const std::size_t following = segments - k - 1;
             if (lost(request, ++segment, probability))
                 std::this_thread::sleep_for(following >= kDuplicateAcks ? roundTrip : timeout);
-            if (!sendAll(fd, data + at, std::min(FaultPlan::kSegmentBytes, size - at)))
-                return false;
+            if (!sendAll(fd, data + k * kBytes, std::min(kBytes, size - k * kBytes))) return false;
         }
         return true;
     }

@@ -57,33 +57,24 @@ Result<GeographicGrid::Resampled> GeographicBlocks::at(double latitudeDeg, doubl
     if (!where) return GeographicGrid::Resampled{};
     float corner[2][2] = {};
     bool valid[2][2] = {};
-    // Most points' four samples lie in one block: one lookup (and one move to the front of
-    // the recently used, as four would make) instead of four.
-    const std::int64_t blockRow = where->rows[0] / m_blockRows;
-    const std::int64_t blockColumn = where->columns[0] / m_blockColumns;
-    if (where->rows[1] / m_blockRows == blockRow &&
-        where->columns[1] / m_blockColumns == blockColumn) {
-        Result<const Block*> b = block(blockRow, blockColumn);
-        if (!b) return b.error();
-        const Block& one = *b.value();
-        for (int r = 0; r < 2; ++r)
-            for (int c = 0; c < 2; ++c) {
-                const auto i = static_cast<std::size_t>((where->rows[r] - one.row0) * one.columns +
-                                                        (where->columns[c] - one.column0));
-                corner[r][c] = one.heights[i];
-                valid[r][c] = one.valid[i] != 0;
-            }
-        return GeographicGrid::interpolate(*where, corner, valid);
-    }
+    // Most points' four samples lie in one block: a corner in the previous corner's block
+    // reuses it, so one lookup instead of four (a repeated lookup would only move the block
+    // to the front of the recently used again, where it already is).
+    const Block* previous = nullptr;
     for (int r = 0; r < 2; ++r) {
         for (int c = 0; c < 2; ++c) {
             const std::int64_t row = where->rows[r], column = where->columns[c];
-            Result<const Block*> b = block(row / m_blockRows, column / m_blockColumns);
-            if (!b) return b.error();
-            const auto i = static_cast<std::size_t>((row - b.value()->row0) * b.value()->columns +
-                                                    (column - b.value()->column0));
-            corner[r][c] = b.value()->heights[i];
-            valid[r][c] = b.value()->valid[i] != 0;
+            const std::int64_t blockRow = row / m_blockRows, blockColumn = column / m_blockColumns;
+            if (previous == nullptr || previous->row0 != blockRow * m_blockRows ||
+                previous->column0 != blockColumn * m_blockColumns) {
+                Result<const Block*> b = block(blockRow, blockColumn);
+                if (!b) return b.error();
+                previous = b.value();
+            }
+            const auto i = static_cast<std::size_t>((row - previous->row0) * previous->columns +
+                                                    (column - previous->column0));
+            corner[r][c] = previous->heights[i];
+            valid[r][c] = previous->valid[i] != 0;
         }
     }
     return GeographicGrid::interpolate(*where, corner, valid);

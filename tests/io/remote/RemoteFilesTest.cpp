@@ -18,6 +18,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -63,6 +64,24 @@ protected:
             RemoteFiles::open({cache.path(), maxBytes}, http);
         EXPECT_TRUE(opened) << opened.error().message;
         return std::move(opened).value();
+    }
+
+    // Files prefix0 … prefix(count − 1) on the server, file i holding body(i).
+    void writeFiles(const std::string& prefix, int count,
+                    const std::function<std::string(int)>& body) {
+        for (int i = 0; i < count; ++i)
+            writeFile(root.path() / (prefix + std::to_string(i)), body(i));
+    }
+    // Each of those files read through `reader` from urlOf(its name): every one whole.
+    static void expectEachWhole(RemoteFiles& reader,
+                                const std::function<std::string(const std::string&)>& urlOf,
+                                const std::string& prefix, int count,
+                                const std::function<std::string(int)>& body) {
+        for (int i = 0; i < count; ++i) {
+            Result<fs::path> copy = reader.localCopy(urlOf(prefix + std::to_string(i)));
+            ASSERT_TRUE(copy) << copy.error().message;
+            EXPECT_EQ(contentsOf(copy.value()), body(i)) << "file " << i;
+        }
     }
 
     TempFolder root;
@@ -213,13 +232,10 @@ TEST_F(RemoteFilesTest, EveryNetworkFaultIsSurvivedAndNoFileIsKeptHalf) {
     ASSERT_TRUE(proxy.ready());
     constexpr int kFiles = 12;
     auto body = [](int i) { return std::string(20000 + 1000 * i, char('a' + i)); };
-    for (int i = 0; i < kFiles; ++i) writeFile(root.path() / ("n" + std::to_string(i)), body(i));
+    writeFiles("n", kFiles, body);
     auto reader = files();
-    for (int i = 0; i < kFiles; ++i) {
-        Result<fs::path> copy = reader->localCopy(proxy.url("n" + std::to_string(i)));
-        ASSERT_TRUE(copy) << copy.error().message;
-        EXPECT_EQ(contentsOf(copy.value()), body(i)) << "file " << i;
-    }
+    expectEachWhole(
+        *reader, [&](const std::string& name) { return proxy.url(name); }, "n", kFiles, body);
     for (ProxyFault kind : FaultPlan{}.kinds)
         EXPECT_GE(proxy.faulted(kind), 1) << "fault " << static_cast<int>(kind) << " never met";
     EXPECT_EQ(reader->stats().fetched, static_cast<std::uint64_t>(kFiles));
@@ -228,11 +244,8 @@ TEST_F(RemoteFilesTest, EveryNetworkFaultIsSurvivedAndNoFileIsKeptHalf) {
     EXPECT_GE(reader->stats().retries, 2u);
     // What the faults left in the cache is whole: a later run confirms every file, no body.
     auto later = files();
-    for (int i = 0; i < kFiles; ++i) {
-        Result<fs::path> copy = later->localCopy(server.url("n" + std::to_string(i)));
-        ASSERT_TRUE(copy) << copy.error().message;
-        EXPECT_EQ(contentsOf(copy.value()), body(i));
-    }
+    expectEachWhole(
+        *later, [&](const std::string& name) { return server.url(name); }, "n", kFiles, body);
 }
 
 TEST_F(RemoteFilesTest, LostPacketsDelayFilesAndCorruptNone) {
@@ -243,13 +256,10 @@ TEST_F(RemoteFilesTest, LostPacketsDelayFilesAndCorruptNone) {
     ASSERT_TRUE(proxy.ready());
     constexpr int kFiles = 8;
     auto body = [](int i) { return std::string(40000 + 997 * i, char('k' + i)); };
-    for (int i = 0; i < kFiles; ++i) writeFile(root.path() / ("l" + std::to_string(i)), body(i));
+    writeFiles("l", kFiles, body);
     auto reader = files();
-    for (int i = 0; i < kFiles; ++i) {
-        Result<fs::path> copy = reader->localCopy(proxy.url("l" + std::to_string(i)));
-        ASSERT_TRUE(copy) << copy.error().message;
-        EXPECT_EQ(contentsOf(copy.value()), body(i)) << "file " << i;
-    }
+    expectEachWhole(
+        *reader, [&](const std::string& name) { return proxy.url(name); }, "l", kFiles, body);
     EXPECT_GT(proxy.lostPackets(), 0) << "the case tested: some of ~230 packets lost";
     EXPECT_EQ(reader->stats().fetched, static_cast<std::uint64_t>(kFiles));
     EXPECT_EQ(reader->stats().retries, 0u);
