@@ -4,7 +4,8 @@
 // without an answer, a 503, a body cut short, a body trickled out slowly, or a body held half
 // sent until the test releases it (to kill a client mid-write); and packet loss, TCP's way:
 // each segment of an answer (and each request) lost with a given probability stalls the
-// stream behind it until it is sent again (FaultPlan::segmentLoss), nothing else lost.
+// stream behind it until it is sent again (FaultPlan::segmentLoss), nothing else lost; and
+// TCP's congestion window, so a large answer takes round trips (FaultPlan::initialWindow).
 //
 // Deterministic by request count, not by chance: request n (1-based, in the order they reach
 // the proxy) is faulted when n is a multiple of `faultEvery` (and, by default, its path was
@@ -30,6 +31,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <set>
@@ -72,6 +74,14 @@ struct FaultPlan {
     /// on the order requests arrive in only.
     double segmentLoss = 0.0;
     std::chrono::milliseconds retransmitDelay{200};
+    /// TCP's congestion window, in segments, as a connection starts and after it has been
+    /// idle longer than retransmitDelay (RFC 5681 §4.1; Linux's slow start after idle); 0:
+    /// none, an answer goes out at once. With one, an answer goes out a window at a time, a
+    /// round trip (`latency`) between windows while the acknowledgements come back; the window
+    /// doubles each round trip (slow start) up to the threshold, then grows by a segment, and a
+    /// round with a loss halves it and sets the threshold there (Reno). Linux starts at 10
+    /// (RFC 6928).
+    std::size_t initialWindow = 0;
     static constexpr std::size_t kSegmentBytes = 1448;
 };
 
@@ -242,20 +252,46 @@ private:
         return lostIt;
     }
 
-    // `data` in segments, each lost one sent after a round trip (`roundTrip`), or after the
+    // One client connection's congestion window (FaultPlan::initialWindow).
+    struct Window {
+        std::size_t segments = 0;  // 0: no window
+        std::size_t threshold = std::numeric_limits<std::size_t>::max();
+        std::chrono::steady_clock::time_point lastSent{};
+    };
+
+    // `data` in segments, a window at a time with a round trip between windows (when `window`
+    // has one), each lost segment sent after a round trip (`roundTrip`), or after the
     // retransmission timeout (`timeout`) when fewer than three segments follow it.
-    bool sendLossy(int fd, const char* data, std::size_t size, int request, std::size_t& segment,
+    bool sendPaced(int fd, const char* data, std::size_t size, int request, std::size_t& segment,
                    double probability, std::chrono::milliseconds roundTrip,
-                   std::chrono::milliseconds timeout) const {
+                   std::chrono::milliseconds timeout, Window& window) const {
         constexpr std::size_t kDuplicateAcks = 3;
         constexpr std::size_t kBytes = FaultPlan::kSegmentBytes;
         const std::size_t segments = (size + kBytes - 1) / kBytes;
-        for (std::size_t k = 0; k < segments; ++k) {
-            const std::size_t following = segments - k - 1;
-            if (lost(request, ++segment, probability))
-                std::this_thread::sleep_for(following >= kDuplicateAcks ? roundTrip : timeout);
-            if (!sendAll(fd, data + k * kBytes, std::min(kBytes, size - k * kBytes))) return false;
+        for (std::size_t k = 0; k < segments;) {
+            const std::size_t round =
+                window.segments == 0 ? segments - k : std::min(window.segments, segments - k);
+            bool lostInRound = false;
+            for (const std::size_t end = k + round; k < end; ++k) {
+                const std::size_t following = segments - k - 1;
+                if (lost(request, ++segment, probability)) {
+                    lostInRound = true;
+                    std::this_thread::sleep_for(following >= kDuplicateAcks ? roundTrip : timeout);
+                }
+                if (!sendAll(fd, data + k * kBytes, std::min(kBytes, size - k * kBytes)))
+                    return false;
+            }
+            if (window.segments == 0) continue;
+            if (k < segments) std::this_thread::sleep_for(roundTrip);  // the window's acks
+            if (lostInRound) {
+                window.threshold = std::max<std::size_t>(window.segments / 2, 2);
+                window.segments = window.threshold;
+            } else {
+                window.segments =
+                    window.segments < window.threshold ? window.segments * 2 : window.segments + 1;
+            }
         }
+        window.lastSent = std::chrono::steady_clock::now();
         return true;
     }
 
@@ -325,6 +361,7 @@ private:
     // Answers the requests of one client connection until it closes or a fault closes it.
     void serve(int client) {
         std::string buffer;
+        Window window;
         for (;;) {
             const std::string head = readHead(client, buffer);
             if (head.empty()) return;
@@ -333,11 +370,20 @@ private:
             const auto [fault, latency] = faultFor(request, head);
             double loss = 0.0;
             std::chrono::milliseconds retransmit{0};
+            std::size_t initialWindow = 0;
             {
                 std::lock_guard lock(m_mutex);
                 loss = m_plan.segmentLoss;
                 retransmit = m_plan.retransmitDelay;
+                initialWindow = m_plan.initialWindow;
             }
+            // A new connection, or one idle for longer than a retransmission timeout (a round
+            // trip and the least timeout, as Linux's), starts with the initial window again.
+            const bool idle =
+                std::chrono::steady_clock::now() - window.lastSent > latency + retransmit;
+            if (initialWindow > 0 && (window.segments == 0 || idle))
+                window.segments = initialWindow;
+            if (initialWindow == 0) window.segments = 0;
             std::size_t segment = 0;
             if (lost(request, segment, loss)) std::this_thread::sleep_for(retransmit);
             if (latency.count() > 0) std::this_thread::sleep_for(latency);
@@ -367,10 +413,10 @@ private:
             }
             const std::string headers = rewriteHead(answer.substr(0, split + 4), "");
             const std::string body = answer.substr(split + 4);
-            if (fault == ProxyFault::None && loss > 0.0) {
+            if (fault == ProxyFault::None && (loss > 0.0 || window.segments > 0)) {
                 const std::string whole = headers + body;
-                if (!sendLossy(client, whole.data(), whole.size(), request, segment, loss, latency,
-                               retransmit))
+                if (!sendPaced(client, whole.data(), whole.size(), request, segment, loss, latency,
+                               retransmit, window))
                     return;
                 continue;
             }

@@ -1,11 +1,13 @@
 // terrain-test-proxy: tests/support/FaultProxy.h as a program, for benchmarks that need a
 // slow or lossy network in front of a real server (tools/bench/remote_arrival_bench.py):
-//   terrain-test-proxy UPSTREAM_PORT [LATENCY_MS] [DROP_EVERY] [LOSS_PERCENT]
+//   terrain-test-proxy UPSTREAM_PORT [LATENCY_MS] [DROP_EVERY] [LOSS_PERCENT] [WINDOW]
 // forwards 127.0.0.1:<a free port> to 127.0.0.1:UPSTREAM_PORT, waiting LATENCY_MS before
 // every answer (a round trip's delay), closing every DROP_EVERY-th request's connection
 // unanswered (0, the default: none) and losing LOSS_PERCENT of the packets (requests and
 // answers' segments; each loss stalls its stream a round trip, or 200 ms near a transfer's
-// end: FaultPlan::segmentLoss; 0, the default: none). Prints "port N" on stdout once it
+// end: FaultPlan::segmentLoss; 0, the default: none), sending answers a congestion window at
+// a time from WINDOW segments (FaultPlan::initialWindow; 0, the default: at once). Prints
+// "port N" on stdout once it
 // listens, and runs until its standard input closes. Not installed: a test helper.
 #include "FaultProxy.h"
 
@@ -15,8 +17,9 @@
 #include <string>
 
 int main(int argc, char** argv) {
-    if (argc < 2 || argc > 5) {
-        std::fprintf(stderr, "usage: %s UPSTREAM_PORT [LATENCY_MS] [DROP_EVERY] [LOSS_PERCENT]\n",
+    if (argc < 2 || argc > 6) {
+        std::fprintf(stderr,
+                     "usage: %s UPSTREAM_PORT [LATENCY_MS] [DROP_EVERY] [LOSS_PERCENT] [WINDOW]\n",
                      argv[0]);
         return 2;
     }
@@ -24,7 +27,8 @@ int main(int argc, char** argv) {
     const int latencyMs = argc > 2 ? std::atoi(argv[2]) : 0;
     const int dropEvery = argc > 3 ? std::atoi(argv[3]) : 0;
     const double lossPercent = argc > 4 ? std::atof(argv[4]) : 0.0;
-    if (upstream <= 0 || upstream > 65535 || latencyMs < 0 || dropEvery < 0 ||
+    const int window = argc > 5 ? std::atoi(argv[5]) : 0;
+    if (upstream <= 0 || upstream > 65535 || latencyMs < 0 || dropEvery < 0 || window < 0 ||
         !(lossPercent >= 0.0 && lossPercent <= 100.0)) {
         std::fprintf(stderr, "%s: bad arguments\n", argv[0]);
         return 2;
@@ -34,7 +38,8 @@ int main(int argc, char** argv) {
                                            .faultEvery = dropEvery,
                                            .oncePerPath = false,
                                            .kinds = {terrain::test::ProxyFault::Drop},
-                                           .segmentLoss = lossPercent / 100.0});
+                                           .segmentLoss = lossPercent / 100.0,
+                                           .initialWindow = static_cast<std::size_t>(window)});
     if (!proxy.ready()) {
         std::fprintf(stderr, "%s: cannot listen on 127.0.0.1\n", argv[0]);
         return 1;

@@ -5,7 +5,9 @@ For each pyramid, serves its folder with Debian's nginx on 127.0.0.1 behind
 terrain-test-proxy (tests/tools/TestProxy.cpp: a latency before every answer, with
 --drop-every every N-th request's connection closed unanswered, and with --loss-percent P that
 share of the packets lost, each loss stalling its stream a round trip, or 200 ms near a
-transfer's end, as TCP's retransmissions do), then, alternating with and
+transfer's end, as TCP's retransmissions do; answers go out a congestion window at a time,
+from --initial-window segments (10, Linux's) doubling each round trip, halved by a loss, so a
+large file takes round trips as over a real network), then, alternating with and
 without reading ahead (--no-prefetch), runs
 
   terrain-render PYRAMID_OR_URL --frames 1 --every 0 --error-px E --json
@@ -78,9 +80,10 @@ class Nginx:
 
 
 class Proxy:
-    def __init__(self, program, upstream, latency_ms, drop_every, loss_percent):
+    def __init__(self, program, upstream, latency_ms, drop_every, loss_percent, window=0):
         self.process = subprocess.Popen(
-            [program, str(upstream), str(latency_ms), str(drop_every), str(loss_percent)],
+            [program, str(upstream), str(latency_ms), str(drop_every), str(loss_percent),
+             str(window)],
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
         line = self.process.stdout.readline().split()
         if len(line) != 2 or line[0] != "port":
@@ -124,6 +127,10 @@ def main():
     parser.add_argument("--loss-percent", type=float, default=1.0,
                         help="also a run at 50 ms losing this share of packets, each loss "
                              "stalling its stream as TCP's retransmissions do (0: none)")
+    parser.add_argument("--initial-window", type=int, default=10,
+                        help="TCP's congestion window in segments as a connection starts or "
+                             "resumes after idling, doubling each round trip (slow start; "
+                             "Linux's 10); 0: answers go out at once, at no bandwidth cost")
     parser.add_argument("--error-px", type=float, default=2.0)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--size", default="960x540")
@@ -151,7 +158,8 @@ def main():
         try:
             for name, latency, drop, loss in settings:
                 proxy = (None if latency is None
-                         else Proxy(proxy_program, server.port, latency, drop, loss))
+                         else Proxy(proxy_program, server.port, latency, drop, loss,
+                                    args.initial_window))
                 location = (str(pyramid) if proxy is None
                             else f"http://127.0.0.1:{proxy.port}/{pyramid.name}")
                 runs = {True: [], False: []}
@@ -176,7 +184,7 @@ def main():
             server.stop()
     args.out.mkdir(parents=True, exist_ok=True)
     report = {"machine": {"cpus": os.cpu_count(), "platform": platform.platform()},
-              "error_px": args.error_px, "size": args.size, "repeats": args.repeats,
+              "initial_window": args.initial_window, "error_px": args.error_px, "size": args.size, "repeats": args.repeats,
               "pose": args.pose or None, "rows": rows}
     (args.out / "remote-arrival-bench.json").write_text(json.dumps(report, indent=1) + "\n")
     lines = ["| pyramid | network | read ahead | frames (median, worst) | seconds (median, worst) |",
