@@ -58,9 +58,12 @@ Result<std::unique_ptr<IoThread>> IoThread::start(const std::filesystem::path& p
                    "IoThread: errorRate outside [0, 1]");
     TERRAIN_ASSERT(options.faults.addedLatencyMs >= 0.0, "IoThread: negative addedLatencyMs");
     const auto parents = std::make_shared<ParentTileCache>(options.sharedParentCacheBytes());
+    // A pyramid at a URL: each file is confirmed with the server once a run, whichever reader
+    // opens it first.
+    const auto confirmed = std::make_shared<remote::ConfirmedUrls>();
     std::vector<PyramidReader> readers;
     for (int i = 0; i < options.readerThreads; ++i) {
-        auto reader = PyramidReader::open(pyramidDir, options.maxOpenShards, parents);
+        auto reader = PyramidReader::open(pyramidDir, options.maxOpenShards, parents, confirmed);
         if (!reader) return reader.error();
         readers.push_back(std::move(reader).value());
     }

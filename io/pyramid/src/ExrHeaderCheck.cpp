@@ -135,7 +135,7 @@ struct PartFacts {
 
 class HeaderWalk {
 public:
-    HeaderWalk(std::ifstream& in, std::uintmax_t fileSize, std::size_t maxName)
+    HeaderWalk(std::istream& in, std::uintmax_t fileSize, std::size_t maxName)
         : m_in(in), m_fileSize(fileSize), m_maxName(maxName) {}
 
     std::uintmax_t left() const {
@@ -187,7 +187,7 @@ public:
     }
 
 private:
-    std::ifstream& m_in;
+    std::istream& m_in;
     std::uintmax_t m_fileSize;
     std::size_t m_maxName;
 };
@@ -199,6 +199,10 @@ Status checkExrHeaderSizes(const std::filesystem::path& path) {
     const std::uintmax_t fileSize = std::filesystem::file_size(path, ec);
     if (ec) return Error{"cannot read its size: " + ec.message()};
     std::ifstream in(path, std::ios::binary);
+    return checkExrHeaderSizes(in, fileSize);
+}
+
+Status checkExrHeaderSizes(std::istream& in, std::uintmax_t fileSize) {
     unsigned char start[8] = {};
     if (!in.read(reinterpret_cast<char*>(start), sizeof start))
         return Error{"not an OpenEXR file: shorter than its 8-byte start"};

@@ -3,6 +3,7 @@
 // list caps how many stay open. Everything OpenEXR throws becomes an Error naming the
 // shard file and the patch, and the shard is closed so a damaged file is not reused.
 #include "terrain/pyramid/PyramidReader.h"
+#include "RemoteShardStream.h"
 #include "terrain/pyramid/HeightCodes.h"
 #include "terrain/pyramid/ParentTileCache.h"
 #include "terrain/pyramid/VirtualPlanetPyramid.h"
@@ -42,8 +43,12 @@ std::string patchName(const PatchId& id) {
 struct OpenShard {
     ShardId id;
     std::filesystem::path path;   // named in messages (a URL for a remote pyramid)
-    std::filesystem::path local;  // opened: path itself, or its cached copy
+    std::filesystem::path local;  // opened: path itself (empty for a pyramid at a URL)
     int countX = 0, countY = 0;
+    // A pyramid at a URL: the shard read by ranges, and OpenEXR's stream over it (declared
+    // before `file`, which reads through them, so that they outlive it).
+    std::unique_ptr<remote::RemoteFile> remoteFile;
+    std::unique_ptr<RemoteExrStream> remoteStream;
     std::unique_ptr<Imf::MultiPartInputFile> file;
     std::unique_ptr<Imf::DeepTiledInputPart> patches;
     // What the patches part's frame buffer reads into, set once when the shard is opened
@@ -67,11 +72,12 @@ struct PyramidReader::Impl {
     PyramidLayout layout;
     bool hasMask = false;
     int maxOpen = kDefaultOpenShards;
+    // A pyramid at a URL: where its shard files are fetched by ranges (issue 49); null for a
+    // folder. Declared before `shards`, whose files read through it, so that it outlives them.
+    std::unique_ptr<remote::RemoteFiles> remote;
     std::vector<std::unique_ptr<OpenShard>> shards;  // ≤ maxOpen, any order
     std::uint64_t clock = 0;
     std::uint64_t openings = 0;
-    // A pyramid at a URL: its shard files' local copies (issue 49); null for a folder.
-    std::unique_ptr<remote::RemoteFiles> remote;
     std::vector<std::uint32_t> payloadScratch;  // one patch's payload samples
     std::vector<std::uint32_t> codeScratch;     // its height codes
     std::vector<float> parentScratch;           // its parent samples (HeightCodes.h)
@@ -156,26 +162,36 @@ struct PyramidReader::Impl {
     // Error messages here are the "what" only; shard() adds the file and the patch.
     Result<std::unique_ptr<OpenShard>> openShard(const ShardId& s,
                                                  const std::filesystem::path& path) {
-        std::filesystem::path local = path;
-        if (remote) {  // fetched or checked with the server on each opening
-            Result<std::filesystem::path> copy = remote->localCopy(path.string());
-            if (!copy) return Error{"cannot fetch the shard file: " + copy.error().message};
-            local = std::move(copy).value();
-        }
-        std::error_code ec;
-        if (!std::filesystem::exists(local, ec)) return Error{"the shard file is missing"};
-        ++openings;
         auto shard = std::make_unique<OpenShard>();
         shard->id = s;
         shard->path = path;
-        shard->local = local;
         shard->countX = layout.shardCountX(s);
         shard->countY = layout.shardCountY(s);
+        if (remote) {  // read by ranges; checked with the server on its first opening
+            Result<std::unique_ptr<remote::RemoteFile>> file = remote->openRanged(path.string());
+            if (!file) return Error{"cannot fetch the shard file: " + file.error().message};
+            shard->remoteFile = std::move(file).value();
+            shard->remoteStream = std::make_unique<RemoteExrStream>(*shard->remoteFile);
+        } else {
+            std::error_code ec;
+            if (!std::filesystem::exists(path, ec)) return Error{"the shard file is missing"};
+            shard->local = path;
+        }
+        ++openings;
         // OpenEXR allocates what a damaged header declares before it reads it.
-        if (Status header = checkExrHeaderSizes(local); !header) return header.error();
+        if (shard->remoteFile) {
+            RemoteFileBuffer buffer(*shard->remoteFile);
+            std::istream in(&buffer);
+            if (Status header = checkExrHeaderSizes(in, shard->remoteFile->size()); !header)
+                return header.error();
+        } else if (Status header = checkExrHeaderSizes(path); !header) {
+            return header.error();
+        }
         try {
             // 0 threads: a reader decodes on its own thread (one reader per thread).
-            shard->file = std::make_unique<Imf::MultiPartInputFile>(local.c_str(), 0);
+            shard->file = shard->remoteStream
+                              ? std::make_unique<Imf::MultiPartInputFile>(*shard->remoteStream, 0)
+                              : std::make_unique<Imf::MultiPartInputFile>(path.c_str(), 0);
             const std::vector<Imf::Header> expected = shard::shardHeaders(layout, s, hasMask, 1);
             int index[shard::kPartCount] = {-1, -1};
             for (int p = 0; p < shard->file->parts(); ++p) {
@@ -347,7 +363,8 @@ PyramidReader::~PyramidReader() = default;
 
 Result<PyramidReader> PyramidReader::open(const std::filesystem::path& pyramidDir,
                                           int maxOpenShards,
-                                          std::shared_ptr<ParentTileCache> parents) {
+                                          std::shared_ptr<ParentTileCache> parents,
+                                          std::shared_ptr<remote::ConfirmedUrls> confirmed) {
     TERRAIN_ASSERT(maxOpenShards >= 1, "a reader keeps at least one shard open");
     if (isVirtualPlanetName(pyramidDir)) {
         Result<VirtualPlanetPyramid> planet = VirtualPlanetPyramid::open(pyramidDir);
@@ -359,7 +376,8 @@ Result<PyramidReader> PyramidReader::open(const std::filesystem::path& pyramidDi
         impl->planet = std::move(planet).value();
         return PyramidReader(std::move(impl));
     }
-    Result<std::unique_ptr<remote::RemoteFiles>> files = remote::filesFor(pyramidDir.string());
+    Result<std::unique_ptr<remote::RemoteFiles>> files =
+        remote::filesFor(pyramidDir.string(), std::move(confirmed));
     if (!files) return files.error();
     Result<PyramidManifest> manifest = readManifest(pyramidDir, files.value().get());
     if (!manifest) return manifest.error();
@@ -414,6 +432,7 @@ Result<std::uint64_t> PyramidReader::shardBytes(const PatchId& id) {
     if (r.planet) return std::uint64_t{0};  // generated, not stored
     Result<OpenShard*> opened = r.shard(r.layout.shardOf(id), id);
     if (!opened) return opened.error();
+    if (opened.value()->remoteFile) return opened.value()->remoteFile->size();
     std::error_code ec;
     const std::uintmax_t bytes = std::filesystem::file_size(opened.value()->local, ec);
     if (ec) return Error{fmt::format("{}: {}", opened.value()->path.string(), ec.message())};

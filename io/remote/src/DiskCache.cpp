@@ -71,7 +71,61 @@ struct Meta {
     std::string lastModified;
     std::uint64_t bytes = 0;
     std::string data;  // the data file's name, in the meta file's folder
+    // A partial entry's: the whole file's size and the blocks the data file holds (empty for
+    // a complete entry, whose size is `bytes`).
+    std::uint64_t size = 0;
+    std::vector<bool> blocks;
 };
+
+// Blocks as hex digits, four blocks a digit, block 4k + b in bit b of digit k.
+std::string blocksText(const std::vector<bool>& blocks) {
+    std::string text((blocks.size() + 3) / 4, '0');
+    for (std::size_t i = 0; i < blocks.size(); ++i)
+        if (blocks[i]) {
+            char& digit = text[i / 4];
+            const int value = (digit <= '9' ? digit - '0' : digit - 'a' + 10) | (1 << (i % 4));
+            digit = static_cast<char>(value < 10 ? '0' + value : 'a' + value - 10);
+        }
+    return text;
+}
+
+std::optional<std::vector<bool>> blocksFromText(const std::string& text, std::size_t count) {
+    if (text.size() != (count + 3) / 4) return std::nullopt;
+    std::vector<bool> blocks(count, false);
+    for (std::size_t i = 0; i < count; ++i) {
+        const char digit = text[i / 4];
+        int value = 0;
+        if (digit >= '0' && digit <= '9')
+            value = digit - '0';
+        else if (digit >= 'a' && digit <= 'f')
+            value = digit - 'a' + 10;
+        else
+            return std::nullopt;
+        blocks[i] = (value >> (i % 4) & 1) != 0;
+    }
+    return blocks;
+}
+
+std::uint64_t bytesOfBlocks(const std::vector<bool>& blocks, std::uint64_t size) {
+    std::uint64_t bytes = 0;
+    for (std::size_t i = 0; i < blocks.size(); ++i)
+        if (blocks[i])
+            bytes += std::min<std::uint64_t>(kCacheBlockBytes, size - i * kCacheBlockBytes);
+    return bytes;
+}
+
+std::string metaText(const Meta& m) {
+    nlohmann::json j = {{"url", m.url},
+                        {"etag", m.etag},
+                        {"lastModified", m.lastModified},
+                        {"bytes", m.bytes},
+                        {"data", m.data}};
+    if (!m.blocks.empty()) {
+        j["size"] = m.size;
+        j["blocks"] = blocksText(m.blocks);
+    }
+    return j.dump();
+}
 
 std::optional<Meta> readMeta(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
@@ -86,6 +140,14 @@ std::optional<Meta> readMeta(const fs::path& path) {
         m.lastModified = j.value("lastModified", "");
         m.bytes = j.at("bytes").get<std::uint64_t>();
         m.data = j.at("data").get<std::string>();
+        m.size = m.bytes;
+        if (j.contains("blocks")) {
+            m.size = j.at("size").get<std::uint64_t>();
+            std::optional<std::vector<bool>> blocks =
+                blocksFromText(j.at("blocks").get<std::string>(), blocksOfFile(m.size));
+            if (!blocks || bytesOfBlocks(*blocks, m.size) != m.bytes) return std::nullopt;
+            m.blocks = std::move(*blocks);
+        }
         // A data name that could leave the folder is no entry of ours.
         if (m.data.empty() || m.data.find('/') != std::string::npos || m.data.starts_with("."))
             return std::nullopt;
@@ -117,6 +179,10 @@ private:
 
 }  // namespace
 
+std::size_t blocksOfFile(std::uint64_t size) {
+    return static_cast<std::size_t>((size + kCacheBlockBytes - 1) / kCacheBlockBytes);
+}
+
 Result<std::unique_ptr<DiskCache>> DiskCache::open(const CacheOptions& options) {
     std::error_code ec;
     fs::create_directories(options.folder / kLayoutVersion, ec);
@@ -138,13 +204,89 @@ fs::path DiskCache::metaPathOf(const std::string& url) const {
 std::optional<CachedFile> DiskCache::find(const std::string& url) const {
     const fs::path metaPath = metaPathOf(url);
     const std::optional<Meta> meta = readMeta(metaPath);
-    if (!meta || meta->url != url) return std::nullopt;
+    // A partial entry is no copy of the file.
+    if (!meta || meta->url != url || !meta->blocks.empty()) return std::nullopt;
     const fs::path data = metaPath.parent_path() / meta->data;
     std::error_code ec;
     const std::uintmax_t size = fs::file_size(data, ec);
     if (ec || size != meta->bytes) return std::nullopt;  // removed or truncated: a miss
     const fs::file_time_type used = fs::last_write_time(metaPath, ec);
     return CachedFile{data, meta->etag, meta->lastModified, meta->bytes, used};
+}
+
+std::optional<PartialFile> DiskCache::findPartial(const std::string& url) const {
+    const fs::path metaPath = metaPathOf(url);
+    const std::optional<Meta> meta = readMeta(metaPath);
+    if (!meta || meta->url != url) return std::nullopt;
+    const fs::path data = metaPath.parent_path() / meta->data;
+    std::error_code ec;
+    const std::uintmax_t size = fs::file_size(data, ec);
+    if (ec || size != meta->size) return std::nullopt;  // removed or truncated: a miss
+    PartialFile file{data,       meta->etag,   meta->lastModified,
+                     meta->size, meta->blocks, fs::last_write_time(metaPath, ec)};
+    if (file.blocks.empty()) file.blocks.assign(blocksOfFile(file.size), true);
+    return file;
+}
+
+Result<PartialFile> DiskCache::startPartial(const std::string& url, const std::string& etag,
+                                            const std::string& lastModified, std::uint64_t size) {
+    Result<AtomicFile> reserved = reserve(url);
+    if (!reserved) return reserved.error();
+    AtomicFile body = std::move(reserved).value();
+    // Holes where the blocks will go: the file system keeps them unallocated.
+    std::error_code ec;
+    fs::resize_file(body.temporaryPath(), size, ec);
+    if (ec)
+        return Error{fmt::format("{}: cannot make its cache entry {}: {}", url,
+                                 body.temporaryPath().string(), ec.message())};
+    PartialFile file{body.path(),
+                     etag,
+                     lastModified,
+                     size,
+                     std::vector<bool>(blocksOfFile(size), false),
+                     fs::file_time_type::clock::now()};
+    const fs::path metaPath = metaPathOf(url);
+    const std::optional<Meta> previous = readMeta(metaPath);
+    if (Status committed = body.commit(); !committed)
+        return Error{
+            fmt::format("{}: cannot keep it in the cache: {}", url, committed.error().message)};
+    Meta meta{url, etag, lastModified, 0, file.data.filename().string(), size, file.blocks};
+    if (size == 0) meta.blocks.clear();  // nothing to come: complete already
+    if (Status written = writeTextAtomically(metaPath, metaText(meta)); !written) {
+        fs::remove(file.data, ec);
+        return written.error();
+    }
+    if (previous && previous->data != meta.data)
+        fs::remove(metaPath.parent_path() / previous->data, ec);  // an open reader keeps it
+    return file;
+}
+
+std::optional<std::vector<bool>> DiskCache::recordBlocks(const std::string& url,
+                                                         const PartialFile& file) {
+    const fs::path metaPath = metaPathOf(url);
+    std::optional<Meta> meta = readMeta(metaPath);
+    if (!meta || meta->url != url || meta->data != file.data.filename().string() ||
+        meta->size != file.size)
+        return std::nullopt;
+    std::vector<bool> blocks = std::move(meta->blocks);
+    if (blocks.empty()) return std::vector<bool>(blocksOfFile(file.size), true);  // complete
+    for (std::size_t i = 0; i < blocks.size() && i < file.blocks.size(); ++i)
+        blocks[i] = blocks[i] || file.blocks[i];
+    const std::uint64_t before = meta->bytes;
+    meta->bytes = bytesOfBlocks(blocks, file.size);
+    if (std::find(blocks.begin(), blocks.end(), false) == blocks.end())
+        meta->blocks.clear();  // every block has come: a complete entry, which find() returns
+    else
+        meta->blocks = blocks;
+    if (!writeTextAtomically(metaPath, metaText(*meta))) return std::nullopt;
+    m_recordedSinceTrim += meta->bytes - before;
+    // Trimming lists the whole cache: done once a sixteenth of the bound (at most 4 MiB) has
+    // come in ranges, not after each range.
+    if (m_recordedSinceTrim >= std::min<std::uint64_t>(m_options.maxBytes / 16, 4 << 20)) {
+        m_recordedSinceTrim = 0;
+        (void)trim(url);  // a failed trim leaves the cache over its bound until the next
+    }
+    return blocks;
 }
 
 EntryLock::~EntryLock() {
@@ -194,12 +336,8 @@ Result<CachedFile> DiskCache::store(const std::string& url, AtomicFile body,
     if (Status committed = body.commit(); !committed)
         return Error{
             fmt::format("{}: cannot keep it in the cache: {}", url, committed.error().message)};
-    const nlohmann::json j = {{"url", url},
-                              {"etag", etag},
-                              {"lastModified", lastModified},
-                              {"bytes", bytes},
-                              {"data", data.filename().string()}};
-    Status written = writeTextAtomically(metaPath, j.dump());
+    const Meta meta{url, etag, lastModified, bytes, data.filename().string(), bytes, {}};
+    Status written = writeTextAtomically(metaPath, metaText(meta));
     if (!written) {
         std::error_code ec;
         fs::remove(data, ec);

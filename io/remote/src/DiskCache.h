@@ -8,8 +8,15 @@
 // replaced. So a reader that finds a meta file finds a complete data file of the size it
 // records, or none (a truncated or removed one is a miss); a data file is never rewritten,
 // only replaced by a new name, so a process that has one open keeps reading what it opened.
-// A meta file's modification time is the entry's last use. Trimming (after each store) holds
-// an exclusive flock on <folder>/lock, removes the least recently used entries until the
+// A meta file's modification time is the entry's last use.
+//
+// A file read by ranges (RemoteFile) is a partial entry: its data file has the file's whole
+// size, with holes where blocks of kCacheBlockBytes have not come, and its meta file also
+// records the size and which blocks are there ("blocks", hex). Blocks are written into the
+// data file, then recorded, under the entry's lock; a block once recorded is never rewritten,
+// so a reader that saw it recorded may read it without a lock. When every block has come the
+// entry becomes a complete one (no "blocks"), which find() returns. Trimming (after each store)
+// holds an exclusive flock on <folder>/lock, removes the least recently used entries until the
 // bytes fit, and temporary or unreferenced data files over ten minutes old (what a process
 // killed while writing leaves).
 #pragma once
@@ -18,12 +25,14 @@
 #include "terrain/base/Result.h"
 #include "terrain/remote/RemoteFiles.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace terrain::remote {
 
@@ -35,6 +44,25 @@ struct CachedFile {
     /// When the entry was last stored, confirmed or used (its meta file's time).
     std::filesystem::file_time_type used{};
 };
+
+/// A partial entry's blocks are this many bytes (the last one maybe shorter).
+inline constexpr std::uint64_t kCacheBlockBytes = 16 * 1024;
+
+/// An entry as a range reader sees it: complete (every block there) or partial.
+struct PartialFile {
+    std::filesystem::path data;
+    std::string etag;
+    std::string lastModified;
+    std::uint64_t size = 0;    ///< the whole file's bytes
+    std::vector<bool> blocks;  ///< which blocks of kCacheBlockBytes the data file holds
+    std::filesystem::file_time_type used{};
+
+    std::size_t blockCount() const { return blocks.size(); }
+    bool complete() const { return std::find(blocks.begin(), blocks.end(), false) == blocks.end(); }
+};
+
+/// The blocks a file of `size` bytes has.
+std::size_t blocksOfFile(std::uint64_t size);
 
 /// An exclusive flock on one entry's "<name>.lock" for as long as it lives (DiskCache::
 /// lockEntry): held while the entry is fetched or confirmed, so that of the threads and
@@ -67,6 +95,20 @@ public:
     Result<CachedFile> store(const std::string& url, AtomicFile body, const std::string& etag,
                              const std::string& lastModified, std::uint64_t bytes);
 
+    /// `url`'s entry, complete or partial (a complete one has every block), or nullopt.
+    std::optional<PartialFile> findPartial(const std::string& url) const;
+
+    /// Makes a new partial entry of `url` with no block yet: a data file of `size` bytes
+    /// (holes) and its meta file, replacing an older entry. Call with the entry's lock held.
+    Result<PartialFile> startPartial(const std::string& url, const std::string& etag,
+                                     const std::string& lastModified, std::uint64_t size);
+
+    /// Records that `file`'s data file now holds `file.blocks` too (written there by the
+    /// caller). Call with the entry's lock held. Returns the blocks the entry holds now (its
+    /// recorded ones and these), or nullopt when the entry is no longer that data file
+    /// (trimmed, or replaced by another version): the caller's blocks then stay its own.
+    std::optional<std::vector<bool>> recordBlocks(const std::string& url, const PartialFile& file);
+
     /// Waits for, then takes, the lock of `url`'s entry.
     Result<EntryLock> lockEntry(const std::string& url) const;
 
@@ -85,6 +127,9 @@ private:
     std::filesystem::path metaPathOf(const std::string& url) const;
 
     CacheOptions m_options;
+    // Bytes recorded by recordBlocks since this object last trimmed: a range is small, so the
+    // cache is trimmed once enough of them have come rather than after each.
+    std::uint64_t m_recordedSinceTrim = 0;
 };
 
 }  // namespace terrain::remote

@@ -6,8 +6,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
+#include <charconv>
 #include <cstdio>
 #include <cstring>
 #include <mutex>
@@ -15,7 +17,29 @@
 #include <thread>
 
 namespace terrain::remote {
+
+// What one attempt saw.
+struct http::Attempt {
+    CURLcode code = CURLE_OK;
+    long status = 0;
+    std::string etag;
+    std::string lastModified;
+    std::string contentRange;  // "bytes 0-99/1234" of a 206
+    std::uint64_t bytes = 0;
+    bool writeFailed = false;
+    std::string curlMessage;
+};
+
+// Where an attempt's body goes: a file (created or truncated for each attempt) or a string
+// (cleared for each attempt).
+struct http::Target {
+    std::filesystem::path file;
+    std::string* memory = nullptr;
+};
+
 namespace {
+using http::Attempt;
+using http::Target;
 
 // curl_global_init is not thread-safe in every libcurl; once per process, before any handle.
 void initialiseCurlOnce() {
@@ -25,17 +49,6 @@ void initialiseCurlOnce() {
 
 struct FileCloser {
     void operator()(std::FILE* f) const { std::fclose(f); }
-};
-
-// What one attempt saw.
-struct Attempt {
-    CURLcode code = CURLE_OK;
-    long status = 0;
-    std::string etag;
-    std::string lastModified;
-    std::uint64_t bytes = 0;
-    bool writeFailed = false;
-    std::string curlMessage;
 };
 
 std::string trimmed(std::string_view s) {
@@ -61,6 +74,9 @@ std::size_t onHeader(char* data, std::size_t size, std::size_t count, void* user
     if (line.starts_with("HTTP/")) {
         attempt.etag.clear();
         attempt.lastModified.clear();
+        attempt.contentRange.clear();
+    } else if (auto range = headerValue(line, "content-range")) {
+        attempt.contentRange = *range;
     } else if (auto etag = headerValue(line, "etag")) {
         attempt.etag = *etag;
     } else if (auto modified = headerValue(line, "last-modified")) {
@@ -71,13 +87,16 @@ std::size_t onHeader(char* data, std::size_t size, std::size_t count, void* user
 
 struct BodySink {
     std::FILE* file = nullptr;
+    std::string* memory = nullptr;
     Attempt* attempt = nullptr;
 };
 
 std::size_t onBody(char* data, std::size_t size, std::size_t count, void* user) {
     auto& sink = *static_cast<BodySink*>(user);
     const std::size_t n = size * count;
-    if (std::fwrite(data, 1, n, sink.file) != n) {
+    if (sink.memory != nullptr) {
+        sink.memory->append(data, n);
+    } else if (std::fwrite(data, 1, n, sink.file) != n) {
         sink.attempt->writeFailed = true;
         return 0;  // ends the transfer with CURLE_WRITE_ERROR
     }
@@ -136,28 +155,107 @@ Result<std::unique_ptr<HttpClient>> HttpClient::create(const HttpOptions& option
 
 Result<HttpResponse> HttpClient::get(const std::string& url, const Validators& validators,
                                      const std::filesystem::path& file, RemoteStats& stats) {
+    std::vector<std::string> headers;
+    if (!validators.etag.empty()) headers.push_back("If-None-Match: " + validators.etag);
+    if (!validators.lastModified.empty())
+        headers.push_back("If-Modified-Since: " + validators.lastModified);
+    Target target{file, nullptr};
+    Result<Attempt> done = perform(
+        url, headers, target, [](long status) { return status == 200 || status == 304; }, stats);
+    if (!done) return done.error();
+    const Attempt& a = done.value();
+    return HttpResponse{a.status, a.etag, a.lastModified, a.bytes};
+}
+
+namespace {
+
+// "bytes FIRST-LAST/TOTAL" (RFC 9110 §14.4) as its three numbers; nullopt for anything else,
+// "bytes */TOTAL" and an unknown total ("/*") included.
+std::optional<std::array<std::uint64_t, 3>> parseContentRange(std::string_view text) {
+    if (!text.starts_with("bytes ")) return std::nullopt;
+    text.remove_prefix(6);
+    std::array<std::uint64_t, 3> values{};
+    const char separators[] = {'-', '/', '\0'};
+    for (std::size_t i = 0; i < 3; ++i) {
+        const auto [end, error] =
+            std::from_chars(text.data(), text.data() + text.size(), values[i]);
+        if (error != std::errc{} || end == text.data()) return std::nullopt;
+        text.remove_prefix(static_cast<std::size_t>(end - text.data()));
+        if (i < 2) {
+            if (text.empty() || text.front() != separators[i]) return std::nullopt;
+            text.remove_prefix(1);
+        }
+    }
+    if (!text.empty() || values[1] < values[0] || values[1] >= values[2]) return std::nullopt;
+    return values;
+}
+
+}  // namespace
+
+Result<RangeResponse> HttpClient::getRange(const std::string& url, std::uint64_t first,
+                                           std::uint64_t last, const Validators& ifNoneMatch,
+                                           const Validators& ifRange, RemoteStats& stats) {
+    std::vector<std::string> headers{fmt::format("Range: bytes={}-{}", first, last)};
+    if (!ifNoneMatch.etag.empty()) headers.push_back("If-None-Match: " + ifNoneMatch.etag);
+    if (!ifNoneMatch.lastModified.empty())
+        headers.push_back("If-Modified-Since: " + ifNoneMatch.lastModified);
+    // If-Range takes one validator, and a weak ETag never matches it (RFC 9110 §13.1.5): a
+    // strong ETag, which two versions within a second cannot share, else the date.
+    if (!ifRange.etag.empty() && !ifRange.etag.starts_with("W/"))
+        headers.push_back("If-Range: " + ifRange.etag);
+    else if (!ifRange.lastModified.empty())
+        headers.push_back("If-Range: " + ifRange.lastModified);
+    RangeResponse response;
+    Target target{{}, &response.body};
+    Result<Attempt> done = perform(
+        url, headers, target,
+        [](long status) { return status == 200 || status == 206 || status == 304; }, stats);
+    if (!done) return done.error();
+    const Attempt& a = done.value();
+    response.status = a.status;
+    response.etag = a.etag;
+    response.lastModified = a.lastModified;
+    if (a.status == 200) {
+        response.totalBytes = response.body.size();
+    } else if (a.status == 206) {
+        const auto range = parseContentRange(a.contentRange);
+        if (!range || range->at(1) - range->at(0) + 1 != response.body.size())
+            return Error{fmt::format(
+                "{}: the server answered a range request with Content-Range \"{}\" and {} "
+                "bytes, which do not agree",
+                url, a.contentRange, response.body.size())};
+        response.firstByte = range->at(0);
+        response.totalBytes = range->at(2);
+    }
+    return response;
+}
+
+Result<Attempt> HttpClient::perform(const std::string& url,
+                                    const std::vector<std::string>& headerLines, Target& target,
+                                    bool (*accepted)(long status), RemoteStats& stats) {
     CURL* curl = m_handle->curl;
     struct HeaderList {
         curl_slist* list = nullptr;
         ~HeaderList() { curl_slist_free_all(list); }
     } headers;
-    if (!validators.etag.empty())
-        headers.list =
-            curl_slist_append(headers.list, ("If-None-Match: " + validators.etag).c_str());
-    if (!validators.lastModified.empty())
-        headers.list = curl_slist_append(headers.list,
-                                         ("If-Modified-Since: " + validators.lastModified).c_str());
+    for (const std::string& line : headerLines)
+        headers.list = curl_slist_append(headers.list, line.c_str());
 
     char errorText[CURL_ERROR_SIZE] = {};
     std::chrono::milliseconds backoff = m_options.firstBackoff;
     Attempt attempt;
     for (int tries = 0;; ++tries) {
         attempt = Attempt{};
-        std::unique_ptr<std::FILE, FileCloser> out(std::fopen(file.c_str(), "wb"));
-        if (!out)
-            return Error{
-                fmt::format("{}: cannot write {}: {}", url, file.string(), std::strerror(errno))};
-        BodySink sink{out.get(), &attempt};
+        std::unique_ptr<std::FILE, FileCloser> out;
+        if (target.memory != nullptr) {
+            target.memory->clear();
+        } else {
+            out.reset(std::fopen(target.file.c_str(), "wb"));
+            if (!out)
+                return Error{fmt::format("{}: cannot write {}: {}", url, target.file.string(),
+                                         std::strerror(errno))};
+        }
+        BodySink sink{out.get(), target.memory, &attempt};
         errorText[0] = '\0';
         curl_easy_reset(curl);  // keeps the connection cache: keep-alive survives
         curl_easy_setopt(curl, CURLOPT_URL, url.c_str());
@@ -184,7 +282,7 @@ Result<HttpResponse> HttpClient::get(const std::string& url, const Validators& v
             attempt.code = curl_easy_perform(curl);
         }
         curl_easy_getinfo(curl, CURLINFO_RESPONSE_CODE, &attempt.status);
-        if (attempt.code == CURLE_OK && attempt.status == 200) {
+        if (out && attempt.code == CURLE_OK && accepted(attempt.status)) {
             // A body shorter than its Content-Length is CURLE_PARTIAL_FILE above; a write
             // error of the last bytes shows only when the file is closed.
             if (std::fflush(out.get()) != 0 || std::ferror(out.get()) != 0) {
@@ -194,8 +292,8 @@ Result<HttpResponse> HttpClient::get(const std::string& url, const Validators& v
         }
         attempt.curlMessage = attempt.curlMessage.empty() ? errorText : attempt.curlMessage;
         out.reset();
-        const bool ok = attempt.code == CURLE_OK && !attempt.writeFailed &&
-                        (attempt.status == 200 || attempt.status == 304);
+        const bool ok =
+            attempt.code == CURLE_OK && !attempt.writeFailed && accepted(attempt.status);
         if (ok) break;
         if (!worthRetrying(attempt) || tries >= m_options.retries)
             return Error{fmt::format("{}: {}{}", url, describe(attempt),
@@ -205,7 +303,7 @@ Result<HttpResponse> HttpClient::get(const std::string& url, const Validators& v
             std::chrono::duration_cast<std::chrono::milliseconds>(backoff * jitter(m_jitter)));
         backoff *= 2;
     }
-    return HttpResponse{attempt.status, attempt.etag, attempt.lastModified, attempt.bytes};
+    return attempt;
 }
 
 }  // namespace terrain::remote

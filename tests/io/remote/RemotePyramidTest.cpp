@@ -5,10 +5,12 @@
 #include "NginxServer.h"
 #include "StreamingTestPyramid.h"
 #include "TempFolder.h"
+#include "terrain/build/PyramidBuilder.h"
 #include "terrain/iothread/IoThread.h"
 #include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/pyramid/PyramidReader.h"
 #include "terrain/remote/RemoteFiles.h"
+#include "terrain/source/ProceduralDems.h"
 
 #include <gtest/gtest.h>
 
@@ -84,6 +86,80 @@ TEST_F(RemotePyramidTest, EveryPatchReadsAsFromTheFolder) {
         << "the manifest and each shard read, each confirmed once";
     for (std::size_t i = files; i < log.size(); ++i)
         EXPECT_NE(log[i].find("\" 304 "), std::string::npos) << log[i];
+}
+
+TEST_F(RemotePyramidTest, ReadersOfOneRunConfirmEachFileOnce) {
+    // A first run fetches; in a later one, readers sharing what the run has confirmed (an
+    // IoThread's reader threads) confirm each file once between them.
+    const std::vector<PatchId> patches{{0, 0, 0}, {2, 1, 1}, {4, 3, 2}};
+    {
+        Result<PyramidReader> first = PyramidReader::open(url);
+        ASSERT_TRUE(first) << first.error().message;
+        for (const PatchId& id : patches) ASSERT_TRUE(first.value().readPatch(id));
+    }
+    const std::size_t fetched = server.accessLog().size();
+    const auto confirmed = std::make_shared<remote::ConfirmedUrls>();
+    std::vector<PyramidReader> readers;
+    for (int i = 0; i < 3; ++i) {
+        Result<PyramidReader> reader = PyramidReader::open(url, 4, nullptr, confirmed);
+        ASSERT_TRUE(reader) << reader.error().message;
+        for (const PatchId& id : patches) ASSERT_TRUE(reader.value().readPatch(id));
+        readers.push_back(std::move(reader).value());
+    }
+    const std::vector<std::string> log = server.accessLog();
+    EXPECT_EQ(log.size() - fetched, fetched) << "each file the first run fetched, confirmed once";
+    for (std::size_t i = fetched; i < log.size(); ++i)
+        EXPECT_NE(log[i].find("\" 304 "), std::string::npos) << log[i];
+    EXPECT_EQ(readers[1].remoteStats().requests, 0u);
+    EXPECT_EQ(readers[2].remoteStats().requests, 0u);
+}
+
+TEST_F(RemotePyramidTest, ALargeShardIsReadByRangesPatchByPatch) {
+    // Shards of 16 × 16 patches of 65² samples: a finest one holds hundreds of kilobytes, of
+    // which a patch is a few.
+    TempFolder folder;
+    Result<std::unique_ptr<DemReader>> dem = openProceduralDem("procedural:size=1025,seed=9");
+    ASSERT_TRUE(dem) << dem.error().message;
+    PyramidBuildOptions options;
+    options.patchSamples = 65;
+    options.shardPatches = 16;
+    const fs::path big = folder.path() / "big.pyramid";
+    ASSERT_TRUE(buildPyramid(*dem.value(), big, options));
+    NginxServer bigServer{folder.path()};
+    Result<PyramidReader> there = PyramidReader::open(bigServer.url("big.pyramid"));
+    ASSERT_TRUE(there) << there.error().message;
+    Result<PyramidReader> here = PyramidReader::open(big);
+    ASSERT_TRUE(here) << here.error().message;
+    const PyramidLayout& layout = here.value().layout();
+    const int finest = layout.finestLevel();
+    const PatchId first{finest, 5, 7};
+    const std::uint64_t shardBytes = fs::file_size(here.value().shardFile(first));
+    ASSERT_GT(shardBytes, 4 * remote::HttpOptions{}.wholeFileBytes()) << "the case tested";
+
+    // Its parent first (its heights are predicted from the parent's, read through the coarser
+    // levels' small shards, which come whole), then what the patch itself costs.
+    ASSERT_TRUE(there.value().readPatch({finest - 1, first.x / 2, first.y / 2}));
+    const remote::RemoteStats before = there.value().remoteStats();
+    Result<PatchRecord> a = there.value().readPatch(first);
+    ASSERT_TRUE(a) << a.error().message;
+    const remote::RemoteStats one = there.value().remoteStats().since(before);
+    EXPECT_LE(one.fetchedBytes, shardBytes / 4)
+        << "a patch, the shard's head and its patchInfo tile, not the shard";
+    EXPECT_LE(one.requests, 3u) << "the shard's head, its patchInfo tile, the patch";
+
+    // Every patch of every level as from the folder.
+    for (int level = 0; level < layout.levelCount(); ++level)
+        for (std::int64_t y = 0; y < layout.patchesY(level); ++y)
+            for (std::int64_t x = 0; x < layout.patchesX(level); ++x) {
+                const PatchId id{level, static_cast<int>(x), static_cast<int>(y)};
+                Result<PatchRecord> got = there.value().readPatch(id);
+                Result<PatchRecord> want = here.value().readPatch(id);
+                ASSERT_TRUE(got) << got.error().message;
+                ASSERT_TRUE(want) << want.error().message;
+                ASSERT_EQ(got.value().heights, want.value().heights) << "L" << level;
+                ASSERT_EQ(got.value().blockErrors, want.value().blockErrors);
+                EXPECT_EQ(got.value().info.error, want.value().info.error);
+            }
 }
 
 TEST_F(RemotePyramidTest, AMissingShardIsAFaultNamingItsUrl) {

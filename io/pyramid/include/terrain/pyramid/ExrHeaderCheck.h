@@ -12,7 +12,9 @@
 
 #include "terrain/base/Result.h"
 
+#include <cstdint>
 #include <filesystem>
+#include <istream>
 
 namespace terrain::io {
 
@@ -20,5 +22,8 @@ namespace terrain::io {
 /// otherwise an Error saying what is wrong (without the path: callers name the file).
 /// Files that are not OpenEXR are an Error too.
 Status checkExrHeaderSizes(const std::filesystem::path& path);
+
+/// The same walk over a file of `fileSize` bytes read from `in` (at its start).
+Status checkExrHeaderSizes(std::istream& in, std::uintmax_t fileSize);
 
 }  // namespace terrain::io

@@ -15,6 +15,10 @@
 #include <filesystem>
 #include <memory>
 
+namespace terrain::remote {
+class ConfirmedUrls;
+}
+
 namespace terrain::io {
 
 class ParentTileCache;
@@ -41,10 +45,13 @@ public:
     /// virtual planet's name ("planet:…", VirtualPlanetPyramid.h) opens a reader that
     /// generates each patch instead of reading it (it has no shard files). `parents`: a
     /// cache of decoded parents shared with other readers of the same pyramid (each on its
-    /// own thread); null: a cache of kParentCacheBytes of its own.
+    /// own thread); null: a cache of kParentCacheBytes of its own. `confirmed`: for a pyramid
+    /// at a URL, the files this run's other readers have confirmed with the server, so that
+    /// each is confirmed once (null: this reader's own).
     static Result<PyramidReader> open(const std::filesystem::path& pyramidDir,
                                       int maxOpenShards = kDefaultOpenShards,
-                                      std::shared_ptr<ParentTileCache> parents = nullptr);
+                                      std::shared_ptr<ParentTileCache> parents = nullptr,
+                                      std::shared_ptr<remote::ConfirmedUrls> confirmed = nullptr);
 
     PyramidReader(PyramidReader&& other) noexcept;
     PyramidReader& operator=(PyramidReader&& other) noexcept;

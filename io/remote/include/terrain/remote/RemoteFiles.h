@@ -3,7 +3,8 @@
 // the disk cache (DiskCache.h: bounded in bytes, least recently used first out, kept across
 // runs, shared by processes) and checked against the server once in a RemoteFiles' life with
 // a conditional GET (If-None-Match / If-Modified-Since): unchanged costs a 304 and no body, a
-// rebuilt file is fetched again. Transfers go through one libcurl handle (HttpClient.h:
+// rebuilt file is fetched again. Large files a reader wants parts of (shards) are read by
+// ranges instead (RemoteFile). Transfers go through one libcurl handle (HttpClient.h:
 // keep-alive, HTTP/2 where offered, timeouts, retries with backoff and jitter).
 //
 // Configured like GDAL's /vsicurl/, by environment, so a URL works wherever a pyramid path
@@ -14,8 +15,10 @@
 //   TERRAIN_HTTP_TIMEOUT  seconds a request may take before it is retried (default 30)
 //   TERRAIN_HTTP_RETRIES  attempts after the first (default 4)
 //   TERRAIN_HTTP_MAX_PER_HOST  requests under way to one host at once, process-wide (default 6)
+//   TERRAIN_HTTP_RANGE_BYTES   bytes a range request of a shard asks for at least (default 64K;
+//                              0: shards come whole)
 // One thread at a time (the I/O thread owns the reader's); readers on other threads make
-// their own.
+// their own, sharing what this run has confirmed (ConfirmedUrls).
 #pragma once
 
 #include "terrain/base/Result.h"
@@ -25,6 +28,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <mutex>
+#include <span>
 #include <string>
 #include <string_view>
 #include <unordered_set>
@@ -51,20 +56,79 @@ struct HttpOptions {
     /// The most requests this process has under way to one host (scheme, host and port) at
     /// once, whatever its readers: the others wait their turn (HostSlots).
     int maxPerHost = 6;
-    /// TERRAIN_HTTP_TIMEOUT, TERRAIN_HTTP_RETRIES and TERRAIN_HTTP_MAX_PER_HOST, with the
-    /// defaults above.
+    /// A file read by ranges (RemoteFile, a pyramid's shards): its first request asks for this
+    /// many bytes, and a read of bytes not yet here fetches them with what follows up to this
+    /// many; a file of at most 4 × this comes whole with its second request. A multiple of
+    /// 16 KiB; 0: such files come whole, as other files do.
+    std::uint64_t rangeBytes = 64 * 1024;
+    std::uint64_t wholeFileBytes() const { return 4 * rangeBytes; }
+    /// TERRAIN_HTTP_TIMEOUT, TERRAIN_HTTP_RETRIES, TERRAIN_HTTP_MAX_PER_HOST and
+    /// TERRAIN_HTTP_RANGE_BYTES, with the defaults above.
     static Result<HttpOptions> fromEnvironment();
+};
+
+/// The URLs confirmed with the server in this run, shared by the RemoteFiles of readers that
+/// read one pyramid on several threads (IoThread's), so that a file is confirmed once a run,
+/// not once a reader. Thread-safe.
+class ConfirmedUrls {
+public:
+    bool contains(const std::string& url) const;
+    void insert(const std::string& url);
+
+private:
+    mutable std::mutex m_mutex;
+    std::unordered_set<std::string> m_urls;
 };
 
 class DiskCache;
 class HttpClient;
+class RemoteFiles;
+struct PartialFile;
+
+/// A file at a URL read by ranges (RemoteFiles::openRanged): only the blocks a read needs are
+/// fetched (HTTP range requests, RFC 9110 §14), into a partial entry of the disk cache that
+/// later reads, runs and processes use. For large files of which a reader wants a few parts,
+/// as a pyramid's shard files: a patch costs its own bytes, not its shard's.
+class RemoteFile {
+public:
+    ~RemoteFile();
+    RemoteFile(const RemoteFile&) = delete;
+    RemoteFile& operator=(const RemoteFile&) = delete;
+
+    const std::string& url() const { return m_url; }
+    std::uint64_t size() const;
+
+    /// Bytes [offset, offset + out.size()) of the file, fetching the blocks the cache does
+    /// not hold (with If-Range, so the bytes all come from the version first seen). An Error
+    /// names the URL: beyond the file's end, the network, or the file changed on the server
+    /// while it was being read.
+    Status read(std::uint64_t offset, std::span<char> out);
+
+private:
+    friend class RemoteFiles;
+    RemoteFile(RemoteFiles& files, std::string url, std::unique_ptr<PartialFile> entry, int fd);
+    Status fetch(std::size_t firstBlock, std::size_t lastBlock);
+
+    // The most a fetch grows to: 2 MiB of blocks.
+    static constexpr std::size_t kMaxFetchBlocks = 128;
+
+    RemoteFiles& m_files;
+    std::string m_url;
+    std::unique_ptr<PartialFile> m_entry;  // the blocks this object knows to be in the data file
+    int m_fd = -1;                         // the data file, read and written by position
+    std::size_t m_fetchBlocks = 0;         // the last fetch's worth, in blocks (0: none yet)
+    std::size_t m_fetchEnd = 0;            // the block after the last fetch's last
+};
 
 class RemoteFiles {
 public:
-    static Result<std::unique_ptr<RemoteFiles>> open(const CacheOptions& cache,
-                                                     const HttpOptions& http);
+    /// `confirmed`: shared with other readers of this run (null: this object's own).
+    static Result<std::unique_ptr<RemoteFiles>> open(
+        const CacheOptions& cache, const HttpOptions& http,
+        std::shared_ptr<ConfirmedUrls> confirmed = nullptr);
     /// open() with both from the environment.
-    static Result<std::unique_ptr<RemoteFiles>> fromEnvironment();
+    static Result<std::unique_ptr<RemoteFiles>> fromEnvironment(
+        std::shared_ptr<ConfirmedUrls> confirmed = nullptr);
     ~RemoteFiles();
     RemoteFiles(const RemoteFiles&) = delete;
     RemoteFiles& operator=(const RemoteFiles&) = delete;
@@ -75,20 +139,36 @@ public:
     /// the URL and what the server or the network said ("HTTP 404", "cannot connect: …").
     Result<std::filesystem::path> localCopy(const std::string& url);
 
+    /// `url` to be read by ranges (RemoteFile): checked with the server the first time this
+    /// run is asked for it, with a conditional request for its first HttpOptions::rangeBytes,
+    /// which a new entry keeps (the headers and tables a reader wants first). A file of at
+    /// most HttpOptions::wholeFileBytes() comes whole at once (every file does with a
+    /// rangeBytes of 0). Errors as localCopy's.
+    Result<std::unique_ptr<RemoteFile>> openRanged(const std::string& url);
+
     const RemoteStats& stats() const { return m_stats; }
 
 private:
-    RemoteFiles(std::unique_ptr<DiskCache> cache, std::unique_ptr<HttpClient> http);
+    friend class RemoteFile;
+    // Keeps a body that is the whole file as a complete entry and opens it.
+    Result<std::unique_ptr<RemoteFile>> keepWhole(const std::string& url, const std::string& body,
+                                                  const std::string& etag,
+                                                  const std::string& lastModified);
+    Result<std::unique_ptr<RemoteFile>> openEntry(const std::string& url, PartialFile entry);
+
+    RemoteFiles(std::unique_ptr<DiskCache> cache, std::unique_ptr<HttpClient> http,
+                std::shared_ptr<ConfirmedUrls> confirmed);
 
     std::unique_ptr<DiskCache> m_cache;
     std::unique_ptr<HttpClient> m_http;
-    std::unordered_set<std::string> m_checked;  // URLs confirmed with the server by this object
+    std::shared_ptr<ConfirmedUrls> m_checked;  // URLs confirmed with the server this run
     RemoteStats m_stats;
 };
 
 /// The RemoteFiles a reader of `location` fetches through: one from the environment
-/// (RemoteFiles::fromEnvironment) for a URL, null for a local path.
-Result<std::unique_ptr<RemoteFiles>> filesFor(std::string_view location);
+/// (RemoteFiles::fromEnvironment, with `confirmed`) for a URL, null for a local path.
+Result<std::unique_ptr<RemoteFiles>> filesFor(std::string_view location,
+                                              std::shared_ptr<ConfirmedUrls> confirmed = nullptr);
 
 /// `folder` + "/" + `name` for a URL folder (no path normalisation: "//" after the scheme
 /// stays).

@@ -11,7 +11,7 @@ namespace terrain::remote {
 struct RemoteStats {
     std::uint64_t requests = 0;      ///< HTTP requests sent, retries included
     std::uint64_t retries = 0;       ///< of them, repeats after a failure
-    std::uint64_t fetched = 0;       ///< files whose body came (200)
+    std::uint64_t fetched = 0;       ///< bodies that came: files (200) and ranges (206)
     std::uint64_t fetchedBytes = 0;  ///< their bytes
     std::uint64_t notModified = 0;   ///< cached files the server confirmed (304)
     std::uint64_t cacheHits = 0;     ///< local copies used without a request
