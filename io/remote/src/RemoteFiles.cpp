@@ -174,11 +174,24 @@ Result<std::unique_ptr<RemoteFiles>> RemoteFiles::fromEnvironment(
     return open(cache.value(), http.value(), std::move(confirmed));
 }
 
+void RemoteFiles::used(const std::string& url, std::uint64_t& outcome) {
+    ++outcome;
+    m_checked->insert(url);
+    m_cache->touch(url);
+}
+
+Error RemoteFiles::notModifiedWithoutCopy(const std::string& url) {
+    // A 304 to an unconditional GET: a broken server or proxy.
+    return Error{
+        fmt::format("{}: the server answered 304 (not modified) to a request for a "
+                    "file this cache does not have",
+                    url)};
+}
+
 Result<std::filesystem::path> RemoteFiles::localCopy(const std::string& url) {
     std::optional<CachedFile> cached = m_cache->find(url);
     if (cached && m_checked->contains(url)) {
-        ++m_stats.cacheHits;
-        m_cache->touch(url);
+        used(url, m_stats.cacheHits);
         return cached->data;
     }
     // One fetch or confirmation of a URL at a time among the cache's users, threads and
@@ -201,22 +214,14 @@ Result<std::filesystem::path> RemoteFiles::localCopy(const std::string& url) {
         m_http->get(url, validators, body.value().temporaryPath(), m_stats);
     if (!response) {
         if (cached) {  // offline, or the server is down: the copy we have beats nothing
-            ++m_stats.staleServed;
-            m_checked->insert(url);
-            m_cache->touch(url);
+            used(url, m_stats.staleServed);
             return cached->data;
         }
         return response.error();
     }
     if (response.value().status == 304) {
-        if (!cached)  // a 304 to an unconditional GET: a broken server or proxy
-            return Error{
-                fmt::format("{}: the server answered 304 (not modified) to a request "
-                            "for a file this cache does not have",
-                            url)};
-        ++m_stats.notModified;
-        m_checked->insert(url);
-        m_cache->touch(url);
+        if (!cached) return notModifiedWithoutCopy(url);
+        used(url, m_stats.notModified);
         return cached->data;
     }
     ++m_stats.fetched;
@@ -275,8 +280,7 @@ Result<std::unique_ptr<RemoteFile>> RemoteFiles::openRanged(const std::string& u
     }
     std::optional<PartialFile> cached = m_cache->findPartial(url);
     if (cached && m_checked->contains(url)) {
-        ++m_stats.cacheHits;
-        m_cache->touch(url);
+        used(url, m_stats.cacheHits);
         return openEntry(url, std::move(*cached));
     }
     // As in localCopy: one confirmation or first fetch of a URL at a time among the cache's
@@ -295,23 +299,15 @@ Result<std::unique_ptr<RemoteFile>> RemoteFiles::openRanged(const std::string& u
     Result<RangeResponse> first = m_http->getRange(url, 0, rangeBytes - 1, validators, {}, m_stats);
     if (!first) {
         if (cached) {  // offline, or the server is down: the blocks we have beat nothing
-            ++m_stats.staleServed;
-            m_checked->insert(url);
-            m_cache->touch(url);
+            used(url, m_stats.staleServed);
             return openEntry(url, std::move(*cached));
         }
         return first.error();
     }
     RangeResponse& head = first.value();
     if (head.status == 304) {
-        if (!cached)
-            return Error{
-                fmt::format("{}: the server answered 304 (not modified) to a request "
-                            "for a file this cache does not have",
-                            url)};
-        ++m_stats.notModified;
-        m_checked->insert(url);
-        m_cache->touch(url);
+        if (!cached) return notModifiedWithoutCopy(url);
+        used(url, m_stats.notModified);
         return openEntry(url, std::move(*cached));
     }
     ++m_stats.fetched;

@@ -150,6 +150,10 @@ public:
 
 private:
     friend class RemoteFile;
+    // Counts `outcome` (a hit, a 304, a stale copy), takes `url` as confirmed this run and
+    // marks its entry used now.
+    void used(const std::string& url, std::uint64_t& outcome);
+    static Error notModifiedWithoutCopy(const std::string& url);
     // Keeps a body that is the whole file as a complete entry and opens it.
     Result<std::unique_ptr<RemoteFile>> keepWhole(const std::string& url, const std::string& body,
                                                   const std::string& etag,
