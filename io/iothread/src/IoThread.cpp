@@ -60,10 +60,10 @@ Result<std::unique_ptr<IoThread>> IoThread::start(const std::filesystem::path& p
     const auto parents = std::make_shared<ParentTileCache>(options.sharedParentCacheBytes());
     // A pyramid at a URL: each file is confirmed with the server once a run, whichever reader
     // opens it first.
-    const auto confirmed = std::make_shared<remote::ConfirmedUrls>();
+    const auto run = std::make_shared<remote::RemoteRun>();
     std::vector<PyramidReader> readers;
     for (int i = 0; i < options.readerThreads; ++i) {
-        auto reader = PyramidReader::open(pyramidDir, options.maxOpenShards, parents, confirmed);
+        auto reader = PyramidReader::open(pyramidDir, options.maxOpenShards, parents, run);
         if (!reader) return reader.error();
         readers.push_back(std::move(reader).value());
     }

@@ -364,7 +364,7 @@ PyramidReader::~PyramidReader() = default;
 Result<PyramidReader> PyramidReader::open(const std::filesystem::path& pyramidDir,
                                           int maxOpenShards,
                                           std::shared_ptr<ParentTileCache> parents,
-                                          std::shared_ptr<remote::ConfirmedUrls> confirmed) {
+                                          std::shared_ptr<remote::RemoteRun> run) {
     TERRAIN_ASSERT(maxOpenShards >= 1, "a reader keeps at least one shard open");
     if (isVirtualPlanetName(pyramidDir)) {
         Result<VirtualPlanetPyramid> planet = VirtualPlanetPyramid::open(pyramidDir);
@@ -377,7 +377,7 @@ Result<PyramidReader> PyramidReader::open(const std::filesystem::path& pyramidDi
         return PyramidReader(std::move(impl));
     }
     Result<std::unique_ptr<remote::RemoteFiles>> files =
-        remote::filesFor(pyramidDir.string(), std::move(confirmed));
+        remote::filesFor(pyramidDir.string(), std::move(run));
     if (!files) return files.error();
     Result<PyramidManifest> manifest = readManifest(pyramidDir, files.value().get());
     if (!manifest) return manifest.error();

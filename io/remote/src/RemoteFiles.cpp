@@ -66,19 +66,54 @@ bool isRemoteLocation(std::string_view location) {
 }
 
 Result<std::unique_ptr<RemoteFiles>> filesFor(std::string_view location,
-                                              std::shared_ptr<ConfirmedUrls> confirmed) {
+                                              std::shared_ptr<RemoteRun> run) {
     if (!isRemoteLocation(location)) return std::unique_ptr<RemoteFiles>{};
-    return RemoteFiles::fromEnvironment(std::move(confirmed));
+    return RemoteFiles::fromEnvironment(std::move(run));
 }
 
-bool ConfirmedUrls::contains(const std::string& url) const {
+bool RemoteRun::confirmed(const std::string& url) const {
     const std::lock_guard lock(m_mutex);
     return m_urls.contains(url);
 }
 
-void ConfirmedUrls::insert(const std::string& url) {
+void RemoteRun::confirm(const std::string& url) {
     const std::lock_guard lock(m_mutex);
     m_urls.insert(url);
+}
+
+std::optional<std::pair<std::size_t, std::size_t>> RemoteRun::claim(const std::string& url,
+                                                                    std::size_t from,
+                                                                    std::size_t to) {
+    std::unique_lock lock(m_mutex);
+    // Looked up each time: a release may remove the URL's list while this waits.
+    const auto holding = [&](std::size_t block) {
+        const auto found = m_claims.find(url);
+        return found != m_claims.end() &&
+               std::any_of(found->second.begin(), found->second.end(),
+                           [&](const auto& c) { return c.first <= block && block <= c.second; });
+    };
+    if (holding(from)) {
+        m_released.wait(lock, [&] { return !holding(from); });
+        return std::nullopt;
+    }
+    std::vector<std::pair<std::size_t, std::size_t>>& claims = m_claims[url];
+    std::size_t end = to;
+    for (const auto& [first, last] : claims)
+        if (first > from && first <= end) end = first - 1;
+    claims.emplace_back(from, end);
+    return std::pair{from, end};
+}
+
+void RemoteRun::release(const std::string& url, std::size_t from, std::size_t end) {
+    {
+        const std::lock_guard lock(m_mutex);
+        auto found = m_claims.find(url);
+        if (found != m_claims.end()) {
+            std::erase(found->second, std::pair{from, end});
+            if (found->second.empty()) m_claims.erase(found);
+        }
+    }
+    m_released.notify_all();
 }
 
 std::string joinUrl(std::string_view folder, std::string_view name) {
@@ -147,36 +182,35 @@ Result<HttpOptions> HttpOptions::fromEnvironment() {
 }
 
 RemoteFiles::RemoteFiles(std::unique_ptr<DiskCache> cache, std::unique_ptr<HttpClient> http,
-                         std::shared_ptr<ConfirmedUrls> confirmed)
+                         std::shared_ptr<RemoteRun> run)
     : m_cache(std::move(cache)),
       m_http(std::move(http)),
-      m_checked(confirmed ? std::move(confirmed) : std::make_shared<ConfirmedUrls>()) {}
+      m_run(run ? std::move(run) : std::make_shared<RemoteRun>()) {}
 
 RemoteFiles::~RemoteFiles() = default;
 
 Result<std::unique_ptr<RemoteFiles>> RemoteFiles::open(const CacheOptions& cache,
                                                        const HttpOptions& http,
-                                                       std::shared_ptr<ConfirmedUrls> confirmed) {
+                                                       std::shared_ptr<RemoteRun> run) {
     Result<std::unique_ptr<DiskCache>> disk = DiskCache::open(cache);
     if (!disk) return disk.error();
     Result<std::unique_ptr<HttpClient>> client = HttpClient::create(http);
     if (!client) return client.error();
     return std::unique_ptr<RemoteFiles>(
-        new RemoteFiles(std::move(disk).value(), std::move(client).value(), std::move(confirmed)));
+        new RemoteFiles(std::move(disk).value(), std::move(client).value(), std::move(run)));
 }
 
-Result<std::unique_ptr<RemoteFiles>> RemoteFiles::fromEnvironment(
-    std::shared_ptr<ConfirmedUrls> confirmed) {
+Result<std::unique_ptr<RemoteFiles>> RemoteFiles::fromEnvironment(std::shared_ptr<RemoteRun> run) {
     Result<CacheOptions> cache = CacheOptions::fromEnvironment();
     if (!cache) return cache.error();
     Result<HttpOptions> http = HttpOptions::fromEnvironment();
     if (!http) return http.error();
-    return open(cache.value(), http.value(), std::move(confirmed));
+    return open(cache.value(), http.value(), std::move(run));
 }
 
 void RemoteFiles::used(const std::string& url, std::uint64_t& outcome) {
     ++outcome;
-    m_checked->insert(url);
+    m_run->confirm(url);
     m_cache->touch(url);
 }
 
@@ -190,7 +224,7 @@ Error RemoteFiles::notModifiedWithoutCopy(const std::string& url) {
 
 Result<std::filesystem::path> RemoteFiles::localCopy(const std::string& url) {
     std::optional<CachedFile> cached = m_cache->find(url);
-    if (cached && m_checked->contains(url)) {
+    if (cached && m_run->confirmed(url)) {
         used(url, m_stats.cacheHits);
         return cached->data;
     }
@@ -203,7 +237,7 @@ Result<std::filesystem::path> RemoteFiles::localCopy(const std::string& url) {
     cached = m_cache->find(url);
     if (cached && cached->used >= waitStart) {
         ++m_stats.cacheHits;
-        m_checked->insert(url);
+        m_run->confirm(url);
         return cached->data;
     }
     Result<AtomicFile> body = m_cache->reserve(url);
@@ -230,7 +264,7 @@ Result<std::filesystem::path> RemoteFiles::localCopy(const std::string& url) {
         m_cache->store(url, std::move(body).value(), response.value().etag,
                        response.value().lastModified, response.value().bytes);
     if (!stored) return stored.error();
-    m_checked->insert(url);
+    m_run->confirm(url);
     return stored.value().data;
 }
 
@@ -261,7 +295,7 @@ Result<std::unique_ptr<RemoteFile>> RemoteFiles::keepWhole(const std::string& ur
     Result<CachedFile> stored =
         m_cache->store(url, std::move(file).value(), etag, lastModified, body.size());
     if (!stored) return stored.error();
-    m_checked->insert(url);
+    m_run->confirm(url);
     const CachedFile& whole = stored.value();
     return openEntry(url,
                      PartialFile{whole.data, etag, lastModified, whole.bytes,
@@ -279,7 +313,7 @@ Result<std::unique_ptr<RemoteFile>> RemoteFiles::openRanged(const std::string& u
         return openEntry(url, std::move(*whole));
     }
     std::optional<PartialFile> cached = m_cache->findPartial(url);
-    if (cached && m_checked->contains(url)) {
+    if (cached && m_run->confirmed(url)) {
         used(url, m_stats.cacheHits);
         return openEntry(url, std::move(*cached));
     }
@@ -291,7 +325,7 @@ Result<std::unique_ptr<RemoteFile>> RemoteFiles::openRanged(const std::string& u
     cached = m_cache->findPartial(url);
     if (cached && cached->used >= waitStart) {
         ++m_stats.cacheHits;
-        m_checked->insert(url);
+        m_run->confirm(url);
         return openEntry(url, std::move(*cached));
     }
     Validators validators;
@@ -334,7 +368,7 @@ Result<std::unique_ptr<RemoteFile>> RemoteFiles::openRanged(const std::string& u
     Result<PartialFile> started =
         m_cache->startPartial(url, head.etag, head.lastModified, head.totalBytes);
     if (!started) return started.error();
-    m_checked->insert(url);
+    m_run->confirm(url);
     Result<std::unique_ptr<RemoteFile>> opened = openEntry(url, std::move(started).value());
     if (!opened) return opened.error();
     RemoteFile& file = *opened.value();
@@ -374,16 +408,19 @@ Status RemoteFile::read(std::uint64_t offset, std::span<char> out) {
         return true;
     };
     if (!allThere()) {
-        // Another reader (thread or process) may have fetched them meanwhile.
-        if (std::optional<PartialFile> now = m_files.m_cache->findPartial(m_url);
-            now && now->data == m_entry->data)
-            for (std::size_t b = 0; b < m_entry->blocks.size(); ++b)
-                m_entry->blocks[b] = m_entry->blocks[b] || now->blocks[b];
-        if (!allThere()) {
-            if (Status fetched = fetch(first, last); !fetched) return fetched;
-        } else {
-            ++m_files.m_stats.cacheHits;
+        bool fetchedAny = false;
+        while (true) {
+            // Another reader (thread or process) may have fetched them meanwhile.
+            if (std::optional<PartialFile> now = m_files.m_cache->findPartial(m_url);
+                now && now->data == m_entry->data)
+                for (std::size_t b = 0; b < m_entry->blocks.size(); ++b)
+                    m_entry->blocks[b] = m_entry->blocks[b] || now->blocks[b];
+            if (allThere()) break;
+            Result<bool> fetched = fetch(first, last);
+            if (!fetched) return fetched.error();
+            fetchedAny = fetchedAny || fetched.value();
         }
+        if (!fetchedAny) ++m_files.m_stats.cacheHits;  // another reader's fetch served it
     }
     for (std::size_t done = 0; done < out.size();) {
         const ssize_t n =
@@ -397,7 +434,7 @@ Status RemoteFile::read(std::uint64_t offset, std::span<char> out) {
     return {};
 }
 
-Status RemoteFile::fetch(std::size_t firstBlock, std::size_t lastBlock) {
+Result<bool> RemoteFile::fetch(std::size_t firstBlock, std::size_t lastBlock) {
     std::vector<bool>& blocks = m_entry->blocks;
     // From the first missing block, at least a fetch's worth, up to the next block that is
     // there. A fetch's worth starts at rangeBytes and doubles while reads land within one
@@ -409,14 +446,28 @@ Status RemoteFile::fetch(std::size_t firstBlock, std::size_t lastBlock) {
         static_cast<std::size_t>(m_files.m_http->options().rangeBytes / kCacheBlockBytes);
     const bool onward =
         m_fetchBlocks > 0 && from >= m_fetchEnd && from < m_fetchEnd + m_fetchBlocks;
-    m_fetchBlocks = onward ? std::min(2 * m_fetchBlocks, std::max(base, kMaxFetchBlocks)) : base;
-    std::size_t to = std::max(lastBlock, from + m_fetchBlocks - 1);
+    const std::size_t worth =
+        onward ? std::min(2 * m_fetchBlocks, std::max(base, kMaxFetchBlocks)) : base;
+    std::size_t to = std::max(lastBlock, from + worth - 1);
     to = std::min(to, blocks.size() - 1);
     for (std::size_t b = lastBlock + 1; b <= to; ++b)
         if (blocks[b]) {
             to = b - 1;
             break;
         }
+    // Up to the first block another reader of this run is fetching; if that is the first,
+    // wait for it and look again.
+    const std::optional<std::pair<std::size_t, std::size_t>> claimed =
+        m_files.m_run->claim(m_url, from, to);
+    if (!claimed) return false;
+    to = claimed->second;
+    struct Release {
+        RemoteRun& run;
+        const std::string& url;
+        std::size_t from, to;
+        ~Release() { run.release(url, from, to); }
+    } release{*m_files.m_run, m_url, from, to};
+    m_fetchBlocks = worth;
     const std::uint64_t firstByte = from * kCacheBlockBytes;
     const std::uint64_t lastByte = std::min<std::uint64_t>((to + 1) * kCacheBlockBytes, size()) - 1;
     // Blocks between the first and the last wanted that are there already come again: one
@@ -448,7 +499,7 @@ Status RemoteFile::fetch(std::size_t firstBlock, std::size_t lastBlock) {
     for (std::size_t b = from; b <= to; ++b) blocks[b] = true;
     m_fetchEnd = to + 1;
     if (auto recorded = m_files.m_cache->recordBlocks(m_url, *m_entry)) blocks = *recorded;
-    return {};
+    return true;
 }
 
 }  // namespace terrain::remote

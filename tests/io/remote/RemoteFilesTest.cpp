@@ -473,6 +473,39 @@ TEST_F(RemoteFilesTest, ReadersWantingOneFileAtOnceFetchItOnce) {
     EXPECT_LE(proxy.requests(), 2);
 }
 
+TEST_F(RemoteFilesTest, ReadersOfARunWantingOneRangeAtOnceFetchItOnce) {
+    // Two reader threads of one run (sharing a RemoteRun) want the same bytes of a file read
+    // by ranges at once; an answer takes 300 ms. One fetches them, the other waits for that
+    // fetch and reads them from the cache: one range, not two.
+    FaultProxy proxy(server.port(), FaultPlan{.latency = std::chrono::milliseconds(300)});
+    ASSERT_TRUE(proxy.ready());
+    const std::string body = patterned(1'000'000, 11);
+    writeFile(root.path() / "together.exr", body);
+    const std::string url = proxy.url("together.exr");
+    const auto run = std::make_shared<RemoteRun>();
+    const auto reader = [&] {
+        Result<std::unique_ptr<RemoteFiles>> opened =
+            RemoteFiles::open({cache.path(), std::uint64_t{1} << 30}, quickHttp(), run);
+        EXPECT_TRUE(opened) << opened.error().message;
+        return std::move(opened).value();
+    };
+    std::unique_ptr<RemoteFiles> a = reader(), b = reader();
+    Result<std::unique_ptr<RemoteFile>> fileA = a->openRanged(url);
+    ASSERT_TRUE(fileA) << fileA.error().message;
+    Result<std::unique_ptr<RemoteFile>> fileB = b->openRanged(url);
+    ASSERT_TRUE(fileB) << fileB.error().message;
+    EXPECT_EQ(b->stats().requests, 0u) << "confirmed by the run already";
+    std::string outA, outB;
+    std::thread first([&] { outA = rangeRead(*fileA.value(), 500'000, 30'000); });
+    std::thread second([&] { outB = rangeRead(*fileB.value(), 500'000, 30'000); });
+    first.join();
+    second.join();
+    EXPECT_EQ(outA, body.substr(500'000, 30'000));
+    EXPECT_EQ(outB, outA);
+    EXPECT_EQ(proxy.requests(), 2) << "the head, and one range for both";
+    EXPECT_EQ(a->stats().fetchedBytes + b->stats().fetchedBytes, 2 * HttpOptions{}.rangeBytes);
+}
+
 TEST_F(RemoteFilesTest, AtMostMaxPerHostRequestsGoToOneHostAtOnce) {
     // Four readers (four RemoteFiles, as four reader threads have) each want a different new
     // file from one host, every answer 60 ms away; the process lets one request at a time go

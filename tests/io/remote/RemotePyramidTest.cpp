@@ -98,10 +98,10 @@ TEST_F(RemotePyramidTest, ReadersOfOneRunConfirmEachFileOnce) {
         for (const PatchId& id : patches) ASSERT_TRUE(first.value().readPatch(id));
     }
     const std::size_t fetched = server.accessLog().size();
-    const auto confirmed = std::make_shared<remote::ConfirmedUrls>();
+    const auto run = std::make_shared<remote::RemoteRun>();
     std::vector<PyramidReader> readers;
     for (int i = 0; i < 3; ++i) {
-        Result<PyramidReader> reader = PyramidReader::open(url, 4, nullptr, confirmed);
+        Result<PyramidReader> reader = PyramidReader::open(url, 4, nullptr, run);
         ASSERT_TRUE(reader) << reader.error().message;
         for (const PatchId& id : patches) ASSERT_TRUE(reader.value().readPatch(id));
         readers.push_back(std::move(reader).value());

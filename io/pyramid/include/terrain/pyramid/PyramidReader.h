@@ -16,7 +16,7 @@
 #include <memory>
 
 namespace terrain::remote {
-class ConfirmedUrls;
+class RemoteRun;
 }
 
 namespace terrain::io {
@@ -51,7 +51,7 @@ public:
     static Result<PyramidReader> open(const std::filesystem::path& pyramidDir,
                                       int maxOpenShards = kDefaultOpenShards,
                                       std::shared_ptr<ParentTileCache> parents = nullptr,
-                                      std::shared_ptr<remote::ConfirmedUrls> confirmed = nullptr);
+                                      std::shared_ptr<remote::RemoteRun> run = nullptr);
 
     PyramidReader(PyramidReader&& other) noexcept;
     PyramidReader& operator=(PyramidReader&& other) noexcept;

@@ -18,21 +18,26 @@
 //   TERRAIN_HTTP_RANGE_BYTES   bytes a range request of a shard asks for at least (default 64K;
 //                              0: shards come whole)
 // One thread at a time (the I/O thread owns the reader's); readers on other threads make
-// their own, sharing what this run has confirmed (ConfirmedUrls).
+// their own, sharing what this run has confirmed and is fetching (RemoteRun).
 #pragma once
 
 #include "terrain/base/Result.h"
 #include "terrain/remote/RemoteStats.h"
 
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <unordered_set>
+#include <utility>
+#include <vector>
 
 namespace terrain::remote {
 
@@ -67,17 +72,30 @@ struct HttpOptions {
     static Result<HttpOptions> fromEnvironment();
 };
 
-/// The URLs confirmed with the server in this run, shared by the RemoteFiles of readers that
-/// read one pyramid on several threads (IoThread's), so that a file is confirmed once a run,
-/// not once a reader. Thread-safe.
-class ConfirmedUrls {
+/// What one run's readers of remote files share (the RemoteFiles of an IoThread's reader
+/// threads, one each): the URLs confirmed with the server, so that a file is confirmed once a
+/// run, not once a reader; and the blocks of files read by ranges that a reader is fetching,
+/// so that two readers wanting the same bytes at once fetch them once (a whole file is
+/// fetched once through the cache entry's lock; a range fetch does not hold it). Thread-safe.
+class RemoteRun {
 public:
-    bool contains(const std::string& url) const;
-    void insert(const std::string& url);
+    bool confirmed(const std::string& url) const;
+    void confirm(const std::string& url);
+
+    /// Blocks [from, end] of `url` (end ≤ to) claimed for the caller to fetch: up to the first
+    /// block another reader is fetching. When block `from` itself is being fetched, waits until
+    /// that fetch is over and returns nullopt: look again at what the cache holds.
+    std::optional<std::pair<std::size_t, std::size_t>> claim(const std::string& url,
+                                                             std::size_t from, std::size_t to);
+    /// Ends a claim (the blocks fetched and recorded, or the fetch failed).
+    void release(const std::string& url, std::size_t from, std::size_t end);
 
 private:
     mutable std::mutex m_mutex;
+    std::condition_variable m_released;
     std::unordered_set<std::string> m_urls;
+    // Per URL, the claimed block ranges [from, end].
+    std::unordered_map<std::string, std::vector<std::pair<std::size_t, std::size_t>>> m_claims;
 };
 
 class DiskCache;
@@ -107,7 +125,9 @@ public:
 private:
     friend class RemoteFiles;
     RemoteFile(RemoteFiles& files, std::string url, std::unique_ptr<PartialFile> entry, int fd);
-    Status fetch(std::size_t firstBlock, std::size_t lastBlock);
+    // Fetches missing blocks from the first missing one in [firstBlock, lastBlock]: true when
+    // it did, false when it waited for another reader of the run fetching that block.
+    Result<bool> fetch(std::size_t firstBlock, std::size_t lastBlock);
 
     // The most a fetch grows to: 2 MiB of blocks.
     static constexpr std::size_t kMaxFetchBlocks = 128;
@@ -122,13 +142,13 @@ private:
 
 class RemoteFiles {
 public:
-    /// `confirmed`: shared with other readers of this run (null: this object's own).
-    static Result<std::unique_ptr<RemoteFiles>> open(
-        const CacheOptions& cache, const HttpOptions& http,
-        std::shared_ptr<ConfirmedUrls> confirmed = nullptr);
+    /// `run`: shared with other readers of this run (null: this object's own).
+    static Result<std::unique_ptr<RemoteFiles>> open(const CacheOptions& cache,
+                                                     const HttpOptions& http,
+                                                     std::shared_ptr<RemoteRun> run = nullptr);
     /// open() with both from the environment.
     static Result<std::unique_ptr<RemoteFiles>> fromEnvironment(
-        std::shared_ptr<ConfirmedUrls> confirmed = nullptr);
+        std::shared_ptr<RemoteRun> run = nullptr);
     ~RemoteFiles();
     RemoteFiles(const RemoteFiles&) = delete;
     RemoteFiles& operator=(const RemoteFiles&) = delete;
@@ -161,18 +181,18 @@ private:
     Result<std::unique_ptr<RemoteFile>> openEntry(const std::string& url, PartialFile entry);
 
     RemoteFiles(std::unique_ptr<DiskCache> cache, std::unique_ptr<HttpClient> http,
-                std::shared_ptr<ConfirmedUrls> confirmed);
+                std::shared_ptr<RemoteRun> run);
 
     std::unique_ptr<DiskCache> m_cache;
     std::unique_ptr<HttpClient> m_http;
-    std::shared_ptr<ConfirmedUrls> m_checked;  // URLs confirmed with the server this run
+    std::shared_ptr<RemoteRun> m_run;  // URLs confirmed with the server, ranges being fetched
     RemoteStats m_stats;
 };
 
 /// The RemoteFiles a reader of `location` fetches through: one from the environment
-/// (RemoteFiles::fromEnvironment, with `confirmed`) for a URL, null for a local path.
+/// (RemoteFiles::fromEnvironment, with `run`) for a URL, null for a local path.
 Result<std::unique_ptr<RemoteFiles>> filesFor(std::string_view location,
-                                              std::shared_ptr<ConfirmedUrls> confirmed = nullptr);
+                                              std::shared_ptr<RemoteRun> run = nullptr);
 
 /// `folder` + "/" + `name` for a URL folder (no path normalisation: "//" after the scheme
 /// stays).
