@@ -25,7 +25,6 @@
 #include "terrain/base/Result.h"
 #include "terrain/remote/RemoteFiles.h"
 
-#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -57,8 +56,6 @@ struct PartialFile {
     std::vector<bool> blocks;  ///< which blocks of kCacheBlockBytes the data file holds
     std::filesystem::file_time_type used{};
 
-    std::size_t blockCount() const { return blocks.size(); }
-    bool complete() const { return std::find(blocks.begin(), blocks.end(), false) == blocks.end(); }
 };
 
 /// The blocks a file of `size` bytes has.

@@ -28,6 +28,16 @@ namespace fs = std::filesystem;
 using test::NginxServer;
 using test::TempFolder;
 
+// Every patch of every level, coarsest first.
+std::vector<PatchId> everyPatch(const PyramidLayout& layout) {
+    std::vector<PatchId> ids;
+    for (int level = 0; level < layout.levelCount(); ++level)
+        for (std::int64_t y = 0; y < layout.patchesY(level); ++y)
+            for (std::int64_t x = 0; x < layout.patchesX(level); ++x)
+                ids.push_back({level, static_cast<int>(x), static_cast<int>(y)});
+    return ids;
+}
+
 class RemotePyramidTest : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -52,21 +62,18 @@ TEST_F(RemotePyramidTest, EveryPatchReadsAsFromTheFolder) {
     const PyramidLayout& layout = here.value().layout();
     int patches = 0;
     std::set<fs::path> shards;
-    for (int level = 0; level < layout.levelCount(); ++level)
-        for (std::int64_t y = 0; y < layout.patchesY(level); ++y)
-            for (std::int64_t x = 0; x < layout.patchesX(level); ++x) {
-                const PatchId id{level, static_cast<int>(x), static_cast<int>(y)};
-                Result<PatchRecord> a = there.value().readPatch(id);
-                Result<PatchRecord> b = here.value().readPatch(id);
-                ASSERT_TRUE(a) << a.error().message;
-                ASSERT_TRUE(b) << b.error().message;
-                ASSERT_EQ(a.value().heights, b.value().heights) << "L" << level;
-                ASSERT_EQ(a.value().valid, b.value().valid);
-                ASSERT_EQ(a.value().blockErrors.size(), b.value().blockErrors.size());
-                EXPECT_EQ(a.value().info.error, b.value().info.error);
-                shards.insert(here.value().shardFile(id));
-                ++patches;
-            }
+    for (const PatchId& id : everyPatch(layout)) {
+        Result<PatchRecord> a = there.value().readPatch(id);
+        Result<PatchRecord> b = here.value().readPatch(id);
+        ASSERT_TRUE(a) << a.error().message;
+        ASSERT_TRUE(b) << b.error().message;
+        ASSERT_EQ(a.value().heights, b.value().heights) << "L" << id.level;
+        ASSERT_EQ(a.value().valid, b.value().valid);
+        ASSERT_EQ(a.value().blockErrors.size(), b.value().blockErrors.size());
+        EXPECT_EQ(a.value().info.error, b.value().info.error);
+        shards.insert(here.value().shardFile(id));
+        ++patches;
+    }
     EXPECT_EQ(patches, 341);
     // Every file came once: the manifest (read once by open) and each shard file.
     const std::size_t files = server.accessLog().size();
@@ -148,18 +155,15 @@ TEST_F(RemotePyramidTest, ALargeShardIsReadByRangesPatchByPatch) {
     EXPECT_LE(one.requests, 3u) << "the shard's head, its patchInfo tile, the patch";
 
     // Every patch of every level as from the folder.
-    for (int level = 0; level < layout.levelCount(); ++level)
-        for (std::int64_t y = 0; y < layout.patchesY(level); ++y)
-            for (std::int64_t x = 0; x < layout.patchesX(level); ++x) {
-                const PatchId id{level, static_cast<int>(x), static_cast<int>(y)};
-                Result<PatchRecord> got = there.value().readPatch(id);
-                Result<PatchRecord> want = here.value().readPatch(id);
-                ASSERT_TRUE(got) << got.error().message;
-                ASSERT_TRUE(want) << want.error().message;
-                ASSERT_EQ(got.value().heights, want.value().heights) << "L" << level;
-                ASSERT_EQ(got.value().blockErrors, want.value().blockErrors);
-                EXPECT_EQ(got.value().info.error, want.value().info.error);
-            }
+    for (const PatchId& id : everyPatch(layout)) {
+        Result<PatchRecord> got = there.value().readPatch(id);
+        Result<PatchRecord> want = here.value().readPatch(id);
+        ASSERT_TRUE(got) << got.error().message;
+        ASSERT_TRUE(want) << want.error().message;
+        ASSERT_EQ(got.value().heights, want.value().heights) << "L" << id.level;
+        ASSERT_EQ(got.value().blockErrors, want.value().blockErrors);
+        EXPECT_EQ(got.value().info.error, want.value().info.error);
+    }
 }
 
 TEST_F(RemotePyramidTest, AMissingShardIsAFaultNamingItsUrl) {
