@@ -51,8 +51,12 @@ public:
         return "http://127.0.0.1:" + std::to_string(m_port) + "/" + path;
     }
     int port() const { return m_port; }
-    /// Requests served so far, from the access log (one line a request, written as served).
+    /// Requests served so far, from the access log (one line a request). nginx writes a
+    /// request's line just after sending its last byte, so a client that has its answer may
+    /// read the log before the line is there; one request to a location that is not logged,
+    /// answered by the same single worker, comes after every earlier line is written.
     std::vector<std::string> accessLog() const {
+        awaitEarlierRequestsLogged();
         std::vector<std::string> lines;
         std::ifstream in(m_folder.path() / "access.log");
         for (std::string line; std::getline(in, line);) lines.push_back(line);
@@ -83,6 +87,26 @@ private:
         return port;
     }
 
+    // The worker handles one event at a time and logs a request in the same step that sends
+    // its last byte: once it has answered this request, every earlier answer is logged.
+    void awaitEarlierRequestsLogged() const {
+        const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+        sockaddr_in address{};
+        address.sin_family = AF_INET;
+        address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        address.sin_port = htons(static_cast<std::uint16_t>(m_port));
+        if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0) {
+            const std::string request = "GET /.log-barrier HTTP/1.0\r\n\r\n";
+            if (::send(fd, request.data(), request.size(), MSG_NOSIGNAL) ==
+                static_cast<ssize_t>(request.size())) {
+                char buffer[512];
+                while (::recv(fd, buffer, sizeof(buffer), 0) > 0) {
+                }
+            }
+        }
+        ::close(fd);
+    }
+
     static bool answers(int port) {
         const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
         sockaddr_in address{};
@@ -109,7 +133,7 @@ private:
                  << "  uwsgi_temp_path " << dir << "/uwsgi;\n"
                  << "  scgi_temp_path " << dir << "/scgi;\n"
                  << "  server { listen 127.0.0.1:" << m_port << "; root " << root.string()
-                 << "; }\n}\n";
+                 << ";\n    location = /.log-barrier { access_log off; return 204; }\n  }\n}\n";
         }
         const std::string conf = dir + "/nginx.conf", errorLog = dir + "/error.log";
         const char* argv[] = {kNginx,       "-p", dir.c_str(),      "-c",
