@@ -82,6 +82,10 @@ struct FaultPlan {
     /// round with a loss halves it and sets the threshold there (Reno). Linux starts at 10
     /// (RFC 6928).
     std::size_t initialWindow = 0;
+    /// The user's link, in bytes a second, shared by every connection: a segment goes out
+    /// when the link has sent those before it (one queue, serialised at this rate, as at a
+    /// home line's bottleneck); 0: no cap. Applies to answers sent a window at a time.
+    double linkBytesPerSecond = 0.0;
     static constexpr std::size_t kSegmentBytes = 1448;
 };
 
@@ -264,7 +268,7 @@ private:
     // retransmission timeout (`timeout`) when fewer than three segments follow it.
     bool sendPaced(int fd, const char* data, std::size_t size, int request, std::size_t& segment,
                    double probability, std::chrono::milliseconds roundTrip,
-                   std::chrono::milliseconds timeout, Window& window) const {
+                   std::chrono::milliseconds timeout, Window& window) {
         constexpr std::size_t kDuplicateAcks = 3;
         constexpr std::size_t kBytes = FaultPlan::kSegmentBytes;
         const std::size_t segments = (size + kBytes - 1) / kBytes;
@@ -278,8 +282,9 @@ private:
                     lostInRound = true;
                     std::this_thread::sleep_for(following >= kDuplicateAcks ? roundTrip : timeout);
                 }
-                if (!sendAll(fd, data + k * kBytes, std::min(kBytes, size - k * kBytes)))
-                    return false;
+                const std::size_t bytes = std::min(kBytes, size - k * kBytes);
+                waitForTheLink(bytes);
+                if (!sendAll(fd, data + k * kBytes, bytes)) return false;
             }
             if (window.segments == 0) continue;
             if (k < segments) std::this_thread::sleep_for(roundTrip);  // the window's acks
@@ -293,6 +298,22 @@ private:
         }
         window.lastSent = std::chrono::steady_clock::now();
         return true;
+    }
+
+    // Waits until the shared link has carried `bytes` more after what it carries now.
+    void waitForTheLink(std::size_t bytes) {
+        std::chrono::steady_clock::time_point sent;
+        {
+            std::lock_guard lock(m_mutex);
+            if (m_plan.linkBytesPerSecond <= 0.0) return;
+            const auto now = std::chrono::steady_clock::now();
+            m_linkFreeAt = std::max(m_linkFreeAt, now) +
+                           std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                               std::chrono::duration<double>(static_cast<double>(bytes) /
+                                                             m_plan.linkBytesPerSecond));
+            sent = m_linkFreeAt;
+        }
+        std::this_thread::sleep_until(sent);
     }
 
     // The fault of request `request` for `head`, and the latency before its answer.
@@ -452,6 +473,7 @@ private:
 
     const int m_upstreamPort;
     FaultPlan m_plan;  // guarded by m_mutex
+    std::chrono::steady_clock::time_point m_linkFreeAt{};  // guarded by m_mutex
     int m_listener = -1;
     int m_port = 0;
     std::atomic<bool> m_stopping{false};

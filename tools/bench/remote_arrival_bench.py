@@ -7,7 +7,8 @@ terrain-test-proxy (tests/tools/TestProxy.cpp: a latency before every answer, wi
 share of the packets lost, each loss stalling its stream a round trip, or 200 ms near a
 transfer's end, as TCP's retransmissions do; answers go out a congestion window at a time,
 from --initial-window segments (10, Linux's) doubling each round trip, halved by a loss, so a
-large file takes round trips as over a real network), then, alternating with and
+large file takes round trips as over a real network; with --link-mbps M every connection
+shares one link of M megabits a second, as a user's line), then, alternating with and
 without reading ahead (--no-prefetch), runs
 
   terrain-render PYRAMID_OR_URL --frames 1 --every 0 --error-px E --json
@@ -80,10 +81,11 @@ class Nginx:
 
 
 class Proxy:
-    def __init__(self, program, upstream, latency_ms, drop_every, loss_percent, window=0):
+    def __init__(self, program, upstream, latency_ms, drop_every, loss_percent, window=0,
+                 link_mbps=0.0):
         self.process = subprocess.Popen(
             [program, str(upstream), str(latency_ms), str(drop_every), str(loss_percent),
-             str(window)],
+             str(window), str(link_mbps)],
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
         line = self.process.stdout.readline().split()
         if len(line) != 2 or line[0] != "port":
@@ -131,6 +133,9 @@ def main():
                         help="TCP's congestion window in segments as a connection starts or "
                              "resumes after idling, doubling each round trip (slow start; "
                              "Linux's 10); 0: answers go out at once, at no bandwidth cost")
+    parser.add_argument("--link-mbps", type=float, default=0.0,
+                        help="one link of this many megabits a second shared by every "
+                             "connection, as a user's line (0: no cap; needs a window)")
     parser.add_argument("--error-px", type=float, default=2.0)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--size", default="960x540")
@@ -159,7 +164,7 @@ def main():
             for name, latency, drop, loss in settings:
                 proxy = (None if latency is None
                          else Proxy(proxy_program, server.port, latency, drop, loss,
-                                    args.initial_window))
+                                    args.initial_window, args.link_mbps))
                 location = (str(pyramid) if proxy is None
                             else f"http://127.0.0.1:{proxy.port}/{pyramid.name}")
                 runs = {True: [], False: []}
@@ -184,7 +189,8 @@ def main():
             server.stop()
     args.out.mkdir(parents=True, exist_ok=True)
     report = {"machine": {"cpus": os.cpu_count(), "platform": platform.platform()},
-              "initial_window": args.initial_window, "error_px": args.error_px, "size": args.size, "repeats": args.repeats,
+              "initial_window": args.initial_window, "link_mbps": args.link_mbps or None,
+              "error_px": args.error_px, "size": args.size, "repeats": args.repeats,
               "pose": args.pose or None, "rows": rows}
     (args.out / "remote-arrival-bench.json").write_text(json.dumps(report, indent=1) + "\n")
     lines = ["| pyramid | network | read ahead | frames (median, worst) | seconds (median, worst) |",

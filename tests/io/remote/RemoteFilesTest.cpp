@@ -449,6 +449,30 @@ TEST_F(RemoteFilesTest, AnswersPacedByACongestionWindowWithLossesArriveWhole) {
     EXPECT_EQ(reader->stats().retries, 0u);
 }
 
+TEST_F(RemoteFilesTest, ConnectionsShareTheLinksRate) {
+    // The benches' user's line (remote_arrival_bench.py --link-mbps): two readers fetching a
+    // 250 KB file each at once over a 2 MB/s link that both connections share get both no
+    // sooner than 500 KB at 2 MB/s allows, a quarter of a second; the link only delays.
+    FaultProxy proxy(server.port(), FaultPlan{.initialWindow = 1000, .linkBytesPerSecond = 2e6});
+    ASSERT_TRUE(proxy.ready());
+    const std::string first = patterned(250'000, 3), second = patterned(250'000, 4);
+    writeFile(root.path() / "first.bin", first);
+    writeFile(root.path() / "second.bin", second);
+    std::unique_ptr<RemoteFiles> a = files(), b = files();
+    Result<fs::path> copyA = Error{"not run"}, copyB = Error{"not run"};
+    const auto start = std::chrono::steady_clock::now();
+    std::thread one([&] { copyA = a->localCopy(proxy.url("first.bin")); });
+    std::thread two([&] { copyB = b->localCopy(proxy.url("second.bin")); });
+    one.join();
+    two.join();
+    const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
+    ASSERT_TRUE(copyA) << copyA.error().message;
+    ASSERT_TRUE(copyB) << copyB.error().message;
+    EXPECT_EQ(contentsOf(copyA.value()), first);
+    EXPECT_EQ(contentsOf(copyB.value()), second);
+    EXPECT_GE(took.count(), 0.25) << "500 KB through a 2 MB/s link";
+}
+
 TEST_F(RemoteFilesTest, ReadersWantingOneFileAtOnceFetchItOnce) {
     // Two readers (the I/O thread's reader threads, or two programs) on one cache want the
     // same new file at once; the answer takes 300 ms. One fetches it, the other waits and
