@@ -72,12 +72,29 @@ public:
     }
 
 private:
-    // A port nothing listens on now (the kernel's pick for port 0).
-    static int freePort() {
-        const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    // 127.0.0.1:port.
+    static sockaddr_in loopback(int port) {
         sockaddr_in address{};
         address.sin_family = AF_INET;
         address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        address.sin_port = htons(static_cast<std::uint16_t>(port));
+        return address;
+    }
+
+    // A socket connected to 127.0.0.1:port, or -1 when nothing answers there.
+    static int connectTo(int port) {
+        const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+        const sockaddr_in address = loopback(port);
+        if (::connect(fd, reinterpret_cast<const sockaddr*>(&address), sizeof(address)) == 0)
+            return fd;
+        ::close(fd);
+        return -1;
+    }
+
+    // A port nothing listens on now (the kernel's pick for port 0).
+    static int freePort() {
+        const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+        sockaddr_in address = loopback(0);
         socklen_t length = sizeof(address);
         int port = 0;
         if (::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0 &&
@@ -90,32 +107,22 @@ private:
     // The worker handles one event at a time and logs a request in the same step that sends
     // its last byte: once it has answered this request, every earlier answer is logged.
     void awaitEarlierRequestsLogged() const {
-        const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-        sockaddr_in address{};
-        address.sin_family = AF_INET;
-        address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-        address.sin_port = htons(static_cast<std::uint16_t>(m_port));
-        if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0) {
-            const std::string request = "GET /.log-barrier HTTP/1.0\r\n\r\n";
-            if (::send(fd, request.data(), request.size(), MSG_NOSIGNAL) ==
-                static_cast<ssize_t>(request.size())) {
-                char buffer[512];
-                while (::recv(fd, buffer, sizeof(buffer), 0) > 0) {
-                }
+        const int fd = connectTo(m_port);
+        if (fd < 0) return;
+        const std::string request = "GET /.log-barrier HTTP/1.0\r\n\r\n";
+        if (::send(fd, request.data(), request.size(), MSG_NOSIGNAL) ==
+            static_cast<ssize_t>(request.size())) {
+            char buffer[512];
+            while (::recv(fd, buffer, sizeof(buffer), 0) > 0) {
             }
         }
         ::close(fd);
     }
 
     static bool answers(int port) {
-        const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-        sockaddr_in address{};
-        address.sin_family = AF_INET;
-        address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-        address.sin_port = htons(static_cast<std::uint16_t>(port));
-        const bool ok = ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0;
-        ::close(fd);
-        return ok;
+        const int fd = connectTo(port);
+        if (fd >= 0) ::close(fd);
+        return fd >= 0;
     }
 
     void start(const std::filesystem::path& root) {
