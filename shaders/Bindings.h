@@ -19,6 +19,8 @@
 // Texture units of the terrain draw (the GPU tile pool's texture arrays).
 #define TERRAIN_BINDING_HEIGHTS 0
 #define TERRAIN_BINDING_BLOCK_ERRORS 1
+// Each block's lowest and highest sample (cache GpuTilePool::blockRanges): its own box.
+#define TERRAIN_BINDING_BLOCK_RANGES 8
 // Valdetaro et al. 2011 (LodMethod::Valdetaro2011): per tile HAM_max, h_max and its texel.
 #define TERRAIN_BINDING_VALDETARO_TILES 2
 // Lee & Shin 2011 (LodMethod::Lee2011): the full-resolution height field, the quadtree

@@ -126,16 +126,17 @@ vec3 surfaceShadingNormal(PatchInstance patch_, vec2 texel, bool between, vec3 u
 vec2 surfaceDemSample(PatchInstance patch_, vec2 s) { return vec2(0.0); }
 
 // The sphere (camera-relative centre, radius) around blocks first..last of the patch between
-// its heights, reaching `belowM` further down.
+// their heights (blocksHeightRangeM), reaching `belowM` further down.
 vec4 blocksSphereM(PatchInstance patch_, ivec2 first, ivec2 last, float belowM) {
     int blockQuads = u_frame.tessellation.y;
     float patchQuads = float(u_frame.tessellation.z);
     vec3 corners[8];
     vec3 centre = vec3(0.0);
     vec3 direction;
+    vec2 range = blocksHeightRangeM(patch_, first, last);
     for (int i = 0; i < 8; ++i) {
         ivec2 corner = ivec2((i & 1) != 0 ? last.x + 1 : first.x, (i & 2) != 0 ? last.y + 1 : first.y);
-        float h = (i & 4) != 0 ? patch_.errors.w : patch_.errors.z - belowM;
+        float h = (i & 4) != 0 ? range.y : range.x - belowM;
         precise vec2 uv = vec2(corner * blockQuads) / patchQuads;
         corners[i] = globePositionM(patch_, uv, h, direction);
         centre += corners[i];

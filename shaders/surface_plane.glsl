@@ -113,14 +113,15 @@ float verticalErrorPxPerM(vec3 drawnLo, vec3 drawnHi) {
 }
 
 // The camera-relative box of blocks first..last (inclusive) of the patch: their footprint,
-// and the patch's height range reaching `belowM` further down and `aboveM` further up.
+// and their heights (blocksHeightRangeM) reaching `belowM` further down and `aboveM` further up.
 void blocksBoxM(PatchInstance patch_, ivec2 first, ivec2 last, float belowM, float aboveM,
                 out vec3 lo, out vec3 hi) {
     int blockQuads = u_frame.tessellation.y;
-    // The north-west corner at the patch's lowest height, the south-east one at its highest:
+    // The north-west corner at the lowest height, the south-east one at the highest:
     // together they span the box. Rows run south, so the north-west corner has the larger y.
-    vec3 nw = terrainPositionM(patch_, vec2(first * blockQuads), patch_.errors.z);
-    vec3 se = terrainPositionM(patch_, vec2((last + 1) * blockQuads), patch_.errors.w);
+    vec2 range = blocksHeightRangeM(patch_, first, last);
+    vec3 nw = terrainPositionM(patch_, vec2(first * blockQuads), range.x);
+    vec3 se = terrainPositionM(patch_, vec2((last + 1) * blockQuads), range.y);
     lo = vec3(nw.x, se.y, nw.z - belowM);
     hi = vec3(se.x, nw.y, se.z + aboveM);
 }

@@ -33,7 +33,7 @@ GpuTilePool::~GpuTilePool() = default;  // deleting the ring buffer also unmaps 
 
 std::size_t GpuTilePool::bytesPerLayer(const io::PyramidLayout& layout) {
     return squared(layout.tileSamples()) * sizeof(float) +
-           squared(layout.blocksPerSide()) * sizeof(io::BlockErrors);
+           squared(layout.blocksPerSide()) * (sizeof(io::BlockErrors) + sizeof(io::HeightRange));
 }
 
 Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
@@ -56,6 +56,8 @@ Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
     pool.m_blocksPerSide = layout.blocksPerSide();
     pool.m_heightBytes = squared(pool.m_tileSamples) * sizeof(float);
     pool.m_errorBytes = squared(pool.m_blocksPerSide) * sizeof(io::BlockErrors);
+    pool.m_rangeBytes = squared(pool.m_blocksPerSide) * sizeof(io::HeightRange);
+    pool.m_rangeScratch.resize(squared(pool.m_blocksPerSide));
     pool.m_uploadBudgetBytes = desc.uploadBudgetBytesPerFrame;
 
     auto heights = gl::Texture::create2DArray({.internalFormat = GL_R32F,
@@ -74,13 +76,24 @@ Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
     if (!errors) {
         return Error{"GpuTilePool: " + errors.error().message};
     }
+    auto ranges = gl::Texture::create2DArray({.internalFormat = GL_RG32F,
+                                              .width = pool.m_blocksPerSide,
+                                              .height = pool.m_blocksPerSide,
+                                              .layers = layers},
+                                             "tile pool block height ranges");
+    if (!ranges) {
+        return Error{"GpuTilePool: " + ranges.error().message};
+    }
     pool.m_heights = std::move(heights).value();
     pool.m_blockErrors = std::move(errors).value();
+    pool.m_blockRanges = std::move(ranges).value();
     // Nearest texel fetches: heights and errors are data, not images to filter.
     pool.m_blockErrors.setSampling(GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
+    pool.m_blockRanges.setSampling(GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
 
-    const std::size_t tileRingBytes =
-        alignUp(pool.m_heightBytes, kRingAlignment) + alignUp(pool.m_errorBytes, kRingAlignment);
+    const std::size_t tileRingBytes = alignUp(pool.m_heightBytes, kRingAlignment) +
+                                      alignUp(pool.m_errorBytes, kRingAlignment) +
+                                      alignUp(pool.m_rangeBytes, kRingAlignment);
     std::size_t ringBytes = desc.ringBytes != 0
                                 ? desc.ringBytes
                                 : 2 * std::max(desc.uploadBudgetBytesPerFrame, tileRingBytes);
@@ -289,8 +302,9 @@ bool GpuTilePool::upload(const io::PatchRecord& record) {
         return false;
     }
     const std::size_t errorOffset = alignUp(m_heightBytes, kRingAlignment);
+    const std::size_t rangeOffset = errorOffset + alignUp(m_errorBytes, kRingAlignment);
     const std::optional<std::size_t> maybeOffset =
-        reserveRing(errorOffset + alignUp(m_errorBytes, kRingAlignment));
+        reserveRing(rangeOffset + alignUp(m_rangeBytes, kRingAlignment));
     if (!maybeOffset) {
         ++m_stats.uploadsDeferred;
         return false;
@@ -298,6 +312,14 @@ bool GpuTilePool::upload(const io::PatchRecord& record) {
     const std::size_t offset = *maybeOffset;
     std::memcpy(m_ringData + offset, record.heights.data(), m_heightBytes);
     std::memcpy(m_ringData + offset + errorOffset, record.blockErrors.data(), m_errorBytes);
+    {
+        const int patchSamples = m_tileSamples - 2;
+        const io::GridView interior{record.heights.data() + m_tileSamples + 1, patchSamples,
+                                    m_tileSamples};
+        io::blockHeightRanges(interior, (patchSamples - 1) / m_blocksPerSide,
+                              {record.info.minHeight, record.info.maxHeight}, m_rangeScratch);
+        std::memcpy(m_ringData + offset + rangeOffset, m_rangeScratch.data(), m_rangeBytes);
+    }
 
     const int layer = found->second.layer;
     {
@@ -309,6 +331,8 @@ bool GpuTilePool::upload(const io::PatchRecord& record) {
                             GL_FLOAT, reinterpret_cast<const void*>(offset));
         glTextureSubImage3D(m_blockErrors.id(), 0, 0, 0, layer, m_blocksPerSide, m_blocksPerSide, 1,
                             GL_RGBA, GL_FLOAT, reinterpret_cast<const void*>(offset + errorOffset));
+        glTextureSubImage3D(m_blockRanges.id(), 0, 0, 0, layer, m_blocksPerSide, m_blocksPerSide, 1,
+                            GL_RG, GL_FLOAT, reinterpret_cast<const void*>(offset + rangeOffset));
     }
     found->second.resident = true;
     found->second.info = record.info;

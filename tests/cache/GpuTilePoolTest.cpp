@@ -44,6 +44,8 @@ protected:
         for (int i = 0; i < t * t; ++i) {
             record.heights.push_back(base + static_cast<float>(i) * 0.25f - 3.5f);
         }
+        record.info.minHeight = record.heights.front();
+        record.info.maxHeight = record.heights.back();
         const int b = l.blocksPerSide();
         for (int i = 0; i < b * b; ++i) {
             const float e = base * 0.5f + static_cast<float>(i);
@@ -65,12 +67,24 @@ protected:
         pool.blockErrors().readBack({.layer = layer, .width = b, .height = b}, GL_RGBA, GL_FLOAT,
                                     std::as_writable_bytes(std::span(errors)));
         EXPECT_EQ(errors, record.blockErrors) << "block errors of layer " << layer;
+        // Each block's own heights, worked out from the record at upload.
+        std::vector<io::HeightRange> expected(static_cast<std::size_t>(b * b));
+        io::blockHeightRanges(io::GridView{record.heights.data() + t + 1, t - 2, t}, l.blockQuads(),
+                              {record.info.minHeight, record.info.maxHeight}, expected);
+        std::vector<float> ranges(static_cast<std::size_t>(2 * b * b));
+        pool.blockRanges().readBack({.layer = layer, .width = b, .height = b}, GL_RG, GL_FLOAT,
+                                    std::as_writable_bytes(std::span(ranges)));
+        for (std::size_t i = 0; i < expected.size(); ++i) {
+            EXPECT_EQ(ranges[2 * i], expected[i].low) << "block " << i << " of layer " << layer;
+            EXPECT_EQ(ranges[2 * i + 1], expected[i].high)
+                << "block " << i << " of layer " << layer;
+        }
     }
 };
 
 TEST_F(GpuTilePoolTest, CapacityComesFromTheBudget) {
     const std::size_t layerBytes = cache::GpuTilePool::bytesPerLayer(layout());
-    EXPECT_EQ(layerBytes, std::size_t{19 * 19 * 4 + 4 * 4 * 16});
+    EXPECT_EQ(layerBytes, std::size_t{19 * 19 * 4 + 4 * 4 * 16 + 4 * 4 * 8});
     auto created = cache::GpuTilePool::create(
         layout(), {.budgetBytes = 5 * layerBytes + layerBytes / 2, .uploadBudgetBytesPerFrame = 1});
     ASSERT_TRUE(created) << created.error().message;
@@ -82,6 +96,8 @@ TEST_F(GpuTilePoolTest, CapacityComesFromTheBudget) {
     EXPECT_EQ(pool.blockErrors().layers(), 5);
     EXPECT_EQ(pool.heights().internalFormat(), static_cast<GLenum>(GL_R32F));
     EXPECT_EQ(pool.blockErrors().internalFormat(), static_cast<GLenum>(GL_RGBA32F));
+    EXPECT_EQ(pool.blockRanges().layers(), 5);
+    EXPECT_EQ(pool.blockRanges().internalFormat(), static_cast<GLenum>(GL_RG32F));
     EXPECT_EQ(pool.checkInvariants(), std::nullopt);
 
     auto tooSmall = cache::GpuTilePool::create(layout(), {.budgetBytes = layerBytes - 1});

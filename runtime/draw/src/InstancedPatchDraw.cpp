@@ -45,6 +45,7 @@ TerrainDrawStats issueInstancedPatchDraw(const cache::GpuTilePool& pool,
     glBindVertexArray(draw.vertexArray.id());
     glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, pool.heights().id());
     glBindTextureUnit(TERRAIN_BINDING_BLOCK_ERRORS, pool.blockErrors().id());
+    glBindTextureUnit(TERRAIN_BINDING_BLOCK_RANGES, pool.blockRanges().id());
     glBindBufferBase(GL_UNIFORM_BUFFER, TERRAIN_BINDING_FRAME_BLOCK, draw.frame.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_PATCH_INSTANCES,
                      draw.instances.id());
@@ -80,6 +81,7 @@ TerrainDrawStats issueInstancedPatchDraw(const cache::GpuTilePool& pool,
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_DEBUG_TESS_FACTORS, 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, TERRAIN_BINDING_PATCH_INSTANCES, 0);
     glBindBufferBase(GL_UNIFORM_BUFFER, TERRAIN_BINDING_FRAME_BLOCK, 0);
+    glBindTextureUnit(TERRAIN_BINDING_BLOCK_RANGES, 0);
     glBindTextureUnit(TERRAIN_BINDING_BLOCK_ERRORS, 0);
     glBindTextureUnit(TERRAIN_BINDING_HEIGHTS, 0);
     glBindVertexArray(0);

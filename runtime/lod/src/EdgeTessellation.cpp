@@ -3,6 +3,7 @@
 #include "terrain/runtime/EdgeTessellation.h"
 
 #include "terrain/base/Assert.h"
+#include "terrain/pyramid/BlockHeightRanges.h"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -95,12 +96,12 @@ int edgeSimplification(std::span<const double, io::kMaxSimplification> projected
 int tessFactorOf(int blockQuads, int d) { return std::max(1, blockQuads >> d); }
 
 /// Whether the control stage may discard `block` of patch `id`: it lies wholly beyond the
-/// DEM's extent (a patch overhanging its edge), or its box — the block's footprint, the
-/// patch's height range from `info`, reaching `dropM` further down (a skirt's drop; 0 for
-/// the block) — lies outside `camera`'s frustum. In double, without the control stage's
-/// float margin, so the GPU never discards a block this keeps.
+/// DEM's extent (a patch overhanging its edge), or its box — the block's footprint, its
+/// height range `range` (terrain_patches.glsl, blocksHeightRangeM), reaching `dropM` further
+/// down (a skirt's drop; 0 for the block) — lies outside `camera`'s frustum. In double,
+/// without the control stage's float margin, so the GPU never discards a block this keeps.
 bool blockDiscarded(const Camera& camera, const TerrainGeometry& geometry, const io::PatchId& id,
-                    const io::PatchInfo& info, glm::ivec2 block, double dropM) {
+                    io::HeightRange range, glm::ivec2 block, double dropM) {
     const io::PyramidLayout& layout = geometry.layout();
     const double step = static_cast<double>(layout.levelStep(id.level));
     const double quads = static_cast<double>(layout.blockQuads());
@@ -113,8 +114,8 @@ bool blockDiscarded(const Camera& camera, const TerrainGeometry& geometry, const
         return true;  // wholly beyond the DEM
     }
     return !camera.frustum().intersects(blocksWorldBox(geometry, id, block, block,
-                                                       static_cast<double>(info.minHeight) - dropM,
-                                                       static_cast<double>(info.maxHeight)));
+                                                       static_cast<double>(range.low) - dropM,
+                                                       static_cast<double>(range.high)));
 }
 
 }  // namespace
@@ -136,12 +137,25 @@ std::vector<BlockFactors> patchBlockFactors(const Camera& camera, const TerrainG
         return static_cast<double>(lambda[static_cast<std::size_t>(d - 1)]) + patchErrorM;
     };
 
-    // The camera-relative box of blocks first..last (inclusive): their footprint, and
-    // heights from the patch's range widened by Err(P), since the full-resolution surface
-    // may lie that far beyond the patch's samples, and an error's segment ends on it.
-    const double lowM = static_cast<double>(record.info.minHeight) - patchErrorM;
-    const double highM = static_cast<double>(record.info.maxHeight) + patchErrorM;
+    // Each block's own heights, as the GPU pool uploads them for the control stage.
+    const int tileSamples = layout.tileSamples();
+    const int patchSamples = tileSamples - 2;
+    TERRAIN_ASSERT(record.heights.size() == static_cast<std::size_t>(tileSamples * tileSamples));
+    std::vector<io::HeightRange> ranges(static_cast<std::size_t>(blocks * blocks));
+    io::blockHeightRanges(
+        io::GridView{record.heights.data() + tileSamples + 1, patchSamples, tileSamples}, quads,
+        {record.info.minHeight, record.info.maxHeight}, ranges);
+    const auto rangeOf = [&](glm::ivec2 block) {
+        return ranges[static_cast<std::size_t>(block.y * blocks + block.x)];
+    };
+
+    // The camera-relative box of blocks first..last (inclusive, one block or an edge's
+    // two): their footprint, and their heights widened by Err(P), since the full-resolution
+    // surface may lie that far beyond the patch's samples, and an error's segment ends on it.
     const auto edgeBoxM = [&](glm::ivec2 first, glm::ivec2 last) {
+        const io::HeightRange a = rangeOf(first), b = rangeOf(last);
+        const double lowM = static_cast<double>(std::min(a.low, b.low)) - patchErrorM;
+        const double highM = static_cast<double>(std::max(a.high, b.high)) + patchErrorM;
         const Aabb world = blocksWorldBox(geometry, record.id, first, last, lowM, highM);
         return Aabb{.min = world.min - camera.position, .max = world.max - camera.position};
     };
@@ -190,7 +204,7 @@ std::vector<BlockFactors> patchBlockFactors(const Camera& camera, const TerrainG
                 if (factor < inner && projected < errorPx) inner = factor;
             }
             f.inner = {inner, inner};
-            f.culled = blockDiscarded(camera, geometry, record.id, record.info, block, 0.0);
+            f.culled = blockDiscarded(camera, geometry, record.id, rangeOf(block), block, 0.0);
         }
     }
     return out;

@@ -4,6 +4,7 @@
 // interpolation.
 #include "terrain/pyramid/PatchErrors.h"
 
+#include "terrain/pyramid/BlockHeightRanges.h"
 #include "terrain/pyramid/CoarseCellErrors.h"
 
 #include "TriangulationOracle.h"
@@ -278,3 +279,35 @@ TEST(PatchErrors, CoarseCellsOfAPlaneHaveNoError) {
 
 }  // namespace
 }  // namespace terrain::io
+
+// The box the draw bounds a block's error over: each block's lowest and highest sample,
+// within the patch's range; a no-data sample's height left out, a block with nothing left
+// taking the patch's range.
+TEST(PatchErrors, BlockHeightRangesAreEachBlocksOwnSamples) {
+    constexpr int kBlockQuads = 2;
+    constexpr int kSide = 5;  // 2 × 2 blocks of 2 × 2 quads
+    std::vector<float> heights(kSide * kSide, 10.0f);
+    heights[0] = 3.0f;               // block (0, 0) only
+    heights[2] = 50.0f;              // the corner blocks (0, 0) and (1, 0) share
+    heights[4 * kSide + 4] = 99.0f;  // beyond the patch's range: clamped to it
+    heights[3 * kSide + 1] = NAN;    // block (0, 1): a sample without a height
+    const terrain::io::GridView grid{heights.data(), kSide, kSide};
+    std::vector<terrain::io::HeightRange> ranges(4);
+    terrain::io::blockHeightRanges(grid, kBlockQuads, {0.0f, 60.0f}, ranges);
+    EXPECT_EQ(ranges[0].low, 3.0f);
+    EXPECT_EQ(ranges[0].high, 50.0f);
+    EXPECT_EQ(ranges[1].low, 10.0f);
+    EXPECT_EQ(ranges[1].high, 50.0f);
+    EXPECT_EQ(ranges[2].low, 10.0f);
+    EXPECT_EQ(ranges[2].high, 10.0f);
+    EXPECT_EQ(ranges[3].low, 10.0f);
+    EXPECT_EQ(ranges[3].high, 60.0f);
+
+    std::vector<float> none(kSide * kSide, NAN);
+    terrain::io::blockHeightRanges(terrain::io::GridView{none.data(), kSide, kSide}, kBlockQuads,
+                                   {-5.0f, 7.0f}, ranges);
+    for (const terrain::io::HeightRange& r : ranges) {
+        EXPECT_EQ(r.low, -5.0f);
+        EXPECT_EQ(r.high, 7.0f);
+    }
+}

@@ -10,6 +10,7 @@
 #include "terrain/gl/Buffer.h"
 #include "terrain/gl/Fence.h"
 #include "terrain/gl/Texture.h"
+#include "terrain/pyramid/BlockHeightRanges.h"
 #include "terrain/pyramid/PatchIdHash.h"
 #include "terrain/pyramid/PatchRecord.h"
 #include "terrain/pyramid/PyramidLayout.h"
@@ -26,7 +27,7 @@
 namespace terrain::cache {
 
 struct GpuTilePoolDesc {
-    /// GPU memory for the two texture arrays; layers = budgetBytes / bytesPerLayer.
+    /// GPU memory for the three texture arrays; layers = budgetBytes / bytesPerLayer.
     std::size_t budgetBytes = 0;
     /// Bytes (heights + block errors) uploaded per frame at most; see upload().
     std::size_t uploadBudgetBytesPerFrame = 0;
@@ -56,7 +57,8 @@ struct GpuTileAllocation {
 /// allocate/release/upload/beginFrame/endFrame do not allocate memory after construction.
 class GpuTilePool {
 public:
-    /// Bytes of one layer: heights R32F tileSamples² + block errors RGBA32F blocksPerSide².
+    /// Bytes of one layer: heights R32F tileSamples² + block errors RGBA32F blocksPerSide² +
+    /// block height ranges RG32F blocksPerSide².
     static std::size_t bytesPerLayer(const io::PyramidLayout& layout);
 
     /// Creates the texture arrays (immutable storage) and the ring. Errors: a budget below
@@ -112,7 +114,8 @@ public:
     /// The patch holding `layer`, or nullopt when the layer is free. Render thread only.
     std::optional<io::PatchId> patchOnLayer(int layer) const;
 
-    /// Copies the record's heights and block errors into the ring and issues the texture
+    /// Copies the record's heights, block errors and blocks' height ranges
+    /// (io::blockHeightRanges, worked out here) into the ring and issues the texture
     /// copies into its layer (record.id must be allocated, sizes must match the layout:
     /// both TERRAIN_ASSERT; the reader validates tiles against the layout). The no-data
     /// mask is not uploaded. Returns false, uploading nothing, when this frame's byte
@@ -136,7 +139,7 @@ public:
     std::size_t uploadBudgetBytesPerFrame() const { return m_uploadBudgetBytes; }
     std::size_t ringBytes() const { return m_ring.sizeBytes(); }
     /// Bytes one upload() adds to the frame's total.
-    std::size_t uploadBytesPerTile() const { return m_heightBytes + m_errorBytes; }
+    std::size_t uploadBytesPerTile() const { return m_heightBytes + m_errorBytes + m_rangeBytes; }
 
     int layersUsed() const { return m_freeList.usedCount(); }
     int layersFree() const { return m_freeList.freeCount(); }
@@ -147,6 +150,9 @@ public:
 
     const gl::Texture& heights() const { return m_heights; }
     const gl::Texture& blockErrors() const { return m_blockErrors; }
+    /// Per layer, each block's lowest and highest sample (RG32F, a texel a block): the box
+    /// the control stage bounds the block's error over (surface_plane.glsl, blocksBoxM).
+    const gl::Texture& blockRanges() const { return m_blockRanges; }
 
     /// The first broken invariant, described, or nullopt: the free list's own, every
     /// mapped patch on an allocated layer of its own, one patch per allocated layer, and
@@ -187,10 +193,13 @@ private:
     std::vector<SlotMap::node_type> m_spareNodes;  // reused by allocate(): no node allocation
     gl::Texture m_heights;
     gl::Texture m_blockErrors;
+    gl::Texture m_blockRanges;
+    std::vector<io::HeightRange> m_rangeScratch;  // one upload's block ranges
     int m_tileSamples = 0;
     int m_blocksPerSide = 0;
     std::size_t m_heightBytes = 0;
     std::size_t m_errorBytes = 0;
+    std::size_t m_rangeBytes = 0;
 
     gl::Buffer m_ring;
     std::byte* m_ringData = nullptr;  // persistent, coherent mapping of m_ring
