@@ -1,6 +1,6 @@
-// GpuTilePool: the resident tiles on the GPU, one layer per patch in two texture arrays
-// (heights R32F, tessellation-block errors RGBA32F), uploaded through a persistent-mapped
-// pixel-buffer ring within a per-frame byte budget.
+// GpuTilePool: the resident tiles on the GPU, one layer per patch in three texture arrays
+// (heights R32F, tessellation-block errors RGBA32F, the blocks' height ranges RG32F),
+// uploaded through a persistent-mapped pixel-buffer ring within a per-frame byte budget.
 // Yusov & Shevtsov 2011, §5: texture arrays, a list of unused subresources, one draw call.
 #pragma once
 
@@ -29,7 +29,7 @@ namespace terrain::cache {
 struct GpuTilePoolDesc {
     /// GPU memory for the three texture arrays; layers = budgetBytes / bytesPerLayer.
     std::size_t budgetBytes = 0;
-    /// Bytes (heights + block errors) uploaded per frame at most; see upload().
+    /// Bytes (heights, block errors and ranges) uploaded per frame at most; see upload().
     std::size_t uploadBudgetBytesPerFrame = 0;
     /// Size of the pixel-buffer ring (extra to budgetBytes); 0 picks
     /// 2 × max(uploadBudgetBytesPerFrame, one tile).
