@@ -60,33 +60,26 @@ Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
     pool.m_rangeScratch.resize(squared(pool.m_blocksPerSide));
     pool.m_uploadBudgetBytes = desc.uploadBudgetBytesPerFrame;
 
-    auto heights = gl::Texture::create2DArray({.internalFormat = GL_R32F,
-                                               .width = pool.m_tileSamples,
-                                               .height = pool.m_tileSamples,
-                                               .layers = layers},
-                                              "tile pool heights");
-    if (!heights) {
-        return Error{"GpuTilePool: " + heights.error().message};
-    }
-    auto errors = gl::Texture::create2DArray({.internalFormat = GL_RGBA32F,
-                                              .width = pool.m_blocksPerSide,
-                                              .height = pool.m_blocksPerSide,
-                                              .layers = layers},
-                                             "tile pool block errors");
-    if (!errors) {
-        return Error{"GpuTilePool: " + errors.error().message};
-    }
-    auto ranges = gl::Texture::create2DArray({.internalFormat = GL_RG32F,
-                                              .width = pool.m_blocksPerSide,
-                                              .height = pool.m_blocksPerSide,
-                                              .layers = layers},
-                                             "tile pool block height ranges");
-    if (!ranges) {
-        return Error{"GpuTilePool: " + ranges.error().message};
-    }
-    pool.m_heights = std::move(heights).value();
-    pool.m_blockErrors = std::move(errors).value();
-    pool.m_blockRanges = std::move(ranges).value();
+    // One texture array of `side`² texels a layer, a layer per patch.
+    const auto layerArray = [&](GLenum format, int side, const char* name,
+                                gl::Texture& out) -> Status {
+        auto created = gl::Texture::create2DArray(
+            {.internalFormat = format, .width = side, .height = side, .layers = layers}, name);
+        if (!created) return Error{"GpuTilePool: " + created.error().message};
+        out = std::move(created).value();
+        return {};
+    };
+    if (Status made = layerArray(GL_R32F, pool.m_tileSamples, "tile pool heights", pool.m_heights);
+        !made)
+        return made.error();
+    if (Status made = layerArray(GL_RGBA32F, pool.m_blocksPerSide, "tile pool block errors",
+                                 pool.m_blockErrors);
+        !made)
+        return made.error();
+    if (Status made = layerArray(GL_RG32F, pool.m_blocksPerSide, "tile pool block height ranges",
+                                 pool.m_blockRanges);
+        !made)
+        return made.error();
     // Nearest texel fetches: heights and errors are data, not images to filter.
     pool.m_blockErrors.setSampling(GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
     pool.m_blockRanges.setSampling(GL_NEAREST, GL_NEAREST, GL_CLAMP_TO_EDGE);
