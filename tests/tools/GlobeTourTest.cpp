@@ -15,7 +15,7 @@ namespace {
 
 io::ManifestGlobeSource source(std::string input, double west, double south, double east,
                                double north) {
-    return {std::move(input), west, south, east, north};
+    return {std::move(input), west, south, east, north, {}};
 }
 
 // As a build writes it: sourceExtent is the finest (first) source's.

@@ -23,7 +23,8 @@ io::PyramidManifest composite() {
     io::PyramidManifest m;
     m.globe = io::ManifestGlobe{};
     // A 1° tile over a global grid, blended across 3 to 5 km inside its edge.
-    m.globe->sources = {{"tile.tif", 10.0, 45.0, 11.0, 46.0}, {"global.nc", -180, -90, 180, 90}};
+    m.globe->sources = {{"tile.tif", 10.0, 45.0, 11.0, 46.0, {}},
+                        {"global.nc", -180, -90, 180, 90, {}}};
     io::ManifestSeam seam;
     seam.input = "tile.tif";
     seam.seamSlope = 0.3;

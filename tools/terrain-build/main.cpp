@@ -145,6 +145,12 @@ int main(int argc, char** argv) {
                "finest level's samples (docs/globe.md, \"Oversampled finest levels\")")
             ->check(CLI::Range(0, io::kMaxGlobeOversampleLevels))
             ->capture_default_str();
+    auto* nativeFlag = app.add_flag(
+        "--native-leaves", options.globeNativeLeaves,
+        "Globe pyramids: also store each longitude/latitude source's own samples (as the "
+        "composite shows them) on its own grid, the data of native leaves, which draw the "
+        "finest detail at the sources' samples instead of the face grid's resampling "
+        "(docs/globe.md, \"Native leaves\"; whole builds only)");
     app.add_option("--measured-levels", options.globeMeasuredLevels,
                    "Globe region builds: the levels above the finest whose error bounds are "
                    "measured at the source's samples (each a pass over the source) before the "
@@ -195,10 +201,18 @@ int main(int argc, char** argv) {
         return fail(
             "--oversample-levels is for globe pyramids (--globe): a planar pyramid's finest "
             "level is the source's own grid");
+    if (nativeFlag->count() > 0 && !globe)
+        return fail(
+            "--native-leaves is for globe pyramids (--globe): a planar pyramid's finest "
+            "level is the source's own grid");
     if (!std::isfinite(options.globeSeaLevelM))
         return fail("--sea-level: expected a finite number of metres");
     options.parentPrediction = !independentPatches;
     const bool tasks = plan || merge || !shardTexts.empty();
+    if (tasks && options.globeNativeLeaves)
+        return fail(
+            "--native-leaves: native leaves are built by whole builds only; not yet "
+            "by --plan, --shard and --merge");
     std::vector<io::ShardId> shards;
     for (const std::string& shardText : shardTexts) {
         io::ShardId id;

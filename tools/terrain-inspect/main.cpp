@@ -54,6 +54,46 @@ void printImagery(const std::vector<inspect::ImageryLayerSummary>& layers) {
                    l.verified >= 0 ? fmt::format("; {} tiles read and checked", l.verified) : "");
 }
 
+/// A globe source's native grid (terrain-build --native-leaves): a planar pyramid of its own
+/// samples inside the globe pyramid, inspected (and verified) as any planar pyramid is.
+struct NativeGridSummary {
+    std::string input, folder;
+    std::int64_t width = 0, height = 0;
+    std::int64_t patches = 0;
+    std::uintmax_t bytes = 0;
+    float finestMaxError = 0.0f;
+};
+
+std::vector<NativeGridSummary> inspectNativeGrids(const std::string& folder,
+                                                  const io::PyramidManifest& manifest,
+                                                  const inspect::InspectOptions& options,
+                                                  std::vector<inspect::Problem>& problems) {
+    std::vector<NativeGridSummary> grids;
+    if (!manifest.globe) return grids;
+    inspect::InspectOptions quiet = options;
+    quiet.progress = nullptr;
+    for (const io::ManifestGlobeSource& source : manifest.globe->sources) {
+        if (source.native.empty()) continue;
+        const std::string path = (std::filesystem::path(folder) / source.native).string();
+        auto native = io::PyramidReader::open(path);
+        if (!native) {
+            problems.push_back({path, std::nullopt, native.error().message});
+            continue;
+        }
+        inspect::Inspection inspected = inspect::inspectPyramid(native.value(), quiet);
+        problems.insert(problems.end(), inspected.problems.begin(), inspected.problems.end());
+        NativeGridSummary grid{source.input, source.native, native.value().layout().rasterWidth(),
+                               native.value().layout().rasterHeight()};
+        for (const inspect::LevelSummary& level : inspected.levels) {
+            grid.patches += level.presentPatches;
+            grid.bytes += level.bytes;
+        }
+        if (!inspected.levels.empty()) grid.finestMaxError = inspected.levels.back().maxError;
+        grids.push_back(std::move(grid));
+    }
+    return grids;
+}
+
 Json imageryJson(const std::vector<inspect::ImageryLayerSummary>& layers) {
     Json out = Json::array();
     for (const inspect::ImageryLayerSummary& l : layers)
@@ -343,6 +383,8 @@ int main(int argc, char** argv) {
     if (shownPercent >= 0) std::fprintf(stderr, "\n");
     const std::vector<inspect::ImageryLayerSummary> imagery =
         inspect::inspectImagery(folder, reader.value().manifest(), verify, inspection.problems);
+    const std::vector<NativeGridSummary> nativeGrids =
+        inspectNativeGrids(folder, reader.value().manifest(), options, inspection.problems);
     std::optional<io::SourceCheckReport> sourceCheck;
     if (!sources.empty()) {
         const bool globe = reader.value().manifest().globe.has_value();
@@ -403,10 +445,26 @@ int main(int argc, char** argv) {
                 {"largestRimDifferenceM", sourceCheck->largestRimDifferenceM},
                 {"filledBeyondRim", sourceCheck->filledBeyondRimCount}};
         summary["imagery"] = imageryJson(imagery);
+        Json natives = Json::array();
+        for (const NativeGridSummary& grid : nativeGrids)
+            natives.push_back({{"input", grid.input},
+                               {"folder", grid.folder},
+                               {"width", grid.width},
+                               {"height", grid.height},
+                               {"patches", grid.patches},
+                               {"bytes", grid.bytes},
+                               {"finestMaxError", grid.finestMaxError}});
+        summary["nativeGrids"] = std::move(natives);
         summary["ok"] = inspection.problems.empty();
         std::printf("%s\n", summary.dump(2).c_str());
     } else {
         printText(reader.value(), inspection, verify, imagery);
+        for (const NativeGridSummary& grid : nativeGrids)
+            fmt::print(
+                "native grid: {} at its own samples in {}: {} × {} samples, {} patches, {}, "
+                "finest Err(P) {} m{}\n",
+                grid.input, grid.folder, grid.width, grid.height, grid.patches,
+                bytesText(grid.bytes), grid.finestMaxError, verify ? ", every patch verified" : "");
         if (sourceCheck) {
             fmt::print(
                 "source check: {} (sample, level) pairs, {} beyond Err(P); largest "

@@ -138,6 +138,12 @@ Result<PyramidBuildSummary> buildPyramid(PyramidSurface surface,
     auto decided = detail::decideBuildWay(surface, readers, output, options, way);
     if (!decided) return decided.error();
     const bool globe = surface == PyramidSurface::Globe;
+    if (options.globeNativeLeaves && (!globe || decided.value().way != BuildWay::Whole))
+        return Error{fmt::format(
+            "{}: native leaves (--native-leaves) are built for globe pyramids built whole; {}",
+            readers.front()->info().path,
+            globe ? "this one is built by shards (within --memory): not yet there"
+                  : "a planar pyramid's finest level is already the source's own grid")};
     Result<PyramidBuildSummary> built =
         decided.value().way == BuildWay::Whole
             ? (globe ? detail::buildWholeGlobePyramid(readers, output, options)

@@ -89,7 +89,8 @@ ManifestGlobeSource globeSourceOf(const GeographicGrid& grid, std::string input)
                                .west = grid.wrapsLongitude() ? -180.0 : grid.westDeg(),
                                .south = std::max(-90.0, grid.southDeg()),
                                .east = grid.wrapsLongitude() ? 180.0 : east,
-                               .north = std::min(90.0, grid.northDeg())};
+                               .north = std::min(90.0, grid.northDeg()),
+                               .native = {}};
 }
 
 PyramidManifest globeManifest(const PyramidLayout& layout, int faceFinestLevel,

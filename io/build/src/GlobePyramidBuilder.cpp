@@ -1,19 +1,20 @@
 #include "terrain/build/GlobePyramidBuilder.h"
 
 #include "BuildClock.h"
+#include "BuildFinish.h"
 #include "BuildOutput.h"
 #include "GeographicGrid.h"
 #include "GlobePatchBuild.h"
 #include "GlobeSources.h"
+#include "NativeGrids.h"
 #include "ParallelFor.h"
-#include "BuildFinish.h"
 #include "WholeBuilds.h"
+#include "terrain/build/GlobePatchSurface.h"
 #include "terrain/globe/CubeSphere.h"
 #include "terrain/globe/GlobePatch.h"
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/pyramid/GlobePatchErrors.h"
-#include "terrain/build/GlobePatchSurface.h"
 #include "terrain/pyramid/HeightCodes.h"
 #include "terrain/pyramid/PatchErrors.h"
 #include "terrain/pyramid/PatchRecord.h"
@@ -526,6 +527,11 @@ Result<PyramidBuildSummary> buildWholeGlobePyramid(std::span<DemReader* const> r
     std::vector<ManifestGlobeSource> extents;
     for (const GlobeSources::Source& source : composite.sources())
         extents.push_back(globeSourceOf(source.grid, source.path));
+    if (options.globeNativeLeaves) {
+        auto folders = buildNativeGrids(composite, partial.path(), options);
+        if (!folders) return folders.error();
+        for (std::size_t k = 0; k < extents.size(); ++k) extents[k].native = folders.value()[k];
+    }
     PyramidManifest m = globeManifest(l, faceLevel, std::move(extents), readers);
     m.globe->seaLevelM = options.globeSeaLevelM;
     m.globe->oversampleLevels = options.globeOversampleLevels;

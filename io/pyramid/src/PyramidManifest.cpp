@@ -321,6 +321,8 @@ PyramidManifest parseFields(const Json& root, LayoutFields& f) {
                 s.south = box[1].get<double>();
                 s.east = box[2].get<double>();
                 s.north = box[3].get<double>();
+                if (entry.contains("native"))  // since terrain-build --native-leaves
+                    s.native = stringField(entry, "globe.sources", "native");
                 m.globe->sources.push_back(std::move(s));
             }
         }
@@ -412,6 +414,20 @@ Status checkGlobe(const PyramidManifest& m, const std::string& name) {
                 "{}: globe.sources: {} has the extent [{}, {}, {}, {}]: west and east lie within "
                 "-180 … 180, south and north within -90 … 90, south no further north than north",
                 name, s.input, s.west, s.south, s.east, s.north)};
+    for (const ManifestGlobeSource& s : m.globe->sources) {
+        // A folder inside the pyramid, named by the writer: nothing a reader could be led out
+        // of the pyramid by.
+        const std::string_view prefix = ManifestGlobeSource::kNativeFolder;
+        const std::string_view rest =
+            std::string_view(s.native).substr(std::min(s.native.size(), prefix.size()));
+        if (!s.native.empty() &&
+            (!s.native.starts_with(prefix) || rest.empty() || rest.size() > 6 ||
+             !std::all_of(rest.begin(), rest.end(), [](char c) { return c >= '0' && c <= '9'; })))
+            return Error{
+                fmt::format("{}: globe.sources: {} has the native grid \"{}\": it is "
+                            "\"{}\" and a number",
+                            name, s.input, s.native, prefix)};
+    }
     for (const ManifestLevel& level : m.levels) {
         if (level.level < ManifestGlobe::kLevelOffset &&
             (level.presentPatches != 0 || !level.presentShards.empty()))
@@ -683,9 +699,11 @@ std::string toJson(const PyramidManifest& m) {
         }
         if (!m.globe->sources.empty()) {
             Json sources = Json::array();
-            for (const ManifestGlobeSource& s : m.globe->sources)
-                sources.push_back(
-                    {{"input", s.input}, {"extent", {s.west, s.south, s.east, s.north}}});
+            for (const ManifestGlobeSource& s : m.globe->sources) {
+                Json entry = {{"input", s.input}, {"extent", {s.west, s.south, s.east, s.north}}};
+                if (!s.native.empty()) entry["native"] = s.native;
+                sources.push_back(std::move(entry));
+            }
             j["globe"]["sources"] = std::move(sources);
         }
         if (m.globe->seaLevelM != 0.0) j["globe"]["seaLevelM"] = m.globe->seaLevelM;

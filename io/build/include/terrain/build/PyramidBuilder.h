@@ -60,6 +60,11 @@ struct PyramidBuildOptions {
     /// a user sees near the ground; each level roughly halves it for 4 × the finest level's
     /// samples (docs/globe.md, "Oversampled finest levels"). 0 … kMaxGlobeOversampleLevels.
     int globeOversampleLevels = 0;
+    /// Globe pyramids: also write each longitude/latitude source's own samples, as the
+    /// composite shows them, as a planar pyramid on its own grid (ManifestGlobeSource::native;
+    /// docs/globe.md, "Native leaves"): the data a finest face patch is drawn from at the
+    /// sources' own samples. Whole builds only.
+    bool globeNativeLeaves = false;
     bool overwrite = false;  ///< replace an existing pyramid at the output path
     /// Called on the building thread after every band.
     std::function<void(const PyramidBuildProgress&)> progress;

@@ -109,6 +109,12 @@ struct ManifestGlobeSource {
     /// Its extent, degrees, as sourceExtent (west may exceed east across the antimeridian; a
     /// source around the whole Earth is −180 … 180).
     double west = -180.0, south = -90.0, east = 180.0, north = 90.0;
+    /// Its native grid (terrain-build --native-leaves; optional in the file, empty: none):
+    /// the folder, relative to the pyramid, of a planar pyramid of its own samples as the
+    /// composite shows them, on its own longitude/latitude grid grown by a margin
+    /// (docs/globe.md, "Native leaves"). Always kNativeFolder followed by a number.
+    std::string native;
+    static constexpr std::string_view kNativeFolder = "native/";
     bool operator==(const ManifestGlobeSource&) const = default;
 };
 
