@@ -1,5 +1,6 @@
 #include "NativeGrids.h"
 
+#include "BuildBudget.h"
 #include "WholeBuilds.h"
 
 #include <fmt/format.h>
@@ -119,6 +120,19 @@ Result<std::vector<std::string>> buildNativeGrids(const GlobeSources& composite,
         const GlobeSources::Source& source = composite.sources()[k];
         // A projected source's own samples do not lie on the grid it was warped onto.
         if (source.own) continue;
+        // The grid is held whole beside the sources (half the budget, GlobeSources::read) while
+        // the planar build streams it: it may take half of the other half, the build the rest.
+        const GeographicGrid& grid = source.grid;
+        const auto margin = static_cast<std::uint64_t>(options.patchSamples - 1);
+        const std::uint64_t gridBytes = (static_cast<std::uint64_t>(grid.width()) + 2 * margin) *
+                                        (static_cast<std::uint64_t>(grid.height()) + 2 * margin) *
+                                        sizeof(float);
+        if (Status fits = checkMemoryBudget(source.path, "its native grid (--native-leaves)",
+                                            4 * gridBytes, options.memoryBudgetBytes,
+                                            "give more --memory, or build without --native-leaves");
+            !fits)
+            return fits.error();
+        planar.memoryBudgetBytes = options.memoryBudgetBytes / 2 - gridBytes;
         NativeGridReader reader = nativeGridOf(composite, k, options.patchSamples - 1);
         const std::string folder = fmt::format("{}{}", ManifestGlobeSource::kNativeFolder, k);
         std::error_code ec;

@@ -207,6 +207,20 @@ TEST(NativeGrids, BuildsThatCannotMakeThemSaySo) {
     EXPECT_NE(byShards.error().message.find("native leaves"), std::string::npos)
         << byShards.error().message;
     EXPECT_FALSE(std::filesystem::exists(temp.path() / "shards.pyramid"));
+    // Beyond the memory budget: refused by name, nothing left behind (the same build
+    // without native leaves fits).
+    PyramidBuildOptions tight = nativeLeaves();
+    tight.memoryBudgetBytes = 300 << 10;
+    auto over = buildPyramid(PyramidSurface::Globe, sources, temp.path() / "tight.pyramid", tight,
+                             BuildWay::Whole);
+    ASSERT_FALSE(over);
+    EXPECT_NE(over.error().message.find("its native grid (--native-leaves) needs about"),
+              std::string::npos)
+        << over.error().message;
+    EXPECT_FALSE(std::filesystem::exists(temp.path() / "tight.pyramid"));
+    tight.globeNativeLeaves = false;
+    EXPECT_TRUE(buildPyramid(PyramidSurface::Globe, sources, temp.path() / "tight.pyramid", tight,
+                             BuildWay::Whole));
     // A planar pyramid's finest level is the source's grid already.
     auto planar =
         buildPyramid(PyramidSurface::Plane, sources, temp.path() / "plane.pyramid", nativeLeaves());
