@@ -638,6 +638,8 @@ private:
                     interpolation = std::max(interpolation, c.interpolation.at(cx, cy));
                 }
             approx = roundUpSum(interpolation, worstChild);
+        } else if (m_options.finestErrorFloor) {
+            approx = std::max(approx, m_options.finestErrorFloor(id.x, id.y));
         }
         m_bounds.approx.at(id.x, id.y) = approx;
         info.approxError = approx;

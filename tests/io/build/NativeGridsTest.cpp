@@ -118,8 +118,13 @@ TEST(NativeGrids, HoldTheSourcesOwnSamplesAcrossACubeEdge) {
     EXPECT_EQ(g.crsKind, CrsKind::Geographic);
     EXPECT_NEAR(g.originX, 44.5 - 0.01 * double(margin), 1e-9);
     EXPECT_NEAR(g.originY, 11.0 + 0.01 * double(margin), 1e-9);
-    EXPECT_EQ(grid.manifest().layout.rasterWidth(), 150 + 2 * margin);
-    EXPECT_EQ(grid.manifest().layout.rasterHeight(), 100 + 2 * margin);
+    // Grown east and south to whole tiles: no tile is padded with made-up samples.
+    const PyramidLayout& layout = grid.manifest().layout;
+    EXPECT_GE(layout.rasterWidth(), 150 + 2 * margin);
+    EXPECT_LT(layout.rasterWidth(), 150 + 3 * margin);
+    EXPECT_EQ((layout.rasterWidth() - 1) % margin, 0);
+    EXPECT_GE(layout.rasterHeight(), 100 + 2 * margin);
+    EXPECT_EQ((layout.rasterHeight() - 1) % margin, 0);
     // Lossless: the finest level is the grid itself.
     EXPECT_EQ(grid.manifest().levels.back().maxError, 0.0);
     expectOwnSamples(grid, source, margin, margin);
@@ -144,8 +149,10 @@ TEST(NativeGrids, CapOverThePoleStopsAtThePole) {
     const Georeference& g = grid.manifest().georeference;
     EXPECT_NEAR(g.originX, -180.0, 1e-9);
     EXPECT_NEAR(g.originY, 90.0, 1e-9);
-    EXPECT_EQ(grid.manifest().layout.rasterWidth(), 360);
-    EXPECT_EQ(grid.manifest().layout.rasterHeight(), 20 + margin);
+    // Round the Earth: no margin but the columns that make whole tiles (wrapped); north of it
+    // the pole.
+    EXPECT_EQ(grid.manifest().layout.rasterWidth(), 369);
+    EXPECT_EQ(grid.manifest().layout.rasterHeight(), 20 + margin + 13);
     expectOwnSamples(grid, source, 0, 0);
 }
 
@@ -178,17 +185,31 @@ TEST(NativeGrids, OverlappingSourcesEachHoldWhatTheCompositeShows) {
 
     NativeGrid coarseGrid(out / "native/1");
     ASSERT_TRUE(coarseGrid.opened());
-    EXPECT_EQ(coarseGrid.manifest().layout.rasterWidth(), 180);  // around the Earth: no margin
-    EXPECT_EQ(coarseGrid.manifest().layout.rasterHeight(), 90);  // pole to pole
+    // Around the Earth (no margin but whole tiles, wrapped), pole to pole.
+    EXPECT_EQ(coarseGrid.manifest().layout.rasterWidth(), 193);
+    EXPECT_EQ(coarseGrid.manifest().layout.rasterHeight(), 90);
     // The coarse sample at 21° E, 39° N (column 100, row 25) lies 100 pixels or more inside the
     // fine source, past its band: it holds the fine surface there (50 m above the hills, on
     // the fine triangles), not its own sample.
     ASSERT_LT(band, 100);
-    const float under = coarseGrid.at(100, 25);
+    const float fineThere = coarseGrid.at(100, 25);
     std::vector<float> own(1);
     ASSERT_TRUE(coarse.readWindow(100, 25, 1, 1, own));
-    EXPECT_NEAR(under, hills(39.0, 21.0) + 50.0f, 0.5);
-    EXPECT_GT(std::abs(under - own[0]), 40.0f);
+    EXPECT_NEAR(fineThere, hills(39.0, 21.0) + 50.0f, 0.5);
+    EXPECT_GT(std::abs(fineThere - own[0]), 40.0f);
+    // Each finest tile's Err(P) covers the other source's samples shown on it: the coarse
+    // tile under the fine source misses the fine hills' detail by metres, and the levels above
+    // nest over it; a tile far from it misses nothing.
+    auto coarseReader = PyramidReader::open(out / "native/1");
+    ASSERT_TRUE(coarseReader);
+    const int finest = coarseReader.value().layout().finestLevel();
+    const int quads = coarseReader.value().layout().patchQuads();
+    auto under = coarseReader.value().patchInfo({finest, 100 / quads, 25 / quads});
+    auto far = coarseReader.value().patchInfo({finest, 0, 0});
+    ASSERT_TRUE(under && far);
+    EXPECT_GT(under.value().error, 1.0f);
+    EXPECT_EQ(far.value().error, 0.0f);
+    EXPECT_GE(coarseReader.value().manifest().statistics.rootError, under.value().error);
     // Far from the fine source, the coarse grid's own samples.
     for (const auto& [column, row] : {std::pair(10, 10), std::pair(150, 70), std::pair(90, 0)}) {
         ASSERT_TRUE(coarse.readWindow(column, row, 1, 1, own));

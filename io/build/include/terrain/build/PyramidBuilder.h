@@ -65,6 +65,11 @@ struct PyramidBuildOptions {
     /// docs/globe.md, "Native leaves"): the data a finest face patch is drawn from at the
     /// sources' own samples. Whole builds only.
     bool globeNativeLeaves = false;
+    /// Planar whole builds: the least Err_Appr(P) of the finest level's patch (x, y), when
+    /// the pyramid's truth is wider than its raster (a native grid's: the samples of the other
+    /// sources the composite shows on it, NativeGrids.h); every coarser level's bound nests
+    /// over it. Empty: 0.
+    std::function<float(std::int64_t x, std::int64_t y)> finestErrorFloor;
     bool overwrite = false;  ///< replace an existing pyramid at the output path
     /// Called on the building thread after every band.
     std::function<void(const PyramidBuildProgress&)> progress;
