@@ -42,9 +42,54 @@ float globeSin(float x) {
     return sin(x);
 }
 
+// layerLevel.w of a native tile (docs/globe.md, "Native leaves"): a tile of a source's own
+// longitude/latitude grid, placed by io/globe NativeOffset.h (its GLSL twin is below); 0 for
+// a face patch.
+const int kNativeTile = 1;
+
+bool isNativeTile(PatchInstance p) { return p.layerLevel.w == kNativeTile; }
+
+// S(d) − S(d0) + (O − camera) + h·d for the direction d = d0 + Δd (SurfaceOffset.h):
+// N·M·Δd + (N − N0)·M·d0, every difference formed from small quantities.
+vec3 globeSurfaceOffsetM(PatchInstance p, vec3 deltaDirection, vec3 direction, float h) {
+    vec3 direction0 = p.placement2.xyz;
+    float sqrtG0 = p.placement2.w;
+    precise float deltaG = -kWgs84E2 * deltaDirection.z * (direction.z + direction0.z);
+    precise float sqrtG = sqrt(sqrtG0 * sqrtG0 + deltaG);
+    precise float primeVertical = kWgs84A / sqrtG;
+    precise float deltaPrimeVertical = -kWgs84A * deltaG / (sqrtG * sqrtG0 * (sqrtG + sqrtG0));
+    vec3 m = vec3(1.0, 1.0, 1.0 - kWgs84E2);
+    precise vec3 deltaSurface =
+        primeVertical * (m * deltaDirection) + deltaPrimeVertical * (m * direction0);
+    precise vec3 position = p.placement3.xyz + deltaSurface + h * direction;
+    return position;
+}
+
+// A native tile's point at tile coordinates `uv` (io/globe NativeOffset.h, whose fields these
+// are): placement0 (∂λ/∂u, u0, v0, λ0), placement1 (φ0, ∂φ/∂v); the rest as a face patch's.
+// Longitude and latitude as reference + difference, and the direction's difference from
+// sin(a0 + Δ/2)·sin(Δ/2), never as the difference of two cosines.
+vec3 nativePositionM(PatchInstance p, vec2 uv, float h, out vec3 direction) {
+    precise float deltaLon = p.placement0.x * (uv.x - p.placement0.y);
+    precise float deltaLat = p.placement1.y * (uv.y - p.placement0.z);
+    float lon0 = p.placement0.w, lat0 = p.placement1.x;
+    precise float halfLon = globeSin(0.5 * deltaLon);
+    precise float halfLat = globeSin(0.5 * deltaLat);
+    precise float deltaCosLon = -2.0 * sin(lon0 + 0.5 * deltaLon) * halfLon;
+    precise float deltaSinLon = 2.0 * cos(lon0 + 0.5 * deltaLon) * halfLon;
+    precise float deltaCosLat = -2.0 * sin(lat0 + 0.5 * deltaLat) * halfLat;
+    precise float deltaSinLat = 2.0 * cos(lat0 + 0.5 * deltaLat) * halfLat;
+    float cosLat = cos(lat0 + deltaLat);
+    precise vec3 deltaDirection = vec3(cosLat * deltaCosLon + cos(lon0) * deltaCosLat,
+                                       cosLat * deltaSinLon + sin(lon0) * deltaCosLat, deltaSinLat);
+    direction = p.placement2.xyz + deltaDirection;
+    return globeSurfaceOffsetM(p, deltaDirection, direction, h);
+}
+
 // Camera-relative position of the patch point at patch coordinates `uv` ([0, 1]², a sample s
 // at s / (N − 1)) at height h, and its ellipsoid normal `direction`.
 vec3 globePositionM(PatchInstance p, vec2 uv, float h, out vec3 direction) {
+    if (isNativeTile(p)) return nativePositionM(p, uv, h, direction);
     int face = p.layerLevel.z;
     vec3 faceNormal = kFaceNormal[face], right = kFaceRight[face], down = kFaceDown[face];
     // Cube coordinates as reference + difference: tan α − tan α0 = sin(Δα) / (cos α cos α0).
@@ -64,24 +109,19 @@ vec3 globePositionM(PatchInstance p, vec2 uv, float h, out vec3 direction) {
     precise float deltaInverseLength = -deltaLengthSquared * inverseLength * inverseLength0 /
                                        (1.0 / inverseLength + 1.0 / inverseLength0);
     precise vec3 deltaDirection = deltaQ * inverseLength + q0 * deltaInverseLength;
-    vec3 direction0 = p.placement2.xyz;
-    direction = direction0 + deltaDirection;
-    // S(d) − S(d0) = N·M·Δd + (N − N0)·M·d0, M = diag(1, 1, 1 − e²).
-    float sqrtG0 = p.placement2.w;
-    precise float deltaG = -kWgs84E2 * deltaDirection.z * (direction.z + direction0.z);
-    precise float sqrtG = sqrt(sqrtG0 * sqrtG0 + deltaG);
-    precise float primeVertical = kWgs84A / sqrtG;
-    precise float deltaPrimeVertical = -kWgs84A * deltaG / (sqrtG * sqrtG0 * (sqrtG + sqrtG0));
-    vec3 m = vec3(1.0, 1.0, 1.0 - kWgs84E2);
-    precise vec3 deltaSurface =
-        primeVertical * (m * deltaDirection) + deltaPrimeVertical * (m * direction0);
-    precise vec3 position = p.placement3.xyz + deltaSurface + h * direction;
-    return position;
+    direction = p.placement2.xyz + deltaDirection;
+    return globeSurfaceOffsetM(p, deltaDirection, direction, h);
 }
 
 // The ellipsoid normal `up` tilted by `slope`, metres of height per metre east (along s) and
 // south (along t).
 vec3 globeTiltedNormal(PatchInstance p, vec2 slope, vec3 up) {
+    if (isNativeTile(p)) {
+        // A native tile's s runs east and t south: the parallel and the meridian.
+        vec3 east = normalize(vec3(-up.y, up.x, 0.0));
+        vec3 south = cross(east, up);
+        return normalize(up - slope.x * east - slope.y * south);
+    }
     int face = p.layerLevel.z;
     vec3 east = normalize(kFaceRight[face] - dot(kFaceRight[face], up) * up);
     vec3 south = normalize(kFaceDown[face] - dot(kFaceDown[face], up) * up);

@@ -1,7 +1,9 @@
 // GlobeKit: the globe's side of SurfaceKit: the flight over a globe pyramid, its frame
 // times, look and report fields.
 #include "GlobeKit.h"
+
 #include "SurfaceKit.h"
+#include "terrain/pyramid/NativeTiles.h"
 
 #include "terrain/pyramid/GlobeGroundHeight.h"
 #include "terrain/pyramid/GlobeLayout.h"
@@ -208,7 +210,9 @@ void GlobeKit::addJsonFields(nlohmann::json& out, const FlightFacts& facts) cons
     // The last frame's draw list by face level: data, virtual and bare patches, largest Err(P).
     nlohmann::json byLevel = nlohmann::json::object();
     for (const runtime::PatchDraw& d : facts.lastDraws) {
-        nlohmann::json& level = byLevel[std::to_string(io::globePatchOf(d.id).level)];
+        const bool native = io::isNativeTile(d.id);
+        nlohmann::json& level =
+            byLevel[native ? std::string("native") : std::to_string(io::globePatchOf(d.id).level)];
         if (level.is_null())
             level = {{"data", 0}, {"virtual", 0}, {"bare", 0}, {"max_error_m", 0.0}};
         const char* kind = d.layer < 0 ? "bare" : d.isVirtual ? "virtual" : "data";

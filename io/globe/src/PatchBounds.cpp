@@ -16,6 +16,11 @@ namespace {
 
 constexpr int kGridQuads = 32;
 
+// The smallest of a few boxes around `points`, turned about `up` from `east`, padded by
+// `pad`.
+OrientedBox boxAround(const std::vector<glm::dvec3>& points, const glm::dvec3& up,
+                      const glm::dvec3& east, double pad);
+
 }  // namespace
 
 std::array<glm::dvec3, 8> OrientedBox::corners() const {
@@ -35,7 +40,6 @@ OrientedBox patchBounds(const GlobePatchId& id, double minHeight, double maxHeig
     const glm::dvec3 up = directionOf(middle.face, middle.s, middle.t);
     const glm::dvec3 right = glm::dvec3(faceFrame(id.face).right);
     const glm::dvec3 east = glm::normalize(right - glm::dot(right, up) * up);
-    const glm::dvec3 south = glm::cross(up, east);
 
     // The box of the grid points is not yet conservative: the surface bulges between them. A
     // point between the grid's directions is within flatTriangleErrorBound of a grid triangle,
@@ -52,6 +56,48 @@ OrientedBox patchBounds(const GlobePatchId& id, double minHeight, double maxHeig
                 points.push_back(Wgs84::pointAlongNormal(direction, height));
         }
     }
+    const double gridSpacing = maxSampleAngle(id.level, kGridQuads) *
+                               (Wgs84::kMaxCurvatureRadius + std::max(maxHeight, 0.0));
+    const double bulge = flatTriangleErrorBound(gridSpacing, minHeight);
+    // Rounding of the dot products: a few ulps of the planet's radius.
+    return boxAround(points, up, east,
+                     bulge + 1e-6 * (1.0 + std::abs(maxHeight)) + 1e-8 * Wgs84::kEquatorialRadius);
+}
+
+OrientedBox nativeTileBounds(const NativeGridGeometry& grid, std::int64_t x, std::int64_t y,
+                             double minHeight, double maxHeight) {
+    const glm::dvec2 middle = grid.lonLatDeg(x, y, 0.5, 0.5);
+    const glm::dvec3 up = Wgs84::normalAt(std::clamp(middle.y, -90.0, 90.0), middle.x);
+    // East, but any direction square to up at a pole.
+    const glm::dvec3 east = std::hypot(up.x, up.y) > 1e-9
+                                ? glm::normalize(glm::dvec3(-up.y, up.x, 0.0))
+                                : glm::dvec3(0.0, 1.0, 0.0);
+    std::vector<glm::dvec3> points;
+    points.reserve(2 * (kGridQuads + 1) * (kGridQuads + 1));
+    for (int j = 0; j <= kGridQuads; ++j) {
+        for (int i = 0; i <= kGridQuads; ++i) {
+            const glm::dvec2 at =
+                grid.lonLatDeg(x, y, double(i) / kGridQuads, double(j) / kGridQuads);
+            const glm::dvec3 direction = Wgs84::normalAt(std::clamp(at.y, -90.0, 90.0), at.x);
+            for (const double height : {minHeight, maxHeight})
+                points.push_back(Wgs84::pointAlongNormal(direction, height));
+        }
+    }
+    const double radian = std::numbers::pi / 180.0;
+    const double step = double(grid.quads) / kGridQuads;
+    // The largest angle between neighbouring grid places, radians.
+    const double widest = std::max(grid.pixelLonDeg, grid.pixelLatDeg) * step * radian;
+    const double gridSpacing = widest * (Wgs84::kMaxCurvatureRadius + std::max(maxHeight, 0.0));
+    const double bulge = flatTriangleErrorBound(gridSpacing, minHeight);
+    return boxAround(points, up, east,
+                     bulge + 1e-6 * (1.0 + std::abs(maxHeight)) + 1e-8 * Wgs84::kEquatorialRadius);
+}
+
+namespace {
+
+OrientedBox boxAround(const std::vector<glm::dvec3>& points, const glm::dvec3& up,
+                      const glm::dvec3& east, double pad) {
+    const glm::dvec3 south = glm::cross(up, east);
     // Near a cube corner a patch is a rhombus (60° and 120°), loose in a box square to its
     // edges: the tangent axes are turned to the smallest footprint of a few candidates.
     OrientedBox best;
@@ -79,14 +125,11 @@ OrientedBox patchBounds(const GlobePatchId& id, double minHeight, double maxHeig
             best.centre += 0.5 * (low[axis] + high[axis]) * axes[axis];
         }
     }
-    const double gridSpacing = maxSampleAngle(id.level, kGridQuads) *
-                               (Wgs84::kMaxCurvatureRadius + std::max(maxHeight, 0.0));
-    const double bulge = flatTriangleErrorBound(gridSpacing, minHeight);
-    // Rounding of the dot products above: a few ulps of the planet's radius.
-    const double pad = bulge + 1e-6 * (1.0 + std::abs(maxHeight)) + 1e-8 * Wgs84::kEquatorialRadius;
     best.halfExtents += glm::dvec3(pad);
     return best;
 }
+
+}  // namespace
 
 double distanceToBox(const glm::dvec3& point, const OrientedBox& box) {
     const glm::dvec3 offset = point - box.centre;

@@ -5,6 +5,7 @@
 #include "terrain/pyramid/PyramidReader.h"
 #include "RemoteShardStream.h"
 #include "terrain/pyramid/HeightCodes.h"
+#include "terrain/pyramid/NativeTiles.h"
 #include "terrain/pyramid/ParentTileCache.h"
 #include "terrain/pyramid/VirtualPlanetPyramid.h"
 #include "terrain/remote/RemoteFiles.h"
@@ -86,6 +87,19 @@ struct PyramidReader::Impl {
     std::uint64_t storedBytesRead = 0;  // the payloads of the patches read
     // The virtual planet (VirtualPlanetPyramid.h): patches generated instead of read.
     std::optional<VirtualPlanetPyramid> planet;
+    // A globe's native grids (NativeTiles.h), by source index: a reader of each planar
+    // pyramid, on this reader's thread; null where a source has none.
+    std::vector<std::unique_ptr<PyramidReader>> natives;
+
+    // The native grid a native tile id names, and the tile's id in it (its finest level).
+    Result<std::pair<PyramidReader*, PatchId>> native(const PatchId& id) {
+        const auto k = static_cast<std::size_t>(nativeGridOf(id));
+        if (k >= natives.size() || natives[k] == nullptr)
+            return Error{fmt::format("{}: native tile {} ({}, {}): source {} has no native grid",
+                                     folder.string(), k, id.x, id.y, k)};
+        PyramidReader& grid = *natives[k];
+        return std::pair(&grid, PatchId{grid.layout().finestLevel(), id.x, id.y});
+    }
 
     // The heights of a patch's parent: from the cache, else read (and verified) now. The
     // parent's read reuses the scratch buffers, so the child's codes are kept apart meanwhile.
@@ -377,7 +391,7 @@ Result<PyramidReader> PyramidReader::open(const std::filesystem::path& pyramidDi
         return PyramidReader(std::move(impl));
     }
     Result<std::unique_ptr<remote::RemoteFiles>> files =
-        remote::filesFor(pyramidDir.string(), std::move(run));
+        remote::filesFor(pyramidDir.string(), run);  // the native grids share it
     if (!files) return files.error();
     Result<PyramidManifest> manifest = readManifest(pyramidDir, files.value().get());
     if (!manifest) return manifest.error();
@@ -390,6 +404,19 @@ Result<PyramidReader> PyramidReader::open(const std::filesystem::path& pyramidDi
     impl->maxOpen = maxOpenShards;
     impl->parents =
         parents ? std::move(parents) : std::make_shared<ParentTileCache>(kParentCacheBytes);
+    // A globe's native grids, read by this reader's thread through readers of their own.
+    Result<std::vector<NativeGridManifest>> grids =
+        readNativeGridManifests(pyramidDir, impl->manifest);
+    if (!grids) return grids.error();
+    for (const NativeGridManifest& grid : grids.value()) {
+        const std::string& folder =
+            impl->manifest.globe->sources[static_cast<std::size_t>(grid.source)].native;
+        Result<PyramidReader> opened = open(pyramidDir / folder, maxOpenShards, nullptr, run);
+        if (!opened) return opened.error();
+        impl->natives.resize(impl->manifest.globe->sources.size());
+        impl->natives[static_cast<std::size_t>(grid.source)] =
+            std::make_unique<PyramidReader>(std::move(opened).value());
+    }
     return PyramidReader(std::move(impl));
 }
 
@@ -400,16 +427,29 @@ bool PyramidReader::hasMask() const { return m_impl->hasMask; }
 
 Result<PatchRecord> PyramidReader::readPatch(const PatchId& id) {
     PatchRecord record;
-    if (Status read = m_impl->read(id, record); !read) return read.error();
+    if (Status read = readPatch(id, record); !read) return read.error();
     return record;
 }
 
 Status PyramidReader::readPatch(const PatchId& id, PatchRecord& out) {
+    if (isNativeTile(id)) {
+        auto native = m_impl->native(id);
+        if (!native) return native.error();
+        if (Status read = native.value().first->readPatch(native.value().second, out); !read)
+            return read;
+        out.id = id;
+        return {};
+    }
     return m_impl->read(id, out);
 }
 
 Result<PatchInfo> PyramidReader::patchInfo(const PatchId& id) {
     Impl& r = *m_impl;
+    if (isNativeTile(id)) {
+        auto native = r.native(id);
+        if (!native) return native.error();
+        return native.value().first->patchInfo(native.value().second);
+    }
     if (Status inside = r.checkContains(id); !inside) return inside.error();
     if (r.planet) {
         if (id.level < ManifestGlobe::kLevelOffset) return PatchInfo{};
@@ -423,11 +463,24 @@ Result<PatchInfo> PyramidReader::patchInfo(const PatchId& id) {
 }
 
 std::filesystem::path PyramidReader::shardFile(const PatchId& id) const {
+    if (isNativeTile(id)) {
+        const auto k = static_cast<std::size_t>(nativeGridOf(id));
+        if (k < m_impl->natives.size() && m_impl->natives[k] != nullptr) {
+            const PyramidReader& grid = *m_impl->natives[k];
+            return grid.shardFile({grid.layout().finestLevel(), id.x, id.y});
+        }
+        return m_impl->folder;
+    }
     return m_impl->shardFile(m_impl->layout.shardOf(id));
 }
 
 Result<std::uint64_t> PyramidReader::shardBytes(const PatchId& id) {
     Impl& r = *m_impl;
+    if (isNativeTile(id)) {
+        auto native = r.native(id);
+        if (!native) return native.error();
+        return native.value().first->shardBytes(native.value().second);
+    }
     if (Status inside = r.checkContains(id); !inside) return inside.error();
     if (r.planet) return std::uint64_t{0};  // generated, not stored
     Result<OpenShard*> opened = r.shard(r.layout.shardOf(id), id);
@@ -439,12 +492,40 @@ Result<std::uint64_t> PyramidReader::shardBytes(const PatchId& id) {
     return std::uint64_t{bytes};
 }
 
+// What the native grids' readers did counts as this reader's: they read for it.
 remote::RemoteStats PyramidReader::remoteStats() const {
-    return m_impl->remote ? m_impl->remote->stats() : remote::RemoteStats{};
+    remote::RemoteStats stats = m_impl->remote ? m_impl->remote->stats() : remote::RemoteStats{};
+    for (const auto& grid : m_impl->natives)
+        if (grid) stats += grid->remoteStats();
+    return stats;
 }
-int PyramidReader::openShards() const { return static_cast<int>(m_impl->shards.size()); }
-std::uint64_t PyramidReader::shardOpenings() const { return m_impl->openings; }
-std::uint64_t PyramidReader::parentReads() const { return m_impl->parentReads; }
-std::uint64_t PyramidReader::storedBytesRead() const { return m_impl->storedBytesRead; }
+int PyramidReader::openShards() const {
+    int open = static_cast<int>(m_impl->shards.size());
+    for (const auto& grid : m_impl->natives)
+        if (grid) open += grid->openShards();
+    return open;
+}
+std::uint64_t PyramidReader::shardOpenings() const {
+    std::uint64_t openings = m_impl->openings;
+    for (const auto& grid : m_impl->natives)
+        if (grid) openings += grid->shardOpenings();
+    return openings;
+}
+std::uint64_t PyramidReader::parentReads() const {
+    std::uint64_t reads = m_impl->parentReads;
+    for (const auto& grid : m_impl->natives)
+        if (grid) reads += grid->parentReads();
+    return reads;
+}
+std::uint64_t PyramidReader::storedBytesRead() const {
+    std::uint64_t bytes = m_impl->storedBytesRead;
+    for (const auto& grid : m_impl->natives)
+        if (grid) bytes += grid->storedBytesRead();
+    return bytes;
+}
+/// The native grid of source `k` (NativeTiles.h), or null where it has none.
+const PyramidReader* PyramidReader::nativeGrid(std::size_t k) const {
+    return k < m_impl->natives.size() ? m_impl->natives[k].get() : nullptr;
+}
 
 }  // namespace terrain::io

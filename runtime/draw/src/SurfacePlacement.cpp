@@ -2,6 +2,7 @@
 #include "terrain/runtime/SurfacePlacement.h"
 
 #include "terrain/base/Assert.h"
+#include "terrain/globe/NativeOffset.h"
 #include "terrain/globe/SurfaceOffset.h"
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
@@ -11,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace terrain::runtime {
 namespace {
@@ -51,8 +53,7 @@ std::array<float, 4> sampleSpacing(const globe::GlobePatchId& id, int quads, dou
 }  // namespace
 
 std::unique_ptr<SurfacePlacement> SurfacePlacement::forSurface(const Surface& surface) {
-    if (surface.kind() == SurfaceKind::Globe)
-        return std::make_unique<GlobePlacement>(surface.manifest());
+    if (surface.kind() == SurfaceKind::Globe) return std::make_unique<GlobePlacement>(surface);
     return std::make_unique<PlanePlacement>(runtime::planeGeometry(surface));
 }
 
@@ -116,7 +117,36 @@ void GlobePlacement::beginFrame(const Camera& camera, FrameBlock& block) {
 PatchInstance GlobePlacement::place(const PatchDraw& p, const cache::GpuTilePool& pool) const {
     TERRAIN_ASSERT(p.layer < 0 || pool.layerOf(p.tileId) == p.layer,
                    "drawing a data patch that is not resident on its layer");
+    if (const globe::NativeGridGeometry* native =
+            m_surface != nullptr ? m_surface->nativeGeometry(p.id) : nullptr)
+        return nativeTileInstance(p, *native, m_camera, m_cameraUp);
     return globePatchInstance(p, m_camera, m_cameraUp, m_manifest.layout.patchQuads());
+}
+
+PatchInstance nativeTileInstance(const PatchDraw& p, const globe::NativeGridGeometry& geometry,
+                                 const glm::dvec3& camera, const glm::dvec3& cameraUp) {
+    const glm::dvec2 uv0 = globe::nearestNativeCoordinates(geometry, p.id.x, p.id.y, cameraUp);
+    const globe::NativeSurfaceFrame f =
+        globe::makeNativeSurfaceFrame(geometry, p.id.x, p.id.y, uv0.x, uv0.y, camera);
+    PatchInstance record;
+    record.placement0 = {f.lonPerU, f.u0, f.v0, f.lon0};
+    record.placement1 = {f.lat0, f.latPerV, 0.0f, 0.0f};
+    record.placement2 = {f.direction0.x, f.direction0.y, f.direction0.z, f.sqrtG0};
+    record.placement3 = {f.originFromCamera.x, f.originFromCamera.y, f.originFromCamera.z,
+                         f.primeVertical0};
+    // Metres per tile sample east and south at the reference point (for the shading normal).
+    const globe::CurvatureRadii radii =
+        globe::Wgs84::curvatureRadiiAt(f.lat0 * 180.0 / std::numbers::pi);
+    const double radian = std::numbers::pi / 180.0;
+    record.placement4 = {static_cast<float>(radii.primeVertical * std::cos(double(f.lat0)) *
+                                            geometry.pixelLonDeg * radian),
+                         static_cast<float>(radii.meridian * geometry.pixelLatDeg * radian), 0.0f,
+                         0.0f};
+    record.errors = {p.errorM, p.skirtDepthM, p.minHeight, p.maxHeight};
+    record.bareBlockErrors = p.bareBlockErrorsM;
+    record.texelMap = {0.0f, 0.0f, 1.0f, 0.0f};
+    record.layerLevel = {p.layer, p.id.level, 0, 1};
+    return record;
 }
 
 PatchInstance globePatchInstance(const PatchDraw& p, const glm::dvec3& camera,

@@ -1,5 +1,7 @@
 #include "terrain/runtime/GlobeDrawnGround.h"
 
+#include "terrain/pyramid/NativeTiles.h"
+
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
 
@@ -41,6 +43,12 @@ double drawnGroundCeiling(std::span<const PatchDraw> draws, const glm::dvec3& ec
     const globe::FacePoint nadir = globe::facePointOf(globe::Wgs84::upAt(ecef));
     double ceiling = 0.0;
     for (const PatchDraw& draw : draws) {
+        // A native tile lies over face patches the list no longer holds: its heights count
+        // wherever the camera is over it (conservative: a ceiling).
+        if (io::isNativeTile(draw.id)) {
+            ceiling = std::max(ceiling, double(draw.maxHeight));
+            continue;
+        }
         const globe::GlobePatchId id = io::globePatchOf(draw.id);
         if (id.face != nadir.face) continue;
         const double n = static_cast<double>(globe::patchesPerFaceSide(id.level));

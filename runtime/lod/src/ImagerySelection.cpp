@@ -1,6 +1,8 @@
 // ImagerySelection: the frame's imagery tiles, a tree per layer shared by the drawn patches.
 #include "terrain/runtime/ImagerySelection.h"
 
+#include "terrain/pyramid/NativeTiles.h"
+
 #include "terrain/base/Assert.h"
 #include "terrain/runtime/PlaneSurface.h"
 
@@ -83,6 +85,12 @@ ImagerySelectionStats ImagerySelection::select(const Camera& camera,
     m_roots.reserve(draws.size() * static_cast<std::size_t>(layers));
     for (const PatchDraw& draw : draws) {
         for (int l = 0; l < layers; ++l) {
+            if (io::isNativeTile(draw.id)) {
+                // Not on a face's imagery tiles: a native tile draws none yet (docs/globe.md,
+                // "Native leaves").
+                m_roots.push_back(ImageryRoot{});
+                continue;
+            }
             const Layer& layer = m_layers[static_cast<std::size_t>(l)];
             // A few levels above the patch, or above the layer's finest where the patch is
             // finer than the imagery: either way on the patch's line of ancestors.

@@ -166,7 +166,12 @@ void LodQuadtree::makeDataNode(Node& node, const io::PatchId& id, const io::Patc
     node.volume = m_surface.volume(id, info.minHeight, info.maxHeight);
     node.errorM = info.error;
     node.finerData = m_surface.hasFinerData(id, info);
-    node.splitM = node.finerData ? double(info.error) : m_surface.curvatureError(id.level);
+    // Native tiles can take a finest patch's error down to theirs: its Err(P) is what a
+    // split into them reduces.
+    m_nativeScratch.clear();
+    node.nativeCapable = !node.finerData && m_surface.nativeTilesOver(id, m_nativeScratch);
+    node.splitM = node.finerData || node.nativeCapable ? double(info.error)
+                                                       : m_surface.curvatureError(id.level);
     node.texelOffsetX = node.texelOffsetY = 0.0;
     node.texelStep = 1.0;
     m_residency.pin(id);
@@ -205,7 +210,105 @@ void LodQuadtree::makeChild(Node& child, const Node& parent, const SurfaceChild&
     child.volume = m_surface.volume(at.id, parent.info.minHeight, parent.info.maxHeight);
 }
 
+void LodQuadtree::pinNative(const io::PatchId& tile) {
+    for (auto& [id, count] : m_nativePins)
+        if (id == tile) {
+            ++count;
+            return;
+        }
+    m_residency.pin(tile);
+    m_nativePins.emplace_back(tile, 1);
+}
+
+void LodQuadtree::unpinNative(const io::PatchId& tile) {
+    for (auto it = m_nativePins.begin(); it != m_nativePins.end(); ++it)
+        if (it->first == tile) {
+            if (--it->second == 0) {
+                m_residency.unpin(tile);
+                m_nativePins.erase(it);
+            }
+            return;
+        }
+    TERRAIN_ASSERT(false, "unpinning a native tile no node pinned");
+}
+
+int LodQuadtree::trySplitNative(int index, double screenError) {
+    m_nativeScratch.clear();
+    m_surface.nativeTilesOver(m_nodes[static_cast<std::size_t>(index)].id, m_nativeScratch);
+    bool allResident = true;
+    for (const io::PatchId& tile : m_nativeScratch) {
+        if (m_residency.acquire(tile, priorityOf(screenError)) != nullptr) continue;
+        if (m_residency.hasFailed(tile)) return 0;
+        allResident = false;
+    }
+    if (!allResident) return -1;
+    double worst = 0.0;  // the tiles' own screen error, pixels
+    for (const io::PatchId& tile : m_nativeScratch) {
+        const io::PatchInfo* info = m_residency.residentInfo(tile);
+        // Each seen from where it lies: it reaches past the patch, over neighbours that may be
+        // nearer the camera. No nearer than a metre, as for what only curvature is left to
+        // split for (decisionDistance): a camera standing in a tile's box would see any error
+        // as infinite, and a tile's error is mostly its flat triangles' bulge, millimetres.
+        const double error = double(info->error) + m_surface.nativeCurvatureError(tile);
+        const double rho = std::max(
+            1.0,
+            m_surface.distance(m_camera.position,
+                               m_surface.nativeTileVolume(tile, info->minHeight, info->maxHeight)));
+        worst = std::max(worst, m_gamma * error / rho);
+    }
+    // Where the tiles show as much error as the patch, they gain nothing: the patch splits as
+    // one without finer data does (for its curvature).
+    if (worst >= screenError) return 0;
+    for (const io::PatchId& tile : m_nativeScratch) pinNative(tile);
+    const int first = allocateBlock();
+    Node& parent = m_nodes[static_cast<std::size_t>(index)];  // allocateBlock may grow
+    parent.firstChild = first;
+    parent.childCount = 1;
+    ++parent.generation;
+    Node& child = m_nodes[static_cast<std::size_t>(first)];
+    const std::uint32_t generation = child.generation;
+    child = Node{};
+    child.generation = generation + 1;
+    child.parent = index;
+    child.id = child.tile = parent.id;
+    child.kind = NodeKind::Native;
+    child.info = parent.info;
+    child.layer = parent.layer;  // the parent's tile, pinned by it; the child draws the natives
+    child.volume = parent.volume;
+    child.visible = parent.visible;
+    child.splitBlocked = true;  // nothing finer than the sources' own samples
+    m_nativeTiles[first] = m_nativeScratch;
+    ++m_stats.splits;
+    const int grandparent = parent.parent;
+    if (grandparent >= 0) ++m_nodes[static_cast<std::size_t>(grandparent)].generation;
+    scheduleMergeIfCandidate(index);
+    return 1;
+}
+
+void LodQuadtree::emitNative(int index, std::vector<PatchDraw>& out) {
+    const auto tiles = m_nativeTiles.find(index);
+    TERRAIN_ASSERT(tiles != m_nativeTiles.end(), "a native node without its tiles");
+    for (const io::PatchId& tile : tiles->second) {
+        if (std::find(m_nativeDrawn.begin(), m_nativeDrawn.end(), tile) != m_nativeDrawn.end())
+            continue;  // drawn for a neighbour already
+        m_nativeDrawn.push_back(tile);
+        const io::PatchInfo* info = m_residency.residentInfo(tile);
+        TERRAIN_ASSERT(info != nullptr, "a pinned native tile is not resident");
+        PatchDraw draw = PatchDraw::ofTile(tile, m_residency.layerOf(tile), *info);
+        draw.errorM =
+            static_cast<float>(double(info->error) + m_surface.nativeCurvatureError(tile));
+        out.push_back(draw);
+        ++m_stats.drawn;
+        ++m_stats.drawnNative;
+    }
+}
+
 bool LodQuadtree::trySplit(int index, double screenError) {
+    if (m_nodes[static_cast<std::size_t>(index)].nativeCapable &&
+        m_nodes[static_cast<std::size_t>(index)].kind == NodeKind::Data) {
+        const int native = trySplitNative(index, screenError);
+        if (native != 0) return native > 0;
+    }
     Node& node = m_nodes[static_cast<std::size_t>(index)];
     std::array<SurfaceChild, 4> children;
     const io::PatchInfo* infos[4] = {};
@@ -427,6 +530,12 @@ void LodQuadtree::collapse(int index) {
         collapse(first + i);
         Node& child = m_nodes[static_cast<std::size_t>(first + i)];
         if (child.kind == NodeKind::Data) m_residency.unpin(child.id);
+        if (child.kind == NodeKind::Native) {
+            const auto tiles = m_nativeTiles.find(first + i);
+            TERRAIN_ASSERT(tiles != m_nativeTiles.end(), "a native node without its tiles");
+            for (const io::PatchId& tile : tiles->second) unpinNative(tile);
+            m_nativeTiles.erase(tiles);
+        }
         ++child.generation;  // its pending checks are stale now
         child.waiting = false;
         child.parent = kFreed;
@@ -481,6 +590,11 @@ void LodQuadtree::cull(int index, int planeMask, std::vector<PatchDraw>& out) {
         const Node& now = m_nodes[static_cast<std::size_t>(index)];
         if (!now.leaf()) {  // split just now
             cull(index, planeMask, out);
+            return;
+        }
+        if (now.kind == NodeKind::Native) {
+            emitNative(index, out);
+            m_stats.coverage += m_surface.coverageOf(now.id);
             return;
         }
         prefetchAlongMotion(now);
@@ -557,6 +671,7 @@ void LodQuadtree::takeArrivedRoots() {
 
 LodUpdateStats LodQuadtree::update(const Camera& camera, std::vector<PatchDraw>& out) {
     out.clear();
+    m_nativeDrawn.clear();
     m_stats = {};
     m_motion = m_started ? camera.position - m_camera.position : glm::dvec3(0.0);
     m_odometer += glm::length(camera.position - m_camera.position);
@@ -640,6 +755,24 @@ std::optional<std::string> LodQuadtree::checkInvariants() const {
         }
         if (node.kind == NodeKind::Data && !m_residency.isPinned(node.id))
             return "tree node " + name + " is not pinned";
+        if (node.kind == NodeKind::Native) {
+            std::vector<io::PatchId> tiles;
+            const auto held = m_nativeTiles.find(index);
+            if (!m_surface.nativeTilesOver(node.id, tiles) || held == m_nativeTiles.end() ||
+                held->second != tiles)
+                return "native node " + name + " does not hold its native tiles";
+            for (const io::PatchId& tile : tiles)
+                if (!m_residency.isPinned(tile) || m_residency.residentInfo(tile) == nullptr)
+                    return "a native tile of " + name + " is not pinned and resident";
+        }
+        if (node.childCount == 1 &&
+            m_nodes[static_cast<std::size_t>(node.firstChild)].kind == NodeKind::Native) {
+            const Node& child = m_nodes[static_cast<std::size_t>(node.firstChild)];
+            if (!(child.id == node.id) || child.parent != index || !node.nativeCapable)
+                return "node " + name + " has a wrong native child";
+            stack.push_back(node.firstChild);
+            continue;
+        }
         if (node.leaf()) {
             covered += m_surface.coverageOf(node.id);
             continue;

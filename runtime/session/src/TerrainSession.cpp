@@ -101,7 +101,8 @@ Result<std::unique_ptr<TerrainSession>> TerrainSession::open(const std::filesyst
                      ": not a streaming quadtree method (openLodStrategy opens it)"};
     auto streamer = TileStreamer::open(pyramid, options.streaming);
     if (!streamer) return streamer.error();
-    std::unique_ptr<Surface> surface = makeSurface(streamer.value()->manifest());
+    std::unique_ptr<Surface> surface =
+        makeSurface(streamer.value()->manifest(), streamer.value()->nativeGrids());
     if (Status supported = lodMethodSupports(options.method, surface->kind()); !supported)
         return Error{pyramid.string() + ": a " + std::string(surfaceName(surface->kind())) +
                      " pyramid: " + supported.error().message};

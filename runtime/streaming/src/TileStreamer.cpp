@@ -16,6 +16,8 @@ Result<std::unique_ptr<TileStreamer>> TileStreamer::open(const std::filesystem::
                                                          const TileStreamerOptions& options) {
     auto manifest = io::readManifest(pyramid);
     if (!manifest) return manifest.error();
+    auto nativeGrids = io::readNativeGridManifests(pyramid, manifest.value());
+    if (!nativeGrids) return nativeGrids.error();
     if (options.gpuLayers < 1) {
         return Error{fmt::format("{}: the GPU tile pool needs at least 1 layer, not {}",
                                  pyramid.string(), options.gpuLayers)};
@@ -40,9 +42,11 @@ Result<std::unique_ptr<TileStreamer>> TileStreamer::open(const std::filesystem::
     if (!io) return io.error();
     auto imagery = ImageryStreamer::create(*io.value(), options.imagery);
     if (!imagery) return Error{pyramid.string() + ": " + imagery.error().message};
-    return std::unique_ptr<TileStreamer>(
+    auto streamer = std::unique_ptr<TileStreamer>(
         new TileStreamer(std::move(manifest).value(), std::move(io).value(),
                          std::move(imagery).value(), std::move(pool).value(), options));
+    streamer->m_nativeGrids = std::move(nativeGrids).value();
+    return streamer;
 }
 
 TileStreamer::TileStreamer(io::PyramidManifest manifest, std::unique_ptr<io::IoThread> io,

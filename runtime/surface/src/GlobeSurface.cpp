@@ -3,10 +3,14 @@
 #include "terrain/runtime/GlobeSurface.h"
 
 #include "terrain/base/Assert.h"
+#include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/runtime/GlobeFrustum.h"
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <utility>
 
 namespace terrain::runtime {
 namespace {
@@ -16,13 +20,140 @@ constexpr int kCoverageLevels = 30;
 
 }  // namespace
 
-GlobeSurface::GlobeSurface(const io::PyramidManifest& manifest)
+GlobeSurface::GlobeSurface(const io::PyramidManifest& manifest,
+                           std::span<const io::NativeGridManifest> nativeGrids)
     : Surface(manifest), m_occluderShrinkM(std::max(0.0, -manifest.statistics.minHeight) + 1.0) {
     TERRAIN_ASSERT(manifest.globe.has_value(), "GlobeSurface needs a globe pyramid");
     TERRAIN_ASSERT(manifest.globe->faceFinestLevel <= io::kMaxGlobeFaceLevel,
                    "readManifest refuses deeper globe pyramids");
     for (int face = 0; face < globe::kCubeFaces; ++face)
         m_roots[static_cast<std::size_t>(face)] = io::layoutPatchOf({face, 0, 0, 0});
+    for (const io::NativeGridManifest& native : nativeGrids) {
+        const io::Georeference& g = native.manifest.georeference;
+        const io::PyramidLayout& tiles = native.manifest.layout;
+        NativeGrid grid;
+        grid.source = native.source;
+        grid.geometry = {g.originX, g.originY, g.pixelSizeX, g.pixelSizeY, tiles.patchQuads()};
+        grid.tilesX = tiles.patchesX(tiles.finestLevel());
+        grid.tilesY = tiles.patchesY(tiles.finestLevel());
+        grid.lastColumn = tiles.rasterWidth() - 1;
+        grid.lastRow = tiles.rasterHeight() - 1;
+        grid.firstLon = g.originX + 0.5 * g.pixelSizeX;
+        grid.lastLon = g.originX + (double(tiles.rasterWidth()) - 0.5) * g.pixelSizeX;
+        grid.northLat = g.originY - 0.5 * g.pixelSizeY;
+        grid.southLat = g.originY - (double(tiles.rasterHeight()) - 0.5) * g.pixelSizeY;
+        // Along a meridian, and along the parallel nearest the equator.
+        const double nearestEquator =
+            grid.southLat > 0.0 ? grid.southLat : (grid.northLat < 0.0 ? -grid.northLat : 0.0);
+        const double radian = std::numbers::pi / 180.0;
+        grid.spacingM = globe::Wgs84::kMaxCurvatureRadius * radian *
+                        std::max(g.pixelSizeY, g.pixelSizeX * std::cos(nearestEquator * radian));
+        grid.curvatureErrorM = globe::flatTriangleErrorBound(
+            grid.spacingM, std::min(0.0, native.manifest.statistics.minHeight));
+        m_natives.push_back(grid);
+    }
+}
+
+const GlobeSurface::NativeGrid* GlobeSurface::nativeGridOf(const io::PatchId& tile) const {
+    if (!io::isNativeTile(tile)) return nullptr;
+    for (const NativeGrid& grid : m_natives)
+        if (grid.source == io::nativeGridOf(tile)) return &grid;
+    return nullptr;
+}
+
+bool GlobeSurface::nativeTilesOver(const io::PatchId& id, std::vector<io::PatchId>& out) const {
+    if (m_natives.empty()) return false;
+    // Most patches asked are far coarser than every grid: no footprint to work out for them.
+    const double spacing = sampleSpacingM(id.level);
+    if (std::none_of(m_natives.begin(), m_natives.end(), [&](const NativeGrid& grid) {
+            return grid.spacingM <= kMaxNativeSpacingRatio * spacing;
+        }))
+        return false;
+    const globe::GlobePatchId g = io::globePatchOf(id);
+    // A patch round a pole has none: the pole is one point of every longitude's grid.
+    const double side = double(globe::patchesPerFaceSide(g.level));
+    for (const double z : {1.0, -1.0}) {
+        const globe::FacePoint pole = globe::facePointOf({0.0, 0.0, z});
+        const double u = pole.s * side - double(g.x), v = pole.t * side - double(g.y);
+        if (pole.face == g.face && u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0) return false;
+    }
+    // The footprint's longitudes and latitudes along its edges, unwrapped about the first.
+    constexpr int kPerEdge = 16;
+    double west = 0.0, east = 0.0, south = 0.0, north = 0.0, first = 0.0;
+    for (int k = 0; k < 4 * kPerEdge; ++k) {
+        const double t = double(k % kPerEdge) / kPerEdge;
+        const int edge = k / kPerEdge;
+        const double u = edge == 0 ? t : edge == 1 ? 1.0 : edge == 2 ? 1.0 - t : 0.0;
+        const double v = edge == 0 ? 0.0 : edge == 1 ? t : edge == 2 ? 1.0 : 1.0 - t;
+        const globe::FacePoint p = globe::patchPoint(g, u, v);
+        const globe::Geodetic place =
+            globe::Wgs84::geodeticOfNormal(globe::directionOf(p.face, p.s, p.t));
+        double longitude = place.longitudeDeg;
+        if (k == 0) first = longitude;
+        longitude += 360.0 * std::round((first - longitude) / 360.0);
+        west = k == 0 ? longitude : std::min(west, longitude);
+        east = k == 0 ? longitude : std::max(east, longitude);
+        south = k == 0 ? place.latitudeDeg : std::min(south, place.latitudeDeg);
+        north = k == 0 ? place.latitudeDeg : std::max(north, place.latitudeDeg);
+    }
+    // The edges bow between the places sampled: a margin of a sixteenth of the span.
+    const double padLon = (east - west) / kPerEdge, padLat = (north - south) / kPerEdge;
+    west -= padLon;
+    east += padLon;
+    south -= padLat;
+    north += padLat;
+    for (const NativeGrid& grid : m_natives) {
+        // A grid much coarser than the patch (a global one under a regional source's patches)
+        // would draw tiles that dwarf it, over everything around.
+        if (grid.spacingM > kMaxNativeSpacingRatio * spacing) continue;
+        const double shift =
+            360.0 *
+            std::round((0.5 * (grid.firstLon + grid.lastLon) - 0.5 * (west + east)) / 360.0);
+        const double lo = west + shift, hi = east + shift;
+        if (lo < grid.firstLon || hi > grid.lastLon || south < grid.southLat ||
+            north > grid.northLat)
+            continue;
+        const globe::NativeGridGeometry& geo = grid.geometry;
+        const double q = geo.quads;
+        // Tile t holds samples t·q … t·q + q: the tiles holding samples c0 … c1.
+        const auto range = [&](double c0, double c1, std::int64_t count) {
+            const auto low = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(c0 / q)),
+                                                      0, count - 1);
+            const auto high = std::clamp<std::int64_t>(
+                static_cast<std::int64_t>(std::ceil(c1 / q)) - 1, low, count - 1);
+            return std::pair(low, high);
+        };
+        const auto [x0, x1] = range((lo - geo.westDeg) / geo.pixelLonDeg - 0.5,
+                                    (hi - geo.westDeg) / geo.pixelLonDeg - 0.5, grid.tilesX);
+        const auto [y0, y1] = range((geo.northDeg - north) / geo.pixelLatDeg - 0.5,
+                                    (geo.northDeg - south) / geo.pixelLatDeg - 0.5, grid.tilesY);
+        if ((x1 - x0 + 1) * (y1 - y0 + 1) > kMaxNativeTilesPerPatch) continue;
+        // A tile the planar pyramid padded past its raster (a grid that ends at a pole) would
+        // draw samples beyond it.
+        if ((x1 + 1) * geo.quads > grid.lastColumn || (y1 + 1) * geo.quads > grid.lastRow) continue;
+        for (std::int64_t y = y0; y <= y1; ++y)
+            for (std::int64_t x = x0; x <= x1; ++x)
+                out.push_back(io::nativeTileId(grid.source, x, y));
+        return true;
+    }
+    return false;
+}
+
+PatchVolume GlobeSurface::nativeTileVolume(const io::PatchId& tile, float minHeight,
+                                           float maxHeight) const {
+    const NativeGrid* grid = nativeGridOf(tile);
+    TERRAIN_ASSERT(grid != nullptr, "a native tile of no native grid");
+    return globe::nativeTileBounds(grid->geometry, tile.x, tile.y, minHeight, maxHeight);
+}
+
+double GlobeSurface::nativeCurvatureError(const io::PatchId& tile) const {
+    const NativeGrid* grid = nativeGridOf(tile);
+    return grid != nullptr ? grid->curvatureErrorM : 0.0;
+}
+
+const globe::NativeGridGeometry* GlobeSurface::nativeGeometry(const io::PatchId& tile) const {
+    const NativeGrid* grid = nativeGridOf(tile);
+    return grid != nullptr ? &grid->geometry : nullptr;
 }
 
 int GlobeSurface::maxLevel() const {

@@ -2,6 +2,7 @@
 // choice of surface by the manifest.
 #include "terrain/runtime/Surface.h"
 
+#include "terrain/base/Assert.h"
 #include "terrain/runtime/GlobeSurface.h"
 #include "terrain/runtime/PlaneSurface.h"
 
@@ -20,8 +21,15 @@ bool Surface::belowHorizon(const SurfaceView& view, const PatchVolume& volume) c
     return view.horizon && box != nullptr && view.horizon->isHidden(*box);
 }
 
-std::unique_ptr<Surface> makeSurface(const io::PyramidManifest& manifest) {
-    if (manifest.globe) return std::make_unique<GlobeSurface>(manifest);
+PatchVolume Surface::nativeTileVolume(const io::PatchId& /*tile*/, float /*minHeight*/,
+                                      float /*maxHeight*/) const {
+    TERRAIN_ASSERT(false, "a native tile on a surface without native grids");
+    return Aabb{};
+}
+
+std::unique_ptr<Surface> makeSurface(const io::PyramidManifest& manifest,
+                                     std::span<const io::NativeGridManifest> nativeGrids) {
+    if (manifest.globe) return std::make_unique<GlobeSurface>(manifest, nativeGrids);
     return std::make_unique<PlaneSurface>(manifest);
 }
 

@@ -7,6 +7,7 @@
 #pragma once
 
 #include "terrain/globe/GlobePatch.h"
+#include "terrain/globe/NativeOffset.h"
 
 #include <glm/vec3.hpp>
 
@@ -26,6 +27,11 @@ struct OrientedBox {
 /// a 33 × 33 grid of the patch's directions at both heights, padded by how far the surface
 /// can bulge between grid points (flatTriangleErrorBound), so it is conservative, not sampled.
 OrientedBox patchBounds(const GlobePatchId& id, double minHeight, double maxHeight);
+
+/// The same for tile (x, y) of a native grid (NativeOffset.h): its 33 × 33 grid of places by
+/// longitude and latitude at both heights, padded for the bulge between them.
+OrientedBox nativeTileBounds(const NativeGridGeometry& grid, std::int64_t x, std::int64_t y,
+                             double minHeight, double maxHeight);
 
 /// The distance from `point` to the closest point of `box` (0 inside).
 double distanceToBox(const glm::dvec3& point, const OrientedBox& box);

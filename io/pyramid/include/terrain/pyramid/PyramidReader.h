@@ -41,7 +41,8 @@ public:
     /// reader thread: 4 MiB, 61 tiles of 129-sample patches (ParentTileCache.h).
     static constexpr std::size_t kParentCacheBytes = std::size_t{4} << 20;
 
-    /// Reads and checks the manifest (readManifest); shard files are opened on demand. The
+    /// Reads and checks the manifest (readManifest), and a globe's native grids'; shard files
+    /// are opened on demand. The
     /// virtual planet's name ("planet:…", VirtualPlanetPyramid.h) opens a reader that
     /// generates each patch instead of reading it (it has no shard files). `parents`: a
     /// cache of decoded parents shared with other readers of the same pyramid (each on its
@@ -96,6 +97,12 @@ public:
     /// files, parents read for a prediction included: what the reads needed of the files,
     /// against which the bytes fetched (remoteStats) or the shard files' sizes are measured.
     std::uint64_t storedBytesRead() const;
+
+    /// A globe pyramid's native grid of its source `k` (ManifestGlobeSource::native), opened
+    /// with it; null where the source has none. readPatch, patchInfo, shardFile and shardBytes
+    /// take its finest tiles by their native tile ids (NativeTiles.h), and the counters above
+    /// include what its reads cost.
+    const PyramidReader* nativeGrid(std::size_t k) const;
 
 private:
     struct Impl;

@@ -65,9 +65,12 @@ private:
     glm::dvec2 m_anchor{0.0};  // DEM samples
 };
 
-/// The globe's placement of a pyramid of `manifest` (which must outlive it).
+/// The globe's placement of `surface`'s patches and native tiles (the surface must outlive it).
 class GlobePlacement final : public SurfacePlacement {
 public:
+    explicit GlobePlacement(const Surface& surface)
+        : m_surface(&surface), m_manifest(surface.manifest()) {}
+    /// Face patches of a pyramid of `manifest` only (the reference scenes' frames).
     explicit GlobePlacement(const io::PyramidManifest& manifest) : m_manifest(manifest) {}
     void defineSurface(ProgramBuilder& builder) const override;
     void beginFrame(const Camera& camera, FrameBlock& block) override;
@@ -76,6 +79,7 @@ public:
     const TerrainGeometry* planeGeometry() const override { return nullptr; }
 
 private:
+    const Surface* m_surface = nullptr;  // null: no native tiles
     const io::PyramidManifest& m_manifest;
     glm::dvec3 m_camera{0.0};
     glm::dvec3 m_cameraUp{0.0};
@@ -86,6 +90,12 @@ private:
 /// patch (the globe reference renderer's regions and GlobePrecisionTest write them too).
 PatchInstance globePatchInstance(const PatchDraw& patch, const glm::dvec3& camera,
                                  const glm::dvec3& cameraUp, int patchQuads);
+
+/// The record of a native tile (docs/globe.md, "Native leaves") of a grid of `geometry`, for
+/// the same camera, its reference point at the camera's nadir clamped to the tile: placed by
+/// longitude and latitude (io/globe NativeOffset.h), layerLevel.w 1.
+PatchInstance nativeTileInstance(const PatchDraw& patch, const globe::NativeGridGeometry& geometry,
+                                 const glm::dvec3& camera, const glm::dvec3& cameraUp);
 
 /// The sun of a globe frame: high over the camera's shoulder, so the place flown over is lit
 /// wherever it is (unit length, ECEF axes).

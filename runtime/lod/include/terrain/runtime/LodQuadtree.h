@@ -43,6 +43,8 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace terrain::runtime {
@@ -118,6 +120,7 @@ struct LodUpdateStats {
     std::uint64_t drawn = 0;
     std::uint64_t drawnBare = 0;      ///< of them, bare patches (no tile: the globe's ellipsoid)
     std::uint64_t drawnVirtual = 0;   ///< of them, virtual patches (an ancestor's tile)
+    std::uint64_t drawnNative = 0;    ///< of them, native tiles (docs/globe.md, "Native leaves")
     std::uint64_t culled = 0;         ///< leaves outside the frustum
     std::uint64_t horizonCulled = 0;  ///< leaves behind the horizon (the globe)
     std::uint64_t visited = 0;        ///< nodes the culling walk visited
@@ -167,6 +170,9 @@ private:
         Data,     ///< draws its own tile
         Virtual,  ///< draws a quadrant of an ancestor's tile (the globe)
         Bare,     ///< no tile: the bare surface (the globe's ellipsoid)
+        /// The only child of a data patch without finer data: draws the native tiles over its
+        /// parent (Surface::nativeTilesOver; docs/globe.md, "Native leaves"), and never splits.
+        Native,
     };
     struct Node {
         io::PatchId id;
@@ -182,6 +188,7 @@ private:
         std::uint8_t childCount = 0;
         NodeKind kind = NodeKind::Data;
         bool finerData = false;     // a data node with finer data under it
+        bool nativeCapable = false;  // a data node without finer data that native tiles cover
         bool awaitingTile = false;  // a bare root whose tile is on its way (the globe)
         bool visible = false;
         bool waiting = false;          // in m_waiting
@@ -214,6 +221,12 @@ private:
     void scheduleLeaf(int node);
     void scheduleMergeIfCandidate(int node);
     bool trySplit(int node, double screenError);
+    /// A split into the native tiles over the node (NodeKind::Native): 1 made, −1 waiting for
+    /// the tiles, 0 not worth it (their own error shows as much as the node's).
+    int trySplitNative(int node, double screenError);
+    void pinNative(const io::PatchId& tile);
+    void unpinNative(const io::PatchId& tile);
+    void emitNative(int node, std::vector<PatchDraw>& out);
     void prefetchBelow(const io::PatchId& id, const io::PatchInfo& heights, double errorM,
                        double decay, int levels, const io::PatchInfo* stored);
     double errorDecay(const Node& node) const;
@@ -239,6 +252,12 @@ private:
     std::vector<Check> m_checks;  // min-heap on atOdometer
     std::vector<int> m_waiting;   // leaves re-tried every frame
     std::vector<int> m_waitingNext;
+    // Native tiles: the pins the native nodes hold (a tile may lie under several), the tiles
+    // drawn this frame (each once), and a scratch list.
+    std::vector<std::pair<io::PatchId, int>> m_nativePins;
+    std::unordered_map<int, std::vector<io::PatchId>> m_nativeTiles;  // by native node
+    std::vector<io::PatchId> m_nativeDrawn;
+    std::vector<io::PatchId> m_nativeScratch;
 
     Camera m_camera;
     glm::dvec3 m_motion{0.0};  // the camera's move since the last update

@@ -21,6 +21,7 @@
 #include "terrain/cache/GpuTilePool.h"
 #include "terrain/cache/TileCache.h"
 #include "terrain/iothread/IoThread.h"
+#include "terrain/pyramid/NativeTiles.h"
 #include "terrain/pyramid/PatchIdHash.h"
 #include "terrain/pyramid/PyramidManifest.h"
 #include "terrain/remote/RemoteStats.h"
@@ -102,6 +103,9 @@ public:
 
     const io::PyramidManifest& manifest() const { return m_manifest; }
     const io::PyramidLayout& layout() const { return m_manifest.layout; }
+    /// A globe pyramid's native grids (their finest tiles stream by their native tile ids,
+    /// NativeTiles.h); none for another pyramid.
+    const std::vector<io::NativeGridManifest>& nativeGrids() const { return m_nativeGrids; }
 
     void beginFrame();
 
@@ -196,6 +200,7 @@ private:
     void takeAbsent(io::Completion& c, LoadMap::iterator load);
 
     io::PyramidManifest m_manifest;
+    std::vector<io::NativeGridManifest> m_nativeGrids;
     std::unique_ptr<io::IoThread> m_io;
     std::unique_ptr<ImageryStreamer> m_imagery;  // uses m_io: declared after it, gone before
     cache::TileCache m_cache;

@@ -9,6 +9,8 @@
 #include "terrain/runtime/Surface.h"
 
 #include <array>
+#include <span>
+#include <vector>
 
 namespace terrain::runtime {
 
@@ -18,8 +20,17 @@ public:
     /// 129-sample patch there is ~15 cm wide).
     static constexpr int kMaxBareFaceLevel = 24;
 
-    /// `manifest` must be a globe pyramid's (manifest.globe set).
-    explicit GlobeSurface(const io::PyramidManifest& manifest);
+    /// A patch's native tiles are at most this many (a grid coarser for it has none).
+    static constexpr int kMaxNativeTilesPerPatch = 16;
+    /// A native grid's samples may be this many times as far apart as the patch's at most
+    /// (the finest face level is as fine as a source at its centre, so up to √2 × 2 over a face
+    /// and its latitudes).
+    static constexpr double kMaxNativeSpacingRatio = 4.0;
+
+    /// `manifest` must be a globe pyramid's (manifest.globe set); `nativeGrids` its native
+    /// grids (io::readNativeGridManifests).
+    explicit GlobeSurface(const io::PyramidManifest& manifest,
+                          std::span<const io::NativeGridManifest> nativeGrids = {});
 
     SurfaceKind kind() const override { return SurfaceKind::Globe; }
 
@@ -47,7 +58,28 @@ public:
     std::uint64_t coverageOf(const io::PatchId& id) const override;
     std::uint64_t wholeCoverage() const override;
 
+    bool nativeTilesOver(const io::PatchId& id, std::vector<io::PatchId>& out) const override;
+    PatchVolume nativeTileVolume(const io::PatchId& tile, float minHeight,
+                                 float maxHeight) const override;
+    double nativeCurvatureError(const io::PatchId& tile) const override;
+    const globe::NativeGridGeometry* nativeGeometry(const io::PatchId& tile) const override;
+
 private:
+    /// A native grid as the LOD and the draw need it: where its sample centres reach
+    /// (degrees; longitudes as its georeference runs, maybe past ±180°), its tiles, and how far
+    /// apart its samples lie at most.
+    struct NativeGrid {
+        int source = 0;
+        globe::NativeGridGeometry geometry;
+        std::int64_t tilesX = 0, tilesY = 0;
+        std::int64_t lastColumn = 0, lastRow = 0;  // of its raster
+        double firstLon = 0.0, lastLon = 0.0, northLat = 0.0, southLat = 0.0;
+        double spacingM = 0.0;
+        double curvatureErrorM = 0.0;
+    };
+    const NativeGrid* nativeGridOf(const io::PatchId& tile) const;
+
+    std::vector<NativeGrid> m_natives;  // in source order: the finest first
     std::array<io::PatchId, 6> m_roots{};
     /// The horizon's ellipsoid lies inside the ground everywhere: below the deepest terrain.
     double m_occluderShrinkM = 0.0;

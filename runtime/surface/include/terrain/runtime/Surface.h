@@ -12,7 +12,9 @@
 // the programs are written once over it. Pure, no GL: any thread.
 #pragma once
 
+#include "terrain/globe/NativeOffset.h"
 #include "terrain/globe/PatchBounds.h"
+#include "terrain/pyramid/NativeTiles.h"
 #include "terrain/pyramid/PatchRecord.h"
 #include "terrain/pyramid/PyramidLayout.h"
 #include "terrain/pyramid/PyramidManifest.h"
@@ -27,6 +29,7 @@
 #include <span>
 #include <string_view>
 #include <variant>
+#include <vector>
 
 namespace terrain::runtime {
 
@@ -113,6 +116,29 @@ public:
     /// Whether V is certainly hidden behind the horizon (never on the plane).
     bool belowHorizon(const SurfaceView& view, const PatchVolume& volume) const;
 
+    // Native leaves (docs/globe.md, "Native leaves"): the globe's finest detail drawn from its
+    // sources' own grids, whose finest tiles have ids of their own (io NativeTiles.h). None on
+    // the plane, whose finest level is its source's grid.
+
+    /// The native tiles drawn in place of `id`, a data patch without finer data: the finest
+    /// tiles of the first native grid (the finest source's) that holds all of the patch and
+    /// whose samples are not much further apart than the patch's, appended to `out`; false,
+    /// and `out` untouched, where none does.
+    virtual bool nativeTilesOver(const io::PatchId& /*id*/,
+                                 std::vector<io::PatchId>& /*out*/) const {
+        return false;
+    }
+    /// A native tile's bounding volume between its lowest and highest heights.
+    virtual PatchVolume nativeTileVolume(const io::PatchId& tile, float minHeight,
+                                         float maxHeight) const;
+    /// How far a native tile's flat triangles can fall under the ellipsoid between its samples:
+    /// what its Err(P), measured at the sources' samples, leaves out.
+    virtual double nativeCurvatureError(const io::PatchId& /*tile*/) const { return 0.0; }
+    /// The geometry of a native tile's grid, for its placement; null for any other id.
+    virtual const globe::NativeGridGeometry* nativeGeometry(const io::PatchId& /*tile*/) const {
+        return nullptr;
+    }
+
     /// The patch's share of the surface: the shares of patches that tile it add up to
     /// wholeCoverage(), exactly.
     virtual std::uint64_t coverageOf(const io::PatchId& id) const = 0;
@@ -125,7 +151,9 @@ private:
     io::PyramidManifest m_manifest;
 };
 
-/// The surface of a pyramid: a GlobeSurface for a globe manifest, else a PlaneSurface.
-std::unique_ptr<Surface> makeSurface(const io::PyramidManifest& manifest);
+/// The surface of a pyramid: a GlobeSurface for a globe manifest (with its native grids, if
+/// any: TileStreamer::nativeGrids), else a PlaneSurface.
+std::unique_ptr<Surface> makeSurface(const io::PyramidManifest& manifest,
+                                     std::span<const io::NativeGridManifest> nativeGrids = {});
 
 }  // namespace terrain::runtime
