@@ -1,5 +1,6 @@
 #include "terrain/globe/NativeOffset.h"
 
+#include "terrain/globe/SurfaceOffset.h"
 #include "terrain/globe/Wgs84.h"
 
 #include <glm/geometric.hpp>
@@ -70,9 +71,6 @@ glm::dvec2 nearestNativeCoordinates(const NativeGridGeometry& grid, std::int64_t
 
 glm::vec3 nativeCameraRelativePosition(const NativeSurfaceFrame& frame, float u, float v,
                                        float height, glm::vec3* directionOut) {
-    constexpr float kA = static_cast<float>(Wgs84::kEquatorialRadius);
-    constexpr float kE2 = static_cast<float>(Wgs84::kEccentricitySquared);
-
     const float deltaLon = frame.lonPerU * (u - frame.u0);
     const float deltaLat = frame.latPerV * (v - frame.v0);
     const float lat = frame.lat0 + deltaLat;
@@ -88,15 +86,8 @@ glm::vec3 nativeCameraRelativePosition(const NativeSurfaceFrame& frame, float u,
     const glm::vec3 direction = frame.direction0 + deltaDirection;
     if (directionOut != nullptr) *directionOut = direction;
 
-    // S(d) − S(d0) = N·M·Δd + (N − N0)·M·d0, as SurfaceOffset.h.
-    const float deltaG = -kE2 * deltaDirection.z * (direction.z + frame.direction0.z);
-    const float sqrtG = std::sqrt(frame.sqrtG0 * frame.sqrtG0 + deltaG);
-    const float primeVertical = kA / sqrtG;
-    const float deltaPrimeVertical = -kA * deltaG / (sqrtG * frame.sqrtG0 * (sqrtG + frame.sqrtG0));
-    const glm::vec3 m(1.0f, 1.0f, 1.0f - kE2);
-    const glm::vec3 deltaSurface =
-        primeVertical * (m * deltaDirection) + deltaPrimeVertical * (m * frame.direction0);
-    return frame.originFromCamera + deltaSurface + height * direction;
+    return surfaceOffsetFromDirection(frame.originFromCamera, frame.direction0, frame.sqrtG0,
+                                      deltaDirection, height);
 }
 
 }  // namespace terrain::globe

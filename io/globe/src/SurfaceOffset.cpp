@@ -68,9 +68,6 @@ glm::dvec2 nearestPatchCoordinates(const GlobePatchId& id, const glm::dvec3& cam
 }
 
 glm::vec3 cameraRelativePosition(const PatchSurfaceFrame& frame, float u, float v, float height) {
-    constexpr float kA = static_cast<float>(Wgs84::kEquatorialRadius);
-    constexpr float kE2 = static_cast<float>(Wgs84::kEccentricitySquared);
-
     // Cube coordinates as reference + small difference.
     const float deltaAlpha = frame.alphaPerU * (u - frame.u0);
     const float deltaBeta = frame.alphaPerU * (v - frame.v0);
@@ -90,18 +87,25 @@ glm::vec3 cameraRelativePosition(const PatchSurfaceFrame& frame, float u, float 
     const float deltaInverseLength = -deltaLengthSquared * inverseLength * frame.inverseLength0 /
                                      (1.0f / inverseLength + 1.0f / frame.inverseLength0);
     const glm::vec3 deltaDirection = deltaQ * inverseLength + q0 * deltaInverseLength;
-    const glm::vec3 direction = frame.direction0 + deltaDirection;
 
+    return surfaceOffsetFromDirection(frame.originFromCamera, frame.direction0, frame.sqrtG0,
+                                      deltaDirection, height);
+}
+
+glm::vec3 surfaceOffsetFromDirection(const glm::vec3& originFromCamera, const glm::vec3& direction0,
+                                     float sqrtG0, const glm::vec3& deltaDirection, float height) {
+    constexpr float kA = static_cast<float>(Wgs84::kEquatorialRadius);
+    constexpr float kE2 = static_cast<float>(Wgs84::kEccentricitySquared);
+    const glm::vec3 direction = direction0 + deltaDirection;
     // S(d) − S(d0) = N·M·Δd + (N − N0)·M·d0.
-    const float deltaG = -kE2 * deltaDirection.z * (direction.z + frame.direction0.z);
-    const float sqrtG = std::sqrt(frame.sqrtG0 * frame.sqrtG0 + deltaG);
+    const float deltaG = -kE2 * deltaDirection.z * (direction.z + direction0.z);
+    const float sqrtG = std::sqrt(sqrtG0 * sqrtG0 + deltaG);
     const float primeVertical = kA / sqrtG;
-    const float deltaPrimeVertical = -kA * deltaG / (sqrtG * frame.sqrtG0 * (sqrtG + frame.sqrtG0));
+    const float deltaPrimeVertical = -kA * deltaG / (sqrtG * sqrtG0 * (sqrtG + sqrtG0));
     const glm::vec3 m(1.0f, 1.0f, 1.0f - kE2);
     const glm::vec3 deltaSurface =
-        primeVertical * (m * deltaDirection) + deltaPrimeVertical * (m * frame.direction0);
-
-    return frame.originFromCamera + deltaSurface + height * direction;
+        primeVertical * (m * deltaDirection) + deltaPrimeVertical * (m * direction0);
+    return originFromCamera + deltaSurface + height * direction;
 }
 
 }  // namespace terrain::globe

@@ -59,4 +59,10 @@ glm::dvec2 nearestPatchCoordinates(const GlobePatchId& id, const glm::dvec3& cam
 /// The camera-relative position of patch coordinates (u, v) at height h, in float only.
 glm::vec3 cameraRelativePosition(const PatchSurfaceFrame& frame, float u, float v, float height);
 
+/// (O − camera) + S(d) − S(d0) + h·d for d = d0 + Δd, in float from small quantities:
+/// N·M·Δd + (N − N0)·M·d0 (the header's derivation). What a face patch's and a native tile's
+/// placement (NativeOffset.h) share once each has its Δd.
+glm::vec3 surfaceOffsetFromDirection(const glm::vec3& originFromCamera, const glm::vec3& direction0,
+                                     float sqrtG0, const glm::vec3& deltaDirection, float height);
+
 }  // namespace terrain::globe
