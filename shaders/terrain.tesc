@@ -59,11 +59,14 @@ layout(std430, binding = TERRAIN_BINDING_DEBUG_TESS_FACTORS) writeonly buffer Te
 #endif
 
 // Λ(d) = λ(d) + Err(P), d = 1..4 (Yusov §5, "Tessellation Blocks"); a patch without a tile of
-// its own (bare or virtual) has its λ in its instance.
+// its own (bare or virtual) has its λ in its instance. A tile's own λ(d) is added what its
+// instance holds: 0 for a face patch (its tile's λ has the ellipsoid's bulge), the bulge over
+// blocks simplified by 2^d for a native tile (a planar pyramid's λ has none).
 vec4 blockErrorM(PatchInstance patch_, ivec2 block) {
     int layer = patch_.layerLevel.x;
     bool ownTile = layer >= 0 && patch_.texelMap.w == 0.0;
-    precise vec4 lambda = ownTile ? texelFetch(u_blockErrors, ivec3(block, layer), 0)
+    precise vec4 lambda = ownTile ? texelFetch(u_blockErrors, ivec3(block, layer), 0) +
+                                        patch_.bareBlockErrors
                                   : patch_.bareBlockErrors;
     precise vec4 total = lambda + patch_.errors.x;
     return total;

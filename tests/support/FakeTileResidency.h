@@ -10,6 +10,7 @@
 // (fromPyramid), so the LOD sees the bounds and errors the builder wrote.
 #pragma once
 
+#include "terrain/pyramid/NativeTiles.h"
 #include "terrain/pyramid/PatchIdHash.h"
 #include "terrain/pyramid/PatchRecord.h"
 #include "terrain/pyramid/PyramidLayout.h"
@@ -100,7 +101,7 @@ public:
 
     // TileResidency -------------------------------------------------------------------------
     const io::PatchInfo* acquire(const io::PatchId& id, float priority) override {
-        EXPECT_TRUE(m_layout.contains(id));
+        EXPECT_TRUE(io::isNativeTile(id) || m_layout.contains(id));
         EXPECT_GE(priority, 0.0f);
         if (const auto resident = m_resident.find(id); resident != m_resident.end()) {
             m_layers[static_cast<std::size_t>(resident->second)].lastUsedFrame = m_frame;
@@ -141,7 +142,7 @@ public:
         return &l.info;
     }
     void prefetch(const io::PatchId& id, float priority) override {
-        EXPECT_TRUE(m_layout.contains(id));
+        EXPECT_TRUE(io::isNativeTile(id) || m_layout.contains(id));
         EXPECT_GE(priority, 0.0f);
         ++m_prefetchCalls;
         if (!m_options.honourPrefetch || m_resident.contains(id) || m_failed.contains(id) ||

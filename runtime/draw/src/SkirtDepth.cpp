@@ -16,7 +16,8 @@ void assignSkirtDepths(std::span<PatchDraw> draws, const cache::GpuTilePool& poo
         if (draw.ownsTile()) {
             const std::optional<float> resident = pool.maxBlockErrorM(draw.id);
             TERRAIN_ASSERT(resident.has_value(), "assignSkirtDepths: a draw is not resident");
-            blockErrorM = *resident;
+            // Plus what its instance adds to its tile's λ (a native tile's bulge; 0 otherwise).
+            blockErrorM += *resident;
         }
         depthM = std::max(depthM, draw.errorM + blockErrorM);
     }

@@ -297,6 +297,7 @@ void LodQuadtree::emitNative(int index, std::vector<PatchDraw>& out) {
         PatchDraw draw = PatchDraw::ofTile(tile, m_residency.layerOf(tile), *info);
         draw.errorM =
             static_cast<float>(double(info->error) + m_surface.nativeCurvatureError(tile));
+        draw.bareBlockErrorsM = m_surface.nativeCurvatureBlockErrors(tile);
         out.push_back(draw);
         ++m_stats.drawn;
         ++m_stats.drawnNative;

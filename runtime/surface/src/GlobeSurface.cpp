@@ -48,8 +48,11 @@ GlobeSurface::GlobeSurface(const io::PyramidManifest& manifest,
         const double radian = std::numbers::pi / 180.0;
         grid.spacingM = globe::Wgs84::kMaxCurvatureRadius * radian *
                         std::max(g.pixelSizeY, g.pixelSizeX * std::cos(nearestEquator * radian));
-        grid.curvatureErrorM = globe::flatTriangleErrorBound(
-            grid.spacingM, std::min(0.0, native.manifest.statistics.minHeight));
+        const double lowest = std::min(0.0, native.manifest.statistics.minHeight);
+        grid.curvatureErrorM = globe::flatTriangleErrorBound(grid.spacingM, lowest);
+        for (int d = 0; d < 4; ++d)
+            grid.curvatureBlockErrorsM[static_cast<std::size_t>(d)] = static_cast<float>(
+                globe::flatTriangleErrorBound(grid.spacingM * double(2 << d), lowest));
         m_natives.push_back(grid);
     }
 }
@@ -149,6 +152,11 @@ PatchVolume GlobeSurface::nativeTileVolume(const io::PatchId& tile, float minHei
 double GlobeSurface::nativeCurvatureError(const io::PatchId& tile) const {
     const NativeGrid* grid = nativeGridOf(tile);
     return grid != nullptr ? grid->curvatureErrorM : 0.0;
+}
+
+std::array<float, 4> GlobeSurface::nativeCurvatureBlockErrors(const io::PatchId& tile) const {
+    const NativeGrid* grid = nativeGridOf(tile);
+    return grid != nullptr ? grid->curvatureBlockErrorsM : std::array<float, 4>{};
 }
 
 const globe::NativeGridGeometry* GlobeSurface::nativeGeometry(const io::PatchId& tile) const {

@@ -6,11 +6,13 @@
 // from an oblique view in low orbit and never what the frustum sees; reading ahead on a
 // sparse globe reaches the same cut in fewer frames, as few where errors shrink slower than
 // by half; hysteresis holds a split
-// while the camera moves back and forth across its threshold.
+// while the camera moves back and forth across its threshold; a finest patch that a native
+// grid covers splits into the native tiles over it and merges back.
 #include "terrain/runtime/LodQuadtree.h"
 
 #include "FakeTileResidency.h"
 #include "terrain/pyramid/GlobeLayout.h"
+#include "terrain/pyramid/NativeTiles.h"
 #include "terrain/runtime/GlobeCamera.h"
 #include "terrain/runtime/GlobeSurface.h"
 
@@ -21,6 +23,7 @@
 #include <iostream>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <tuple>
 #include <vector>
 
@@ -448,6 +451,81 @@ TEST(LodQuadtreeGlobe, AFailedChildKeepsItsParentDrawingAndNothingWaits) {
     EXPECT_GT(stats.drawn, 0u);
     for (const PatchDraw& d : draws)
         EXPECT_LE(io::globePatchOf(d.id).level, 2) << "drawn under a failed tile";
+}
+
+// Native leaves (docs/globe.md, "Native leaves"): near the ground a finest data patch that a
+// native grid covers splits into the grid's tiles over it, each drawn once however many
+// patches it lies under and pinned while a patch holds it; from afar the patches merge back
+// and every native pin is released; a native tile that fails leaves its patch drawing and
+// nothing waiting.
+TEST(LodQuadtreeGlobe, FinestPatchesSplitIntoTheNativeTilesOverThem) {
+    const io::PyramidManifest m = globeManifest();
+    // A grid of 1/24,000° (4.6 m, about the finest face level's spacing) round 45° N, 10° E:
+    // 8 × 8 tiles of 128 quads (4.7 km by 3.4 km).
+    auto gridLayout = io::PyramidLayout::create(1025, 1025, m.layout.patchSamples(),
+                                                m.layout.blockQuads(), 16);
+    ASSERT_TRUE(gridLayout);
+    io::NativeGridManifest native{0, io::PyramidManifest::forLayout(gridLayout.value())};
+    native.manifest.georeference.crsKind = io::CrsKind::Geographic;
+    native.manifest.georeference.originX = 10.0 - 512.5 / 24000.0;
+    native.manifest.georeference.originY = 45.0 + 512.5 / 24000.0;
+    native.manifest.georeference.pixelSizeX = native.manifest.georeference.pixelSizeY =
+        1.0 / 24000.0;
+    const GlobeSurface surface(m, std::span(&native, 1));
+
+    for (const bool failing : {false, true}) {
+        SCOPED_TRACE(failing ? "native tiles fail" : "native tiles arrive");
+        const auto infoOf = [](const io::PatchId& layoutId) {
+            io::PatchInfo info;
+            info.present = true;
+            info.maxHeight = 500.0f;
+            if (io::isNativeTile(layoutId)) return info;  // the sources' own samples: Err 0
+            const globe::GlobePatchId id = io::globePatchOf(layoutId);
+            info.error = static_cast<float>(4e3 / double(globe::patchesPerFaceSide(id.level)));
+            info.approxError = info.error;
+            info.presentChildren = id.level < kFaceLevels ? 0b1111 : 0;
+            return info;
+        };
+        FakeTileResidencyOptions options;
+        options.framesToArrive = 0;
+        options.capacity = 1 << 16;
+        if (failing) options.fails = [](const io::PatchId& id) { return io::isNativeTile(id); };
+        FakeTileResidency residency(m.layout, infoOf, options);
+        LodQuadtree lod(residency, surface);
+        std::vector<PatchDraw> draws;
+        LodUpdateStats stats;
+        const auto fly = [&](const Camera& camera) {
+            for (int frame = 0; frame < 12; ++frame) {
+                residency.beginFrame();
+                stats = lod.update(camera, draws);
+                residency.endFrame();
+            }
+        };
+        fly(cameraAt(45.0, 10.0, 530.0, -30.0));
+        ASSERT_EQ(lod.checkInvariants(), std::nullopt);
+        EXPECT_EQ(stats.waitingSplits, 0u);
+        std::vector<io::PatchId> nativeDraws;
+        for (const PatchDraw& d : draws)
+            if (io::isNativeTile(d.id)) nativeDraws.push_back(d.id);
+        std::cout << (failing ? "failing: " : "arriving: ") << stats.drawn << " draws, "
+                  << stats.drawnNative << " native tiles\n";
+        if (failing) {
+            EXPECT_EQ(stats.drawnNative, 0u);
+            continue;
+        }
+        EXPECT_GT(stats.drawnNative, 0u);
+        EXPECT_EQ(stats.drawnNative, nativeDraws.size());
+        for (const io::PatchId& id : nativeDraws) {
+            EXPECT_EQ(std::count(nativeDraws.begin(), nativeDraws.end(), id), 1);
+            EXPECT_TRUE(residency.isPinned(id));
+            EXPECT_EQ(id.level, io::kNativeLevelBase);
+        }
+        // From 100 km the patches merge back: no native tile is drawn or held.
+        fly(cameraAt(45.0, 10.0, 100e3, -30.0));
+        ASSERT_EQ(lod.checkInvariants(), std::nullopt);
+        EXPECT_EQ(stats.drawnNative, 0u);
+        for (const io::PatchId& id : nativeDraws) EXPECT_FALSE(residency.isPinned(id));
+    }
 }
 
 }  // namespace

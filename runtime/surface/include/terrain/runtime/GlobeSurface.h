@@ -62,6 +62,7 @@ public:
     PatchVolume nativeTileVolume(const io::PatchId& tile, float minHeight,
                                  float maxHeight) const override;
     double nativeCurvatureError(const io::PatchId& tile) const override;
+    std::array<float, 4> nativeCurvatureBlockErrors(const io::PatchId& tile) const override;
     const globe::NativeGridGeometry* nativeGeometry(const io::PatchId& tile) const override;
 
 private:
@@ -76,6 +77,7 @@ private:
         double firstLon = 0.0, lastLon = 0.0, northLat = 0.0, southLat = 0.0;
         double spacingM = 0.0;
         double curvatureErrorM = 0.0;
+        std::array<float, 4> curvatureBlockErrorsM{};  // over blocks simplified by 2^d
     };
     const NativeGrid* nativeGridOf(const io::PatchId& tile) const;
 

@@ -27,7 +27,9 @@ struct PatchDraw {
     std::array<float, 2> texelOffset{0.0f, 0.0f};
     float texelStep = 1.0f;
     /// λ(1..4) of a patch without a tile of its own (bare or virtual): how far the surface
-    /// bulges over its blocks simplified by 2^d (plus, for a virtual one, its tile's λ).
+    /// bulges over its blocks simplified by 2^d (plus, for a virtual one, its tile's λ). For a
+    /// patch with its own tile, what is added to the tile's λ: the bulge a native tile's λ
+    /// leaves out (Surface::nativeCurvatureBlockErrors); 0 for a face patch.
     std::array<float, 4> bareBlockErrorsM{};
 
     /// A data patch: `id` drawn from its own tile on `layer`, whose summary is `info`.

@@ -134,6 +134,11 @@ public:
     /// How far a native tile's flat triangles can fall under the ellipsoid between its samples:
     /// what its Err(P), measured at the sources' samples, leaves out.
     virtual double nativeCurvatureError(const io::PatchId& /*tile*/) const { return 0.0; }
+    /// The same over its blocks simplified by 2^d, d = 1..4: what its tile's λ(d), a planar
+    /// pyramid's, leaves out.
+    virtual std::array<float, 4> nativeCurvatureBlockErrors(const io::PatchId& /*tile*/) const {
+        return {};
+    }
     /// The geometry of a native tile's grid, for its placement; null for any other id.
     virtual const globe::NativeGridGeometry* nativeGeometry(const io::PatchId& /*tile*/) const {
         return nullptr;
