@@ -65,11 +65,20 @@ vec3 globeSurfaceOffsetM(PatchInstance p, vec3 deltaDirection, vec3 direction, f
     return position;
 }
 
-// A native tile's point at tile coordinates `uv` (io/globe NativeOffset.h, whose fields these
-// are): placement0 (∂λ/∂u, u0, v0, λ0), placement1 (φ0, ∂φ/∂v); the rest as a face patch's.
-// Longitude and latitude as reference + difference, and the direction's difference from
-// sin(a0 + Δ/2)·sin(Δ/2), never as the difference of two cosines.
-vec3 nativePositionM(PatchInstance p, vec2 uv, float h, out vec3 direction) {
+// atan(x) with a small relative error for small x, as globeSin.
+float globeAtan(float x) {
+    if (abs(x) < 0.1) {
+        float x2 = x * x;
+        return x * (1.0 - x2 * (1.0 / 3.0 - x2 * (1.0 / 5.0 - x2 / 7.0)));
+    }
+    return atan(x);
+}
+
+// Δd = d − d0 of a native tile's point at tile coordinates `uv` (io/globe NativeOffset.h,
+// whose fields these are): placement0 (∂λ/∂u, u0, v0, λ0), placement1.xy (φ0, ∂φ/∂v); the rest
+// as a face patch's. Longitude and latitude as reference + difference, and the direction's
+// difference from sin(a0 + Δ/2)·sin(Δ/2), never as the difference of two cosines.
+vec3 nativeDeltaDirection(PatchInstance p, vec2 uv) {
     precise float deltaLon = p.placement0.x * (uv.x - p.placement0.y);
     precise float deltaLat = p.placement1.y * (uv.y - p.placement0.z);
     float lon0 = p.placement0.w, lat0 = p.placement1.x;
@@ -82,8 +91,36 @@ vec3 nativePositionM(PatchInstance p, vec2 uv, float h, out vec3 direction) {
     float cosLat = cos(lat0 + deltaLat);
     precise vec3 deltaDirection = vec3(cosLat * deltaCosLon + cos(lon0) * deltaCosLat,
                                        cosLat * deltaSinLon + sin(lon0) * deltaCosLat, deltaSinLat);
+    return deltaDirection;
+}
+
+// A native tile's point at tile coordinates `uv`.
+vec3 nativePositionM(PatchInstance p, vec2 uv, float h, out vec3 direction) {
+    precise vec3 deltaDirection = nativeDeltaDirection(p, uv);
     direction = p.placement2.xyz + deltaDirection;
     return globeSurfaceOffsetM(p, deltaDirection, direction, h);
+}
+
+// A native tile's point at tile coordinates `uv` on the face patch whose imagery it drapes
+// (io/globe NativeOffset.h, nativeImageryCoordinates, which derives it): layerLevel.z that
+// patch's face, placement1.zw its coordinates of d0, placement4.z du/dα. From Δd, never from
+// two planet-sized numbers: the imagery's texels stay put under the vertices.
+vec2 nativeImageryUv(PatchInstance p, vec2 uv) {
+    precise vec3 deltaDirection = nativeDeltaDirection(p, uv);
+    int face = p.layerLevel.z;
+    vec3 normal = kFaceNormal[face], right = kFaceRight[face], down = kFaceDown[face];
+    vec3 direction0 = p.placement2.xyz;
+    float along0 = dot(direction0, normal);
+    precise float along = along0 + dot(deltaDirection, normal);
+    vec2 across0 = vec2(dot(direction0, right), dot(direction0, down));
+    vec2 cube0 = across0 / along0;
+    precise vec2 deltaCube = (vec2(dot(deltaDirection, right), dot(deltaDirection, down)) * along0 -
+                              across0 * dot(deltaDirection, normal)) /
+                             (along * along0);
+    precise vec2 ratio = deltaCube / (1.0 + (cube0 + deltaCube) * cube0);
+    precise vec2 imageryUv =
+        p.placement1.zw + vec2(globeAtan(ratio.x), globeAtan(ratio.y)) * p.placement4.z;
+    return imageryUv;
 }
 
 // Camera-relative position of the patch point at patch coordinates `uv` ([0, 1]², a sample s
@@ -148,6 +185,14 @@ vec3 surfacePositionM(PatchInstance patch_, vec2 s, float h, float dropM, out ve
     precise vec3 position = globePositionM(patch_, uv, h, up);
     position = position - dropM * up;
     return position;
+}
+
+// Where the imagery is looked up for patch sample `s` (terrain_imagery.glsl): the patch's own
+// (u, v) on a face patch; on a native tile, its (u, v) on the face patch it drapes.
+vec2 surfaceImageryUv(PatchInstance patch_, vec2 s) {
+    precise vec2 uv = s / float(u_frame.tessellation.z);
+    if (isNativeTile(patch_)) return nativeImageryUv(patch_, uv);
+    return uv;
 }
 
 // The shading normal of slopes `slope` (metres of height per patch sample, along s and t):

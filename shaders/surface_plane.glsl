@@ -69,6 +69,10 @@ vec3 surfaceShadingNormal(PatchInstance patch_, vec2 texel, bool between, vec3 u
 // Where the fragment stage clips the DEM's overhang: the DEM sample under patch sample s.
 vec2 surfaceDemSample(PatchInstance patch_, vec2 s) { return terrainDemSample(patch_, s); }
 
+// Where the imagery is looked up for patch sample `s` (terrain_imagery.glsl): the patch's
+// (u, v).
+vec2 surfaceImageryUv(PatchInstance patch_, vec2 s) { return s / float(u_frame.tessellation.z); }
+
 // An upper bound, in pixels per metre, on the on-screen length of any vertical segment in
 // the box [lo, hi] (camera-relative metres); the derivation is verticalErrorPxPerM's
 // (EdgeTessellation.h). It replaces Yusov's proj(e_c^(d),−, e_c^(d),+) at the edge centre

@@ -38,6 +38,7 @@ layout(location = TERRAIN_FRAG_IMAGERY_TEXELS_PER_PIXEL) out float o_imageryTexe
 
 layout(location = 6) in vec2 i_patchSample;  // the patch's samples, apron excluded
 layout(location = 8) in vec3 i_up;
+layout(location = 10) in vec2 i_imageryUv;  // surfaceImageryUv
 
 vec3 sampleNormal(PatchInstance patch_, ivec2 s) {
     bool between = patch_.texelMap.w != 0.0;
@@ -123,6 +124,7 @@ void main() {
     float footprint = sampleFootprint(i_patchSample);
     // Before the discard, as derivatives need.
     vec2 sampleDx = dFdx(i_patchSample), sampleDy = dFdy(i_patchSample);
+    vec2 imageryDx = dFdx(i_imageryUv), imageryDy = dFdy(i_imageryUv);
 #endif
     if (any(lessThan(i_demSample, u_frame.demExtent.xy - kEdgeToleranceSamples)) ||
         any(greaterThan(i_demSample, u_frame.demExtent.zw + kEdgeToleranceSamples))) {
@@ -161,15 +163,14 @@ void main() {
 #endif
         vec3 color = terrainShade(shading, normal, heightM, coastWidthM, i_fromCameraM);
 #ifdef TERRAIN_FRAGMENT_NORMALS
-        // Imagery over the tint (terrain_imagery.glsl), at the patch's (u, v): its samples
-        // over its N − 1 quads a side. Lit as the land is, or drawn as it is, fogged alike.
+        // Imagery over the tint (terrain_imagery.glsl), at the patch's (u, v) (a native
+        // tile's: on the face patch it drapes; surfaceImageryUv). Lit as the land is, or drawn
+        // as it is, fogged alike.
         if (u_frame.options.z > 0) {
-            float quads = float(u_frame.tessellation.z);
-            vec4 imagery =
-                drapedImagery(i_patch, i_patchSample / quads, sampleDx / quads, sampleDy / quads);
+            vec4 imagery = drapedImagery(i_patch, i_imageryUv, imageryDx, imageryDy);
 #ifdef TERRAIN_IMAGERY_TEXELS_PER_PIXEL
-            o_imageryTexelsPerPixel = imageryTexelsPerPixel(
-                i_patch, i_patchSample / quads, sampleDx / quads, sampleDy / quads);
+            o_imageryTexelsPerPixel =
+                imageryTexelsPerPixel(i_patch, i_imageryUv, imageryDx, imageryDy);
 #endif
             if (imagery.a > 0.0) {
                 float ambient = u_frame.options.w != 0 ? 0.25 : 1.0;

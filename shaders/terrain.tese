@@ -29,6 +29,8 @@ layout(location = 5) out vec2 o_demSample;  // minus the anchor: the fragment st
 // surface's vertical there (the patch is o_patch's).
 layout(location = 6) out vec2 o_patchSample;
 layout(location = 8) out vec3 o_up;
+// Where the imagery is looked up (surfaceImageryUv).
+layout(location = 10) out vec2 o_imageryUv;
 #endif
 
 void main() {
@@ -53,6 +55,7 @@ void main() {
 #ifdef TERRAIN_FRAGMENT_NORMALS
     o_patchSample = vec2(sampleXY);
     o_up = up;
+    o_imageryUv = surfaceImageryUv(patch_, vec2(sampleXY));
 #endif
     o_fromCameraM = position;
     gl_Position = u_frame.viewProjection * vec4(position, 1.0);

@@ -130,7 +130,10 @@ PatchInstance nativeTileInstance(const PatchDraw& p, const globe::NativeGridGeom
         globe::makeNativeSurfaceFrame(geometry, p.id.x, p.id.y, uv0.x, uv0.y, camera);
     PatchInstance record;
     record.placement0 = {f.lonPerU, f.u0, f.v0, f.lon0};
-    record.placement1 = {f.lat0, f.latPerV, 0.0f, 0.0f};
+    // Where its imagery lies on the face patch it drapes (surface_globe.glsl, nativeImageryUv).
+    const globe::NativeImageryFrame imagery = globe::makeNativeImageryFrame(
+        geometry, p.id.x, p.id.y, f, io::globePatchOf(p.imageryPatch));
+    record.placement1 = {f.lat0, f.latPerV, imagery.u0, imagery.v0};
     record.placement2 = {f.direction0.x, f.direction0.y, f.direction0.z, f.sqrtG0};
     record.placement3 = {f.originFromCamera.x, f.originFromCamera.y, f.originFromCamera.z,
                          f.primeVertical0};
@@ -140,12 +143,12 @@ PatchInstance nativeTileInstance(const PatchDraw& p, const globe::NativeGridGeom
     const double radian = std::numbers::pi / 180.0;
     record.placement4 = {static_cast<float>(radii.primeVertical * std::cos(double(f.lat0)) *
                                             geometry.pixelLonDeg * radian),
-                         static_cast<float>(radii.meridian * geometry.pixelLatDeg * radian), 0.0f,
-                         0.0f};
+                         static_cast<float>(radii.meridian * geometry.pixelLatDeg * radian),
+                         imagery.uPerAlpha, 0.0f};
     record.errors = {p.errorM, p.skirtDepthM, p.minHeight, p.maxHeight};
     record.bareBlockErrors = p.bareBlockErrorsM;
     record.texelMap = {0.0f, 0.0f, 1.0f, 0.0f};
-    record.layerLevel = {p.layer, p.id.level, 0, 1};
+    record.layerLevel = {p.layer, p.id.level, imagery.face, 1};
     return record;
 }
 

@@ -1,6 +1,7 @@
 // ImagerySelection: the frame's imagery tiles, a tree per layer shared by the drawn patches.
 #include "terrain/runtime/ImagerySelection.h"
 
+#include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/pyramid/NativeTiles.h"
 
 #include "terrain/base/Assert.h"
@@ -84,13 +85,11 @@ ImagerySelectionStats ImagerySelection::select(const Camera& camera,
     const int layers = layerCount();
     m_roots.reserve(draws.size() * static_cast<std::size_t>(layers));
     for (const PatchDraw& draw : draws) {
+        if (io::isNativeTile(draw.id)) {
+            addNativeRoots(draw);
+            continue;
+        }
         for (int l = 0; l < layers; ++l) {
-            if (io::isNativeTile(draw.id)) {
-                // Not on a face's imagery tiles: a native tile draws none yet (docs/globe.md,
-                // "Native leaves").
-                m_roots.push_back(ImageryRoot{});
-                continue;
-            }
             const Layer& layer = m_layers[static_cast<std::size_t>(l)];
             // A few levels above the patch, or above the layer's finest where the patch is
             // finer than the imagery: either way on the patch's line of ancestors.
@@ -111,6 +110,44 @@ ImagerySelectionStats ImagerySelection::select(const Camera& camera,
     m_imagery = nullptr;
     m_heights = nullptr;
     return m_stats;
+}
+
+void ImagerySelection::addNativeRoots(const PatchDraw& draw) {
+    // A native tile drapes the imagery of the face patch it was split from: its vertices carry
+    // their (u, v) on that patch (surface_globe.glsl, nativeImageryUv), and its root is the
+    // patch's ancestor whose tile holds the native tile's whole outline (it reaches past the
+    // patch), at least as far up as a face patch's root.
+    const globe::NativeGridGeometry* grid = m_surface.nativeGeometry(draw.id);
+    const std::optional<glm::dvec4> extent =
+        grid != nullptr ? globe::nativeTileExtentOn(*grid, draw.id.x, draw.id.y,
+                                                    io::globePatchOf(draw.imageryPatch))
+                        : std::nullopt;
+    const io::PatchId& patch = draw.imageryPatch;
+    bool draped = false;
+    for (int l = 0; l < layerCount(); ++l) {
+        const Layer& layer = m_layers[static_cast<std::size_t>(l)];
+        ImageryRoot root;
+        const int first =
+            patch.level - std::max(layer.coarsestLevel, std::min(patch.level, layer.finestLevel) -
+                                                            kImageryRootLevelsAbove);
+        for (int above = first; extent && patch.level - above >= layer.coarsestLevel; ++above) {
+            // The ancestor's tile spans [−(x mod 2^above), that + 2^above) of the patch's u.
+            const double side = std::ldexp(1.0, above);
+            const std::int64_t mask = (std::int64_t{1} << above) - 1;
+            const double u0 = -static_cast<double>(patch.x & mask);
+            const double v0 = -static_cast<double>(patch.y & mask);
+            if (extent->x >= u0 && extent->z <= u0 + side && extent->y >= v0 &&
+                extent->w <= v0 + side) {
+                root = placeInAncestor(patch, above);
+                root.node = nodeOf(l, ancestorOf(patch, above));
+                draped = true;
+                break;
+            }
+        }
+        m_roots.push_back(root);
+    }
+    // Across a cube edge no face tile holds it all: it draws no imagery (counted).
+    if (!draped && layerCount() > 0) ++m_stats.nativeWithoutImagery;
 }
 
 int ImagerySelection::nodeOf(int layer, const io::PatchId& id) {

@@ -298,6 +298,7 @@ void LodQuadtree::emitNative(int index, std::vector<PatchDraw>& out) {
         draw.errorM =
             static_cast<float>(double(info->error) + m_surface.nativeCurvatureError(tile));
         draw.bareBlockErrorsM = m_surface.nativeCurvatureBlockErrors(tile);
+        draw.imageryPatch = m_nodes[static_cast<std::size_t>(index)].id;
         out.push_back(draw);
         ++m_stats.drawn;
         ++m_stats.drawnNative;

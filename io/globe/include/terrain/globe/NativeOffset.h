@@ -12,10 +12,14 @@
 // (shaders/surface_globe.glsl, nativeDirection); NativeOffsetTest holds it to double precision.
 #pragma once
 
+#include "terrain/globe/GlobePatch.h"
+
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include <cstdint>
+#include <optional>
 
 namespace terrain::globe {
 
@@ -59,9 +63,53 @@ NativeSurfaceFrame makeNativeSurfaceFrame(const NativeGridGeometry& grid, std::i
 glm::dvec2 nearestNativeCoordinates(const NativeGridGeometry& grid, std::int64_t x, std::int64_t y,
                                     const glm::dvec3& cameraUp);
 
+/// Δd = d − d0 of tile coordinates (u, v), in float from small quantities (the header's
+/// derivation): what the position and the imagery coordinates below start from.
+glm::vec3 nativeDeltaDirection(const NativeSurfaceFrame& frame, float u, float v);
+
 /// The camera-relative position of tile coordinates (u, v) at height h, in float only; and
 /// the ellipsoid normal there.
 glm::vec3 nativeCameraRelativePosition(const NativeSurfaceFrame& frame, float u, float v,
                                        float height, glm::vec3* direction = nullptr);
+
+// Imagery on a native tile. The imagery's tiles are the cube faces', so each vertex of a native
+// tile takes the patch coordinates (u, v) of its direction on one face patch P, whose imagery
+// tree it walks (runtime/lod ImagerySelection). Like the position they are a reference plus a
+// small difference, never the difference of two planet-sized numbers: P's coordinates of the
+// frame's d0, from the CPU in double, plus, with n, r, w the face's normal, right and down
+// axes and c = tan α the cube coordinate along r (β and w likewise),
+//   tan α − tan α0 = ((Δd·r)·(d0·n) − (d0·r)·(Δd·n)) / ((d·n)·(d0·n))
+//   α − α0         = atan((tan α − tan α0) / (1 + tan α · tan α0))
+//   u − u0         = (α − α0) · du/dα,  du/dα = 2^level / (π/2)
+// (CubeSphere.h: α = π/4 · (2s − 1), u = s · 2^level − x). GLSL twin: surface_globe.glsl,
+// nativeImageryUv.
+
+/// What a native tile's vertices need for their coordinates on face patch P.
+struct NativeImageryFrame {
+    int face = 0;
+    float u0 = 0.0f;  ///< P's patch coordinates of the frame's d0, from double
+    float v0 = 0.0f;
+    float uPerAlpha = 0.0f;  ///< du/dα on P's level
+};
+
+/// The imagery frame of tile (x, y) of `grid`, placed by `frame`, on face patch `patch`.
+NativeImageryFrame makeNativeImageryFrame(const NativeGridGeometry& grid, std::int64_t x,
+                                          std::int64_t y, const NativeSurfaceFrame& frame,
+                                          const GlobePatchId& patch);
+
+/// P's patch coordinates of the direction d0 + Δd, in float only (the twin of the GLSL).
+glm::vec2 nativeImageryCoordinates(const NativeImageryFrame& imagery, const glm::vec3& direction0,
+                                   const glm::vec3& deltaDirection);
+
+/// `patch`'s coordinates, in double, of the ellipsoid normal `direction` (unit), extended past
+/// the patch's and its face's edges on the face's plane; none where the direction lies more
+/// than 60° from the face's normal (the face itself reaches 54.7°).
+std::optional<glm::dvec2> patchCoordinatesOf(const GlobePatchId& patch,
+                                             const glm::dvec3& direction);
+
+/// The box (u min, v min, u max, v max), in `patch`'s coordinates, of native tile (x, y)'s
+/// outline, 17 points an edge; none where part of it lies more than 60° from the face's normal.
+std::optional<glm::dvec4> nativeTileExtentOn(const NativeGridGeometry& grid, std::int64_t x,
+                                             std::int64_t y, const GlobePatchId& patch);
 
 }  // namespace terrain::globe

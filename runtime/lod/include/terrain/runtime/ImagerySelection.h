@@ -13,6 +13,10 @@
 // mips, so the level follows the pixel, not the patch, and two patches of different levels
 // meet on the same texels.
 //
+// A native tile (docs/globe.md, "Native leaves") drapes the face patch it was split from:
+// its vertices carry their (u, v) on that patch, and its root is the ancestor whose tile holds
+// its whole outline.
+//
 // Nodes are shared by id across the patches of a frame: the tree is the frame's, not a
 // patch's. Pure CPU (no GL); the draw uploads what it lists (TerrainRenderer).
 #pragma once
@@ -71,6 +75,9 @@ struct ImagerySelectionStats {
     /// Listed tiles not resident that have not failed: the view is not settled until none
     /// is left.
     int waiting = 0;
+    /// Native tiles drawn without imagery: no face tile holds their whole outline (they
+    /// cross a cube edge, or the layer's coarsest level is finer than that).
+    int nativeWithoutImagery = 0;
 };
 
 class ImagerySelection {
@@ -121,6 +128,8 @@ private:
 
     /// The node of tile `id` of `layer`, listing it (and what it inherits) when new.
     int nodeOf(int layer, const io::PatchId& id);
+    /// A native tile's roots, one per layer (addNativeRoots in the .cpp says how).
+    void addNativeRoots(const PatchDraw& draw);
     /// Lists the children of node `index` where its texels are larger than a pixel.
     void expand(int layer, int index, const io::PatchId& id);
     /// Interior texels' size on screen, pixels, at the nearest point of the tile's volume;

@@ -31,6 +31,9 @@ struct PatchDraw {
     /// patch with its own tile, what is added to the tile's λ: the bulge a native tile's λ
     /// leaves out (Surface::nativeCurvatureBlockErrors); 0 for a face patch.
     std::array<float, 4> bareBlockErrorsM{};
+    /// A native tile: the face patch (layout id) whose imagery it drapes, the one it was split
+    /// from (ImagerySelection; the imagery's tiles are the faces'). Unused for any other.
+    io::PatchId imageryPatch{};
 
     /// A data patch: `id` drawn from its own tile on `layer`, whose summary is `info`.
     static PatchDraw ofTile(const io::PatchId& id, int layer, const io::PatchInfo& info) {
