@@ -7,6 +7,7 @@
 #include "terrain/runtime/GlobeTruth.h"
 #include "terrain/source/DemReader.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <optional>
 #include <utility>
@@ -86,11 +87,19 @@ Result<std::unique_ptr<BenchTruth>> GlobeBenchTruth::open(const io::PyramidManif
         [&surface](double latitude, double longitude) -> Result<std::pair<double, double>> {
             return surface.heightsAt(latitude, longitude);
         }));
+    // The LOD's own error is measured against the finest face level, which is what it draws
+    // at full detail, unless native grids replace it near the ground (docs/globe.md, "Native
+    // leaves"): there that level is not drawn, and a figure against it would measure the
+    // face grid's resampling. Then the sources alone are the truth.
+    const bool native =
+        std::any_of(manifest.globe->sources.begin(), manifest.globe->sources.end(),
+                    [](const io::ManifestGlobeSource& s) { return !s.native.empty(); });
     io::GlobeGroundQuery& query = *truth->m_finest;
-    truths.push_back(
-        std::make_unique<runtime::GlobeTruth>([&query](double latitude, double longitude) {
-            return query.heightsAt(latitude, longitude);
-        }));
+    if (!native)
+        truths.push_back(
+            std::make_unique<runtime::GlobeTruth>([&query](double latitude, double longitude) {
+                return query.heightsAt(latitude, longitude);
+            }));
     auto probe = runtime::AccuracyProbe::create(
         std::make_unique<runtime::GlobeReferenceScene>(*truth->m_pyramid), std::move(truths),
         spec.probe);
