@@ -197,7 +197,13 @@ private:
             .cachedTile =
                 [&streamer](const globe::GlobePatchId& id) {
                     return streamer.cpuCache().peek(io::layoutPatchOf(id));
-                }};
+                },
+            .nativeTileUnder =
+                [this](const glm::dvec3& up, int level) {
+                    return m_session->surface().nativeTileUnder(up, level);
+                },
+            .cachedNativeTile =
+                [&streamer](const io::PatchId& id) { return streamer.cpuCache().peek(id); }};
         return runtime::residentGroundHeight(camera.position, streamer.layout(), lookup);
     }
 

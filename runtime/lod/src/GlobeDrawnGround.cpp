@@ -79,6 +79,18 @@ double residentGroundHeight(const glm::dvec3& ecef, const io::PyramidLayout& lay
         uv = {s - double(id.x), t - double(id.y)};
     }
     if (!deepest) return 0.0;
+    // Only a finest patch (no resident child) is replaced by native tiles: one that has
+    // children is drawn from them or itself, never from a native tile.
+    if (lookup.nativeTileUnder && lookup.cachedNativeTile && deepestInfo->presentChildren == 0) {
+        if (const std::optional<Surface::NativeTilePoint> native = lookup.nativeTileUnder(
+                globe::Wgs84::upAt(ecef), io::layoutPatchOf(*deepest).level)) {
+            if (const io::PatchRecord* nativeTile = lookup.cachedNativeTile(native->tile)) {
+                if (const std::optional<double> around =
+                        highestSampleAround({native->u, native->v}, *nativeTile, layout))
+                    return *around;
+            }
+        }
+    }
     const io::PatchRecord* tile = lookup.cachedTile(*deepest);
     const std::optional<double> around =
         tile != nullptr ? highestSampleAround(uv, *tile, layout) : std::nullopt;

@@ -142,6 +142,33 @@ bool GlobeSurface::nativeTilesOver(const io::PatchId& id, std::vector<io::PatchI
     return false;
 }
 
+std::optional<Surface::NativeTilePoint> GlobeSurface::nativeTileUnder(const glm::dvec3& up,
+                                                                      int level) const {
+    if (m_natives.empty()) return std::nullopt;
+    const globe::Geodetic place = globe::Wgs84::geodeticOfNormal(up);
+    const double spacing = sampleSpacingM(level);
+    for (const NativeGrid& grid : m_natives) {
+        if (grid.spacingM > kMaxNativeSpacingRatio * spacing) continue;
+        const double longitude =
+            place.longitudeDeg +
+            360.0 * std::round((0.5 * (grid.firstLon + grid.lastLon) - place.longitudeDeg) / 360.0);
+        if (longitude < grid.firstLon || longitude > grid.lastLon ||
+            place.latitudeDeg < grid.southLat || place.latitudeDeg > grid.northLat)
+            continue;
+        const globe::NativeGridGeometry& geo = grid.geometry;
+        const double q = geo.quads;
+        const double column = (longitude - geo.westDeg) / geo.pixelLonDeg - 0.5;
+        const double row = (geo.northDeg - place.latitudeDeg) / geo.pixelLatDeg - 0.5;
+        const auto x = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(column / q)),
+                                                0, grid.tilesX - 1);
+        const auto y = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(row / q)), 0,
+                                                grid.tilesY - 1);
+        return NativeTilePoint{io::nativeTileId(grid.source, x, y), column / q - double(x),
+                               row / q - double(y)};
+    }
+    return std::nullopt;
+}
+
 PatchVolume GlobeSurface::nativeTileVolume(const io::PatchId& tile, float minHeight,
                                            float maxHeight) const {
     const NativeGrid* grid = nativeGridOf(tile);

@@ -2,12 +2,14 @@
 // CPU cache: the highest of the four samples around the nadir in the deepest resident patch
 // (the drawn surface between them lies at or below it), not that patch's highest point;
 // its highest point when its tile is not at hand or not finite; 0 (the bare ellipsoid)
-// with nothing resident; below sea level where the ground is; found from under the ground.
+// with nothing resident; below sea level where the ground is; found from under the ground;
+// where a native tile replaces the finest patch near the ground, that tile's samples.
 #include "terrain/runtime/GlobeDrawnGround.h"
 
 #include "terrain/globe/CubeSphere.h"
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
+#include "terrain/pyramid/NativeTiles.h"
 
 #include <gtest/gtest.h>
 
@@ -67,7 +69,9 @@ struct Streaming {
                     return id.level == kPatch.level && id.x == kPatch.x && id.y == kPatch.y
                                ? tile
                                : nullptr;
-                }};
+                },
+                .nativeTileUnder = {},
+                .cachedNativeTile = {}};
     }
 };
 
@@ -124,6 +128,55 @@ TEST(GlobeDrawnGround, BelowSeaLevelIsBelowTheEllipsoidAndNaNIsNotGround) {
     Streaming damaged(kPatch.level, 250.0f);
     damaged.tile = &deep;
     EXPECT_DOUBLE_EQ(residentGroundHeight(camera, l, damaged.lookup()), 250.0);
+}
+
+// Native leaves (docs/globe.md): where the LOD draws a native tile in place of the finest face
+// patch, the ground is the highest of that tile's four samples around the nadir (its own
+// tile coordinates), not the face grid's resampling; the face grid's where the tile is not in
+// the CPU cache, where the patch has finer data (no native tile replaces it) or where no grid
+// serves the patch's level.
+TEST(GlobeDrawnGround, IsTheNativeTilesWhereOneReplacesTheFinestPatch) {
+    const io::PyramidLayout l = layout();
+    const io::PatchRecord face = tile(l);
+    io::PatchRecord native = tile(l);
+    for (float& h : native.heights) h += 40.0f;  // the source's own surface, 40 m higher here
+    const io::PatchId nativeId = io::nativeTileId(0, 3, 9);
+    Streaming streaming(kPatch.level, kSpike);
+    streaming.tile = &face;
+    const double quads = l.patchQuads();
+    const double u = 38.4 / quads, v = 76.8 / quads;
+    const glm::dvec3 camera = at(kPatch, u, v, 500.0);
+    int askedLevel = -1;
+    const io::PatchRecord* cachedNative = &native;
+    GlobeGroundLookup lookup = streaming.lookup();
+    // A fake grid: the nadir at the native tile's samples (10.2, 60.7), whose four around are
+    // columns 11, 12 and rows 61, 62 of the tile (its apron first).
+    const int patchLevel = io::layoutPatchOf(kPatch).level;
+    lookup.nativeTileUnder = [&](const glm::dvec3&,
+                                 int level) -> std::optional<Surface::NativeTilePoint> {
+        askedLevel = level;
+        if (level < patchLevel) return std::nullopt;  // too fine for coarser patches
+        return Surface::NativeTilePoint{nativeId, 10.2 / quads, 60.7 / quads};
+    };
+    lookup.cachedNativeTile = [&](const io::PatchId& id) {
+        return id == nativeId ? cachedNative : nullptr;
+    };
+    EXPECT_NEAR(residentGroundHeight(camera, l, lookup), heightAt(12, 62) + 40.0, 1e-3);
+    EXPECT_EQ(askedLevel, patchLevel);
+    // Not in the CPU cache: the face grid's.
+    cachedNative = nullptr;
+    EXPECT_NEAR(residentGroundHeight(camera, l, lookup), heightAt(40, 78), 1e-3);
+    cachedNative = &native;
+    // The deepest resident patch has finer data (its children not yet resident): it is drawn
+    // itself, never replaced by a native tile.
+    streaming.resident[{kPatch.face, kPatch.level, kPatch.x, kPatch.y}].presentChildren = 0b1111;
+    EXPECT_NEAR(residentGroundHeight(camera, l, lookup), heightAt(40, 78), 1e-3);
+    // Resident down to a coarser level only, which no grid serves: that patch's highest point.
+    Streaming coarse(3, 4500.0f);
+    GlobeGroundLookup coarseLookup = coarse.lookup();
+    coarseLookup.nativeTileUnder = lookup.nativeTileUnder;
+    coarseLookup.cachedNativeTile = lookup.cachedNativeTile;
+    EXPECT_DOUBLE_EQ(residentGroundHeight(camera, l, coarseLookup), 4500.0);
 }
 
 }  // namespace

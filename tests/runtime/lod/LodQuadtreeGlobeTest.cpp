@@ -472,6 +472,23 @@ TEST(LodQuadtreeGlobe, FinestPatchesSplitIntoTheNativeTilesOverThem) {
     native.manifest.georeference.pixelSizeX = native.manifest.georeference.pixelSizeY =
         1.0 / 24000.0;
     const GlobeSurface surface(m, std::span(&native, 1));
+    // The tile under a point (the viewer's ground, GlobeDrawnGround): the grid's tile and the
+    // point's coordinates on it, for the finest face level; none off the grid or for a level
+    // whose samples are far finer than the grid's (a coarse grid under a fine source).
+    const glm::dvec3 up = globe::Wgs84::normalAt(45.001, 10.002);
+    const int finest = kFaceLevels + io::ManifestGlobe::kLevelOffset;  // the layout's level
+    const std::optional<Surface::NativeTilePoint> under = surface.nativeTileUnder(up, finest);
+    ASSERT_TRUE(under.has_value());
+    EXPECT_EQ(io::nativeGridOf(under->tile), 0);
+    const globe::NativeGridGeometry* geometry = surface.nativeGeometry(under->tile);
+    ASSERT_NE(geometry, nullptr);
+    const glm::dvec2 lonLat = geometry->lonLatDeg(under->tile.x, under->tile.y, under->u, under->v);
+    EXPECT_NEAR(lonLat.x, 10.002, 1e-9);
+    EXPECT_NEAR(lonLat.y, 45.001, 1e-9);
+    EXPECT_GE(under->u, 0.0);
+    EXPECT_LE(under->u, 1.0);
+    EXPECT_FALSE(surface.nativeTileUnder(globe::Wgs84::normalAt(46.0, 10.0), finest));
+    EXPECT_FALSE(surface.nativeTileUnder(up, finest + 3));
 
     for (const bool failing : {false, true}) {
         SCOPED_TRACE(failing ? "native tiles fail" : "native tiles arrive");

@@ -63,6 +63,7 @@ public:
                                  float maxHeight) const override;
     double nativeCurvatureError(const io::PatchId& tile) const override;
     std::array<float, 4> nativeCurvatureBlockErrors(const io::PatchId& tile) const override;
+    std::optional<NativeTilePoint> nativeTileUnder(const glm::dvec3& up, int level) const override;
     const globe::NativeGridGeometry* nativeGeometry(const io::PatchId& tile) const override;
 
 private:

@@ -139,6 +139,21 @@ public:
     virtual std::array<float, 4> nativeCurvatureBlockErrors(const io::PatchId& /*tile*/) const {
         return {};
     }
+    /// A point of a native tile: the tile and the point's tile coordinates ([0, 1]², sample i
+    /// at i / quads).
+    struct NativeTilePoint {
+        io::PatchId tile;
+        double u = 0.0;
+        double v = 0.0;
+    };
+    /// The native tile the LOD would draw under the ellipsoid normal `up` in place of a finest
+    /// patch of (layout) level `level` (the first grid, finest first, that holds the point and
+    /// whose samples are close enough for that level, as nativeTilesOver chooses), and where
+    /// the point lies on it; none where no grid does.
+    virtual std::optional<NativeTilePoint> nativeTileUnder(const glm::dvec3& /*up*/,
+                                                           int /*level*/) const {
+        return std::nullopt;
+    }
     /// The geometry of a native tile's grid, for its placement; null for any other id.
     virtual const globe::NativeGridGeometry* nativeGeometry(const io::PatchId& /*tile*/) const {
         return nullptr;
