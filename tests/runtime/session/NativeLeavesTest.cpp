@@ -195,27 +195,6 @@ protected:
         s.endFrame(telemetry);
         auto compared = reference.value()->compare(camera, frame, style);
         EXPECT_TRUE(compared) << compared.error().message;
-        if (const char* dump = std::getenv("TERRAIN_IMAGERY_DUMP"); dump && compared) {
-            // The frame, the reference and their difference × 8 (rows bottom-up), for a look.
-            static int dumped = 0;
-            std::FILE* f =
-                std::fopen((std::string(dump) + std::to_string(dumped++) + ".ppm").c_str(), "wb");
-            std::fprintf(f, "P6 %d %d 255\n", 3 * kWidth, kHeight);
-            const auto& ref = compared.value().referenceRgba;
-            for (int y = kHeight - 1; y >= 0; --y)
-                for (int x = 0; x < 3 * kWidth; ++x) {
-                    const std::size_t i = static_cast<std::size_t>(y) * kWidth + (x % kWidth);
-                    for (int k = 0; k < 3; ++k) {
-                        const int a = frame.rgba[4 * i + k], b = ref[4 * i + k];
-                        std::fputc(x < kWidth       ? a
-                                   : x < 2 * kWidth ? b
-                                                    : std::min(255, 8 * std::abs(a - b)) *
-                                                          (ref[4 * i + 3] / 255),
-                                   f);
-                    }
-                }
-            std::fclose(f);
-        }
         return compared ? std::move(compared).value() : runtime::ImageryFrameComparison{};
     }
 
