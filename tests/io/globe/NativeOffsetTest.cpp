@@ -35,6 +35,30 @@ struct Grid {
     double pixelDeg;
 };
 
+// A grid of `g`'s spacing whose north-west corner lies a few tiles north-west of `place`, no
+// further north than the pole, and its tile (x, y) holding the place.
+struct GridAround {
+    NativeGridGeometry grid;
+    std::int64_t x = 0;
+    std::int64_t y = 0;
+    double tileDeg = 0.0;
+};
+
+GridAround gridAround(const Place& place, const Grid& g) {
+    GridAround around;
+    NativeGridGeometry& grid = around.grid;
+    grid.pixelLonDeg = grid.pixelLatDeg = g.pixelDeg;
+    grid.quads = 128;
+    around.tileDeg = g.pixelDeg * grid.quads;
+    grid.westDeg = place.longitudeDeg - 2.5 * around.tileDeg;
+    grid.northDeg = std::min(90.0, place.latitudeDeg + 2.5 * around.tileDeg);
+    around.x =
+        static_cast<std::int64_t>(std::floor((place.longitudeDeg - grid.westDeg) / around.tileDeg));
+    around.y =
+        static_cast<std::int64_t>(std::floor((grid.northDeg - place.latitudeDeg) / around.tileDeg));
+    return around;
+}
+
 TEST(NativeOffset, CameraRelativeFloatPositionsMatchTheDoubleReference) {
     const std::vector<Place> places{
         {"equator", 0.0, 0.0},
@@ -51,18 +75,7 @@ TEST(NativeOffset, CameraRelativeFloatPositionsMatchTheDoubleReference) {
     double worstNear = 0.0, worstAngle = 0.0;
     for (const Place& place : places) {
         for (const Grid& g : grids) {
-            // A grid whose north-west corner lies a few tiles north-west of the place, no
-            // further north than the pole.
-            NativeGridGeometry grid;
-            grid.pixelLonDeg = grid.pixelLatDeg = g.pixelDeg;
-            grid.quads = 128;
-            const double tileDeg = g.pixelDeg * grid.quads;
-            grid.westDeg = place.longitudeDeg - 2.5 * tileDeg;
-            grid.northDeg = std::min(90.0, place.latitudeDeg + 2.5 * tileDeg);
-            const auto x = static_cast<std::int64_t>(
-                std::floor((place.longitudeDeg - grid.westDeg) / tileDeg));
-            const auto y = static_cast<std::int64_t>(
-                std::floor((grid.northDeg - place.latitudeDeg) / tileDeg));
+            const auto [grid, x, y, tileDeg] = gridAround(place, g);
             for (const double altitude : {1.0, 100.0, 10e3, 1e6, 20e6, 36e6}) {
                 const glm::dvec3 camera =
                     Wgs84::toEcef({place.latitudeDeg, place.longitudeDeg, altitude});
@@ -151,16 +164,7 @@ TEST(NativeOffset, ImageryCoordinatesOnAFacePatchMatchTheDoubleReference) {
     int compared = 0;
     for (const Place& place : places) {
         for (const Grid& g : grids) {
-            NativeGridGeometry grid;
-            grid.pixelLonDeg = grid.pixelLatDeg = g.pixelDeg;
-            grid.quads = 128;
-            const double tileDeg = g.pixelDeg * grid.quads;
-            grid.westDeg = place.longitudeDeg - 2.5 * tileDeg;
-            grid.northDeg = std::min(90.0, place.latitudeDeg + 2.5 * tileDeg);
-            const auto x = static_cast<std::int64_t>(
-                std::floor((place.longitudeDeg - grid.westDeg) / tileDeg));
-            const auto y = static_cast<std::int64_t>(
-                std::floor((grid.northDeg - place.latitudeDeg) / tileDeg));
+            const auto [grid, x, y, tileDeg] = gridAround(place, g);
             const FacePoint at =
                 facePointOf(Wgs84::normalAt(place.latitudeDeg, place.longitudeDeg));
             const double n = double(patchesPerFaceSide(kLevel));

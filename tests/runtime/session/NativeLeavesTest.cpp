@@ -31,6 +31,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace terrain::test {
@@ -137,26 +138,45 @@ protected:
         runtime::LodUpdateStats lod;
     };
 
-    // A settled frame of the pyramid `name` at ε, from `pose`, against the sources.
-    static Measured measure(const std::string& name, const runtime::GlobePose& pose) {
+    // A session on pyramid `name` at ε, a probe against the sources and a camera at `pose`.
+    struct Opened {
+        std::unique_ptr<io::PyramidReader> pyramid;  // read by the probe's reference scene
+        std::unique_ptr<runtime::AccuracyProbe> probe;
+        std::unique_ptr<runtime::TerrainSession> session;
+        runtime::Camera camera;
+    };
+    static std::optional<Opened> open(const std::string& name, const runtime::GlobePose& pose) {
         const auto path = s_folder->path() / name;
+        Opened o;
         auto pyramid = io::PyramidReader::open(path);
         EXPECT_TRUE(pyramid) << pyramid.error().message;
+        if (!pyramid) return std::nullopt;
+        o.pyramid = std::make_unique<io::PyramidReader>(std::move(pyramid).value());
         auto probe = runtime::AccuracyProbe::create(
-            std::make_unique<runtime::GlobeReferenceScene>(pyramid.value()), sourcesTruth(),
+            std::make_unique<runtime::GlobeReferenceScene>(*o.pyramid), sourcesTruth(),
             {.widthPx = kWidth, .heightPx = kHeight});
         EXPECT_TRUE(probe) << probe.error().message;
+        if (!probe) return std::nullopt;
+        o.probe = std::move(probe).value();
         runtime::TerrainSessionOptions options;
         options.streaming.gpuLayers = 1024;
         options.lod.errorPx = kErrorPx;
         auto session = runtime::TerrainSession::open(path, options);
         EXPECT_TRUE(session) << session.error().message;
-        runtime::Camera camera;
-        camera.viewportWidth = kWidth;
-        camera.viewportHeight = kHeight;
-        runtime::placeOnGlobe(camera, pose);
+        if (!session) return std::nullopt;
+        o.session = std::move(session).value();
+        o.camera.viewportWidth = kWidth;
+        o.camera.viewportHeight = kHeight;
+        runtime::placeOnGlobe(o.camera, pose);
+        return o;
+    }
+
+    // A settled frame of the pyramid `name` at ε, from `pose`, against the sources.
+    static Measured measure(const std::string& name, const runtime::GlobePose& pose) {
+        std::optional<Opened> o = open(name, pose);
+        if (!o) return {};
         const SettledMeasure m =
-            measureSettledFrame(*session.value(), *probe.value(), camera, measuredStyle());
+            measureSettledFrame(*o->session, *o->probe, o->camera, measuredStyle());
         return {m.accuracy, m.lod};
     }
 
@@ -165,32 +185,20 @@ protected:
     static runtime::ImageryFrameComparison drape(const std::string& name,
                                                  const runtime::GlobePose& pose,
                                                  runtime::LodUpdateStats& lod) {
-        const auto path = s_folder->path() / name;
-        auto pyramid = io::PyramidReader::open(path);
-        EXPECT_TRUE(pyramid) << pyramid.error().message;
-        auto probe = runtime::AccuracyProbe::create(
-            std::make_unique<runtime::GlobeReferenceScene>(pyramid.value()), sourcesTruth(),
-            {.widthPx = kWidth, .heightPx = kHeight});
-        EXPECT_TRUE(probe) << probe.error().message;
-        runtime::TerrainSessionOptions options;
-        options.streaming.gpuLayers = 1024;
-        options.lod.errorPx = kErrorPx;
-        auto session = runtime::TerrainSession::open(path, options);
-        EXPECT_TRUE(session) << session.error().message;
-        auto reference = runtime::ImageryReference::open(path, session.value()->manifest());
+        std::optional<Opened> o = open(name, pose);
+        if (!o) return {};
+        auto reference =
+            runtime::ImageryReference::open(s_folder->path() / name, o->session->manifest());
         EXPECT_TRUE(reference) << reference.error().message;
-        if (!pyramid || !probe || !session || !reference) return {};
-        runtime::Camera camera;
-        camera.viewportWidth = kWidth;
-        camera.viewportHeight = kHeight;
-        runtime::placeOnGlobe(camera, pose);
+        if (!reference) return {};
+        const runtime::Camera& camera = o->camera;
         runtime::TerrainStyle style;
         style.imageryLighting = false;
         style.fogDensityPerM = 0.0f;
-        runtime::TerrainSession& s = *session.value();
+        runtime::TerrainSession& s = *o->session;
         EXPECT_TRUE(s.settle(camera, std::chrono::seconds(60)));
         lod = s.beginFrame(camera);
-        const runtime::FrameImages frame = probe.value()->captureImage(s, camera, style);
+        const runtime::FrameImages frame = o->probe->captureImage(s, camera, style);
         runtime::FrameTelemetry telemetry;
         s.endFrame(telemetry);
         auto compared = reference.value()->compare(camera, frame, style);
