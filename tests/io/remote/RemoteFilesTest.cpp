@@ -11,11 +11,14 @@
 
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
 #include <signal.h>
+#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -23,6 +26,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace terrain::remote {
 namespace {
@@ -47,6 +51,11 @@ void writeFile(const fs::path& path, const std::string& text) {
 }
 
 // Retries without waiting, so a test of a failure takes no time.
+// What AProcessKilledWhileWritingABodyLeavesTheCacheUsable's viewer process fetches, and
+// into which cache.
+constexpr const char* kChildUrl = "TERRAIN_TEST_REMOTE_CHILD_URL";
+constexpr const char* kChildCache = "TERRAIN_TEST_REMOTE_CHILD_CACHE";
+
 HttpOptions quickHttp() {
     HttpOptions options;
     options.retries = 2;
@@ -620,16 +629,29 @@ TEST_F(RemoteFilesTest, AProcessKilledWhileWritingABodyLeavesTheCacheUsable) {
     // through the body (the proxy holds the rest back until the kill is done).
     writeFile(root.path() / "k.bin", after);
     proxy.setPlan(FaultPlan{.faultEvery = 1, .kinds = {ProxyFault::HoldBody}});
-    const pid_t child = ::fork();
-    ASSERT_GE(child, 0);
-    if (child == 0) {
-        Result<std::unique_ptr<RemoteFiles>> viewer =
-            RemoteFiles::open({cache.path(), std::uint64_t{1} << 30}, quickHttp());
-        if (viewer) (void)viewer.value()->localCopy(url);
-        ::_exit(0);
-    }
+    // The viewer is this test program run afresh (spawned, not forked: a fork of this
+    // process, whose server and proxy threads may hold a lock at that moment, could wait on
+    // it for ever), running only the disabled case below.
+    const std::string urlVariable = std::string(kChildUrl) + "=" + url;
+    const std::string cacheVariable = std::string(kChildCache) + "=" + cache.path().string();
+    std::vector<char*> environment;
+    for (char** entry = environ; *entry != nullptr; ++entry) environment.push_back(*entry);
+    environment.push_back(const_cast<char*>(urlVariable.c_str()));
+    environment.push_back(const_cast<char*>(cacheVariable.c_str()));
+    environment.push_back(nullptr);
+    const char* argv[] = {"RemoteFilesTest", "--gtest_also_run_disabled_tests",
+                          "--gtest_filter=RemoteFilesChild.DISABLED_FetchesForItsParent", nullptr};
+    // Its own report would interleave with this one's: to /dev/null.
+    posix_spawn_file_actions_t quiet;
+    ::posix_spawn_file_actions_init(&quiet);
+    ::posix_spawn_file_actions_addopen(&quiet, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+    pid_t child = 0;
+    const int spawned = ::posix_spawn(&child, "/proc/self/exe", &quiet, nullptr,
+                                      const_cast<char**>(argv), environment.data());
+    ::posix_spawn_file_actions_destroy(&quiet);
+    ASSERT_EQ(spawned, 0);
     const bool midWrite =
-        proxy.waitForFaults(ProxyFault::HoldBody, 1, std::chrono::milliseconds(20000));
+        proxy.waitForFaults(ProxyFault::HoldBody, 1, std::chrono::milliseconds(60000));
     ::kill(child, SIGKILL);
     int status = 0;
     ::waitpid(child, &status, 0);
@@ -652,6 +674,19 @@ TEST_F(RemoteFilesTest, AProcessKilledWhileWritingABodyLeavesTheCacheUsable) {
     ASSERT_TRUE(fresh) << fresh.error().message;
     EXPECT_EQ(contentsOf(fresh.value()), after);
     EXPECT_EQ(online->stats().fetched, 1u);
+}
+
+// The viewer AProcessKilledWhileWritingABodyLeavesTheCacheUsable spawns and kills: disabled,
+// so it runs only there, where the variables name the file and the cache.
+TEST(RemoteFilesChild, DISABLED_FetchesForItsParent) {
+    const char* url = std::getenv(kChildUrl);
+    const char* cachePath = std::getenv(kChildCache);
+    ASSERT_NE(url, nullptr);
+    ASSERT_NE(cachePath, nullptr);
+    Result<std::unique_ptr<RemoteFiles>> viewer =
+        RemoteFiles::open({cachePath, std::uint64_t{1} << 30}, quickHttp());
+    if (viewer) (void)viewer.value()->localCopy(url);
+    ::_exit(0);
 }
 
 TEST(RemoteLocation, OnlyHttpAndHttpsAreRemote) {
