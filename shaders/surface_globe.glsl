@@ -195,6 +195,20 @@ vec2 surfaceImageryUv(PatchInstance patch_, vec2 s) {
     return uv;
 }
 
+// Whether a native tile owns the ground at `imageryUv`, its (u, v) on the face patch it drapes
+// (runtime/surface NativeOwnership.h; nativeTileOwns is the CPU twin): the bit of the cell
+// there in nativeCells. It reaches past the face patches it stands for over others that draw
+// themselves; drawn both, the two surfaces' pixels would interleave. Everything else, and a
+// native tile whose cells are 0, owns all it covers.
+bool surfaceOwnsGround(PatchInstance patch_, vec2 imageryUv) {
+    ivec4 cells = patch_.nativeCells;
+    if (!isNativeTile(patch_) || (cells.x | cells.y) == 0) return true;
+    ivec2 cell = ivec2(floor(imageryUv)) - cells.zw;
+    if (any(lessThan(cell, ivec2(0))) || any(greaterThanEqual(cell, ivec2(8)))) return false;
+    int bit = 8 * cell.y + cell.x;
+    return ((bit < 32 ? cells.x : cells.y) >> (bit & 31) & 1) != 0;
+}
+
 // The shading normal of slopes `slope` (metres of height per patch sample, along s and t):
 // the ellipsoid normal `up` tilted as globeShadingNormal tilts it. placement4 is metres per
 // tile sample; a virtual patch's sample spans texelMap.z of its ancestor's.

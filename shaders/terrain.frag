@@ -5,6 +5,12 @@
 #include "Bindings.h"
 #include "terrain_frame.glsl"
 #include "terrain_shading.glsl"
+#if defined(TERRAIN_FRAGMENT_NORMALS) || defined(TERRAIN_SURFACE_GLOBE)
+// Only the tessellated draw (terrain.tese) defines either: the other methods' stages write
+// neither the instance nor the imagery's (u, v).
+#include "terrain_surface.glsl"
+layout(location = 10) in vec2 i_imageryUv;  // surfaceImageryUv
+#endif
 
 layout(location = 0) in vec3 i_fromCameraM;
 layout(location = 1) in vec3 i_normal;
@@ -32,13 +38,11 @@ layout(location = TERRAIN_FRAG_IMAGERY_TEXELS_PER_PIXEL) out float o_imageryTexe
 // frame's on the plane, tilted from the ellipsoid normal on the globe). Where a pixel spans
 // several samples the normal is filtered to its footprint (terrain_footprint.glsl), as the
 // reference's is.
-#include "terrain_surface.glsl"
 #include "terrain_footprint.glsl"
 #include "terrain_imagery.glsl"
 
 layout(location = 6) in vec2 i_patchSample;  // the patch's samples, apron excluded
 layout(location = 8) in vec3 i_up;
-layout(location = 10) in vec2 i_imageryUv;  // surfaceImageryUv
 
 vec3 sampleNormal(PatchInstance patch_, ivec2 s) {
     bool between = patch_.texelMap.w != 0.0;
@@ -130,6 +134,11 @@ void main() {
         any(greaterThan(i_demSample, u_frame.demExtent.zw + kEdgeToleranceSamples))) {
         discard;
     }
+#ifdef TERRAIN_SURFACE_GLOBE
+    // A native tile draws only the ground it owns; the face patches draw the rest
+    // (surfaceOwnsGround).
+    if (!surfaceOwnsGround(u_instances[i_patch], i_imageryUv)) discard;
+#endif
 #ifdef TERRAIN_FRAGMENT_NORMALS
     // From two samples of footprint up the filtered normal alone shows (footprintNormal's
     // blend weight is 1): the mesh's normal is not worth its texel fetches there.

@@ -24,13 +24,13 @@ layout(location = 4) flat out int o_tessFactor;
 // The draw instance (the patch) for the patch-id view (TerrainDebugView::PatchId).
 layout(location = 9) flat out int o_patch;
 layout(location = 5) out vec2 o_demSample;  // minus the anchor: the fragment stage clips
+// Where the imagery is looked up (surfaceImageryUv), and what a native tile owns there.
+layout(location = 10) out vec2 o_imageryUv;
 #ifdef TERRAIN_FRAGMENT_NORMALS
 // For the fragment stage's normals (terrain.frag): where in the patch's samples, and the
 // surface's vertical there (the patch is o_patch's).
 layout(location = 6) out vec2 o_patchSample;
 layout(location = 8) out vec3 o_up;
-// Where the imagery is looked up (surfaceImageryUv).
-layout(location = 10) out vec2 o_imageryUv;
 #endif
 
 void main() {
@@ -55,8 +55,8 @@ void main() {
 #ifdef TERRAIN_FRAGMENT_NORMALS
     o_patchSample = vec2(sampleXY);
     o_up = up;
-    o_imageryUv = surfaceImageryUv(patch_, vec2(sampleXY));
 #endif
+    o_imageryUv = surfaceImageryUv(patch_, vec2(sampleXY));
     o_fromCameraM = position;
     gl_Position = u_frame.viewProjection * vec4(position, 1.0);
 }

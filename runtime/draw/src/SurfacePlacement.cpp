@@ -149,6 +149,9 @@ PatchInstance nativeTileInstance(const PatchDraw& p, const globe::NativeGridGeom
     record.bareBlockErrors = p.bareBlockErrorsM;
     record.texelMap = {0.0f, 0.0f, 1.0f, 0.0f};
     record.layerLevel = {p.layer, p.id.level, imagery.face, 1};
+    record.nativeCells = {static_cast<std::int32_t>(p.nativeCells & 0xffffffffu),
+                          static_cast<std::int32_t>(p.nativeCells >> 32), p.nativeWindow[0],
+                          p.nativeWindow[1]};
     return record;
 }
 

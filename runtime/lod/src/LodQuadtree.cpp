@@ -3,6 +3,7 @@
 #include "terrain/runtime/LodQuadtree.h"
 
 #include "terrain/base/Assert.h"
+#include "terrain/runtime/NativeOwnership.h"
 #include "terrain/runtime/PlaneSurface.h"
 
 #include <algorithm>
@@ -241,7 +242,10 @@ int LodQuadtree::trySplitNative(int index, double screenError) {
         if (m_residency.hasFailed(tile)) return 0;
         allResident = false;
     }
-    if (!allResident) return -1;
+    if (!allResident) {
+        ++m_stats.waitingNativeSplits;
+        return -1;
+    }
     double worst = 0.0;  // the tiles' own screen error, pixels
     for (const io::PatchId& tile : m_nativeScratch) {
         const io::PatchInfo* info = m_residency.residentInfo(tile);
@@ -288,20 +292,34 @@ int LodQuadtree::trySplitNative(int index, double screenError) {
 void LodQuadtree::emitNative(int index, std::vector<PatchDraw>& out) {
     const auto tiles = m_nativeTiles.find(index);
     TERRAIN_ASSERT(tiles != m_nativeTiles.end(), "a native node without its tiles");
+    const io::PatchId& patch = m_nodes[static_cast<std::size_t>(index)].id;
     for (const io::PatchId& tile : tiles->second) {
-        if (std::find(m_nativeDrawn.begin(), m_nativeDrawn.end(), tile) != m_nativeDrawn.end())
-            continue;  // drawn for a neighbour already
-        m_nativeDrawn.push_back(tile);
+        const auto drawn = std::find_if(m_nativeDrawn.begin(), m_nativeDrawn.end(),
+                                        [&](const auto& d) { return d.first == tile; });
+        if (drawn != m_nativeDrawn.end()) {  // drawn for a neighbour already
+            m_nativeHolders.emplace_back(drawn - m_nativeDrawn.begin(), patch);
+            continue;
+        }
+        m_nativeHolders.emplace_back(m_nativeDrawn.size(), patch);
+        m_nativeDrawn.emplace_back(tile, out.size());
         const io::PatchInfo* info = m_residency.residentInfo(tile);
         TERRAIN_ASSERT(info != nullptr, "a pinned native tile is not resident");
         PatchDraw draw = PatchDraw::ofTile(tile, m_residency.layerOf(tile), *info);
         draw.errorM =
             static_cast<float>(double(info->error) + m_surface.nativeCurvatureError(tile));
         draw.bareBlockErrorsM = m_surface.nativeCurvatureBlockErrors(tile);
-        draw.imageryPatch = m_nodes[static_cast<std::size_t>(index)].id;
         out.push_back(draw);
         ++m_stats.drawn;
         ++m_stats.drawnNative;
+    }
+}
+
+void LodQuadtree::assignNativeOwnerships(std::vector<PatchDraw>& out) {
+    for (std::size_t t = 0; t < m_nativeDrawn.size(); ++t) {
+        m_holderScratch.clear();
+        for (const auto& [drawn, patch] : m_nativeHolders)
+            if (drawn == t) m_holderScratch.push_back(patch);
+        assignNativeOwnership(out[m_nativeDrawn[t].second], m_holderScratch);
     }
 }
 
@@ -426,15 +444,24 @@ void LodQuadtree::prefetchBelow(const io::PatchId& id, const io::PatchInfo& heig
 // read. One box distance per drawn leaf, and only while the camera moves.
 void LodQuadtree::prefetchAlongMotion(const Node& leaf) {
     if (m_options.readAheadFrames <= 0.0 || m_motion == glm::dvec3(0.0) ||
-        leaf.kind != NodeKind::Data || !leaf.finerData || leaf.waiting || leaf.splitBlocked ||
-        leaf.id.level >= m_surface.maxLevel() || m_options.splitRule != SplitRule::ProjectedError ||
-        m_options.splitToFinest)
+        leaf.kind != NodeKind::Data || !(leaf.finerData || leaf.nativeCapable) || leaf.waiting ||
+        leaf.splitBlocked || leaf.id.level >= m_surface.maxLevel() ||
+        m_options.splitRule != SplitRule::ProjectedError || m_options.splitToFinest)
         return;
     const glm::dvec3 ahead = m_camera.position + m_options.readAheadFrames * m_motion;
     const double rho = m_surface.distance(ahead, leaf.volume);
     const double predicted =
         rho <= 0.0 ? std::numeric_limits<double>::max() : m_gamma * metricM(leaf) / rho;
     if (predicted <= coarseErrorPx()) return;
+    if (!leaf.finerData) {  // a finest patch splits into the native tiles over it
+        m_nativeScratch.clear();
+        m_surface.nativeTilesOver(leaf.id, m_nativeScratch);
+        for (const io::PatchId& tile : m_nativeScratch) {
+            m_residency.prefetch(tile, prefetchPriority(predicted));
+            ++m_stats.prefetched;
+        }
+        return;
+    }
     std::array<SurfaceChild, 4> children;
     const int count = m_surface.children(leaf.id, children);
     for (int i = 0; i < count; ++i) {
@@ -674,6 +701,7 @@ void LodQuadtree::takeArrivedRoots() {
 LodUpdateStats LodQuadtree::update(const Camera& camera, std::vector<PatchDraw>& out) {
     out.clear();
     m_nativeDrawn.clear();
+    m_nativeHolders.clear();
     m_stats = {};
     m_motion = m_started ? camera.position - m_camera.position : glm::dvec3(0.0);
     m_odometer += glm::length(camera.position - m_camera.position);
@@ -724,6 +752,7 @@ LodUpdateStats LodQuadtree::update(const Camera& camera, std::vector<PatchDraw>&
     }
 
     for (int root = 0; root < m_rootCount; ++root) cull(root, 0b11111, out);
+    assignNativeOwnerships(out);
     std::uint64_t nodes = 0;
     for (const Node& node : m_nodes) nodes += node.parent >= -1 ? 1 : 0;
     m_stats.nodes = nodes;

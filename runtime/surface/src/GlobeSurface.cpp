@@ -109,13 +109,9 @@ bool GlobeSurface::nativeTilesOver(const io::PatchId& id, std::vector<io::PatchI
         // A grid much coarser than the patch (a global one under a regional source's patches)
         // would draw tiles that dwarf it, over everything around.
         if (grid.spacingM > kMaxNativeSpacingRatio * spacing) continue;
-        const double shift =
-            360.0 *
-            std::round((0.5 * (grid.firstLon + grid.lastLon) - 0.5 * (west + east)) / 360.0);
+        const double shift = grid.turnsToward(0.5 * (west + east));
         const double lo = west + shift, hi = east + shift;
-        if (lo < grid.firstLon || hi > grid.lastLon || south < grid.southLat ||
-            north > grid.northLat)
-            continue;
+        if (!grid.holds(lo, hi, south, north)) continue;
         const globe::NativeGridGeometry& geo = grid.geometry;
         const double q = geo.quads;
         // Tile t holds samples t·q … t·q + q: the tiles holding samples c0 … c1.
@@ -126,10 +122,8 @@ bool GlobeSurface::nativeTilesOver(const io::PatchId& id, std::vector<io::PatchI
                 static_cast<std::int64_t>(std::ceil(c1 / q)) - 1, low, count - 1);
             return std::pair(low, high);
         };
-        const auto [x0, x1] = range((lo - geo.westDeg) / geo.pixelLonDeg - 0.5,
-                                    (hi - geo.westDeg) / geo.pixelLonDeg - 0.5, grid.tilesX);
-        const auto [y0, y1] = range((geo.northDeg - north) / geo.pixelLatDeg - 0.5,
-                                    (geo.northDeg - south) / geo.pixelLatDeg - 0.5, grid.tilesY);
+        const auto [x0, x1] = range(grid.columnAt(lo), grid.columnAt(hi), grid.tilesX);
+        const auto [y0, y1] = range(grid.rowAt(north), grid.rowAt(south), grid.tilesY);
         if ((x1 - x0 + 1) * (y1 - y0 + 1) > kMaxNativeTilesPerPatch) continue;
         // A tile the planar pyramid padded past its raster (a grid that ends at a pole) would
         // draw samples beyond it.
@@ -142,6 +136,10 @@ bool GlobeSurface::nativeTilesOver(const io::PatchId& id, std::vector<io::PatchI
     return false;
 }
 
+double GlobeSurface::NativeGrid::turnsToward(double longitudeDeg) const {
+    return 360.0 * std::round((0.5 * (firstLon + lastLon) - longitudeDeg) / 360.0);
+}
+
 std::optional<Surface::NativeTilePoint> GlobeSurface::nativeTileUnder(const glm::dvec3& up,
                                                                       int level) const {
     if (m_natives.empty()) return std::nullopt;
@@ -149,16 +147,10 @@ std::optional<Surface::NativeTilePoint> GlobeSurface::nativeTileUnder(const glm:
     const double spacing = sampleSpacingM(level);
     for (const NativeGrid& grid : m_natives) {
         if (grid.spacingM > kMaxNativeSpacingRatio * spacing) continue;
-        const double longitude =
-            place.longitudeDeg +
-            360.0 * std::round((0.5 * (grid.firstLon + grid.lastLon) - place.longitudeDeg) / 360.0);
-        if (longitude < grid.firstLon || longitude > grid.lastLon ||
-            place.latitudeDeg < grid.southLat || place.latitudeDeg > grid.northLat)
-            continue;
-        const globe::NativeGridGeometry& geo = grid.geometry;
-        const double q = geo.quads;
-        const double column = (longitude - geo.westDeg) / geo.pixelLonDeg - 0.5;
-        const double row = (geo.northDeg - place.latitudeDeg) / geo.pixelLatDeg - 0.5;
+        const double longitude = place.longitudeDeg + grid.turnsToward(place.longitudeDeg);
+        if (!grid.holds(longitude, longitude, place.latitudeDeg, place.latitudeDeg)) continue;
+        const double q = grid.geometry.quads;
+        const double column = grid.columnAt(longitude), row = grid.rowAt(place.latitudeDeg);
         const auto x = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(column / q)),
                                                 0, grid.tilesX - 1);
         const auto y = std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(row / q)), 0,

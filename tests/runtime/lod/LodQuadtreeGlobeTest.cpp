@@ -9,6 +9,7 @@
 // while the camera moves back and forth across its threshold; a finest patch that a native
 // grid covers splits into the native tiles over it and merges back.
 #include "terrain/runtime/LodQuadtree.h"
+#include "terrain/runtime/NativeOwnership.h"
 
 #include "FakeTileResidency.h"
 #include "terrain/pyramid/GlobeLayout.h"
@@ -453,6 +454,35 @@ TEST(LodQuadtreeGlobe, AFailedChildKeepsItsParentDrawingAndNothingWaits) {
         EXPECT_LE(io::globePatchOf(d.id).level, 2) << "drawn under a failed tile";
 }
 
+// A grid of 1/24,000° (4.6 m, about the finest face level's spacing) round 45° N, 10° E:
+// 8 × 8 tiles of 128 quads (4.7 km by 3.4 km).
+io::NativeGridManifest nativeGridNear45N10E(const io::PyramidManifest& m) {
+    auto gridLayout = io::PyramidLayout::create(1025, 1025, m.layout.patchSamples(),
+                                                m.layout.blockQuads(), 16);
+    EXPECT_TRUE(gridLayout);
+    io::NativeGridManifest native{0, io::PyramidManifest::forLayout(gridLayout.value())};
+    native.manifest.georeference.crsKind = io::CrsKind::Geographic;
+    native.manifest.georeference.originX = 10.0 - 512.5 / 24000.0;
+    native.manifest.georeference.originY = 45.0 + 512.5 / 24000.0;
+    native.manifest.georeference.pixelSizeX = native.manifest.georeference.pixelSizeY =
+        1.0 / 24000.0;
+    return native;
+}
+
+// The summaries under that grid: face patches with finer data down to kFaceLevels, whose
+// Err(P) halves a level; native tiles at their sources' own samples (Err 0).
+io::PatchInfo nativeTestInfo(const io::PatchId& layoutId) {
+    io::PatchInfo info;
+    info.present = true;
+    info.maxHeight = 500.0f;
+    if (io::isNativeTile(layoutId)) return info;
+    const globe::GlobePatchId id = io::globePatchOf(layoutId);
+    info.error = static_cast<float>(4e3 / double(globe::patchesPerFaceSide(id.level)));
+    info.approxError = info.error;
+    info.presentChildren = id.level < kFaceLevels ? 0b1111 : 0;
+    return info;
+}
+
 // Native leaves (docs/globe.md, "Native leaves"): near the ground a finest data patch that a
 // native grid covers splits into the grid's tiles over it, each drawn once however many
 // patches it lies under and pinned while a patch holds it; from afar the patches merge back
@@ -460,17 +490,7 @@ TEST(LodQuadtreeGlobe, AFailedChildKeepsItsParentDrawingAndNothingWaits) {
 // nothing waiting.
 TEST(LodQuadtreeGlobe, FinestPatchesSplitIntoTheNativeTilesOverThem) {
     const io::PyramidManifest m = globeManifest();
-    // A grid of 1/24,000° (4.6 m, about the finest face level's spacing) round 45° N, 10° E:
-    // 8 × 8 tiles of 128 quads (4.7 km by 3.4 km).
-    auto gridLayout = io::PyramidLayout::create(1025, 1025, m.layout.patchSamples(),
-                                                m.layout.blockQuads(), 16);
-    ASSERT_TRUE(gridLayout);
-    io::NativeGridManifest native{0, io::PyramidManifest::forLayout(gridLayout.value())};
-    native.manifest.georeference.crsKind = io::CrsKind::Geographic;
-    native.manifest.georeference.originX = 10.0 - 512.5 / 24000.0;
-    native.manifest.georeference.originY = 45.0 + 512.5 / 24000.0;
-    native.manifest.georeference.pixelSizeX = native.manifest.georeference.pixelSizeY =
-        1.0 / 24000.0;
+    const io::NativeGridManifest native = nativeGridNear45N10E(m);
     const GlobeSurface surface(m, std::span(&native, 1));
     // The tile under a point (the viewer's ground, GlobeDrawnGround): the grid's tile and the
     // point's coordinates on it, for the finest face level; none off the grid or for a level
@@ -492,22 +512,11 @@ TEST(LodQuadtreeGlobe, FinestPatchesSplitIntoTheNativeTilesOverThem) {
 
     for (const bool failing : {false, true}) {
         SCOPED_TRACE(failing ? "native tiles fail" : "native tiles arrive");
-        const auto infoOf = [](const io::PatchId& layoutId) {
-            io::PatchInfo info;
-            info.present = true;
-            info.maxHeight = 500.0f;
-            if (io::isNativeTile(layoutId)) return info;  // the sources' own samples: Err 0
-            const globe::GlobePatchId id = io::globePatchOf(layoutId);
-            info.error = static_cast<float>(4e3 / double(globe::patchesPerFaceSide(id.level)));
-            info.approxError = info.error;
-            info.presentChildren = id.level < kFaceLevels ? 0b1111 : 0;
-            return info;
-        };
         FakeTileResidencyOptions options;
         options.framesToArrive = 0;
         options.capacity = 1 << 16;
         if (failing) options.fails = [](const io::PatchId& id) { return io::isNativeTile(id); };
-        FakeTileResidency residency(m.layout, infoOf, options);
+        FakeTileResidency residency(m.layout, nativeTestInfo, options);
         LodQuadtree lod(residency, surface);
         std::vector<PatchDraw> draws;
         LodUpdateStats stats;
@@ -537,12 +546,90 @@ TEST(LodQuadtreeGlobe, FinestPatchesSplitIntoTheNativeTilesOverThem) {
             EXPECT_TRUE(residency.isPinned(id));
             EXPECT_EQ(id.level, io::kNativeLevelBase);
         }
+        // Each tile owns the ground of the face patches it stands for, and only that: no
+        // face patch drawn lies under ground a native tile owns (NativeOwnership.h).
+        for (const PatchDraw& n : draws) {
+            if (!io::isNativeTile(n.id)) continue;
+            ASSERT_NE(n.nativeCells, 0u) << "one face: its patches' cells fit the window";
+            const globe::GlobePatchId reference = io::globePatchOf(n.imageryPatch);
+            EXPECT_TRUE(nativeTileOwns(n, 0.5, 0.5)) << "the patch it drapes is its own";
+            for (const PatchDraw& f : draws) {
+                if (io::isNativeTile(f.id)) continue;
+                const globe::GlobePatchId face = io::globePatchOf(f.id);
+                if (face.face != reference.face) continue;  // cells are of one face
+                // f's ground in cells of the reference's level, by their centres.
+                const int shift = reference.level - face.level;
+                const double size = std::ldexp(1.0, shift);
+                const double x0 = double(face.x) * size - double(reference.x);
+                const double y0 = double(face.y) * size - double(reference.y);
+                const int cells = std::max(1, static_cast<int>(size));
+                for (int j = 0; j < cells; ++j)
+                    for (int i = 0; i < cells; ++i) {
+                        const double u = x0 + std::min(size, 1.0) * (i + 0.5);
+                        const double v = y0 + std::min(size, 1.0) * (j + 0.5);
+                        EXPECT_FALSE(nativeTileOwns(n, u, v))
+                            << "face patch " << face.level << "/" << face.x << "/" << face.y
+                            << " lies under native tile " << n.id.x << "/" << n.id.y;
+                    }
+            }
+        }
         // From 100 km the patches merge back: no native tile is drawn or held.
         fly(cameraAt(45.0, 10.0, 100e3, -30.0));
         ASSERT_EQ(lod.checkInvariants(), std::nullopt);
         EXPECT_EQ(stats.drawnNative, 0u);
         for (const io::PatchId& id : nativeDraws) EXPECT_FALSE(residency.isPinned(id));
     }
+}
+
+// Native tiles are read ahead along the camera's motion as children are
+// (LodOptions::readAheadFrames): a descent from 2 km to 300 m over the grid, tiles arriving 3
+// frames after they are asked for (the waits counted on the way and on the first 10 frames
+// there). Reading ahead, the finest patches' native tiles are asked for
+// before the patches want to split, so fewer of those splits wait on the way; the native
+// tiles drawn at the end are as many.
+TEST(LodQuadtreeGlobe, NativeTilesAreReadAheadAlongTheCameraMotion) {
+    const io::PyramidManifest m = globeManifest();
+    const io::NativeGridManifest native = nativeGridNear45N10E(m);
+    const GlobeSurface surface(m, std::span(&native, 1));
+    constexpr int kFrames = 24;
+    constexpr double kStart = 2000.0, kEnd = 300.0;  // the native tiles are wanted from 530 m
+    const auto fly = [&](double readAheadFrames, std::uint64_t& waits, std::uint64_t& nativeDrawn) {
+        FakeTileResidencyOptions options;
+        options.framesToArrive = 3;
+        options.capacity = 1 << 16;
+        options.honourPrefetch = true;
+        FakeTileResidency residency(m.layout, nativeTestInfo, options);
+        LodQuadtree lod(residency, surface, LodOptions{.readAheadFrames = readAheadFrames});
+        std::vector<PatchDraw> draws;
+        const auto frame = [&](double height) {
+            residency.beginFrame();
+            const LodUpdateStats stats = lod.update(cameraAt(45.0, 10.0, height, -30.0), draws);
+            residency.endFrame();
+            return stats;
+        };
+        for (int f = 0; f < 40; ++f) frame(kStart);
+        EXPECT_EQ(frame(kStart).drawnNative, 0u);
+        waits = 0;
+        for (int f = 1; f <= kFrames; ++f)
+            waits +=
+                frame(kStart * std::pow(kEnd / kStart, double(f) / kFrames)).waitingNativeSplits;
+        LodUpdateStats last;
+        for (int f = 0; f < 40; ++f) {
+            last = frame(kEnd);
+            if (f < 10) waits += last.waitingNativeSplits;
+        }
+        nativeDrawn = last.drawnNative;
+        EXPECT_EQ(lod.checkInvariants(), std::nullopt);
+    };
+    std::uint64_t waitsAhead = 0, waitsWithout = 0, nativeAhead = 0, nativeWithout = 0;
+    fly(LodOptions{}.readAheadFrames, waitsAhead, nativeAhead);
+    fly(0.0, waitsWithout, nativeWithout);
+    std::cout << "splits into native tiles waiting on the way down: " << waitsAhead
+              << " reading ahead, " << waitsWithout << " without; native tiles drawn at the end "
+              << nativeAhead << "\n";
+    EXPECT_GT(nativeAhead, 0u);
+    EXPECT_EQ(nativeAhead, nativeWithout);
+    EXPECT_LT(waitsAhead, waitsWithout);
 }
 
 }  // namespace

@@ -240,6 +240,37 @@ TEST_F(NativeLeavesTest, NearTheGroundTheErrorAgainstTheSourcesStaysWithinEpsilo
     }
 }
 
+// A native tile owns only the ground of the face patches it stands for (NativeOwnership.h):
+// where it reaches past them over face patches that drew themselves, it draws nothing. Drawn
+// both, the nearer of two surfaces won each pixel, and over this source, whose face grid
+// shades unlike its samples, the two shadings interleaved: blotches along every boundary of
+// native tiles and face patches (ETOPO20 + Rainier at 7 km: a shading seam of 2.46 levels).
+TEST_F(NativeLeavesTest, NativeTilesDrawOnlyTheGroundOfThePatchesTheyStandFor) {
+    const runtime::GlobePose pose = above(45.25, 10.9, 1500.0, 30.0, -15.0);
+    const Measured face = measure("face.pyramid", pose);
+    const Measured native = measure("native.pyramid", pose);
+    ASSERT_TRUE(face.accuracy.boundaryShading.has_value());
+    ASSERT_TRUE(native.accuracy.boundaryShading.has_value());
+    const runtime::BoundaryShading& faceShading = *face.accuracy.boundaryShading;
+    const runtime::BoundaryShading& nativeShading = *native.accuracy.boundaryShading;
+    std::cout << "1.5 km above, looking ahead: " << native.lod.drawnNative << " native tiles of "
+              << native.lod.drawn << " draws; pairs of neighbouring pixels of two patches "
+              << nativeShading.boundaryPairs << " (face grid only " << faceShading.boundaryPairs
+              << "), shading seam " << nativeShading.seamLevels() << " levels ("
+              << faceShading.seamLevels() << "), error " << native.accuracy.error.maxPx
+              << " px, cracks " << native.accuracy.crackPixels() << "\n";
+    // Both kinds share the view: the boundaries between them are in it.
+    EXPECT_GT(native.lod.drawnNative, 0u);
+    EXPECT_GT(native.lod.drawn, native.lod.drawnNative);
+    // Interleaved, the two surfaces' pixels make boundaries all over the ground they share
+    // (2,360 pairs here); owned once, the boundaries are patch outlines, as long as the face
+    // grid's.
+    EXPECT_LE(double(nativeShading.boundaryPairs), 1.5 * double(faceShading.boundaryPairs));
+    EXPECT_LE(nativeShading.seamLevels(), 1.0);  // terrain-bench's report fails one above 1
+    EXPECT_LE(native.accuracy.error.maxPx, kErrorPx + kRasterTolerancePx);
+    EXPECT_EQ(native.accuracy.crackPixels(), 0u);
+}
+
 // A native tile drapes the face patches' imagery: the draw agrees with the imagery's reference
 // (the texels of the ground under each pixel) on the native pyramid as on the face grid. A
 // native tile drawn without imagery, or with its texels placed by anything but its own

@@ -17,6 +17,6 @@ namespace terrain::runtime {
 struct alignas(16) PatchInstance {
     TERRAIN_PATCH_INSTANCE_MEMBERS(TERRAIN_CPP_INSTANCE_VEC4, TERRAIN_CPP_INSTANCE_IVEC4)
 };
-static_assert(sizeof(PatchInstance) == 10 * 16, "PatchInstance: std430 layout");
+static_assert(sizeof(PatchInstance) == 11 * 16, "PatchInstance: std430 layout");
 
 }  // namespace terrain::runtime

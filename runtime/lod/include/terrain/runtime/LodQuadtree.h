@@ -99,7 +99,8 @@ struct LodOptions {
     double maxSamplePx = 0.0;
     /// Reading ahead along the camera's motion: a drawn leaf whose projected error from where
     /// the camera will be this many frames on, at its present velocity, exceeds the coarse
-    /// threshold has its children read ahead (TileResidency::prefetch). About the frames a
+    /// threshold has its children read ahead (TileResidency::prefetch; a finest globe patch,
+    /// the native tiles it would split into). About the frames a
     /// tile takes from request to residency from a local disk; further ahead costs reads the
     /// camera may never need. 0: off (the reading ahead below waiting leaves stays).
     double readAheadFrames = 8.0;
@@ -128,6 +129,8 @@ struct LodUpdateStats {
     std::uint64_t splits = 0;
     std::uint64_t merges = 0;         ///< including subtrees collapsed as they left the view
     std::uint64_t waitingSplits = 0;  ///< leaves too coarse whose children are not resident
+    /// Of them, finest globe patches whose native tiles are not resident.
+    std::uint64_t waitingNativeSplits = 0;
     /// Tiles asked for ahead (TileResidency::prefetch) this frame: below waiting leaves, and
     /// the children of drawn leaves the camera's motion will likely split.
     std::uint64_t prefetched = 0;
@@ -227,6 +230,8 @@ private:
     void pinNative(const io::PatchId& tile);
     void unpinNative(const io::PatchId& tile);
     void emitNative(int node, std::vector<PatchDraw>& out);
+    /// After the frame's draws are listed: each native tile's ground (NativeOwnership.h).
+    void assignNativeOwnerships(std::vector<PatchDraw>& out);
     void prefetchBelow(const io::PatchId& id, const io::PatchInfo& heights, double errorM,
                        double decay, int levels, const io::PatchInfo* stored);
     double errorDecay(const Node& node) const;
@@ -253,10 +258,13 @@ private:
     std::vector<int> m_waiting;   // leaves re-tried every frame
     std::vector<int> m_waitingNext;
     // Native tiles: the pins the native nodes hold (a tile may lie under several), the tiles
-    // drawn this frame (each once), and a scratch list.
+    // drawn this frame (each once, with its draw's index), the face patches each stands for
+    // this frame (the drawn tile's index there), and a scratch list.
     std::vector<std::pair<io::PatchId, int>> m_nativePins;
     std::unordered_map<int, std::vector<io::PatchId>> m_nativeTiles;  // by native node
-    std::vector<io::PatchId> m_nativeDrawn;
+    std::vector<std::pair<io::PatchId, std::size_t>> m_nativeDrawn;
+    std::vector<std::pair<std::size_t, io::PatchId>> m_nativeHolders;
+    std::vector<io::PatchId> m_holderScratch;
     std::vector<io::PatchId> m_nativeScratch;
 
     Camera m_camera;

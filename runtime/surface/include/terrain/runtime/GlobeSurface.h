@@ -79,6 +79,22 @@ private:
         double spacingM = 0.0;
         double curvatureErrorM = 0.0;
         std::array<float, 4> curvatureBlockErrorsM{};  // over blocks simplified by 2^d
+
+        /// The whole turns to add to a longitude to bring it nearest the grid's middle (a
+        /// grid may run past ±180°).
+        double turnsToward(double longitudeDeg) const;
+        /// A place's sample coordinates on the grid (sample centres at whole numbers), its
+        /// longitude already brought near the grid (turnsToward).
+        double columnAt(double longitudeDeg) const {
+            return (longitudeDeg - geometry.westDeg) / geometry.pixelLonDeg - 0.5;
+        }
+        double rowAt(double latitudeDeg) const {
+            return (geometry.northDeg - latitudeDeg) / geometry.pixelLatDeg - 0.5;
+        }
+        /// Whether the box lies within the grid's raster (its longitudes brought near it).
+        bool holds(double west, double east, double south, double north) const {
+            return west >= firstLon && east <= lastLon && south >= southLat && north <= northLat;
+        }
     };
     const NativeGrid* nativeGridOf(const io::PatchId& tile) const;
 

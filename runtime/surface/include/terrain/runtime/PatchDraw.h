@@ -9,6 +9,7 @@
 #include "terrain/pyramid/PyramidLayout.h"
 
 #include <array>
+#include <cstdint>
 
 namespace terrain::runtime {
 
@@ -34,6 +35,14 @@ struct PatchDraw {
     /// A native tile: the face patch (layout id) whose imagery it drapes, the one it was split
     /// from (ImagerySelection; the imagery's tiles are the faces'). Unused for any other.
     io::PatchId imageryPatch{};
+    /// A native tile: where it owns the ground, the face patches it stands for (its native
+    /// nodes' patches), as the cells of imageryPatch's level in an 8 × 8 window whose cell
+    /// (0, 0) is imageryPatch's x, y plus nativeWindow: bit 8·j + i for cell (i, j). A tile
+    /// reaches past them over face patches that drew themselves; there it draws nothing, so
+    /// that the two surfaces do not fight for the same ground (docs/globe.md, "Native
+    /// leaves"). 0: it owns all it covers (its patches lie on two faces, or beyond the window).
+    std::uint64_t nativeCells = 0;
+    std::array<std::int32_t, 2> nativeWindow{0, 0};
 
     /// A data patch: `id` drawn from its own tile on `layer`, whose summary is `info`.
     static PatchDraw ofTile(const io::PatchId& id, int layer, const io::PatchInfo& info) {
