@@ -1,6 +1,7 @@
 #include "terrain/runtime/GlobeDrawnGround.h"
 
 #include "terrain/pyramid/NativeTiles.h"
+#include "terrain/runtime/NativeOwnership.h"
 
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
@@ -44,9 +45,16 @@ double drawnGroundCeiling(std::span<const PatchDraw> draws, const glm::dvec3& ec
     double ceiling = 0.0;
     for (const PatchDraw& draw : draws) {
         // A native tile lies over face patches the list no longer holds: its heights count
-        // wherever the camera is over it (conservative: a ceiling).
+        // where the camera is over the ground it owns (NativeOwnership.h), every tile over
+        // the face patch there (conservative: a ceiling); anywhere for one that owns all it
+        // covers.
         if (io::isNativeTile(draw.id)) {
-            ceiling = std::max(ceiling, double(draw.maxHeight));
+            const globe::GlobePatchId patch = io::globePatchOf(draw.imageryPatch);
+            const double n = static_cast<double>(globe::patchesPerFaceSide(patch.level));
+            if (draw.nativeCells == 0 ||
+                (patch.face == nadir.face && nativeTileOwns(draw, nadir.s * n - double(patch.x),
+                                                            nadir.t * n - double(patch.y))))
+                ceiling = std::max(ceiling, double(draw.maxHeight));
             continue;
         }
         const globe::GlobePatchId id = io::globePatchOf(draw.id);

@@ -10,6 +10,7 @@
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/pyramid/NativeTiles.h"
+#include "terrain/runtime/NativeOwnership.h"
 
 #include <gtest/gtest.h>
 
@@ -17,6 +18,7 @@
 #include <limits>
 #include <map>
 #include <tuple>
+#include <vector>
 
 namespace terrain::runtime {
 namespace {
@@ -177,6 +179,29 @@ TEST(GlobeDrawnGround, IsTheNativeTilesWhereOneReplacesTheFinestPatch) {
     coarseLookup.nativeTileUnder = lookup.nativeTileUnder;
     coarseLookup.cachedNativeTile = lookup.cachedNativeTile;
     EXPECT_DOUBLE_EQ(residentGroundHeight(camera, l, coarseLookup), 4500.0);
+}
+
+// The stress flight's ground where no patch can be read: the highest point of what is drawn
+// over the nadir. A native tile counts only over the ground it owns (NativeOwnership.h), the
+// face patches it stands for, not wherever its outline reaches; one that owns all it covers
+// counts everywhere.
+TEST(GlobeDrawnGround, TheCeilingTakesANativeTileOnlyOverTheGroundItOwns) {
+    const glm::dvec3 camera = at(kPatch, 0.5, 0.5, 5000.0);
+    io::PatchInfo low;
+    low.maxHeight = 300.0f;
+    io::PatchInfo high;
+    high.maxHeight = 2000.0f;
+    const globe::GlobePatchId east{kPatch.face, kPatch.level, kPatch.x + 1, kPatch.y};
+    std::vector<PatchDraw> draws{PatchDraw::ofTile(io::layoutPatchOf(kPatch), 0, low),
+                                 PatchDraw::ofTile(io::nativeTileId(0, 3, 4), 1, high)};
+    const io::PatchId holders[] = {io::layoutPatchOf(east), io::layoutPatchOf(kPatch)};
+    assignNativeOwnership(draws[1], std::span(holders, 1));  // its patch east of the nadir's
+    EXPECT_DOUBLE_EQ(drawnGroundCeiling(draws, camera), 300.0);
+    assignNativeOwnership(draws[1], holders);  // and the nadir's
+    EXPECT_DOUBLE_EQ(drawnGroundCeiling(draws, camera), 2000.0);
+    assignNativeOwnership(draws[1], std::span(holders, 1));
+    draws[1].nativeCells = 0;  // owns all it covers (its patches on two faces): anywhere
+    EXPECT_DOUBLE_EQ(drawnGroundCeiling(draws, camera), 2000.0);
 }
 
 }  // namespace

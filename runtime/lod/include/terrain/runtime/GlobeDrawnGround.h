@@ -18,8 +18,9 @@
 namespace terrain::runtime {
 
 /// The largest maxHeight of the drawn patches whose face square holds the nadir of `ecef`
-/// (a patch edge belongs to both sides); 0 (the ellipsoid) where none does, e.g. when the
-/// nadir was culled.
+/// (a patch edge belongs to both sides) and of the native tiles that own the ground there
+/// (every native tile that owns all it covers); 0 (the ellipsoid) where none does, e.g. when
+/// the nadir was culled.
 double drawnGroundCeiling(std::span<const PatchDraw> draws, const glm::dvec3& ecef);
 
 /// What is at hand for a patch without a read: its summary when its tile is resident on the
