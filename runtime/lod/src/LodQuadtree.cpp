@@ -292,15 +292,10 @@ int LodQuadtree::trySplitNative(int index, double screenError) {
 void LodQuadtree::emitNative(int index, std::vector<PatchDraw>& out) {
     const auto tiles = m_nativeTiles.find(index);
     TERRAIN_ASSERT(tiles != m_nativeTiles.end(), "a native node without its tiles");
-    const io::PatchId& patch = m_nodes[static_cast<std::size_t>(index)].id;
     for (const io::PatchId& tile : tiles->second) {
-        const auto drawn = std::find_if(m_nativeDrawn.begin(), m_nativeDrawn.end(),
-                                        [&](const auto& d) { return d.first == tile; });
-        if (drawn != m_nativeDrawn.end()) {  // drawn for a neighbour already
-            m_nativeHolders.emplace_back(drawn - m_nativeDrawn.begin(), patch);
-            continue;
-        }
-        m_nativeHolders.emplace_back(m_nativeDrawn.size(), patch);
+        if (std::any_of(m_nativeDrawn.begin(), m_nativeDrawn.end(),
+                        [&](const auto& d) { return d.first == tile; }))
+            continue;  // drawn for a neighbour already
         m_nativeDrawn.emplace_back(tile, out.size());
         const io::PatchInfo* info = m_residency.residentInfo(tile);
         TERRAIN_ASSERT(info != nullptr, "a pinned native tile is not resident");
@@ -314,12 +309,16 @@ void LodQuadtree::emitNative(int index, std::vector<PatchDraw>& out) {
     }
 }
 
+// Every native node holding a drawn tile counts, in view or not: a patch culled behind the
+// horizon or outside the frustum by its face box may still have part of the tile's surface
+// in view (the tile's heights are not the face patch's), which its ground then keeps.
 void LodQuadtree::assignNativeOwnerships(std::vector<PatchDraw>& out) {
-    for (std::size_t t = 0; t < m_nativeDrawn.size(); ++t) {
+    for (const auto& [tile, drawIndex] : m_nativeDrawn) {
         m_holderScratch.clear();
-        for (const auto& [drawn, patch] : m_nativeHolders)
-            if (drawn == t) m_holderScratch.push_back(patch);
-        assignNativeOwnership(out[m_nativeDrawn[t].second], m_holderScratch);
+        for (const auto& [node, tiles] : m_nativeTiles)
+            if (std::find(tiles.begin(), tiles.end(), tile) != tiles.end())
+                m_holderScratch.push_back(m_nodes[static_cast<std::size_t>(node)].id);
+        assignNativeOwnership(out[drawIndex], m_holderScratch);
     }
 }
 
@@ -701,7 +700,6 @@ void LodQuadtree::takeArrivedRoots() {
 LodUpdateStats LodQuadtree::update(const Camera& camera, std::vector<PatchDraw>& out) {
     out.clear();
     m_nativeDrawn.clear();
-    m_nativeHolders.clear();
     m_stats = {};
     m_motion = m_started ? camera.position - m_camera.position : glm::dvec3(0.0);
     m_odometer += glm::length(camera.position - m_camera.position);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 namespace terrain::runtime {
 namespace {
@@ -15,9 +16,11 @@ constexpr int kWindowCells = 8;
 
 void assignNativeOwnership(PatchDraw& draw, std::span<const io::PatchId> holders) {
     TERRAIN_ASSERT(!holders.empty(), "a native tile drawn for no face patch");
+    // The finest, the first in row order among those: the same whatever order they come in.
     const auto finest = std::max_element(
-        holders.begin(), holders.end(),
-        [](const io::PatchId& a, const io::PatchId& b) { return a.level < b.level; });
+        holders.begin(), holders.end(), [](const io::PatchId& a, const io::PatchId& b) {
+            return std::tuple(a.level, -a.y, -a.x) < std::tuple(b.level, -b.y, -b.x);
+        });
     draw.imageryPatch = *finest;
     draw.nativeCells = 0;
     draw.nativeWindow = {0, 0};

@@ -258,12 +258,10 @@ private:
     std::vector<int> m_waiting;   // leaves re-tried every frame
     std::vector<int> m_waitingNext;
     // Native tiles: the pins the native nodes hold (a tile may lie under several), the tiles
-    // drawn this frame (each once, with its draw's index), the face patches each stands for
-    // this frame (the drawn tile's index there), and a scratch list.
+    // drawn this frame (each once, with its draw's index), and scratch lists.
     std::vector<std::pair<io::PatchId, int>> m_nativePins;
     std::unordered_map<int, std::vector<io::PatchId>> m_nativeTiles;  // by native node
     std::vector<std::pair<io::PatchId, std::size_t>> m_nativeDrawn;
-    std::vector<std::pair<std::size_t, io::PatchId>> m_nativeHolders;
     std::vector<io::PatchId> m_holderScratch;
     std::vector<io::PatchId> m_nativeScratch;
 

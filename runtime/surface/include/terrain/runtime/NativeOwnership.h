@@ -14,8 +14,8 @@
 namespace terrain::runtime {
 
 /// Sets `draw`'s imageryPatch, nativeCells and nativeWindow from the face patches (layout
-/// ids) that split into it and are drawn this frame (at least one): the cells are those of
-/// the finest of them, the patch it then drapes. Leaves nativeCells 0 (owns all it covers)
+/// ids) that split into it (at least one; in view or not), in any order: the cells are those
+/// of the finest of them, the patch it then drapes. Leaves nativeCells 0 (owns all it covers)
 /// where they lie on more than one cube face or span more than 8 cells of that level.
 /// Allocates nothing.
 void assignNativeOwnership(PatchDraw& draw, std::span<const io::PatchId> holders);
