@@ -22,7 +22,7 @@ void assignNativeOwnership(PatchDraw& draw, std::span<const io::PatchId> holders
 
 /// Whether face coordinates (u, v) on `draw`'s imageryPatch (in patches of its level from its
 /// corner) lie on ground it owns: the CPU twin of shaders/surface_globe.glsl's
-/// nativeTileOwns.
+/// surfaceOwnsGround.
 bool nativeTileOwns(const PatchDraw& draw, double u, double v);
 
 }  // namespace terrain::runtime

@@ -32,8 +32,9 @@ struct PatchDraw {
     /// patch with its own tile, what is added to the tile's λ: the bulge a native tile's λ
     /// leaves out (Surface::nativeCurvatureBlockErrors); 0 for a face patch.
     std::array<float, 4> bareBlockErrorsM{};
-    /// A native tile: the face patch (layout id) whose imagery it drapes, the one it was split
-    /// from (ImagerySelection; the imagery's tiles are the faces'). Unused for any other.
+    /// A native tile: the face patch (layout id) whose imagery it drapes, the finest of those
+    /// that split into it (ImagerySelection; the imagery's tiles are the faces';
+    /// NativeOwnership.h chooses it). Unused for any other.
     io::PatchId imageryPatch{};
     /// A native tile: where it owns the ground, the face patches it stands for (its native
     /// nodes' patches), as the cells of imageryPatch's level in an 8 × 8 window whose cell
