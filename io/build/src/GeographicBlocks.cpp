@@ -4,6 +4,22 @@
 
 namespace terrain::io::detail {
 
+Status readPoles(DemReader& reader, SourceVoids& voids, GeographicGrid& grid) {
+    RowFill fill(voids);
+    for (int side = 0; side < 2; ++side) {
+        const std::optional<std::int64_t> row = grid.poleRow(side);
+        if (!row) continue;
+        std::vector<float> heights(static_cast<std::size_t>(grid.width()));
+        std::vector<std::uint8_t> valid(heights.size());
+        if (Status read = reader.readWindow(0, *row, grid.width(), 1, heights); !read)
+            return read.error();
+        if (Result<std::int64_t> filled = fill.fill(*row, 0, heights, valid); !filled)
+            return filled.error();
+        grid.setPole(side, heights, valid);
+    }
+    return {};
+}
+
 GeographicBlocks::GeographicBlocks(DemReader& reader, SourceVoids& voids,
                                    const GeographicGrid& grid, std::uint64_t cacheBytes,
                                    std::int64_t blockRows, std::int64_t blockColumns)

@@ -20,6 +20,11 @@
 
 namespace terrain::io::detail {
 
+/// Sets `grid`'s poles (GeographicGrid::poleRow) from its source's edge rows, read and filled
+/// as GeographicGrid::read fills them, so that a region build's fan meets the pole where the
+/// whole build's does. Nothing is read for a grid without a pole.
+Status readPoles(DemReader& reader, SourceVoids& voids, GeographicGrid& grid);
+
 class GeographicBlocks {
 public:
     /// `grid` is the source's description (GeographicGrid::describe); blocks of `blockRows`

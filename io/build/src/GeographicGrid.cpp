@@ -67,7 +67,58 @@ Result<GeographicGrid> GeographicGrid::describe(const DemInfo& dem) {
     grid.m_pixelLat = g.pixelSizeY;
     grid.m_wraps = span >= 360.0 - tolerance;
     grid.m_wrapColumns = dem.width - std::max<std::int64_t>(repeated, 0);
+    // A pole beyond the edge row's centres of a grid around the globe (not one whose edge
+    // row is centred on it: that row is the pole's own samples).
+    if (grid.m_wraps) {
+        const double north = (g.originY - 90.0) / g.pixelSizeY - 0.5;
+        const double south = (g.originY + 90.0) / g.pixelSizeY - 0.5;
+        grid.m_poles[0] = {north < -1e-6 && g.originY >= 90.0 - 1e-6, north, 0.0f, false};
+        grid.m_poles[1] = {south > double(dem.height - 1) + 1e-6 &&
+                               g.originY - double(dem.height) * g.pixelSizeY <= -90.0 + 1e-6,
+                           south, 0.0f, false};
+    }
     return grid;
+}
+
+std::optional<std::int64_t> GeographicGrid::poleRow(int side) const {
+    if (!m_poles[static_cast<std::size_t>(side)].present) return std::nullopt;
+    return side == 0 ? 0 : m_height - 1;
+}
+
+void GeographicGrid::setPole(int side, std::span<const float> edgeRow,
+                             std::span<const std::uint8_t> valid) {
+    Pole& pole = m_poles[static_cast<std::size_t>(side)];
+    // In double, column by column: a region build reading the row itself sums it alike.
+    double sum = 0.0;
+    std::int64_t count = 0;
+    bool allValid = true;
+    for (std::size_t i = 0; i < static_cast<std::size_t>(m_wrapColumns); ++i) {
+        allValid = allValid && valid[i] != 0;
+        if (std::isnan(edgeRow[i])) continue;  // a void not filled yet (read, before fillVoids)
+        sum += double(edgeRow[i]);
+        ++count;
+    }
+    pole.height = count > 0 ? static_cast<float>(sum / double(count)) : 0.0f;
+    pole.valid = allValid && count > 0;
+}
+
+void GeographicGrid::setPolesFromSamples() {
+    for (int side = 0; side < 2; ++side) {
+        const std::optional<std::int64_t> row = poleRow(side);
+        if (!row) continue;
+        const std::size_t first = index(0, *row);
+        setPole(side, std::span<const float>(m_heights).subspan(first, std::size_t(m_width)),
+                std::span<const std::uint8_t>(m_valid).subspan(first, std::size_t(m_width)));
+    }
+}
+
+std::optional<std::pair<int, double>> GeographicGrid::inPoleFan(double centre) const {
+    if (centre < 0.0 && m_poles[0].present)
+        return std::pair{0, std::min(1.0, centre / m_poles[0].centre)};
+    const double last = double(m_height - 1);
+    if (centre > last && m_poles[1].present)
+        return std::pair{1, std::min(1.0, (centre - last) / (m_poles[1].centre - last))};
+    return std::nullopt;
 }
 
 Result<GeographicGrid> GeographicGrid::read(DemReader& reader, std::uint64_t memoryBudgetBytes,
@@ -109,6 +160,7 @@ Result<GeographicGrid> GeographicGrid::read(DemReader& reader, std::uint64_t mem
     }
     grid.m_minHeight = grid.m_validSamples > 0 ? minHeight : 0.0;
     grid.m_maxHeight = grid.m_validSamples > 0 ? maxHeight : 0.0;
+    grid.setPolesFromSamples();
     return grid;
 }
 
@@ -130,6 +182,7 @@ Status GeographicGrid::fillVoids(const detail::VoidFill::Beneath* beneath) {
             if (!m_valid[index(col, row)]) m_heights[index(col, row)] = voids.at(col, row, beneath);
     m_filledSamples = voids.samples();
     m_filledOverBeneath = voids.samplesOverBeneath();
+    setPolesFromSamples();  // of the filled row
     return {};
 }
 
@@ -152,7 +205,17 @@ std::optional<GeographicGrid::Location> GeographicGrid::locate(double latitudeDe
     Location where;
     where.inside = y >= 0.0 && y <= height && (m_wraps || (x >= 0.0 && x <= width));
     where.taper = edgeTaper(y, x);
-    const Axis rows = clampedAxis(y / m_pixelLat - 0.5, m_height);
+    const double rowCentre = y / m_pixelLat - 0.5;
+    Axis rows = clampedAxis(rowCentre, m_height);
+    if (const auto fan = inPoleFan(rowCentre)) {
+        // The edge row twice, one of them standing for the pole (interpolate).
+        const auto [side, weight] = *fan;
+        const Pole& pole = m_poles[static_cast<std::size_t>(side)];
+        where.poleRow = side == 0 ? 0 : 1;
+        where.poleHeight = pole.height;
+        where.poleValid = pole.valid;
+        rows.weight = side == 0 ? 1.0 - weight : weight;
+    }
     Axis columns;
     if (m_wraps) {
         // Between the last and the first column across the seam of a 360° grid.
@@ -221,6 +284,19 @@ GeographicGrid::Resampled GeographicGrid::interpolate(const Location& where,
     out.inside = where.inside;
     out.valid = where.inside;
     out.covered = true;
+    if (where.poleRow >= 0) {
+        const float withPole[2][2] = {{where.poleRow == 0 ? where.poleHeight : corner[0][0],
+                                       where.poleRow == 0 ? where.poleHeight : corner[0][1]},
+                                      {where.poleRow == 1 ? where.poleHeight : corner[1][0],
+                                       where.poleRow == 1 ? where.poleHeight : corner[1][1]}};
+        const bool validWithPole[2][2] = {{where.poleRow == 0 ? where.poleValid : valid[0][0],
+                                           where.poleRow == 0 ? where.poleValid : valid[0][1]},
+                                          {where.poleRow == 1 ? where.poleValid : valid[1][0],
+                                           where.poleRow == 1 ? where.poleValid : valid[1][1]}};
+        Location onRows = where;
+        onRows.poleRow = -1;
+        return interpolate(onRows, withPole, validWithPole);
+    }
     // On the source's own triangles (each cell split along its north-west – south-east
     // diagonal), not bilinear: between its pixel centres the DEM is the mesh the reference
     // measures against, and a bilinear patch departs from it by a quarter of the cell's twist
@@ -285,15 +361,38 @@ std::optional<GeographicGrid::Cell> GeographicGrid::cellAt(double latitudeDeg,
     }
     Cell cell;
     cell.taper = edgeTaper(y, x);
-    cell.latitude[0] = latitudeOf(row0);
-    cell.latitude[1] = latitudeOf(row1);
+    cell.u = std::clamp(u, 0.0, 1.0);
     cell.longitude[0] = longitudeOf(col0);
     cell.longitude[1] = longitudeOf(col1);
+    if (const auto fan = inPoleFan(y / m_pixelLat - 0.5)) {
+        // The cell between the edge row and the pole (locate, interpolate).
+        const auto [side, weight] = *fan;
+        const double pole = m_poles[static_cast<std::size_t>(side)].height;
+        const std::int64_t edge = side == 0 ? 0 : m_height - 1;
+        const double west = m_heights[index(col0, edge)], east = m_heights[index(col1, edge)];
+        if (side == 0) {
+            cell.a = cell.b = pole;
+            cell.c = west;
+            cell.d = east;
+            cell.latitude[0] = 90.0;
+            cell.latitude[1] = latitudeOf(edge);
+            cell.v = 1.0 - weight;
+        } else {
+            cell.a = west;
+            cell.b = east;
+            cell.c = cell.d = pole;
+            cell.latitude[0] = latitudeOf(edge);
+            cell.latitude[1] = -90.0;
+            cell.v = weight;
+        }
+        return cell;
+    }
+    cell.latitude[0] = latitudeOf(row0);
+    cell.latitude[1] = latitudeOf(row1);
     cell.a = m_heights[index(col0, row0)];
     cell.b = m_heights[index(col1, row0)];
     cell.c = m_heights[index(col0, row1)];
     cell.d = m_heights[index(col1, row1)];
-    cell.u = std::clamp(u, 0.0, 1.0);
     cell.v = row1 > row0 ? std::clamp(row - double(row0), 0.0, 1.0) : 0.0;
     return cell;
 }

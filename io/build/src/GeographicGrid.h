@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -55,10 +56,16 @@ public:
         double rowWeight = 0.0, columnWeight = 0.0;  ///< of rows[1] and columns[1]
         bool inside = false;
         double taper = 1.0;  ///< what the height is multiplied by (edgeTaper)
+        /// Between the edge row and a pole the grid reaches (Pole): which of the two rows is
+        /// the pole (-1 none), its height and validity in place of that row's samples.
+        int poleRow = -1;
+        float poleHeight = 0.0f;
+        bool poleValid = false;
     };
     /// Nothing more than a pixel beyond the extent (where `at` gives height 0, not covered).
     std::optional<Location> locate(double latitudeDeg, double longitudeDeg) const;
-    /// `at`'s value from the location's corner samples: [r][c] of rows[r], columns[c].
+    /// `at`'s value from the location's corner samples: [r][c] of rows[r], columns[c] (the
+    /// pole's in place of row `poleRow`'s).
     static Resampled interpolate(const Location& where, const float corner[2][2],
                                  const bool valid[2][2]);
 
@@ -84,6 +91,20 @@ public:
     double eastWestMetres(double latitudeDeg) const;
     double northSouthMetres(double latitudeDeg) const;
     std::optional<Cell> cellAt(double latitudeDeg, double longitudeDeg) const;
+
+    /// A grid around the whole globe whose edge row lies short of a pole (ETOPO's last row at
+    /// 89.83° S) holds one height there: the mean of that row's filled samples. Between the
+    /// row and the pole its surface is a fan, each cell of the row meeting the pole in one
+    /// point, so the surface is one surface there (clamping the rows, as elsewhere beyond
+    /// the edge, would meet the pole at every height of the row at once, which no drawn
+    /// surface can). `side` 0 north, 1 south; the edge row, if the grid has that pole.
+    std::optional<std::int64_t> poleRow(int side) const;
+    /// Sets the pole's height from its edge row's filled samples and validity (the first
+    /// wrapping columns of them: the longitudes before they repeat), as `read` and
+    /// `fillVoids` do from the grid they hold; a region build reads the row itself.
+    void setPole(int side, std::span<const float> edgeRow, std::span<const std::uint8_t> valid);
+    /// The longitudes of one turn: the columns before they repeat (the width if not wrapping).
+    std::int64_t wrapColumns() const { return m_wrapColumns; }
     /// 1 within the extent, falling linearly to 0 over the pixel beyond each edge (a product
     /// at a corner); y and x in degrees south of the north edge and east of the west edge.
     double edgeTaper(double y, double x) const;
@@ -132,11 +153,23 @@ private:
     std::size_t index(std::int64_t col, std::int64_t row) const {
         return static_cast<std::size_t>(row * m_width + col);
     }
+    void setPolesFromSamples();
+    // Where a point (centre: its row coordinate, pixel centres at whole numbers) lies in a
+    // pole's fan: the pole's side and its weight (0 at the edge row, 1 at the pole).
+    std::optional<std::pair<int, double>> inPoleFan(double centre) const;
+
+    struct Pole {
+        bool present = false;
+        double centre = 0.0;  // the pole's row coordinate
+        float height = 0.0f;
+        bool valid = false;
+    };
 
     std::int64_t m_width = 0, m_height = 0;
     double m_west = 0.0, m_north = 0.0, m_pixelLon = 1.0, m_pixelLat = 1.0;
     bool m_wraps = false;
     std::int64_t m_wrapColumns = 0;  // columns before the longitudes repeat (wrapping grids)
+    std::array<Pole, 2> m_poles;     // north, south
     std::vector<float> m_heights;
     std::vector<std::uint8_t> m_valid;
     std::int64_t m_validSamples = 0;

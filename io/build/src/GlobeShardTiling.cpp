@@ -1064,6 +1064,11 @@ public:
     }
 
     Result<detail::RegionCarry> buildShard(const ShardId& shard) override {
+        if (!m_polesRead) {  // read once, by the first shard built
+            if (Status read = detail::readPoles(m_reader, m_voids, m_source.grid); !read)
+                return Error{m_reader.info().path + ": " + read.error().message};
+            m_polesRead = true;
+        }
         ShardBuilder builder(m_reader, m_voids, m_source, m_plan, shard, m_options);
         if (Status built = builder.run(); !built)
             return Error{m_reader.info().path + ": " + built.error().message};
@@ -1107,6 +1112,7 @@ private:
     DemReader& m_reader;
     detail::SourceVoids m_voids;  // found once for every shard this process builds
     Source m_source;
+    bool m_polesRead = false;
     const PyramidBuildOptions& m_options;
 };
 

@@ -4,14 +4,15 @@
 // seam column), and what must hold for each: Err(P) bounds every valid source sample at every
 // level (checked again from the files), shared edges are bit-identical across patches and
 // cube edges, children masks match the patches on disk, and only patches near data exist.
+#include "terrain/build/GlobePatchSurface.h"
+#include "terrain/build/GlobePyramidBuilder.h"
+#include "terrain/build/GlobeSourceSurface.h"
+#include "terrain/build/PyramidSourceCheck.h"
 #include "terrain/dem/OpenDem.h"
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeGroundHeight.h"
 #include "terrain/pyramid/GlobeLayout.h"
-#include "terrain/build/GlobePatchSurface.h"
-#include "terrain/build/GlobePyramidBuilder.h"
 #include "terrain/pyramid/PyramidReader.h"
-#include "terrain/build/PyramidSourceCheck.h"
 
 #include "FloatGeoTiff.h"
 #include "GeographicFunctionDem.h"
@@ -25,6 +26,7 @@
 #include <glm/geometric.hpp>
 #include <ogr_spatialref.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -431,6 +433,68 @@ TEST(GlobePyramid, CapOverTheNorthPole) {
     const Built built = build(source, temp, "pole");
     expectBoundsHold(built, source);
     expectConsistentPatches(built);
+}
+
+// A global grid's edge row lies half a pixel short of the pole (ETOPO's at 89.83° S): between
+// it and the pole the surface is a fan from each of the row's samples to one height, their
+// mean, in the truth (GlobeSourceSurface) and in the pyramid alike. Clamping the rows instead
+// met the pole at every height of the row at once (96 m apart here), a surface no patch can
+// draw: the face grid's vertex at the pole took one of them, and the truth around it all.
+TEST(GlobePyramid, TheSurfaceMeetsThePoleInOnePoint) {
+    TempFolder temp;
+    // The edge row's heights turn with the longitude (48 m either side of its mean).
+    const auto rippled = [](double lat, double lon) {
+        return hills(lat, lon) + 200.0f +
+               48.0f * float(std::sin(3.0 * lon * std::numbers::pi / 180.0));
+    };
+    GeographicFunctionDem source(-180.0, 90.0, 360, 20, 1.0, 0.1, rippled);
+    double rowSum = 0.0, rowLow = 1e9, rowHigh = -1e9;
+    for (int col = 0; col < 360; ++col) {
+        const double h = rippled(89.95, -179.5 + col);
+        rowSum += h;
+        rowLow = std::min(rowLow, h);
+        rowHigh = std::max(rowHigh, h);
+    }
+    const double pole = rowSum / 360.0;
+    ASSERT_GT(rowHigh - rowLow, 90.0);
+
+    DemReader* const sources[] = {&source};
+    auto truth = GlobeSourceSurface::read(sources, std::uint64_t{1} << 30, 32);
+    ASSERT_TRUE(truth) << truth.error().message;
+    // The spread round a parallel between the row and the pole: none at the pole, and the
+    // fan's share of the row's beyond it (at 89.99°, a fifth of the way from the pole).
+    const auto spreadAt = [&](double latitude) {
+        double low = 1e9, high = -1e9;
+        for (double lon = -180.0; lon < 180.0; lon += 0.37) {
+            const auto [alongAD, alongBC] = truth.value().heightsAt(latitude, lon);
+            low = std::min({low, alongAD, alongBC});
+            high = std::max({high, alongAD, alongBC});
+        }
+        return std::pair{low, high};
+    };
+    const auto [atPoleLow, atPoleHigh] = spreadAt(90.0);
+    EXPECT_NEAR(atPoleLow, pole, 1e-3);
+    EXPECT_NEAR(atPoleHigh, pole, 1e-3);
+    const auto [nearLow, nearHigh] = spreadAt(89.99);
+    EXPECT_LE(nearHigh - nearLow, 0.2 * (rowHigh - rowLow) + 1e-3);
+    EXPECT_GE(nearHigh - nearLow, 0.15 * (rowHigh - rowLow));
+    // At the row itself the fan is the row (no step where it starts).
+    for (int col = 0; col < 360; col += 7) {
+        const double lon = -179.5 + col;
+        EXPECT_NEAR(truth.value().heightsAt(89.95, lon).first, rippled(89.95, lon), 1e-3);
+    }
+
+    // The pyramid's finest face level stands on the same point: the pole is a vertex of it.
+    const Built built = build(source, temp, "pole-fan");
+    expectBoundsHold(built, source);
+    auto query = GlobeGroundQuery::open(built.folder);
+    ASSERT_TRUE(query) << query.error().message;
+    for (const double lon : {-170.0, -60.0, 0.0, 45.0, 135.0}) {
+        auto ground = query.value().at(90.0, lon);
+        ASSERT_TRUE(ground) << ground.error().message;
+        EXPECT_EQ(ground.value().faceLevel, built.summary.manifest.globe->faceFinestLevel);
+        EXPECT_NEAR(ground.value().heightM, pole, 1e-3) << "longitude " << lon;
+    }
 }
 
 TEST(GlobePyramid, StripAcrossTheAntimeridian) {
