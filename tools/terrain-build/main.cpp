@@ -150,7 +150,7 @@ int main(int argc, char** argv) {
         "Globe pyramids: also store each longitude/latitude source's own samples (as the "
         "composite shows them) on its own grid, the data of native leaves, which draw the "
         "finest detail at the sources' samples instead of the face grid's resampling "
-        "(docs/globe.md, \"Native leaves\"; whole builds only)");
+        "(docs/globe.md, \"Native leaves\"; a region build's --merge builds them)");
     app.add_option("--measured-levels", options.globeMeasuredLevels,
                    "Globe region builds: the levels above the finest whose error bounds are "
                    "measured at the source's samples (each a pass over the source) before the "
@@ -209,10 +209,6 @@ int main(int argc, char** argv) {
         return fail("--sea-level: expected a finite number of metres");
     options.parentPrediction = !independentPatches;
     const bool tasks = plan || merge || !shardTexts.empty();
-    if (tasks && options.globeNativeLeaves)
-        return fail(
-            "--native-leaves: native leaves are built by whole builds only; not yet "
-            "by --plan, --shard and --merge");
     std::vector<io::ShardId> shards;
     for (const std::string& shardText : shardTexts) {
         io::ShardId id;

@@ -138,12 +138,11 @@ Result<PyramidBuildSummary> buildPyramid(PyramidSurface surface,
     auto decided = detail::decideBuildWay(surface, readers, output, options, way);
     if (!decided) return decided.error();
     const bool globe = surface == PyramidSurface::Globe;
-    if (options.globeNativeLeaves && (!globe || decided.value().way != BuildWay::Whole))
+    if (options.globeNativeLeaves && !globe)
         return Error{fmt::format(
-            "{}: native leaves (--native-leaves) are built for globe pyramids built whole; {}",
-            readers.front()->info().path,
-            globe ? "this one is built by shards (within --memory): not yet there"
-                  : "a planar pyramid's finest level is already the source's own grid")};
+            "{}: native leaves (--native-leaves) are for globe pyramids: a planar pyramid's "
+            "finest level is already the source's own grid",
+            readers.front()->info().path)};
     Result<PyramidBuildSummary> built =
         decided.value().way == BuildWay::Whole
             ? (globe ? detail::buildWholeGlobePyramid(readers, output, options)

@@ -7,15 +7,16 @@
 #include "BuildClock.h"
 #include "GeographicBlocks.h"
 #include "GeographicGrid.h"
-#include "GlobeSources.h"
 #include "GlobePatchBuild.h"
+#include "GlobeSources.h"
+#include "NativeGrids.h"
 #include "ParallelFor.h"
 #include "RegionStaging.h"
+#include "terrain/build/GlobePatchSurface.h"
 #include "terrain/globe/CubeSphere.h"
 #include "terrain/globe/GlobePatch.h"
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
-#include "terrain/build/GlobePatchSurface.h"
 #include "terrain/pyramid/HeightCodes.h"
 #include "terrain/pyramid/PatchErrors.h"
 
@@ -1075,6 +1076,15 @@ public:
         return std::move(builder.carry());
     }
 
+    Status buildBeside(const fs::path& folder) override {
+        if (!m_options.globeNativeLeaves) return {};
+        auto built =
+            detail::buildNativeGridByShards(m_reader, m_voids, m_source.grid, folder, m_options);
+        if (!built) return built.error();
+        m_nativeFolder = built.value();
+        return {};
+    }
+
     Result<PyramidManifest> manifest(const detail::RegionTotals& totals,
                                      std::vector<std::string>& warnings) override {
         const DemInfo& dem = m_reader.info();
@@ -1085,9 +1095,10 @@ public:
             !covered)
             return covered.error();
         DemReader* const readers[] = {&m_reader};
-        PyramidManifest m =
-            detail::globeManifest(m_plan.layout, m_plan.faceFinestLevel,
-                                  {detail::globeSourceOf(m_source.grid, dem.path)}, readers);
+        ManifestGlobeSource extent = detail::globeSourceOf(m_source.grid, dem.path);
+        extent.native = m_nativeFolder;
+        PyramidManifest m = detail::globeManifest(m_plan.layout, m_plan.faceFinestLevel,
+                                                  {std::move(extent)}, readers);
         for (ManifestLevel& level : m.levels) {  // what the shards hold
             const auto i = static_cast<std::size_t>(level.level);
             level.presentPatches = totals.presentPatches[i];
@@ -1113,6 +1124,7 @@ private:
     detail::SourceVoids m_voids;  // found once for every shard this process builds
     Source m_source;
     bool m_polesRead = false;
+    std::string m_nativeFolder;  // built by the merge with --native-leaves
     const PyramidBuildOptions& m_options;
 };
 

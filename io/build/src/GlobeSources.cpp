@@ -329,7 +329,15 @@ std::optional<GlobeSources::MeasuredSample> GlobeSources::measuredSample(std::si
         const double longitude = source.grid.longitudeOf(col);
         const Shown shown = shownAt(latitude, longitude, 0);
         if (shown.source != static_cast<int>(k)) return std::nullopt;
-        return MeasuredSample{latitude, longitude, shown.value.height};
+        // The sample itself where the composite shows it unblended: resampled at its own
+        // place, `at` gives it only within a rounding (6.8e-13 m for a 0 of SRTM's sea),
+        // which a native grid would store (and compress far worse) in place of the sample.
+        // A column repeated after 360° (ETOPO's +180°) is the first one's, as `at` reads it.
+        const GeographicGrid& grid = source.grid;
+        const std::int64_t column = grid.wrapsLongitude() ? col % grid.wrapColumns() : col;
+        return MeasuredSample{
+            latitude, longitude,
+            shown.blended ? double(shown.value.height) : double(grid.heightAt(column, row))};
     }
     const auto i = static_cast<std::size_t>(row * source.own->width + col);
     const float own = source.own->heights[i];

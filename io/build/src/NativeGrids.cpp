@@ -2,6 +2,7 @@
 
 #include "BuildBudget.h"
 #include "WholeBuilds.h"
+#include "terrain/build/PyramidShards.h"
 #include "terrain/pyramid/PatchErrors.h"
 
 #include <fmt/format.h>
@@ -111,30 +112,64 @@ std::vector<float> otherSourcesError(const GlobeSources& composite, std::size_t 
     return error;
 }
 
-/// The composite at every sample of source `k`'s grid grown by the margin.
-NativeGridReader nativeGridOf(const GlobeSources& composite, std::size_t k, std::int64_t margin) {
-    const GlobeSources::Source& source = composite.sources()[k];
-    const GeographicGrid& grid = source.grid;
+/// A source's grid grown by the margin (NativeGrids.h): the samples added on each side.
+struct NativeGridShape {
+    std::int64_t west = 0, east = 0, north = 0, south = 0;
+    std::int64_t width = 0, height = 0;
+};
+
+NativeGridShape nativeGridShape(const GeographicGrid& grid, std::int64_t margin) {
+    NativeGridShape shape;
     // Grown only where the grid has an edge: not round a grid that wraps the longitudes, and
     // no further than the poles (no row centre beyond ±90°).
-    const std::int64_t west = grid.wrapsLongitude() ? 0 : margin;
+    shape.west = grid.wrapsLongitude() ? 0 : margin;
     const auto rowsToPole = [&](double edgeDeg) {
         return std::clamp<std::int64_t>(
             static_cast<std::int64_t>(std::floor((90.0 - edgeDeg) / grid.pixelLatDeg() + 1e-9)), 0,
             2 * margin);
     };
-    const std::int64_t north = std::min(margin, rowsToPole(grid.northDeg()));
+    shape.north = std::min(margin, rowsToPole(grid.northDeg()));
     const std::int64_t southLimit = rowsToPole(-grid.southDeg());
     // Grown further east and south to whole tiles, so that no tile is padded past the grid
     // with made-up samples (as far as the south pole allows).
     const auto wholeTiles = [&](std::int64_t samples) {
         return (margin - (samples - 1) % margin) % margin;
     };
-    const std::int64_t east = west + wholeTiles(grid.width() + 2 * west);
-    const std::int64_t south =
-        std::min(southLimit, margin + wholeTiles(grid.height() + north + margin));
-    const std::int64_t width = grid.width() + west + east;
-    const std::int64_t height = grid.height() + north + south;
+    shape.east = shape.west + wholeTiles(grid.width() + 2 * shape.west);
+    shape.south = std::min(southLimit, margin + wholeTiles(grid.height() + shape.north + margin));
+    shape.width = grid.width() + shape.west + shape.east;
+    shape.height = grid.height() + shape.north + shape.south;
+    return shape;
+}
+
+DemInfo nativeGridInfo(const GeographicGrid& grid, const NativeGridShape& shape,
+                       const std::string& sourcePath) {
+    DemInfo info;
+    info.path = fmt::format("{} (native grid)", sourcePath);
+    info.readerName = "native";
+    info.inputs = {sourcePath};
+    info.width = shape.width;
+    info.height = shape.height;
+    info.sampleType = "float32";
+    info.hasGeoreference = true;
+    info.georeference.crsKind = CrsKind::Geographic;
+    info.georeference.epsg = Georeference::kWgs84Geographic;
+    info.georeference.originX =
+        grid.westDeg() - static_cast<double>(shape.west) * grid.pixelLonDeg();
+    info.georeference.originY =
+        grid.northDeg() + static_cast<double>(shape.north) * grid.pixelLatDeg();
+    info.georeference.pixelSizeX = grid.pixelLonDeg();
+    info.georeference.pixelSizeY = grid.pixelLatDeg();
+    return info;
+}
+
+/// The composite at every sample of source `k`'s grid grown by the margin.
+NativeGridReader nativeGridOf(const GlobeSources& composite, std::size_t k, std::int64_t margin) {
+    const GlobeSources::Source& source = composite.sources()[k];
+    const GeographicGrid& grid = source.grid;
+    const NativeGridShape shape = nativeGridShape(grid, margin);
+    const std::int64_t west = shape.west, north = shape.north;
+    const std::int64_t width = shape.width, height = shape.height;
 
     std::vector<float> heights(static_cast<std::size_t>(width * height));
     for (std::int64_t row = 0; row < height; ++row) {
@@ -144,13 +179,17 @@ NativeGridReader nativeGridOf(const GlobeSources& composite, std::size_t k, std:
             const std::int64_t sourceCol = col - west;
             const double longitude =
                 wrapLongitude(grid.longitudeAt(static_cast<double>(sourceCol)));
+            // A grid round the globe grown east to whole tiles starts again at its first
+            // column: those are its own samples too.
+            const std::int64_t column =
+                grid.wrapsLongitude() ? sourceCol % grid.wrapColumns() : sourceCol;
             std::optional<double> value;
-            if (sourceRow >= 0 && sourceRow < grid.height() && sourceCol >= 0 &&
-                sourceCol < grid.width()) {
+            if (sourceRow >= 0 && sourceRow < grid.height() && column >= 0 &&
+                column < grid.width()) {
                 // Where the composite shows this source: its own sample, or its fill.
-                if (auto own = composite.measuredSample(k, sourceCol, sourceRow))
+                if (auto own = composite.measuredSample(k, column, sourceRow))
                     value = own->height;
-                else if (auto filled = composite.filledSample(k, sourceCol, sourceRow))
+                else if (auto filled = composite.filledSample(k, column, sourceRow))
                     value = filled->height;
             }
             if (!value) {
@@ -163,23 +202,83 @@ NativeGridReader nativeGridOf(const GlobeSources& composite, std::size_t k, std:
             heights[static_cast<std::size_t>(row * width + col)] = static_cast<float>(*value);
         }
     }
-
-    DemInfo info;
-    info.path = fmt::format("{} (native grid)", source.path);
-    info.readerName = "native";
-    info.inputs = {source.path};
-    info.width = width;
-    info.height = height;
-    info.sampleType = "float32";
-    info.hasGeoreference = true;
-    info.georeference.crsKind = CrsKind::Geographic;
-    info.georeference.epsg = Georeference::kWgs84Geographic;
-    info.georeference.originX = grid.westDeg() - static_cast<double>(west) * grid.pixelLonDeg();
-    info.georeference.originY = grid.northDeg() + static_cast<double>(north) * grid.pixelLatDeg();
-    info.georeference.pixelSizeX = grid.pixelLonDeg();
-    info.georeference.pixelSizeY = grid.pixelLatDeg();
-    return NativeGridReader(std::move(info), std::move(heights));
+    return NativeGridReader(nativeGridInfo(grid, shape, source.path), std::move(heights));
 }
+
+/// One source's native grid read window by window from the source itself, for a region
+/// build (no composite: the source alone): its filled samples, and in the margin its edge
+/// samples tapered as GeographicGrid extends them (half the edge sample on the first
+/// margin row or column, a quarter at a corner, the bare ellipsoid beyond). What
+/// nativeGridOf holds for a composite of this one source, within a float's rounding (that
+/// one reads the composite's resampling at each sample's place).
+class NativeGridWindows final : public DemReader {
+public:
+    NativeGridWindows(DemReader& source, SourceVoids& voids, const GeographicGrid& grid,
+                      std::int64_t margin)
+        : m_source(source),
+          m_fill(voids),
+          m_grid(grid),
+          m_shape(nativeGridShape(grid, margin)),
+          m_info(nativeGridInfo(grid, m_shape, source.info().path)) {}
+
+    const DemInfo& info() const override { return m_info; }
+
+    Status readWindow(std::int64_t x0, std::int64_t y0, std::int64_t width, std::int64_t rows,
+                      std::span<float> out) override {
+        assertDemWindow(m_info, x0, y0, width, rows, out);
+        const std::int64_t gridWidth = m_grid.width(), gridHeight = m_grid.height();
+        // The source column each column reads (clamped to the edge, or round the longitudes).
+        std::vector<std::int64_t> columns(static_cast<std::size_t>(width));
+        std::int64_t first = gridWidth, last = -1;
+        for (std::int64_t c = 0; c < width; ++c) {
+            std::int64_t column = x0 + c - m_shape.west;
+            if (m_grid.wrapsLongitude()) {
+                const std::int64_t turn = m_grid.wrapColumns();
+                column = (column % turn + turn) % turn;
+            } else {
+                column = std::clamp<std::int64_t>(column, 0, gridWidth - 1);
+            }
+            columns[static_cast<std::size_t>(c)] = column;
+            first = std::min(first, column);
+            last = std::max(last, column);
+        }
+        const std::int64_t span = last - first + 1;
+        std::vector<float> row(static_cast<std::size_t>(span));
+        std::vector<std::uint8_t> valid(row.size());
+        std::int64_t held = -1;  // the source row in `row`
+        for (std::int64_t r = 0; r < rows; ++r) {
+            const std::int64_t sourceRow = y0 + r - m_shape.north;
+            const std::int64_t clampedRow = std::clamp<std::int64_t>(sourceRow, 0, gridHeight - 1);
+            if (clampedRow != held) {
+                if (Status read = m_source.readWindow(first, clampedRow, span, 1, row); !read)
+                    return read.error();
+                if (Result<std::int64_t> filled = m_fill.fill(clampedRow, first, row, valid);
+                    !filled)
+                    return filled.error();
+                held = clampedRow;
+            }
+            const double y = (double(sourceRow) + 0.5) * m_grid.pixelLatDeg();
+            for (std::int64_t c = 0; c < width; ++c) {
+                const double x = (double(x0 + c - m_shape.west) + 0.5) * m_grid.pixelLonDeg();
+                const double taper = m_grid.edgeTaper(y, x);
+                const float sample =
+                    row[static_cast<std::size_t>(columns[static_cast<std::size_t>(c)] - first)];
+                out[static_cast<std::size_t>(r * width + c)] =
+                    taper == 1.0  ? sample
+                    : taper > 0.0 ? static_cast<float>(taper * sample)
+                                  : 0.0f;
+            }
+        }
+        return {};
+    }
+
+private:
+    DemReader& m_source;
+    RowFill m_fill;
+    const GeographicGrid& m_grid;
+    NativeGridShape m_shape;
+    DemInfo m_info;
+};
 
 }  // namespace
 
@@ -235,6 +334,33 @@ Result<std::vector<std::string>> buildNativeGrids(const GlobeSources& composite,
         folders[k] = folder;
     }
     return folders;
+}
+
+}  // namespace terrain::io::detail
+
+namespace terrain::io::detail {
+
+Result<std::string> buildNativeGridByShards(DemReader& source, SourceVoids& voids,
+                                            const GeographicGrid& grid,
+                                            const fs::path& pyramidFolder,
+                                            const PyramidBuildOptions& options) {
+    PyramidBuildOptions planar = options;
+    planar.globeNativeLeaves = false;
+    planar.overwrite = true;  // a merge run again replaces the grid a failed one left
+    planar.progress = nullptr;
+    NativeGridWindows reader(source, voids, grid, options.patchSamples - 1);
+    const std::string folder = fmt::format("{}0", ManifestGlobeSource::kNativeFolder);
+    std::error_code ec;
+    fs::create_directories(pyramidFolder / ManifestGlobeSource::kNativeFolder, ec);
+    if (ec)
+        return Error{fmt::format("{}: cannot create {}: {}", pyramidFolder.string(),
+                                 ManifestGlobeSource::kNativeFolder, ec.message())};
+    auto built =
+        buildPyramidByShards(PyramidSurface::Plane, reader, pyramidFolder / folder, planar);
+    if (!built)
+        return Error{
+            fmt::format("{}: its native grid: {}", source.info().path, built.error().message)};
+    return folder;
 }
 
 }  // namespace terrain::io::detail

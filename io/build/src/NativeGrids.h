@@ -15,6 +15,7 @@
 #pragma once
 
 #include "GlobeSources.h"
+#include "RowFill.h"
 #include "terrain/base/Result.h"
 #include "terrain/build/PyramidBuilder.h"
 
@@ -33,5 +34,13 @@ namespace terrain::io::detail {
 Result<std::vector<std::string>> buildNativeGrids(const GlobeSources& composite,
                                                   const std::filesystem::path& pyramidFolder,
                                                   const PyramidBuildOptions& options);
+
+/// The native grid of a region build's one source (GlobeShardTiling.cpp): the same grid, read
+/// from `source` window by window (filled as `voids` fill it) and built by shards within
+/// `options`' memory, into `pyramidFolder`/native/0; returns that folder.
+Result<std::string> buildNativeGridByShards(DemReader& source, SourceVoids& voids,
+                                            const GeographicGrid& grid,
+                                            const std::filesystem::path& pyramidFolder,
+                                            const PyramidBuildOptions& options);
 
 }  // namespace terrain::io::detail

@@ -162,6 +162,7 @@ Result<PyramidBuildSummary> mergePyramidShards(PyramidSurface surface, DemReader
                     std::max(totals.quantization->finestLargestErrorM, c.finestLargestQuantErrorM);
         }
     }
+    if (Status beside = tiling.buildBeside(plan.staging); !beside) return beside.error();
     auto manifest = tiling.manifest(totals, totals.build.warnings);
     if (!manifest) return manifest.error();
     if (manifest.value().globe) {

@@ -45,6 +45,13 @@ public:
     /// Builds `shard`'s file into the staging folder and returns its carry (the engine adds
     /// the fingerprint and the time, and writes it).
     virtual Result<RegionCarry> buildShard(const ShardId& shard) = 0;
+    /// Builds what the merged pyramid holds beside its shards into `folder` (the staging
+    /// folder), before its manifest: a globe's native grid with --native-leaves; on a plane,
+    /// nothing.
+    virtual Status buildBeside(const std::filesystem::path& folder) {
+        (void)folder;
+        return {};
+    }
     /// The merged pyramid's manifest from the shards' totals (its build fields aside);
     /// refuses a source without a valid sample, warns of one mostly of no-data.
     virtual Result<PyramidManifest> manifest(const RegionTotals& totals,

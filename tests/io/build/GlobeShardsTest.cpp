@@ -145,6 +145,103 @@ TEST(GlobeShards, ThePoleOfAGridWithVoidsInItsEdgeRow) {
     expectRegionBuildMatchesWholeBuild(source, smallPatches());
 }
 
+// Native leaves in a region build (docs/globe.md, "Native leaves"): the merge builds the
+// source's native grid by shards, read window by window from the source (filled as the
+// shards fill it, its margin tapered from the edge samples), and it is the whole build's:
+// the same patches, the same heights to the bit; the globe pyramid's manifest names it.
+void expectNativeGridMatchesWholeBuild(DemReader& source) {
+    TempFolder temp;
+    PyramidBuildOptions options = smallPatches();
+    options.globeNativeLeaves = true;
+    const fs::path whole = temp.path() / "whole.pyramid";
+    const fs::path region = temp.path() / "region.pyramid";
+    auto w = buildGlobePyramid(source, whole, options);
+    ASSERT_TRUE(w) << w.error().message;
+    auto r = buildPyramidByShards(kGlobe, source, region, options);
+    ASSERT_TRUE(r) << r.error().message;
+    EXPECT_FALSE(fs::exists(shardStagingFolder(region)));
+    ASSERT_TRUE(r.value().manifest.globe);
+    ASSERT_EQ(r.value().manifest.globe->sources.size(), 1u);
+    const std::string native = r.value().manifest.globe->sources[0].native;
+    ASSERT_EQ(native, w.value().manifest.globe->sources[0].native);
+    ASSERT_FALSE(native.empty());
+    EXPECT_FALSE(fs::exists(shardStagingFolder(region / native)));
+
+    auto wr = PyramidReader::open(whole / native);
+    auto rr = PyramidReader::open(region / native);
+    ASSERT_TRUE(wr) << wr.error().message;
+    ASSERT_TRUE(rr) << rr.error().message;
+    const PyramidManifest& wm = wr.value().manifest();
+    const PyramidManifest& rm = rr.value().manifest();
+    EXPECT_EQ(wr.value().layout().levelSamplesX(0), rr.value().layout().levelSamplesX(0));
+    EXPECT_EQ(wr.value().layout().levelSamplesY(0), rr.value().layout().levelSamplesY(0));
+    EXPECT_EQ(rm.georeference.originX, wm.georeference.originX);
+    EXPECT_EQ(rm.georeference.originY, wm.georeference.originY);
+    ASSERT_EQ(rm.levels.size(), wm.levels.size());
+    const PyramidLayout& layout = wr.value().layout();
+    // The margin's samples west and north of the source's.
+    const Georeference& g = source.info().georeference;
+    const auto west = static_cast<std::int64_t>(
+        std::lround((g.originX - wm.georeference.originX) / g.pixelSizeX));
+    const auto north = static_cast<std::int64_t>(
+        std::lround((wm.georeference.originY - g.originY) / g.pixelSizeY));
+    std::int64_t compared = 0;
+    double largest = 0.0;
+    for (int level = 0; level < layout.levelCount(); ++level)
+        for (std::int64_t y = 0; y < layout.patchesY(level); ++y)
+            for (std::int64_t x = 0; x < layout.patchesX(level); ++x) {
+                const PatchId id{level, x, y};
+                auto a = wr.value().readPatch(id);
+                auto b = rr.value().readPatch(id);
+                ASSERT_TRUE(a && b);
+                ASSERT_EQ(a.value().heights.size(), b.value().heights.size());
+                for (std::size_t i = 0; i < a.value().heights.size(); ++i)
+                    largest = std::max(
+                        largest, double(std::abs(a.value().heights[i] - b.value().heights[i])));
+                for (std::size_t i = 0; i < a.value().heights.size(); ++i) {
+                    // The source's own samples to the bit at the finest level.
+                    const auto tile = static_cast<std::int64_t>(layout.tileSamples());
+                    const std::int64_t column =
+                        x * layout.patchQuads() + std::int64_t(i) % tile - 1 - west;
+                    const std::int64_t row =
+                        y * layout.patchQuads() + std::int64_t(i) / tile - 1 - north;
+                    if (level == layout.finestLevel() && column >= 0 &&
+                        column < source.info().width && row >= 0 && row < source.info().height) {
+                        ASSERT_EQ(a.value().heights[i], b.value().heights[i])
+                            << "level " << level << " (" << x << ", " << y << ") sample " << i;
+                    }
+                }
+                EXPECT_NEAR(a.value().info.error, b.value().info.error, 1e-6);
+                ++compared;
+            }
+    EXPECT_GT(compared, 0);
+    ::testing::Test::RecordProperty("largestDifference", std::to_string(largest));
+    // In the margin the whole build reads the composite's surface at each place, its edge
+    // sample within a rounding (a float's of the weights, 6e-9 m here), the region build the
+    // edge sample itself.
+    EXPECT_LE(largest, 1e-6);
+}
+
+// Sea at 0 beside land (as SRTM's coasts): a 0 resampled at its own place is 0 only within
+// a rounding (1e-12 m), which the native grid must not store in place of the sample.
+TEST(GlobeShards, NativeGridOfARegionalSourceWithVoidsAndSea) {
+    // SRTM's 3″ spacing, which no binary fraction holds, so the places round.
+    const double pixel = 1.0 / 1200.0;
+    GeographicFunctionDem source(
+        11.0 - 0.5 * pixel, 57.2 + 0.5 * pixel, 300, 120, pixel, pixel, [](double lat, double lon) {
+            const bool voidBlock = lat > 57.17 && lat < 57.18 && lon > 11.1 && lon < 11.12;
+            const bool onTheEdge = lat < 57.16 && lon > 11.2 && lon < 11.21;
+            if (voidBlock || onTheEdge) return std::numeric_limits<float>::quiet_NaN();
+            return lon < 11.05 + 0.3 * (57.2 - lat) ? 0.0f : hills(lat, lon);
+        });
+    expectNativeGridMatchesWholeBuild(source);
+}
+
+TEST(GlobeShards, NativeGridOfAWholeEarthSource) {
+    GeographicFunctionDem source(-181.0, 90.0, 181, 90, 2.0, 2.0, hills);
+    expectNativeGridMatchesWholeBuild(source);
+}
+
 TEST(GlobeShards, StripAcrossTheAntimeridian) {
     GeographicFunctionDem source(179.8, -29.8, 80, 40, 0.005, 0.005, hills);
     expectRegionBuildMatchesWholeBuild(source, smallPatches());

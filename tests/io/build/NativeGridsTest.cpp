@@ -221,13 +221,7 @@ TEST(NativeGrids, BuildsThatCannotMakeThemSaySo) {
     TempFolder temp;
     GeographicFunctionDem source(44.5, 11.0, 150, 100, 0.01, 0.01, hills);
     DemReader* const sources[] = {&source};
-    // By shards: not yet.
-    auto byShards = buildPyramid(PyramidSurface::Globe, sources, temp.path() / "shards.pyramid",
-                                 nativeLeaves(), BuildWay::ByShards);
-    ASSERT_FALSE(byShards);
-    EXPECT_NE(byShards.error().message.find("native leaves"), std::string::npos)
-        << byShards.error().message;
-    EXPECT_FALSE(std::filesystem::exists(temp.path() / "shards.pyramid"));
+    // (By shards they are built: GlobeShardsTest, NativeGridOf….)
     // Beyond the memory budget: refused by name, nothing left behind (the same build
     // without native leaves fits).
     PyramidBuildOptions tight = nativeLeaves();
