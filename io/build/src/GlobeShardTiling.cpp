@@ -54,8 +54,10 @@ constexpr int kOffset = ManifestGlobe::kLevelOffset;
 // other faces' patches, whose face coordinates run at another rate across a cube edge.
 constexpr double kMarginPatches = 3.0;
 
-// What decides the shards' bytes: the source as read (and where its grid lies) and the build
-// options.
+// What decides the shards' bytes: the source as read (and where its grid lies), the build
+// options, and how a global grid meets a pole ("fan": GeographicGrid's pole height; before it,
+// clamped rows), so that a staging folder half built by an older terrain-build is refused,
+// not finished with shards of another surface.
 std::string globeFingerprint(const DemInfo& dem, const PyramidLayout& layout,
                              const PyramidBuildOptions& options) {
     const Georeference& g = dem.georeference;
@@ -64,7 +66,8 @@ std::string globeFingerprint(const DemInfo& dem, const PyramidLayout& layout,
                                       {"formatVersion", PyramidManifest::kGlobeFormatVersion},
                                       {"grid", {g.originX, g.originY, g.pixelSizeX, g.pixelSizeY}},
                                       {"measuredLevels", options.globeMeasuredLevels},
-                                      {"oversampleLevels", options.globeOversampleLevels}});
+                                      {"oversampleLevels", options.globeOversampleLevels},
+                                      {"poles", "fan"}});
 }
 
 // ---------------------------------------------------------------------------------------
