@@ -99,6 +99,9 @@ void GlobeSources::fitSeamBands() {
 }
 
 double GlobeSources::featherAt(std::size_t k, double latitudeDeg, double longitudeDeg) const {
+    // The coarsest source is blended into nothing: all its own, wherever it lies (and its band
+    // not looked up: a tenth of a one-source globe build).
+    if (k + 1 == m_sources.size()) return 1.0;
     const Source& source = m_sources[k];
     const auto [x, y] = source.grid.pixelPosition(latitudeDeg, longitudeDeg);
     return source.band.weight(x, y);
@@ -253,11 +256,6 @@ GlobeSources::Shown GlobeSources::shownAt(double latitudeDeg, double longitudeDe
     Shown shown;
     int& rank = shown.rank;
     bool inside = false;
-    // The coarsest source's feather weighs it against nothing beneath it: never used (it blends
-    // only into a coarser source), so never computed (a tenth of a one-source globe build).
-    const auto featherOf = [&](std::size_t k) {
-        return k + 1 < m_sources.size() ? featherAt(k, latitudeDeg, longitudeDeg) : 1.0;
-    };
     for (std::size_t k = first; k < m_sources.size(); ++k) {
         const Source& source = m_sources[k];
         const GeographicGrid::Resampled value = source.grid.at(latitudeDeg, longitudeDeg);
@@ -265,7 +263,7 @@ GlobeSources::Shown GlobeSources::shownAt(double latitudeDeg, double longitudeDe
         if (value.valid) {
             // A filled void of a finer source holds: its fill already follows this source.
             if (rank > 1) {
-                shown = {static_cast<int>(k), value, featherOf(k)};
+                shown = {static_cast<int>(k), value, featherAt(k, latitudeDeg, longitudeDeg)};
                 rank = 0;
             } else if (rank <= 1 && !shown.blended && shown.feather < 1.0) {
                 // The next coarser valid source under the shown one (valid or a filled void of
@@ -280,7 +278,8 @@ GlobeSources::Shown GlobeSources::shownAt(double latitudeDeg, double longitudeDe
         }
         const int candidate = value.inside ? 1 : value.covered ? 2 : 3;
         if (candidate < rank) {
-            shown = {static_cast<int>(k), value, candidate == 1 ? featherOf(k) : 1.0};
+            shown = {static_cast<int>(k), value,
+                     candidate == 1 ? featherAt(k, latitudeDeg, longitudeDeg) : 1.0};
             rank = candidate;
         }
     }

@@ -142,7 +142,8 @@ private:
     Status fillVoids();
     /// Fits every source's SeamBand to the steps at its edges (after fillVoids).
     void fitSeamBands();
-    /// Source `k`'s weight against the coarser one it is blended into at a point.
+    /// Source `k`'s weight against the coarser one it is blended into at a point (1 for the
+    /// coarsest: nothing lies beneath it).
     double featherAt(std::size_t k, double latitudeDeg, double longitudeDeg) const;
     /// Grid sample (column, row) of source `k` minus the next coarser source valid there
     /// (what shownAt blends it into); nothing where none is.
