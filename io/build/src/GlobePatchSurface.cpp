@@ -43,16 +43,23 @@ double better(const Hit& first, const Hit& second) {
 }  // namespace
 
 GlobePatchSurface::GlobePatchSurface(const globe::GlobePatchId& id, int quads,
-                                     std::span<const float> heights)
-    : m_id(id), m_quads(quads) {
-    const int tile = quads + 3;
-    m_positions.reserve(static_cast<std::size_t>((quads + 1) * (quads + 1)));
-    const globe::PatchSampleDirections directions(id, quads, 0, quads);
-    for (int j = 0; j <= quads; ++j) {
-        for (int i = 0; i <= quads; ++i) {
-            const double h = heights[static_cast<std::size_t>((j + 1) * tile + i + 1)];
-            m_positions.push_back(globe::Wgs84::pointAlongNormal(directions(i, j), h));
-        }
+                                     std::span<const float> heights, Positions positions)
+    : m_id(id), m_quads(quads), m_heights(heights), m_directions(id, quads, 0, quads) {
+    m_positions.resize(static_cast<std::size_t>((quads + 1) * (quads + 1)));
+    if (positions == Positions::RowsOnDemand) {
+        m_rowMade.assign(static_cast<std::size_t>(quads + 1), 0);
+        return;
+    }
+    for (int j = 0; j <= quads; ++j) makeRow(j);
+    m_heights = {};  // not kept: the caller's tile may go
+}
+
+void GlobePatchSurface::makeRow(int j) const {
+    const int tile = m_quads + 3;
+    for (int i = 0; i <= m_quads; ++i) {
+        const double h = m_heights[static_cast<std::size_t>((j + 1) * tile + i + 1)];
+        m_positions[static_cast<std::size_t>(j * (m_quads + 1) + i)] =
+            globe::Wgs84::pointAlongNormal(m_directions(i, j), h);
     }
 }
 
@@ -64,17 +71,25 @@ std::pair<double, double> GlobePatchSurface::drawnHeights(const glm::dvec3& unit
     const double along = glm::dot(unitNormal, glm::dvec3(frame.normal));
     const double s = globe::faceCoordinate(glm::dot(unitNormal, glm::dvec3(frame.right)) / along);
     const double t = globe::faceCoordinate(glm::dot(unitNormal, glm::dvec3(frame.down)) / along);
-    return drawnHeights(unitNormal, s, t);
+    return drawnHeights(unitNormal, s, t, globe::Wgs84::pointAlongNormal(unitNormal, 0.0));
 }
 
 std::pair<double, double> GlobePatchSurface::drawnHeights(const glm::dvec3& unitNormal,
                                                           const globe::FacePoint& at) const {
     TERRAIN_ASSERT(at.face == m_id.face);
-    return drawnHeights(unitNormal, at.s, at.t);
+    return drawnHeights(unitNormal, at.s, at.t, globe::Wgs84::pointAlongNormal(unitNormal, 0.0));
+}
+
+std::pair<double, double> GlobePatchSurface::drawnHeights(const glm::dvec3& unitNormal,
+                                                          const globe::FacePoint& at,
+                                                          const glm::dvec3& origin) const {
+    TERRAIN_ASSERT(at.face == m_id.face);
+    return drawnHeights(unitNormal, at.s, at.t, origin);
 }
 
 std::pair<double, double> GlobePatchSurface::drawnHeights(const glm::dvec3& unitNormal, double s,
-                                                          double t) const {
+                                                          double t,
+                                                          const glm::dvec3& origin) const {
     // Continuous sample coordinates in the patch, clamped onto it.
     const double n = static_cast<double>(globe::patchesPerFaceSide(m_id.level));
     double gx = (s * n - static_cast<double>(m_id.x)) * m_quads;
@@ -83,11 +98,17 @@ std::pair<double, double> GlobePatchSurface::drawnHeights(const glm::dvec3& unit
     gy = std::clamp(gy, 0.0, double(m_quads));
     const int ci = std::min(static_cast<int>(gx), m_quads - 1);
     const int cj = std::min(static_cast<int>(gy), m_quads - 1);
+    if (!m_rowMade.empty()) {
+        for (const int j : {cj, cj + 1}) {
+            std::uint8_t& made = m_rowMade[static_cast<std::size_t>(j)];
+            if (made == 0) makeRow(j);
+            made = 1;
+        }
+    }
     const glm::dvec3& a = position(ci, cj);
     const glm::dvec3& b = position(ci + 1, cj);
     const glm::dvec3& c = position(ci, cj + 1);
     const glm::dvec3& d = position(ci + 1, cj + 1);
-    const glm::dvec3 origin = globe::Wgs84::pointAlongNormal(unitNormal, 0.0);
     const double alongAD =
         better(pierce(origin, unitNormal, a, b, d), pierce(origin, unitNormal, a, d, c));
     const double alongBC =

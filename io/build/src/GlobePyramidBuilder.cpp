@@ -126,6 +126,7 @@ public:
             m_ownPlaces.push_back(
                 source.own ? std::optional(placeOwnSamples(*source.own, m_threads)) : std::nullopt);
             m_taperSamples.push_back(taperSamples(k));
+            m_measured.push_back(measuredSamples(k));
         }
         m_phases.readSeconds += secondsSince(start);
         std::unordered_map<PatchKey, float> finerErrors;
@@ -313,7 +314,8 @@ private:
             auto& surface = surfaces[key];
             if (!surface)
                 surface = std::make_unique<GlobePatchSurface>(
-                    idOf(key, level), m_layout.patchQuads(), patch->second.record.heights);
+                    idOf(key, level), m_layout.patchQuads(), patch->second.record.heights,
+                    GlobePatchSurface::Positions::RowsOnDemand);
             const auto [alongAD, alongBC] =
                 surface->drawnHeights(sample.normal, {sample.face, sample.s, sample.t});
             patch->second.measuredError =
@@ -322,8 +324,55 @@ private:
         }
     }
 
+    // A source's measured samples as every level's measureErrors reads them, looked up in the
+    // composite once (GlobeSources::measuredSample, a few % of a build a level), not at every
+    // level: each sample's height (NaN where the source's sample is not measured) and the
+    // terms of its normal. A grid's normal is Wgs84::normalAt of its row's latitude and its
+    // column's longitude, so the rows' and columns' terms are kept (the same operations on
+    // the same values: the same bits); a resampled source's own samples keep their places.
+    struct MeasuredSamples {
+        std::vector<double> heights;
+        std::vector<double> cosLatitude, sinLatitude;       // per row (a grid)
+        std::vector<globe::Wgs84::RadiiAlongNormal> radii;  // per row: the ellipsoid's there
+        std::vector<double> cosLongitude, sinLongitude;     // per column (a grid)
+        const GlobeSources::OwnSamples* own = nullptr;      // else per sample, from these
+    };
+    MeasuredSamples measuredSamples(std::size_t k) const {
+        MeasuredSamples samples;
+        const std::int64_t width = m_sources.measuredWidth(k);
+        const std::int64_t height = m_sources.measuredHeight(k);
+        samples.heights.resize(static_cast<std::size_t>(width * height));
+        parallelFor(height, m_threads, [&](std::int64_t row) {
+            for (std::int64_t col = 0; col < width; ++col) {
+                const std::optional<GlobeSources::MeasuredSample> sample =
+                    m_sources.measuredSample(k, col, row);
+                samples.heights[static_cast<std::size_t>(row * width + col)] =
+                    sample ? sample->height : std::numeric_limits<double>::quiet_NaN();
+            }
+        });
+        const GlobeSources::Source& source = m_sources.sources()[k];
+        if (source.own) {
+            samples.own = &*source.own;
+            return samples;
+        }
+        for (std::int64_t row = 0; row < height; ++row) {
+            const double lat = source.grid.latitudeOf(row) * kDegree;
+            samples.cosLatitude.push_back(std::cos(lat));
+            samples.sinLatitude.push_back(std::sin(lat));
+            samples.radii.push_back(
+                globe::Wgs84::radiiAlongNormal(samples.sinLatitude.back(), 0.0));
+        }
+        for (std::int64_t col = 0; col < width; ++col) {
+            const double lon = source.grid.longitudeOf(col) * kDegree;
+            samples.cosLongitude.push_back(std::cos(lon));
+            samples.sinLongitude.push_back(std::sin(lon));
+        }
+        return samples;
+    }
+
     void measureErrors(int level, std::size_t k, std::map<PatchKey, LevelPatch>& patches) const {
         const SamplePlaces& places = m_ownPlaces[k] ? *m_ownPlaces[k] : m_places[k];
+        const MeasuredSamples& measured = m_measured[k];
         const std::int64_t width = m_sources.measuredWidth(k);
         const std::int64_t height = m_sources.measuredHeight(k);
         const std::int64_t n = globe::patchesPerFaceSide(level);
@@ -338,26 +387,37 @@ private:
             for (std::int64_t row = firstRow; row < std::min(firstRow + rowsPerTask, height);
                  ++row) {
                 for (std::int64_t col = 0; col < width; ++col) {
-                    const std::optional<GlobeSources::MeasuredSample> sample =
-                        m_sources.measuredSample(k, col, row);
-                    if (!sample) continue;
                     const auto i = static_cast<std::size_t>(row * width + col);
+                    const double sampleHeight = measured.heights[i];
+                    if (std::isnan(sampleHeight)) continue;
                     const PatchKey key = keyOf(places.face[i], patchIndex(places.s[i], n),
                                                patchIndex(places.t[i], n));
                     auto& surface = surfaces[key];
                     if (!surface) {
                         const auto patch = patches.find(key);
                         if (patch == patches.end()) continue;
-                        surface = std::make_unique<GlobePatchSurface>(idOf(key, level), quads,
-                                                                      patch->second.record.heights);
+                        surface = std::make_unique<GlobePatchSurface>(
+                            idOf(key, level), quads, patch->second.record.heights,
+                            GlobePatchSurface::Positions::RowsOnDemand);
                     }
-                    const glm::dvec3 normal =
-                        globe::Wgs84::normalAt(sample->latitudeDeg, sample->longitudeDeg);
+                    glm::dvec3 normal, origin;
+                    if (measured.own != nullptr) {
+                        normal = globe::Wgs84::normalAt(measured.own->latitudes[i],
+                                                        measured.own->longitudes[i]);
+                        origin = globe::Wgs84::pointAlongNormal(normal, 0.0);
+                    } else {
+                        const auto r = static_cast<std::size_t>(row);
+                        const auto c = static_cast<std::size_t>(col);
+                        normal = {measured.cosLatitude[r] * measured.cosLongitude[c],
+                                  measured.cosLatitude[r] * measured.sinLongitude[c],
+                                  measured.sinLatitude[r]};
+                        origin = globe::Wgs84::pointAlongNormal(normal, measured.radii[r]);
+                    }
                     const auto [alongAD, alongBC] = surface->drawnHeights(
-                        normal, globe::FacePoint{places.face[i], places.s[i], places.t[i]});
+                        normal, globe::FacePoint{places.face[i], places.s[i], places.t[i]}, origin);
                     double& patchWorst = worst[key];
-                    patchWorst = std::max({patchWorst, std::abs(sample->height - alongAD),
-                                           std::abs(sample->height - alongBC)});
+                    patchWorst = std::max({patchWorst, std::abs(sampleHeight - alongAD),
+                                           std::abs(sampleHeight - alongBC)});
                 }
             }
             const std::scoped_lock lock(merge);
@@ -438,6 +498,7 @@ private:
     // A resampled source's own samples' places, where Err(P) is measured for it.
     std::vector<std::optional<SamplePlaces>> m_ownPlaces;
     std::vector<std::vector<TaperSample>> m_taperSamples;  // per source, as m_places
+    std::vector<MeasuredSamples> m_measured;               // per source, as m_places
     PyramidBuildPhases m_phases;
     std::int64_t m_patches = 0;
     std::vector<double> m_levelMaxError;

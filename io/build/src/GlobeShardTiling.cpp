@@ -510,6 +510,7 @@ private:
         const PatchKey* keys = nullptr;            // of each sample's patch at this level
         const globe::FacePoint* points = nullptr;  // each sample's place on its face
         const glm::dvec3* normals = nullptr;       // and its normal (Wgs84::normalAt)
+        globe::Wgs84::RadiiAlongNormal radii{};    // the ellipsoid's at the row's latitude
     };
 
     // Every source sample of the window, piece by piece, rows in parallel.
@@ -545,7 +546,8 @@ private:
                         const auto at = static_cast<std::size_t>(r * piece.stride);
                         visitRow(SampleRow{row, piece.column0, piece.columns, piece.heights + at,
                                            piece.valid + at, keys.data(), points.data(),
-                                           normals.data()});
+                                           normals.data(),
+                                           globe::Wgs84::radiiAlongNormal(sinLat, 0.0)});
                     });
                 });
             if (!status) return status;
@@ -736,7 +738,9 @@ private:
                 }
                 if (surface == nullptr) continue;
                 const int quad = quadOf(lastKey, r.points[c].s, r.points[c].t);
-                const auto [alongAD, alongBC] = surface->drawnHeights(r.normals[c], r.points[c]);
+                const auto [alongAD, alongBC] =
+                    surface->drawnHeights(r.normals[c], r.points[c],
+                                          globe::Wgs84::pointAlongNormal(r.normals[c], r.radii));
                 const double height = double(r.heights[c]);
                 const double lowest = std::min(alongAD, alongBC) - height;
                 const double highest = std::max(alongAD, alongBC) - height;

@@ -58,13 +58,15 @@ Geodetic Wgs84::geodeticOfNormal(const glm::dvec3& unitNormal, double height) {
             std::atan2(unitNormal.y, unitNormal.x) / kDegree, height};
 }
 
-glm::dvec3 Wgs84::pointAlongNormal(const glm::dvec3& unitNormal, double height) {
-    const double nz = std::clamp(unitNormal.z, -1.0, 1.0);
+Wgs84::RadiiAlongNormal Wgs84::radiiAlongNormal(double unitNormalZ, double height) {
+    const double nz = std::clamp(unitNormalZ, -1.0, 1.0);
     const double primeVertical =
         kEquatorialRadius / std::sqrt(1.0 - kEccentricitySquared * nz * nz);
-    const double horizontal = primeVertical + height;
-    const double vertical = (1.0 - kEccentricitySquared) * primeVertical + height;
-    return {horizontal * unitNormal.x, horizontal * unitNormal.y, vertical * nz};
+    return {primeVertical + height, (1.0 - kEccentricitySquared) * primeVertical + height};
+}
+
+glm::dvec3 Wgs84::pointAlongNormal(const glm::dvec3& unitNormal, double height) {
+    return pointAlongNormal(unitNormal, radiiAlongNormal(unitNormal.z, height));
 }
 
 }  // namespace terrain::globe

@@ -938,8 +938,10 @@ TEST(GlobePatchSurface, PiercesTheDrawnTrianglesAlongTheNormal) {
 }
 
 // The builders pass the face point they already have (globe::facePointOf, clamped to the
-// face) to drawnHeights: the same heights to the bit as projecting the normal again, inside
-// the patch, on its border and on the cube's edges, where facePointOf clamps.
+// face) to drawnHeights, and the whole build the normal's ellipsoid point from its row's radii
+// too, to a surface making its rows on demand: the same heights to the bit as projecting the
+// normal again on a surface made whole, inside the patch, on its border and on the cube's
+// edges, where facePointOf clamps.
 TEST(GlobePatchSurface, DrawnHeightsFromAFacePointAreTheSameToTheBit) {
     const int quads = 8;
     const int tile = quads + 3;
@@ -950,6 +952,8 @@ TEST(GlobePatchSurface, DrawnHeightsFromAFacePointAreTheSameToTheBit) {
     for (const GlobePatchId id : {GlobePatchId{0, 0, 0, 0}, GlobePatchId{3, 1, 1, 0},
                                   GlobePatchId{5, 7, 0, 127}, GlobePatchId{1, 12, 4095, 4095}}) {
         const GlobePatchSurface surface(id, quads, rough);
+        const GlobePatchSurface onDemand(id, quads, rough,
+                                         GlobePatchSurface::Positions::RowsOnDemand);
         for (int k = 0; k <= 400; ++k) {
             // A grid over the patch, its border included.
             const double u = (k % 21) / 20.0, v = (k / 21 % 21) / 20.0;
@@ -961,6 +965,10 @@ TEST(GlobePatchSurface, DrawnHeightsFromAFacePointAreTheSameToTheBit) {
             const auto projected = surface.drawnHeights(normal);
             const auto given = surface.drawnHeights(normal, p);
             ASSERT_TRUE(projected == given)
+                << "face " << id.face << " level " << id.level << " at " << u << "," << v;
+            const glm::dvec3 origin = globe::Wgs84::pointAlongNormal(
+                normal, globe::Wgs84::radiiAlongNormal(normal.z, 0.0));
+            ASSERT_TRUE(onDemand.drawnHeights(normal, p, origin) == projected)
                 << "face " << id.face << " level " << id.level << " at " << u << "," << v;
         }
     }

@@ -6,6 +6,8 @@
 
 #include <glm/vec3.hpp>
 
+#include <algorithm>
+
 namespace terrain::globe {
 
 /// Latitude and longitude in degrees (geodetic, WGS84), height in metres above the
@@ -57,6 +59,18 @@ struct Wgs84 {
     /// (N + h)·(nx, ny, 0) + ((1 − e²)·N + h)·(0, 0, nz) with the prime-vertical radius
     /// N = a / √(1 − e²·nz²), since sin φ = nz and cos φ·(cos λ, sin λ) = (nx, ny).
     static glm::dvec3 pointAlongNormal(const glm::dvec3& unitNormal, double height);
+    /// pointAlongNormal's two radii, N + h and (1 − e²)·N + h, which depend on nz alone: kept
+    /// for a row of normals of one latitude, each point is then three products, to the bit
+    /// pointAlongNormal's (which is made of them).
+    struct RadiiAlongNormal {
+        double horizontal = 0.0, vertical = 0.0;
+    };
+    static RadiiAlongNormal radiiAlongNormal(double unitNormalZ, double height);
+    static glm::dvec3 pointAlongNormal(const glm::dvec3& unitNormal,
+                                       const RadiiAlongNormal& radii) {
+        return {radii.horizontal * unitNormal.x, radii.horizontal * unitNormal.y,
+                radii.vertical * std::clamp(unitNormal.z, -1.0, 1.0)};
+    }
 };
 
 }  // namespace terrain::globe
