@@ -2,10 +2,17 @@
 
 #include "BuildOutput.h"
 #include "WholeBuilds.h"
+#include "terrain/build/GlobePyramidBuilder.h"
 #include "terrain/build/PyramidShards.h"
+#include "terrain/globe/Wgs84.h"
+#include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/pyramid/PyramidLayout.h"
 
 #include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
 
 namespace terrain::io {
 namespace detail {
@@ -88,9 +95,46 @@ Result<BuildDecision> decidePlanar(DemReader& reader, const PyramidBuildOptions&
                                              "built shard by shard")};
 }
 
-// A globe pyramid's whole build holds its sources whole (GlobeSources::read, which checks
-// them against half the budget); one geographic source too large for that is built shard by
-// shard, in memory bounded whatever its size.
+// What a whole globe build of one geographic source holds at its peak, beyond the process's
+// own (about 150 MB): about 40 bytes a source sample (its heights and mask, its place on the
+// cube, its measured height) and 9 a sample of the finest face level over its footprint (that
+// level's patches, reaching a patch or two past it, resampled, measured and written while all
+// are held). Fitted to the peak RSS of whole builds of N57E011 and the Rainier tile at 1201²
+// and at 3601² (2 threads; docs/accuracy.md, "What a whole globe build holds"), whose finest
+// face levels hold 2.6 to 7.2 samples a source sample. 0 for a source not on a
+// longitude/latitude grid (its grid is known once it is read).
+std::uint64_t wholeGlobeBuildBytes(const DemInfo& dem, const PyramidBuildOptions& options) {
+    const Georeference& g = dem.georeference;
+    if (g.crsKind != CrsKind::Geographic) return 0;
+    constexpr double kDegree = std::numbers::pi / 180.0;
+    const double north = std::clamp(g.originY, -90.0, 90.0);
+    const double south = std::clamp(g.originY - double(dem.height) * g.pixelSizeY, -90.0, 90.0);
+    const double spanLon = std::min(360.0, double(dem.width) * g.pixelSizeX);
+    const double centreLat = 0.5 * (north + south);
+    const double centreLon = spanLon >= 360.0 ? 0.0 : g.originX + 0.5 * spanLon;
+    // GeographicGrid::finestSpacingMetres and finestFaceLevelOf, from the header alone.
+    const double closestToEquator =
+        (south <= 0.0 && north >= 0.0) ? 0.0 : std::min(std::abs(south), std::abs(north));
+    const double spacing = std::min(g.pixelSizeY * kDegree * globe::Wgs84::kMinCurvatureRadius,
+                                    g.pixelSizeX * kDegree * globe::Wgs84::kEquatorialRadius *
+                                        std::cos(closestToEquator * kDegree));
+    const int quads = options.patchSamples - 1;
+    const int level =
+        std::min(kMaxGlobeFaceLevel, globeFinestLevelFor(spacing, centreLat, centreLon, quads) +
+                                         options.globeOversampleLevels);
+    const double faceSpacing = globeFaceSampleSpacing(level, centreLat, centreLon, quads);
+    constexpr double kMeanRadius = 6371008.8;
+    const double area = kMeanRadius * kMeanRadius * spanLon * kDegree *
+                        std::abs(std::sin(north * kDegree) - std::sin(south * kDegree));
+    const double faceSamples = area / (faceSpacing * faceSpacing);
+    return static_cast<std::uint64_t>(40.0 * double(dem.width) * double(dem.height) +
+                                      9.0 * faceSamples);
+}
+
+// A globe pyramid's whole build holds its sources whole (GlobeSources::read also checks
+// their samples against half the budget); one geographic source whose whole build would hold
+// more than the budget (wholeGlobeBuildBytes) is built shard by shard, in memory bounded
+// whatever its size.
 Result<BuildDecision> decideGlobe(std::span<DemReader* const> readers,
                                   const std::filesystem::path& output,
                                   const PyramidBuildOptions& options, BuildWay requested) {
@@ -102,20 +146,16 @@ Result<BuildDecision> decideGlobe(std::span<DemReader* const> readers,
         return BuildDecision{BuildWay::ByShards, std::nullopt};
     }
     const DemInfo& only = readers.front()->info();
-    // The source's heights and masks, 5 bytes a sample, in half of the budget (the other half
-    // is the patches').
-    const double held = double(only.width) * double(only.height) * 5.0;
+    const std::uint64_t held = wholeGlobeBuildBytes(only, options);
     if (requested == BuildWay::Whole || !canShard ||
-        only.georeference.crsKind != CrsKind::Geographic ||
-        held <= double(options.memoryBudgetBytes / 2))
+        only.georeference.crsKind != CrsKind::Geographic || held <= options.memoryBudgetBytes)
         return BuildDecision{BuildWay::Whole, std::nullopt};
     return BuildDecision{
         BuildWay::ByShards,
         memoryBudgetMessage(
             only.path,
             fmt::format("a whole globe build of its {} × {} samples", only.width, only.height),
-            2 * static_cast<std::uint64_t>(held), options.memoryBudgetBytes,
-            "built shard by shard")};
+            held, options.memoryBudgetBytes, "built shard by shard")};
 }
 
 }  // namespace

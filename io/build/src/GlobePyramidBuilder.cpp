@@ -510,8 +510,10 @@ private:
 
 }  // namespace
 
-int globeFinestLevelFor(double spacingMetres, double latitudeDeg, double longitudeDeg, int quads) {
-    // Metres per unit of face coordinate at the place, the larger of the two directions.
+namespace {
+
+// Metres per unit of face coordinate at a place, the larger of the two directions.
+double metresPerFaceUnit(double latitudeDeg, double longitudeDeg) {
     const globe::FacePoint p =
         globe::facePointOf(globe::Wgs84::normalAt(latitudeDeg, longitudeDeg));
     constexpr double kStep = 1e-6;
@@ -520,11 +522,22 @@ int globeFinestLevelFor(double spacingMetres, double latitudeDeg, double longitu
     };
     const double s0 = std::clamp(p.s, kStep, 1.0 - kStep);
     const double t0 = std::clamp(p.t, kStep, 1.0 - kStep);
-    const double rate = std::max(glm::distance(point(s0 - kStep, t0), point(s0 + kStep, t0)),
-                                 glm::distance(point(s0, t0 - kStep), point(s0, t0 + kStep))) /
-                        (2.0 * kStep);
+    return std::max(glm::distance(point(s0 - kStep, t0), point(s0 + kStep, t0)),
+                    glm::distance(point(s0, t0 - kStep), point(s0, t0 + kStep))) /
+           (2.0 * kStep);
+}
+
+}  // namespace
+
+int globeFinestLevelFor(double spacingMetres, double latitudeDeg, double longitudeDeg, int quads) {
+    const double rate = metresPerFaceUnit(latitudeDeg, longitudeDeg);
     const double patchesNeeded = rate / (double(quads) * spacingMetres);
     return std::max(0, static_cast<int>(std::ceil(std::log2(std::max(1.0, patchesNeeded)) - 1e-9)));
+}
+
+double globeFaceSampleSpacing(int faceLevel, double latitudeDeg, double longitudeDeg, int quads) {
+    return metresPerFaceUnit(latitudeDeg, longitudeDeg) /
+           (double(globe::patchesPerFaceSide(faceLevel)) * quads);
 }
 
 Result<PyramidBuildSummary> buildGlobePyramid(DemReader& reader, const fs::path& output,

@@ -33,6 +33,9 @@ namespace terrain::io {
 /// The finest face level for a source whose samples are `spacingMetres` apart around the
 /// unit direction `where`: the coarsest level whose face grid there is at least as fine.
 int globeFinestLevelFor(double spacingMetres, double latitudeDeg, double longitudeDeg, int quads);
+/// How far apart a face level's samples lie around a place, metres (the larger of the two
+/// directions).
+double globeFaceSampleSpacing(int faceLevel, double latitudeDeg, double longitudeDeg, int quads);
 
 /// Builds the globe pyramid of the geographic `reader` at `output`:
 /// buildPyramid(PyramidSurface::Globe, {&reader}, …). Errors name the file and the problem: a
