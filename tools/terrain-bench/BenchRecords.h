@@ -42,6 +42,12 @@ struct FrameRecord {
     /// Patches behind the horizon (the globe's) and nodes the culling walk visited.
     std::uint64_t horizonCulled = 0;
     std::uint64_t lodVisited = 0;
+    /// Of the patches drawn, those drawing an ancestor's tile (virtual), none (bare: the
+    /// ellipsoid) and a source's own grid (native tiles): on the globe, which surface the
+    /// frame's error is of (LodUpdateStats).
+    std::uint64_t patchesVirtual = 0;
+    std::uint64_t patchesBare = 0;
+    std::uint64_t patchesNative = 0;
     std::uint64_t drawCalls = 0;
     double lodUpdateUs = kNoValue;    ///< the frame's first LOD update for this camera
     double gpuMs = kNoValue;          ///< GL_TIME_ELAPSED of the draw (CPU time on llvmpipe)

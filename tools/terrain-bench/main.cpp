@@ -486,6 +486,9 @@ int run(const BenchOptions& o, const char* argv0) {
         rec.lodNodes = lodStats.nodes;
         rec.horizonCulled = lodStats.horizonCulled;
         rec.lodVisited = lodStats.visited;
+        rec.patchesVirtual = lodStats.drawnVirtual;
+        rec.patchesBare = lodStats.drawnBare;
+        rec.patchesNative = lodStats.drawnNative;
         rec.drawCalls = telemetry.drawCalls;
         rec.residentBytes = session.memoryBytes();
         telemetry.frame = frame;

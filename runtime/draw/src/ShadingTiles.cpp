@@ -2,6 +2,7 @@
 #include "terrain/runtime/ShadingTiles.h"
 
 #include "terrain/base/Assert.h"
+#include "terrain/pyramid/NativeTiles.h"
 
 #include <cstdint>
 
@@ -27,7 +28,9 @@ void shadingTilesOf(const DrawnTile& tile, int patchQuads,
                     std::span<ShadingTile, kShadingAncestors> out) {
     ShadingTile coarsest{tile.texelOffset[0], tile.texelOffset[1], tile.texelStep,
                          static_cast<float>(tile.layer)};
-    bool found = tile.layer >= 0;
+    // A native tile (a source's own grid) has no tile above it: its id's "parent" names
+    // another source's native tile (kNativeLevelBase + k − 1), which the shader would read.
+    bool found = tile.layer >= 0 && !io::isNativeTile(tile.id);
     for (int k = 1; k <= kShadingAncestors; ++k) {
         if (found && k <= tile.id.level) {
             AncestorTile ancestor = ancestorTile(tile, k, patchQuads);

@@ -52,7 +52,8 @@ AncestorTile ancestorTile(const DrawnTile& tile, int k, int patchQuads);
 /// on the layer `layerOf(ancestor)` gives; it may move the ancestor's texelOffset to where it
 /// put the tile's samples (a window cut from it). Where it gives nullopt (not resident, above
 /// the root), that entry and those above it repeat the coarsest tile found (the shader's box
-/// is then cut at its edge); a bare tile (layer −1) lists bare tiles.
+/// is then cut at its edge); a bare tile (layer −1) lists bare tiles, and a native tile
+/// (io::isNativeTile, a level of its source's own grid) itself.
 void shadingTilesOf(const DrawnTile& tile, int patchQuads,
                     const std::function<std::optional<int>(AncestorTile&)>& layerOf,
                     std::span<ShadingTile, kShadingAncestors> out);
