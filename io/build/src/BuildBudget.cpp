@@ -134,7 +134,8 @@ std::uint64_t wholeGlobeBuildBytes(const DemInfo& dem, const PyramidBuildOptions
 // A globe pyramid's whole build holds its sources whole (GlobeSources::read also checks
 // their samples against half the budget); one geographic source whose whole build would hold
 // more than the budget (wholeGlobeBuildBytes) is built shard by shard, in memory bounded
-// whatever its size.
+// whatever its size. What cannot go by shards (sources composited together, a projected one)
+// is refused over the budget, as a planar build is, unless asked for whole.
 Result<BuildDecision> decideGlobe(std::span<DemReader* const> readers,
                                   const std::filesystem::path& output,
                                   const PyramidBuildOptions& options, BuildWay requested) {
@@ -145,17 +146,21 @@ Result<BuildDecision> decideGlobe(std::span<DemReader* const> readers,
         if (!canShard) return canShard.error();
         return BuildDecision{BuildWay::ByShards, std::nullopt};
     }
-    const DemInfo& only = readers.front()->info();
-    const std::uint64_t held = wholeGlobeBuildBytes(only, options);
-    if (requested == BuildWay::Whole || !canShard ||
-        only.georeference.crsKind != CrsKind::Geographic || held <= options.memoryBudgetBytes)
+    std::uint64_t held = 0;
+    for (DemReader* reader : readers) held += wholeGlobeBuildBytes(reader->info(), options);
+    if (requested == BuildWay::Whole || held <= options.memoryBudgetBytes)
         return BuildDecision{BuildWay::Whole, std::nullopt};
-    return BuildDecision{
-        BuildWay::ByShards,
-        memoryBudgetMessage(
-            only.path,
-            fmt::format("a whole globe build of its {} × {} samples", only.width, only.height),
-            held, options.memoryBudgetBytes, "built shard by shard")};
+    const DemInfo& first = readers.front()->info();
+    const std::string what =
+        readers.size() == 1
+            ? fmt::format("a whole globe build of its {} × {} samples", first.width, first.height)
+            : fmt::format("a whole globe build of its {} sources", readers.size());
+    if (!canShard)
+        return Error{memoryBudgetMessage(first.path, what, held, options.memoryBudgetBytes,
+                                         "raise --memory (" + canShard.error().message + ")")};
+    return BuildDecision{BuildWay::ByShards,
+                         memoryBudgetMessage(first.path, what, held, options.memoryBudgetBytes,
+                                             "built shard by shard")};
 }
 
 }  // namespace

@@ -378,6 +378,30 @@ TEST(GlobeShards, ASourceOverTheBudgetIsBuiltByShards) {
     EXPECT_EQ(pyramidFiles(small), pyramidFiles(expected));
 }
 
+// Sources composited together are built whole, so a composite whose whole build would hold
+// more than --memory is refused, naming the first source and the remedy, as a planar build
+// too wide for it is; nothing is left behind (built within the budget before, and over it).
+TEST(GlobeShards, SourcesCompositedOverTheBudgetAreRefused) {
+    TempFolder temp;
+    GeographicFunctionDem coarse(0.0, 70.0, 200, 100, 0.5, 0.5, hills);
+    GeographicFunctionDem fine(10.0, 61.0, 300, 200, 0.01, 0.005, hills);
+    DemReader* const sources[] = {&fine, &coarse};
+    PyramidBuildOptions options = smallPatches();
+    options.memoryBudgetBytes = 1u << 20;  // the fine source's 60,000 samples alone hold 2.3 MB
+    const fs::path out = temp.path() / "composite.pyramid";
+    auto refused = buildGlobePyramid(sources, out, options);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("a whole globe build of its 2 sources needs about"),
+              std::string::npos)
+        << refused.error().message;
+    EXPECT_NE(refused.error().message.find("more than --memory (1 MiB); raise --memory"),
+              std::string::npos)
+        << refused.error().message;
+    EXPECT_FALSE(fs::exists(out));
+    options.memoryBudgetBytes = std::uint64_t{64} << 20;
+    EXPECT_TRUE(buildGlobePyramid(sources, out, options));
+}
+
 // Measured at the source's samples (the default for a source this small, and for the two
 // levels above the finest of any): the whole build's files, byte for byte.
 TEST(GlobeShards, MeasuredLevelsAreTheWholeBuildsBytes) {
