@@ -1,11 +1,11 @@
 #include "BuildBudget.h"
 
 #include "BuildOutput.h"
+#include "GeographicGrid.h"
+#include "GlobeSources.h"
 #include "WholeBuilds.h"
 #include "terrain/build/GlobePyramidBuilder.h"
 #include "terrain/build/PyramidShards.h"
-#include "terrain/globe/Wgs84.h"
-#include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/pyramid/PyramidLayout.h"
 
 #include <fmt/format.h>
@@ -63,6 +63,18 @@ Status shardable(PyramidSurface surface, std::span<DemReader* const> readers) {
 namespace detail {
 namespace {
 
+// A whole build that would hold `needed` bytes (`what`, of the source at `path`), over the
+// budget: shard by shard with a warning, or, where it cannot go by shards, refused.
+Result<BuildDecision> overBudget(std::string_view path, std::string_view what, std::uint64_t needed,
+                                 const PyramidBuildOptions& options, const Status& canShard) {
+    if (!canShard)
+        return Error{memoryBudgetMessage(path, what, needed, options.memoryBudgetBytes,
+                                         "raise --memory (" + canShard.error().message + ")")};
+    return BuildDecision{
+        BuildWay::ByShards,
+        memoryBudgetMessage(path, what, needed, options.memoryBudgetBytes, "built shard by shard")};
+}
+
 // A planar pyramid's whole build holds a band of two patch rows across the finest level.
 Result<BuildDecision> decidePlanar(DemReader& reader, const PyramidBuildOptions& options,
                                    BuildWay requested) {
@@ -87,12 +99,7 @@ Result<BuildDecision> decidePlanar(DemReader& reader, const PyramidBuildOptions&
         fmt::format("a band of two patch rows across its {} samples", dem.width);
     if (requested == BuildWay::Whole || needed <= options.memoryBudgetBytes)
         return BuildDecision{BuildWay::Whole, std::nullopt};
-    if (!canShard)
-        return Error{memoryBudgetMessage(dem.path, what, needed, options.memoryBudgetBytes,
-                                         "raise --memory (" + canShard.error().message + ")")};
-    return BuildDecision{BuildWay::ByShards,
-                         memoryBudgetMessage(dem.path, what, needed, options.memoryBudgetBytes,
-                                             "built shard by shard")};
+    return overBudget(dem.path, what, needed, options, canShard);
 }
 
 // What a whole globe build of one geographic source holds at its peak, beyond the process's
@@ -110,18 +117,14 @@ std::uint64_t wholeGlobeBuildBytes(const DemInfo& dem, const PyramidBuildOptions
     const double north = std::clamp(g.originY, -90.0, 90.0);
     const double south = std::clamp(g.originY - double(dem.height) * g.pixelSizeY, -90.0, 90.0);
     const double spanLon = std::min(360.0, double(dem.width) * g.pixelSizeX);
-    const double centreLat = 0.5 * (north + south);
-    const double centreLon = spanLon >= 360.0 ? 0.0 : g.originX + 0.5 * spanLon;
-    // GeographicGrid::finestSpacingMetres and finestFaceLevelOf, from the header alone.
-    const double closestToEquator =
-        (south <= 0.0 && north >= 0.0) ? 0.0 : std::min(std::abs(south), std::abs(north));
-    const double spacing = std::min(g.pixelSizeY * kDegree * globe::Wgs84::kMinCurvatureRadius,
-                                    g.pixelSizeX * kDegree * globe::Wgs84::kEquatorialRadius *
-                                        std::cos(closestToEquator * kDegree));
+    const bool wraps = spanLon >= 360.0;
     const int quads = options.patchSamples - 1;
     const int level =
-        std::min(kMaxGlobeFaceLevel, globeFinestLevelFor(spacing, centreLat, centreLon, quads) +
-                                         options.globeOversampleLevels);
+        finestFaceLevelOf(south, north, g.originX, g.originX + spanLon, wraps,
+                          geographicFinestSpacingMetres(south, north, g.pixelSizeX, g.pixelSizeY),
+                          quads, options.globeOversampleLevels);
+    const double centreLat = 0.5 * (north + south);
+    const double centreLon = wraps ? 0.0 : g.originX + 0.5 * spanLon;
     const double faceSpacing = globeFaceSampleSpacing(level, centreLat, centreLon, quads);
     constexpr double kMeanRadius = 6371008.8;
     const double area = kMeanRadius * kMeanRadius * spanLon * kDegree *
@@ -155,12 +158,7 @@ Result<BuildDecision> decideGlobe(std::span<DemReader* const> readers,
         readers.size() == 1
             ? fmt::format("a whole globe build of its {} × {} samples", first.width, first.height)
             : fmt::format("a whole globe build of its {} sources", readers.size());
-    if (!canShard)
-        return Error{memoryBudgetMessage(first.path, what, held, options.memoryBudgetBytes,
-                                         "raise --memory (" + canShard.error().message + ")")};
-    return BuildDecision{BuildWay::ByShards,
-                         memoryBudgetMessage(first.path, what, held, options.memoryBudgetBytes,
-                                             "built shard by shard")};
+    return overBudget(first.path, what, held, options, canShard);
 }
 
 }  // namespace

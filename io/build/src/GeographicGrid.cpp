@@ -433,12 +433,17 @@ double GeographicGrid::northSouthMetres(double latitudeDeg) const {
 }
 
 double GeographicGrid::finestSpacingMetres() const {
-    const double south = southDeg();
-    const double closestToEquator =
-        (south <= 0.0 && m_north >= 0.0) ? 0.0 : std::min(std::abs(south), std::abs(m_north));
+    return geographicFinestSpacingMetres(southDeg(), m_north, m_pixelLon, m_pixelLat);
+}
+
+double geographicFinestSpacingMetres(double southDeg, double northDeg, double pixelLonDeg,
+                                     double pixelLatDeg) {
+    const double closestToEquator = (southDeg <= 0.0 && northDeg >= 0.0)
+                                        ? 0.0
+                                        : std::min(std::abs(southDeg), std::abs(northDeg));
     // The meridian's radius of curvature is smallest (b²/a) at the equator.
-    const double alongMeridian = m_pixelLat * kDegree * globe::Wgs84::kMinCurvatureRadius;
-    const double alongParallel = m_pixelLon * globe::Wgs84::kEquatorialRadius * kDegree *
+    const double alongMeridian = pixelLatDeg * kDegree * globe::Wgs84::kMinCurvatureRadius;
+    const double alongParallel = pixelLonDeg * globe::Wgs84::kEquatorialRadius * kDegree *
                                  std::cos(closestToEquator * kDegree);
     return std::min(alongMeridian, alongParallel);
 }

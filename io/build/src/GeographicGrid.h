@@ -177,4 +177,9 @@ private:
     double m_minHeight = 0.0, m_maxHeight = 0.0;
 };
 
+/// GeographicGrid::finestSpacingMetres of a grid of pixelLonDeg × pixelLatDeg cells between
+/// southDeg and northDeg (its edges): from a source's header, before it is read.
+double geographicFinestSpacingMetres(double southDeg, double northDeg, double pixelLonDeg,
+                                     double pixelLatDeg);
+
 }  // namespace terrain::io

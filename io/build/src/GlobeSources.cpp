@@ -21,11 +21,18 @@ GlobeSources::GlobeSources(std::vector<Source> sources) : m_sources(std::move(so
 }
 
 int finestFaceLevelOf(const GeographicGrid& grid, int quads, int oversampleLevels) {
-    const double centreLat = 0.5 * (grid.northDeg() + grid.southDeg());
-    const double centreLon = grid.wrapsLongitude() ? 0.0 : 0.5 * (grid.westDeg() + grid.eastDeg());
-    return std::min(kMaxGlobeFaceLevel,
-                    globeFinestLevelFor(grid.finestSpacingMetres(), centreLat, centreLon, quads) +
-                        oversampleLevels);
+    return finestFaceLevelOf(grid.southDeg(), grid.northDeg(), grid.westDeg(), grid.eastDeg(),
+                             grid.wrapsLongitude(), grid.finestSpacingMetres(), quads,
+                             oversampleLevels);
+}
+
+int finestFaceLevelOf(double southDeg, double northDeg, double westDeg, double eastDeg,
+                      bool wrapsLongitude, double spacingMetres, int quads, int oversampleLevels) {
+    const double centreLat = 0.5 * (northDeg + southDeg);
+    const double centreLon = wrapsLongitude ? 0.0 : 0.5 * (westDeg + eastDeg);
+    return std::min(
+        kMaxGlobeFaceLevel,
+        globeFinestLevelFor(spacingMetres, centreLat, centreLon, quads) + oversampleLevels);
 }
 
 Result<GlobeSources> GlobeSources::read(std::span<DemReader* const> readers,

@@ -157,5 +157,9 @@ private:
 /// (PyramidBuildOptions::globeOversampleLevels), within kMaxGlobeFaceLevel. The whole build,
 /// the region build and the source check decide it here, so they agree.
 int finestFaceLevelOf(const GeographicGrid& grid, int quads, int oversampleLevels);
+/// The same from a grid's edges and finest spacing alone (a source's header, before it is
+/// read); a grid round the whole Earth (`wrapsLongitude`) is measured at longitude 0.
+int finestFaceLevelOf(double southDeg, double northDeg, double westDeg, double eastDeg,
+                      bool wrapsLongitude, double spacingMetres, int quads, int oversampleLevels);
 
 }  // namespace terrain::io
