@@ -110,6 +110,7 @@ Result<GpuTilePool> GpuTilePool::create(const io::PyramidLayout& layout,
     pool.m_invariantScratch.assign(static_cast<std::size_t>(layers), 0);
     pool.m_layerPatch.resize(static_cast<std::size_t>(layers));
     pool.m_maxBlockErrorM.assign(static_cast<std::size_t>(layers), 0.0f);
+    pool.m_sampleRises.assign(static_cast<std::size_t>(layers), io::SampleRises{});
     pool.m_coarseCellsPerLayer = io::coarseCellCount(layout.patchQuads(), layout.blockQuads());
     pool.m_coarseCellErrorsM.assign(
         static_cast<std::size_t>(layers) * static_cast<std::size_t>(pool.m_coarseCellsPerLayer),
@@ -237,6 +238,12 @@ std::optional<float> GpuTilePool::maxBlockErrorM(const io::PatchId& id) const {
     return m_maxBlockErrorM[static_cast<std::size_t>(found->second.layer)];
 }
 
+std::optional<io::SampleRises> GpuTilePool::sampleRises(const io::PatchId& id) const {
+    const auto found = m_slots.find(id);
+    if (found == m_slots.end() || !found->second.resident) return std::nullopt;
+    return m_sampleRises[static_cast<std::size_t>(found->second.layer)];
+}
+
 std::span<const float> GpuTilePool::coarseCellErrorsM(const io::PatchId& id) const {
     const auto found = m_slots.find(id);
     if (found == m_slots.end() || !found->second.resident) return {};
@@ -340,6 +347,8 @@ bool GpuTilePool::upload(const io::PatchRecord& record) {
             if (std::isfinite(lambda)) maxBlockError = std::max(maxBlockError, lambda);
     }
     m_maxBlockErrorM[static_cast<std::size_t>(layer)] = maxBlockError;
+    m_sampleRises[static_cast<std::size_t>(layer)] =
+        io::sampleRises({record.heights.data(), m_tileSamples, m_tileSamples});
     if (m_coarseCellsPerLayer > 0) {
         // A few microseconds: the block-corner grid is (K + 1)² samples.
         const auto cells = static_cast<std::size_t>(m_coarseCellsPerLayer);

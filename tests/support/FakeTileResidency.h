@@ -44,6 +44,9 @@ struct FakeTileResidencyOptions {
     /// then counts from the prefetch, and is dropped at a frame's end unless prefetched or
     /// acquired again in that frame (as the streamer cancels what no one wants).
     bool honourPrefetch = false;
+    /// What every resident patch reports as its samples' steepest rises
+    /// (TileResidency::residentSampleRises); none: the LOD takes a tile's height range.
+    std::optional<io::SampleRises> sampleRises = std::nullopt;
 };
 
 class FakeTileResidency final : public runtime::TileResidency {
@@ -183,6 +186,9 @@ public:
         const auto resident = m_resident.find(id);
         return resident != m_resident.end() &&
                m_layers[static_cast<std::size_t>(resident->second)].pinned;
+    }
+    std::optional<io::SampleRises> residentSampleRises(const io::PatchId& id) const override {
+        return m_resident.contains(id) ? m_options.sampleRises : std::nullopt;
     }
 
     // For tests -----------------------------------------------------------------------------

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <numbers>
 
 namespace terrain::globe {
@@ -168,6 +169,35 @@ double maxSampleSpacing(int level, int quads) {
 double flatTriangleErrorBound(double sampleSpacing, double minHeight) {
     const double radius = Wgs84::kMinCurvatureRadius + std::min(minHeight, 0.0);
     return 1.001 * sampleSpacing * sampleSpacing / (3.0 * radius);
+}
+
+double geographicTriangleErrorBound(const GeographicCells& cells) {
+    const double small = Wgs84::kMinCurvatureRadius + std::min(cells.minHeightM, 0.0);
+    const double large = Wgs84::kMaxCurvatureRadius + std::max(cells.maxHeightM, 0.0);
+    const double south = std::min(cells.southRad, cells.northRad);
+    const double north = std::max(cells.southRad, cells.northRad);
+    // The latitudes' extremes over [south, north]: |φ| nearest and farthest from the equator.
+    const double nearest =
+        south <= 0.0 && north >= 0.0 ? 0.0 : std::min(std::abs(south), std::abs(north));
+    const double farthest =
+        std::min(std::max(std::abs(south), std::abs(north)), 0.5 * std::numbers::pi);
+    const double quarter = 0.25 * std::numbers::pi;
+    const double sinCos = nearest <= quarter && farthest >= quarter
+                              ? 0.5
+                              : std::max(std::sin(nearest) * std::cos(nearest),
+                                         std::sin(farthest) * std::cos(farthest));
+    const double tanFarthest = std::tan(farthest);
+    const double a = cells.lonStepRad, b = cells.latStepRad;
+    const double east = a * large * std::cos(nearest), northSide = b * large;
+    const double rE = cells.riseEastM, rN = cells.riseNorthM;
+    const double huu =
+        (east * east + 2.0 * rE * rE) / small + (b > 0.0 ? a * a / b : 0.0) * rN * sinCos;
+    const double huv = b * rE * tanFarthest + 2.0 * rE * rN / small;
+    const double hvv = (northSide * northSide + 2.0 * rN * rN) / small;
+    const double largest =
+        0.5 * (huu + hvv) + std::sqrt(0.25 * (huu - hvv) * (huu - hvv) + huv * huv);
+    const double side = std::max(east, northSide);
+    return (1.05 + 2.0 * side / small) * largest / 4.0;
 }
 
 }  // namespace terrain::globe

@@ -31,4 +31,22 @@ void blockHeightRanges(const GridView& patch, int blockQuads, HeightRange patchR
     }
 }
 
+SampleRises sampleRises(const GridView& tile) {
+    SampleRises rises;
+    for (int y = 0; y < tile.side; ++y) {
+        for (int x = 0; x < tile.side; ++x) {
+            const float h = tile.at(x, y);
+            if (x + 1 < tile.side) {
+                const float rise = std::abs(tile.at(x + 1, y) - h);
+                if (std::isfinite(rise)) rises.east = std::max(rises.east, rise);
+            }
+            if (y + 1 < tile.side) {
+                const float rise = std::abs(tile.at(x, y + 1) - h);
+                if (std::isfinite(rise)) rises.north = std::max(rises.north, rise);
+            }
+        }
+    }
+    return rises;
+}
+
 }  // namespace terrain::io

@@ -3,6 +3,7 @@
 #include "terrain/runtime/LodQuadtree.h"
 
 #include "terrain/base/Assert.h"
+#include "terrain/pyramid/PatchErrors.h"
 #include "terrain/runtime/NativeOwnership.h"
 #include "terrain/runtime/PlaneSurface.h"
 
@@ -253,7 +254,7 @@ int LodQuadtree::trySplitNative(int index, double screenError) {
         // nearer the camera. No nearer than a metre, as for what only curvature is left to
         // split for (decisionDistance): a camera standing in a tile's box would see any error
         // as infinite, and a tile's error is mostly its flat triangles' bulge, millimetres.
-        const double error = double(info->error) + m_surface.nativeCurvatureError(tile);
+        const double error = double(info->error) + nativeGeometricErrorsOf(tile, *info).fullM;
         const double rho = std::max(
             1.0,
             m_surface.distance(m_camera.position,
@@ -289,6 +290,16 @@ int LodQuadtree::trySplitNative(int index, double screenError) {
     return 1;
 }
 
+Surface::NativeGeometricErrors LodQuadtree::nativeGeometricErrorsOf(
+    const io::PatchId& tile, const io::PatchInfo& info) const {
+    // Without the tile's heights at hand, its whole height range as one rise bounds its
+    // slopes too.
+    const auto range = static_cast<float>(std::max(0.0, double(info.maxHeight) - info.minHeight));
+    const io::SampleRises rises =
+        m_residency.residentSampleRises(tile).value_or(io::SampleRises{range, range});
+    return m_surface.nativeGeometricErrors(tile, info, rises);
+}
+
 void LodQuadtree::emitNative(int index, std::vector<PatchDraw>& out) {
     const auto tiles = m_nativeTiles.find(index);
     TERRAIN_ASSERT(tiles != m_nativeTiles.end(), "a native node without its tiles");
@@ -300,9 +311,9 @@ void LodQuadtree::emitNative(int index, std::vector<PatchDraw>& out) {
         const io::PatchInfo* info = m_residency.residentInfo(tile);
         TERRAIN_ASSERT(info != nullptr, "a pinned native tile is not resident");
         PatchDraw draw = PatchDraw::ofTile(tile, m_residency.layerOf(tile), *info);
-        draw.errorM =
-            static_cast<float>(double(info->error) + m_surface.nativeCurvatureError(tile));
-        draw.bareBlockErrorsM = m_surface.nativeCurvatureBlockErrors(tile);
+        const Surface::NativeGeometricErrors geometric = nativeGeometricErrorsOf(tile, *info);
+        draw.errorM = io::roundUpToFloat(double(info->error) + geometric.fullM);
+        draw.bareBlockErrorsM = geometric.blocksM;
         out.push_back(draw);
         ++m_stats.drawn;
         ++m_stats.drawnNative;

@@ -3,8 +3,10 @@
 #include "terrain/runtime/GlobeSurface.h"
 
 #include "terrain/base/Assert.h"
+#include "terrain/globe/GlobePatch.h"
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
+#include "terrain/pyramid/PatchErrors.h"
 #include "terrain/runtime/GlobeFrustum.h"
 
 #include <algorithm>
@@ -48,11 +50,6 @@ GlobeSurface::GlobeSurface(const io::PyramidManifest& manifest,
         const double radian = std::numbers::pi / 180.0;
         grid.spacingM = globe::Wgs84::kMaxCurvatureRadius * radian *
                         std::max(g.pixelSizeY, g.pixelSizeX * std::cos(nearestEquator * radian));
-        const double lowest = std::min(0.0, native.manifest.statistics.minHeight);
-        grid.curvatureErrorM = globe::flatTriangleErrorBound(grid.spacingM, lowest);
-        for (int d = 0; d < 4; ++d)
-            grid.curvatureBlockErrorsM[static_cast<std::size_t>(d)] = static_cast<float>(
-                globe::flatTriangleErrorBound(grid.spacingM * double(2 << d), lowest));
         m_natives.push_back(grid);
     }
 }
@@ -168,14 +165,37 @@ PatchVolume GlobeSurface::nativeTileVolume(const io::PatchId& tile, float minHei
     return globe::nativeTileBounds(grid->geometry, tile.x, tile.y, minHeight, maxHeight);
 }
 
-double GlobeSurface::nativeCurvatureError(const io::PatchId& tile) const {
+Surface::NativeGeometricErrors GlobeSurface::nativeGeometricErrors(
+    const io::PatchId& tile, const io::PatchInfo& info, const io::SampleRises& rises) const {
     const NativeGrid* grid = nativeGridOf(tile);
-    return grid != nullptr ? grid->curvatureErrorM : 0.0;
-}
-
-std::array<float, 4> GlobeSurface::nativeCurvatureBlockErrors(const io::PatchId& tile) const {
-    const NativeGrid* grid = nativeGridOf(tile);
-    return grid != nullptr ? grid->curvatureBlockErrorsM : std::array<float, 4>{};
+    if (grid == nullptr) return {};
+    const globe::NativeGridGeometry& geo = grid->geometry;
+    const double radian = std::numbers::pi / 180.0;
+    // The tile's rows, its aprons' included (sample row r lies at northDeg − (r + ½)·Δφ).
+    const double firstRow = double(tile.y) * geo.quads - 1.0;
+    const double lastRow = firstRow + geo.quads + 2.0;
+    const auto latitude = [&](double row) {
+        return std::clamp(geo.northDeg - (row + 0.5) * geo.pixelLatDeg, -90.0, 90.0) * radian;
+    };
+    globe::GeographicCells cells;
+    cells.southRad = latitude(lastRow);
+    cells.northRad = latitude(firstRow);
+    cells.minHeightM = info.minHeight;
+    cells.maxHeightM = info.maxHeight;
+    const auto boundAt = [&](double scale) {
+        // Simplified by 2^d, a drawn triangle spans 2^d cells a side; its slopes are no
+        // steeper than the steepest cell's.
+        cells.lonStepRad = geo.pixelLonDeg * radian * scale;
+        cells.latStepRad = geo.pixelLatDeg * radian * scale;
+        cells.riseEastM = double(rises.east) * scale;
+        cells.riseNorthM = double(rises.north) * scale;
+        return globe::geographicTriangleErrorBound(cells);
+    };
+    NativeGeometricErrors errors;
+    errors.fullM = boundAt(1.0);
+    for (int d = 0; d < 4; ++d)
+        errors.blocksM[static_cast<std::size_t>(d)] = io::roundUpToFloat(boundAt(double(2 << d)));
+    return errors;
 }
 
 const globe::NativeGridGeometry* GlobeSurface::nativeGeometry(const io::PatchId& tile) const {

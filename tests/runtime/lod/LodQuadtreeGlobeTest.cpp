@@ -12,6 +12,8 @@
 #include "terrain/runtime/NativeOwnership.h"
 
 #include "FakeTileResidency.h"
+#include "terrain/globe/GlobePatch.h"
+#include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/pyramid/NativeTiles.h"
 #include "terrain/runtime/GlobeCamera.h"
@@ -469,6 +471,10 @@ io::NativeGridManifest nativeGridNear45N10E(const io::PyramidManifest& m) {
     return native;
 }
 
+// The native tiles' steepest rises between neighbouring samples (TileResidency::
+// residentSampleRises): 4 m across a 4.6 m cell, steep ground.
+constexpr io::SampleRises kNativeTestRises{4.0f, 4.0f};
+
 // The summaries under that grid: face patches with finer data down to kFaceLevels, whose
 // Err(P) halves a level; native tiles at their sources' own samples (Err 0).
 io::PatchInfo nativeTestInfo(const io::PatchId& layoutId) {
@@ -515,6 +521,7 @@ TEST(LodQuadtreeGlobe, FinestPatchesSplitIntoTheNativeTilesOverThem) {
         FakeTileResidencyOptions options;
         options.framesToArrive = 0;
         options.capacity = 1 << 16;
+        options.sampleRises = kNativeTestRises;
         if (failing) options.fails = [](const io::PatchId& id) { return io::isNativeTile(id); };
         FakeTileResidency residency(m.layout, nativeTestInfo, options);
         LodQuadtree lod(residency, surface);
@@ -545,6 +552,16 @@ TEST(LodQuadtreeGlobe, FinestPatchesSplitIntoTheNativeTilesOverThem) {
             EXPECT_EQ(std::count(nativeDraws.begin(), nativeDraws.end(), id), 1);
             EXPECT_TRUE(residency.isPinned(id));
             EXPECT_EQ(id.level, io::kNativeLevelBase);
+        }
+        // A native tile's bound: its Err(P) plus what its flat triangles may stray from the
+        // source's on the ellipsoid at its own slopes, at full resolution and simplified.
+        for (const PatchDraw& d : draws) {
+            if (!io::isNativeTile(d.id)) continue;
+            const io::PatchInfo& info = *residency.residentInfo(d.id);
+            const Surface::NativeGeometricErrors geometric =
+                surface.nativeGeometricErrors(d.id, info, kNativeTestRises);
+            EXPECT_GE(double(d.errorM), double(info.error) + geometric.fullM);
+            EXPECT_EQ(d.bareBlockErrorsM, geometric.blocksM);
         }
         // Each tile owns the ground of the face patches it stands for, and only that: no
         // face patch drawn lies under ground a native tile owns (NativeOwnership.h).
@@ -581,6 +598,33 @@ TEST(LodQuadtreeGlobe, FinestPatchesSplitIntoTheNativeTilesOverThem) {
     }
 }
 
+// A native tile's geometric bound (globe::geographicTriangleErrorBound over its rows) grows
+// with its slopes and toward a pole, and is the ellipsoid's sag alone on flat ground: the
+// sag under a chord of the cell's diagonal, not of its side.
+TEST(LodQuadtreeGlobe, ANativeTilesBoundGrowsWithItsSlopesAndLatitude) {
+    const io::PyramidManifest m = globeManifest();
+    io::NativeGridManifest native = nativeGridNear45N10E(m);
+    const GlobeSurface surface(m, std::span(&native, 1));
+    io::PatchInfo info;
+    info.present = true;
+    info.maxHeight = 500.0f;
+    const io::PatchId tile = io::nativeTileId(0, 3, 3);
+    const double flat = surface.nativeGeometricErrors(tile, info, {0.0f, 0.0f}).fullM;
+    const double steep = surface.nativeGeometricErrors(tile, info, kNativeTestRises).fullM;
+    const double side = globe::Wgs84::kMaxCurvatureRadius * (std::numbers::pi / 180.0) / 24000.0;
+    EXPECT_GE(flat, side * side / (4.0 * globe::Wgs84::kMaxCurvatureRadius));
+    EXPECT_LT(flat, globe::flatTriangleErrorBound(side));
+    EXPECT_GT(steep, 2.0 * flat);
+    const Surface::NativeGeometricErrors simplified =
+        surface.nativeGeometricErrors(tile, info, kNativeTestRises);
+    for (std::size_t d = 1; d < 4; ++d)
+        EXPECT_GT(simplified.blocksM[d], 3.5f * simplified.blocksM[d - 1]) << "about 4× a level";
+    // The same grid moved to 85° N: its rows' tangent raises the slopes' share.
+    native.manifest.georeference.originY = 85.0 + 512.5 / 24000.0;
+    const GlobeSurface polar(m, std::span(&native, 1));
+    EXPECT_GT(polar.nativeGeometricErrors(tile, info, kNativeTestRises).fullM, 2.0 * steep);
+}
+
 // Native tiles are read ahead along the camera's motion as children are
 // (LodOptions::readAheadFrames): a descent from 2 km to 300 m over the grid, tiles arriving 3
 // frames after they are asked for (the waits counted on the way and on the first 10 frames
@@ -598,6 +642,7 @@ TEST(LodQuadtreeGlobe, NativeTilesAreReadAheadAlongTheCameraMotion) {
         options.framesToArrive = 3;
         options.capacity = 1 << 16;
         options.honourPrefetch = true;
+        options.sampleRises = kNativeTestRises;
         FakeTileResidency residency(m.layout, nativeTestInfo, options);
         LodQuadtree lod(residency, surface, LodOptions{.readAheadFrames = readAheadFrames});
         std::vector<PatchDraw> draws;

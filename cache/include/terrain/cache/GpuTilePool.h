@@ -106,6 +106,9 @@ public:
     /// metres, from its uploaded record; nullopt unless resident. With Err(P) it bounds the
     /// patch's drawn Λ (SkirtDepth.h): an infinite λ(d) is never drawn. Render thread only.
     std::optional<float> maxBlockErrorM(const io::PatchId& id) const;
+    /// io::sampleRises of a resident patch's uploaded heights (apron included); nullopt
+    /// unless resident. Render thread only.
+    std::optional<io::SampleRises> sampleRises(const io::PatchId& id) const;
     /// io::coarseCellErrors of a resident patch, from its uploaded record: for every cell of
     /// 2^k × 2^k blocks, k = 1.., how far it may lie from the patch's own surface when drawn
     /// as one quad at factor 1 (add Err(P)). Empty unless resident, or when the layout has
@@ -185,6 +188,7 @@ private:
     int m_pinnedCount = 0;
     std::vector<io::PatchId> m_layerPatch;   // per allocated layer, its patch
     std::vector<float> m_maxBlockErrorM;     // per layer, of its last upload
+    std::vector<io::SampleRises> m_sampleRises;  // per layer, of its last upload
     int m_coarseCellsPerLayer = 0;           // io::coarseCellCount of the layout
     std::vector<float> m_coarseCellErrorsM;  // that many per layer, of its last upload
     std::vector<float> m_cornerScratch;      // io::coarseCellErrors' block-corner grid

@@ -74,4 +74,42 @@ double maxSampleSpacing(int level, int quads);
 /// patch's Err(P) that the planar builder never had.
 double flatTriangleErrorBound(double sampleSpacing, double minHeight = 0.0);
 
+/// Cells of a longitude/latitude grid (a native tile's, or its blocks simplified by 2^d):
+/// their angular size, the latitudes they span and their steepest rise between neighbouring
+/// samples, and the heights they hold.
+struct GeographicCells {
+    double lonStepRad = 0.0;  ///< Δλ of one cell
+    double latStepRad = 0.0;  ///< Δφ of one cell
+    double southRad = 0.0;    ///< the southernmost latitude the cells reach
+    double northRad = 0.0;    ///< the northernmost
+    double riseEastM = 0.0;   ///< largest |height difference| between a sample and its east one
+    double riseNorthM = 0.0;  ///< largest |height difference| between a sample and its north one
+    double minHeightM = 0.0;
+    double maxHeightM = 0.0;
+};
+
+/// How far the flat triangles drawn between a longitude/latitude grid's samples (each cell
+/// split NW–SE, as the source's own triangles) can stray, along the ellipsoid normal, from
+/// those triangles lifted onto the ellipsoid: the height a point of a drawn triangle has, against
+/// the source's height at the point's own latitude and longitude (what GlobeTruth measures).
+///
+/// flatTriangleErrorBound counts only the ellipsoid's sag under a chord. A flat triangle also
+/// strays sideways from the parameter-linear points, and a slope turns that into height: the
+/// sides of a rising cell diverge with the normals (2·h′·n′), and lines of latitude are not
+/// great circles (n_λλ has a poleward part sinφ·cosφ, n_λφ an eastward sinφ). Of F(u, v) =
+/// P(φ, λ) + h·n over a cell's parameters (u east, v south, one cell = 1), the height error of
+/// the chord is ½·Σ b_i d_iᵀ H d_i ≤ λ_max(|H|)/4 (barycentric b_i, offsets d_i to the
+/// vertices; a right triangle of unit legs has Σ b_i |d_i|² ≤ ½), where H bounds the normal
+/// part of F's second derivatives plus the tangential part times the slope:
+///   H_uu = e²/ρ + 2·r_E²/ρ + (Δλ²/Δφ)·r_N·|sinφ cosφ|,
+///   H_uv = Δφ·r_E·|tanφ| + 2·r_E·r_N/ρ,
+///   H_vv = n²/ρ + 2·r_N²/ρ,
+/// with e, n the cells' east and north sides (at the largest radius), r_E, r_N the rises and
+/// ρ the smallest radius of curvature less any depth below the ellipsoid. With 5 % to spare,
+/// plus 2·side/ρ for the third-order terms of cells as large as a simplified 20′ block.
+/// GeographicCellErrorTest checks it against the ellipsoid by brute force, from the equator to
+/// 89.7°. With no slope it is about three quarters of flatTriangleErrorBound; at a rise of one
+/// cell side, or near a pole, it is several times larger.
+double geographicTriangleErrorBound(const GeographicCells& cells);
+
 }  // namespace terrain::globe

@@ -22,4 +22,15 @@ struct HeightRange {
 void blockHeightRanges(const GridView& patch, int blockQuads, HeightRange patchRange,
                        std::span<HeightRange> out);
 
+/// The steepest rises of a tile's samples, metres: the largest |difference| between a
+/// sample and the next along a row (east, on a longitude/latitude grid) and along a column
+/// (north). With the cells' sides they bound the slopes of every triangle drawn between the
+/// samples, simplified or not (globe::geographicTriangleErrorBound). Pairs with a non-finite
+/// sample are skipped.
+struct SampleRises {
+    float east = 0.0f;
+    float north = 0.0f;
+};
+SampleRises sampleRises(const GridView& tile);
+
 }  // namespace terrain::io

@@ -230,6 +230,9 @@ private:
     void pinNative(const io::PatchId& tile);
     void unpinNative(const io::PatchId& tile);
     void emitNative(int node, std::vector<PatchDraw>& out);
+    /// Surface::nativeGeometricErrors of a resident native tile, from its samples' rises.
+    Surface::NativeGeometricErrors nativeGeometricErrorsOf(const io::PatchId& tile,
+                                                           const io::PatchInfo& info) const;
     /// After the frame's draws are listed: each native tile's ground (NativeOwnership.h).
     void assignNativeOwnerships(std::vector<PatchDraw>& out);
     void prefetchBelow(const io::PatchId& id, const io::PatchInfo& heights, double errorM,

@@ -8,8 +8,11 @@
 // "Resident" is the implementation's word for that; the LOD only asks and pins.
 #pragma once
 
+#include "terrain/pyramid/BlockHeightRanges.h"
 #include "terrain/pyramid/PatchRecord.h"
 #include "terrain/pyramid/PyramidLayout.h"
+
+#include <optional>
 
 namespace terrain::runtime {
 
@@ -55,6 +58,14 @@ public:
     /// (for ground-height queries and invariant checks).
     virtual const io::PatchInfo* residentInfo(const io::PatchId& id) const = 0;
     virtual bool isPinned(const io::PatchId& id) const = 0;
+    /// io::sampleRises of `id`'s heights if it is resident now (the steepest rises between
+    /// neighbouring samples, which bound a native tile's drawn slopes); nullopt otherwise,
+    /// and by default (tests' residencies: the LOD then takes the tile's whole height range
+    /// as one rise).
+    virtual std::optional<io::SampleRises> residentSampleRises(const io::PatchId& id) const {
+        (void)id;
+        return std::nullopt;
+    }
 
 protected:
     TileResidency() = default;

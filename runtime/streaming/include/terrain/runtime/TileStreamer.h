@@ -125,6 +125,9 @@ public:
         return m_pool.info(id);
     }
     bool isPinned(const io::PatchId& id) const override { return m_pool.isPinned(id); }
+    std::optional<io::SampleRises> residentSampleRises(const io::PatchId& id) const override {
+        return m_pool.sampleRises(id);
+    }
 
     void endFrame(FrameTelemetry& telemetry);
 

@@ -61,8 +61,8 @@ public:
     bool nativeTilesOver(const io::PatchId& id, std::vector<io::PatchId>& out) const override;
     PatchVolume nativeTileVolume(const io::PatchId& tile, float minHeight,
                                  float maxHeight) const override;
-    double nativeCurvatureError(const io::PatchId& tile) const override;
-    std::array<float, 4> nativeCurvatureBlockErrors(const io::PatchId& tile) const override;
+    NativeGeometricErrors nativeGeometricErrors(const io::PatchId& tile, const io::PatchInfo& info,
+                                                const io::SampleRises& rises) const override;
     std::optional<NativeTilePoint> nativeTileUnder(const glm::dvec3& up, int level) const override;
     const globe::NativeGridGeometry* nativeGeometry(const io::PatchId& tile) const override;
 
@@ -77,8 +77,6 @@ private:
         std::int64_t lastColumn = 0, lastRow = 0;  // of its raster
         double firstLon = 0.0, lastLon = 0.0, northLat = 0.0, southLat = 0.0;
         double spacingM = 0.0;
-        double curvatureErrorM = 0.0;
-        std::array<float, 4> curvatureBlockErrorsM{};  // over blocks simplified by 2^d
 
         /// The whole turns to add to a longitude to bring it nearest the grid's middle (a
         /// grid may run past ±180°).

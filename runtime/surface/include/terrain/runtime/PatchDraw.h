@@ -29,8 +29,8 @@ struct PatchDraw {
     float texelStep = 1.0f;
     /// λ(1..4) of a patch without a tile of its own (bare or virtual): how far the surface
     /// bulges over its blocks simplified by 2^d (plus, for a virtual one, its tile's λ). For a
-    /// patch with its own tile, what is added to the tile's λ: the bulge a native tile's λ
-    /// leaves out (Surface::nativeCurvatureBlockErrors); 0 for a face patch.
+    /// patch with its own tile, what is added to the tile's λ: the sag and slope terms a native
+    /// tile's λ leaves out (Surface::nativeGeometricErrors, blocksM); 0 for a face patch.
     std::array<float, 4> bareBlockErrorsM{};
     /// A native tile: the face patch (layout id) whose imagery it drapes, the finest of those
     /// that split into it (ImagerySelection; the imagery's tiles are the faces';

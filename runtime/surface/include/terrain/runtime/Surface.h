@@ -14,6 +14,7 @@
 
 #include "terrain/globe/NativeOffset.h"
 #include "terrain/globe/PatchBounds.h"
+#include "terrain/pyramid/BlockHeightRanges.h"
 #include "terrain/pyramid/NativeTiles.h"
 #include "terrain/pyramid/PatchRecord.h"
 #include "terrain/pyramid/PyramidLayout.h"
@@ -131,12 +132,18 @@ public:
     /// A native tile's bounding volume between its lowest and highest heights.
     virtual PatchVolume nativeTileVolume(const io::PatchId& tile, float minHeight,
                                          float maxHeight) const;
-    /// How far a native tile's flat triangles can fall under the ellipsoid between its samples:
-    /// what its Err(P), measured at the sources' samples, leaves out.
-    virtual double nativeCurvatureError(const io::PatchId& /*tile*/) const { return 0.0; }
-    /// The same over its blocks simplified by 2^d, d = 1..4: what its tile's λ(d), a planar
-    /// pyramid's, leaves out.
-    virtual std::array<float, 4> nativeCurvatureBlockErrors(const io::PatchId& /*tile*/) const {
+    /// How far a native tile's flat triangles, drawn between its samples, can stray along the
+    /// normal from the sources' own triangles on the ellipsoid (its sag under a chord, and its
+    /// slopes turning the triangles' sideways offset into height): what its Err(P), measured at
+    /// the sources' samples, leaves out. `info` is the tile's summary, `rises` its samples'
+    /// steepest rises (io::sampleRises).
+    struct NativeGeometricErrors {
+        double fullM = 0.0;              ///< drawn at full resolution
+        std::array<float, 4> blocksM{};  ///< over its blocks simplified by 2^d, d = 1..4
+    };
+    virtual NativeGeometricErrors nativeGeometricErrors(const io::PatchId& /*tile*/,
+                                                        const io::PatchInfo& /*info*/,
+                                                        const io::SampleRises& /*rises*/) const {
         return {};
     }
     /// A point of a native tile: the tile and the point's tile coordinates ([0, 1]², sample i
