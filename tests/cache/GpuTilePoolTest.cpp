@@ -377,5 +377,27 @@ TEST_F(GpuTilePoolTest, MaxBlockErrorLeavesOutSimplificationsTooCoarseToStore) {
     pool.endFrame();
 }
 
+TEST_F(GpuTilePoolTest, KeepsEachUploadsSteepestRises) {
+    // What bounds the slopes of a globe patch's flat triangles (io::sampleRises), kept per
+    // layer from the heights uploaded; none for a patch that is not resident.
+    cache::GpuTilePool pool = makePool(2, 2 * cache::GpuTilePool::bytesPerLayer(layout()));
+    pool.beginFrame();
+    const io::PatchId root{.level = 0, .x = 0, .y = 0};
+    io::PatchRecord record = makeRecord(root);
+    const int side = layout().tileSamples();
+    record.heights[static_cast<std::size_t>(side + 2)] += 40.0f;  // a spike in the second row
+    const io::SampleRises expected =
+        io::sampleRises(io::GridView{record.heights.data(), side, side});
+    EXPECT_FALSE(pool.sampleRises(root).has_value());
+    ASSERT_TRUE(pool.allocate(root));
+    ASSERT_TRUE(pool.upload(record));
+    const std::optional<io::SampleRises> kept = pool.sampleRises(root);
+    ASSERT_TRUE(kept.has_value());
+    EXPECT_EQ(kept->east, expected.east);
+    EXPECT_EQ(kept->north, expected.north);
+    EXPECT_GE(kept->east, 40.0f);
+    pool.endFrame();
+}
+
 }  // namespace
 }  // namespace terrain::test

@@ -45,7 +45,7 @@ struct FakeTileResidencyOptions {
     /// acquired again in that frame (as the streamer cancels what no one wants).
     bool honourPrefetch = false;
     /// What every resident patch reports as its samples' steepest rises
-    /// (TileResidency::residentSampleRises); none: the LOD takes a tile's height range.
+    /// (TileResidency::residentSampleRises); none: the LOD bounds the sag alone.
     std::optional<io::SampleRises> sampleRises = std::nullopt;
 };
 

@@ -171,6 +171,24 @@ double flatTriangleErrorBound(double sampleSpacing, double minHeight) {
     return 1.001 * sampleSpacing * sampleSpacing / (3.0 * radius);
 }
 
+double faceTriangleErrorBound(double sampleAngle, double riseS, double riseT) {
+    const double sag = flatTriangleErrorBound(sampleAngle * Wgs84::kMaxCurvatureRadius);
+    if (riseS <= 0.0 && riseT <= 0.0) return sag;
+    // The tangent adjustment's n″ along the ground, per α² (0.71 at most over a face).
+    constexpr double kSideways = 0.75;
+    // A cell's shortest side per α·ρ, and the sine of the narrowest angle of its sides.
+    constexpr double kShortestSide = 0.7071, kNarrowestSine = 0.8660;
+    const double a = sampleAngle, bend = kSideways * Wgs84::kMaxCurvatureRadius * a * a;
+    const double hss = 2.0 * riseS * a + bend;
+    const double hst = (riseS + riseT) * a + bend;
+    const double htt = 2.0 * riseT * a + bend;
+    const double largest =
+        0.5 * (hss + htt) + std::sqrt(0.25 * (hss - htt) * (hss - htt) + hst * hst);
+    const double slope =
+        (riseS + riseT) / (kShortestSide * a * Wgs84::kMinCurvatureRadius * kNarrowestSine);
+    return sag + 1.05 * slope * largest / 4.0;
+}
+
 double geographicTriangleErrorBound(const GeographicCells& cells) {
     const double small = Wgs84::kMinCurvatureRadius + std::min(cells.minHeightM, 0.0);
     const double large = Wgs84::kMaxCurvatureRadius + std::max(cells.maxHeightM, 0.0);

@@ -172,8 +172,10 @@ void LodQuadtree::makeDataNode(Node& node, const io::PatchId& id, const io::Patc
     // split into them reduces.
     m_nativeScratch.clear();
     node.nativeCapable = !node.finerData && m_surface.nativeTilesOver(id, m_nativeScratch);
-    node.splitM = node.finerData || node.nativeCapable ? double(info.error)
-                                                       : m_surface.curvatureError(id.level);
+    node.rises = residentRises(id);
+    node.splitM = node.finerData || node.nativeCapable
+                      ? double(info.error)
+                      : m_surface.flatTriangleError(id.level, node.rises);
     node.texelOffsetX = node.texelOffsetY = 0.0;
     node.texelStep = 1.0;
     m_residency.pin(id);
@@ -189,7 +191,12 @@ void LodQuadtree::makeChild(Node& child, const Node& parent, const SurfaceChild&
     }
     child.id = at.id;
     child.finerData = false;
-    child.splitM = m_surface.curvatureError(at.id.level);
+    // A virtual patch's samples interpolate its tile's between theirs, half as far apart as
+    // its parent's: half the rise. A bare one is flat.
+    child.rises = parent.kind == NodeKind::Bare
+                      ? io::SampleRises{}
+                      : io::SampleRises{0.5f * parent.rises.east, 0.5f * parent.rises.north};
+    child.splitM = m_surface.flatTriangleError(at.id.level, child.rises);
     if (parent.kind == NodeKind::Bare) {
         child.kind = NodeKind::Bare;
         child.layer = -1;
@@ -290,14 +297,15 @@ int LodQuadtree::trySplitNative(int index, double screenError) {
     return 1;
 }
 
+io::SampleRises LodQuadtree::residentRises(const io::PatchId& id) const {
+    // A residency that does not know a tile's heights (the tests' fakes) reports none: the
+    // flat triangles' sag alone.
+    return m_residency.residentSampleRises(id).value_or(io::SampleRises{});
+}
+
 Surface::NativeGeometricErrors LodQuadtree::nativeGeometricErrorsOf(
     const io::PatchId& tile, const io::PatchInfo& info) const {
-    // Without the tile's heights at hand, its whole height range as one rise bounds its
-    // slopes too.
-    const auto range = static_cast<float>(std::max(0.0, double(info.maxHeight) - info.minHeight));
-    const io::SampleRises rises =
-        m_residency.residentSampleRises(tile).value_or(io::SampleRises{range, range});
-    return m_surface.nativeGeometricErrors(tile, info, rises);
+    return m_surface.nativeGeometricErrors(tile, info, residentRises(tile));
 }
 
 void LodQuadtree::emitNative(int index, std::vector<PatchDraw>& out) {
@@ -593,7 +601,7 @@ PatchDraw LodQuadtree::drawOf(const Node& node) const {
         draw.maxHeight = node.info.maxHeight;
     }
     if (node.kind != NodeKind::Data)
-        draw.bareBlockErrorsM = m_surface.curvatureBlockErrors(node.id.level);
+        draw.bareBlockErrorsM = m_surface.flatTriangleBlockErrors(node.id.level, node.rises);
     if (node.kind == NodeKind::Virtual) {
         draw.isVirtual = true;
         draw.texelOffset = {static_cast<float>(node.texelOffsetX),
@@ -679,7 +687,8 @@ bool LodQuadtree::start() {
         node.id = node.tile = id;
         node.kind = NodeKind::Bare;
         node.awaitingTile = true;
-        node.splitM = m_surface.curvatureError(id.level);
+        node.rises = {};
+        node.splitM = m_surface.flatTriangleError(id.level, node.rises);
         node.errorM = static_cast<float>(node.splitM);
         node.volume = m_surface.volume(id, 0.0f, 0.0f);
     }

@@ -216,17 +216,24 @@ int GlobeSurface::children(const io::PatchId& id, std::array<SurfaceChild, 4>& o
     return 4;
 }
 
-double GlobeSurface::curvatureError(int level) const {
-    return globe::flatTriangleErrorBound(sampleSpacingM(level));
+double GlobeSurface::flatTriangleError(int level, const io::SampleRises& rises) const {
+    return globe::faceTriangleErrorBound(sampleAngle(level), rises.east, rises.north);
 }
 
-std::array<float, 4> GlobeSurface::curvatureBlockErrors(int level) const {
-    const double spacing = sampleSpacingM(level);
+std::array<float, 4> GlobeSurface::flatTriangleBlockErrors(int level,
+                                                           const io::SampleRises& rises) const {
     std::array<float, 4> errors{};
-    for (int d = 0; d < 4; ++d)
-        errors[static_cast<std::size_t>(d)] =
-            static_cast<float>(globe::flatTriangleErrorBound(spacing * double(2 << d)));
+    for (int d = 0; d < 4; ++d) {
+        // Simplified by 2^d, a drawn triangle spans 2^d cells a side, no steeper than one.
+        const double scale = double(2 << d);
+        errors[static_cast<std::size_t>(d)] = io::roundUpToFloat(globe::faceTriangleErrorBound(
+            sampleAngle(level) * scale, double(rises.east) * scale, double(rises.north) * scale));
+    }
     return errors;
+}
+
+double GlobeSurface::sampleAngle(int level) const {
+    return globe::maxSampleAngle(level - io::ManifestGlobe::kLevelOffset, layout().patchQuads());
 }
 
 double GlobeSurface::sampleSpacingM(int level) const {

@@ -311,3 +311,16 @@ TEST(PatchErrors, BlockHeightRangesAreEachBlocksOwnSamples) {
         EXPECT_EQ(r.high, 7.0f);
     }
 }
+
+// A tile's steepest rises between neighbouring samples, along its rows and its columns,
+// skipping pairs with a sample without a height (what bounds a globe patch's slopes).
+TEST(SampleRises, AreTheLargestDifferencesAlongRowsAndColumns) {
+    constexpr int kSide = 3;
+    std::vector<float> heights{0.0f, 2.0f, 1.0f,    // row 0: east rises 2, 1
+                               5.0f, NAN,  1.5f,    // row 1
+                               4.0f, 4.5f, -6.0f};  // row 2: east rises 0.5, 10.5
+    const terrain::io::SampleRises rises =
+        terrain::io::sampleRises(terrain::io::GridView{heights.data(), kSide, kSide});
+    EXPECT_EQ(rises.east, 10.5f);
+    EXPECT_EQ(rises.north, 7.5f);  // 1.5 → −6 down the last column
+}

@@ -26,6 +26,7 @@
 #include <iostream>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <span>
 #include <tuple>
 #include <vector>
@@ -214,6 +215,58 @@ TEST(LodQuadtreeGlobe, DataPatchesSplitIntoResidentChildrenAndAbsentOnesAreVirtu
     EXPECT_EQ(deepestData, kFaceLevels);  // data patches stop at the pyramid's finest level
     EXPECT_GT(stats.drawnVirtual, 0u);
     EXPECT_EQ(stats.drawnBare, 0u);
+}
+
+// Virtual patches below the finest data bound their flat triangles at their tile's slopes
+// (Surface::flatTriangleError with the tile's rises, halved a level): over steep ground
+// they stray further from what their samples stand for than the sag alone says, so the LOD
+// splits them deeper for the same ε; each draw carries that bound.
+TEST(LodQuadtreeGlobe, VirtualPatchesOverSteepGroundBoundTheirSlopesAndSplitDeeper) {
+    const io::PyramidManifest m = globeManifest();
+    // Data down to face level 6 (a sample every 1.2 km), 1,000 m of relief.
+    constexpr int kFinest = 6;
+    const auto infoOf = [](const io::PatchId& layoutId) {
+        io::PatchInfo info;
+        info.present = true;
+        info.maxHeight = 1000.0f;
+        const globe::GlobePatchId id = io::globePatchOf(layoutId);
+        info.error = id.level < kFinest ? static_cast<float>(4e3 / double(1 << id.level)) : 0.0f;
+        info.presentChildren = id.level < kFinest ? 0b1111 : 0;
+        return info;
+    };
+    const GlobeSurface surface(m);
+    const auto deepestVirtual = [&](std::optional<io::SampleRises> rises) {
+        FakeTileResidencyOptions options;
+        options.framesToArrive = 0;
+        options.capacity = 1 << 16;
+        options.sampleRises = rises;
+        FakeTileResidency residency(m.layout, infoOf, options);
+        LodQuadtree lod(residency, surface);
+        std::vector<PatchDraw> draws;
+        for (int frame = 0; frame < 16; ++frame) {
+            residency.beginFrame();
+            lod.update(cameraAt(20.0, 30.0, 50.0, -30.0), draws);
+            residency.endFrame();
+        }
+        EXPECT_EQ(lod.checkInvariants(), std::nullopt);
+        int deepest = 0;
+        for (const PatchDraw& d : draws) {
+            if (!d.isVirtual) continue;
+            const int level = io::globePatchOf(d.id).level;
+            deepest = std::max(deepest, level);
+            const io::SampleRises tile = rises.value_or(io::SampleRises{});
+            const io::SampleRises own{tile.east * d.texelStep, tile.north * d.texelStep};
+            EXPECT_GE(double(d.errorM), surface.flatTriangleError(d.id.level, own) * 0.999999);
+            EXPECT_EQ(d.bareBlockErrorsM, surface.flatTriangleBlockErrors(d.id.level, own));
+        }
+        return deepest;
+    };
+    const int flat = deepestVirtual(std::nullopt);
+    const int steep = deepestVirtual(io::SampleRises{1000.0f, 1000.0f});
+    std::cout << "deepest virtual level: " << flat << " without rises, " << steep
+              << " over steep ground\n";
+    EXPECT_GT(flat, kFinest);
+    EXPECT_GT(steep, flat);
 }
 
 // A teleport low over a sparse globe: each face stores its x = 0 column only, so a patch's

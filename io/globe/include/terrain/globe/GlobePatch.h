@@ -74,6 +74,21 @@ double maxSampleSpacing(int level, int quads);
 /// patch's Err(P) that the planar builder never had.
 double flatTriangleErrorBound(double sampleSpacing, double minHeight = 0.0);
 
+/// flatTriangleErrorBound for cells of a cube face whose samples are `sampleAngle` apart at
+/// most (maxSampleAngle, times 2^k for a block simplified by 2^k, halved for each level a
+/// virtual patch lies below its tile), plus what their slopes add: the largest |height
+/// difference| between neighbouring samples along s (`riseS`) and t (`riseT`), metres. A flat
+/// triangle lies sideways of the points of the same face coordinates (its corners' normals
+/// diverge, the sides of a rising cell with them, 2·h′·n′; and the tangent adjustment spaces a
+/// face line's points unevenly, n″ along the ground up to 0.71·α²), and a slope turns that into
+/// height. Per cell: the sideways second derivatives are at most 2·r_s·α + c·ρ·α² (s, s),
+/// (r_s + r_t)·α + c·ρ·α² (s, t) and 2·r_t·α + c·ρ·α² (t, t), c = 0.75; the chord strays
+/// sideways by at most a quarter of their largest eigenvalue (a right triangle of unit legs
+/// has Σ b_i |d_i|² ≤ ½), and the slope is at most (r_s + r_t)/(0.707·α·ρ_min·sin 60°) (a
+/// cell's sides are at least 0.707·α·ρ and meet at 60° or more). FaceCellErrorTest checks it
+/// against the ellipsoid by brute force; with no rise it is flatTriangleErrorBound.
+double faceTriangleErrorBound(double sampleAngle, double riseS, double riseT);
+
 /// Cells of a longitude/latitude grid (a native tile's, or its blocks simplified by 2^d):
 /// their angular size, the latitudes they span and their steepest rise between neighbouring
 /// samples, and the heights they hold.

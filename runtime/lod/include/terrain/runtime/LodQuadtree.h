@@ -21,7 +21,7 @@
 //
 // A globe pyramid is sparse (DESIGN.md, "The globe"): where it holds no patch the tree draws
 // the bare ellipsoid (height 0), whose Err(P) is how far its flat triangles fall under the
-// ellipsoid (Surface::curvatureError), so bare patches refine with distance too. A child the
+// ellipsoid (Surface::flatTriangleError), so bare patches refine with distance too. A child the
 // pyramid does not store under a data patch is virtual: it draws its parent's tile over its
 // quadrant (interpolated), as do its own children, and splits for the curvature alone (the
 // data's error cannot shrink without finer data). A root not yet resident is drawn bare
@@ -186,6 +186,9 @@ private:
         int layer = -1;       // the drawn tile's layer; −1: bare
         io::PatchId tile;     // the drawn tile: `id`, or a virtual node's ancestor
         double texelOffsetX = 0.0, texelOffsetY = 0.0, texelStep = 1.0;
+        // Its samples' steepest rises (its tile's, halved for each level a virtual patch lies
+        // below it; none for a bare patch): what its flat triangles' slope terms need.
+        io::SampleRises rises{};
         int parent = -1;
         int firstChild = -1;  // childCount consecutive nodes
         std::uint8_t childCount = 0;
@@ -230,6 +233,8 @@ private:
     void pinNative(const io::PatchId& tile);
     void unpinNative(const io::PatchId& tile);
     void emitNative(int node, std::vector<PatchDraw>& out);
+    /// The steepest rises of a resident tile's samples (TileResidency::residentSampleRises).
+    io::SampleRises residentRises(const io::PatchId& id) const;
     /// Surface::nativeGeometricErrors of a resident native tile, from its samples' rises.
     Surface::NativeGeometricErrors nativeGeometricErrorsOf(const io::PatchId& tile,
                                                            const io::PatchInfo& info) const;

@@ -59,9 +59,9 @@ public:
     virtual const io::PatchInfo* residentInfo(const io::PatchId& id) const = 0;
     virtual bool isPinned(const io::PatchId& id) const = 0;
     /// io::sampleRises of `id`'s heights if it is resident now (the steepest rises between
-    /// neighbouring samples, which bound a native tile's drawn slopes); nullopt otherwise,
-    /// and by default (tests' residencies: the LOD then takes the tile's whole height range
-    /// as one rise).
+    /// neighbouring samples, which bound the slopes of the flat triangles drawn from it);
+    /// nullopt otherwise, and by default (tests' residencies, which know no heights: the LOD
+    /// then bounds the triangles' sag alone).
     virtual std::optional<io::SampleRises> residentSampleRises(const io::PatchId& id) const {
         (void)id;
         return std::nullopt;

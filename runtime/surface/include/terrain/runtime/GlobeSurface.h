@@ -45,8 +45,9 @@ public:
     }
     bool drawsBareSurface() const override { return true; }
 
-    double curvatureError(int level) const override;
-    std::array<float, 4> curvatureBlockErrors(int level) const override;
+    double flatTriangleError(int level, const io::SampleRises& rises) const override;
+    std::array<float, 4> flatTriangleBlockErrors(int level,
+                                                 const io::SampleRises& rises) const override;
     double sampleSpacingM(int level) const override;
 
     PatchVolume volume(const io::PatchId& id, float minHeight, float maxHeight) const override;
@@ -67,6 +68,8 @@ public:
     const globe::NativeGridGeometry* nativeGeometry(const io::PatchId& tile) const override;
 
 private:
+    /// The largest angle between neighbouring samples of `level` (globe::maxSampleAngle).
+    double sampleAngle(int level) const;
     /// A native grid as the LOD and the draw need it: where its sample centres reach
     /// (degrees; longitudes as its georeference runs, maybe past ±180°), its tiles, and how far
     /// apart its samples lie at most.

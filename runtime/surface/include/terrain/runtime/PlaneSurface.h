@@ -24,8 +24,10 @@ public:
     }
     bool drawsBareSurface() const override { return false; }
 
-    double curvatureError(int) const override { return 0.0; }
-    std::array<float, 4> curvatureBlockErrors(int) const override { return {}; }
+    double flatTriangleError(int, const io::SampleRises&) const override { return 0.0; }
+    std::array<float, 4> flatTriangleBlockErrors(int, const io::SampleRises&) const override {
+        return {};
+    }
     double sampleSpacingM(int level) const override;
 
     PatchVolume volume(const io::PatchId& id, float minHeight, float maxHeight) const override;

@@ -92,12 +92,15 @@ public:
 
     // What a patch's flat triangles miss.
 
-    /// How far the flat triangles of a patch of `level` fall under the surface: the Err(P)
-    /// of a bare patch, and what a patch without finer data can still reduce by splitting
-    /// (0 on the plane).
-    virtual double curvatureError(int level) const = 0;
+    /// How far the flat triangles of a patch of `level` stray from the surface its samples
+    /// stand for (their sag under the ellipsoid, and the sideways offset its slopes turn into
+    /// height: `rises` between its neighbouring samples, io::sampleRises; none for a bare
+    /// patch): the Err(P) of a bare patch, and what a patch without finer data can still
+    /// reduce by splitting (0 on the plane).
+    virtual double flatTriangleError(int level, const io::SampleRises& rises) const = 0;
     /// The same for a block simplified by 2^d, d = 1..4 (λ of a patch without a tile).
-    virtual std::array<float, 4> curvatureBlockErrors(int level) const = 0;
+    virtual std::array<float, 4> flatTriangleBlockErrors(int level,
+                                                         const io::SampleRises& rises) const = 0;
     /// The largest distance between two neighbouring samples of `level`, metres.
     virtual double sampleSpacingM(int level) const = 0;
 
