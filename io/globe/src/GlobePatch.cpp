@@ -186,7 +186,8 @@ double faceTriangleErrorBound(double sampleAngle, double riseS, double riseT) {
         0.5 * (hss + htt) + std::sqrt(0.25 * (hss - htt) * (hss - htt) + hst * hst);
     const double slope =
         (riseS + riseT) / (kShortestSide * a * Wgs84::kMinCurvatureRadius * kNarrowestSine);
-    return sag + 1.05 * slope * largest / 4.0;
+    // Σ b_i |d_i|² ≤ ⅔ of a cell side², as for the sag (flatTriangleErrorBound).
+    return sag + 1.05 * slope * largest / 3.0;
 }
 
 double geographicTriangleErrorBound(const GeographicCells& cells) {
@@ -215,7 +216,9 @@ double geographicTriangleErrorBound(const GeographicCells& cells) {
     const double largest =
         0.5 * (huu + hvv) + std::sqrt(0.25 * (huu - hvv) * (huu - hvv) + huv * huv);
     const double side = std::max(east, northSide);
-    return (1.05 + 2.0 * side / small) * largest / 4.0;
+    // Σ b_i |d_i|² is at most the triangle's circumradius², ⅔ of a cell side² for the
+    // tessellator's triangles (transition strips included), as flatTriangleErrorBound takes.
+    return (1.05 + 2.0 * side / small) * largest / 3.0;
 }
 
 }  // namespace terrain::globe

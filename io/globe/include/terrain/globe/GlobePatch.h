@@ -83,8 +83,8 @@ double flatTriangleErrorBound(double sampleSpacing, double minHeight = 0.0);
 /// face line's points unevenly, n″ along the ground up to 0.71·α²), and a slope turns that into
 /// height. Per cell: the sideways second derivatives are at most 2·r_s·α + c·ρ·α² (s, s),
 /// (r_s + r_t)·α + c·ρ·α² (s, t) and 2·r_t·α + c·ρ·α² (t, t), c = 0.75; the chord strays
-/// sideways by at most a quarter of their largest eigenvalue (a right triangle of unit legs
-/// has Σ b_i |d_i|² ≤ ½), and the slope is at most (r_s + r_t)/(0.707·α·ρ_min·sin 60°) (a
+/// sideways by at most a third of their largest eigenvalue (Σ b_i |d_i|² ≤ ⅔, as for the
+/// sag), and the slope is at most (r_s + r_t)/(0.707·α·ρ_min·sin 60°) (a
 /// cell's sides are at least 0.707·α·ρ and meet at 60° or more). FaceCellErrorTest checks it
 /// against the ellipsoid by brute force; with no rise it is flatTriangleErrorBound.
 double faceTriangleErrorBound(double sampleAngle, double riseS, double riseT);
@@ -113,8 +113,10 @@ struct GeographicCells {
 /// sides of a rising cell diverge with the normals (2·h′·n′), and lines of latitude are not
 /// great circles (n_λλ has a poleward part sinφ·cosφ, n_λφ an eastward sinφ). Of F(u, v) =
 /// P(φ, λ) + h·n over a cell's parameters (u east, v south, one cell = 1), the height error of
-/// the chord is ½·Σ b_i d_iᵀ H d_i ≤ λ_max(|H|)/4 (barycentric b_i, offsets d_i to the
-/// vertices; a right triangle of unit legs has Σ b_i |d_i|² ≤ ½), where H bounds the normal
+/// the chord is ½·Σ b_i d_iᵀ H d_i ≤ λ_max(|H|)/3 (barycentric b_i, offsets d_i to the
+/// vertices: Σ b_i |d_i|² is at most the triangle's circumradius², which flatTriangleErrorBound
+/// takes as ⅔ of a cell side² for every triangle the tessellator draws, transition strips
+/// included; ½ for the grid's own right triangles), where H bounds the normal
 /// part of F's second derivatives plus the tangential part times the slope:
 ///   H_uu = e²/ρ + 2·r_E²/ρ + (Δλ²/Δφ)·r_N·|sinφ cosφ|,
 ///   H_uv = Δφ·r_E·|tanφ| + 2·r_E·r_N/ρ,
@@ -123,8 +125,8 @@ struct GeographicCells {
 /// ρ the smallest radius of curvature less any depth below the ellipsoid. With 5 % to spare,
 /// plus 2·side/ρ for the third-order terms of cells as large as a simplified 20′ block.
 /// GeographicCellErrorTest checks it against the ellipsoid by brute force, from the equator to
-/// 89.7°. With no slope it is about three quarters of flatTriangleErrorBound; at a rise of one
-/// cell side, or near a pole, it is several times larger.
+/// 89.7°. With no slope it is about flatTriangleErrorBound; at a rise of one cell side, or
+/// near a pole, it is several times larger.
 double geographicTriangleErrorBound(const GeographicCells& cells);
 
 }  // namespace terrain::globe
