@@ -71,6 +71,12 @@ const std::array<std::array<FaceEdge, 4>, kCubeFaces>& faceEdges() {
     return edges;
 }
 
+// The largest eigenvalue of the symmetric matrix [[a, b], [b, c]]: how far a chord's
+// second derivatives bend it along the worst direction.
+double largestEigenvalue(double a, double b, double c) {
+    return 0.5 * (a + c) + std::sqrt(0.25 * (a - c) * (a - c) + b * b);
+}
+
 }  // namespace
 
 PatchNeighbour neighbourOf(const GlobePatchId& id, PatchSide side) {
@@ -182,8 +188,7 @@ double faceTriangleErrorBound(double sampleAngle, double riseS, double riseT) {
     const double hss = 2.0 * riseS * a + bend;
     const double hst = (riseS + riseT) * a + bend;
     const double htt = 2.0 * riseT * a + bend;
-    const double largest =
-        0.5 * (hss + htt) + std::sqrt(0.25 * (hss - htt) * (hss - htt) + hst * hst);
+    const double largest = largestEigenvalue(hss, hst, htt);
     const double slope =
         (riseS + riseT) / (kShortestSide * a * Wgs84::kMinCurvatureRadius * kNarrowestSine);
     // Σ b_i |d_i|² ≤ ⅔ of a cell side², as for the sag (flatTriangleErrorBound).
@@ -213,8 +218,7 @@ double geographicTriangleErrorBound(const GeographicCells& cells) {
         (east * east + 2.0 * rE * rE) / small + (b > 0.0 ? a * a / b : 0.0) * rN * sinCos;
     const double huv = b * rE * tanFarthest + 2.0 * rE * rN / small;
     const double hvv = (northSide * northSide + 2.0 * rN * rN) / small;
-    const double largest =
-        0.5 * (huu + hvv) + std::sqrt(0.25 * (huu - hvv) * (huu - hvv) + huv * huv);
+    const double largest = largestEigenvalue(huu, huv, hvv);
     const double side = std::max(east, northSide);
     // Σ b_i |d_i|² is at most the triangle's circumradius², ⅔ of a cell side² for the
     // tessellator's triangles (transition strips included), as flatTriangleErrorBound takes.
