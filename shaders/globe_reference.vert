@@ -21,12 +21,11 @@ void main() {
     int patchQuads = u_frame.tessellation.z;
     vec2 s = vec2(gl_VertexID % (patchQuads + 1), gl_VertexID / (patchQuads + 1));
     vec2 texel = tileTexel(region.texelMap, s);
-    bool between = region.texelMap.w != 0.0;
-    float h = tileHeight(texel, between, layer);
+    float h = tileHeight(texel, region.texelMap.w, layer);
     vec3 direction;
     precise vec2 uv = s / float(patchQuads);
     vec3 position = globePositionM(region, uv, h, direction);
-    o_normal = globeShadingNormal(region, texel, between, direction);
+    o_normal = globeShadingNormal(region, texel, region.texelMap.w, direction);
     o_heightM = h;
     o_instance = gl_InstanceID;
     o_sample = s;

@@ -74,13 +74,17 @@ float globeAtan(float x) {
     return atan(x);
 }
 
-// Δd = d − d0 of a native tile's point at tile coordinates `uv` (io/globe NativeOffset.h,
+// Δd = d − d0 of a native tile's point at patch coordinates `uv` (io/globe NativeOffset.h,
 // whose fields these are): placement0 (∂λ/∂u, u0, v0, λ0), placement1.xy (φ0, ∂φ/∂v); the rest
 // as a face patch's. Longitude and latitude as reference + difference, and the direction's
 // difference from sin(a0 + Δ/2)·sin(Δ/2), never as the difference of two cosines.
 vec3 nativeDeltaDirection(PatchInstance p, vec2 uv) {
-    precise float deltaLon = p.placement0.x * (uv.x - p.placement0.y);
-    precise float deltaLat = p.placement1.y * (uv.y - p.placement0.z);
+    // A window's coordinates on its tile (runtime/draw nativeTileInstance): texelMap's offset in
+    // tile samples, placement4.w 1 / quads; exact in float, powers of two. A whole tile's are
+    // its own.
+    precise vec2 tileUv = p.texelMap.xy * p.placement4.w + uv * p.texelMap.z;
+    precise float deltaLon = p.placement0.x * (tileUv.x - p.placement0.y);
+    precise float deltaLat = p.placement1.y * (tileUv.y - p.placement0.z);
     float lon0 = p.placement0.w, lat0 = p.placement1.x;
     precise float halfLon = globeSin(0.5 * deltaLon);
     precise float halfLat = globeSin(0.5 * deltaLat);
@@ -167,14 +171,30 @@ vec3 globeTiltedNormal(PatchInstance p, vec2 slope, vec3 up) {
 
 // The shading normal at tile sample `texel`: the ellipsoid normal `direction` tilted by the
 // height differences across it over the patch's sample spacing (metres along s and t).
-vec3 globeShadingNormal(PatchInstance p, vec2 texel, bool between, vec3 direction) {
+vec3 globeSampleShadingNormal(PatchInstance p, vec2 texel, float mode, vec3 direction) {
     int layer = p.layerLevel.x;
-    float dx = between ? heightBetween(texel + vec2(1, 0), layer) - heightBetween(texel - vec2(1, 0), layer)
-                       : heightAt(ivec2(texel) + ivec2(1, 0), layer) - heightAt(ivec2(texel) - ivec2(1, 0), layer);
-    float dy = between ? heightBetween(texel + vec2(0, 1), layer) - heightBetween(texel - vec2(0, 1), layer)
-                       : heightAt(ivec2(texel) + ivec2(0, 1), layer) - heightAt(ivec2(texel) - ivec2(0, 1), layer);
+    float dx = tileHeight(texel + vec2(1, 0), mode, layer) - tileHeight(texel - vec2(1, 0), mode, layer);
+    float dy = tileHeight(texel + vec2(0, 1), mode, layer) - tileHeight(texel - vec2(0, 1), mode, layer);
     return globeTiltedNormal(p, vec2(dx / (2.0 * p.placement4.x), dy / (2.0 * p.placement4.y)),
                              direction);
+}
+
+vec3 globeShadingNormal(PatchInstance p, vec2 texel, float mode, vec3 direction) {
+    if (mode != 2.0) return globeSampleShadingNormal(p, texel, mode, direction);
+    // A native window shades as its tile drawn whole does (terrain.frag, fragmentNormal): the
+    // tile's sample normals blended on the source's triangle under the point, so a window and
+    // its neighbours of other depths shade alike along their boundaries. The last cell's base
+    // (texel quads, placement4.w being 1 / quads) keeps its corners' differences on the apron.
+    vec2 base = min(floor(texel), vec2(1.0 / p.placement4.w));
+    vec2 f = texel - base;
+    vec3 a = globeSampleShadingNormal(p, base, 0.0, direction);
+    vec3 d = globeSampleShadingNormal(p, base + vec2(1, 1), 0.0, direction);
+    if (f.x >= f.y) {
+        vec3 b = globeSampleShadingNormal(p, base + vec2(1, 0), 0.0, direction);
+        return normalize(a + (b - a) * f.x + (d - b) * f.y);
+    }
+    vec3 c = globeSampleShadingNormal(p, base + vec2(0, 1), 0.0, direction);
+    return normalize(a + (d - c) * f.x + (c - a) * f.y);
 }
 
 // A vertex: patch sample `s` at height h, lowered by `dropM` (a skirt's) down the ellipsoid
@@ -217,8 +237,8 @@ vec3 surfaceNormalFromSlopes(PatchInstance p, vec2 slope, vec3 up) {
     return globeTiltedNormal(p, slope / metresPerSample, up);
 }
 
-vec3 surfaceShadingNormal(PatchInstance patch_, vec2 texel, bool between, vec3 up) {
-    return globeShadingNormal(patch_, texel, between, up);
+vec3 surfaceShadingNormal(PatchInstance patch_, vec2 texel, float mode, vec3 up) {
+    return globeShadingNormal(patch_, texel, mode, up);
 }
 
 // The globe has no edge to clip (u_frame.demExtent is ±1e30).

@@ -57,7 +57,7 @@ vec3 surfaceNormalFromSlopes(PatchInstance patch_, vec2 slope, vec3 up) {
 
 // The shading normal at tile sample `texel`: central differences, which the one-sample apron
 // makes available on the patch border too. Rows run south: +row is −y in the world.
-vec3 surfaceShadingNormal(PatchInstance patch_, vec2 texel, bool between, vec3 up) {
+vec3 surfaceShadingNormal(PatchInstance patch_, vec2 texel, float mode, vec3 up) {
     int layer = patch_.layerLevel.x;
     ivec2 t = ivec2(texel);
     vec2 metresPerSample = patchSampleSpacingM(patch_);

@@ -45,8 +45,8 @@ layout(location = 6) in vec2 i_patchSample;  // the patch's samples, apron exclu
 layout(location = 8) in vec3 i_up;
 
 vec3 sampleNormal(PatchInstance patch_, ivec2 s) {
-    bool between = patch_.texelMap.w != 0.0;
-    return surfaceShadingNormal(patch_, tileTexel(patch_.texelMap, vec2(s)), between, i_up);
+    return surfaceShadingNormal(patch_, tileTexel(patch_.texelMap, vec2(s)), patch_.texelMap.w,
+                                i_up);
 }
 
 // The normal of the full-resolution mesh at patch sample p: its cell split along the
@@ -68,8 +68,7 @@ vec3 fragmentNormal(vec2 p) {
 }
 
 float sampleHeight(PatchInstance patch_, ivec2 s) {
-    bool between = patch_.texelMap.w != 0.0;
-    return tileHeight(tileTexel(patch_.texelMap, vec2(s)), between, patch_.layerLevel.x);
+    return tileHeight(tileTexel(patch_.texelMap, vec2(s)), patch_.texelMap.w, patch_.layerLevel.x);
 }
 
 // The full-resolution mesh's height at patch sample p, on fragmentNormal's triangles, and its

@@ -41,12 +41,11 @@ void main() {
     ivec2 sampleXY = ivec2(floor(s + 0.5));
     // The tile sample under this patch sample, the apron included: itself for a data patch.
     vec2 texel = tileTexel(patch_.texelMap, vec2(sampleXY));
-    bool between = patch_.texelMap.w != 0.0;
-    float h = tileHeight(texel, between, layer);
+    float h = tileHeight(texel, patch_.texelMap.w, layer);
     vec3 up;
     precise float drop = i_skirtDropM * u.y;
     precise vec3 position = surfacePositionM(patch_, vec2(sampleXY), h, drop, up);
-    o_normal = surfaceShadingNormal(patch_, texel, between, up);
+    o_normal = surfaceShadingNormal(patch_, texel, patch_.texelMap.w, up);
     o_heightM = h;
     o_level = patch_.layerLevel.y;
     o_tessFactor = i_debugFactor;

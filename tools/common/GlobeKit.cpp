@@ -207,7 +207,8 @@ void GlobeKit::addJsonFields(nlohmann::json& out, const FlightFacts& facts) cons
     out["end_pose"] = {{"latitude_deg", endPose.where.latitudeDeg},
                        {"longitude_deg", endPose.where.longitudeDeg},
                        {"height_m", endPose.where.height}};
-    // The last frame's draw list by face level: data, virtual and bare patches, largest Err(P).
+    // The last frame's draw list by face level: data, virtual and bare patches, largest Err(P);
+    // native tiles drawn whole ("data") and as windows below their samples ("window").
     nlohmann::json byLevel = nlohmann::json::object();
     for (const runtime::PatchDraw& d : facts.lastDraws) {
         const bool native = io::isNativeTile(d.id);
@@ -215,7 +216,10 @@ void GlobeKit::addJsonFields(nlohmann::json& out, const FlightFacts& facts) cons
             byLevel[native ? std::string("native") : std::to_string(io::globePatchOf(d.id).level)];
         if (level.is_null())
             level = {{"data", 0}, {"virtual", 0}, {"bare", 0}, {"max_error_m", 0.0}};
-        const char* kind = d.layer < 0 ? "bare" : d.isVirtual ? "virtual" : "data";
+        const char* kind = d.layer < 0    ? "bare"
+                           : !d.isVirtual ? "data"
+                           : native       ? "window"
+                                          : "virtual";
         level[kind] = level.value(kind, 0) + 1;
         level["max_error_m"] = std::max(level.value("max_error_m", 0.0), double(d.errorM));
     }

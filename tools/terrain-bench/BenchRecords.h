@@ -48,6 +48,9 @@ struct FrameRecord {
     std::uint64_t patchesVirtual = 0;
     std::uint64_t patchesBare = 0;
     std::uint64_t patchesNative = 0;
+    /// Of the native draws, windows below a whole tile (NativeWindowTree), and the deepest.
+    std::uint64_t nativeWindows = 0;
+    int nativeWindowDepthMax = 0;
     std::uint64_t drawCalls = 0;
     double lodUpdateUs = kNoValue;    ///< the frame's first LOD update for this camera
     double gpuMs = kNoValue;          ///< GL_TIME_ELAPSED of the draw (CPU time on llvmpipe)

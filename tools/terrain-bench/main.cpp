@@ -489,6 +489,8 @@ int run(const BenchOptions& o, const char* argv0) {
         rec.patchesVirtual = lodStats.drawnVirtual;
         rec.patchesBare = lodStats.drawnBare;
         rec.patchesNative = lodStats.drawnNative;
+        rec.nativeWindows = lodStats.drawnNativeWindows;
+        rec.nativeWindowDepthMax = lodStats.deepestNativeWindow;
         rec.drawCalls = telemetry.drawCalls;
         rec.residentBytes = session.memoryBytes();
         telemetry.frame = frame;

@@ -57,7 +57,7 @@ NativeSurfaceFrame makeNativeSurfaceFrame(const NativeGridGeometry& grid, std::i
 }
 
 glm::dvec2 nearestNativeCoordinates(const NativeGridGeometry& grid, std::int64_t x, std::int64_t y,
-                                    const glm::dvec3& cameraUp) {
+                                    const glm::dvec3& cameraUp, const NativeWindow& window) {
     const Geodetic nadir = Wgs84::geodeticOfNormal(cameraUp);
     const glm::dvec2 corner = grid.lonLatDeg(x, y, 0.0, 0.0);
     const double span = static_cast<double>(grid.quads);
@@ -67,7 +67,8 @@ glm::dvec2 nearestNativeCoordinates(const NativeGridGeometry& grid, std::int64_t
     longitude += 360.0 * std::round((middle - longitude) / 360.0);
     const double u = (longitude - corner.x) / (span * grid.pixelLonDeg);
     const double v = (corner.y - nadir.latitudeDeg) / (span * grid.pixelLatDeg);
-    return {std::clamp(u, 0.0, 1.0), std::clamp(v, 0.0, 1.0)};
+    return {std::clamp(u, window.u0(), window.u0() + window.size()),
+            std::clamp(v, window.v0(), window.v0() + window.size())};
 }
 
 glm::vec3 nativeDeltaDirection(const NativeSurfaceFrame& frame, float u, float v) {

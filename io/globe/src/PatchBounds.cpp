@@ -65,26 +65,30 @@ OrientedBox patchBounds(const GlobePatchId& id, double minHeight, double maxHeig
 }
 
 OrientedBox nativeTileBounds(const NativeGridGeometry& grid, std::int64_t x, std::int64_t y,
-                             double minHeight, double maxHeight) {
-    const glm::dvec2 middle = grid.lonLatDeg(x, y, 0.5, 0.5);
+                             double minHeight, double maxHeight, const NativeWindow& window) {
+    // A window's box is made as it splits, four at a time: a coarser grid of places, padded
+    // for its wider bulge, keeps that cheap.
+    const int places = window.depth == 0 ? kGridQuads : 8;
+    const double u0 = window.u0(), v0 = window.v0(), size = window.size();
+    const glm::dvec2 middle = grid.lonLatDeg(x, y, u0 + 0.5 * size, v0 + 0.5 * size);
     const glm::dvec3 up = Wgs84::normalAt(std::clamp(middle.y, -90.0, 90.0), middle.x);
     // East, but any direction square to up at a pole.
     const glm::dvec3 east = std::hypot(up.x, up.y) > 1e-9
                                 ? glm::normalize(glm::dvec3(-up.y, up.x, 0.0))
                                 : glm::dvec3(0.0, 1.0, 0.0);
     std::vector<glm::dvec3> points;
-    points.reserve(2 * (kGridQuads + 1) * (kGridQuads + 1));
-    for (int j = 0; j <= kGridQuads; ++j) {
-        for (int i = 0; i <= kGridQuads; ++i) {
-            const glm::dvec2 at =
-                grid.lonLatDeg(x, y, double(i) / kGridQuads, double(j) / kGridQuads);
+    points.reserve(2 * static_cast<std::size_t>((places + 1) * (places + 1)));
+    for (int j = 0; j <= places; ++j) {
+        for (int i = 0; i <= places; ++i) {
+            const glm::dvec2 at = grid.lonLatDeg(x, y, u0 + size * double(i) / places,
+                                                 v0 + size * double(j) / places);
             const glm::dvec3 direction = Wgs84::normalAt(std::clamp(at.y, -90.0, 90.0), at.x);
             for (const double height : {minHeight, maxHeight})
                 points.push_back(Wgs84::pointAlongNormal(direction, height));
         }
     }
     const double radian = std::numbers::pi / 180.0;
-    const double step = double(grid.quads) / kGridQuads;
+    const double step = double(grid.quads) * size / places;
     // The largest angle between neighbouring grid places, radians.
     const double widest = std::max(grid.pixelLonDeg, grid.pixelLatDeg) * step * radian;
     const double gridSpacing = widest * (Wgs84::kMaxCurvatureRadius + std::max(maxHeight, 0.0));

@@ -19,7 +19,7 @@ void assignSkirtDepths(std::span<PatchDraw> draws, const cache::GpuTilePool& poo
             // Plus what its instance adds to its tile's λ (a native tile's bulge; 0 otherwise).
             blockErrorM += *resident;
         }
-        depthM = std::max(depthM, draw.errorM + blockErrorM);
+        depthM = std::max(depthM, draw.errorM + blockErrorM + draw.seamGapM);
     }
     for (PatchDraw& draw : draws) draw.skirtDepthM = depthM;
 }

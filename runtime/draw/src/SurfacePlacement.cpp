@@ -21,6 +21,10 @@ namespace {
 /// north-west, 33° above the horizon, the classic hillshade light.
 constexpr std::array<float, 4> kPlaneSun{-0.5345f, 0.6414f, 0.5505f, 0.0f};
 
+// texelMap.w of a native window (shaders/terrain_heights.glsl, tileHeight's modes): its heights
+// on the source's own triangles between the tile's samples.
+constexpr float kHeightsOnTriangles = 2.0f;
+
 std::array<float, 2> floats(const glm::dvec2& v) {
     return {static_cast<float>(v.x), static_cast<float>(v.y)};
 }
@@ -125,7 +129,17 @@ PatchInstance GlobePlacement::place(const PatchDraw& p, const cache::GpuTilePool
 
 PatchInstance nativeTileInstance(const PatchDraw& p, const globe::NativeGridGeometry& geometry,
                                  const glm::dvec3& camera, const glm::dvec3& cameraUp) {
-    const glm::dvec2 uv0 = globe::nearestNativeCoordinates(geometry, p.id.x, p.id.y, cameraUp);
+    // A window of the tile (runtime/lod NativeWindowTree) is drawn in the tile's frame, its
+    // reference kept inside the window so that the stage's differences stay small.
+    globe::NativeWindow window;
+    if (p.isVirtual) {
+        window.depth = -std::ilogb(p.texelStep);
+        const double samples = double(geometry.quads) * double(p.texelStep);
+        window.i = static_cast<std::int64_t>(std::lround(double(p.texelOffset[0]) / samples));
+        window.j = static_cast<std::int64_t>(std::lround(double(p.texelOffset[1]) / samples));
+    }
+    const glm::dvec2 uv0 =
+        globe::nearestNativeCoordinates(geometry, p.id.x, p.id.y, cameraUp, window);
     const globe::NativeSurfaceFrame f =
         globe::makeNativeSurfaceFrame(geometry, p.id.x, p.id.y, uv0.x, uv0.y, camera);
     PatchInstance record;
@@ -141,13 +155,17 @@ PatchInstance nativeTileInstance(const PatchDraw& p, const globe::NativeGridGeom
     const globe::CurvatureRadii radii =
         globe::Wgs84::curvatureRadiiAt(f.lat0 * 180.0 / std::numbers::pi);
     const double radian = std::numbers::pi / 180.0;
+    // w: 1 / quads, which takes texelMap's offset from tile samples to tile coordinates.
     record.placement4 = {static_cast<float>(radii.primeVertical * std::cos(double(f.lat0)) *
                                             geometry.pixelLonDeg * radian),
                          static_cast<float>(radii.meridian * geometry.pixelLatDeg * radian),
-                         imagery.uPerAlpha, 0.0f};
+                         imagery.uPerAlpha, 1.0f / static_cast<float>(geometry.quads)};
     record.errors = {p.errorM, p.skirtDepthM, p.minHeight, p.maxHeight};
     record.bareBlockErrors = p.bareBlockErrorsM;
-    record.texelMap = {0.0f, 0.0f, 1.0f, 0.0f};
+    // A window's heights lie on the source's own triangles between the tile's samples
+    // (shaders/terrain_heights.glsl, mode 2); the whole tile's are its samples.
+    record.texelMap = {p.texelOffset[0], p.texelOffset[1], p.texelStep,
+                       p.isVirtual ? kHeightsOnTriangles : 0.0f};
     record.layerLevel = {p.layer, p.id.level, imagery.face, 1};
     record.nativeCells = {static_cast<std::int32_t>(p.nativeCells & 0xffffffffu),
                           static_cast<std::int32_t>(p.nativeCells >> 32), p.nativeWindow[0],

@@ -47,7 +47,7 @@ double LodOptions::defaultCoarseShare(SurfaceKind surface) {
 }
 
 LodQuadtree::LodQuadtree(TileResidency& residency, const Surface& surface, LodOptions options)
-    : m_residency(residency), m_surface(surface), m_options(options) {
+    : m_residency(residency), m_surface(surface), m_options(options), m_windows(surface) {
     checkOptions(options);
     TERRAIN_ASSERT(
         options.splitRule != SplitRule::LivnyEdges || surface.kind() == SurfaceKind::Plane,
@@ -220,19 +220,22 @@ void LodQuadtree::makeChild(Node& child, const Node& parent, const SurfaceChild&
 }
 
 void LodQuadtree::pinNative(const io::PatchId& tile) {
-    for (auto& [id, count] : m_nativePins)
-        if (id == tile) {
-            ++count;
+    for (NativePin& pin : m_nativePins)
+        if (pin.tile == tile) {
+            ++pin.holders;
             return;
         }
+    const io::PatchInfo* info = m_residency.residentInfo(tile);
+    TERRAIN_ASSERT(info != nullptr, "pinning a native tile that is not resident");
     m_residency.pin(tile);
-    m_nativePins.emplace_back(tile, 1);
+    m_nativePins.push_back({tile, 1, m_windows.create(tile, *info, residentRises(tile))});
 }
 
 void LodQuadtree::unpinNative(const io::PatchId& tile) {
     for (auto it = m_nativePins.begin(); it != m_nativePins.end(); ++it)
-        if (it->first == tile) {
-            if (--it->second == 0) {
+        if (it->tile == tile) {
+            if (--it->holders == 0) {
+                m_windows.destroy(it->windows);
                 m_residency.unpin(tile);
                 m_nativePins.erase(it);
             }
@@ -254,18 +257,28 @@ int LodQuadtree::trySplitNative(int index, double screenError) {
         ++m_stats.waitingNativeSplits;
         return -1;
     }
+    // What the tiles can come down to over the patch's ground. Split into windows
+    // (NativeWindowTree), their flat triangles' terms shrink by a quarter a level toward 0,
+    // and what stays is their Err(P), the other sources' miss, unless only their own source
+    // shows over the patch. Drawn whole, their terms at their own samples stay too.
+    const bool windows = refinesNativeWindows();
+    const bool pure = windows && m_surface.nativeGroundIsPure(m_nodes[std::size_t(index)].id);
     double worst = 0.0;  // the tiles' own screen error, pixels
     for (const io::PatchId& tile : m_nativeScratch) {
+        if (pure) break;
         const io::PatchInfo* info = m_residency.residentInfo(tile);
         // Each seen from where it lies: it reaches past the patch, over neighbours that may be
         // nearer the camera. No nearer than a metre, as for what only curvature is left to
         // split for (decisionDistance): a camera standing in a tile's box would see any error
         // as infinite, and a tile's error is mostly its flat triangles' bulge, millimetres.
-        const double error = double(info->error) + nativeGeometricErrorsOf(tile, *info).fullM;
+        const double error =
+            double(info->error) +
+            (windows ? 0.0
+                     : m_surface.nativeGeometricErrors(tile, *info, residentRises(tile), {}).fullM);
         const double rho = std::max(
             1.0,
-            m_surface.distance(m_camera.position,
-                               m_surface.nativeTileVolume(tile, info->minHeight, info->maxHeight)));
+            m_surface.distance(m_camera.position, m_surface.nativeTileVolume(tile, info->minHeight,
+                                                                             info->maxHeight, {})));
         worst = std::max(worst, m_gamma * error / rho);
     }
     // Where the tiles show as much error as the patch, they gain nothing: the patch splits as
@@ -290,6 +303,11 @@ int LodQuadtree::trySplitNative(int index, double screenError) {
     child.visible = parent.visible;
     child.splitBlocked = true;  // nothing finer than the sources' own samples
     m_nativeTiles[first] = m_nativeScratch;
+    std::vector<glm::dvec4>& footprints = m_nativeFootprints[first];
+    footprints.clear();
+    for (const io::PatchId& tile : m_nativeScratch)
+        footprints.push_back(
+            m_surface.nativeFootprintOn(parent.id, tile).value_or(glm::dvec4(0.0, 0.0, 1.0, 1.0)));
     ++m_stats.splits;
     const int grandparent = parent.parent;
     if (grandparent >= 0) ++m_nodes[static_cast<std::size_t>(grandparent)].generation;
@@ -303,41 +321,74 @@ io::SampleRises LodQuadtree::residentRises(const io::PatchId& id) const {
     return m_residency.residentSampleRises(id).value_or(io::SampleRises{});
 }
 
-Surface::NativeGeometricErrors LodQuadtree::nativeGeometricErrorsOf(
-    const io::PatchId& tile, const io::PatchInfo& info) const {
-    return m_surface.nativeGeometricErrors(tile, info, residentRises(tile));
+bool LodQuadtree::refinesNativeWindows() const {
+    return !m_options.splitToFinest && m_options.splitRule == SplitRule::ProjectedError;
 }
 
 void LodQuadtree::emitNative(int index, std::vector<PatchDraw>& out) {
     const auto tiles = m_nativeTiles.find(index);
     TERRAIN_ASSERT(tiles != m_nativeTiles.end(), "a native node without its tiles");
+    NativeWindowTree::Walk walk;
+    walk.view = &m_view;
+    walk.camera = m_camera.position;
+    walk.gamma = m_gamma;
+    walk.thresholdPx = coarseErrorPx();
+    walk.hysteresis = m_options.hysteresis;
+    walk.horizonCulling = m_options.horizonCulling;
+    walk.refine = refinesNativeWindows();
     for (const io::PatchId& tile : tiles->second) {
         if (std::any_of(m_nativeDrawn.begin(), m_nativeDrawn.end(),
-                        [&](const auto& d) { return d.first == tile; }))
+                        [&](const NativeDrawn& d) { return d.tile == tile; }))
             continue;  // drawn for a neighbour already
-        m_nativeDrawn.emplace_back(tile, out.size());
         const io::PatchInfo* info = m_residency.residentInfo(tile);
         TERRAIN_ASSERT(info != nullptr, "a pinned native tile is not resident");
-        PatchDraw draw = PatchDraw::ofTile(tile, m_residency.layerOf(tile), *info);
-        const Surface::NativeGeometricErrors geometric = nativeGeometricErrorsOf(tile, *info);
-        draw.errorM = io::roundUpToFloat(double(info->error) + geometric.fullM);
-        draw.bareBlockErrorsM = geometric.blocksM;
-        out.push_back(draw);
-        ++m_stats.drawn;
-        ++m_stats.drawnNative;
+        const auto pin = std::find_if(m_nativePins.begin(), m_nativePins.end(),
+                                      [&](const NativePin& p) { return p.tile == tile; });
+        TERRAIN_ASSERT(pin != m_nativePins.end(), "a drawn native tile is not pinned");
+        // Its windows split only over the ground of the patches that hold it.
+        walk.focus = glm::dvec4(1e300, 1e300, -1e300, -1e300);
+        for (const auto& [node, held] : m_nativeTiles)
+            for (std::size_t t = 0; t < held.size(); ++t)
+                if (held[t] == tile) {
+                    const glm::dvec4& box = m_nativeFootprints.at(node)[t];
+                    walk.focus =
+                        glm::dvec4(std::min(walk.focus.x, box.x), std::min(walk.focus.y, box.y),
+                                   std::max(walk.focus.z, box.z), std::max(walk.focus.w, box.w));
+                }
+        const std::size_t first = out.size();
+        NativeWindowTree::Stats windows;
+        m_windows.walk(pin->windows, walk,
+                       PatchDraw::ofTile(tile, m_residency.layerOf(tile), *info), out, windows);
+        m_nativeDrawn.push_back({tile, first, out.size() - first});
+        m_stats.drawn += out.size() - first;
+        m_stats.drawnNative += out.size() - first;
+        m_stats.drawnNativeWindows += windows.drawnWindows;
+        m_stats.deepestNativeWindow = std::max(m_stats.deepestNativeWindow, windows.deepest);
+        m_stats.splits += windows.splits;
+        m_stats.merges += windows.merges;
+        m_stats.evaluations += windows.evaluations;
     }
 }
 
 // Every native node holding a drawn tile counts, in view or not: a patch culled behind the
 // horizon or outside the frustum by its face box may still have part of the tile's surface
-// in view (the tile's heights are not the face patch's), which its ground then keeps.
+// in view (the tile's heights are not the face patch's), which its ground then keeps. A
+// tile's windows own what it owns.
 void LodQuadtree::assignNativeOwnerships(std::vector<PatchDraw>& out) {
-    for (const auto& [tile, drawIndex] : m_nativeDrawn) {
+    for (const NativeDrawn& drawn : m_nativeDrawn) {
+        if (drawn.count == 0) continue;
         m_holderScratch.clear();
         for (const auto& [node, tiles] : m_nativeTiles)
-            if (std::find(tiles.begin(), tiles.end(), tile) != tiles.end())
+            if (std::find(tiles.begin(), tiles.end(), drawn.tile) != tiles.end())
                 m_holderScratch.push_back(m_nodes[static_cast<std::size_t>(node)].id);
-        assignNativeOwnership(out[drawIndex], m_holderScratch);
+        PatchDraw& first = out[drawn.first];
+        assignNativeOwnership(first, m_holderScratch);
+        for (std::size_t i = 1; i < drawn.count; ++i) {
+            PatchDraw& window = out[drawn.first + i];
+            window.imageryPatch = first.imageryPatch;
+            window.nativeCells = first.nativeCells;
+            window.nativeWindow = first.nativeWindow;
+        }
     }
 }
 
@@ -582,6 +633,7 @@ void LodQuadtree::collapse(int index) {
             TERRAIN_ASSERT(tiles != m_nativeTiles.end(), "a native node without its tiles");
             for (const io::PatchId& tile : tiles->second) unpinNative(tile);
             m_nativeTiles.erase(tiles);
+            m_nativeFootprints.erase(first + i);
         }
         ++child.generation;  // its pending checks are stale now
         child.waiting = false;
@@ -810,9 +862,15 @@ std::optional<std::string> LodQuadtree::checkInvariants() const {
             if (!m_surface.nativeTilesOver(node.id, tiles) || held == m_nativeTiles.end() ||
                 held->second != tiles)
                 return "native node " + name + " does not hold its native tiles";
-            for (const io::PatchId& tile : tiles)
+            for (const io::PatchId& tile : tiles) {
                 if (!m_residency.isPinned(tile) || m_residency.residentInfo(tile) == nullptr)
                     return "a native tile of " + name + " is not pinned and resident";
+                const auto pin = std::find_if(m_nativePins.begin(), m_nativePins.end(),
+                                              [&](const NativePin& p) { return p.tile == tile; });
+                if (pin == m_nativePins.end()) return "a native tile of " + name + " has no pin";
+                if (const auto broken = m_windows.check(pin->windows))
+                    return "a native tile of " + name + ": " + *broken;
+            }
         }
         if (node.childCount == 1 &&
             m_nodes[static_cast<std::size_t>(node.firstChild)].kind == NodeKind::Native) {

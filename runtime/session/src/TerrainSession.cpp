@@ -2,6 +2,7 @@
 #include "terrain/runtime/TerrainSession.h"
 
 #include "terrain/base/Assert.h"
+#include "terrain/pyramid/NativeTiles.h"
 #include "terrain/pyramid/PyramidReader.h"
 #include "terrain/runtime/CdlodRenderer.h"
 #include "terrain/runtime/LivnyRenderer.h"
@@ -9,6 +10,7 @@
 #include "terrain/runtime/SkirtDepth.h"
 #include "terrain/runtime/ValdetaroTiles.h"
 
+#include <cmath>
 #include <limits>
 #include <utility>
 
@@ -224,6 +226,17 @@ void TerrainSession::addTileErrorsToVirtualDraws() {
     for (PatchDraw& draw : m_draws) {
         if (!draw.isVirtual) continue;
         const float lambda = m_streamer->pool().maxBlockErrorM(draw.tileId).value_or(0.0f);
+        if (io::isNativeTile(draw.id)) {
+            // A native window of depth k (runtime/lod NativeWindowTree) draws the tile's
+            // samples on their own triangles: drawn whole, or simplified by 2^d ≤ 2^k, each of
+            // its triangles lies within one source cell, where only its geometric terms count.
+            // Simplified further, its triangles span 2^(d−k) of the tile's cells: the tile's
+            // λ(d − k), at most its largest.
+            const int depth = -std::ilogb(draw.texelStep);
+            for (int d = 1; d <= 4; ++d)
+                if (d > depth) draw.bareBlockErrorsM[static_cast<std::size_t>(d - 1)] += lambda;
+            continue;
+        }
         draw.errorM += lambda;
         for (float& d : draw.bareBlockErrorsM) d += lambda;
     }

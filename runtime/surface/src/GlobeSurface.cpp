@@ -20,7 +20,79 @@ namespace {
 // A patch's share of GlobeSurface::coverageOf: face level l counts 4^(30 − l).
 constexpr int kCoverageLevels = 30;
 
+// A source's extent as a box whose west ≤ east (across the antimeridian east runs past 180°).
+GlobeSurface::LonLatBox extentOf(const io::ManifestGlobeSource& source) {
+    return {source.west, source.east < source.west ? source.east + 360.0 : source.east,
+            source.south, source.north};
+}
+
+bool meets(const GlobeSurface::LonLatBox& a, const GlobeSurface::LonLatBox& b) {
+    if (a.south >= b.north || a.north <= b.south) return false;
+    for (const double turn : {-360.0, 0.0, 360.0})
+        if (a.west + turn < b.east && a.east + turn > b.west) return true;
+    return false;
+}
+
+bool within(const GlobeSurface::LonLatBox& a, const GlobeSurface::LonLatBox& b) {
+    if (a.south < b.south || a.north > b.north) return false;
+    for (const double turn : {-360.0, 0.0, 360.0})
+        if (a.west + turn >= b.west && a.east + turn <= b.east) return true;
+    return false;
+}
+
 }  // namespace
+
+// Which ground shows grid `grid`'s source alone (docs/globe.md, "Native windows"). The
+// composite there is that source's samples (its voids filled sample by sample) on their own
+// triangles. Within the band where it blends into a coarser source the composite mixes the
+// two sources' triangles, and within a finer source's extent (its band and edge taper lie
+// inside it) the finer source shows; a sample of margin each way takes in every cell that
+// touches the ground asked about.
+void GlobeSurface::setPurity(NativeGrid& grid, const io::ManifestGlobe& globe) {
+    const auto k = static_cast<std::size_t>(grid.source);
+    if (k >= globe.sources.size()) return;  // sources not recorded: nothing is known pure
+    const io::ManifestGlobeSource& own = globe.sources[k];
+    // Only a source over a coarser one is blended into it, in a band along its edges (its
+    // seam; the widest taken if two sources share a name).
+    double band = 0.0;
+    if (k + 1 < globe.sources.size()) {
+        bool recorded = false;
+        for (const io::ManifestSeam& seam : globe.seams)
+            if (seam.input == own.input) {
+                band = std::max(band, seam.bandPixels[1]);
+                recorded = true;
+            }
+        // No seams recorded at all (an older manifest): its band is unknown.
+        if (!recorded && globe.seams.empty()) return;
+    }
+    band += 1.0;
+    const double lon = grid.geometry.pixelLonDeg, lat = grid.geometry.pixelLatDeg;
+    LonLatBox inside = extentOf(own);
+    if (inside.east - inside.west >= 360.0) {
+        inside.west = -1e9;  // every longitude
+        inside.east = 1e9;
+    } else {
+        inside.west += band * lon;
+        inside.east -= band * lon;
+    }
+    inside.south += band * lat;
+    inside.north -= band * lat;
+    grid.inside = inside;
+    for (std::size_t f = 0; f < k; ++f) {
+        LonLatBox finer = extentOf(globe.sources[f]);
+        finer.west -= lon;
+        finer.east += lon;
+        finer.south -= lat;
+        finer.north += lat;
+        grid.finer.push_back(finer);
+    }
+}
+
+bool GlobeSurface::isPure(const NativeGrid& grid, const LonLatBox& box) {
+    if (!grid.inside || !within(box, *grid.inside)) return false;
+    return std::none_of(grid.finer.begin(), grid.finer.end(),
+                        [&](const LonLatBox& finer) { return meets(box, finer); });
+}
 
 GlobeSurface::GlobeSurface(const io::PyramidManifest& manifest,
                            std::span<const io::NativeGridManifest> nativeGrids)
@@ -50,6 +122,7 @@ GlobeSurface::GlobeSurface(const io::PyramidManifest& manifest,
         const double radian = std::numbers::pi / 180.0;
         grid.spacingM = globe::Wgs84::kMaxCurvatureRadius * radian *
                         std::max(g.pixelSizeY, g.pixelSizeX * std::cos(nearestEquator * radian));
+        setPurity(grid, *manifest.globe);
         m_natives.push_back(grid);
     }
 }
@@ -62,20 +135,64 @@ const GlobeSurface::NativeGrid* GlobeSurface::nativeGridOf(const io::PatchId& ti
 }
 
 bool GlobeSurface::nativeTilesOver(const io::PatchId& id, std::vector<io::PatchId>& out) const {
-    if (m_natives.empty()) return false;
+    LonLatBox footprint;
+    return nativeGridOver(id, out, footprint) != nullptr;
+}
+
+bool GlobeSurface::nativeGroundIsPure(const io::PatchId& id) const {
+    std::vector<io::PatchId> tiles;
+    LonLatBox footprint;
+    const NativeGrid* grid = nativeGridOver(id, tiles, footprint);
+    return grid != nullptr && isPure(*grid, footprint);
+}
+
+std::optional<glm::dvec4> GlobeSurface::nativeFootprintOn(const io::PatchId& id,
+                                                          const io::PatchId& tile) const {
+    std::vector<io::PatchId> tiles;
+    LonLatBox footprint;
+    const NativeGrid* grid = nativeGridOver(id, tiles, footprint);
+    if (grid == nullptr || std::find(tiles.begin(), tiles.end(), tile) == tiles.end())
+        return std::nullopt;
+    // Tile coordinates: sample i of tile x at u = i / quads, sample i at column x·quads + i.
+    const double q = grid->geometry.quads;
+    const double u0 = grid->columnAt(footprint.west) / q - double(tile.x);
+    const double u1 = grid->columnAt(footprint.east) / q - double(tile.x);
+    const double v0 = grid->rowAt(footprint.north) / q - double(tile.y);
+    const double v1 = grid->rowAt(footprint.south) / q - double(tile.y);
+    return glm::dvec4(u0, v0, u1, v1);
+}
+
+bool GlobeSurface::nativeWindowIsPure(const io::PatchId& tile,
+                                      const globe::NativeWindow& window) const {
+    const NativeGrid* grid = nativeGridOf(tile);
+    if (grid == nullptr) return false;
+    const globe::NativeGridGeometry& geo = grid->geometry;
+    // The window's samples, and a sample round them: the cells its ground takes in.
+    const glm::dvec2 northWest = geo.lonLatDeg(tile.x, tile.y, window.u0(), window.v0());
+    const glm::dvec2 southEast =
+        geo.lonLatDeg(tile.x, tile.y, window.u0() + window.size(), window.v0() + window.size());
+    const LonLatBox box{northWest.x - geo.pixelLonDeg, southEast.x + geo.pixelLonDeg,
+                        southEast.y - geo.pixelLatDeg, northWest.y + geo.pixelLatDeg};
+    return isPure(*grid, box);
+}
+
+const GlobeSurface::NativeGrid* GlobeSurface::nativeGridOver(const io::PatchId& id,
+                                                             std::vector<io::PatchId>& out,
+                                                             LonLatBox& footprint) const {
+    if (m_natives.empty()) return nullptr;
     // Most patches asked are far coarser than every grid: no footprint to work out for them.
     const double spacing = sampleSpacingM(id.level);
     if (std::none_of(m_natives.begin(), m_natives.end(), [&](const NativeGrid& grid) {
             return grid.spacingM <= kMaxNativeSpacingRatio * spacing;
         }))
-        return false;
+        return nullptr;
     const globe::GlobePatchId g = io::globePatchOf(id);
     // A patch round a pole has none: the pole is one point of every longitude's grid.
     const double side = double(globe::patchesPerFaceSide(g.level));
     for (const double z : {1.0, -1.0}) {
         const globe::FacePoint pole = globe::facePointOf({0.0, 0.0, z});
         const double u = pole.s * side - double(g.x), v = pole.t * side - double(g.y);
-        if (pole.face == g.face && u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0) return false;
+        if (pole.face == g.face && u >= 0.0 && u <= 1.0 && v >= 0.0 && v <= 1.0) return nullptr;
     }
     // The footprint's longitudes and latitudes along its edges, unwrapped about the first.
     constexpr int kPerEdge = 16;
@@ -128,9 +245,12 @@ bool GlobeSurface::nativeTilesOver(const io::PatchId& id, std::vector<io::PatchI
         for (std::int64_t y = y0; y <= y1; ++y)
             for (std::int64_t x = x0; x <= x1; ++x)
                 out.push_back(io::nativeTileId(grid.source, x, y));
-        return true;
+        // With a sample round it: the cells its ground takes in.
+        footprint = {lo - geo.pixelLonDeg, hi + geo.pixelLonDeg, south - geo.pixelLatDeg,
+                     north + geo.pixelLatDeg};
+        return &grid;
     }
-    return false;
+    return nullptr;
 }
 
 double GlobeSurface::NativeGrid::turnsToward(double longitudeDeg) const {
@@ -159,21 +279,24 @@ std::optional<Surface::NativeTilePoint> GlobeSurface::nativeTileUnder(const glm:
 }
 
 PatchVolume GlobeSurface::nativeTileVolume(const io::PatchId& tile, float minHeight,
-                                           float maxHeight) const {
+                                           float maxHeight,
+                                           const globe::NativeWindow& window) const {
     const NativeGrid* grid = nativeGridOf(tile);
     TERRAIN_ASSERT(grid != nullptr, "a native tile of no native grid");
-    return globe::nativeTileBounds(grid->geometry, tile.x, tile.y, minHeight, maxHeight);
+    return globe::nativeTileBounds(grid->geometry, tile.x, tile.y, minHeight, maxHeight, window);
 }
 
 Surface::NativeGeometricErrors GlobeSurface::nativeGeometricErrors(
-    const io::PatchId& tile, const io::PatchInfo& info, const io::SampleRises& rises) const {
+    const io::PatchId& tile, const io::PatchInfo& info, const io::SampleRises& rises,
+    const globe::NativeWindow& window) const {
     const NativeGrid* grid = nativeGridOf(tile);
     if (grid == nullptr) return {};
     const globe::NativeGridGeometry& geo = grid->geometry;
     const double radian = std::numbers::pi / 180.0;
-    // The tile's rows, its aprons' included (sample row r lies at northDeg − (r + ½)·Δφ).
-    const double firstRow = double(tile.y) * geo.quads - 1.0;
-    const double lastRow = firstRow + geo.quads + 2.0;
+    // The window's rows, a sample round them included (sample row r lies at northDeg −
+    // (r + ½)·Δφ): the tile's with its aprons at depth 0.
+    const double firstRow = (double(tile.y) + window.v0()) * geo.quads - 1.0;
+    const double lastRow = firstRow + window.size() * geo.quads + 2.0;
     const auto latitude = [&](double row) {
         return std::clamp(geo.northDeg - (row + 0.5) * geo.pixelLatDeg, -90.0, 90.0) * radian;
     };
@@ -182,9 +305,10 @@ Surface::NativeGeometricErrors GlobeSurface::nativeGeometricErrors(
     cells.northRad = latitude(firstRow);
     cells.minHeightM = info.minHeight;
     cells.maxHeightM = info.maxHeight;
-    const auto boundAt = [&](double scale) {
-        // Simplified by 2^d, a drawn triangle spans 2^d cells a side; its slopes are no
-        // steeper than the steepest cell's.
+    const auto boundAt = [&](double span) {
+        // Simplified by 2^d, a drawn triangle spans 2^d of the window's cells a side, each
+        // 2^-depth of the tile's; its slopes are no steeper than the steepest cell's.
+        const double scale = span * window.size();
         cells.lonStepRad = geo.pixelLonDeg * radian * scale;
         cells.latStepRad = geo.pixelLatDeg * radian * scale;
         cells.riseEastM = double(rises.east) * scale;

@@ -22,7 +22,8 @@ bool Surface::belowHorizon(const SurfaceView& view, const PatchVolume& volume) c
 }
 
 PatchVolume Surface::nativeTileVolume(const io::PatchId& /*tile*/, float /*minHeight*/,
-                                      float /*maxHeight*/) const {
+                                      float /*maxHeight*/,
+                                      const globe::NativeWindow& /*window*/) const {
     TERRAIN_ASSERT(false, "a native tile on a surface without native grids");
     return Aabb{};
 }

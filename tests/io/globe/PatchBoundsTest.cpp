@@ -1,6 +1,7 @@
 // Globe patch bounding boxes: every point of the patch between its heights is inside (the
 // LOD's distance and horizon culling rely on it), at every level and on the special places
-// (poles, the antimeridian, cube corners), and the box is not much bigger than the patch.
+// (poles, the antimeridian, cube corners), and the box is not much bigger than the patch. The
+// same for native tiles and their windows (NativeOffset.h, NativeWindow), down to the deepest.
 #include "terrain/globe/PatchBounds.h"
 #include "terrain/globe/Wgs84.h"
 
@@ -8,6 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 namespace terrain::globe {
@@ -50,6 +52,65 @@ TEST(PatchBounds, HoldEveryPointOfThePatchBetweenItsHeights) {
                 << " h " << height;
         }
     }
+}
+
+// A native window's box (nativeTileBounds with a window) holds every point of the window's
+// ground between its heights, on ETOPO's 20′ grid and an SRTM3 one, at the equator, 45° N,
+// down to 89.7° S and across the antimeridian, from the whole tile (depth 0) to the deepest window;
+// and a window's box is about its window's size, not its tile's.
+TEST(PatchBounds, NativeWindowsBoxesHoldTheirGround) {
+    std::mt19937_64 random(11);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    for (const double pixel : {1.0 / 3.0, 1.0 / 1200.0}) {
+        for (const double north : {5.0, 50.0, -47.0, 1.0}) {
+            NativeGridGeometry grid;
+            grid.pixelLonDeg = grid.pixelLatDeg = pixel;
+            grid.quads = 128;
+            grid.westDeg = north == 1.0 ? 180.0 - 2.5 * 128.0 * pixel : -100.0;
+            grid.northDeg = north;
+            for (const int depth : {0, 1, 3, 8, NativeWindow::kMaxDepth}) {
+                const std::int64_t last = (std::int64_t{1} << depth) - 1;
+                const NativeWindow window{depth, last / 3, last};
+                const OrientedBox box = nativeTileBounds(grid, 2, 0, -100.0, 3000.0, window);
+                const double side = 128.0 * pixel * window.size() * Wgs84::kEquatorialRadius *
+                                    std::numbers::pi / 180.0;
+                EXPECT_LT(2.0 * box.halfExtents.x, 1.01 * side + 10.0) << "depth " << depth;
+                for (int k = 0; k < 500; ++k) {
+                    double u = unit(random), v = unit(random);
+                    if (k < 100) (k % 2 ? u : v) = (k % 4 < 2) ? 0.0 : 1.0;
+                    const glm::dvec2 at = grid.lonLatDeg(2, 0, window.u0() + u * window.size(),
+                                                         window.v0() + v * window.size());
+                    const double height = -100.0 + unit(random) * 3100.0;
+                    const glm::dvec3 point =
+                        Wgs84::pointAlongNormal(Wgs84::normalAt(at.y, at.x), height);
+                    ASSERT_EQ(distanceToBox(point, box), 0.0)
+                        << "pixel " << pixel << "° north " << north << " depth " << depth << " u "
+                        << u << " v " << v;
+                }
+            }
+        }
+    }
+}
+
+// The reference point of a window's record (nearestNativeCoordinates with the window) is the
+// camera's nadir where the window holds it, else the window's nearest point to it.
+TEST(PatchBounds, NativeWindowsReferenceIsClampedToTheWindow) {
+    NativeGridGeometry grid;
+    grid.westDeg = -101.0;
+    grid.northDeg = 41.0;
+    grid.pixelLonDeg = grid.pixelLatDeg = 1.0 / 3.0;
+    grid.quads = 128;
+    const glm::dvec3 up = Wgs84::normalAt(40.0, -100.0);
+    const glm::dvec2 nadir = nearestNativeCoordinates(grid, 0, 0, up);
+    const NativeWindow holding{3, static_cast<std::int64_t>(std::floor(nadir.x * 8.0)),
+                               static_cast<std::int64_t>(std::floor(nadir.y * 8.0))};
+    const glm::dvec2 inside = nearestNativeCoordinates(grid, 0, 0, up, holding);
+    EXPECT_DOUBLE_EQ(inside.x, nadir.x);
+    EXPECT_DOUBLE_EQ(inside.y, nadir.y);
+    const NativeWindow east{3, holding.i + 2, holding.j};
+    const glm::dvec2 clamped = nearestNativeCoordinates(grid, 0, 0, up, east);
+    EXPECT_DOUBLE_EQ(clamped.x, east.u0());
+    EXPECT_DOUBLE_EQ(clamped.y, nadir.y);
 }
 
 TEST(PatchBounds, AreNotMuchBiggerThanThePatch) {

@@ -7,7 +7,8 @@
 // sparse globe reaches the same cut in fewer frames, as few where errors shrink slower than
 // by half; hysteresis holds a split
 // while the camera moves back and forth across its threshold; a finest patch that a native
-// grid covers splits into the native tiles over it and merges back.
+// grid covers splits into the native tiles over it and merges back, and those tiles split
+// into windows below their samples where only their source shows.
 #include "terrain/runtime/LodQuadtree.h"
 #include "terrain/runtime/NativeOwnership.h"
 
@@ -16,6 +17,7 @@
 #include "terrain/globe/Wgs84.h"
 #include "terrain/pyramid/GlobeLayout.h"
 #include "terrain/pyramid/NativeTiles.h"
+#include "terrain/pyramid/PatchErrors.h"
 #include "terrain/runtime/GlobeCamera.h"
 #include "terrain/runtime/GlobeSurface.h"
 
@@ -612,7 +614,7 @@ TEST(LodQuadtreeGlobe, FinestPatchesSplitIntoTheNativeTilesOverThem) {
             if (!io::isNativeTile(d.id)) continue;
             const io::PatchInfo& info = *residency.residentInfo(d.id);
             const Surface::NativeGeometricErrors geometric =
-                surface.nativeGeometricErrors(d.id, info, kNativeTestRises);
+                surface.nativeGeometricErrors(d.id, info, kNativeTestRises, {});
             EXPECT_GE(double(d.errorM), double(info.error) + geometric.fullM);
             EXPECT_EQ(d.bareBlockErrorsM, geometric.blocksM);
         }
@@ -661,20 +663,20 @@ TEST(LodQuadtreeGlobe, ANativeTilesBoundGrowsWithItsSlopesAndLatitude) {
     info.present = true;
     info.maxHeight = 500.0f;
     const io::PatchId tile = io::nativeTileId(0, 3, 3);
-    const double flat = surface.nativeGeometricErrors(tile, info, {0.0f, 0.0f}).fullM;
-    const double steep = surface.nativeGeometricErrors(tile, info, kNativeTestRises).fullM;
+    const double flat = surface.nativeGeometricErrors(tile, info, {0.0f, 0.0f}, {}).fullM;
+    const double steep = surface.nativeGeometricErrors(tile, info, kNativeTestRises, {}).fullM;
     const double side = globe::Wgs84::kMaxCurvatureRadius * (std::numbers::pi / 180.0) / 24000.0;
     EXPECT_GE(flat, side * side / (4.0 * globe::Wgs84::kMaxCurvatureRadius));
     EXPECT_LT(flat, 1.1 * globe::flatTriangleErrorBound(side));
     EXPECT_GT(steep, 2.0 * flat);
     const Surface::NativeGeometricErrors simplified =
-        surface.nativeGeometricErrors(tile, info, kNativeTestRises);
+        surface.nativeGeometricErrors(tile, info, kNativeTestRises, {});
     for (std::size_t d = 1; d < 4; ++d)
         EXPECT_GT(simplified.blocksM[d], 3.5f * simplified.blocksM[d - 1]) << "about 4× a level";
     // The same grid moved to 85° N: its rows' tangent raises the slopes' share.
     native.manifest.georeference.originY = 85.0 + 512.5 / 24000.0;
     const GlobeSurface polar(m, std::span(&native, 1));
-    EXPECT_GT(polar.nativeGeometricErrors(tile, info, kNativeTestRises).fullM, 2.0 * steep);
+    EXPECT_GT(polar.nativeGeometricErrors(tile, info, kNativeTestRises, {}).fullM, 2.0 * steep);
 }
 
 // Native tiles are read ahead along the camera's motion as children are
@@ -727,6 +729,152 @@ TEST(LodQuadtreeGlobe, NativeTilesAreReadAheadAlongTheCameraMotion) {
     EXPECT_GT(nativeAhead, 0u);
     EXPECT_EQ(nativeAhead, nativeWithout);
     EXPECT_LT(waitsAhead, waitsWithout);
+}
+
+// A coarse global grid (ETOPO's 20′, about 37 km between samples) under a globe whose finest
+// face level is 2 (about 20 km): its tiles stand for the finest face patches. Native tiles carry
+// an Err(P) of 2 km, the miss of other sources somewhere on them; face patches 1 km.
+constexpr int kCoarseFaceLevels = 2;
+constexpr float kCoarseTileErrorM = 2000.0f;
+
+io::PyramidManifest coarseGlobeManifest(bool finerSourceOverKansas) {
+    auto layout = io::globeLayout(kCoarseFaceLevels);
+    EXPECT_TRUE(layout);
+    io::PyramidManifest m = io::PyramidManifest::forLayout(layout.value());
+    m.formatVersion = io::PyramidManifest::kGlobeFormatVersion;
+    m.globe = io::ManifestGlobe{};
+    m.globe->faceFinestLevel = kCoarseFaceLevels;
+    m.georeference.crsKind = io::CrsKind::Geographic;
+    // The grid is the last source; a finer one, when asked for, lies round the place the
+    // camera looks at (its seam band recorded, as terrain-build records it).
+    if (finerSourceOverKansas) {
+        m.globe->sources.push_back({"fine.tif", -101.0, 39.0, -99.0, 41.0, ""});
+        io::ManifestSeam seam;
+        seam.input = "fine.tif";
+        seam.bandPixels = {4.0, 8.0};
+        m.globe->seams.push_back(seam);
+    }
+    m.globe->sources.push_back({"coarse.nc", -180.0, -90.0, 180.0, 90.0, "native/0"});
+    return m;
+}
+
+io::NativeGridManifest coarseGlobalGrid(const io::PyramidManifest& m, int source) {
+    auto gridLayout =
+        io::PyramidLayout::create(1081, 540, m.layout.patchSamples(), m.layout.blockQuads(), 16);
+    EXPECT_TRUE(gridLayout);
+    io::NativeGridManifest native{source, io::PyramidManifest::forLayout(gridLayout.value())};
+    native.manifest.georeference.crsKind = io::CrsKind::Geographic;
+    native.manifest.georeference.originX = -180.0 - 1.0 / 6.0;
+    native.manifest.georeference.originY = 90.0;
+    native.manifest.georeference.pixelSizeX = native.manifest.georeference.pixelSizeY = 1.0 / 3.0;
+    return native;
+}
+
+io::PatchInfo coarseTestInfo(const io::PatchId& layoutId) {
+    io::PatchInfo info;
+    info.present = true;
+    info.maxHeight = 100.0f;
+    if (io::isNativeTile(layoutId)) {
+        info.error = kCoarseTileErrorM;
+        return info;
+    }
+    const globe::GlobePatchId id = io::globePatchOf(layoutId);
+    info.error = static_cast<float>(4e3 / double(globe::patchesPerFaceSide(id.level)));
+    info.approxError = info.error;
+    info.presentChildren = id.level < kCoarseFaceLevels ? 0b1111 : 0;
+    return info;
+}
+
+// Native windows (NativeWindowTree; docs/globe.md, "Native windows"): near the ground over a
+// coarse source alone, its native tiles split below their samples into windows until each
+// drawn window's geometric error projects within the threshold, their drawn error no longer
+// carrying the tile's Err(P) (only the coarse source shows there); a camera that stays still
+// changes nothing; from afar every window merges back and the pins go. Where a finer source
+// lies under the patch, its tiles' Err(P) shows whatever the windows do: the patch keeps its
+// own face tiles.
+TEST(LodQuadtreeGlobe, NativeTilesSplitIntoWindowsBelowTheirSamples) {
+    for (const bool finer : {false, true}) {
+        SCOPED_TRACE(finer ? "a finer source under the camera" : "the coarse source alone");
+        const io::PyramidManifest m = coarseGlobeManifest(finer);
+        const io::NativeGridManifest native = coarseGlobalGrid(m, finer ? 1 : 0);
+        const GlobeSurface surface(m, std::span(&native, 1));
+        FakeTileResidencyOptions options;
+        options.framesToArrive = 0;
+        options.capacity = 1 << 12;
+        options.sampleRises = {300.0f, 300.0f};
+        FakeTileResidency residency(m.layout, coarseTestInfo, options);
+        const LodOptions lodOptions{.errorPx = 1.0};
+        LodQuadtree lod(residency, surface, lodOptions);
+        std::vector<PatchDraw> draws;
+        LodUpdateStats stats;
+        const auto frame = [&](const Camera& camera) {
+            residency.beginFrame();
+            stats = lod.update(camera, draws);
+            residency.endFrame();
+        };
+        const Camera low = cameraAt(40.0, -100.0, 140.0, -30.0);
+        for (int f = 0; f < 6; ++f) frame(low);
+        ASSERT_EQ(lod.checkInvariants(), std::nullopt);
+        std::cout << (finer ? "finer source: " : "coarse alone: ") << stats.drawn << " draws, "
+                  << stats.drawnNative << " native, " << stats.drawnNativeWindows
+                  << " windows, deepest " << stats.deepestNativeWindow << "\n";
+        if (finer) {
+            // The ground under the camera keeps its face patch: the tiles' 2 km (the finer
+            // source they miss) cannot beat the patch's 1 km. Patches around it, clear of the
+            // finer source, may still split into windows, whose drawn error holds that 2 km
+            // wherever the finer source is near.
+            const globe::FacePoint nadir = globe::facePointOf(globe::Wgs84::normalAt(40.0, -100.0));
+            EXPECT_TRUE(std::any_of(draws.begin(), draws.end(), [&](const PatchDraw& d) {
+                if (io::isNativeTile(d.id)) return false;
+                const globe::GlobePatchId g = io::globePatchOf(d.id);
+                const double n = double(globe::patchesPerFaceSide(g.level));
+                return g.face == nadir.face && std::int64_t(nadir.s * n) == g.x &&
+                       std::int64_t(nadir.t * n) == g.y;
+            }));
+            continue;
+        }
+        ASSERT_GT(stats.drawnNativeWindows, 0u);
+        EXPECT_GE(stats.deepestNativeWindow, 6);
+        const double gamma = low.errorScale();
+        for (const PatchDraw& d : draws) {
+            if (!io::isNativeTile(d.id) || !d.isVirtual) continue;
+            // The window of the draw, from its texel mapping (exact powers of two).
+            globe::NativeWindow window;
+            window.depth = -std::ilogb(d.texelStep);
+            window.i = std::lround(d.texelOffset[0] / (128.0 * d.texelStep));
+            window.j = std::lround(d.texelOffset[1] / (128.0 * d.texelStep));
+            const io::PatchInfo& info = *residency.residentInfo(d.id);
+            const Surface::NativeGeometricErrors geometric =
+                surface.nativeGeometricErrors(d.id, info, *options.sampleRises, window);
+            EXPECT_TRUE(surface.nativeWindowIsPure(d.id, window));
+            EXPECT_EQ(d.errorM, io::roundUpToFloat(geometric.fullM)) << "no Err(P): pure";
+            EXPECT_EQ(d.bareBlockErrorsM, geometric.blocksM);
+            const double rho = std::max(
+                1.0,
+                surface.distance(low.position, surface.nativeTileVolume(d.id, info.minHeight,
+                                                                        info.maxHeight, window)));
+            EXPECT_LE(gamma * geometric.fullM / rho, lodOptions.errorPx)
+                << "window " << window.depth << "/" << window.i << "/" << window.j;
+        }
+        // Windows of one tile are drawn one after another, owning what the tile owns.
+        for (std::size_t i = 1; i < draws.size(); ++i)
+            if (draws[i].id == draws[i - 1].id && io::isNativeTile(draws[i].id)) {
+                EXPECT_EQ(draws[i].nativeCells, draws[i - 1].nativeCells);
+                EXPECT_EQ(draws[i].imageryPatch, draws[i - 1].imageryPatch);
+            }
+        // Still: nothing splits or merges.
+        frame(low);
+        EXPECT_EQ(stats.splits, 0u);
+        EXPECT_EQ(stats.merges, 0u);
+        // From 3,000 km up: no window, no native tile, no pin.
+        std::vector<io::PatchId> tiles;
+        for (const PatchDraw& d : draws)
+            if (io::isNativeTile(d.id)) tiles.push_back(d.id);
+        for (int f = 0; f < 6; ++f) frame(cameraAt(40.0, -100.0, 3e6, -90.0));
+        ASSERT_EQ(lod.checkInvariants(), std::nullopt);
+        EXPECT_EQ(stats.drawnNative, 0u);
+        for (const io::PatchId& id : tiles) EXPECT_FALSE(residency.isPinned(id));
+    }
 }
 
 }  // namespace

@@ -5,7 +5,8 @@
 // grids: the same views, the error against the sources (GlobeTruth of GlobeSourceSurface)
 // and the cracks (every enclosed clear pixel) of a settled frame. And the imagery: a native
 // tile drapes the face patches' imagery tiles where the ground under each pixel lies, as the
-// reference computed on the CPU from the tiles on disk says (ImageryReference).
+// reference computed on the CPU from the tiles on disk says (ImageryReference). Over the coarse
+// source alone, its tiles split below their samples into windows down to the ground.
 #include "AccuracyScenes.h"
 #include "FakeImageryImage.h"
 #include "GlTestFixture.h"
@@ -233,6 +234,33 @@ TEST_F(NativeLeavesTest, NearTheGroundTheErrorAgainstTheSourcesStaysWithinEpsilo
         EXPECT_GT(face.accuracy.error.maxPx, kErrorPx + kRasterTolerancePx);
         EXPECT_EQ(face.lod.drawnNative, 0u);
         EXPECT_GT(native.lod.drawnNative, 0u);
+        EXPECT_TRUE(native.accuracy.comparedWithReference);
+        EXPECT_LE(native.accuracy.error.maxPx, kErrorPx + kRasterTolerancePx);
+        EXPECT_EQ(native.accuracy.crackPixels(), 0u);
+        EXPECT_TRUE(native.accuracy.finite());
+    }
+}
+
+// Over the coarse source alone (2°, 222 km between samples), near the ground: its native
+// tiles' flat triangles sag kilometres below its own triangles on the ellipsoid, and the face
+// grid resampled it; the tiles split into windows below their samples (NativeWindowTree)
+// whose heights lie on the source's triangles, until each window's geometric error projects
+// within ε. No sky in view: the probe's cracks are pixels its reference, the face grid, covers
+// and the draw does not, and so near the ground the face grid here lies tens of metres off
+// the sources, above a camera 50 m over them, where the reference draws terrain in the sky.
+TEST_F(NativeLeavesTest, OverACoarseSourceAloneTheErrorStaysWithinEpsilonToTheGround) {
+    for (const auto& [name, pose] :
+         {std::pair{"50 m above, looking ahead", above(30.0, 60.0, 50.0, 30.0, -45.0)},
+          std::pair{"5 m above, looking down", above(30.3, 60.4, 5.0, 200.0, -60.0)}}) {
+        SCOPED_TRACE(name);
+        const Measured face = measure("face.pyramid", pose);
+        const Measured native = measure("native.pyramid", pose);
+        std::cout << name << ": against the sources, face grid only " << face.accuracy.error.maxPx
+                  << " px, native " << native.accuracy.error.maxPx << " px ("
+                  << native.lod.drawnNative << " native draws, " << native.lod.drawnNativeWindows
+                  << " of them windows, the deepest " << native.lod.deepestNativeWindow
+                  << "), cracks " << native.accuracy.crackPixels() << "\n";
+        EXPECT_GT(native.lod.drawnNativeWindows, 0u);
         EXPECT_TRUE(native.accuracy.comparedWithReference);
         EXPECT_LE(native.accuracy.error.maxPx, kErrorPx + kRasterTolerancePx);
         EXPECT_EQ(native.accuracy.crackPixels(), 0u);

@@ -18,6 +18,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 
@@ -35,6 +36,26 @@ struct NativeGridGeometry {
     /// Longitude and latitude, degrees, of tile (x, y)'s point at tile coordinates (u, v) in
     /// [0, 1]² (sample i at u = i / quads).
     glm::dvec2 lonLatDeg(std::int64_t x, std::int64_t y, double u, double v) const;
+};
+
+/// A window of a native tile (docs/globe.md, "Native windows"): the square [i, i + 1] ×
+/// [j, j + 1] · 2^-depth of its tile coordinates, drawn as a patch of its own where the tile's
+/// flat triangles would stray too far (its samples interpolated on the source's own
+/// triangles). Depth 0 is the whole tile. Its tile coordinates are exact in float up to
+/// kMaxDepth: (i·quads + s)·2^-depth, sample s of the window, has at most 8 + depth bits.
+struct NativeWindow {
+    static constexpr int kMaxDepth = 16;
+    int depth = 0;
+    std::int64_t i = 0, j = 0;
+
+    double size() const { return std::ldexp(1.0, -depth); }
+    double u0() const { return static_cast<double>(i) * size(); }
+    double v0() const { return static_cast<double>(j) * size(); }
+    /// Its quadrant `quadrant` (bit 0 east, bit 1 south) one level down.
+    NativeWindow child(int quadrant) const {
+        return {depth + 1, 2 * i + (quadrant & 1), 2 * j + (quadrant >> 1)};
+    }
+    bool operator==(const NativeWindow&) const = default;
 };
 
 /// What one native tile needs to place its vertices camera-relative in float. Computed in
@@ -58,10 +79,10 @@ NativeSurfaceFrame makeNativeSurfaceFrame(const NativeGridGeometry& grid, std::i
                                           std::int64_t y, double u0, double v0,
                                           const glm::dvec3& camera);
 
-/// The tile coordinates, clamped to [0, 1]², of the camera's nadir (cameraUp: the ellipsoid
-/// normal at the camera, Wgs84::upAt).
+/// The tile coordinates of the camera's nadir (cameraUp: the ellipsoid normal at the camera,
+/// Wgs84::upAt), clamped to `window` (by default the whole tile, [0, 1]²).
 glm::dvec2 nearestNativeCoordinates(const NativeGridGeometry& grid, std::int64_t x, std::int64_t y,
-                                    const glm::dvec3& cameraUp);
+                                    const glm::dvec3& cameraUp, const NativeWindow& window = {});
 
 /// Δd = d − d0 of tile coordinates (u, v), in float from small quantities (the header's
 /// derivation): what the position and the imagery coordinates below start from.

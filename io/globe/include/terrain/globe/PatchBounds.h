@@ -28,10 +28,11 @@ struct OrientedBox {
 /// can bulge between grid points (flatTriangleErrorBound), so it is conservative, not sampled.
 OrientedBox patchBounds(const GlobePatchId& id, double minHeight, double maxHeight);
 
-/// The same for tile (x, y) of a native grid (NativeOffset.h): its 33 × 33 grid of places by
-/// longitude and latitude at both heights, padded for the bulge between them.
+/// The same for tile (x, y) of a native grid (NativeOffset.h), or a window of it: its 33 × 33
+/// grid of places by longitude and latitude (9 × 9 for a window below the tile) at both
+/// heights, padded for the bulge between them.
 OrientedBox nativeTileBounds(const NativeGridGeometry& grid, std::int64_t x, std::int64_t y,
-                             double minHeight, double maxHeight);
+                             double minHeight, double maxHeight, const NativeWindow& window = {});
 
 /// The distance from `point` to the closest point of `box` (0 inside).
 double distanceToBox(const glm::dvec3& point, const OrientedBox& box);

@@ -93,7 +93,10 @@ PatchInstance globePatchInstance(const PatchDraw& patch, const glm::dvec3& camer
 
 /// The record of a native tile (docs/globe.md, "Native leaves") of a grid of `geometry`, for
 /// the same camera, its reference point at the camera's nadir clamped to the tile: placed by
-/// longitude and latitude (io/globe NativeOffset.h), layerLevel.w 1.
+/// longitude and latitude (io/globe NativeOffset.h), layerLevel.w 1. A window of the tile
+/// (`patch.isVirtual`: runtime/lod NativeWindowTree) keeps the tile's frame, its reference
+/// clamped to the window, and maps its samples onto the tile's by texelMap (offset, step, w 2:
+/// heights on the source's triangles).
 PatchInstance nativeTileInstance(const PatchDraw& patch, const globe::NativeGridGeometry& geometry,
                                  const glm::dvec3& camera, const glm::dvec3& cameraUp);
 

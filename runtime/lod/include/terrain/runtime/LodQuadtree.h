@@ -36,6 +36,7 @@
 
 #include "terrain/pyramid/PyramidLayout.h"
 #include "terrain/runtime/Camera.h"
+#include "terrain/runtime/NativeWindowTree.h"
 #include "terrain/runtime/PatchDraw.h"
 #include "terrain/runtime/Surface.h"
 #include "terrain/runtime/TileResidency.h"
@@ -121,7 +122,12 @@ struct LodUpdateStats {
     std::uint64_t drawn = 0;
     std::uint64_t drawnBare = 0;      ///< of them, bare patches (no tile: the globe's ellipsoid)
     std::uint64_t drawnVirtual = 0;   ///< of them, virtual patches (an ancestor's tile)
-    std::uint64_t drawnNative = 0;    ///< of them, native tiles (docs/globe.md, "Native leaves")
+    /// Of them, native draws: tiles of a source's own grid (docs/globe.md, "Native leaves"),
+    /// whole or as windows.
+    std::uint64_t drawnNative = 0;
+    /// Of those, windows below a whole tile (NativeWindowTree), and the deepest one's depth.
+    std::uint64_t drawnNativeWindows = 0;
+    int deepestNativeWindow = 0;
     std::uint64_t culled = 0;         ///< leaves outside the frustum
     std::uint64_t horizonCulled = 0;  ///< leaves behind the horizon (the globe)
     std::uint64_t visited = 0;        ///< nodes the culling walk visited
@@ -174,7 +180,8 @@ private:
         Virtual,  ///< draws a quadrant of an ancestor's tile (the globe)
         Bare,     ///< no tile: the bare surface (the globe's ellipsoid)
         /// The only child of a data patch without finer data: draws the native tiles over its
-        /// parent (Surface::nativeTilesOver; docs/globe.md, "Native leaves"), and never splits.
+        /// parent (Surface::nativeTilesOver; docs/globe.md, "Native leaves"), and never splits
+        /// in this tree: its tiles split into windows of their own (NativeWindowTree).
         Native,
     };
     struct Node {
@@ -235,9 +242,9 @@ private:
     void emitNative(int node, std::vector<PatchDraw>& out);
     /// The steepest rises of a resident tile's samples (TileResidency::residentSampleRises).
     io::SampleRises residentRises(const io::PatchId& id) const;
-    /// Surface::nativeGeometricErrors of a resident native tile, from its samples' rises.
-    Surface::NativeGeometricErrors nativeGeometricErrorsOf(const io::PatchId& tile,
-                                                           const io::PatchInfo& info) const;
+    /// Whether native tiles split into windows (NativeWindowTree): under the projected-error
+    /// rule, not for the uniform grid.
+    bool refinesNativeWindows() const;
     /// After the frame's draws are listed: each native tile's ground (NativeOwnership.h).
     void assignNativeOwnerships(std::vector<PatchDraw>& out);
     void prefetchBelow(const io::PatchId& id, const io::PatchInfo& heights, double errorM,
@@ -265,11 +272,25 @@ private:
     std::vector<Check> m_checks;  // min-heap on atOdometer
     std::vector<int> m_waiting;   // leaves re-tried every frame
     std::vector<int> m_waitingNext;
-    // Native tiles: the pins the native nodes hold (a tile may lie under several), the tiles
-    // drawn this frame (each once, with its draw's index), and scratch lists.
-    std::vector<std::pair<io::PatchId, int>> m_nativePins;
+    // Native tiles: the pins the native nodes hold (a tile may lie under several) with each
+    // pinned tile's windows, the tiles drawn this frame (each once, as a run of draws), and
+    // scratch lists.
+    struct NativePin {
+        io::PatchId tile;
+        int holders = 0;
+        int windows = -1;  // its NativeWindowTree root
+    };
+    struct NativeDrawn {
+        io::PatchId tile;
+        std::size_t first = 0;  // its draws in the frame's list
+        std::size_t count = 0;
+    };
+    std::vector<NativePin> m_nativePins;
     std::unordered_map<int, std::vector<io::PatchId>> m_nativeTiles;  // by native node
-    std::vector<std::pair<io::PatchId, std::size_t>> m_nativeDrawn;
+    // The native node's ground on each of its tiles (Surface::nativeFootprintOn), as listed.
+    std::unordered_map<int, std::vector<glm::dvec4>> m_nativeFootprints;
+    std::vector<NativeDrawn> m_nativeDrawn;
+    NativeWindowTree m_windows;
     std::vector<io::PatchId> m_holderScratch;
     std::vector<io::PatchId> m_nativeScratch;
 

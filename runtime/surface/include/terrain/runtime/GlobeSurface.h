@@ -9,6 +9,7 @@
 #include "terrain/runtime/Surface.h"
 
 #include <array>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -33,6 +34,11 @@ public:
                           std::span<const io::NativeGridManifest> nativeGrids = {});
 
     SurfaceKind kind() const override { return SurfaceKind::Globe; }
+
+    /// A box of longitudes (west ≤ east, maybe past ±180°) and latitudes, degrees.
+    struct LonLatBox {
+        double west = 0.0, east = 0.0, south = 0.0, north = 0.0;
+    };
 
     std::span<const io::PatchId> roots() const override { return m_roots; }
     int maxLevel() const override;
@@ -60,10 +66,16 @@ public:
     std::uint64_t wholeCoverage() const override;
 
     bool nativeTilesOver(const io::PatchId& id, std::vector<io::PatchId>& out) const override;
-    PatchVolume nativeTileVolume(const io::PatchId& tile, float minHeight,
-                                 float maxHeight) const override;
+    PatchVolume nativeTileVolume(const io::PatchId& tile, float minHeight, float maxHeight,
+                                 const globe::NativeWindow& window) const override;
     NativeGeometricErrors nativeGeometricErrors(const io::PatchId& tile, const io::PatchInfo& info,
-                                                const io::SampleRises& rises) const override;
+                                                const io::SampleRises& rises,
+                                                const globe::NativeWindow& window) const override;
+    bool nativeGroundIsPure(const io::PatchId& id) const override;
+    std::optional<glm::dvec4> nativeFootprintOn(const io::PatchId& id,
+                                                const io::PatchId& tile) const override;
+    bool nativeWindowIsPure(const io::PatchId& tile,
+                            const globe::NativeWindow& window) const override;
     std::optional<NativeTilePoint> nativeTileUnder(const glm::dvec3& up, int level) const override;
     const globe::NativeGridGeometry* nativeGeometry(const io::PatchId& tile) const override;
 
@@ -80,6 +92,11 @@ private:
         std::int64_t lastColumn = 0, lastRow = 0;  // of its raster
         double firstLon = 0.0, lastLon = 0.0, northLat = 0.0, southLat = 0.0;
         double spacingM = 0.0;
+        /// Where its source lies (ManifestGlobeSource), shrunk by its seam band's widest and a
+        /// sample; and the finer sources' extents, grown by one of its samples: outside those,
+        /// and inside this, only its own samples show. Empty `inside`: unknown, never pure.
+        std::optional<LonLatBox> inside;
+        std::vector<LonLatBox> finer;
 
         /// The whole turns to add to a longitude to bring it nearest the grid's middle (a
         /// grid may run past ±180°).
@@ -98,6 +115,13 @@ private:
         }
     };
     const NativeGrid* nativeGridOf(const io::PatchId& tile) const;
+    static void setPurity(NativeGrid& grid, const io::ManifestGlobe& globe);
+    /// Whether `grid`'s samples alone show over `box` (nativeWindowIsPure's rule).
+    static bool isPure(const NativeGrid& grid, const LonLatBox& box);
+    /// nativeTilesOver's choice: the grid whose tiles stand for `id` (appended to `out`) and
+    /// the patch's footprint on it (its longitudes brought near the grid's); null where none.
+    const NativeGrid* nativeGridOver(const io::PatchId& id, std::vector<io::PatchId>& out,
+                                     LonLatBox& footprint) const;
 
     std::vector<NativeGrid> m_natives;  // in source order: the finest first
     std::array<io::PatchId, 6> m_roots{};

@@ -44,6 +44,12 @@ struct PatchDraw {
     /// leaves"). 0: it owns all it covers (its patches lie on two faces, or beyond the window).
     std::uint64_t nativeCells = 0;
     std::array<std::int32_t, 2> nativeWindow{0, 0};
+    /// How far its edges may part from a neighbour's beyond both their bounds, metres, for
+    /// the skirts to reach (SkirtDepth.h): a native window's (runtime/lod NativeWindowTree)
+    /// edges cross its source cells' diagonals between their vertices, where the sources'
+    /// surface bends by the cell's twist; its drawn triangles lie between the two diagonals'
+    /// surfaces, which its bound does not count. 0 for every other patch.
+    float seamGapM = 0.0f;
 
     /// A data patch: `id` drawn from its own tile on `layer`, whose summary is `info`.
     static PatchDraw ofTile(const io::PatchId& id, int layer, const io::PatchInfo& info) {

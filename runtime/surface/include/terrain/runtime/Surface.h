@@ -132,22 +132,43 @@ public:
                                  std::vector<io::PatchId>& /*out*/) const {
         return false;
     }
-    /// A native tile's bounding volume between its lowest and highest heights.
-    virtual PatchVolume nativeTileVolume(const io::PatchId& tile, float minHeight,
-                                         float maxHeight) const;
+    /// A native tile's bounding volume between its lowest and highest heights, or that of a
+    /// window of it (globe::NativeWindow; {} the whole tile).
+    virtual PatchVolume nativeTileVolume(const io::PatchId& tile, float minHeight, float maxHeight,
+                                         const globe::NativeWindow& window) const;
     /// How far a native tile's flat triangles, drawn between its samples, can stray along the
     /// normal from the sources' own triangles on the ellipsoid (its sag under a chord, and its
     /// slopes turning the triangles' sideways offset into height): what its Err(P), measured at
     /// the sources' samples, leaves out. `info` is the tile's summary, `rises` its samples'
-    /// steepest rises (io::sampleRises).
+    /// steepest rises (io::sampleRises). For a window of depth k below the tile, its cells and
+    /// rises are the tile's scaled by 2^-k, the sources' triangles interpolated between them.
     struct NativeGeometricErrors {
         double fullM = 0.0;              ///< drawn at full resolution
         std::array<float, 4> blocksM{};  ///< over its blocks simplified by 2^d, d = 1..4
     };
-    virtual NativeGeometricErrors nativeGeometricErrors(const io::PatchId& /*tile*/,
-                                                        const io::PatchInfo& /*info*/,
-                                                        const io::SampleRises& /*rises*/) const {
+    virtual NativeGeometricErrors nativeGeometricErrors(
+        const io::PatchId& /*tile*/, const io::PatchInfo& /*info*/,
+        const io::SampleRises& /*rises*/, const globe::NativeWindow& /*window*/) const {
         return {};
+    }
+    /// Whether over the ground of `id` (a face patch nativeTilesOver answers for) the native
+    /// grid it chooses shows its own source's samples alone, on their own triangles: no finer
+    /// source, no seam band where it blends into a coarser one. There its tiles' windows can
+    /// take the error against the sources down to their flat triangles' (docs/globe.md,
+    /// "Native windows"); elsewhere the tile's Err(P), the other sources' miss, stays.
+    virtual bool nativeGroundIsPure(const io::PatchId& /*id*/) const { return false; }
+    /// Where the ground of `id` (a face patch nativeTilesOver answers for, with a sample
+    /// round it) lies on native tile `tile` of those: the box (u min, v min, u max, v max) of
+    /// its tile coordinates, unclamped; none for a tile not among them. Only there do the
+    /// tile's windows split for it (NativeWindowTree).
+    virtual std::optional<glm::dvec4> nativeFootprintOn(const io::PatchId& /*id*/,
+                                                        const io::PatchId& /*tile*/) const {
+        return std::nullopt;
+    }
+    /// The same over a window of a native tile (its samples and the cells around them).
+    virtual bool nativeWindowIsPure(const io::PatchId& /*tile*/,
+                                    const globe::NativeWindow& /*window*/) const {
+        return false;
     }
     /// A point of a native tile: the tile and the point's tile coordinates ([0, 1]², sample i
     /// at i / quads).
